@@ -1,0 +1,24 @@
+"""``python -m rocking.benchmarks NAME [options]``: run ``rocking.benchmarks.NAME.main``."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] in {"-h", "--help"}:
+        print("usage: python -m rocking.benchmarks {dynamics,motions,spectra,workflow} [options]")
+        return 0 if argv else 2
+    name, rest = argv[0], argv[1:]
+    try:
+        module = importlib.import_module(f"rocking.benchmarks.{name}")
+    except ModuleNotFoundError:
+        print(f"unknown benchmark {name!r}", file=sys.stderr)
+        return 2
+    return int(module.main(rest) or 0)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

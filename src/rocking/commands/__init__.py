@@ -1,0 +1,1 @@
+"""Subcommands of the ``rocking`` command line (see :mod:`rocking.cli`)."""

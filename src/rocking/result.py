@@ -1,0 +1,133 @@
+"""The outcome of one rocking analysis (free vibration or ground motion)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import StrEnum
+
+import numpy as np
+
+
+class Status(StrEnum):
+    """How an analysis ended."""
+
+    OK = "ok"
+    """Ran to the end (record plus free tail, or the requested duration) without overturning."""
+    OVERTURNED = "overturned"
+    """θ reached π/2."""
+    STOPPED_AT_LIMIT = "stopped-at-limit"
+    """θ exceeded ``stop_at``; the analysis ended there on purpose."""
+    FAILED = "failed"
+    """The integration could not proceed; ``reason`` says why. Never a silent result."""
+
+
+@dataclass
+class QuasiImpacts:
+    """Tilt minima in 3D (quasi-impacts) or impacts in 2D.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Times [s].
+    state : ndarray, shape (n, k)
+        State at each event, columns as :attr:`Response.state_names`.
+    """
+
+    t: np.ndarray
+    state: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.t.size)
+
+
+@dataclass
+class Response:
+    """Result of :func:`rocking.free_vibration` or :func:`rocking.ground_response`.
+
+    History arrays are empty when the analysis ran in summary-only mode
+    (``history=False``); the summary fields are always filled.
+
+    Attributes
+    ----------
+    model : str
+        ``"3d"``, ``"3d-damped"`` or ``"2d"``.
+    t : ndarray
+        Output times [s].
+    theta, theta_dot : ndarray
+        Tilt [rad] (signed in 2D, > 0 in 3D) and its rate [rad/s].
+    phi, phi_dot : ndarray
+        Rolling angle of the contact point [rad] and its rate [rad/s]; zeros in 2D.
+    w, w_dot, contact_force : ndarray or None
+        Contact-spring displacement [m], velocity [m/s] and normal force per unit mass
+        [m/s²] of the damped model; ``None`` otherwise.
+    theta_max : float
+        Largest |θ| reached [rad] (including the free tail decided after the record ends).
+    t_theta_max : float
+        When it was reached [s].
+    overturned : bool
+        θ reached π/2.
+    status : Status
+    reason : str
+        Human-readable detail, mandatory when ``status`` is FAILED.
+    quasi_impacts : QuasiImpacts
+    n_steps : int
+        Accepted integration steps.
+    n_rejected : int
+        Rejected integration steps.
+    uplifted : bool
+        The body left its rest position at least once.
+    t_uplift : float
+        First uplift time [s] (NaN if never).
+    """
+
+    model: str
+    t: np.ndarray
+    theta: np.ndarray
+    theta_dot: np.ndarray
+    phi: np.ndarray
+    phi_dot: np.ndarray
+    theta_max: float
+    t_theta_max: float
+    overturned: bool
+    status: Status
+    quasi_impacts: QuasiImpacts
+    n_steps: int
+    n_rejected: int = 0
+    uplifted: bool = True
+    t_uplift: float = float("nan")
+    reason: str = ""
+    w: np.ndarray | None = None
+    w_dot: np.ndarray | None = None
+    contact_force: np.ndarray | None = None
+    extras: dict = field(default_factory=dict)
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """Column names of :attr:`QuasiImpacts.state`."""
+        if self.model == "3d-damped":
+            return ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
+        if self.model == "2d":
+            return ("theta", "theta_dot")
+        return ("theta", "phi", "theta_dot", "phi_dot")
+
+    @property
+    def ok(self) -> bool:
+        """False only for FAILED analyses."""
+        return self.status is not Status.FAILED
+
+    def summary(self) -> dict:
+        """JSON-serialisable summary (no histories)."""
+        return {
+            "model": self.model,
+            "status": self.status.value,
+            "reason": self.reason,
+            "theta_max": float(self.theta_max),
+            "t_theta_max": float(self.t_theta_max),
+            "overturned": bool(self.overturned),
+            "uplifted": bool(self.uplifted),
+            "t_uplift": float(self.t_uplift),
+            "n_quasi_impacts": len(self.quasi_impacts),
+            "n_steps": int(self.n_steps),
+            "n_rejected": int(self.n_rejected),
+            **{k: v for k, v in self.extras.items() if isinstance(v, (int, float, str, bool))},
+        }
