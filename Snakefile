@@ -1,0 +1,48 @@
+# Seismic rocking spectra of Vassiliou et al. (2017): records -> ensembles -> chunked
+# critical-intensity searches on Dask -> zarr stores -> ensemble statistics -> figures.
+#
+#   snakemake --cores 2                                # default, reduced study
+#   snakemake --cores 2 --configfile config/paper.yaml # the paper's full study
+#
+# See docs/workflow.md for clusters (dask scheduler/worker, dask-jobqueue on SLURM).
+
+from pathlib import Path
+
+from snakemake.utils import min_version, validate
+
+min_version("8.20")
+
+
+# A --configfile replaces the default configuration instead of being merged into it: a
+# study of the paper must not inherit keys of the reduced default run. The default is the
+# working directory's config/config.yaml, else the one beside this Snakefile (--directory).
+DEFAULT_CONFIG = next(
+    p for p in (Path("config/config.yaml"), Path(workflow.basedir, "config/config.yaml"))
+    if p.exists()
+)
+
+if not workflow.overwrite_configfiles:
+
+    configfile: str(DEFAULT_CONFIG)
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/records.smk"
+include: "workflow/rules/spectra.smk"
+include: "workflow/rules/tilt_map.smk"
+include: "workflow/rules/aggregate.smk"
+
+
+# Figures and report (issue 6) join when their rules exist; the rest runs without them.
+if Path(workflow.basedir, "workflow/rules/figures.smk").exists():
+
+    include: "workflow/rules/figures.smk"
+
+
+rule all:
+    input:
+        all_targets(),
+    default_target: True

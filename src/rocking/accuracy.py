@@ -1,0 +1,120 @@
+"""Named accuracy presets of the critical-intensity search.
+
+Three numbers set together how close a performance spectrum is to its converged value and
+what it costs:
+
+- ``rtol``: relative tolerance of the ODE integration of each analysis;
+- ``scan_step``: step of the coarse upward scan in normalized intensity I = PGA/(g tan α),
+  relative (I_{j+1} = I_j·(1 + step)) or absolute (I_{j+1} = I_j + step);
+- ``bisection_tol``: width of the final bracket (lo, hi] relative to hi.
+
+A coarser scan is cheaper but may step over a narrow window of exceedance below the first
+one it sees (rocking response is not monotonic in the intensity); the bisection tolerance
+bounds the error inside the bracket; the ODE tolerance moves the boundary itself where the
+response is sensitive. The presets were chosen from ``python -m rocking.benchmarks spectra``
+(results/benchmarks/spectra.md): "default" aims at ≤ 1 % error in I_crit at the lowest cost.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """Tolerances of one critical-intensity search.
+
+    Parameters
+    ----------
+    name : str
+        Label written to outputs.
+    rtol : float
+        ODE relative tolerance of every analysis [-], in (0, 1e-2].
+    scan_step : float
+        Coarse-scan step, relative [-] or absolute in I [-], > 0.
+    bisection_tol : float
+        Final bracket width relative to its upper end [-], in (0, 1).
+    scan_relative : bool
+        True: geometric scan I_j = I_0 (1 + step)^j; False: arithmetic I_j = I_0 + j·step.
+    """
+
+    name: str
+    rtol: float
+    scan_step: float
+    bisection_tol: float
+    scan_relative: bool = True
+
+    def __post_init__(self) -> None:
+        _check_range("rtol", self.rtol, 0.0, 1e-2)
+        _check_range("scan_step", self.scan_step, 0.0, math.inf)
+        _check_range("bisection_tol", self.bisection_tol, 0.0, 1.0, upper_open=True)
+
+    def with_(self, **changes) -> Accuracy:
+        """A copy with some fields changed (named ``"custom"`` unless a name is given)."""
+        changes.setdefault("name", "custom")
+        return replace(self, **changes)
+
+    def scan_point(self, lower: float, j: int) -> float:
+        """The j-th point of the coarse scan starting at ``lower`` (j = 0 is ``lower``)."""
+        if self.scan_relative:
+            return lower * (1.0 + self.scan_step) ** j
+        return lower + j * self.scan_step
+
+    def to_dict(self) -> dict:
+        """JSON-serialisable form (written into study attributes and CLI outputs)."""
+        return {
+            "name": self.name,
+            "rtol": self.rtol,
+            "scan_step": self.scan_step,
+            "scan_relative": self.scan_relative,
+            "bisection_tol": self.bisection_tol,
+        }
+
+
+def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = False) -> None:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    above = v >= hi if upper_open else v > hi
+    if not math.isfinite(v) or v <= lo or above:
+        bound = f"< {hi}" if upper_open else f"<= {hi}"
+        raise ValueError(f"{name} must be > {lo} and {bound}, got {value!r}")
+
+
+PRESETS: dict[str, Accuracy] = {
+    "fast": Accuracy("fast", rtol=1e-6, scan_step=0.2, bisection_tol=0.02),
+    "default": Accuracy("default", rtol=1e-8, scan_step=0.1, bisection_tol=0.005),
+    "precise": Accuracy("precise", rtol=1e-10, scan_step=0.05, bisection_tol=0.001),
+}
+"""The named presets, from cheapest to most accurate."""
+
+
+def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
+    """Resolve a preset name, a ready :class:`Accuracy`, or a mapping of its fields.
+
+    A mapping may name a preset under ``"preset"`` and override some of its fields, e.g.
+    ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses).
+
+    Raises
+    ------
+    ValueError
+        For an unknown preset name or field.
+    """
+    if isinstance(accuracy, Accuracy):
+        return accuracy
+    if isinstance(accuracy, str):
+        key = accuracy.strip().lower()
+        if key not in PRESETS:
+            raise ValueError(f"accuracy must be one of {sorted(PRESETS)}, got {accuracy!r}")
+        return PRESETS[key]
+    if isinstance(accuracy, dict):
+        fields = dict(accuracy)
+        base = get_accuracy(fields.pop("preset", "default"))
+        allowed = {"name", "rtol", "scan_step", "bisection_tol", "scan_relative"}
+        unknown = sorted(set(fields) - allowed)
+        if unknown:
+            raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed {sorted(allowed)}")
+        return base.with_(**fields) if fields else base
+    raise ValueError(f"accuracy must be a preset name, an Accuracy or a dict, got {accuracy!r}")

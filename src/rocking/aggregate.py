@@ -1,0 +1,88 @@
+"""Ensemble statistics of performance spectra: mean, std, median and count over motions.
+
+The paper's Figs 10–12 plot, for each size R, the mean over the ground motions of the
+critical intensity PGA/(g tan α). A motion whose search ended without reaching the limit
+state (``not_reached``) has no critical intensity, only a lower bound; it is left out of the
+statistics and counted separately (``n_not_reached``), so ``count`` says how many motions a
+statistic rests on.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+STAT_DIMS = ("mode", "limit_state", "tan_alpha", "R")
+"""Dimensions of the aggregated spectra."""
+
+
+def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
+    """Statistics over ``motion`` of ``pga_crit`` per (mode, limit_state, tan_alpha, R).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A spectra store (``pga_crit``, ``not_reached``, ``done``), e.g. from
+        ``xarray.open_zarr``.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``mean``, ``std`` (sample, ddof = 1; NaN with fewer than 2 values), ``median``
+        [PGA/(g tan α), -], ``count`` (motions used) and ``n_not_reached``.
+
+    Raises
+    ------
+    ValueError
+        If the store has points not computed yet (``done`` false): statistics of a partial
+        ensemble would look like results.
+    """
+    missing = ~ds["done"].values.astype(bool)
+    if missing.any():
+        first = {d: ds["done"][d].values[i].item()
+                 for d, i in zip(ds["done"].dims, np.argwhere(missing)[0], strict=True)}
+        raise ValueError(f"spectra store is incomplete: {int(missing.sum())} points not done, "
+                         f"first at {first}")
+    pga = ds["pga_crit"].load()
+    reached = ~ds["not_reached"].load().astype(bool)
+    if bool((pga.isnull() & reached).any()):
+        raise ValueError("pga_crit is NaN at a point whose limit state was reached")
+    values = pga.where(reached)
+    count = reached.sum("motion").astype(np.int32)
+    out = xr.Dataset(
+        {
+            "mean": values.mean("motion", skipna=True),
+            "std": values.std("motion", ddof=1, skipna=True).where(count >= 2),
+            "median": values.median("motion", skipna=True),
+            "count": count,
+            "n_not_reached": (~reached).sum("motion").astype(np.int32),
+        }
+    ).transpose(*STAT_DIMS)
+    for name in ("mean", "std", "median"):
+        out[name].attrs = {"long_name": f"{name} of PGA/(g tan alpha) over motions",
+                           "units": "1"}
+    out["std"].attrs["ddof"] = 1
+    out["count"].attrs["long_name"] = "motions whose limit state was reached"
+    out["n_not_reached"].attrs["long_name"] = "motions left out: limit state not reached"
+    out.attrs = {k: v for k, v in ds.attrs.items() if k != "layout"}
+    out.attrs["motions"] = ", ".join(map(str, ds["motion"].values))
+    return out
+
+
+def to_frame(stats: xr.Dataset) -> pd.DataFrame:
+    """Long table, one row per (mode, limit_state, tan_alpha, R)."""
+    df = stats[["mean", "std", "median", "count", "n_not_reached"]].to_dataframe()
+    return df.reset_index()[[*STAT_DIMS, "mean", "std", "median", "count", "n_not_reached"]]
+
+
+def write_statistics(stats: xr.Dataset, nc_path: str | Path, csv_path: str | Path) -> None:
+    """Write ``mean_spectra.nc`` (netCDF) and its CSV twin."""
+    nc = stats.copy()
+    for dim in ("mode", "limit_state"):
+        # plain str labels: the netCDF writer does not take numpy's StringDType
+        nc = nc.assign_coords({dim: np.array([str(v) for v in nc[dim].values], dtype=object)})
+    nc.to_netcdf(nc_path)
+    to_frame(nc).to_csv(csv_path, index=False, float_format="%.10g")

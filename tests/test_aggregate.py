@@ -1,0 +1,67 @@
+"""Ensemble statistics of a spectra store, checked against numpy on hand-made values."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from rocking.aggregate import STAT_DIMS, ensemble_statistics, write_statistics
+
+
+def spectra(values, not_reached=None, done=True):
+    """A spectra dataset with one mode, one limit state, one tan α, motions x R."""
+    v = np.asarray(values, dtype=float)[None, None, :, None, :]
+    nr = np.isnan(v) if not_reached is None else np.asarray(not_reached)[None, None, :, None, :]
+    dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
+    coords = {"mode": ["3d"], "limit_state": ["overturning"],
+              "motion": [f"m{i}" for i in range(v.shape[2])], "tan_alpha": [0.2],
+              "R": [1.0, 2.0, 3.0][: v.shape[4]]}
+    return xr.Dataset(
+        {"pga_crit": (dims, v), "not_reached": (dims, nr),
+         "done": (("mode", "motion", "tan_alpha", "R"),
+                  np.full((1, v.shape[2], 1, v.shape[4]), done))},
+        coords=coords, attrs={"config_hash": "abc", "layout": "{}"})
+
+
+def test_statistics_over_motions_leave_out_not_reached():
+    values = [[2.0, 3.0, 4.0],
+              [4.0, np.nan, 5.0],
+              [9.0, np.nan, 6.0]]
+    stats = ensemble_statistics(spectra(values))
+    assert stats["mean"].dims == STAT_DIMS
+    got = {k: stats[k].values.ravel() for k in ("mean", "std", "median", "count",
+                                                 "n_not_reached")}
+    np.testing.assert_allclose(got["mean"], [5.0, 3.0, 5.0], rtol=0, atol=1e-15)
+    # sample standard deviation; a single value has none
+    np.testing.assert_allclose(got["std"], [np.std([2, 4, 9], ddof=1), np.nan, 1.0],
+                               rtol=1e-15)
+    np.testing.assert_array_equal(got["median"], [4.0, 3.0, 5.0])
+    np.testing.assert_array_equal(got["count"], [3, 1, 3])
+    np.testing.assert_array_equal(got["n_not_reached"], [0, 2, 0])
+    assert stats.attrs["motions"] == "m0, m1, m2" and "layout" not in stats.attrs
+
+
+def test_incomplete_store_is_refused():
+    with pytest.raises(ValueError, match="incomplete: 6 points not done"):
+        ensemble_statistics(spectra([[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]], done=False))
+
+
+def test_nan_without_flag_is_refused():
+    values = [[1.0, np.nan], [3.0, 4.0]]
+    with pytest.raises(ValueError, match="NaN at a point whose limit state was reached"):
+        ensemble_statistics(spectra(values, not_reached=np.zeros((2, 2), bool)))
+
+
+def test_netcdf_and_csv_round_trip(tmp_path):
+    stats = ensemble_statistics(spectra([[2.0, 3.0], [4.0, np.nan]]))
+    nc, csv = tmp_path / "mean_spectra.nc", tmp_path / "mean_spectra.csv"
+    write_statistics(stats, nc, csv)
+    back = xr.open_dataset(nc)
+    np.testing.assert_array_equal(back["mean"].values, stats["mean"].values)
+    assert list(back["mode"].values) == ["3d"]
+    table = pd.read_csv(csv)
+    assert list(table.columns) == [*STAT_DIMS, "mean", "std", "median", "count",
+                                   "n_not_reached"]
+    assert table["mean"].tolist() == [3.0, 3.0] and table["count"].tolist() == [2, 1]

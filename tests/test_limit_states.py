@@ -1,0 +1,94 @@
+"""Limit-state parsing and accuracy presets."""
+
+import math
+
+import pytest
+
+from rocking.accuracy import PRESETS, Accuracy, get_accuracy
+from rocking.limit_states import (
+    DEFAULT_LIMIT_STATES,
+    LimitState,
+    parse_limit_state,
+    parse_limit_states,
+)
+
+
+def test_parse_names_and_ratios():
+    assert parse_limit_state("overturning") == LimitState("overturning", math.inf)
+    assert parse_limit_state(" Tilt:0.5 ") == LimitState("tilt:0.5", 0.5)
+    assert parse_limit_state("tilt:1") == LimitState("tilt:1", 1.0)
+    third = parse_limit_state("tilt:1/3")
+    assert third.name == "tilt:1/3" and third.ratio == 1.0 / 3.0
+    assert parse_limit_state("excessive-tilt") == third
+    assert parse_limit_state("tilt:0.3333").ratio == 0.3333
+
+
+@pytest.mark.parametrize(
+    "bad", ["", "collapse", "tilt", "tilt:", "tilt:abc", "tilt:-0.2", "tilt:0", "tilt:nan",
+            "tilt:inf", "tilt:1/0", "tilt=0.5", 0.5]
+)
+def test_parse_rejects_with_the_text(bad):
+    with pytest.raises(ValueError, match="limit_state"):
+        parse_limit_state(bad)
+
+
+def test_default_set_sorted_and_complete():
+    states = parse_limit_states(None)
+    assert [s.name for s in states] == list(DEFAULT_LIMIT_STATES)
+    ratios = [s.ratio for s in states]
+    assert ratios == sorted(ratios) and ratios[-1] == math.inf
+    assert ratios[:-1] == [0.1, 0.2, 1 / 3, 0.5, 0.75, 1.0]
+
+
+def test_set_from_string_sorts_and_dedups():
+    states = parse_limit_states("overturning, tilt:0.5,tilt:1/2, tilt:0.1")
+    assert [s.name for s in states] == ["tilt:0.1", "tilt:0.5", "overturning"]
+    with pytest.raises(ValueError, match="at least one"):
+        parse_limit_states([])
+
+
+def test_thresholds_and_exceedance():
+    alpha = math.atan(0.2)
+    tilt = parse_limit_state("tilt:1/3")
+    assert tilt.threshold(alpha) == pytest.approx(alpha / 3, rel=1e-15)
+    assert parse_limit_state("overturning").threshold(alpha) == math.pi / 2
+    assert tilt.exceeded(alpha / 3 * 1.0001, False, alpha)
+    assert not tilt.exceeded(alpha / 3 * 0.9999, False, alpha)
+    assert tilt.exceeded(0.0, True, alpha)  # overturning passes every tilt goal
+    over = parse_limit_state("overturning")
+    assert not over.exceeded(1.5, False, alpha) and over.exceeded(1.5, True, alpha)
+    # A goal beyond π/2 can only be met by overturning: refused, naming the limit state.
+    with pytest.raises(ValueError, match="tilt:9"):
+        parse_limit_state("tilt:9").threshold(alpha)
+
+
+def test_presets_ordered_by_cost_and_accuracy():
+    fast, default, precise = (PRESETS[k] for k in ("fast", "default", "precise"))
+    assert fast.rtol > default.rtol > precise.rtol
+    assert fast.scan_step > default.scan_step > precise.scan_step
+    assert fast.bisection_tol > default.bisection_tol > precise.bisection_tol
+    assert get_accuracy("Default") is default
+
+
+def test_accuracy_overrides_and_errors():
+    acc = get_accuracy({"preset": "fast", "rtol": 1e-9})
+    assert acc.rtol == 1e-9 and acc.scan_step == PRESETS["fast"].scan_step
+    assert acc.name == "custom"
+    with pytest.raises(ValueError, match="accuracy must be one of"):
+        get_accuracy("sloppy")
+    with pytest.raises(ValueError, match="unknown field"):
+        get_accuracy({"rtoll": 1e-9})
+    with pytest.raises(ValueError, match="rtol"):
+        Accuracy("x", rtol=float("nan"), scan_step=0.1, bisection_tol=0.01)
+    with pytest.raises(ValueError, match="bisection_tol"):
+        Accuracy("x", rtol=1e-8, scan_step=0.1, bisection_tol=1.0)
+    with pytest.raises(ValueError, match="scan_step"):
+        Accuracy("x", rtol=1e-8, scan_step=-0.1, bisection_tol=0.01)
+
+
+def test_scan_points_relative_and_absolute():
+    rel = Accuracy("r", rtol=1e-8, scan_step=0.1, bisection_tol=0.01)
+    assert rel.scan_point(2.0, 0) == 2.0
+    assert rel.scan_point(2.0, 3) == pytest.approx(2.0 * 1.1**3, rel=1e-15)
+    ab = rel.with_(scan_relative=False, scan_step=0.25)
+    assert ab.scan_point(1.0, 4) == 2.0

@@ -1,0 +1,64 @@
+"""``rocking motions``: the ensemble file holds the processed record first, then its pairs."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rocking.cli import main
+from rocking.commands.motions import build_ensemble, read_motion
+from rocking.ensemble_io import ensemble_attrs, load_ensemble
+from rocking.highpass import brune_corner, highpass_motion, residuals
+from rocking.principal import correlation, to_principal_axes
+from rocking.records import load_record
+
+
+def test_cli_writes_record_then_pairs(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
+    out = tmp_path / "motions" / "elcentro.nc"
+    assert main(["motions", "--record", "el-centro-1940", "-n", "2", "--seed", "5",
+                 "-o", str(out)]) == 0
+    assert "rocking motions:" in capsys.readouterr().err  # progress on stderr
+    motions = load_ensemble(out)
+    assert len(motions) == 3
+    # The record, processed independently here, is stored first and unchanged.
+    rotated, angle = to_principal_axes(load_record("el-centro-1940"))
+    expected = highpass_motion(rotated, "oscillator", brune_corner(6.95))
+    np.testing.assert_array_equal(motions[0].ax, expected.ax)
+    np.testing.assert_array_equal(motions[0].ay, expected.ay)
+    assert motions[0].name == "el-centro-1940"
+    params = json.loads(out.with_suffix(".json").read_text())
+    assert params["rotation_deg"] == pytest.approx(angle, abs=1e-12)
+    assert params["highpass"]["fc_hz"] == pytest.approx(0.0946, abs=1e-4)
+    assert 0.0 < params["fit"]["major"]["zeta_f"] < 1.0
+    assert ensemble_attrs(out)["n_synthetic"] == 2
+    for syn in motions[1:]:
+        assert syn.dt == 0.01 and syn.metadata["seed"] == 5
+        # High-passed like the record: no residual velocity or displacement.
+        for comp in (syn.ax, syn.ay):
+            res = residuals(comp, syn.dt)
+            assert res.v_rel < 1e-6 and res.d_rel < 1e-6
+        assert abs(correlation(syn.ax, syn.ay)) < 0.3
+
+
+def test_stand_in_label_reaches_the_ensemble(tmp_path: Path) -> None:
+    build = build_ensemble(read_motion("loma-prieta-sjte"), 0, 1, highpass="none")
+    assert len(build.motions) == 1 and build.fit is None
+    info = build.parameters()
+    assert info["stand_in"] is True and "RSN801" in info["stand_in_for"]
+    assert "stand-in" in info["label"]
+    # Corralitos on principal axes: x carries the larger Arias intensity.
+    rec = build.motions[0]
+    assert rec.ax @ rec.ax > rec.ay @ rec.ay
+    assert abs(correlation(rec.ax, rec.ay)) < 1e-12
+
+
+def test_bad_arguments(tmp_path: Path) -> None:
+    motion = load_record("el-centro-1940")
+    with pytest.raises(ValueError, match="highpass"):
+        build_ensemble(motion, 0, 1, highpass="fir")
+    with pytest.raises(ValueError, match="n must be"):
+        build_ensemble(motion, -1, 1)
+    assert main(["motions", "-o", str(tmp_path / "x.csv")]) == 2

@@ -1,0 +1,135 @@
+"""Principal axes and rotation: invariants, a known angle, and the El Centro record."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rocking.motion import GroundMotion
+from rocking.principal import (
+    arias_tensor,
+    correlation,
+    principal_angle,
+    rotate,
+    rotate_components,
+    to_principal_axes,
+)
+from rocking.records import load_record
+
+RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
+PAPER_ANGLE_DEG = 22.33
+
+
+@pytest.fixture(scope="module")
+def el_centro() -> GroundMotion:
+    return load_record("el-centro-1940")
+
+
+def _independent_pair(angle_deg: float, seed: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """Two exactly uncorrelated signals (major twice the minor) turned by ``-angle_deg``."""
+    rng = np.random.default_rng(seed)
+    u = rng.standard_normal((2, 4000))
+    # Gram-Schmidt makes the raw cross product exactly zero, so the true angle is exact.
+    u[1] -= (u[0] @ u[1]) / (u[0] @ u[0]) * u[0]
+    major, minor = 2.0 * u[0] / np.linalg.norm(u[0]), u[1] / np.linalg.norm(u[1])
+    th = math.radians(angle_deg)
+    # Inverse rotation: the recording axes see the principal pair turned by -angle.
+    a1 = math.cos(th) * major - math.sin(th) * minor
+    a2 = math.sin(th) * major + math.cos(th) * minor
+    return a1, a2
+
+
+@pytest.mark.parametrize("angle", [-80.0, -22.33, 0.0, 10.0, 44.0, 75.0])
+def test_known_angle_is_recovered(angle: float) -> None:
+    a1, a2 = _independent_pair(angle)
+    assert principal_angle(a1, a2) == pytest.approx(angle, abs=1e-9)
+
+
+def test_rotation_invariants(el_centro: GroundMotion) -> None:
+    rotated, applied = to_principal_axes(el_centro)
+    # Uncorrelated to machine precision, major first.
+    assert abs(correlation(rotated.ax, rotated.ay)) < 1e-12
+    s_before = arias_tensor(el_centro.ax, el_centro.ay, el_centro.dt)
+    s_after = arias_tensor(rotated.ax, rotated.ay, rotated.dt)
+    assert abs(s_after[0, 1]) < 1e-12 * np.trace(s_after)
+    eig = np.linalg.eigvalsh(s_before)
+    assert s_after[0, 0] == pytest.approx(eig[1], rel=1e-12)
+    assert s_after[1, 1] == pytest.approx(eig[0], rel=1e-12)
+    # The trace (total Arias intensity) and the horizontal magnitude sample by sample.
+    assert np.trace(s_after) == pytest.approx(np.trace(s_before), rel=1e-13)
+    np.testing.assert_allclose(
+        np.hypot(rotated.ax, rotated.ay), np.hypot(el_centro.ax, el_centro.ay),
+        rtol=1e-13, atol=1e-15,
+    )
+    assert rotated.pga == pytest.approx(el_centro.pga, rel=1e-13)
+    assert rotated.metadata["rotation_deg"] == applied
+
+
+def test_el_centro_principal_angle_vs_paper(el_centro: GroundMotion) -> None:
+    rotated, applied = to_principal_axes(el_centro)
+    meta = rotated.metadata
+    offset = meta["principal_offset_deg"]
+    print(
+        f"\nEl Centro RSN6 principal angle: {applied:.4f} deg from x=E-W(270) toward y=N-S(180);"
+        f" major axis {offset:.4f} deg from the N-S axis, azimuth {meta['x_azimuth']:.2f};"
+        f" paper 22.33 deg; difference {PAPER_ANGLE_DEG - abs(offset):.2f} deg"
+    )
+    # Regression numbers (not physics): x = E-W, y = N-S, major axis near N-S.
+    assert applied == pytest.approx(-70.460, abs=1e-3)
+    assert meta["principal_reference_axis"] == "y"
+    assert offset == pytest.approx(19.540, abs=1e-3)
+    assert meta["x_azimuth"] == pytest.approx(340.460, abs=1e-3)
+    # Check the reported azimuth against a direct projection on north/east axes. With
+    # a_270 = -a_east and a_180 = -a_north, the component toward azimuth az is
+    # cos(az) a_north + sin(az) a_east.
+    az = math.radians(meta["x_azimuth"])
+    north, east = -el_centro.ay, -el_centro.ax
+    np.testing.assert_allclose(rotated.ax, math.cos(az) * north + math.sin(az) * east,
+                               atol=1e-12)
+    # Ordering: the rotated x carries the larger Arias intensity.
+    assert rotated.ax @ rotated.ax > rotated.ay @ rotated.ay
+
+
+def test_forced_angle_takes_the_computed_sense(el_centro: GroundMotion) -> None:
+    auto, _ = to_principal_axes(el_centro)
+    for forced in (PAPER_ANGLE_DEG, -PAPER_ANGLE_DEG):
+        rotated, applied = to_principal_axes(el_centro, forced)
+        # Same axis and sense as the computed one, 22.33 deg from N-S instead of 19.54.
+        assert applied == pytest.approx(-90.0 + PAPER_ANGLE_DEG, abs=1e-12)
+        assert rotated.metadata["forced_angle_deg"] == forced
+        # A 2.8 deg error leaves a small correlation, far below the record's own.
+        rho = correlation(rotated.ax, rotated.ay)
+        assert 1e-3 < abs(rho) < 0.03 < abs(correlation(el_centro.ax, el_centro.ay))
+    # The wrong sense makes the components more correlated than the record: why the sign
+    # must follow the computed angle.
+    wrong = rotate(el_centro, -90.0 - PAPER_ANGLE_DEG)
+    assert abs(correlation(wrong.ax, wrong.ay)) > abs(correlation(el_centro.ax, el_centro.ay))
+    assert auto.metadata["forced_angle_deg"] is None
+    with pytest.raises(ValueError, match="angle"):
+        to_principal_axes(el_centro, 60.0)
+    with pytest.raises(ValueError, match="angle"):
+        to_principal_axes(el_centro, float("nan"))
+
+
+def test_rotate_composes_and_inverts(el_centro: GroundMotion) -> None:
+    back = rotate(rotate(el_centro, 33.0), -33.0)
+    np.testing.assert_allclose(back.ax, el_centro.ax, atol=1e-15)
+    np.testing.assert_allclose(back.ay, el_centro.ay, atol=1e-15)
+    twice = rotate(rotate(el_centro, 20.0), 13.0)
+    once = rotate(el_centro, 33.0)
+    np.testing.assert_allclose(twice.ax, once.ax, atol=1e-14)
+    assert [p["step"] for p in twice.metadata["processing"]][-2:] == ["rotation", "rotation"]
+
+
+def test_bad_input() -> None:
+    with pytest.raises(ValueError, match="equal length"):
+        principal_angle([1.0, 2.0], [1.0])
+    with pytest.raises(ValueError, match="non-finite"):
+        principal_angle([1.0, np.nan], [1.0, 2.0])
+    with pytest.raises(ValueError, match="zero"):
+        principal_angle([0.0, 0.0], [0.0, 0.0])
+    with pytest.raises(ValueError, match="angle_deg"):
+        rotate_components([1.0, 2.0], [1.0, 2.0], np.inf)

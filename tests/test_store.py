@@ -1,0 +1,233 @@
+"""The zarr study store: layout, region writes, done mask, resume, invalidation.
+
+The engine is replaced by closed-form stand-ins (tests/_store_standins.py), so every stored
+number can be compared with a direct evaluation at its coordinates.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import partial
+
+import _store_standins as standin
+import numpy as np
+import pytest
+import xarray as xr
+import zarr
+
+from rocking import store
+from rocking.ensemble_io import save_ensemble
+from rocking.limit_states import parse_limit_states
+
+MODES = ["3d", "2d-x"]
+LIMIT_STATES = [s.name for s in parse_limit_states(["overturning", "tilt:1/3", "tilt:0.5"])]
+R_VALUES = [0.5, 1.0, 2.0, 4.0, 9.0]
+TAN_ALPHA = [0.1, 0.2]
+
+
+@pytest.fixture()
+def ensemble(tmp_path):
+    path = tmp_path / "motions.nc"
+    save_ensemble(path, standin.motions())
+    return path
+
+
+def make_spectra_store(path, ensemble, chunk_R=2, digest="h0"):
+    names = [m.name for m in standin.motions()]
+    layout = store.spectra_layout(MODES, LIMIT_STATES, names, TAN_ALPHA, R_VALUES, chunk_R)
+    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0},
+             "ensemble": store.ensemble_attrs(ensemble, "test"), "config": {"x": 1}}
+    store.create_store(path, layout, attrs, digest)
+    return layout
+
+
+def fill(path, ensemble, indices, batch=standin.batch):
+    for i in indices:
+        store.fill_spectra_region(path, i, ensemble, batch=batch)
+
+
+def test_regions_tile_the_grid_and_match_the_chunks(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble, chunk_R=2)
+    # 2 modes x 2 motions x 2 tan_alpha x ceil(5/2) = 24 regions
+    assert layout.n_regions == 24
+    hits = np.zeros(layout.shape(layout.task_dims), dtype=int)
+    for i in range(layout.n_regions):
+        region = layout.region(i)
+        hits[layout.selection(layout.task_dims, region)] += 1
+        assert region["R"].stop - region["R"].start in (1, 2)
+    assert np.all(hits == 1)
+    group = zarr.open_group(path, mode="r")
+    assert group["pga_crit"].chunks == (1, len(LIMIT_STATES), 1, 1, 2)
+    assert group["done"].chunks == (1, 1, 1, 2)
+    # no chunk file exists before any task ran: creation writes metadata and coordinates only
+    assert not (path / "pga_crit" / "c").exists()
+
+
+def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble)
+    fill(path, ensemble, range(layout.n_regions))
+    store.finalize(path)
+    ds = xr.open_zarr(path, consolidated=True)
+    assert list(ds["pga_crit"].dims) == list(store.SPECTRA_DIMS)
+    assert bool(ds["done"].all())
+    by_name = {m.name: m for m in standin.motions()}
+    states = parse_limit_states(LIMIT_STATES)
+    n_nan = 0
+    for mode in MODES:
+        for name, motion in by_name.items():
+            for ta in TAN_ALPHA:
+                for R in R_VALUES:
+                    for s in states:
+                        point = dict(mode=mode, motion=name, tan_alpha=ta, R=R,
+                                     limit_state=s.name)
+                        got = float(ds["pga_crit"].sel(point))
+                        want = standin.expected_intensity(R, ta, motion, mode, s.ratio)
+                        if math.isnan(want):
+                            n_nan += 1
+                            assert math.isnan(got) and bool(ds["not_reached"].sel(point))
+                        else:
+                            assert got == want
+                            assert not bool(ds["not_reached"].sel(point))
+                        assert bool(ds["non_monotonic"].sel(point)) == (R == 2.0 and s.ratio < 1)
+                        assert int(ds["n_analyses"].sel(point)) == int(3 + 2 * R)
+    assert n_nan == 2 * 2 * 2  # overturning at R = 9 for every mode, motion and tan_alpha
+    attrs = store.read_attrs(path)
+    assert attrs["config_hash"] == "h0"
+    assert attrs["ensemble"]["stand_in"] is True  # motion m1 is flagged a stand-in
+    assert [m["label"] for m in attrs["ensemble"]["motions"]] == ["motion 0", "motion 1"]
+
+
+def _bits(path):
+    ds = xr.open_zarr(path, consolidated=False)
+    return {k: ds[k].values.view(np.uint8).tobytes() for k in ds.data_vars}
+
+
+def test_interrupted_fill_resumes_to_identical_bytes(tmp_path, ensemble):
+    full, cut = tmp_path / "full.zarr", tmp_path / "cut.zarr"
+    layout = make_spectra_store(full, ensemble)
+    make_spectra_store(cut, ensemble)
+    fill(full, ensemble, range(layout.n_regions))
+    # a crashed run: some regions done, one half-written (results on disk, done not set)
+    fill(cut, ensemble, range(0, layout.n_regions, 3))
+    region = layout.region(1)
+    group = zarr.open_group(cut, mode="r+")
+    group["pga_crit"][layout.selection(store.SPECTRA_DIMS, region)] = -1.0
+    pending = store.pending_regions(cut)
+    assert pending == [i for i in range(layout.n_regions) if i % 3]
+    fill(cut, ensemble, pending)
+    assert store.pending_regions(cut) == []
+    assert _bits(cut) == _bits(full)
+
+
+def test_done_is_written_after_the_results(tmp_path, ensemble, monkeypatch):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble)
+    order = []
+    original = zarr.Array.__setitem__
+
+    def recording(self, key, value):
+        order.append(self.path)
+        return original(self, key, value)
+
+    monkeypatch.setattr(zarr.Array, "__setitem__", recording)
+    fill(path, ensemble, [0])
+    assert order[-1] == "done"
+    assert sorted(order[:-1]) == sorted(layout.variables)
+
+
+def test_failed_task_leaves_region_pending(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble, chunk_R=1)
+    failing = [i for i in range(layout.n_regions)
+               if list(store.region_coords(layout, i)["R"]) == [2.0]]
+    with pytest.raises(ValueError, match="R=2.0"):
+        fill(path, ensemble, failing[:1], batch=standin.failing_batch)
+    assert failing[0] in store.pending_regions(path)
+    with pytest.raises(ValueError, match="points not done"):
+        store.finalize(path)
+
+
+def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble)
+    shape = (1, len(LIMIT_STATES), 1, 1, 2)
+    good = {"pga_crit": np.ones(shape), "not_reached": np.zeros(shape, bool),
+            "non_monotonic": np.zeros(shape, bool), "failed": np.zeros(shape, bool),
+            "n_analyses": np.ones(shape, np.int32)}
+    with pytest.raises(ValueError, match="unexplained NaN"):
+        store.write_region(path, layout, 0, {**good, "pga_crit": np.full(shape, np.nan)})
+    with pytest.raises(ValueError, match=r"pga_crit has shape \(1, 3\)"):
+        store.write_region(path, layout, 0, {**good, "pga_crit": np.ones((1, 3))})
+    with pytest.raises(ValueError, match=r"missing variables \['failed'\]"):
+        store.write_region(path, layout, 0, {k: v for k, v in good.items() if k != "failed"})
+    assert store.pending_regions(path)[0] == 0  # nothing was marked done
+    store.write_region(path, layout, 0, {**good, "pga_crit": np.full(shape, np.nan)},
+                       nan_allowed={"pga_crit": np.ones(shape, bool)})
+    assert 0 not in store.pending_regions(path)
+
+
+def test_other_configuration_or_ensemble_is_refused(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    make_spectra_store(path, ensemble, digest="aaaa")
+    store.check_config_hash(path, "aaaa")
+    with pytest.raises(ValueError, match="config_hash='aaaa'.*config_hash='bbbb'"):
+        store.check_config_hash(path, "bbbb")
+    other = tmp_path / "other.nc"
+    save_ensemble(other, standin.motions(npts=150))
+    store.check_ensemble(path, ensemble)
+    with pytest.raises(ValueError, match="other.nc.*rebuild the store"):
+        store.check_ensemble(path, other)
+
+
+def test_config_hash_is_canonical():
+    a = {"R": [1.0, 2.0], "modes": ["3d"], "accuracy": "fast"}
+    b = {"accuracy": "fast", "modes": ["3d"], "R": [1.0, 2.0]}
+    assert store.config_hash(a) == store.config_hash(b)
+    assert store.config_hash(a) != store.config_hash({**a, "R": [1.0, 2.5]})
+    assert store.config_hash({"x": np.float64(0.2)}) == store.config_hash({"x": 0.2})
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"R": [1.0, -2.0]}, r"R must hold finite numbers > 0, got \[1.0, -2.0\]"),
+        ({"R": [1.0, 1.0]}, "R has duplicate values"),
+        ({"tan_alpha": []}, "tan_alpha must be a non-empty list"),
+        ({"motions": ["a", "a"]}, r"motion has duplicate labels \['a'\]"),
+        ({"chunk_R": 0}, "task chunk along 'R' must be an integer >= 1, got 0"),
+    ],
+)
+def test_bad_layouts_name_the_field(kwargs, message):
+    args = {"modes": ["3d"], "limit_states": ["overturning"], "motions": ["a"],
+            "tan_alpha": [0.2], "R": [1.0], "chunk_R": 1, **kwargs}
+    with pytest.raises(ValueError, match=message):
+        store.spectra_layout(**args)
+
+
+def test_auto_chunk_sizes_tasks_for_the_target_work():
+    point = store.ANALYSES_PER_POINT * 5000 * store.SECONDS_PER_SAMPLE  # one search [s]
+    assert store.auto_chunk_R(20, 5000, 0.5 * point) == 1
+    assert store.auto_chunk_R(20, 5000, 4.5 * point) == 5
+    assert store.auto_chunk_R(3, 5000, 100 * point) == 3  # never more than the grid
+
+
+def test_tilt_map_store_matches_direct_evaluation(tmp_path, ensemble):
+    path = tmp_path / "t.zarr"
+    models, R, intensity = ["3d", "3d-damped"], [1.0, 2.0, 3.0], [0.5, 1.5, 2.5, 3.5]
+    layout = store.tilt_map_layout(models, R, intensity, chunk_R=2)
+    attrs = {"motion": "m0", "tan_alpha": 0.2, "tolerances": {"name": "fast"},
+             "model_options": {}, "ensemble": store.ensemble_attrs(ensemble, "test")}
+    store.create_store(path, layout, attrs, "t0")
+    assert layout.n_regions == 4
+    fill_one = partial(store.fill_tilt_map_region, tilt_map=standin.tilt_map)
+    for i in store.pending_regions(path):
+        fill_one(path, i, ensemble)
+    store.finalize(path)
+    ds = xr.open_zarr(path, consolidated=True)
+    assert ds["theta_max_over_alpha"].dims == store.TILT_MAP_DIMS
+    want = np.array([[[standin.expected_theta(r, i, m, 0.2) for i in intensity] for r in R]
+                     for m in models])
+    np.testing.assert_array_equal(ds["theta_max_over_alpha"].values, want)
+    np.testing.assert_array_equal(ds["overturned"].values, want > 3.0)

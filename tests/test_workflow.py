@@ -1,0 +1,255 @@
+"""The Snakemake workflow end to end: real snakemake (subprocess), real Dask, real zarr.
+
+A tiny study (El Centro cut to 3 s + one synthetic pair, 2 sizes, 2 modes, 2 limit states)
+runs once uninterrupted on an embedded LocalCluster of worker processes; its store is checked
+against direct library calls and serves as the reference of the other runs: against an
+external ``dask scheduler`` with two ``dask worker`` processes (one killed mid-run), and a run
+killed mid-way then resumed. Every one must give the same bytes.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+import yaml
+
+from rocking.bodies import Cylinder
+from rocking.ensemble_io import load_ensemble
+from rocking.performance import critical_intensity, tilt_map
+
+pytestmark = pytest.mark.slow
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEFILE = REPO / "Snakefile"
+STUDY = "tiny"
+TINY = {
+    "accuracy": "fast",
+    "motions": {"max_duration": 3.0},
+    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7}},
+    "studies": {
+        STUDY: {
+            "ensemble": "tiny",
+            "R": [1.0, 3.0],
+            "tan_alpha": [0.2],
+            "limit_states": ["overturning", "tilt:0.3333"],
+            "modes": ["3d", "2d-x"],
+            "chunk_R": 1,
+            "tilt_map": {"models": ["3d", "3d-damped"], "R": [2.0], "intensity": [2.0, 4.0]},
+        }
+    },
+    "dask": {"progress_interval": 0},
+}
+SPECTRA = f"results/{STUDY}/spectra.zarr"
+TARGETS = [f"results/{STUDY}/mean_spectra.nc", f"results/{STUDY}/tilt_map.done.json"]
+
+
+def write_config(workdir: Path, **dask) -> Path:
+    cfg = json.loads(json.dumps(TINY))
+    cfg["dask"].update(dask)
+    path = workdir / "tiny.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+def snakemake(workdir: Path, *args: str, configfile: Path | None = None, cores: int = 2,
+              check: bool = True, popen: bool = False, timeout: float = 300):
+    """Run ``python -m snakemake`` on the project's Snakefile in ``workdir``."""
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(SNAKEFILE), "--directory", str(workdir),
+           "--cores", str(cores), "--nocolor", *args]
+    if configfile is not None:
+        cmd += ["--configfile", str(configfile)]
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    if popen:
+        return subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL, start_new_session=True)
+    out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
+    if check and out.returncode != 0:
+        raise AssertionError(f"snakemake failed ({out.returncode}):\n{out.stderr[-4000:]}")
+    return out
+
+
+def store_bytes(path: Path) -> dict[str, bytes]:
+    ds = xr.open_zarr(path, consolidated=False)
+    return {k: ds[k].values.view(np.uint8).tobytes() for k in ds.data_vars}
+
+
+def copy_motions(src: Path, dst: Path) -> None:
+    """Reuse the reference run's ensemble file (its rule has no result-affecting change)."""
+    (dst / "results/motions").mkdir(parents=True)
+    shutil.copy2(src / "results/motions/tiny.nc", dst / "results/motions/tiny.nc")
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory) -> Path:
+    """One uninterrupted run on an embedded LocalCluster of 2 worker processes."""
+    workdir = tmp_path_factory.mktemp("reference")
+    snakemake(workdir, *TARGETS, configfile=write_config(workdir))
+    return workdir
+
+
+def test_end_to_end_store_equals_direct_library_calls(reference):
+    ds = xr.open_zarr(reference / SPECTRA, consolidated=True)
+    attrs = {k: json.loads(v) if isinstance(v, str) and v[:1] in "{[" else v
+             for k, v in ds.attrs.items()}
+    motions = {m.name: m for m in load_ensemble(reference / "results/motions/tiny.nc")}
+    assert list(ds["motion"].values) == list(motions)  # the record first, then its pair
+    assert bool(ds["done"].all())
+    states = [str(s) for s in ds["limit_state"].values]
+    for mode in ds["mode"].values:
+        for name, motion in motions.items():
+            for R in ds["R"].values:
+                want = critical_intensity(Cylinder(float(R), 0.2), motion, states, str(mode),
+                                          accuracy=attrs["tolerances"],
+                                          **attrs["search_options"])
+                point = ds.sel(mode=mode, motion=name, tan_alpha=0.2, R=R)
+                got = point["pga_crit"].sel(limit_state=list(want.limit_states)).values
+                np.testing.assert_array_equal(got, want.intensity)
+                assert np.all(np.isfinite(got))  # 3 s of El Centro tips these bodies
+                np.testing.assert_array_equal(
+                    point["not_reached"].sel(limit_state=list(want.limit_states)).values,
+                    want.not_reached)
+                assert int(point["n_analyses"].values[0]) == want.n_analyses
+    # aggregation: the CSV against numpy over the stored values
+    table = pd.read_csv(reference / f"results/{STUDY}/mean_spectra.csv")
+    assert len(table) == 2 * 2 * 1 * 2
+    for row in table.itertuples():
+        v = ds["pga_crit"].sel(mode=row.mode, limit_state=row.limit_state,
+                               tan_alpha=row.tan_alpha, R=row.R).values
+        assert row.mean == pytest.approx(np.mean(v), rel=1e-9)
+        assert row.std == pytest.approx(np.std(v, ddof=1), rel=1e-9)
+        assert row.count == 2
+    # Fig 7 data through the same machinery, against the library for the record
+    tm = xr.open_zarr(reference / f"results/{STUDY}/tilt_map.zarr", consolidated=True)
+    record = next(iter(motions.values()))
+    options = json.loads(tm.attrs["model_options"])
+    assert options == {"omega_n": 2000.0, "zeta": 5.0}  # the schema's defaults
+    for model in ("3d", "3d-damped"):
+        want = tilt_map([2.0], 0.2, record, [2.0, 4.0], model, accuracy="fast", **options)
+        np.testing.assert_array_equal(tm["theta_max_over_alpha"].sel(model=model).values,
+                                      want["theta_max_over_alpha"].values)
+    # the log shows the dashboard and the progress; the summary says where it ran
+    log = (reference / f"logs/{STUDY}/spectra.log").read_text()
+    assert "dashboard: http://127.0.0.1:" in log and "8/8 chunks done" in log
+    summary = json.loads((reference / f"results/{STUDY}/spectra.done.json").read_text())
+    assert summary["cluster"] == "local" and summary["computed"] == 8
+
+
+def _start(cmd: list[str], cwd: Path) -> subprocess.Popen:
+    return subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def test_external_cluster_survives_a_killed_worker(reference, tmp_path):
+    from distributed import Client
+
+    sched_file = tmp_path / "scheduler.json"
+    procs = [_start([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host",
+                     "127.0.0.1", "--port", "0", "--dashboard-address", ":0",
+                     "--scheduler-file", str(sched_file)], tmp_path)]
+    client = None
+    try:
+        for _ in range(600):
+            if sched_file.exists():
+                break
+            time.sleep(0.1)
+        for _ in range(2):
+            procs.append(_start([sys.executable, "-m", "distributed.cli.dask_worker",
+                                 "--scheduler-file", str(sched_file), "--host", "127.0.0.1",
+                                 "--nthreads", "1", "--no-nanny"], tmp_path))
+        client = Client(scheduler_file=str(sched_file), timeout="60s")
+        client.wait_for_workers(2, timeout=120)
+        pids = client.run(os.getpid)
+        copy_motions(reference, tmp_path)
+        run = snakemake(tmp_path, *TARGETS, popen=True,
+                        configfile=write_config(tmp_path, scheduler_file=str(sched_file)))
+        # kill a worker while it is computing a spectra chunk (not before, not after)
+        victim = None
+        deadline = time.monotonic() + 240
+        while victim is None and time.monotonic() < deadline and run.poll() is None:
+            for addr, keys in client.processing().items():
+                if any("spectra" in str(k) for k in keys):
+                    victim = addr
+                    break
+            time.sleep(0.01)
+        assert victim is not None, "no spectra chunk was seen running"
+        os.kill(pids[victim], signal.SIGKILL)
+        assert run.wait(timeout=300) == 0
+        client.wait_for_workers(1)
+        assert len(client.scheduler_info()["workers"]) == 1
+    finally:
+        if client is not None:
+            client.close()
+        for p in procs:
+            p.kill()
+            p.wait(timeout=30)
+    summary = json.loads((tmp_path / f"results/{STUDY}/spectra.done.json").read_text())
+    assert summary["cluster"] == "scheduler_file" and summary["computed"] == 8
+    assert store_bytes(tmp_path / SPECTRA) == store_bytes(reference / SPECTRA)
+    tm = f"results/{STUDY}/tilt_map.zarr"
+    assert store_bytes(tmp_path / tm) == store_bytes(reference / tm)
+
+
+def test_killed_run_resumes_without_redoing_chunks(reference, tmp_path):
+    config = write_config(tmp_path)
+    copy_motions(reference, tmp_path)
+    target = f"results/{STUDY}/spectra.done.json"
+    # one worker: chunks run one after the other, so there is time to kill between them
+    run = snakemake(tmp_path, target, configfile=config, cores=1, popen=True)
+    done_dir = tmp_path / SPECTRA / "done" / "c"
+    deadline = time.monotonic() + 240
+    while time.monotonic() < deadline and run.poll() is None:
+        if done_dir.exists() and any(p.is_file() for p in done_dir.rglob("*")):
+            break
+        time.sleep(0.01)
+    os.killpg(run.pid, signal.SIGKILL)  # snakemake, its job and the Dask workers at once
+    run.wait(timeout=30)
+    n_done = sum(p.is_file() for p in done_dir.rglob("*"))
+    assert 1 <= n_done < 8, f"kill landed after {n_done} of 8 chunks"
+    assert not (tmp_path / target).exists()
+    snakemake(tmp_path, "--unlock", configfile=config)
+    snakemake(tmp_path, target, "--rerun-incomplete", configfile=config)
+    summary = json.loads((tmp_path / target).read_text())
+    assert summary["done_before"] >= n_done and summary["computed"] == 8 - summary["done_before"]
+    assert store_bytes(tmp_path / SPECTRA) == store_bytes(reference / SPECTRA)
+
+
+@pytest.mark.parametrize("config", ["config/config.yaml", "config/paper.yaml"])
+def test_lint_and_dry_run(config, tmp_path):
+    lint = snakemake(tmp_path, "--lint", configfile=REPO / config, check=False)
+    assert lint.returncode == 0, lint.stdout + lint.stderr
+    assert "Lints for" not in lint.stdout + lint.stderr
+    dry = snakemake(tmp_path, "-n", configfile=REPO / config)
+    assert "spectra_store" in dry.stdout and "mean_spectra" in dry.stdout
+    assert not (tmp_path / "results").exists()
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda c: c["studies"][STUDY].update(Rr=[1.0]),
+         "Additional properties are not allowed ('Rr' was unexpected)"),
+        (lambda c: c["studies"][STUDY].update(modes=["3d", "4d"]), "'4d' is not one of"),
+        (lambda c: c["studies"][STUDY].update(ensemble="nope"),
+         "studies.tiny.ensemble='nope' is not a key of ensembles"),
+    ],
+    ids=["unknown-key", "bad-mode", "missing-ensemble"],
+)
+def test_invalid_config_stops_before_any_work(change, message, tmp_path):
+    cfg = json.loads(json.dumps(TINY))
+    change(cfg)
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    out = snakemake(tmp_path, *TARGETS, configfile=path, check=False)
+    assert out.returncode != 0
+    assert message in out.stdout + out.stderr
+    assert not (tmp_path / "results").exists()

@@ -1,0 +1,22 @@
+# Ensemble statistics over the motions of a study: mean, std, median, count per
+# (mode, limit_state, tan_alpha, R).
+
+
+rule mean_spectra:
+    input:
+        store="results/{study}/spectra.zarr",
+        complete="results/{study}/spectra.done.json",
+    output:
+        nc="results/{study}/mean_spectra.nc",
+        csv=report(
+            "results/{study}/mean_spectra.csv",
+            caption="../report/mean_spectra.rst",
+            category="Performance spectra",
+            labels={"study": "{study}", "table": "ensemble statistics"},
+        ),
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/{study}/mean_spectra.log",
+    script:
+        "../scripts/mean_spectra.py"

@@ -1,0 +1,174 @@
+# Shared helpers: the validated configuration turned into grids, store specifications,
+# their hashes and target paths. Pure functions of `config`; no work happens here.
+
+import re
+
+import numpy as np
+
+from rocking.limit_states import parse_limit_states
+from rocking.store import config_hash
+from snakemake.exceptions import WorkflowError
+
+
+def expand_grid(spec, field):
+    """Values of a grid given as a list or {start, stop, num[, spacing]} (checked)."""
+    if isinstance(spec, list):
+        values = [float(v) for v in spec]
+    else:
+        start, stop, num = float(spec["start"]), float(spec["stop"]), int(spec["num"])
+        if stop < start:
+            raise ValueError(f"{field}: stop={stop!r} is below start={start!r}")
+        if spec.get("spacing", "linear") == "log":
+            values = np.geomspace(start, stop, num)
+        else:
+            values = np.linspace(start, stop, num)
+        # 12 significant digits: 0.5 + 3 * 0.95 is stored as 3.35, not 3.3499999999999996
+        values = [float(f"{v:.12g}") for v in values]
+    if len(set(values)) != len(values):
+        raise ValueError(f"{field}: repeated values {values!r}")
+    return values
+
+
+def study_config(study):
+    return config["studies"][study]
+
+
+def ensemble_of(study):
+    return study_config(study)["ensemble"]
+
+
+def ensemble_spec(name):
+    """Everything that decides the motions of an ensemble (also hashed into stores)."""
+    spec = dict(config["ensembles"][name])
+    spec["max_duration"] = config["motions"]["max_duration"]
+    return spec
+
+
+def ensemble_file(name):
+    return f"results/motions/{name}.nc"
+
+
+def accuracy_config():
+    return config["accuracy"]
+
+
+def damped_options(modes):
+    """Contact-model parameters, only when a damped model runs (else they cannot matter)."""
+    if "3d-damped" not in modes:
+        return {}
+    return {"omega_n": float(config["damped"]["omega_n"]), "zeta": float(config["damped"]["zeta"])}
+
+
+def spectra_spec(study):
+    """The result-affecting description of a spectra store (its hash invalidates the store)."""
+    s = study_config(study)
+    return {
+        "study": study,
+        "ensemble": {"name": ensemble_of(study), **ensemble_spec(ensemble_of(study))},
+        "R": expand_grid(s["R"], f"studies.{study}.R"),
+        "tan_alpha": expand_grid(s["tan_alpha"], f"studies.{study}.tan_alpha"),
+        "limit_states": [ls.name for ls in parse_limit_states(s["limit_states"])],
+        "modes": list(s["modes"]),
+        "chunk_R": s["chunk_R"],
+        "min_task_seconds": config["dask"]["min_task_seconds"] if s["chunk_R"] == "auto" else None,
+        "accuracy": accuracy_config(),
+        "search_options": {"upper": float(config["search"]["upper"]),
+                           **damped_options(s["modes"])},
+    }
+
+
+def spectra_hash(study):
+    return config_hash(spectra_spec(study))
+
+
+def has_tilt_map(study):
+    return study_config(study).get("tilt_map") is not None
+
+
+def tilt_map_spec(study):
+    """The result-affecting description of a Fig 7 tilt-map store."""
+    t = study_config(study)["tilt_map"]
+    return {
+        "study": study,
+        "ensemble": {"name": ensemble_of(study), **ensemble_spec(ensemble_of(study))},
+        "motion": t["motion"],
+        "models": list(t["models"]),
+        "tan_alpha": float(t["tan_alpha"]),
+        "R": expand_grid(t["R"], f"studies.{study}.tilt_map.R"),
+        "intensity": expand_grid(t["intensity"], f"studies.{study}.tilt_map.intensity"),
+        "chunk_R": int(t["chunk_R"]),
+        "accuracy": accuracy_config(),
+        "model_options": damped_options(t["models"]),
+    }
+
+
+def tilt_map_hash(study):
+    return config_hash(tilt_map_spec(study))
+
+
+def dask_options():
+    d = config["dask"]
+    return {"scheduler_address": d["scheduler_address"], "scheduler_file": d["scheduler_file"],
+            "progress_interval": float(d["progress_interval"])}
+
+
+def compute_threads():
+    """Worker processes of an embedded LocalCluster: all cores given to snakemake (--cores)."""
+    try:
+        return max(1, int(workflow.cores))
+    except WorkflowError:  # no --cores (e.g. a dry run): the value is not used
+        return 1
+
+
+# Paths other rules (figures.smk) consume. A store is complete once its *.done.json exists.
+def spectra_store(study):
+    return f"results/{study}/spectra.zarr"
+
+
+def spectra_complete(study):
+    return f"results/{study}/spectra.done.json"
+
+
+def mean_spectra(study):
+    return f"results/{study}/mean_spectra.nc"
+
+
+def tilt_map_store(study):
+    return f"results/{study}/tilt_map.zarr"
+
+
+def tilt_map_complete(study):
+    return f"results/{study}/tilt_map.done.json"
+
+
+def all_targets():
+    targets = []
+    for study in config["studies"]:
+        targets += [mean_spectra(study), f"results/{study}/mean_spectra.csv"]
+        if has_tilt_map(study):
+            targets.append(tilt_map_complete(study))
+    if "figure_targets" in globals():
+        targets += list(figure_targets())
+    return targets
+
+
+def _check_config():
+    """Cross-field checks the schema cannot express; each error names the key and value."""
+    for study, s in config["studies"].items():
+        if s["ensemble"] not in config["ensembles"]:
+            raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "
+                             f"ensembles {sorted(config['ensembles'])}")
+        spectra_spec(study)
+        if has_tilt_map(study):
+            tilt_map_spec(study)
+    if config["dask"]["scheduler_address"] and config["dask"]["scheduler_file"]:
+        raise ValueError("dask.scheduler_address and dask.scheduler_file are both set; "
+                         "give one")
+
+
+_check_config()
+
+
+wildcard_constraints:
+    study="|".join(map(re.escape, config["studies"])),
+    ensemble="|".join(map(re.escape, config["ensembles"])),

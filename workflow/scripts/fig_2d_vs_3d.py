@@ -1,0 +1,16 @@
+"""Fig 12 (Snakemake script): 3D versus 2D mean spectra of every configured study."""
+
+from rocking.cluster import log_to
+from rocking.figures import render
+
+
+def main(snakemake):
+    out = snakemake.output
+    with log_to(snakemake.log[0]):
+        studies = list(zip(snakemake.params.studies, snakemake.input.means, snakemake.input.stores,
+                           strict=True))
+        render("fig12", [out.png, out.pdf], out.notes, studies=studies)
+
+
+if __name__ == "__main__":
+    main(snakemake)

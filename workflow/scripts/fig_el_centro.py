@@ -1,0 +1,17 @@
+"""Fig 6 (Snakemake script): El Centro response, the ensemble's first motion (the record)."""
+
+from rocking.cluster import log_to
+from rocking.ensemble_io import load_ensemble
+from rocking.figures import render
+
+
+def main(snakemake):
+    out = snakemake.output
+    with log_to(snakemake.log[0]):
+        record = load_ensemble(snakemake.input.motions)[0]
+        render("fig06", [out.png, out.pdf], out.notes, motion=record,
+               **snakemake.params.model_options)
+
+
+if __name__ == "__main__":
+    main(snakemake)

@@ -1,0 +1,16 @@
+"""Fig 8 (Snakemake script): traces and 5 %-damped PSA spectra of one ensemble."""
+
+from rocking.cluster import log_to
+from rocking.ensemble_io import load_ensemble
+from rocking.figures import render
+
+
+def main(snakemake):
+    out = snakemake.output
+    with log_to(snakemake.log[0]):
+        render("fig08", [out.png, out.pdf], out.notes,
+               motions=load_ensemble(snakemake.input.motions))
+
+
+if __name__ == "__main__":
+    main(snakemake)

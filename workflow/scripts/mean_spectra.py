@@ -1,0 +1,19 @@
+"""Ensemble statistics of a study's spectra: mean_spectra.nc and mean_spectra.csv."""
+
+import xarray as xr
+
+from rocking.aggregate import ensemble_statistics, write_statistics
+from rocking.cluster import log_to
+
+
+def main(snakemake):
+    with log_to(snakemake.log[0]):
+        with xr.open_zarr(snakemake.input.store, consolidated=True) as ds:
+            stats = ensemble_statistics(ds)
+        write_statistics(stats, snakemake.output.nc, snakemake.output.csv)
+        print(f"wrote {snakemake.output.nc} and {snakemake.output.csv}: "
+              f"{dict(stats.sizes)}", flush=True)
+
+
+if __name__ == "__main__":
+    main(snakemake)

@@ -1,0 +1,39 @@
+"""Create the empty spectra store of a study (layout, coordinates, attributes)."""
+
+import logging
+from pathlib import Path
+
+from rocking import __version__, store
+from rocking.accuracy import get_accuracy
+from rocking.cluster import log_to
+
+
+def main(snakemake):
+    spec = snakemake.params.spec
+    with log_to(snakemake.log[0]):
+        ensemble = store.ensemble_attrs(snakemake.input.motions, spec["ensemble"]["name"])
+        names = [m["name"] for m in ensemble["motions"]]
+        chunk_R = spec["chunk_R"]
+        if chunk_R == "auto":
+            npts = min(m["npts"] for m in ensemble["motions"])
+            chunk_R = store.auto_chunk_R(len(spec["R"]), npts, spec["min_task_seconds"])
+        layout = store.spectra_layout(spec["modes"], spec["limit_states"], names,
+                                      spec["tan_alpha"], spec["R"], chunk_R)
+        attrs = {
+            "title": f"Seismic performance rocking spectra, study {spec['study']}",
+            "config": spec,
+            "tolerances": get_accuracy(spec["accuracy"]).to_dict(),
+            "search_options": spec["search_options"],
+            "rocking_version": __version__,
+            "ensemble": ensemble,
+            "pga_crit_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
+        }
+        store.create_store(Path(snakemake.output[0]), layout, attrs,
+                           snakemake.params.config_hash)
+        logging.getLogger("spectra_store").info(
+            "created %s: %d chunks of %d sizes R, motions %s", snakemake.output[0],
+            layout.n_regions, chunk_R, names)
+
+
+if __name__ == "__main__":
+    main(snakemake)
