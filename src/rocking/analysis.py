@@ -36,9 +36,16 @@ from .result import QuasiImpacts, Response, Status
 MODELS = ("3d", "3d-damped", "2d")
 
 DEFAULT_RTOL = {"3d": 1e-8, "2d": 1e-8, "3d-damped": 1e-6}
-"""Default relative tolerance per model, chosen with ``python -m rocking.benchmarks dynamics``
-(the loosest tolerance with ≤ 1e-3 relative error on θmax and the right limit-state decision
-in every benchmark case)."""
+"""Default relative tolerance per model [-].
+
+From ``python -m rocking.benchmarks dynamics``: in every benchmark case the θmax error is
+≤ 1e-3 with the right limit-state decision from rtol 1e-6 on ("3d" El Centro: 1.6e-4 at 1e-6,
+1.1e-2 at 1e-5; "2d": < 1e-10 at any rtol, the record dt caps its steps). The undamped 3D
+default is tighter, 1e-8 (θmax error 9e-6, +24 % steps), because releases at 0.999α must
+survive: the energy margin to the barrier at θ = α is only gR(0.001α)²/2 ≈ 2e-8 gR for
+tan α = 0.2, and the energy drift through quasi-impacts is ~1e-7 at rtol 1e-6 but ~1e-9 at
+1e-8 (tests/test_cylinder3d.py). The 2D default follows for consistency of comparisons. The
+damped model's value is the other engineer's (cylinder3d_damped) until benchmarked."""
 
 METHOD = "dp5"
 """Runge–Kutta pair of the undamped kernels (see :mod:`rocking._rk` for the measurement)."""
@@ -533,7 +540,8 @@ def _ground_2d(body, ax, dt, t_end, threshold, stop_level, rtol, history, free_t
         return _response("2d", acc, Status.OK, "", False, math.nan, omega_n, zeta)
     if out is not None and int(out[0]) == 0 and free_tail:
         y_end = out[2][-1]
-        side = math.copysign(1.0, y_end[0]) if y_end[0] != 0.0 else -math.copysign(1.0, y_end[1])
+        # On θ = 0 right after an impact the body moves to the side of θ̇.
+        side = math.copysign(1.0, y_end[0] if y_end[0] != 0.0 else y_end[1])
         status, reason = _tail_2d(body, acc, y_end, side, t_end, stop_level, rtol)
     return _response("2d", acc, status, reason, True, t_first, omega_n, zeta)
 

@@ -77,9 +77,10 @@ def resolve_target(scheduler_address: str | None = None, scheduler_file: str | N
     if scheduler_address:
         return Target("address", str(scheduler_address))
     if scheduler_file:
-        if not Path(scheduler_file).is_file():
+        path = Path(scheduler_file).expanduser()
+        if not path.is_file():
             raise ValueError(f"dask.scheduler_file {scheduler_file!r} does not exist")
-        return Target("scheduler_file", str(scheduler_file))
+        return Target("scheduler_file", str(path))
     env = environ.get(ENV_ADDRESS, "").strip()
     if env:
         return Target("address", env)

@@ -619,6 +619,9 @@ def _integrate_core(y0, t0, t_end, ax, ay, dt_rec, scale, alpha, R, kappa_o, g, 
             n_min = nf
 
         stop_now = False
+        # maxima found after a stop inside this step must not count: keep the previous ones
+        th_max_prev = theta_max
+        t_th_max_prev = t_theta_max
         # tilt maximum inside the step
         if y[3] > 0.0 and ynew[3] <= 0.0:
             s = _root(y[3], ynew[3], f0[3], f1[3], h_try, 0.0)
@@ -645,6 +648,8 @@ def _integrate_core(y0, t0, t_end, ax, ay, dt_rec, scale, alpha, R, kappa_o, g, 
                     and math.sqrt(axe * axe + aye * aye) <= a_uplift):
                 code = CODE_REST
                 t_stop = te
+                theta_max = th_max_prev
+                t_theta_max = t_th_max_prev
                 stop_now = True
         if not stop_now and ynew[0] >= _HALF_PI:
             s = _root(y[0], ynew[0], f0[0], f1[0], h_try, _HALF_PI)
@@ -660,6 +665,8 @@ def _integrate_core(y0, t0, t_end, ax, ay, dt_rec, scale, alpha, R, kappa_o, g, 
             _hermite(y, ynew, f0, f1, h_try, s, yint)
             code = CODE_STOPPED
             t_stop = t + s * h_try
+            theta_max = th_max_prev
+            t_theta_max = t_th_max_prev
             if yint[0] >= theta_max:
                 theta_max = yint[0]
                 t_theta_max = t_stop

@@ -291,8 +291,10 @@ def _checked(out: Outcome) -> Outcome:
 class _Search:
     """State of one search: analyses run so far and the rules choosing the next one."""
 
-    def __init__(self, analyze: AnalysisFn, states, alpha, lower, upper, acc: Accuracy):
+    def __init__(self, analyze: AnalysisFn, states, alpha, lower, upper, acc: Accuracy,
+                 rtol: float):
         self.analyze = analyze
+        self.rtol = rtol
         self.states = states
         self.alpha = alpha
         self.tau = np.array([ls.threshold(alpha) for ls in states])
@@ -321,9 +323,9 @@ class _Search:
             return True
         top = int(np.flatnonzero(informative)[-1])
         stop_at = None if self.states[top].is_overturning else float(self.tau[top])
-        out = self._call(intensity, stop_at, self.acc.rtol)
+        out = self._call(intensity, stop_at, self.rtol)
         if out.status is Status.FAILED:
-            out = self._call(intensity, stop_at, self.acc.rtol * RETRY_RTOL_FACTOR)
+            out = self._call(intensity, stop_at, self.rtol * RETRY_RTOL_FACTOR)
         if out.status is Status.FAILED:
             self.know.failed_at.append(intensity)
             return False
@@ -394,6 +396,7 @@ def search_critical(
     lower: float,
     upper: float = DEFAULT_UPPER,
     accuracy: str | Accuracy | dict = "default",
+    rtol: float | None = None,
 ) -> CriticalResult:
     """Smallest exceeding intensity of each limit state, for any analysis function.
 
@@ -411,6 +414,8 @@ def search_critical(
         Highest intensity searched [-].
     accuracy : str, Accuracy or dict
         Preset name or tolerances (:func:`rocking.accuracy.get_accuracy`).
+    rtol : float, optional
+        ODE tolerance handed to ``analyze`` [-]; default ``accuracy.rtol``.
 
     Returns
     -------
@@ -424,7 +429,8 @@ def search_critical(
     lower = float(lower)
     if math.isnan(lower) or lower <= 0.0:
         raise ValueError(f"lower must be > 0, got {lower!r}")
-    search = _Search(analyze, states, alpha, lower, upper, acc)
+    rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
+    search = _Search(analyze, states, alpha, lower, upper, acc, rtol)
     search.scan()
     search.bisect()
     return search.result()
@@ -540,8 +546,9 @@ def critical_intensity(
         raise ValueError(f"motion {motion.name!r} has zero PGA")
     lower = uplift_intensity(motion, mode)
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta)
+    acc = get_accuracy(accuracy)
     res = search_critical(analyze, limit_states, body.alpha, lower=lower, upper=upper,
-                          accuracy=accuracy)
+                          accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]))
     return replace(res, mode=mode, motion=motion.name, R=float(body.R),
                    tan_alpha=float(body.tan_alpha))
 
@@ -611,7 +618,7 @@ def tilt_map(
     mode : str
         As in :func:`critical_intensity`.
     accuracy : str, Accuracy or dict
-        Only its ``rtol`` is used.
+        Only its ODE tolerance is used.
     omega_n, zeta : float, optional
         Damped-model parameters.
 
@@ -626,6 +633,7 @@ def tilt_map(
     R_arr = np.array([positive_finite("R", r) for r in R_values], dtype=float)
     I_arr = np.array([positive_finite("intensity", i) for i in intensities], dtype=float)
     lower = uplift_intensity(motion, mode)
+    rtol = acc.rtol_for(MODES[mode][0])
     ratio = np.zeros((R_arr.size, I_arr.size))
     overturned = np.zeros(ratio.shape, dtype=bool)
     failed = np.zeros(ratio.shape, dtype=bool)
@@ -635,9 +643,9 @@ def tilt_map(
         for j, intensity in enumerate(I_arr):
             if intensity <= lower:
                 continue  # below uplift the body stays at rest
-            out = _checked(analyze(intensity, None, acc.rtol))
+            out = _checked(analyze(intensity, None, rtol))
             if out.status is Status.FAILED:
-                out = _checked(analyze(intensity, None, acc.rtol * RETRY_RTOL_FACTOR))
+                out = _checked(analyze(intensity, None, rtol * RETRY_RTOL_FACTOR))
             failed[i, j] = out.status is Status.FAILED
             overturned[i, j] = out.overturned
             theta = 0.5 * math.pi if out.overturned else out.theta_max
@@ -652,5 +660,5 @@ def tilt_map(
         },
         coords=coords,
         attrs={"mode": mode, "tan_alpha": float(tan_alpha), "motion": motion.name,
-               "rtol": acc.rtol, "pga": motion.pga},
+               "rtol": rtol, "pga": motion.pga},
     )

@@ -189,6 +189,13 @@ def measured_lines(entry: FigureEntry) -> list[str]:
             f"{_fmt(m.get('principal_offset_deg'))}° from the nearest recording axis; "
             f"{m.get('n_motions')} motions."
         )
+    elif entry.key == "fig07" and "R" in m:
+        for key, values in m.items():
+            if key.startswith("first_intensity_theta_above_alpha_"):
+                pairs = ", ".join(f"R = {r:g} m: {_fmt(v, 3)}" for r, v in
+                                  zip(m["R"], values, strict=False))
+                lines.append(f"Lowest intensity with θmax ≥ α, {key.rsplit('_', 1)[1]}: "
+                             f"{pairs}.")
     elif m:
         shown = {k: v for k, v in m.items() if not isinstance(v, list)}
         if shown:
@@ -222,7 +229,8 @@ def headline_table(figures: Sequence[FigureEntry], linear_fit: pd.DataFrame | No
                  f"{_fmt(f6.get('theta_max_3d'))} / {_fmt(f6.get('theta_max_3d-damped'))}",
                  REASONS["theta_max"]))
     f8 = notes.get("fig08", {})
-    rows.append(("El Centro principal-axis angle [deg]", f"{PAPER['principal_angle_deg']}",
+    rows.append((f"Principal-axis angle of the record ({f8.get('record', 'not run')}) [deg]",
+                 f"{PAPER['principal_angle_deg']} (El Centro)",
                  _fmt(f8.get("principal_offset_deg")), REASONS["principal_angle"]))
     if linear_fit is not None:
         rows += _linearity_rows(linear_fit, tan_alpha)

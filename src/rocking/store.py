@@ -514,9 +514,11 @@ def check_ensemble(path: str | Path, motions_path: str | Path) -> None:
                          f"{str(path)!r} was made from sha256 {expected}; rebuild the store")
 
 
-SECONDS_PER_SAMPLE = 2e-6
-"""Lower estimate of the cost of one analysis per record sample [s] (cheapest model, this
-machine class; see results/benchmarks/workflow.md). Only sizes tasks for ``chunk_R: auto``."""
+SECONDS_PER_SAMPLE = 0.4e-6
+"""Lower estimate of the cost of one analysis per record sample [s]: the cheapest mode (2D,
+"fast" preset) on El Centro took 0.46 µs per sample on a 2-core development machine
+(results/benchmarks/workflow.md has the measured costs). Only sizes tasks for
+``chunk_R: auto``; the other modes cost more, so tasks are at least this long."""
 
 ANALYSES_PER_POINT = 10
 """Lower estimate of the analyses of one critical-intensity search (scan + bisection)."""

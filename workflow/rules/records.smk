@@ -1,10 +1,12 @@
 # Ground-motion ensembles: the record (rotated to principal axes and high-passed) first, then
-# its synthetic RDK pairs, written by rocking.ensemble_io to results/motions/<ensemble>.nc.
+# its synthetic RDK pairs, written by rocking.ensemble_io to results/motions/<ensemble>.nc;
+# the settings and fitted RDK parameters go to results/motions/<ensemble>.json.
 
 
 rule motions:
     output:
-        "results/motions/{ensemble}.nc",
+        motions="results/motions/{ensemble}.nc",
+        params="results/motions/{ensemble}.json",
     params:
         spec=lambda wildcards: ensemble_spec(wildcards.ensemble),
     conda:

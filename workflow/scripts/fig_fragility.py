@@ -2,17 +2,17 @@
 
 from rocking import fragility
 from rocking.cluster import log_to
-from rocking.figures import _load, render
+from rocking.figures import open_means, open_store, render
 
 
 def main(snakemake):
     out = snakemake.output
     with log_to(snakemake.log[0]):
-        table = fragility.fragility_table(_load.open_store(snakemake.input.store),
+        table = fragility.fragility_table(open_store(snakemake.input.store),
                                           upper=float(snakemake.params.upper))
         table.to_netcdf(out.fragility_nc)
         fragility.to_frame(table).to_csv(out.fragility_csv, index=False, float_format="%.10g")
-        lines = fragility.linear_fit_table(_load.open_means(snakemake.input.means))
+        lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")
         render("fragility", [out.png, out.pdf], out.notes, fragility=out.fragility_nc,

@@ -12,6 +12,7 @@ import importlib
 from collections.abc import Sequence
 from pathlib import Path
 
+from ._load import open_means, open_store
 from ._style import save, write_notes
 
 FIGURES = {
@@ -64,4 +65,4 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     return d
 
 
-__all__ = ["FIGURES", "module", "render"]
+__all__ = ["FIGURES", "module", "open_means", "open_store", "render"]

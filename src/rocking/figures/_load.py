@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -13,12 +14,15 @@ from ..limit_states import parse_limit_state
 
 
 def open_store(path: str | Path) -> xr.Dataset:
-    """Load the study store ``spectra.zarr`` into memory (it is small: one value per task)."""
+    """Load a zarr store (``spectra.zarr``, ``tilt_map.zarr``) into memory; they are small."""
     path = Path(path)
     if not path.exists():
         raise ValueError(f"store path does not exist: {str(path)!r}")
-    with xr.open_zarr(path, consolidated=False) as ds:
-        return ds.load()
+    with warnings.catch_warnings():
+        # Snakemake marks directory outputs with a .snakemake_timestamp file inside them.
+        warnings.filterwarnings("ignore", message=".*snakemake_timestamp.*")
+        with xr.open_zarr(path, consolidated=False) as ds:
+            return ds.load()
 
 
 def open_means(path: str | Path) -> xr.Dataset:

@@ -10,9 +10,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import xarray as xr
 from matplotlib.figure import Figure
 
+from . import _load
 from ._style import MODE_STYLE, new_figure, styled
 
 VARIABLE = "theta_max_over_alpha"
@@ -28,13 +28,11 @@ def data(path: str | Path) -> dict:
 
     Models are returned in the paper's order (undamped, damped, then any other).
     """
-    path = Path(path)
-    if not path.exists():
-        raise ValueError(f"tilt map path does not exist: {str(path)!r}")
-    with xr.open_zarr(path, consolidated=False) as ds:
-        if VARIABLE not in ds:
-            raise ValueError(f"{str(path)!r} has no variable {VARIABLE!r}: {list(ds.data_vars)}")
-        da = ds[VARIABLE].transpose("model", "R", "intensity").load()
+    ds = _load.open_store(path)
+    if VARIABLE not in ds:
+        raise ValueError(f"{str(path)!r} has no variable {VARIABLE!r}: {list(ds.data_vars)}")
+    da = ds[VARIABLE].transpose("model", "R", "intensity")
+    attrs = dict(ds.attrs)  # the store's: motion, tan_alpha, config, tolerances
     models = [str(m) for m in da["model"].values]
     ordered = [m for m in MODEL_ORDER if m in models] + [m for m in models if m not in MODEL_ORDER]
     R = da["R"].values.astype(float)
@@ -43,7 +41,7 @@ def data(path: str | Path) -> dict:
     measured = {f"first_intensity_theta_above_alpha_{m}": first_above(z, intensity).tolist()
                 for m, z in maps.items()}
     measured["R"] = R.tolist()
-    return {"R": R, "intensity": intensity, "theta_over_alpha": maps, "attrs": dict(da.attrs),
+    return {"R": R, "intensity": intensity, "theta_over_alpha": maps, "attrs": attrs,
             "measured": measured}
 
 
@@ -82,5 +80,6 @@ def plot(d: dict) -> Figure:
         cbar = fig.colorbar(mappable, ax=list(axes), ticks=[*LEVELS, TOP])
         cbar.ax.set_yticklabels([f"{v:g}" for v in LEVELS] + ["> 1"])
         cbar.set_label("θmax/α [-] (top class: θmax > α, incl. overturning)")
-    fig.suptitle("Normalized peak tilt, scaled El Centro 1940 (Fig 7); white line θmax = α")
+    motion = d["attrs"].get("motion", "El Centro 1940")
+    fig.suptitle(f"Normalized peak tilt, scaled record {motion} (Fig 7); white line θmax = α")
     return fig

@@ -65,7 +65,7 @@ def plot(d: dict) -> Figure:
     """Traces in stacked rows (x left, y middle), spectra in one panel on the right."""
     motions = d["motions"]
     n = len(motions)
-    fig = Figure(figsize=(11.0, 0.75 * n + 1.6), layout="constrained")
+    fig = Figure(figsize=(11.0, max(0.75 * n + 1.6, 4.5)), layout="constrained")
     grid = fig.add_gridspec(n, 3, width_ratios=(1.0, 1.0, 1.1))
     peak = max(float(np.max(np.abs(np.r_[m["ax"], m["ay"]]))) for m in motions)
     t_end = max(float(m["t"][-1]) for m in motions)
@@ -100,7 +100,7 @@ def plot(d: dict) -> Figure:
     ax_s.set_xlim(float(d["periods"][0]), float(d["periods"][-1]))
     ax_s.set_xlabel("T [s]")
     ax_s.set_ylabel(f"PSA, ζ = {100 * d['damping']:g} % [g]")
-    ax_s.set_title("Pseudo-acceleration spectra (solid x, dashed y)")
-    ax_s.legend(loc="upper right", fontsize=6)
+    ax_s.set_title("Pseudo-acceleration spectra\n(solid x, dashed y)")
+    ax_s.legend(loc="upper left", fontsize=6)
     fig.suptitle("Ground motions of the ensemble (Fig 8)")
     return fig

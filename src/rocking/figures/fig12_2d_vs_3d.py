@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from . import _load
 from ._style import MODE_STYLE, limit_state_title, new_figure, styled
@@ -91,14 +92,24 @@ def at_size(ensembles: list[dict], R: float) -> dict:
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
     titles = ("overturning", "excessive tilt")
-    fig, axes = new_figure(10.0, 4.6, ncols=2)
+    fig, axes = new_figure(10.0, 5.2, ncols=2)
+    handles, modes_seen = [], []
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
-        label = ens["label"] + (" (stand-in)" if ens["stand_in"] else "")
+        label = ens["label"]
+        if ens["stand_in"] and "stand-in" not in label:
+            label += " (stand-in)"
+        handles.append(Line2D([], [], color=color, lw=1.6, label=label))
         for ax, title in zip(axes, titles, strict=True):
             for mode, y in ens["panels"].get(title, {}).items():
                 ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.6,
                         marker="o", ms=3, label=f"{label}: {MODE_STYLE[mode]['label']}")
+                if mode not in modes_seen:
+                    modes_seen.append(mode)
+    handles += [Line2D([], [], color="gray", lw=1.6, ls=MODE_STYLE[m]["linestyle"],
+                       label=MODE_STYLE[m]["label"] + (" (both components)" if m == "3d"
+                                                       else " only"))
+                for m in modes_seen]
     for ax, title in zip(axes, titles, strict=True):
         ax.set_title(limit_state_title("overturning") if title == "overturning"
                      else "Excessive tilt θ > α/3")
@@ -106,8 +117,9 @@ def plot(d: dict) -> Figure:
         ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
         ax.set_xlim(left=0.0)
         ax.set_ylim(bottom=0.0)
-        if ax.lines:
-            ax.legend(loc="upper left")
+    if handles:
+        # One legend for both panels, below them: colours are ensembles, styles are modes.
+        fig.legend(handles=handles, loc="outside lower center", ncols=2)
     title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
     if d["missing"]:
         title += "\nmissing: " + "; ".join(d["missing"])

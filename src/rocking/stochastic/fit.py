@@ -95,6 +95,11 @@ def fit_frequency(
     return float(c[1] + 2.0 * c[2] * t_mid), float(2.0 * c[2]), c
 
 
+def _window(t05: float, t95: float, dt: float) -> tuple[int, int]:
+    """Indices of the first and last samples inside [t05, t95]."""
+    return int(math.ceil(t05 / dt - 1e-9)), int(math.floor(t95 / dt + 1e-9))
+
+
 def fit_zeta(
     a: ArrayLike,
     dt: float,
@@ -146,9 +151,8 @@ def fit_zeta(
         raise ValueError(f"zeta_grid must increase inside (0, 1), got {zeta_grid!r}")
     if int(n_sim) != n_sim or n_sim < 1:
         raise ValueError(f"n_sim must be a positive integer, got {n_sim!r}")
-    i05 = int(math.ceil(t05 / dt - 1e-9))
-    i95 = int(math.floor(t95 / dt + 1e-9))
-    if not 0 <= i05 < i95 - 2 < x.size:
+    i05, i95 = _window(t05, t95, dt)
+    if not (0 <= i05 < i95 - 2 and i95 < x.size):
         raise ValueError(f"window [t05, t95] = [{t05!r}, {t95!r}] s holds fewer than 3 samples")
     n_rec = pmnm_cum(x[i05 : i95 + 1])
     # The unmodulated process of the model starts at t = 0 like the record; it is counted
@@ -236,7 +240,7 @@ def fit_component(
         x, dt, trial, ht["t05"], ht["t95"],
         zeta_grid=zeta_grid, n_sim=n_sim, seed=seed, refine=refine, floor_hz=floor_hz,
     )  # fmt: skip
-    i05, i95 = (int(round(ht[k] / dt)) for k in ("t05", "t95"))
+    i05, i95 = _window(ht["t05"], ht["t95"], dt)
     diagnostics = {
         **ht,
         "upcrossing_coef": coef.tolist(),
