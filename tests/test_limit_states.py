@@ -92,3 +92,9 @@ def test_scan_points_relative_and_absolute():
     assert rel.scan_point(2.0, 3) == pytest.approx(2.0 * 1.1**3, rel=1e-15)
     ab = rel.with_(scan_relative=False, scan_step=0.25)
     assert ab.scan_point(1.0, 4) == 2.0
+
+
+def test_accuracy_round_trips_through_its_dict():
+    # The study store keeps tolerances as JSON and workers rebuild them with get_accuracy.
+    for acc in PRESETS.values():
+        assert get_accuracy(acc.to_dict()) == acc

@@ -231,3 +231,14 @@ def test_tilt_map_store_matches_direct_evaluation(tmp_path, ensemble):
                      for m in models])
     np.testing.assert_array_equal(ds["theta_max_over_alpha"].values, want)
     np.testing.assert_array_equal(ds["overturned"].values, want > 3.0)
+
+
+def test_costliest_regions_are_scheduled_first():
+    layout = store.spectra_layout(["2d-x", "3d"], ["overturning"], ["a"], [0.2],
+                                  [1.0, 2.0, 8.0, 9.0], 2)
+    order = store.costliest_first(layout, range(layout.n_regions))
+    described = [(str(store.region_coords(layout, i)["mode"][0]),
+                  list(store.region_coords(layout, i)["R"])) for i in order]
+    # 3d before 2d at equal sizes; large bodies (more analyses per search) first
+    assert described == [("3d", [8.0, 9.0]), ("2d-x", [8.0, 9.0]), ("3d", [1.0, 2.0]),
+                         ("2d-x", [1.0, 2.0])]

@@ -161,7 +161,7 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     fn : callable
         Importable task body, e.g. :func:`rocking.store.fill_spectra_region`.
     indices : sequence of int
-        Regions to compute.
+        Regions to compute, in order of priority (first = started first).
     args, kwargs
         Further arguments; ``args`` come before the index.
     key : str
@@ -187,10 +187,11 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     if n == 0:
         log.info("0/0 chunks: nothing to do")
         return []
+    # the first index gets the highest priority: callers pass the costliest regions first
     futures = {
         client.submit(fn, *args, i, **kwargs, key=f"{key}-{i}", pure=False,
-                      retries=retries): i
-        for i in indices
+                      retries=retries, priority=n - rank): i
+        for rank, i in enumerate(indices)
     }
     log.info("submitted %d chunks", n)
     t0 = last = time.monotonic()
@@ -287,14 +288,14 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
     store.check_config_hash(path, config_digest)
     store.check_ensemble(path, motions)
     layout = store.open_layout(path)
-    pending = store.pending_regions(path, layout)
+    pending = store.costliest_first(layout, store.pending_regions(path, layout))
     n = layout.n_regions
     log.info("store %s: %d chunks, %d already done, %d to compute", path, n, n - len(pending),
              len(pending))
     target = resolve_target(scheduler_address, scheduler_file)
     reports: list[dict] = []
     if pending:
-        with dask_client(target, n_workers, local_directory=str(path.parent)) as client:
+        with dask_client(target, n_workers) as client:
             log.info("worker pids: %s", sorted(worker_pids(client).values()))
             reports = run_regions(client, fn, pending, (str(path),), {"motions": str(motions)},
                                   key=f"{key}-{config_digest}", interval=progress_interval)

@@ -24,22 +24,34 @@ rocking period, conserving p_θ = R²κo θ̇ + R sin(α−θ) ẇ, which gives
 that keep the three time scales apart.
 
 Integrator — choice by measurement (``python -m rocking.benchmarks damped``, table in
-``results/benchmarks/dynamics_damped.md``). The fast eigenvalue is ≈ −2ζωn when ζ > 1 and
-a lightly damped pair −ζωn ± iωn otherwise; explicit methods are stability-limited
-(h ≲ 3/(2ζωn) = 1.5e-5 s at ωn = 2000, ζ = 50) and need ~10⁶–10⁷ right-hand sides for a
-40 s record. The kernel uses a Rosenbrock method, RODAS4 (6 stages, order 4(3), L-stable,
-stiffly accurate) with the analytic Jacobian, because on this small system it beat the
-alternatives that were measured:
+``results/benchmarks/dynamics_damped.md``: 40 s El Centro, R = 6 m, tan α = 0.2,
+PGA/(g tan α) = 2, θmax error against RODAS4 at rtol 1e-11). The fast eigenvalue is
+≈ −2ζωn when ζ > 1 and a lightly damped pair −ζωn ± iωn otherwise, so explicit methods are
+stability-limited. The kernel uses RODAS4 (6 stages, order 4(3), L-stable, stiffly accurate)
+with the analytic Jacobian:
 
-- no Newton iteration (Radau IIA / BDF need one per step, with convergence failures in the
-  quasi-impacts where φ̇ reaches 1e8–1e9 rad/s);
-- L-stability damps the spring–dashpot mode at steps set by the rocking accuracy alone;
+- at the paper's ωn = 2000, ζ = 50 it takes 9 ms (rtol 1e-6, θmax error 9e-4) or 23 ms
+  (rtol 1e-8, error 9e-6); a compiled explicit DOP853 on the same equations needs 1.2e6
+  steps and 1.5 s (at ζ = 5: 0.23 s against 8–32 ms). The undamped explicit kernel takes
+  8–10 ms on this case, so the damped one costs 1–2.5× as much (target: ≤ 10×);
+- RODAS3 and ROS3 (order 3, same code, other tableau) are less accurate at a given rtol and
+  not faster at rtol 1e-8 (ωn = 2000, ζ = 0.5: 75 / 59 ms for errors 6e-5 / 9e-4, RODAS4
+  56 ms for 5e-5);
+- SciPy's Radau / BDF / LSODA need 10⁴–10⁵ steps and 0.5–15 s through Python, and at rtol
+  1e-6 miss θmax by up to 10–30 % (their steps straddle the record samples);
+- a Rosenbrock step needs no Newton iteration (Radau IIA / BDF do, and converge badly in
+  quasi-impacts where φ̇ reaches 1e8–1e9 rad/s); an IMEX split is awkward because the
+  spring–dashpot enters θ̈ through the state-dependent 2×2 mass matrix;
 - the 6×6 stage systems reduce to 3×3 ones because the state is (q, q̇): with c = 1/(hγ),
   (c² I − c A_v − A_q) k_v = c r_v + A_q r_q and k_q = (r_q + k_v)/c, where A_q and A_v are
-  the Jacobians of the accelerations with respect to q = (θ, φ, w) and q̇;
-- RODAS3 and ROS3 (order 3) need more steps for the same accuracy, and an IMEX split is
-  awkward here because the spring–dashpot enters θ̈ through the state-dependent 2×2 mass
-  matrix.
+  the Jacobians of the accelerations with respect to q = (θ, φ, w) and q̇.
+
+Measured limits: where the contact mode is not stiff (ωn = 200 with ζ ≤ 0.5, and
+ωn = 2000, ζ = 0.05) the explicit DOP853 is as fast or faster (e.g. 27 ms against 124 ms at
+rtol 1e-8 for ωn = 2000, ζ = 0.05). With ωn = 2000 and ζ ∈ {0.5, 5} up to a quarter of the
+steps are rejected, at the record samples where the slope of the ground acceleration jumps and
+excites the contact mode. :data:`DEFAULT_RTOL` = 1e-8 keeps the θmax error ≤ 5e-5 on the
+whole grid (rtol 1e-6 gives up to 1e-2) at ≤ 125 ms per 40 s analysis.
 
 Error control: weighted RMS norm with scales rtol·(|θ|) for θ (purely relative: quasi-impacts
 take θ to 1e-9…1e-11 rad), rtol·(1 rad) for φ, rtol·(|w| + g/ωn²) for w,
@@ -69,6 +81,10 @@ from .result import QuasiImpacts, Response, Status
 
 N_STATE = 6
 """State (θ, φ, w, θ̇, φ̇, ẇ)."""
+
+DEFAULT_RTOL = 1e-8
+"""Measured default relative tolerance: θmax error ≤ 5e-5 on the paper's (ωn, ζ) grid for the
+40 s El Centro case (``results/benchmarks/dynamics_damped.md``)."""
 
 THETA_REST = 1e-6
 """Tilt [rad] whose potential energy gR(cos(α − θ) − cos α) is the rest threshold: at a tilt
@@ -826,7 +842,7 @@ def energy(cylinder: Cylinder, y: np.ndarray, omega_n: float, g: float = G) -> n
 
 
 def simulate_free(cylinder: Cylinder, theta0: float, phi_dot0: float, duration: float,
-                  omega_n: float, zeta: float, rtol: float = 1e-8, theta_dot0: float = 0.0,
+                  omega_n: float, zeta: float, rtol: float = DEFAULT_RTOL, theta_dot0: float = 0.0,
                   phi0: float = 0.0, max_steps: int = 5_000_000) -> Response:
     """Free vibration of the damped model from rest on the spring (w = ẇ = 0).
 

@@ -59,8 +59,6 @@ DONE = "done"
 # it is not part of the hierarchy whenever it lists a store's members. It is harmless.
 warnings.filterwarnings("ignore", message=r"Object at \.snakemake_timestamp is not recognized")
 
-_STRING_DIMS = ("mode", "limit_state", "motion", "model")
-
 
 @dataclass(frozen=True)
 class Variable:
@@ -543,6 +541,27 @@ def auto_chunk_R(n_R: int, npts: int, min_task_seconds: float) -> int:
     """
     point = ANALYSES_PER_POINT * npts * SECONDS_PER_SAMPLE
     return int(min(n_R, max(1, math.ceil(min_task_seconds / point))))
+
+
+MODE_COST = {"3d-damped": 3.0, "3d": 2.0, "2d-x": 1.0, "2d-y": 1.0}
+"""Relative cost of a search per mode (3D searches take several times a 2D one)."""
+
+
+def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
+    """Regions ordered by a rough cost estimate, largest first.
+
+    Long tasks started last would leave the other workers idle at the end of a run; running
+    them first (largest-processing-time-first scheduling) evens out the finish. The estimate
+    is the mode's :data:`MODE_COST` times the sum of the sizes R (larger bodies need more
+    analyses to tip). Layouts without a mode or R dimension keep their order.
+    """
+
+    def cost(i: int) -> float:
+        rc = region_coords(layout, i)
+        mode = rc.get("mode", rc.get("model", ["?"]))[0]
+        return MODE_COST.get(str(mode), 1.0) * float(np.sum(rc.get("R", [1.0])))
+
+    return sorted(indices, key=lambda i: (-cost(i), i))
 
 
 def region_coords(layout: Layout, index: int) -> dict[str, np.ndarray]:

@@ -163,7 +163,8 @@ def speedup(rows: list[dict], workdir: Path) -> None:
         t0 = time.perf_counter()
         with cluster.dask_client(cluster.Target("local"), n_workers) as client:
             t1 = time.perf_counter()
-            cluster.run_regions(client, store.fill_spectra_region, range(layout.n_regions),
+            order = store.costliest_first(layout, range(layout.n_regions))
+            cluster.run_regions(client, store.fill_spectra_region, order,
                                 (str(path),), {"motions": str(ensemble)}, interval=1e9)
             t2 = time.perf_counter()
         walls[n_workers] = (t2 - t1, time.perf_counter() - t0)
