@@ -34,12 +34,8 @@ include: "workflow/rules/records.smk"
 include: "workflow/rules/spectra.smk"
 include: "workflow/rules/tilt_map.smk"
 include: "workflow/rules/aggregate.smk"
-
-
-# Figures and report (issue 6) join when their rules exist; the rest runs without them.
-if Path(workflow.basedir, "workflow/rules/figures.smk").exists():
-
-    include: "workflow/rules/figures.smk"
+include: "workflow/rules/figures_common.smk"
+include: "workflow/rules/figures.smk"
 
 
 rule all:

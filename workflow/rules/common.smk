@@ -147,8 +147,7 @@ def all_targets():
         targets += [mean_spectra(study), f"results/{study}/mean_spectra.csv"]
         if has_tilt_map(study):
             targets.append(tilt_map_complete(study))
-    if "figure_targets" in globals():
-        targets += list(figure_targets())
+    targets += list(figure_targets())
     return targets
 
 

@@ -1,79 +1,9 @@
-# The paper's figures, the fragility curves and the HTML report (issue 6).
-# Figures that need no study (Figs 3, 4, 6, 8, 12) go to results/figures/, the others to
-# results/<study>/figures/; every figure is a PNG, a PDF and a JSON sidecar of the numbers it
-# measured, which results/<study>/report.html quotes next to the paper's.
-
-FIGURES_DIR = "results/figures"
-FIG04_DURATION = 15.0  # [s]: six quasi-impacts of the quasi-rocking case (Eq 32 needs five)
-
-
-def figure_files(stem):
-    """PNG, PDF and JSON notes of one figure."""
-    return [f"{stem}.png", f"{stem}.pdf", f"{stem}.json"]
-
-
-def el_centro_ensemble():
-    """First ensemble built on the El Centro record (Fig 6 uses its first motion), or None."""
-    for name, spec in config["ensembles"].items():
-        if spec["record"] == "el-centro-1940":
-            return name
-    return None
-
-
-def study_ensembles():
-    """Ensembles used by some study, in configuration order (one Fig 8 each)."""
-    names = [study_config(s)["ensemble"] for s in config["studies"]]
-    return list(dict.fromkeys(names))
-
-
-def global_figure_stems():
-    stems = [f"{FIGURES_DIR}/fig03_wobbling_period", f"{FIGURES_DIR}/fig04_free_vibration"]
-    if el_centro_ensemble() is not None:
-        stems.append(f"{FIGURES_DIR}/fig06_el_centro")
-    stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in study_ensembles()]
-    stems.append(f"{FIGURES_DIR}/fig12_2d_vs_3d")
-    return stems
-
-
-def study_figure_stems(study):
-    names = ["fig09_spectra", "fig10_goals", "fig11_slenderness", "fragility_curves"]
-    if has_tilt_map(study):
-        names.insert(0, "fig07_tilt_map")
-    return [f"results/{study}/figures/{n}" for n in names]
-
-
-def report_inputs(study):
-    """Every figure (PNG + notes) and table the report of ``study`` shows."""
-    stems = [s for s in global_figure_stems()
-             if "fig08_motions_" not in s or s.endswith(f"_{ensemble_of(study)}")]
-    stems += study_figure_stems(study)
-    files = [f for s in stems for f in (f"{s}.png", f"{s}.json")]
-    return files + [f"results/{study}/linear_fit.csv", f"results/{study}/fragility.csv",
-                    mean_spectra(study)]
-
-
-def figure_targets():
-    """All figure files and one report per study (asked for by the Snakefile's rule all)."""
-    targets = [f for s in global_figure_stems() for f in figure_files(s)]
-    for study in config["studies"]:
-        targets += [f for s in study_figure_stems(study) for f in figure_files(s)]
-        targets += [f"results/{study}/fragility.nc", f"results/{study}/fragility.csv",
-                    f"results/{study}/linear_fit.nc", f"results/{study}/linear_fit.csv",
-                    f"results/{study}/report.html"]
-    return targets
-
-
-def _figure_output(stem, caption, category, **labels):
-    """Named outputs png (in the snakemake report), pdf and notes of one figure."""
-    return {
-        "png": report(f"{stem}.png", caption=f"../report/{caption}", category=category,
-                      labels=labels or None),
-        "pdf": f"{stem}.pdf",
-        "notes": f"{stem}.json",
-    }
-
+# Rules of the paper's figures, the fragility curves and the HTML report (issue 6);
+# their helper functions are in figures_common.smk.
 
 rule fig03_wobbling_period:
+    conda:
+        "../envs/rocking.yaml"
     output:
         **_figure_output(f"{FIGURES_DIR}/fig03_wobbling_period", "fig_03.rst", "Paper figures",
                          figure="Fig 3"),
@@ -84,6 +14,8 @@ rule fig03_wobbling_period:
 
 
 rule fig04_free_vibration:
+    conda:
+        "../envs/rocking.yaml"
     output:
         **_figure_output(f"{FIGURES_DIR}/fig04_free_vibration", "fig_04.rst", "Paper figures",
                          figure="Fig 4"),
@@ -97,6 +29,8 @@ rule fig04_free_vibration:
 
 
 rule fig06_el_centro:
+    conda:
+        "../envs/rocking.yaml"
     input:
         motions=lambda wildcards: ensemble_file(el_centro_ensemble()),
     output:
@@ -111,6 +45,8 @@ rule fig06_el_centro:
 
 
 rule fig08_motions:
+    conda:
+        "../envs/rocking.yaml"
     input:
         motions=lambda wildcards: ensemble_file(wildcards.ensemble),
     output:
@@ -123,6 +59,8 @@ rule fig08_motions:
 
 
 rule fig07_tilt_map:
+    conda:
+        "../envs/rocking.yaml"
     input:
         store=lambda wildcards: tilt_map_store(wildcards.study),
         complete=lambda wildcards: tilt_map_complete(wildcards.study),
@@ -136,6 +74,8 @@ rule fig07_tilt_map:
 
 
 rule fig09_spectra:
+    conda:
+        "../envs/rocking.yaml"
     input:
         store=lambda wildcards: spectra_store(wildcards.study),
         complete=lambda wildcards: spectra_complete(wildcards.study),
@@ -150,6 +90,8 @@ rule fig09_spectra:
 
 
 rule fig10_goals:
+    conda:
+        "../envs/rocking.yaml"
     input:
         means=lambda wildcards: mean_spectra(wildcards.study),
     output:
@@ -162,6 +104,8 @@ rule fig10_goals:
 
 
 rule fig11_slenderness:
+    conda:
+        "../envs/rocking.yaml"
     input:
         means=lambda wildcards: mean_spectra(wildcards.study),
     output:
@@ -174,6 +118,8 @@ rule fig11_slenderness:
 
 
 rule fig12_2d_vs_3d:
+    conda:
+        "../envs/rocking.yaml"
     input:
         means=[mean_spectra(s) for s in config["studies"]],
         stores=[spectra_store(s) for s in config["studies"]],
@@ -189,6 +135,8 @@ rule fig12_2d_vs_3d:
 
 
 rule fragility:
+    conda:
+        "../envs/rocking.yaml"
     input:
         store=lambda wildcards: spectra_store(wildcards.study),
         complete=lambda wildcards: spectra_complete(wildcards.study),
@@ -213,6 +161,8 @@ rule fragility:
 
 
 rule report_html:
+    conda:
+        "../envs/rocking.yaml"
     input:
         lambda wildcards: report_inputs(wildcards.study),
     output:
