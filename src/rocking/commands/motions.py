@@ -159,8 +159,10 @@ def build_ensemble(
         from ..stochastic import fit_rdk, synthesize
 
         t1 = time.perf_counter()
-        # The record is on its principal axes already: a forced 0 keeps it there.
-        fit = fit_rdk(record, 0.0, seed=seed)
+        # Fit the rotated record before its high-pass (spec §5: the high-pass post-processes
+        # simulations; a Butterworth's padding would shift the envelope). It is on its
+        # principal axes already: a forced 0 keeps it there.
+        fit = fit_rdk(rotated, 0.0, seed=seed)
         timings["fit_s"] = time.perf_counter() - t1
         _progress(
             f"RDK fit in {timings['fit_s']:.1f} s: zeta_f major {fit.major.zeta_f:.3f}, "
