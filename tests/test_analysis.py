@@ -142,8 +142,6 @@ def test_failed_analysis_is_never_silent():
 
 
 # ------------------------------------------------------------------------- El Centro
-@pytest.mark.skipif(not (RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2").exists(),
-                    reason="shared records not available")
 def test_el_centro_3d_and_2d_converge():
     from rocking.records import load_record
 
@@ -163,7 +161,6 @@ def test_el_centro_3d_and_2d_converge():
 
 # ------------------------------------------------------------------------- dispatch
 def test_damped_model_dispatch():
-    pytest.importorskip("rocking.cylinder3d_damped")
     body = Cylinder(6.0, 0.2)
     res = free_vibration(body, 0.1, 0.3, duration=2.0, model="3d-damped")
     und = free_vibration(body, 0.1, 0.3, duration=2.0, rtol=1e-10)
