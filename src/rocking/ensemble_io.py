@@ -19,23 +19,13 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ._json import json_default
 from .motion import GroundMotion
 
 __all__ = ["FORMAT", "ensemble_attrs", "load_ensemble", "save_ensemble"]
 
 FORMAT = "rocking-ensemble-1"
 """Value of the ``format`` attribute; bumped when the layout changes."""
-
-
-def _json_default(obj: Any) -> Any:
-    # Metadata often carries numpy scalars or arrays from the processing steps.
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"metadata value {obj!r} of type {type(obj).__name__} is not JSON-able")
 
 
 def save_ensemble(
@@ -81,7 +71,7 @@ def save_ensemble(
         ax[i, : m.npts] = m.ax
         ay[i, : m.npts] = m.ay
         try:
-            meta.append(json.dumps(m.metadata, default=_json_default, sort_keys=True))
+            meta.append(json.dumps(m.metadata, default=json_default, sort_keys=True))
         except (TypeError, ValueError) as exc:
             raise ValueError(f"metadata of motion {m.name!r} cannot be saved: {exc}") from None
     ds = xr.Dataset(
@@ -95,7 +85,7 @@ def save_ensemble(
         coords={"motion": np.array(names, dtype=object)},
         attrs={
             "format": FORMAT,
-            "attrs_json": json.dumps(attrs or {}, default=_json_default, sort_keys=True),
+            "attrs_json": json.dumps(attrs or {}, default=json_default, sort_keys=True),
         },
     )
     out = Path(path)

@@ -38,6 +38,7 @@ import numpy as np
 import xarray as xr
 import zarr
 
+from ._json import json_default
 from .motion import GroundMotion
 
 SPECTRA_DIMS = ("mode", "limit_state", "motion", "tan_alpha", "R")
@@ -252,18 +253,8 @@ def config_hash(obj: Any) -> str:
 
     Used as the identity of the result-affecting configuration of a store.
     """
-    text = json.dumps(obj, sort_keys=True, separators=(",", ":"), default=_json_default)
+    text = json.dumps(obj, sort_keys=True, separators=(",", ":"), default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"cannot serialise {type(obj).__name__} to JSON")
 
 
 def file_sha256(path: str | Path) -> str:
@@ -307,7 +298,7 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         shape, chunks = layout.shape(var.dims), layout.chunks(var.dims)
         # lazy fill: to_zarr(compute=False) writes metadata and coordinates, no chunk files
         ds[name] = (var.dims, da.full(shape, var.fill, dtype=var.dtype, chunks=chunks))
-    ds.attrs = {k: v if isinstance(v, str) else json.dumps(v, default=_json_default)
+    ds.attrs = {k: v if isinstance(v, str) else json.dumps(v, default=json_default)
                 for k, v in attrs.items()}
     ds.attrs["config_hash"] = config_digest
     ds.attrs["layout"] = layout.to_json()
