@@ -1,7 +1,7 @@
 """Cheap deterministic stand-ins for the engine, for tests of the store and Dask machinery.
 
-They have the signatures of :func:`rocking.performance.critical_intensity_batch` and
-:func:`rocking.performance.tilt_map` but compute closed forms, so that a test can evaluate
+They have the signatures of :func:`rocking.spectra.critical.critical_intensity_batch` and
+:func:`rocking.spectra.tilt_map.tilt_map` but compute closed forms, so that a test can evaluate
 the expected value of every grid point directly and compare it with what the store holds.
 """
 
@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from rocking.limit_states import parse_limit_states
-from rocking.motion import GroundMotion
+from rocking.motions.motion import GroundMotion
+from rocking.spectra.limit_states import parse_limit_states
 
 NOT_REACHED_R = 8.0
 """Sizes above this never reach overturning in the stand-in (NaN + not_reached)."""
@@ -70,7 +70,7 @@ def expected_theta(R: float, intensity: float, mode: str, tan_alpha: float) -> f
 
 def tilt_map(R_values, tan_alpha, motion, intensities, mode="3d", *, accuracy="default",
              omega_n=None, zeta=None):
-    """Stand-in of rocking.performance.tilt_map."""
+    """Stand-in of rocking.spectra.tilt_map.tilt_map."""
     R = np.asarray(R_values, dtype=float)
     intensity = np.asarray(intensities, dtype=float)
     theta = np.array([[expected_theta(r, i, mode, tan_alpha) for i in intensity] for r in R])

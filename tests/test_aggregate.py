@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from rocking.aggregate import STAT_DIMS, ensemble_statistics, write_statistics
+from rocking.study.aggregate import STAT_DIMS, ensemble_statistics, write_statistics
 
 
 def spectra(values, not_reached=None, done=True):

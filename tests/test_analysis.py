@@ -10,7 +10,7 @@ import pytest
 
 from rocking import Block, Cylinder, GroundMotion, Status, free_vibration, ground_response
 from rocking.constants import G
-from rocking.cylinder3d import energy, free_peak
+from rocking.dynamics.cylinder3d import energy, free_peak
 
 RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
 
@@ -143,7 +143,7 @@ def test_failed_analysis_is_never_silent():
 
 # ------------------------------------------------------------------------- El Centro
 def test_el_centro_3d_and_2d_converge():
-    from rocking.records import load_record
+    from rocking.motions.records import load_record
 
     m = load_record("el-centro-1940")
     body = Cylinder(6.0, 0.2)

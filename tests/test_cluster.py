@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rocking import cluster, store
-from rocking.ensemble_io import save_ensemble
+from rocking.motions.ensemble_io import save_ensemble
+from rocking.study import cluster, store
 
 # the workers cannot import the tests folder: send the stand-ins' code along
 cloudpickle.register_pickle_by_value(standin)
@@ -67,7 +67,7 @@ def test_store_filled_by_worker_processes_equals_serial_fill(tmp_path, caplog):
     for i in range(layout.n_regions):
         store.fill_spectra_region(serial, i, ensemble, batch=standin.batch)
     fn = partial(store.fill_spectra_region, batch=standin.batch)
-    with caplog.at_level(logging.INFO, logger="rocking.cluster"):
+    with caplog.at_level(logging.INFO, logger="rocking.study.cluster"):
         summary = cluster.fill_store(path, fn, ensemble, config_digest="d1", n_workers=2,
                                      progress_interval=0.0, scheduler_address=None)
     assert summary["cluster"] == "local"
@@ -103,7 +103,7 @@ def test_log_to_captures_this_and_child_processes(tmp_path):
     log = tmp_path / "logs" / "rule.log"
     with cluster.log_to(log):
         print("from the parent", flush=True)
-        logging.getLogger("rocking.cluster").info("a log record")
+        logging.getLogger("rocking.study.cluster").info("a log record")
         subprocess.run([sys.executable, "-c", "import sys; sys.stderr.write('from a child\\n')"],
                        check=True)
     text = log.read_text()

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from rocking import Cylinder, Status, free_vibration
-from rocking.bodies import mu
 from rocking.constants import G
-from rocking.cylinder3d import energy, free_peak
+from rocking.dynamics.bodies import mu
+from rocking.dynamics.cylinder3d import energy, free_peak
 
 TAN_ALPHAS = (0.05, 0.2, 1.0, 1000.0)
 

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rocking import cylinder3d_damped as cd
-from rocking.bodies import Cylinder, mu, mu_prime
 from rocking.constants import G
+from rocking.dynamics import cylinder3d_damped as cd
+from rocking.dynamics.bodies import Cylinder, mu, mu_prime
 
 CYL = Cylinder(6.0, 0.2)  # the paper's Fig 4 cylinder
 GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]

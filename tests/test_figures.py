@@ -18,7 +18,7 @@ import yaml
 
 from rocking import Cylinder, GroundMotion
 from rocking.constants import G
-from rocking.figures import (
+from rocking.study.figures import (
     fig03_wobbling_period,
     fig04_free_vibration,
     fig06_el_centro,
@@ -161,7 +161,7 @@ def test_fig04_plot_draws_the_histories(fig04_data):
 
 
 def test_fig06_passes_the_engine_response_and_ground_unchanged():
-    from rocking.analysis import ground_response
+    from rocking.dynamics.analysis import ground_response
 
     dt = 0.01
     t = np.arange(0.0, 3.0, dt)
@@ -310,7 +310,7 @@ def test_fig08_traces_and_spectra():
 
 def _workdir(tmp_path: Path) -> tuple[Path, Path]:
     """A work directory whose results/ holds the upstream products of a tiny study."""
-    from rocking.ensemble_io import save_ensemble
+    from rocking.motions.ensemble_io import save_ensemble
 
     wd = tmp_path / "wd"
     dt = 0.01

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy import integrate, signal
 
-from rocking.highpass import (
+from rocking.motions.highpass import (
     brune_corner,
     butterworth_acausal,
     highpass_motion,
@@ -17,9 +17,9 @@ from rocking.highpass import (
     oscillator_transfer,
     residuals,
 )
-from rocking.motion import GroundMotion
-from rocking.principal import to_principal_axes
-from rocking.records import load_record
+from rocking.motions.motion import GroundMotion
+from rocking.motions.principal import to_principal_axes
+from rocking.motions.records import load_record
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ from scipy.optimize import brentq
 
 from rocking import Block, Cylinder, GroundMotion, Status, free_vibration, ground_response
 from rocking.constants import G
-from rocking.housner2d import free_peak
+from rocking.dynamics.housner2d import free_peak
 
 
 def _peaks(res):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rocking.constants import G
-from rocking.intensity import (
+from rocking.motions.intensity import (
     arias,
     husid,
     significant_duration,

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from rocking.accuracy import PRESETS, Accuracy, get_accuracy
-from rocking.limit_states import (
+from rocking.spectra.accuracy import PRESETS, Accuracy, get_accuracy
+from rocking.spectra.limit_states import (
     DEFAULT_LIMIT_STATES,
     LimitState,
     parse_limit_state,

@@ -14,16 +14,16 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rocking.bodies import Block, Cylinder
 from rocking.cli import main as cli_main
 from rocking.constants import G
-from rocking.motion import GroundMotion
-from rocking.performance import (
+from rocking.dynamics.bodies import Block, Cylinder
+from rocking.motions.motion import GroundMotion
+from rocking.spectra.critical import (
     critical_intensity,
     critical_intensity_batch,
-    tilt_map,
     uplift_intensity,
 )
+from rocking.spectra.tilt_map import tilt_map
 
 RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
 R_BLOCK, TAN_ALPHA = 1.0, 0.2
@@ -212,7 +212,7 @@ def _cylinder_reference(R, t, a):
 
 @pytest.fixture(scope="module")
 def el_centro():
-    from rocking.records import load_record
+    from rocking.motions.records import load_record
 
     return load_record("el-centro-1940")
 

@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from rocking.accuracy import PRESETS
-from rocking.limit_states import parse_limit_states
-from rocking.performance import Outcome, search_critical
-from rocking.result import Status
+from rocking.dynamics.result import Status
+from rocking.spectra.accuracy import PRESETS
+from rocking.spectra.limit_states import parse_limit_states
+from rocking.spectra.search import Outcome, search_critical
 
 ALPHA = math.atan(0.2)
 STATES = ["tilt:0.1", "tilt:0.2", "tilt:0.5", "tilt:0.75", "overturning"]

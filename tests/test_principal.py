@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rocking.motion import GroundMotion
-from rocking.principal import (
+from rocking.motions.motion import GroundMotion
+from rocking.motions.principal import (
     arias_tensor,
     correlation,
     principal_angle,
@@ -17,7 +17,7 @@ from rocking.principal import (
     rotate_components,
     to_principal_axes,
 )
-from rocking.records import load_record
+from rocking.motions.records import load_record
 
 RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
 PAPER_ANGLE_DEG = 22.33

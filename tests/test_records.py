@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from rocking.constants import G
-from rocking.records import RECORDS as NAMED
-from rocking.records import (
+from rocking.motions.records import RECORDS as NAMED
+from rocking.motions.records import (
     RecordFormatError,
     file_sha256,
     load_record,

@@ -12,8 +12,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rocking import Cylinder, fragility, report
-from rocking.figures import _load, _style, render
+from rocking import Cylinder
+from rocking.spectra import fragility
+from rocking.study import report
+from rocking.study.figures import _load, _style, render
 
 
 @pytest.fixture(scope="module")

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from rocking.motion import GroundMotion
-from rocking.records import load_record
-from rocking.response_spectrum import (
+from rocking.motions.motion import GroundMotion
+from rocking.motions.records import load_record
+from rocking.motions.response_spectrum import (
     foh_coefficients,
     nigam_jennings_coefficients,
     pseudo_acceleration,

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from rocking.counts import maxima_cum, pmnm_cum, zero_upcrossings_cum
+from rocking.motions.counts import maxima_cum, pmnm_cum, zero_upcrossings_cum
 
 
 @pytest.mark.parametrize(("f", "T"), [(1.0, 10.0), (3.3, 7.0), (4.78, 24.13)])

@@ -14,10 +14,10 @@ import pytest
 from scipy import integrate
 
 from rocking import GroundMotion, RDKFit, RDKParams, synthesize
-from rocking.counts import zero_upcrossings_cum
-from rocking.highpass import residuals
-from rocking.intensity import husid, times_from_husid
-from rocking.stochastic.fit import fit_component, fit_frequency, husid_times
+from rocking.motions.counts import zero_upcrossings_cum
+from rocking.motions.highpass import residuals
+from rocking.motions.intensity import husid, times_from_husid
+from rocking.motions.stochastic.fit import fit_component, fit_frequency, husid_times
 
 DT = 0.01
 N = 200

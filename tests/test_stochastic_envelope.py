@@ -7,8 +7,8 @@ import pytest
 from scipy import integrate, stats
 
 from rocking.constants import G
-from rocking.intensity import husid, times_from_husid
-from rocking.stochastic.envelope import (
+from rocking.motions.intensity import husid, times_from_husid
+from rocking.motions.stochastic.envelope import (
     GammaEnvelope,
     alphas_from_physical,
     duration_ratio,

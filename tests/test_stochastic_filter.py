@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from rocking.stochastic.filter import impulse_response, normalized_irf, omega_f
+from rocking.motions.stochastic.filter import impulse_response, normalized_irf, omega_f
 
 
 def _dense_reference(omega, zeta, dt):

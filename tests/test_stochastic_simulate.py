@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from rocking.counts import pmnm_cum, zero_upcrossings_cum
-from rocking.intensity import arias, husid, times_from_husid
-from rocking.stochastic.filter import impulse_response
-from rocking.stochastic.params import RDKParams
-from rocking.stochastic.simulate import spectral, spectral_frequencies, time_domain
+from rocking.motions.counts import pmnm_cum, zero_upcrossings_cum
+from rocking.motions.intensity import arias, husid, times_from_husid
+from rocking.motions.stochastic.filter import impulse_response
+from rocking.motions.stochastic.params import RDKParams
+from rocking.motions.stochastic.simulate import spectral, spectral_frequencies, time_domain
 
 DT = 0.01
 

@@ -15,9 +15,9 @@ import pytest
 import xarray as xr
 import zarr
 
-from rocking import store
-from rocking.ensemble_io import save_ensemble
-from rocking.limit_states import parse_limit_states
+from rocking.motions.ensemble_io import save_ensemble
+from rocking.spectra.limit_states import parse_limit_states
+from rocking.study import store
 
 MODES = ["3d", "2d-x"]
 LIMIT_STATES = [s.name for s in parse_limit_states(["overturning", "tilt:1/3", "tilt:0.5"])]

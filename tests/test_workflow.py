@@ -25,9 +25,10 @@ import pytest
 import xarray as xr
 import yaml
 
-from rocking.bodies import Cylinder
-from rocking.ensemble_io import load_ensemble
-from rocking.performance import critical_intensity, tilt_map
+from rocking.dynamics.bodies import Cylinder
+from rocking.motions.ensemble_io import load_ensemble
+from rocking.spectra.critical import critical_intensity
+from rocking.spectra.tilt_map import tilt_map
 
 pytestmark = pytest.mark.slow
 

@@ -3,76 +3,58 @@
 Reproduces and extends Vassiliou, Burger, Egger, Bachmann, Broccardo & Stojadinović (2017),
 "The three-dimensional behavior of inverted pendulum cylindrical structures during
 earthquakes", Earthquake Engng Struct. Dyn. 46:2261–2280.
+
+Subpackages, from the bottom up: :mod:`rocking.dynamics` (bodies, models, analyses),
+:mod:`rocking.motions` (records, principal axes, filters, stochastic ensembles),
+:mod:`rocking.spectra` (limit states, critical-intensity search, fragility) and
+:mod:`rocking.study` (zarr store, Dask cluster, aggregates, figures, report). The names below
+are the public API; each is imported on first use.
 """
 
-from .analysis import free_vibration, ground_response
-from .bodies import Block, Cylinder
+from ._lazy import lazy_exports
 from .constants import G
-from .motion import GroundMotion
-from .result import QuasiImpacts, Response, Status
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "G",
-    "Block",
-    "Cylinder",
-    "GroundMotion",
-    "QuasiImpacts",
-    "Response",
-    "Status",
-    "__version__",
-    "free_vibration", "ground_response",
-]
+_EXPORTS = {
+    # dynamics
+    "Cylinder": "dynamics.bodies",
+    "Block": "dynamics.bodies",
+    "Response": "dynamics.result",
+    "Status": "dynamics.result",
+    "QuasiImpacts": "dynamics.result",
+    "free_vibration": "dynamics.analysis",
+    "ground_response": "dynamics.analysis",
+    # ground motions
+    "GroundMotion": "motions.motion",
+    "load_record": "motions.records",
+    "read_record": "motions.records",
+    "read_pair": "motions.records",
+    "loma_prieta_pair": "motions.records",
+    "to_principal_axes": "motions.principal",
+    "principal_angle": "motions.principal",
+    "rotate": "motions.principal",
+    "highpass_motion": "motions.highpass",
+    "brune_corner": "motions.highpass",
+    "pseudo_acceleration": "motions.response_spectrum",
+    "spectral_displacement": "motions.response_spectrum",
+    "load_ensemble": "motions.ensemble_io",
+    "save_ensemble": "motions.ensemble_io",
+    "RDKFit": "motions.stochastic",
+    "RDKParams": "motions.stochastic",
+    "fit_rdk": "motions.stochastic",
+    "synthesize": "motions.stochastic",
+    # performance spectra
+    "LimitState": "spectra.limit_states",
+    "DEFAULT_LIMIT_STATES": "spectra.limit_states",
+    "parse_limit_states": "spectra.limit_states",
+    "Accuracy": "spectra.accuracy",
+    "get_accuracy": "spectra.accuracy",
+    "CriticalResult": "spectra.search",
+    "critical_intensity": "spectra.critical",
+    "critical_intensity_batch": "spectra.critical",
+    "tilt_map": "spectra.tilt_map",
+}
 
-# Stochastic ground motions (Rezaeian–Der Kiureghian): identification and simulation.
-from .stochastic import RDKFit, RDKParams, fit_rdk, synthesize  # noqa: E402
-
-__all__ += ["RDKFit", "RDKParams", "fit_rdk", "synthesize"]
-
-# Seismic performance rocking spectra: limit states, accuracy presets, critical intensities.
-from .accuracy import PRESETS as ACCURACY_PRESETS  # noqa: E402
-from .accuracy import Accuracy, get_accuracy  # noqa: E402
-from .limit_states import DEFAULT_LIMIT_STATES, LimitState, parse_limit_states  # noqa: E402
-from .performance import (  # noqa: E402
-    CriticalResult,
-    critical_intensity,
-    critical_intensity_batch,
-    tilt_map,
-)
-
-__all__ += [
-    "ACCURACY_PRESETS",
-    "Accuracy",
-    "CriticalResult",
-    "DEFAULT_LIMIT_STATES",
-    "LimitState",
-    "critical_intensity",
-    "critical_intensity_batch",
-    "get_accuracy",
-    "parse_limit_states",
-    "tilt_map",
-]
-
-# Ground motions: records, principal axes, high-pass filters, response spectra, ensemble files.
-from .ensemble_io import load_ensemble, save_ensemble  # noqa: E402
-from .highpass import brune_corner, highpass_motion  # noqa: E402
-from .principal import principal_angle, rotate, to_principal_axes  # noqa: E402
-from .records import load_record, loma_prieta_pair, read_pair, read_record  # noqa: E402
-from .response_spectrum import pseudo_acceleration, spectral_displacement  # noqa: E402
-
-__all__ += [
-    "brune_corner",
-    "highpass_motion",
-    "load_ensemble",
-    "load_record",
-    "loma_prieta_pair",
-    "principal_angle",
-    "pseudo_acceleration",
-    "read_pair",
-    "read_record",
-    "rotate",
-    "save_ensemble",
-    "spectral_displacement",
-    "to_principal_axes",
-]
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+__all__ = ["G", "__version__", *_EXPORTS]

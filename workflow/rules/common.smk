@@ -5,8 +5,8 @@ import re
 
 import numpy as np
 
-from rocking.limit_states import parse_limit_states
-from rocking.store import config_hash
+from rocking.spectra.limit_states import parse_limit_states
+from rocking.study.store import config_hash
 from snakemake.exceptions import WorkflowError
 
 

@@ -1,5 +1,5 @@
 # Ground-motion ensembles: the record (rotated to principal axes and high-passed) first, then
-# its synthetic RDK pairs, written by rocking.ensemble_io to results/motions/<ensemble>.nc;
+# its synthetic RDK pairs, written by rocking.motions.ensemble_io to results/motions/<ensemble>.nc;
 # the settings and fitted RDK parameters go to results/motions/<ensemble>.json.
 
 

@@ -1,7 +1,7 @@
 """Fig 12 (Snakemake script): 3D versus 2D mean spectra of every configured study."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

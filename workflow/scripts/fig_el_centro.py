@@ -1,8 +1,8 @@
 """Fig 6 (Snakemake script): El Centro response, the ensemble's first motion (the record)."""
 
-from rocking.cluster import log_to
-from rocking.ensemble_io import load_ensemble
-from rocking.figures import render
+from rocking.motions.ensemble_io import load_ensemble
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

@@ -1,8 +1,8 @@
 """Fragility (Snakemake script): lognormal MLE per point, line fits of the mean spectra."""
 
-from rocking import fragility
-from rocking.cluster import log_to
-from rocking.figures import open_means, open_store, render
+from rocking.spectra import fragility
+from rocking.study.cluster import log_to
+from rocking.study.figures import open_means, open_store, render
 
 
 def main(snakemake):

@@ -1,7 +1,7 @@
 """Fig 4 (Snakemake script): free vibration of the R = 6 m, tan α = 0.2 cylinder."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

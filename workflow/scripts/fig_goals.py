@@ -1,7 +1,7 @@
 """Fig 10 (Snakemake script): mean spectra for every performance goal."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

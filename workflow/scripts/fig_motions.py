@@ -1,8 +1,8 @@
 """Fig 8 (Snakemake script): traces and 5 %-damped PSA spectra of one ensemble."""
 
-from rocking.cluster import log_to
-from rocking.ensemble_io import load_ensemble
-from rocking.figures import render
+from rocking.motions.ensemble_io import load_ensemble
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

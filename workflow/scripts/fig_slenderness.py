@@ -1,7 +1,7 @@
 """Fig 11 (Snakemake script): mean spectra for tan α = 0.1, 0.2, 0.3."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

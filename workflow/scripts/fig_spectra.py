@@ -1,7 +1,7 @@
 """Fig 9 (Snakemake script): per-motion performance spectra and their mean."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

@@ -1,7 +1,7 @@
 """Fig 7 (Snakemake script): θmax/α contours from results/<study>/tilt_map.zarr."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

@@ -1,7 +1,7 @@
 """Fig 3 (Snakemake script): wobbling period versus tilt, closed forms only."""
 
-from rocking.cluster import log_to
-from rocking.figures import render
+from rocking.study.cluster import log_to
+from rocking.study.figures import render
 
 
 def main(snakemake):

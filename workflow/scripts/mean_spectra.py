@@ -2,8 +2,8 @@
 
 import xarray as xr
 
-from rocking.aggregate import ensemble_statistics, write_statistics
-from rocking.cluster import log_to
+from rocking.study.aggregate import ensemble_statistics, write_statistics
+from rocking.study.cluster import log_to
 
 
 def main(snakemake):

@@ -1,6 +1,6 @@
 """Build a ground-motion ensemble: the processed record first, then its synthetic pairs.
 
-rocking.commands.motions.build_ensemble does the work (principal axes, Brune-corner
+rocking.cli.motions.build_ensemble does the work (principal axes, Brune-corner
 high-pass, RDK fit and simulation, optional cut to motions.max_duration); this rule only
 maps the configuration onto it and writes the ensemble file and its parameters.
 """
@@ -8,9 +8,9 @@ maps the configuration onto it and writes the ensemble file and its parameters.
 import json
 import logging
 
-from rocking.cluster import log_to
-from rocking.commands.motions import build_ensemble, read_motion
-from rocking.ensemble_io import save_ensemble
+from rocking.cli.motions import build_ensemble, read_motion
+from rocking.motions.ensemble_io import save_ensemble
+from rocking.study.cluster import log_to
 
 ATTRS = ("record", "label", "stand_in", "stand_in_for", "rotation_deg", "highpass", "seed",
          "n_synthetic")

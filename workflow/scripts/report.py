@@ -1,8 +1,8 @@
 """Report (Snakemake script): results/<study>/report.html with every figure and the headline
 numbers of the paper against this run's."""
 
-from rocking.cluster import log_to
-from rocking.report import build
+from rocking.study.cluster import log_to
+from rocking.study.report import build
 
 
 def main(snakemake):

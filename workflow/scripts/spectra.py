@@ -2,7 +2,7 @@
 
 import json
 
-from rocking import cluster, store
+from rocking.study import cluster, store
 
 
 def main(snakemake):

@@ -3,9 +3,10 @@
 import logging
 from pathlib import Path
 
-from rocking import __version__, store
-from rocking.accuracy import get_accuracy
-from rocking.cluster import log_to
+from rocking import __version__
+from rocking.spectra.accuracy import get_accuracy
+from rocking.study import store
+from rocking.study.cluster import log_to
 
 
 def main(snakemake):

@@ -36,11 +36,11 @@ import pandas as pd
 from scipy.integrate import DOP853 as _SCIPY_DOP853
 from scipy.integrate import solve_ivp
 
-from .. import cylinder3d_damped as cd
-from .._rosenbrock import TABLEAUX
-from ..bodies import Cylinder
 from ..constants import G
-from ..motion import GroundMotion
+from ..dynamics import cylinder3d_damped as cd
+from ..dynamics._rosenbrock import TABLEAUX
+from ..dynamics.bodies import Cylinder
+from ..motions.motion import GroundMotion
 from ._io import write_table
 
 GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]
@@ -51,7 +51,7 @@ NO_STOP = 10.0
 def _el_centro() -> tuple[GroundMotion, str]:
     """The paper's record, or a labelled synthetic stand-in if the reader is unavailable."""
     try:
-        from ..records import load_record
+        from ..motions.records import load_record
 
         return load_record("el-centro-1940"), "El Centro 1940 (RSN 6, 270/180)"
     except (ImportError, ValueError, OSError):

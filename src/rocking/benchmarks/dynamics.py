@@ -20,10 +20,10 @@ from functools import partial
 import numpy as np
 import pandas as pd
 
-from .. import analysis
-from ..analysis import _uplift_3d, free_vibration, ground_response
-from ..bodies import Cylinder
 from ..constants import G
+from ..dynamics import analysis
+from ..dynamics.analysis import _uplift_3d, free_vibration, ground_response
+from ..dynamics.bodies import Cylinder
 from ._io import write_table
 
 RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12)
@@ -31,7 +31,7 @@ REF_RTOL = 1e-13
 
 
 def _cases():
-    from ..records import load_record
+    from ..motions.records import load_record
 
     elc = load_record("el-centro-1940")
     cases = []
@@ -115,7 +115,7 @@ def _scipy_3d(body, motion, scale, method, rtol, budget):
 
 def _fresh_process_time() -> tuple[float, float]:
     code = (
-        "import time; t=time.perf_counter(); import rocking; from rocking.records import "
+        "import time; t=time.perf_counter(); import rocking; from rocking.motions.records import "
         "load_record; m=load_record('el-centro-1940'); t1=time.perf_counter(); "
         "b=rocking.Cylinder(6.0,0.2); "
         "rocking.ground_response(b,m,scale=2*rocking.G*0.2/m.pga,history=False); "

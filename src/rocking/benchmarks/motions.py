@@ -37,10 +37,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=2017)
     args = p.parse_args(argv)
 
-    from ..highpass import brune_corner, highpass_motion
-    from ..principal import to_principal_axes
-    from ..records import load_record
-    from ..response_spectrum import pseudo_acceleration
+    from ..motions.highpass import brune_corner, highpass_motion
+    from ..motions.principal import to_principal_axes
+    from ..motions.records import load_record
+    from ..motions.response_spectrum import pseudo_acceleration
 
     rows = []
     fc = brune_corner(6.95)
@@ -53,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     rows.append({"task": "read + sha256 + principal axes + high-pass, El Centro pair",
                  "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
 
-    from ..stochastic import fit_rdk, synthesize
+    from ..motions.stochastic import fit_rdk, synthesize
 
     t, fit = _best(lambda: fit_rdk(record, 0.0, seed=args.seed), max(1, args.repeat - 2))
     rows.append({"task": "fit_rdk (both principal components, zeta grid, 20 sims)",

@@ -26,12 +26,12 @@ import time
 import numpy as np
 import pandas as pd
 
-from ..accuracy import PRESETS, Accuracy
-from ..bodies import Cylinder
 from ..constants import G
-from ..limit_states import DEFAULT_LIMIT_STATES
-from ..motion import GroundMotion
-from ..performance import critical_intensity
+from ..dynamics.bodies import Cylinder
+from ..motions.motion import GroundMotion
+from ..spectra.accuracy import PRESETS, Accuracy
+from ..spectra.critical import critical_intensity
+from ..spectra.limit_states import DEFAULT_LIMIT_STATES
 from ._io import write_table
 
 TAN_ALPHA = 0.2
@@ -48,7 +48,7 @@ FULL_GRID = {"motions": 22, "R": 20, "tan_alpha": 3}
 def _motion() -> tuple[GroundMotion, str]:
     """El Centro 1940 if the record is available, else a labelled synthetic motion."""
     try:
-        from ..records import load_record
+        from ..motions.records import load_record
 
         return load_record("el-centro-1940"), "El Centro 1940 (NGA-West2 RSN 6, as recorded)"
     except (ImportError, OSError, ValueError) as exc:

@@ -32,9 +32,9 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from .. import cluster, store
-from ..accuracy import get_accuracy
-from ..limit_states import parse_limit_states
+from ..spectra.accuracy import get_accuracy
+from ..spectra.limit_states import parse_limit_states
+from ..study import cluster, store
 from ._io import write_table
 
 REPO = Path(__file__).resolve().parents[3]

@@ -1,1 +1,0 @@
-"""Subcommands of the ``rocking`` command line (see :mod:`rocking.cli`)."""

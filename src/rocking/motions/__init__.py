@@ -1,0 +1,25 @@
+"""Ground motions: records, principal axes, high-pass filters, intensity measures, response
+spectra, Rezaeian–Der Kiureghian stochastic ensembles (:mod:`.stochastic`) and ensemble files.
+"""
+
+from .._lazy import lazy_exports
+
+_EXPORTS = {
+    "GroundMotion": "motion",
+    "load_record": "records",
+    "read_record": "records",
+    "read_pair": "records",
+    "loma_prieta_pair": "records",
+    "to_principal_axes": "principal",
+    "principal_angle": "principal",
+    "rotate": "principal",
+    "highpass_motion": "highpass",
+    "brune_corner": "highpass",
+    "pseudo_acceleration": "response_spectrum",
+    "spectral_displacement": "response_spectrum",
+    "load_ensemble": "ensemble_io",
+    "save_ensemble": "ensemble_io",
+}
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+__all__ = list(_EXPORTS)

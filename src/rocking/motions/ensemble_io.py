@@ -1,0 +1,149 @@
+"""Save and load a list of ground motions as one NetCDF file (``results/motions/<name>.nc``).
+
+Layout (see docs/design.md): variables ``ax``, ``ay`` with dims (motion, time), zero-padded to
+the longest motion, ``npts`` (motion) giving each motion's own length, ``dt`` (motion),
+``metadata`` (motion) holding each motion's metadata as a JSON string, and the coordinate
+``motion`` with the names (unique). Float64 values are stored as they are, so the round trip
+is lossless; metadata comes back as JSON does (tuples as lists, numpy scalars as numbers).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .._json import json_default
+from .motion import GroundMotion
+
+__all__ = ["FORMAT", "ensemble_attrs", "load_ensemble", "save_ensemble"]
+
+FORMAT = "rocking-ensemble-1"
+"""Value of the ``format`` attribute; bumped when the layout changes."""
+
+
+def save_ensemble(
+    path: str | Path, motions: Sequence[GroundMotion], attrs: dict[str, Any] | None = None
+) -> Path:
+    """Write motions to a NetCDF file (atomically: temporary file, then rename).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file (``.nc``); parent folders are created.
+    motions : sequence of GroundMotion
+        The motions, the record first by convention; names must be unique.
+    attrs : dict, optional
+        Extra global attributes (JSON-encoded under ``attrs_json``).
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    ValueError
+        No motions, a non-GroundMotion item, duplicate names, or metadata that JSON cannot
+        encode (naming the motion).
+    """
+    motions = list(motions)
+    if not motions:
+        raise ValueError("motions must hold at least one GroundMotion, got an empty list")
+    for i, m in enumerate(motions):
+        if not isinstance(m, GroundMotion):
+            raise ValueError(f"motions[{i}] must be a GroundMotion, got {type(m).__name__}")
+    names = [m.name for m in motions]
+    dupes = sorted({n for n in names if names.count(n) > 1})
+    if dupes:
+        raise ValueError(f"motion names must be unique, repeated: {dupes}")
+    n_max = max(m.npts for m in motions)
+    ax = np.zeros((len(motions), n_max))
+    ay = np.zeros((len(motions), n_max))
+    meta = []
+    for i, m in enumerate(motions):
+        ax[i, : m.npts] = m.ax
+        ay[i, : m.npts] = m.ay
+        try:
+            meta.append(json.dumps(m.metadata, default=json_default, sort_keys=True))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"metadata of motion {m.name!r} cannot be saved: {exc}") from None
+    ds = xr.Dataset(
+        {
+            "ax": (("motion", "time"), ax, {"units": "m s-2", "long_name": "x acceleration"}),
+            "ay": (("motion", "time"), ay, {"units": "m s-2", "long_name": "y acceleration"}),
+            "npts": ("motion", np.array([m.npts for m in motions], dtype=np.int64)),
+            "dt": ("motion", np.array([m.dt for m in motions]), {"units": "s"}),
+            "metadata": ("motion", np.array(meta, dtype=object)),
+        },
+        coords={"motion": np.array(names, dtype=object)},
+        attrs={
+            "format": FORMAT,
+            "attrs_json": json.dumps(attrs or {}, default=json_default, sort_keys=True),
+        },
+    )
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    try:
+        ds.to_netcdf(tmp)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return out
+
+
+def load_ensemble(path: str | Path) -> list[GroundMotion]:
+    """Read motions written by :func:`save_ensemble`, in the stored order.
+
+    Parameters
+    ----------
+    path : str or Path
+        The NetCDF file.
+
+    Returns
+    -------
+    list of GroundMotion
+        Each cut to its own ``npts``, with its ``dt``, name and metadata.
+
+    Raises
+    ------
+    ValueError
+        A file without the expected variables, or an ``npts`` outside the stored length.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"ensemble file not found: {p}")
+    with xr.open_dataset(p) as ds:
+        missing = [v for v in ("ax", "ay", "npts", "dt", "metadata") if v not in ds]
+        if missing:
+            raise ValueError(f"{p} is not a rocking ensemble: missing variables {missing}")
+        ax = ds["ax"].values
+        ay = ds["ay"].values
+        npts = ds["npts"].values
+        dts = ds["dt"].values
+        metas = ds["metadata"].values
+        names = ds["motion"].values
+    out = []
+    for i, name in enumerate(names):
+        n = int(npts[i])
+        if not 2 <= n <= ax.shape[1]:
+            raise ValueError(f"{p}: npts={n} of motion {name!r} is outside 2..{ax.shape[1]}")
+        if not math.isfinite(float(dts[i])):
+            raise ValueError(f"{p}: dt of motion {name!r} is {dts[i]!r}")
+        out.append(
+            GroundMotion(ax[i, :n], ay[i, :n], float(dts[i]), str(name), json.loads(metas[i]))
+        )
+    return out
+
+
+def ensemble_attrs(path: str | Path) -> dict[str, Any]:
+    """Global attributes stored by :func:`save_ensemble` (``attrs`` argument) [-]."""
+    with xr.open_dataset(Path(path)) as ds:
+        return json.loads(ds.attrs.get("attrs_json", "{}"))

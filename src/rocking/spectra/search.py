@@ -1,0 +1,423 @@
+"""The critical-intensity search on an abstract analysis function.
+
+For a body, a ground-motion pair and a mode, the critical normalized intensity of a limit
+state is the smallest I = PGA/(g tan α) in [I_uplift, upper] at which an analysis of the
+motion scaled to intensity I exceeds it (paper §5.2).
+
+The response is not monotonic in I: a body overturned at I₁ may survive I₂ > I₁. The search
+therefore scans upward from uplift in steps and bisects inside the first bracket (last
+intensity not exceeding, first exceeding]; it flags ``non_monotonic`` when it saw a limit state
+exceeded at a lower intensity and not exceeded at a higher one, and reports the smallest
+exceeding intensity it found.
+
+One analysis decides every limit state whose tilt goal lies below the largest tilt it
+reached, so a single search serves all limit states of (body, motion, mode): each analysis
+stops (``stop_at``) at the largest goal still undecided at its intensity, the cheapest run
+that still answers every open question.
+
+
+This module only sees an analysis function ``analyze(intensity, stop_at, rtol) -> Outcome``
+(:func:`search_critical`); :mod:`rocking.spectra.critical` binds it to the dynamics engine.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from .._validate import positive_finite
+from ..dynamics.result import Status
+from .accuracy import Accuracy, get_accuracy
+from .limit_states import LimitState, parse_limit_states
+
+DEFAULT_UPPER = 20.0
+"""Default highest normalized intensity searched, PGA/(g tan α) [-]."""
+
+RETRY_RTOL_FACTOR = 0.1
+"""A failed analysis is retried once with its rtol multiplied by this factor."""
+
+MAX_ANALYSES = 2000
+"""Safety net: no search of one spectrum point may run more analyses than this."""
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What the search needs from one analysis.
+
+    Attributes
+    ----------
+    theta_max : float
+        Largest |θ| reached [rad].
+    overturned : bool
+        θ reached π/2.
+    status : Status
+    reason : str
+        Why the analysis failed, if it did.
+    """
+
+    theta_max: float
+    overturned: bool
+    status: Status
+    reason: str = ""
+
+
+AnalysisFn = Callable[[float, float | None, float], Outcome]
+"""``analyze(intensity, stop_at, rtol) -> Outcome``: one analysis at normalized intensity
+``intensity`` [-], ending once |θ| > ``stop_at`` [rad] (None: run to the end)."""
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """One analysis run by the search (the retry of a failure is its own record).
+
+    Attributes
+    ----------
+    intensity : float
+        Normalized intensity I [-].
+    stop_at : float or None
+        Tilt at which the analysis was allowed to stop [rad].
+    rtol : float
+        ODE relative tolerance used [-].
+    theta_max : float
+        Largest tilt reached [rad].
+    overturned : bool
+    status : str
+        :class:`~rocking.dynamics.result.Status` value.
+    reason : str
+    """
+
+    intensity: float
+    stop_at: float | None
+    rtol: float
+    theta_max: float
+    overturned: bool
+    status: str
+    reason: str = ""
+
+
+@dataclass(frozen=True, eq=False)
+class CriticalResult:
+    """Critical intensities of several limit states for one (body, motion, mode).
+
+    Arrays are indexed like :attr:`limit_states` (sorted by increasing tilt goal).
+
+    Attributes
+    ----------
+    limit_states : tuple of str
+    intensity : ndarray of float
+        Smallest exceeding normalized intensity found, PGA/(g tan α) [-]; NaN if not reached.
+    bracket_lo, bracket_hi : ndarray of float
+        Last intensity known not to exceed below the answer, and the answer itself [-].
+    not_reached : ndarray of bool
+        Not exceeded at any intensity up to :attr:`upper`.
+    non_monotonic : ndarray of bool
+        Seen exceeded at some intensity and not exceeded at a higher one.
+    failed : ndarray of bool
+        An analysis below the answer failed even after a retry with a tighter rtol, so an
+        exceedance there may have been missed.
+    n_analyses : int
+        Analyses run (retries included), shared by all limit states.
+    lower, upper : float
+        Search interval [-]: uplift intensity and the highest intensity searched.
+    accuracy : Accuracy
+    evaluations : tuple of Evaluation
+        Every analysis, in the order run.
+    mode, motion : str
+    R, tan_alpha : float
+        Body size [m] and slenderness [-] (NaN when the search ran on a bare function).
+    """
+
+    limit_states: tuple[str, ...]
+    intensity: np.ndarray
+    bracket_lo: np.ndarray
+    bracket_hi: np.ndarray
+    not_reached: np.ndarray
+    non_monotonic: np.ndarray
+    failed: np.ndarray
+    n_analyses: int
+    lower: float
+    upper: float
+    accuracy: Accuracy
+    evaluations: tuple[Evaluation, ...] = ()
+    mode: str = ""
+    motion: str = ""
+    R: float = float("nan")
+    tan_alpha: float = float("nan")
+
+    def index(self, limit_state: str | LimitState) -> int:
+        """Position of ``limit_state`` in the arrays (any accepted spelling)."""
+        name = parse_limit_states([limit_state])[0].name
+        try:
+            return self.limit_states.index(name)
+        except ValueError:
+            raise ValueError(
+                f"limit_state {name!r} not in this result {list(self.limit_states)}"
+            ) from None
+
+    def __getitem__(self, limit_state: str | LimitState) -> dict:
+        """Answer for one limit state as a dict (intensity, bracket and flags)."""
+        return self.to_records()[self.index(limit_state)]
+
+    def to_records(self) -> list[dict]:
+        """One JSON-serialisable dict per limit state."""
+        rows = []
+        for k, name in enumerate(self.limit_states):
+            rows.append(
+                {
+                    "mode": self.mode,
+                    "motion": self.motion,
+                    "R": self.R,
+                    "tan_alpha": self.tan_alpha,
+                    "limit_state": name,
+                    "intensity": float(self.intensity[k]),
+                    "bracket_lo": float(self.bracket_lo[k]),
+                    "bracket_hi": float(self.bracket_hi[k]),
+                    "not_reached": bool(self.not_reached[k]),
+                    "non_monotonic": bool(self.non_monotonic[k]),
+                    "failed": bool(self.failed[k]),
+                    "n_analyses": int(self.n_analyses),
+                    "lower": float(self.lower),
+                    "upper": float(self.upper),
+                    "accuracy": self.accuracy.name,
+                }
+            )
+        return rows
+
+    def to_frame(self) -> pd.DataFrame:
+        """:meth:`to_records` as a table."""
+        return pd.DataFrame(self.to_records())
+
+
+# --------------------------------------------------------------------------------------
+# The search on an abstract analysis function
+# --------------------------------------------------------------------------------------
+
+
+@dataclass
+class _Knowledge:
+    """What the analyses run so far say about each limit state (rows: analyses)."""
+
+    tau: np.ndarray
+    lower: float
+    intensities: list[float] = field(default_factory=list)
+    known: list[np.ndarray] = field(default_factory=list)
+    exceeded: list[np.ndarray] = field(default_factory=list)
+    failed_at: list[float] = field(default_factory=list)
+
+    def add(self, intensity: float, known: np.ndarray, exceeded: np.ndarray) -> None:
+        self.intensities.append(intensity)
+        self.known.append(known)
+        self.exceeded.append(exceeded)
+
+    def brackets(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lo, hi) per limit state: hi = smallest exceeding I seen (NaN if none), lo = the
+        largest I below hi seen not exceeding (at least the uplift intensity)."""
+        n = self.tau.size
+        hi = np.full(n, np.nan)
+        lo = np.full(n, self.lower)
+        if not self.intensities:
+            return lo, hi
+        intens = np.asarray(self.intensities)[:, None]
+        known = np.asarray(self.known)
+        exc = np.asarray(self.exceeded)
+        hit = known & exc
+        hi = np.where(hit.any(axis=0), np.min(np.where(hit, intens, np.inf), axis=0), np.nan)
+        below = known & ~exc & ((intens < hi) | np.isnan(hi))
+        lo = np.maximum(self.lower, np.max(np.where(below, intens, -np.inf), axis=0))
+        return lo, hi
+
+    def non_monotonic(self) -> np.ndarray:
+        """Exceeded at some I and known not exceeded at a larger I."""
+        n = self.tau.size
+        if not self.intensities:
+            return np.zeros(n, dtype=bool)
+        intens = np.asarray(self.intensities)[:, None]
+        known = np.asarray(self.known)
+        exc = np.asarray(self.exceeded)
+        first_hit = np.min(np.where(known & exc, intens, np.inf), axis=0)
+        last_safe = np.max(np.where(known & ~exc, intens, -np.inf), axis=0)
+        return last_safe > first_hit
+
+    def informative(self, intensity: float) -> np.ndarray:
+        """Limit states whose answer an analysis at ``intensity`` could change."""
+        lo, hi = self.brackets()
+        open_above = np.isnan(hi) & (intensity > lo)
+        inside = (lo < intensity) & (intensity < hi)
+        return open_above | inside
+
+
+def _classify(
+    out: Outcome, states: Sequence[LimitState], tau: np.ndarray, alpha: float,
+    stop_at: float | None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(known, exceeded) per limit state from one successful analysis."""
+    stopped = out.status is Status.STOPPED_AT_LIMIT
+    exceeded = np.array([ls.exceeded(out.theta_max, out.overturned, alpha) for ls in states])
+    if stopped:
+        # The run ended on purpose once |θ| > stop_at: goals up to stop_at are passed even if
+        # the reported θ_max sits exactly on stop_at; goals above it are unknown.
+        limit = math.inf if stop_at is None else stop_at
+        known = tau <= limit
+        exceeded |= known
+        return known, exceeded & known
+    return np.ones(tau.size, dtype=bool), exceeded
+
+
+def _checked(out: Outcome) -> Outcome:
+    """Turn a non-finite θ_max of a supposedly successful run into an explicit failure."""
+    if out.status is not Status.FAILED and not math.isfinite(out.theta_max):
+        return Outcome(out.theta_max, out.overturned, Status.FAILED,
+                       f"non-finite theta_max {out.theta_max!r} with status {out.status.value}")
+    return out
+
+
+class _Search:
+    """State of one search: analyses run so far and the rules choosing the next one."""
+
+    def __init__(self, analyze: AnalysisFn, states, alpha, lower, upper, acc: Accuracy,
+                 rtol: float):
+        self.analyze = analyze
+        self.rtol = rtol
+        self.states = states
+        self.alpha = alpha
+        self.tau = np.array([ls.threshold(alpha) for ls in states])
+        self.lower = lower
+        self.upper = upper
+        self.acc = acc
+        self.know = _Knowledge(self.tau, lower)
+        self.evaluations: list[Evaluation] = []
+        self.stuck = np.zeros(len(states), dtype=bool)  # a failure blocks the bracket
+        self.resolved = np.zeros(len(states), dtype=bool)  # bracket at float resolution
+
+    def _call(self, intensity: float, stop_at: float | None, rtol: float) -> Outcome:
+        if len(self.evaluations) >= MAX_ANALYSES:
+            raise RuntimeError(f"critical-intensity search exceeded {MAX_ANALYSES} analyses")
+        out = _checked(self.analyze(intensity, stop_at, rtol))
+        self.evaluations.append(
+            Evaluation(float(intensity), stop_at, float(rtol), float(out.theta_max),
+                       bool(out.overturned), Status(out.status).value, out.reason)
+        )
+        return out
+
+    def run(self, intensity: float) -> bool:
+        """Analyse at ``intensity`` if it can teach anything; False if it failed twice."""
+        informative = self.know.informative(intensity)
+        if not informative.any():
+            return True
+        top = int(np.flatnonzero(informative)[-1])
+        stop_at = None if self.states[top].is_overturning else float(self.tau[top])
+        out = self._call(intensity, stop_at, self.rtol)
+        if out.status is Status.FAILED:
+            out = self._call(intensity, stop_at, self.rtol * RETRY_RTOL_FACTOR)
+        if out.status is Status.FAILED:
+            self.know.failed_at.append(intensity)
+            return False
+        known, exceeded = _classify(out, self.states, self.tau, self.alpha, stop_at)
+        self.know.add(intensity, known, exceeded)
+        return True
+
+    def scan(self) -> None:
+        """Step upward from uplift until every limit state is exceeded or ``upper`` is done."""
+        j = 1
+        while self.lower < self.upper:
+            _, hi = self.know.brackets()
+            if not np.isnan(hi).any():
+                return
+            intensity = self.acc.scan_point(self.lower, j)
+            last = intensity >= self.upper * (1.0 - 1e-9)
+            self.run(self.upper if last else intensity)
+            if last:
+                return
+            j += 1
+
+    def bisect(self) -> None:
+        """Halve the open brackets, lowest limit state first, until all are narrow enough."""
+        tol = self.acc.bisection_tol
+        while True:
+            lo, hi = self.know.brackets()
+            open_ = ~np.isnan(hi) & (hi - lo > tol * hi) & ~self.stuck & ~self.resolved
+            if not open_.any():
+                return
+            k = int(np.flatnonzero(open_)[0])
+            mid = float(0.5 * (lo[k] + hi[k]))
+            if not lo[k] < mid < hi[k]:  # float resolution reached: nothing left to halve
+                self.resolved[k] = True
+                continue
+            if not self.run(mid):
+                # Cannot learn anything here: stop refining every bracket around this point.
+                self.stuck |= (lo < mid) & (mid < hi)
+
+    def result(self) -> CriticalResult:
+        lo, hi = self.know.brackets()
+        not_reached = np.isnan(hi)
+        failed_at = np.asarray(self.know.failed_at, dtype=float)
+        failed = self.stuck.copy()
+        if failed_at.size:
+            limit = np.where(not_reached, np.inf, hi)
+            failed |= (failed_at[:, None] < limit[None, :]).any(axis=0)
+        return CriticalResult(
+            limit_states=tuple(ls.name for ls in self.states),
+            intensity=hi.copy(),
+            bracket_lo=lo,
+            bracket_hi=hi,
+            not_reached=not_reached,
+            non_monotonic=self.know.non_monotonic(),
+            failed=failed,
+            n_analyses=len(self.evaluations),
+            lower=float(self.lower),
+            upper=float(self.upper),
+            accuracy=self.acc,
+            evaluations=tuple(self.evaluations),
+        )
+
+
+def search_critical(
+    analyze: AnalysisFn,
+    limit_states,
+    alpha: float,
+    *,
+    lower: float,
+    upper: float = DEFAULT_UPPER,
+    accuracy: str | Accuracy | dict = "default",
+    rtol: float | None = None,
+) -> CriticalResult:
+    """Smallest exceeding intensity of each limit state, for any analysis function.
+
+    Parameters
+    ----------
+    analyze : callable
+        ``analyze(intensity, stop_at, rtol) -> Outcome`` (see :data:`AnalysisFn`).
+    limit_states : str or sequence
+        Parsed by :func:`rocking.spectra.limit_states.parse_limit_states`.
+    alpha : float
+        Slenderness angle of the body [rad] (tilt goals are r·α).
+    lower : float
+        Highest intensity known to leave the body at rest (uplift) [-]; may be ``inf``.
+    upper : float
+        Highest intensity searched [-].
+    accuracy : str, Accuracy or dict
+        Preset name or tolerances (:func:`rocking.spectra.accuracy.get_accuracy`).
+    rtol : float, optional
+        ODE tolerance handed to ``analyze`` [-]; default ``accuracy.rtol``.
+
+    Returns
+    -------
+    CriticalResult
+        Without body/motion labels (the caller adds them).
+    """
+    states = parse_limit_states(limit_states)
+    acc = get_accuracy(accuracy)
+    alpha = positive_finite("alpha", alpha)
+    upper = positive_finite("upper", upper)
+    lower = float(lower)
+    if math.isnan(lower) or lower <= 0.0:
+        raise ValueError(f"lower must be > 0, got {lower!r}")
+    rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
+    search = _Search(analyze, states, alpha, lower, upper, acc, rtol)
+    search.scan()
+    search.bisect()
+    return search.result()

@@ -1,0 +1,89 @@
+"""Peak tilt over a grid of sizes and intensities for one motion (the paper's Fig 7)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import xarray as xr
+
+from .._validate import positive_finite
+from ..dynamics.bodies import Cylinder
+from ..dynamics.result import Status
+from ..motions.motion import GroundMotion
+from .accuracy import Accuracy, get_accuracy
+from .critical import MODES, check_mode, make_analysis, uplift_intensity
+from .search import RETRY_RTOL_FACTOR, _checked
+
+
+def tilt_map(
+    R_values: Sequence[float],
+    tan_alpha: float,
+    motion: GroundMotion,
+    intensities: Sequence[float],
+    mode: str = "3d",
+    *,
+    accuracy: str | Accuracy | dict = "default",
+    omega_n: float | None = None,
+    zeta: float | None = None,
+) -> xr.Dataset:
+    """Peak normalized tilt θ_max/α over a grid of sizes and intensities (paper Fig 7).
+
+    Parameters
+    ----------
+    R_values : sequence of float
+        Cylinder semi-diagonals [m].
+    tan_alpha : float
+        Slenderness [-].
+    motion : GroundMotion
+        Unscaled pair; intensities are normalized by its vector PGA.
+    intensities : sequence of float
+        Normalized intensities PGA/(g tan α) [-], > 0.
+    mode : str
+        As in :func:`critical_intensity`.
+    accuracy : str, Accuracy or dict
+        Only its ODE tolerance is used.
+    omega_n, zeta : float, optional
+        Damped-model parameters.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``theta_max_over_alpha`` (R, intensity) [-] (π/(2α) where overturned, 0 below uplift,
+        NaN where the analysis failed twice), ``overturned`` and ``failed`` (bool).
+    """
+    check_mode(mode)
+    acc = get_accuracy(accuracy)
+    R_arr = np.array([positive_finite("R", r) for r in R_values], dtype=float)
+    I_arr = np.array([positive_finite("intensity", i) for i in intensities], dtype=float)
+    lower = uplift_intensity(motion, mode)
+    rtol = acc.rtol_for(MODES[mode][0])
+    ratio = np.zeros((R_arr.size, I_arr.size))
+    overturned = np.zeros(ratio.shape, dtype=bool)
+    failed = np.zeros(ratio.shape, dtype=bool)
+    for i, R in enumerate(R_arr):
+        body = Cylinder(R, tan_alpha)
+        analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta)
+        for j, intensity in enumerate(I_arr):
+            if intensity <= lower:
+                continue  # below uplift the body stays at rest
+            out = _checked(analyze(intensity, None, rtol))
+            if out.status is Status.FAILED:
+                out = _checked(analyze(intensity, None, rtol * RETRY_RTOL_FACTOR))
+            failed[i, j] = out.status is Status.FAILED
+            overturned[i, j] = out.overturned
+            theta = 0.5 * math.pi if out.overturned else out.theta_max
+            ratio[i, j] = np.nan if failed[i, j] else theta / body.alpha
+    coords = {"R": ("R", R_arr, {"units": "m"}),
+              "intensity": ("intensity", I_arr, {"long_name": "PGA/(g tan alpha)"})}
+    return xr.Dataset(
+        {
+            "theta_max_over_alpha": (("R", "intensity"), ratio, {"units": "1"}),
+            "overturned": (("R", "intensity"), overturned),
+            "failed": (("R", "intensity"), failed),
+        },
+        coords=coords,
+        attrs={"mode": mode, "tan_alpha": float(tan_alpha), "motion": motion.name,
+               "rtol": rtol, "pga": motion.pga},
+    )

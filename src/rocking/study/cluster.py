@@ -1,0 +1,317 @@
+"""Dask for the workflow: which cluster to use, and running store regions on it.
+
+By default a run starts an embedded :class:`distributed.LocalCluster` of worker *processes*
+(one thread each: the kernels are compiled numba code that holds the GIL), with its dashboard
+on a free port. A run can instead join a cluster that is already running, named by
+``scheduler_address`` or ``scheduler_file`` (from the configuration) or by the
+``DASK_SCHEDULER_ADDRESS`` environment variable, in that order of precedence.
+
+Progress is reported as one line per ``interval`` seconds, ``k/n chunks``, in the rule's log.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import sys
+import time
+import warnings
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from distributed import Client, LocalCluster, as_completed
+
+log = logging.getLogger("rocking.study.cluster")
+
+ENV_ADDRESS = "DASK_SCHEDULER_ADDRESS"
+"""Environment variable naming an existing scheduler (``tcp://host:port``)."""
+
+
+@dataclass(frozen=True)
+class Target:
+    """Where the tasks run.
+
+    Attributes
+    ----------
+    kind : str
+        ``"local"`` (embedded LocalCluster), ``"address"`` or ``"scheduler_file"``.
+    value : str
+        Scheduler address or scheduler-file path; empty for ``"local"``.
+    """
+
+    kind: str
+    value: str = ""
+
+
+def resolve_target(scheduler_address: str | None = None, scheduler_file: str | None = None,
+                   environ: Mapping[str, str] | None = None) -> Target:
+    """Choose the cluster: config address, then config scheduler file, then environment.
+
+    Parameters
+    ----------
+    scheduler_address : str, optional
+        ``tcp://host:port`` of a running ``dask scheduler``.
+    scheduler_file : str, optional
+        JSON file written by ``dask scheduler --scheduler-file`` (or ``SLURMCluster``).
+    environ : mapping, optional
+        Environment to read ``DASK_SCHEDULER_ADDRESS`` from (default ``os.environ``).
+
+    Returns
+    -------
+    Target
+
+    Raises
+    ------
+    ValueError
+        If both are given, or the scheduler file does not exist.
+    """
+    environ = os.environ if environ is None else environ
+    if scheduler_address and scheduler_file:
+        raise ValueError(
+            f"give dask.scheduler_address or dask.scheduler_file, not both; got "
+            f"scheduler_address={scheduler_address!r}, scheduler_file={scheduler_file!r}"
+        )
+    if scheduler_address:
+        return Target("address", str(scheduler_address))
+    if scheduler_file:
+        path = Path(scheduler_file).expanduser()
+        if not path.is_file():
+            raise ValueError(f"dask.scheduler_file {scheduler_file!r} does not exist")
+        return Target("scheduler_file", str(path))
+    env = environ.get(ENV_ADDRESS, "").strip()
+    if env:
+        return Target("address", env)
+    return Target("local")
+
+
+@contextlib.contextmanager
+def dask_client(target: Target, n_workers: int = 1, *,
+                local_directory: str | None = None) -> Iterator[Client]:
+    """A client on ``target``; a LocalCluster is started and stopped around the block.
+
+    Parameters
+    ----------
+    target : Target
+        From :func:`resolve_target`.
+    n_workers : int
+        Worker processes of an embedded LocalCluster (the rule's threads); ignored when
+        joining an existing cluster.
+    local_directory : str, optional
+        Scratch space of embedded workers.
+
+    Yields
+    ------
+    distributed.Client
+    """
+    if n_workers < 1:
+        raise ValueError(f"n_workers must be >= 1, got {n_workers!r}")
+    if target.kind == "local":
+        with warnings.catch_warnings():
+            # distributed warns when ":0" picks a port other than its default 8787; that is
+            # the point of ":0" (several runs on one machine never clash)
+            warnings.simplefilter("ignore", UserWarning)
+            cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", scheduler_port=0,
+                                   local_directory=local_directory,
+                                   silence_logs=logging.WARNING)
+        try:
+            with Client(cluster) as client:
+                log.info("embedded LocalCluster: %d worker processes, 1 thread each",
+                         n_workers)
+                log.info("dashboard: %s", client.dashboard_link)
+                yield client
+        finally:
+            cluster.close()
+        return
+    if target.kind == "address":
+        client = Client(target.value, timeout="30s")
+    elif target.kind == "scheduler_file":
+        client = Client(scheduler_file=target.value, timeout="30s")
+    else:
+        raise ValueError(f"target.kind must be local, address or scheduler_file, "
+                         f"got {target.kind!r}")
+    with client:
+        info = client.scheduler_info()
+        log.info("joined scheduler %s with %d workers", client.scheduler.address,
+                 len(info.get("workers", {})))
+        log.info("dashboard: %s", client.dashboard_link)
+        yield client
+
+
+def worker_pids(client: Client) -> dict[str, int]:
+    """Process id of every worker (written to the log: a stuck worker can be found)."""
+    return client.run(os.getpid)
+
+
+def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
+                args: Sequence[Any] = (), kwargs: Mapping[str, Any] | None = None, *,
+                key: str = "region", interval: float = 10.0,
+                retries: int = 2) -> list[dict]:
+    """Run ``fn(*args, index, **kwargs)`` for every region index on the cluster.
+
+    Tasks are independent and idempotent (each writes whole chunks, then its done flag),
+    so a task lost with a worker is simply run again elsewhere.
+
+    Parameters
+    ----------
+    client : distributed.Client
+    fn : callable
+        Importable task body, e.g. :func:`rocking.study.store.fill_spectra_region`.
+    indices : sequence of int
+        Regions to compute, in order of priority (first = started first).
+    args, kwargs
+        Further arguments; ``args`` come before the index.
+    key : str
+        Prefix of the task keys (shown on the dashboard).
+    interval : float
+        Seconds between progress lines [s]; the last line is always written.
+    retries : int
+        Extra attempts of a task that raised (not counting worker losses, which the
+        scheduler reschedules on its own).
+
+    Returns
+    -------
+    list of dict
+        What each task returned, in completion order.
+
+    Raises
+    ------
+    RuntimeError
+        Naming the region, when a task fails after its retries.
+    """
+    kwargs = dict(kwargs or {})
+    n = len(indices)
+    if n == 0:
+        log.info("0/0 chunks: nothing to do")
+        return []
+    # the first index gets the highest priority: callers pass the costliest regions first
+    futures = {
+        client.submit(fn, *args, i, **kwargs, key=f"{key}-{i}", pure=False,
+                      retries=retries, priority=n - rank): i
+        for rank, i in enumerate(indices)
+    }
+    log.info("submitted %d chunks", n)
+    t0 = last = time.monotonic()
+    reports: list[dict] = []
+    for future in as_completed(futures):
+        index = futures[future]
+        try:
+            reports.append(future.result())
+        except Exception as exc:
+            for f in futures:
+                f.cancel()
+            raise RuntimeError(f"chunk {key}-{index} failed: {exc}") from exc
+        now = time.monotonic()
+        if now - last >= interval or len(reports) == n:
+            log.info("%d/%d chunks done, %.1f s elapsed", len(reports), n, now - t0)
+            last = now
+    return reports
+
+
+@contextlib.contextmanager
+def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
+    """Send this process's and its children's output (stdout, stderr, logging) to ``path``.
+
+    Both the Python streams and the file descriptors 1 and 2 are redirected, so worker
+    processes started inside the block (a LocalCluster) write there too.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved_fds = os.dup(1), os.dup(2)
+    saved_streams = sys.stdout, sys.stderr
+    fh = open(path, "a", buffering=1)  # noqa: SIM115 - closed in finally
+    os.dup2(fh.fileno(), 1)
+    os.dup2(fh.fileno(), 2)
+    sys.stdout = sys.stderr = fh
+    handler = logging.StreamHandler(fh)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(name)s %(levelname)s %(message)s"))
+    root = logging.getLogger()
+    old_level = root.level
+    root.addHandler(handler)
+    root.setLevel(level)
+    try:
+        yield
+    finally:
+        fh.flush()
+        root.removeHandler(handler)
+        root.setLevel(old_level)
+        sys.stdout, sys.stderr = saved_streams
+        os.dup2(saved_fds[0], 1)
+        os.dup2(saved_fds[1], 2)
+        os.close(saved_fds[0])
+        os.close(saved_fds[1])
+        fh.close()
+
+
+def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *,
+               config_digest: str, n_workers: int = 1, scheduler_address: str | None = None,
+               scheduler_file: str | None = None, progress_interval: float = 10.0,
+               key: str = "region") -> dict[str, Any]:
+    """Compute every region of a store not yet done, on Dask, then consolidate it.
+
+    Parameters
+    ----------
+    path : str or Path
+        A store made by :func:`rocking.study.store.create_store`.
+    fn : callable
+        Task body ``fn(path, index, motions=...)``, e.g.
+        :func:`rocking.study.store.fill_spectra_region`.
+    motions : str or Path
+        Ensemble file of the store.
+    config_digest : str
+        Hash of this run's result-affecting configuration; must equal the store's.
+    n_workers : int
+        Worker processes of an embedded LocalCluster.
+    scheduler_address, scheduler_file : str, optional
+        An existing cluster (see :func:`resolve_target`).
+    progress_interval : float
+        Seconds between progress lines [s].
+    key : str
+        Task-key prefix.
+
+    Returns
+    -------
+    dict
+        Summary: regions in total, already done before this run, computed now, per-chunk
+        compute seconds (min, median, max), wall seconds, where it ran.
+    """
+    from . import store
+
+    t0 = time.perf_counter()
+    # absolute paths: workers of an external cluster may run in another directory
+    path, motions = Path(path).resolve(), Path(motions).resolve()
+    store.check_config_hash(path, config_digest)
+    store.check_ensemble(path, motions)
+    layout = store.open_layout(path)
+    pending = store.costliest_first(layout, store.pending_regions(path, layout))
+    n = layout.n_regions
+    log.info("store %s: %d chunks, %d already done, %d to compute", path, n, n - len(pending),
+             len(pending))
+    target = resolve_target(scheduler_address, scheduler_file)
+    reports: list[dict] = []
+    if pending:
+        with dask_client(target, n_workers) as client:
+            log.info("worker pids: %s", sorted(worker_pids(client).values()))
+            reports = run_regions(client, fn, pending, (str(path),), {"motions": str(motions)},
+                                  key=f"{key}-{config_digest}", interval=progress_interval)
+    store.finalize(path)
+    seconds = sorted(r["seconds"] for r in reports)
+    summary = {
+        "store": str(path),
+        "config_hash": config_digest,
+        "cluster": target.kind,
+        "chunks": n,
+        "done_before": n - len(pending),
+        "computed": len(reports),
+        "points_computed": int(sum(r["points"] for r in reports)),
+        "chunk_seconds": {"min": seconds[0], "median": seconds[len(seconds) // 2],
+                          "max": seconds[-1]} if seconds else None,
+        "wall_seconds": time.perf_counter() - t0,
+    }
+    log.info("finished: %s", summary)
+    return summary

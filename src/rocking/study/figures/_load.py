@@ -1,0 +1,126 @@
+"""Reading the study store and its aggregates for the figures (layouts of docs/design.md)."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...spectra.limit_states import parse_limit_state
+
+
+def open_store(path: str | Path) -> xr.Dataset:
+    """Load a zarr store (``spectra.zarr``, ``tilt_map.zarr``) into memory; they are small."""
+    path = Path(path)
+    if not path.exists():
+        raise ValueError(f"store path does not exist: {str(path)!r}")
+    with warnings.catch_warnings():
+        # Snakemake marks directory outputs with a .snakemake_timestamp file inside them.
+        warnings.filterwarnings("ignore", message=".*snakemake_timestamp.*")
+        with xr.open_zarr(path, consolidated=False) as ds:
+            return ds.load()
+
+
+def open_means(path: str | Path) -> xr.Dataset:
+    """Load ``mean_spectra.nc`` (``mean``, ``std``, ``median``, ``count`` over motions)."""
+    path = Path(path)
+    if not path.exists():
+        raise ValueError(f"mean spectra path does not exist: {str(path)!r}")
+    with xr.open_dataset(path) as ds:
+        return ds.load()
+
+
+def labels(da: xr.DataArray | xr.Dataset, dim: str) -> list[str]:
+    """String values of coordinate ``dim`` (zarr/NetCDF may hand back bytes or objects)."""
+    if dim not in da.coords:
+        return []
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in da[dim].values]
+
+
+def tilt_ratio(limit_state: str) -> float | None:
+    """r of ``"tilt:<r>"`` (decimal or fraction), None for overturning."""
+    ratio = parse_limit_state(limit_state).ratio
+    return None if math.isinf(ratio) else ratio
+
+
+def find_limit_state(available: list[str], wanted: str) -> str | None:
+    """The available limit state matching ``wanted`` (tilt ratios compared to 1e-3)."""
+    if wanted in available:
+        return wanted
+    r = tilt_ratio(wanted)
+    if r is None:
+        return None
+    for ls in available:
+        q = tilt_ratio(ls)
+        if q is not None and abs(q - r) < 1e-3:
+            return ls
+    return None
+
+
+def excessive_tilt(available: list[str]) -> str | None:
+    """The store's name of the paper's excessive-tilt limit state (θ > α/3), if computed.
+
+    The exact ``"tilt:1/3"`` wins over a rounded spelling such as ``"tilt:0.3333"``.
+    """
+    return find_limit_state(available, "tilt:1/3")
+
+
+def has_value(ds: xr.Dataset | xr.DataArray, dim: str, value: float, rtol: float = 1e-6) -> bool:
+    """Whether numeric coordinate ``dim`` holds ``value`` (to ``rtol``)."""
+    if dim not in ds.coords:
+        return False
+    return bool(np.any(np.isclose(ds[dim].values.astype(float), value, rtol=rtol, atol=0.0)))
+
+
+def select_value(ds, dim: str, value: float):
+    """``ds`` at the coordinate of ``dim`` equal to ``value`` (float-tolerant)."""
+    coord = ds[dim].values.astype(float)
+    hits = np.flatnonzero(np.isclose(coord, value, rtol=1e-6, atol=0.0))
+    if hits.size == 0:
+        raise ValueError(f"{dim}={value!r} is not in the data (available: {coord.tolist()})")
+    return ds.isel({dim: int(hits[0])})
+
+
+def ensemble_label(attrs: dict, default: str) -> tuple[str, bool]:
+    """Human label of a study's ensemble and whether it is a stand-in.
+
+    The store's ``ensemble`` attribute may be a plain label, a JSON object or a mapping;
+    stand-in flags may sit in it or beside it (``stand_in``). Unknown layouts fall back to
+    ``default`` so a figure never fails on a label.
+    """
+    raw = attrs.get("ensemble", default)
+    stand_in = attrs.get("stand_in", attrs.get("stand_ins", False))
+    if isinstance(raw, str):
+        try:
+            raw = json.loads(raw)
+        except json.JSONDecodeError:
+            pass
+    if isinstance(raw, dict):
+        motions = raw.get("motions") or [{}]
+        # The store's ensemble record: its first motion is the record, labelled by source.
+        label = str(raw.get("label", motions[0].get("label", raw.get("name", default))))
+        stand_in = raw.get("stand_in", stand_in)
+    elif isinstance(raw, list | tuple):
+        label = ", ".join(str(x) for x in raw) or default
+    else:
+        label = str(raw)
+    if isinstance(stand_in, str):
+        try:
+            stand_in = json.loads(stand_in)
+        except json.JSONDecodeError:
+            stand_in = stand_in.lower() in {"true", "yes", "1"}
+    if isinstance(stand_in, dict | list):
+        stand_in = any(bool(v) for v in (stand_in.values() if isinstance(stand_in, dict)
+                                          else stand_in))
+    return label, bool(stand_in)
+
+
+def mean_curve(agg: xr.Dataset, mode: str, limit_state: str, stat: str = "mean"):
+    """``agg[stat]`` over R for one (mode, limit state), None when either is absent."""
+    if mode not in labels(agg, "mode") or limit_state not in labels(agg, "limit_state"):
+        return None
+    return agg[stat].sel(mode=mode, limit_state=limit_state).values.astype(float)

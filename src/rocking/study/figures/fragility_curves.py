@@ -1,0 +1,109 @@
+"""Fragility curves (beyond the paper): P(limit state exceeded | PGA/(g tan α)) per size R.
+
+Lines are the lognormal maximum-likelihood fits of :mod:`rocking.spectra.fragility` (stored in
+``results/<study>/fragility.nc``); markers are the ensemble's empirical fractions of motions
+whose critical intensity is at most the abscissa (not-reached motions never count).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+from scipy import stats
+
+from . import _load
+from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+
+TAN_ALPHA = 0.2
+MODE = "3d"
+
+
+def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALPHA,
+         mode: str = MODE, n: int = 200) -> dict:
+    """Fitted curves and empirical points for the overturning and excessive-tilt states.
+
+    Returns
+    -------
+    dict
+        ``panels``: [{``limit_state``, ``curves``: {R: {``median``, ``beta``, ``im``,
+        ``p``, ``x_obs`` (sorted reached critical intensities), ``p_obs``}}}], ``missing``.
+    """
+    with xr.open_dataset(fragility) as f:
+        frag = f.load()
+    ds = _load.open_store(store)
+    missing: list[str] = []
+    if mode not in _load.labels(frag, "mode") or not _load.has_value(frag, "tan_alpha",
+                                                                       tan_alpha):
+        return {"panels": [], "mode": mode, "tan_alpha": tan_alpha,
+                "missing": [f"mode {mode} at tan α = {tan_alpha:g} not computed"]}
+    frag = _load.select_value(frag, "tan_alpha", tan_alpha).sel(mode=mode)
+    ds = _load.select_value(ds, "tan_alpha", tan_alpha).sel(mode=mode)
+    states = _load.labels(frag, "limit_state")
+    panels = []
+    for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
+                      ("excessive tilt", _load.excessive_tilt(states))):
+        if ls is None:
+            missing.append(f"limit state {title} not computed")
+            continue
+        curves = {}
+        for R in frag["R"].values.astype(float):
+            par = _load.select_value(frag.sel(limit_state=ls), "R", R)
+            median, beta = float(par["median"]), float(par["beta"])
+            pts = _load.select_value(ds.sel(limit_state=ls), "R", R)
+            x = pts["pga_crit"].values.astype(float)
+            reached = ~pts["not_reached"].values.astype(bool)
+            x_obs = np.sort(x[reached])
+            if not np.isfinite(median):
+                missing.append(f"{title}, R = {R:g} m: no fit ({str(par['status'].values)})")
+                continue
+            curves[R] = {
+                "median": median,
+                "beta": beta,
+                "x_obs": x_obs,
+                # Fraction of all motions (censored included) at or below each value.
+                "p_obs": np.arange(1, x_obs.size + 1) / x.size,
+            }
+        # One intensity axis per panel, wide enough for the ensemble's values and the medians
+        # (a median fitted far beyond every observation is cut at 3x the largest one).
+        x_all = np.concatenate([c["x_obs"] for c in curves.values()] or [np.array([1.0])])
+        top = float(np.max(x_all, initial=1.0))
+        medians = [c["median"] for c in curves.values()]
+        im_max = 1.25 * max(top, min(max(medians, default=top), 3.0 * top))
+        im = np.linspace(im_max / n, im_max, n)
+        for c in curves.values():
+            c["im"] = im
+            c["p"] = stats.norm.cdf(np.log(im / c["median"]) / c["beta"])
+        panels.append({"limit_state": ls, "curves": curves})
+    return {"panels": panels, "mode": mode, "tan_alpha": tan_alpha, "missing": missing}
+
+
+@styled
+def plot(d: dict) -> Figure:
+    """Two panels, one colour per R; fitted lognormal lines and empirical markers."""
+    panels = d["panels"]
+    fig, axes = new_figure(12.0, 4.4, ncols=max(len(panels), 1), squeeze=False)
+    axes = axes[0]
+    for ax, panel in zip(axes, panels, strict=False):
+        for i, (R, c) in enumerate(panel["curves"].items()):
+            color = f"C{i % 10}"
+            ax.plot(c["im"], c["p"], color=color,
+                    label=f"R = {R:g} m: θ̂ = {c['median']:.3g}, β = {c['beta']:.2f}")
+            ax.plot(c["x_obs"], c["p_obs"], "o", color=color, ms=3.5, mfc="none")
+        ax.set_title(limit_state_title(panel["limit_state"]))
+        ax.set_xlabel("PGA/(g tan α) [-]")
+        ax.set_ylabel("P(limit state exceeded) [-]")
+        ax.set_ylim(-0.02, 1.02)
+        ax.set_xlim(left=0.0)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
+                  title="lognormal MLE (lines),\nensemble (o)")
+    if not panels:
+        axes[0].text(0.5, 0.5, "; ".join(d["missing"]), ha="center", transform=axes[0].transAxes)
+    title = (f"Fragility curves, {MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
+             f"tan α = {d['tan_alpha']:g}")
+    if d["missing"]:
+        title += "\nmissing: " + "; ".join(d["missing"])
+    fig.suptitle(title)
+    return fig
