@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from rocking.cli import main
-from rocking.cli.motions import build_ensemble, read_motion
+from rocking.motions.build import build_ensemble, read_motion
 from rocking.motions.ensemble_io import ensemble_attrs, load_ensemble
 from rocking.motions.highpass import brune_corner, highpass_motion, residuals
 from rocking.motions.principal import correlation, to_principal_axes

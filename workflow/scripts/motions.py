@@ -1,6 +1,6 @@
 """Build a ground-motion ensemble: the processed record first, then its synthetic pairs.
 
-rocking.cli.motions.build_ensemble does the work (principal axes, Brune-corner
+rocking.motions.build.build_ensemble does the work (principal axes, Brune-corner
 high-pass, RDK fit and simulation, optional cut to motions.max_duration); this rule only
 maps the configuration onto it and writes the ensemble file and its parameters.
 """
@@ -8,7 +8,7 @@ maps the configuration onto it and writes the ensemble file and its parameters.
 import json
 import logging
 
-from rocking.cli.motions import build_ensemble, read_motion
+from rocking.motions.build import build_ensemble, read_motion
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.study.cluster import log_to
 
@@ -23,7 +23,7 @@ def main(snakemake):
         motion = read_motion(spec["record"], spec["paths"])
         build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
                                rotation=spec["rotation_deg"], mw=spec["mw"],
-                               max_duration=spec["max_duration"], quiet=False)
+                               max_duration=spec["max_duration"], progress=log.info)
         params = build.parameters()
         params["ensemble"] = snakemake.wildcards.ensemble
         save_ensemble(snakemake.output.motions, build.motions,
