@@ -1,6 +1,6 @@
 """Benchmark of the workflow: default run, paper cost per point, Dask speed-up 1 → 2 workers.
 
-``python -m rocking.benchmarks workflow [--skip-default-run] [--targets ...]`` writes
+``python workflow/benchmark.py [--skip-default-run] [--targets ...]`` writes
 ``results/benchmarks/workflow.csv`` and ``.md``:
 
 - ``default_run``: wall time of ``snakemake --cores 2`` on ``config/config.yaml`` in a fresh
@@ -32,12 +32,12 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from ..spectra.accuracy import get_accuracy
-from ..spectra.limit_states import parse_limit_states
-from ..study import cluster, store
-from ._io import write_table
+from rocking.benchmarks._io import write_table
+from rocking.spectra.accuracy import get_accuracy
+from rocking.spectra.limit_states import parse_limit_states
+from rocking.study import cluster, store
 
-REPO = Path(__file__).resolve().parents[3]
+REPO = Path(__file__).resolve().parents[1]
 SAMPLE_R = [0.5, 3.0, 6.0, 10.0]
 """Sizes [m] of the paper-cost sample (the cost grows with R: more analyses per search)."""
 SPEEDUP_R = [1.0, 2.0, 4.0, 6.0, 8.0, 10.0]
@@ -185,7 +185,7 @@ def _row(part: str, measurement: str, value: float, unit: str, notes: str) -> di
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m rocking.benchmarks workflow",
+    parser = argparse.ArgumentParser(prog="python workflow/benchmark.py",
                                      description=__doc__.splitlines()[0])
     parser.add_argument("--skip-default-run", action="store_true",
                         help="do not time the default workflow run")
@@ -207,3 +207,7 @@ def main(argv: list[str] | None = None) -> int:
                 notes=f"{os.cpu_count()} cores shared with other jobs; wall-clock seconds.")
     print(df.to_string(index=False))
     return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
