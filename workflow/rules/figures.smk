@@ -1,31 +1,53 @@
-# Rules of the paper's figures, the fragility curves and the HTML report (issue 6);
-# their helper functions are in figures_common.smk.
+# Rules of the paper's figures, the fragility curves and the HTML report; helpers in
+# figures_common.smk. Each rule is named after its figure: module rocking.study.figures.<name>,
+# script ../scripts/<name>.py, caption rocking.study.figures.captions.CAPTIONS[<name>].
+
 
 rule fig03_wobbling_period:
     conda:
         "../envs/rocking.yaml"
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig03_wobbling_period", "fig_03.rst", "Paper figures",
+        **_figure_output(f"{FIGURES_DIR}/fig03_wobbling_period", "Paper figures",
                          figure="Fig 3"),
+    params:
+        caption=caption("fig03_wobbling_period"),
     log:
         "logs/figures/fig03_wobbling_period.log",
     script:
-        "../scripts/fig_wobbling_period.py"
+        "../scripts/fig03_wobbling_period.py"
 
 
 rule fig04_free_vibration:
     conda:
         "../envs/rocking.yaml"
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig04_free_vibration", "fig_04.rst", "Paper figures",
+        **_figure_output(f"{FIGURES_DIR}/fig04_free_vibration", "Paper figures",
                          figure="Fig 4"),
     params:
+        caption=caption("fig04_free_vibration"),
         duration=FIG04_DURATION,
+        # the study's contact parameters; the figure adds the paper's eight pairs
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
         "logs/figures/fig04_free_vibration.log",
     script:
-        "../scripts/fig_free_vibration.py"
+        "../scripts/fig04_free_vibration.py"
+
+
+rule fig06_theta_max_sensitivity:
+    conda:
+        "../envs/rocking.yaml"
+    output:
+        **_figure_output(f"{FIGURES_DIR}/fig06_theta_max_sensitivity", "Paper figures",
+                         figure="Fig 6 (companion)"),
+    params:
+        caption=caption("fig06_theta_max_sensitivity"),
+        spec=lambda wildcards: ensemble_spec(el_centro_ensemble()),
+        model_options=lambda wildcards: damped_options(["3d-damped"]),
+    log:
+        "logs/figures/fig06_theta_max_sensitivity.log",
+    script:
+        "../scripts/fig06_theta_max_sensitivity.py"
 
 
 rule fig06_el_centro:
@@ -33,29 +55,16 @@ rule fig06_el_centro:
         "../envs/rocking.yaml"
     input:
         motions=lambda wildcards: ensemble_file(el_centro_ensemble()),
+        sensitivity=rules.fig06_theta_max_sensitivity.output.notes,
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig06_el_centro", "fig_06.rst", "Paper figures",
-                         figure="Fig 6"),
+        **_figure_output(f"{FIGURES_DIR}/fig06_el_centro", "Paper figures", figure="Fig 6"),
     params:
+        caption=caption("fig06_el_centro"),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
         "logs/figures/fig06_el_centro.log",
     script:
-        "../scripts/fig_el_centro.py"
-
-
-rule fig08_motions:
-    conda:
-        "../envs/rocking.yaml"
-    input:
-        motions=lambda wildcards: ensemble_file(wildcards.ensemble),
-    output:
-        **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "fig_08.rst",
-                         "Paper figures", figure="Fig 8", ensemble="{ensemble}"),
-    log:
-        "logs/figures/fig08_motions_{ensemble}.log",
-    script:
-        "../scripts/fig_motions.py"
+        "../scripts/fig06_el_centro.py"
 
 
 rule fig07_tilt_map:
@@ -64,13 +73,32 @@ rule fig07_tilt_map:
     input:
         store=lambda wildcards: tilt_map_store(wildcards.study),
         complete=lambda wildcards: tilt_map_complete(wildcards.study),
+        motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig07_tilt_map", "fig_07.rst",
-                         "Paper figures", figure="Fig 7", study="{study}"),
+        **_figure_output("results/{study}/figures/fig07_tilt_map", "Paper figures",
+                         figure="Fig 7", study="{study}"),
+    params:
+        caption=caption("fig07_tilt_map"),
     log:
         "logs/{study}/fig07_tilt_map.log",
     script:
-        "../scripts/fig_tilt_map.py"
+        "../scripts/fig07_tilt_map.py"
+
+
+rule fig08_motions:
+    conda:
+        "../envs/rocking.yaml"
+    input:
+        motions=lambda wildcards: ensemble_file(wildcards.ensemble),
+    output:
+        **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
+                         figure="Fig 8", ensemble="{ensemble}"),
+    params:
+        caption=caption("fig08_motions"),
+    log:
+        "logs/figures/fig08_motions_{ensemble}.log",
+    script:
+        "../scripts/fig08_motions.py"
 
 
 rule fig09_spectra:
@@ -80,13 +108,16 @@ rule fig09_spectra:
         store=lambda wildcards: spectra_store(wildcards.study),
         complete=lambda wildcards: spectra_complete(wildcards.study),
         means=lambda wildcards: mean_spectra(wildcards.study),
+        motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig09_spectra", "fig_09.rst",
-                         "Paper figures", figure="Fig 9", study="{study}"),
+        **_figure_output("results/{study}/figures/fig09_spectra", "Paper figures",
+                         figure="Fig 9", study="{study}"),
+    params:
+        caption=caption("fig09_spectra"),
     log:
         "logs/{study}/fig09_spectra.log",
     script:
-        "../scripts/fig_spectra.py"
+        "../scripts/fig09_spectra.py"
 
 
 rule fig10_goals:
@@ -94,13 +125,16 @@ rule fig10_goals:
         "../envs/rocking.yaml"
     input:
         means=lambda wildcards: mean_spectra(wildcards.study),
+        motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig10_goals", "fig_10.rst",
-                         "Paper figures", figure="Fig 10", study="{study}"),
+        **_figure_output("results/{study}/figures/fig10_goals", "Paper figures",
+                         figure="Fig 10", study="{study}"),
+    params:
+        caption=caption("fig10_goals"),
     log:
         "logs/{study}/fig10_goals.log",
     script:
-        "../scripts/fig_goals.py"
+        "../scripts/fig10_goals.py"
 
 
 rule fig11_slenderness:
@@ -108,13 +142,16 @@ rule fig11_slenderness:
         "../envs/rocking.yaml"
     input:
         means=lambda wildcards: mean_spectra(wildcards.study),
+        motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig11_slenderness", "fig_11.rst",
-                         "Paper figures", figure="Fig 11", study="{study}"),
+        **_figure_output("results/{study}/figures/fig11_slenderness", "Paper figures",
+                         figure="Fig 11", study="{study}"),
+    params:
+        caption=caption("fig11_slenderness"),
     log:
         "logs/{study}/fig11_slenderness.log",
     script:
-        "../scripts/fig_slenderness.py"
+        "../scripts/fig11_slenderness.py"
 
 
 rule fig12_2d_vs_3d:
@@ -123,53 +160,66 @@ rule fig12_2d_vs_3d:
     input:
         means=[mean_spectra(s) for s in config["studies"]],
         stores=[spectra_store(s) for s in config["studies"]],
+        motions=[study_motions(s) for s in config["studies"]],
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig12_2d_vs_3d", "fig_12.rst", "Paper figures",
-                         figure="Fig 12"),
+        **_figure_output(f"{FIGURES_DIR}/fig12_2d_vs_3d", "Paper figures", figure="Fig 12"),
     params:
+        caption=caption("fig12_2d_vs_3d"),
         studies=list(config["studies"]),
     log:
         "logs/figures/fig12_2d_vs_3d.log",
     script:
-        "../scripts/fig_2d_vs_3d.py"
+        "../scripts/fig12_2d_vs_3d.py"
 
 
-rule fragility:
+rule fragility_curves:
     conda:
         "../envs/rocking.yaml"
     input:
         store=lambda wildcards: spectra_store(wildcards.study),
         complete=lambda wildcards: spectra_complete(wildcards.study),
         means=lambda wildcards: mean_spectra(wildcards.study),
+        motions=lambda wildcards: study_motions(wildcards.study),
     output:
         fragility_nc="results/{study}/fragility.nc",
-        fragility_csv=report("results/{study}/fragility.csv", caption="../report/fig_fragility_table.rst",
-                             category="Beyond the paper", labels={"study": "{study}",
-                                                                  "table": "fragility"}),
+        fragility_csv=report("results/{study}/fragility.csv",
+                             caption="../report/fragility_table.rst",
+                             category="Beyond the paper",
+                             labels={"study": "{study}", "table": "fragility"}),
         linear_nc="results/{study}/linear_fit.nc",
-        linear_csv=report("results/{study}/linear_fit.csv", caption="../report/fig_linear_fit.rst",
-                          category="Beyond the paper", labels={"study": "{study}",
-                                                               "table": "linear fits"}),
-        **_figure_output("results/{study}/figures/fragility_curves", "fig_fragility.rst",
-                         "Beyond the paper", figure="fragility", study="{study}"),
+        linear_csv=report("results/{study}/linear_fit.csv", caption="../report/linear_fit.rst",
+                          category="Beyond the paper",
+                          labels={"study": "{study}", "table": "linear fits"}),
+        **_figure_output("results/{study}/figures/fragility_curves", "Beyond the paper",
+                         figure="fragility", study="{study}"),
     params:
+        caption=caption("fragility_curves"),
         upper=float(config["search"]["upper"]),
     log:
-        "logs/{study}/fragility.log",
+        "logs/{study}/fragility_curves.log",
     script:
-        "../scripts/fig_fragility.py"
+        "../scripts/fragility_curves.py"
 
 
-rule report_html:
+def report_inputs(study):
+    """Named inputs of the report of ``study``."""
+    return {"figures": report_figures(study),
+            "linear_fit": rules.fragility_curves.output.linear_csv.format(study=study),
+            "fragility": rules.fragility_curves.output.fragility_csv.format(study=study),
+            **report_run_files(study)}
+
+
+rule report:
     conda:
         "../envs/rocking.yaml"
     input:
-        lambda wildcards: report_inputs(wildcards.study),
+        unpack(lambda wildcards: report_inputs(wildcards.study)),
     output:
         "results/{study}/report.html",
     params:
         study=lambda wildcards: wildcards.study,
         ensemble=lambda wildcards: ensemble_of(wildcards.study),
+        config=lambda wildcards: dict(config),
     log:
         "logs/{study}/report.log",
     script:

@@ -1,7 +1,10 @@
-# The paper's figures, the fragility curves and the HTML report (issue 6).
+# The paper's figures, the fragility curves and the HTML report: paths and helpers.
 # Figures that need no study (Figs 3, 4, 6, 8, 12) go to results/figures/, the others to
 # results/<study>/figures/; every figure is a PNG, a PDF and a JSON sidecar of the numbers it
-# measured, which results/<study>/report.html quotes next to the paper's.
+# measured, which results/<study>/report.html sets against the paper's. A figure's name is its
+# module in rocking.study.figures, its rule, its script and its caption key.
+
+from rocking.study.figures.captions import caption
 
 FIGURES_DIR = "results/figures"
 FIG04_DURATION = 15.0  # [s]: six quasi-impacts of the quasi-rocking case (Eq 32 needs five)
@@ -26,10 +29,15 @@ def study_ensembles():
     return list(dict.fromkeys(names))
 
 
+def study_motions(study):
+    """The ensemble file of a study (figures read the physical directions of x and y there)."""
+    return ensemble_file(ensemble_of(study))
+
+
 def global_figure_stems():
     stems = [f"{FIGURES_DIR}/fig03_wobbling_period", f"{FIGURES_DIR}/fig04_free_vibration"]
     if el_centro_ensemble() is not None:
-        stems.append(f"{FIGURES_DIR}/fig06_el_centro")
+        stems += [f"{FIGURES_DIR}/fig06_el_centro", f"{FIGURES_DIR}/fig06_theta_max_sensitivity"]
     stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in study_ensembles()]
     stems.append(f"{FIGURES_DIR}/fig12_2d_vs_3d")
     return stems
@@ -42,14 +50,24 @@ def study_figure_stems(study):
     return [f"results/{study}/figures/{n}" for n in names]
 
 
-def report_inputs(study):
-    """Every figure (PNG + notes) and table the report of ``study`` shows."""
+def report_figures(study):
+    """Every figure (PNG + notes) the report of ``study`` shows."""
     stems = [s for s in global_figure_stems()
              if "fig08_motions_" not in s or s.endswith(f"_{ensemble_of(study)}")]
     stems += study_figure_stems(study)
-    files = [f for s in stems for f in (f"{s}.png", f"{s}.json")]
-    return files + [f"results/{study}/linear_fit.csv", f"results/{study}/fragility.csv",
-                    mean_spectra(study)]
+    return [f for s in stems for f in (f"{s}.png", f"{s}.json")]
+
+
+def report_run_files(study):
+    """What the report's "what was run" section reads: stores, completion summaries, the
+    ensemble parameters of every study (Fig 12 uses them all)."""
+    files = {"ensembles": [f"results/motions/{e}.json" for e in study_ensembles()],
+             "stores": [spectra_store(s) for s in config["studies"]],
+             "done": [spectra_complete(s) for s in config["studies"]]}
+    if has_tilt_map(study):
+        files["tilt_map"] = [tilt_map_store(study)]
+        files["done"].append(tilt_map_complete(study))
+    return files
 
 
 def figure_targets():
@@ -63,10 +81,10 @@ def figure_targets():
     return targets
 
 
-def _figure_output(stem, caption, category, **labels):
+def _figure_output(stem, category, **labels):
     """Named outputs png (in the snakemake report), pdf and notes of one figure."""
     return {
-        "png": report(f"{stem}.png", caption=f"../report/{caption}", category=category,
+        "png": report(f"{stem}.png", caption="../report/figure.rst", category=category,
                       labels=labels or None),
         "pdf": f"{stem}.pdf",
         "notes": f"{stem}.json",

@@ -13,28 +13,50 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ._load import open_means, open_store
+from ._log import log_to_file
 from ._style import save, write_notes
 
-FIGURES = {
-    "fig03": "fig03_wobbling_period",
-    "fig04": "fig04_free_vibration",
-    "fig06": "fig06_el_centro",
-    "fig07": "fig07_tilt_map",
-    "fig08": "fig08_motions",
-    "fig09": "fig09_spectra",
-    "fig10": "fig10_goals",
-    "fig11": "fig11_slenderness",
-    "fig12": "fig12_2d_vs_3d",
-    "fragility": "fragility_curves",
-}
-"""Short name → module of :mod:`rocking.study.figures`."""
+FIGURES = (
+    "fig03_wobbling_period",
+    "fig04_free_vibration",
+    "fig06_el_centro",
+    "fig06_theta_max_sensitivity",
+    "fig07_tilt_map",
+    "fig08_motions",
+    "fig09_spectra",
+    "fig10_goals",
+    "fig11_slenderness",
+    "fig12_2d_vs_3d",
+    "fragility_curves",
+)
+"""Figure names in the paper's order. A name is also its module here, its Snakemake rule and
+script (``workflow/scripts/<name>.py``) and its key in :data:`.captions.CAPTIONS`."""
+
+NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid")
+"""Entries of a figure's data copied into its JSON sidecar (whichever it has)."""
 
 
 def module(name: str):
-    """The module of figure ``name`` (a key of :data:`FIGURES`)."""
+    """The module of figure ``name`` (one of :data:`FIGURES`)."""
     if name not in FIGURES:
-        raise ValueError(f"figure must be one of {sorted(FIGURES)}, got {name!r}")
-    return importlib.import_module(f".{FIGURES[name]}", __name__)
+        raise ValueError(f"figure must be one of {list(FIGURES)}, got {name!r}")
+    return importlib.import_module(f".{name}", __name__)
+
+
+def figure_name(path: str | Path) -> str:
+    """The figure a file belongs to, from its stem (``fig08_motions_elcentro`` → fig08_motions).
+
+    Raises
+    ------
+    ValueError
+        If no figure name starts the stem.
+    """
+    stem = Path(path).stem
+    hits = [n for n in FIGURES if stem == n or stem.startswith(n + "_")]
+    if not hits:
+        raise ValueError(f"figure file name must start with one of {list(FIGURES)}, "
+                         f"got {stem!r}")
+    return max(hits, key=len)
 
 
 def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = None,
@@ -44,12 +66,12 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     Parameters
     ----------
     name : str
-        Key of :data:`FIGURES`.
+        One of :data:`FIGURES`.
     outputs : sequence of path
         Image files (.png, .pdf, .svg).
     notes : path, optional
-        JSON sidecar: the figure's ``measured``, ``paper``, ``predicted`` numbers and
-        ``missing`` notes (whichever its data has).
+        JSON sidecar: the figure's :data:`NOTE_KEYS` entries (what it measured, the paper's
+        numbers, what this run did not compute, which directions x and y are).
 
     Returns
     -------
@@ -60,9 +82,9 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     d = mod.data(**data_kw)
     save(mod.plot(d), outputs)
     if notes is not None:
-        keys = ("measured", "paper", "predicted", "missing", "body", "motion")
-        write_notes(notes, {"figure": name, **{k: d[k] for k in keys if k in d}})
+        write_notes(notes, {"figure": name, **{k: d[k] for k in NOTE_KEYS if k in d}})
     return d
 
 
-__all__ = ["FIGURES", "module", "open_means", "open_store", "render"]
+__all__ = ["FIGURES", "NOTE_KEYS", "figure_name", "log_to_file", "module", "open_means",
+           "open_store", "render"]

@@ -14,7 +14,11 @@ from ...spectra.limit_states import parse_limit_state
 
 
 def open_store(path: str | Path) -> xr.Dataset:
-    """Load a zarr store (``spectra.zarr``, ``tilt_map.zarr``) into memory; they are small."""
+    """Load a zarr store (``spectra.zarr``, ``tilt_map.zarr``) into memory; they are small.
+
+    Limit states are renamed to their canonical spelling (``"tilt:0.5"``, ``"tilt:1/3"``) and a
+    tilt map's ``model`` dimension to ``mode``, so figures read stores of either layout.
+    """
     path = Path(path)
     if not path.exists():
         raise ValueError(f"store path does not exist: {str(path)!r}")
@@ -22,7 +26,7 @@ def open_store(path: str | Path) -> xr.Dataset:
         # Snakemake marks directory outputs with a .snakemake_timestamp file inside them.
         warnings.filterwarnings("ignore", message=".*snakemake_timestamp.*")
         with xr.open_zarr(path, consolidated=False) as ds:
-            return ds.load()
+            return canonical(ds.load())
 
 
 def open_means(path: str | Path) -> xr.Dataset:
@@ -31,7 +35,20 @@ def open_means(path: str | Path) -> xr.Dataset:
     if not path.exists():
         raise ValueError(f"mean spectra path does not exist: {str(path)!r}")
     with xr.open_dataset(path) as ds:
-        return ds.load()
+        return canonical(ds.load())
+
+
+def canonical(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with canonical limit-state labels and ``mode`` as the name of the mode dimension."""
+    if "model" in ds.dims and "mode" not in ds.dims:
+        ds = ds.rename({"model": "mode"})
+    if "limit_state" in ds.coords:
+        names = [parse_limit_state(ls).name for ls in labels(ds, "limit_state")]
+        ds = ds.assign_coords(limit_state=np.array(names, dtype=object))
+    for dim in ("mode", "motion"):
+        if dim in ds.coords:
+            ds = ds.assign_coords({dim: np.array(labels(ds, dim), dtype=object)})
+    return ds
 
 
 def labels(da: xr.DataArray | xr.Dataset, dim: str) -> list[str]:
@@ -120,7 +137,33 @@ def ensemble_label(attrs: dict, default: str) -> tuple[str, bool]:
 
 
 def mean_curve(agg: xr.Dataset, mode: str, limit_state: str, stat: str = "mean"):
-    """``agg[stat]`` over R for one (mode, limit state), None when either is absent."""
+    """``agg[stat]`` over R for one (mode, limit state); None when either is absent or no point
+    of the curve was computed (a mode not requested at this tan α is all NaN)."""
     if mode not in labels(agg, "mode") or limit_state not in labels(agg, "limit_state"):
         return None
-    return agg[stat].sel(mode=mode, limit_state=limit_state).values.astype(float)
+    y = agg[stat].sel(mode=mode, limit_state=limit_state).values.astype(float)
+    return y if np.isfinite(y).any() else None
+
+
+def computed(ds: xr.Dataset) -> xr.DataArray:
+    """Cells of a spectra store that hold a result: a critical intensity or "not reached".
+
+    A cell left NaN and not flagged ``not_reached`` was not computed (not requested for its
+    mode and tan α, or not run yet).
+    """
+    value = np.isfinite(ds["pga_crit"])
+    if "not_reached" in ds:
+        value = value | ds["not_reached"].astype(bool)
+    return value
+
+
+def modes_per_tan_alpha(ds: xr.Dataset) -> dict[float, list[str]]:
+    """Modes with at least one computed cell, per slenderness tan α of a spectra store."""
+    done = computed(ds)
+    other = [d for d in done.dims if d not in ("mode", "tan_alpha")]
+    anywhere = done.any(other) if other else done
+    out = {}
+    for t in ds["tan_alpha"].values.astype(float):
+        row = anywhere.sel(tan_alpha=t)
+        out[float(t)] = [m for m, ok in zip(labels(ds, "mode"), row.values, strict=True) if ok]
+    return out

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import functools
 import json
+import textwrap
 from collections.abc import Callable, Sequence
+from fractions import Fraction
 from pathlib import Path
 from typing import ParamSpec
 
@@ -49,13 +51,23 @@ LIMIT_STATE_TITLES = {"overturning": "Overturning"}
 
 
 def limit_state_title(limit_state: str) -> str:
-    """Human title of a limit-state string (``"overturning"`` or ``"tilt:<r>"``)."""
-    if limit_state in LIMIT_STATE_TITLES:
-        return LIMIT_STATE_TITLES[limit_state]
-    if limit_state.startswith("tilt:"):
-        r = limit_state.split(":", 1)[1]
-        return f"Tilt θ > {r}·α" if "/" in r else f"Tilt θ > {float(r):.3g}·α"
-    return limit_state
+    """Human title of a limit state in either spelling (``"tilt:1/3"``, ``"tilt:0.3333"``).
+
+    Ratios within 1e-3 of a fraction with a denominator up to 12 are written as one
+    (``θ > α/3``, the paper's excessive tilt).
+    """
+    ls = parse_limit_state(limit_state)
+    if ls.is_overturning:
+        return LIMIT_STATE_TITLES["overturning"]
+    frac = Fraction(ls.ratio).limit_denominator(12)
+    if frac == 1 and abs(ls.ratio - 1.0) <= 1e-3:
+        return "Tilt θ > α"
+    if frac.denominator == 1 or abs(float(frac) - ls.ratio) > 1e-3:
+        return f"Tilt θ > {ls.ratio:.3g}·α"
+    if frac.numerator == 1:
+        return f"Tilt θ > α/{frac.denominator}" + (" (excessive tilt)" if frac == Fraction(1, 3)
+                                                    else "")
+    return f"Tilt θ > {frac.numerator}α/{frac.denominator}"
 
 
 def limit_state_sort_key(limit_state: str) -> float:
@@ -117,3 +129,24 @@ def _jsonable(value):
     if hasattr(value, "tolist"):
         return value.tolist()
     raise TypeError(f"not JSON serialisable: {type(value).__name__}")
+
+
+def footnote(fig: Figure, lines: Sequence[str], size: float = 7.0) -> None:
+    """Write ``lines`` under the axes of ``fig`` (constrained layout keeps room for them).
+
+    For what every figure must say but no axis label holds: which physical direction x and
+    y are, and what a reduced run left out.
+    """
+    # ~0.55 font sizes per character: wrap to the figure's width
+    width = int(fig.get_figwidth() * 72.0 / (0.55 * size))
+    lines = [w for line in lines if line for w in textwrap.wrap(str(line), width)]
+    if not lines:
+        return
+    height = fig.get_figheight()
+    # one text line is ~1.45 font sizes high [pt]; 72 pt per inch
+    share = min(0.4, (len(lines) * 1.45 * size + 4.0) / 72.0 / height)
+    engine = fig.get_layout_engine()
+    if engine is not None and hasattr(engine, "set"):
+        engine.set(rect=(0.0, share, 1.0, 1.0 - share))
+    fig.text(0.01, share - 2.0 / 72.0 / height, "\n".join(lines), fontsize=size, ha="left",
+             va="top", wrap=False)

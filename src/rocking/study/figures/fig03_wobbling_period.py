@@ -28,6 +28,20 @@ def housner_period_times_p(theta_over_alpha) -> np.ndarray:
     return 4.0 * np.arccosh(1.0 / (1.0 - r))
 
 
+STYLES = {
+    0.1: {"color": "tab:blue", "ls": "--", "lw": 1.4, "marker": "o", "markevery": (0.05, 0.1),
+          "ms": 3.5, "mfc": "none"},
+    0.2: {"color": "tab:orange", "ls": "-", "lw": 2.4, "alpha": 0.8},
+    1.0: {"color": "tab:green", "ls": "-.", "lw": 1.4},
+    1000.0: {"color": "tab:red", "ls": ":", "lw": 1.8},
+}
+"""Line style per slenderness: the nearly coincident tan α = 0.1 (dashed, open markers) and
+0.2 (wide, translucent) curves stay distinguishable where they overlap."""
+
+ZOOM = (0.48, 0.52)
+"""θ/α window of the inset that separates the tan α = 0.1 and 0.2 curves [-]."""
+
+
 def data(tan_alphas: Sequence[float] = TAN_ALPHAS, n: int = 199, R: float = 1.0) -> dict:
     """Normalized wobbling periods T·p on a grid of θ/α.
 
@@ -43,7 +57,10 @@ def data(tan_alphas: Sequence[float] = TAN_ALPHAS, n: int = 199, R: float = 1.0)
     Returns
     -------
     dict
-        ``theta_over_alpha`` (n,), ``wobbling`` {tan α: T·p (n,)}, ``housner`` (n,).
+        ``theta_over_alpha`` (n,), ``wobbling`` {tan α: T·p (n,)}, ``housner`` (n,),
+        ``measured``: T·p at θ/α = 0.5, the range of T_wobbling/T_Housner over
+        0.1 ≤ θ/α ≤ 0.9 per slenderness, and the largest relative gap between the two most
+        slender curves.
     """
     if n < 2:
         raise ValueError(f"n must be >= 2, got {n!r}")
@@ -53,23 +70,40 @@ def data(tan_alphas: Sequence[float] = TAN_ALPHAS, n: int = 199, R: float = 1.0)
     for tan_alpha in tan_alphas:
         body = Cylinder(R, tan_alpha)
         wobbling[float(tan_alpha)] = body.wobbling_period(r * body.alpha) * body.p
-    measured = {"Tp_at_half_alpha_housner": float(housner_period_times_p(0.5))}
-    for tan_alpha in tan_alphas:
+    housner = housner_period_times_p(r)
+    return {"theta_over_alpha": r, "wobbling": wobbling, "housner": housner,
+            "measured": measurements(r, wobbling, housner, R)}
+
+
+def measurements(r: np.ndarray, wobbling: dict, housner: np.ndarray, R: float) -> dict:
+    """What Fig 3 shows in numbers: T·p at θ/α = 0.5, the wobbling/rocking period ratio, the
+    growth of every curve with tilt and the gap between the two most slender curves."""
+    measured: dict = {"Tp_at_half_alpha_housner": float(housner_period_times_p(0.5))}
+    inner = (r >= 0.1) & (r <= 0.9)
+    for tan_alpha, tp in wobbling.items():
         body = Cylinder(R, tan_alpha)
         measured[f"Tp_at_half_alpha_tan{tan_alpha:g}"] = float(
-            body.wobbling_period(0.5 * body.alpha) * body.p
-        )
-    return {"theta_over_alpha": r, "wobbling": wobbling, "housner": housner_period_times_p(r),
-            "measured": measured}
+            body.wobbling_period(0.5 * body.alpha) * body.p)
+        ratio = tp[inner] / housner[inner]
+        measured[f"ratio_to_housner_tan{tan_alpha:g}"] = [float(ratio.min()), float(ratio.max())]
+        measured[f"increasing_tan{tan_alpha:g}"] = bool(np.all(np.diff(tp) > 0))
+    slender = sorted(wobbling)[:2]
+    if len(slender) == 2:
+        a, b = (wobbling[t] for t in slender)
+        measured["slender_pair"] = slender
+        measured["max_rel_gap_slender_pair"] = float(np.max(np.abs(a / b - 1.0)))
+    return measured
 
 
 @styled
 def plot(d: dict) -> Figure:
-    """Figure 3: T·p against θ/α, one line per slenderness plus Housner's 2D curve."""
-    fig, ax = new_figure(5.0, 3.8)
+    """Figure 3: T·p against θ/α, one line per slenderness plus Housner's 2D curve, with an
+    inset that separates the two most slender curves."""
+    fig, ax = new_figure(5.6, 4.4)
     r = d["theta_over_alpha"]
     for tan_alpha, tp in d["wobbling"].items():
-        ax.plot(r, tp, label=f"3D wobbling, tan α = {tan_alpha:g}")
+        ax.plot(r, tp, label=f"3D wobbling, tan α = {tan_alpha:g}",
+                **STYLES.get(tan_alpha, {}))
     ax.plot(r, d["housner"], "k--", lw=1.5, label="2D rocking (Housner, linearized)")
     ax.set_xlim(0.0, 1.0)
     ax.set_ylim(0.0, 12.0)
@@ -77,4 +111,31 @@ def plot(d: dict) -> Figure:
     ax.set_ylabel("Normalized period T·p [-]")
     ax.set_title("Wobbling period versus tilt (Fig 3)")
     ax.legend(loc="upper left")
+    _zoom(ax, d)
     return fig
+
+
+def _zoom(ax, d: dict) -> None:
+    # The two most slender curves differ by < 1 %: an inset magnifies a window where both
+    # are seen as separate lines, and the gap is written out.
+    m = d.get("measured", {})
+    if "slender_pair" not in m:
+        return
+    r = d["theta_over_alpha"]
+    window = (r >= ZOOM[0]) & (r <= ZOOM[1])
+    if window.sum() < 2:
+        return
+    inset = ax.inset_axes((0.62, 0.07, 0.35, 0.35))
+    ys = []
+    for tan_alpha in m["slender_pair"]:
+        style = {k: v for k, v in STYLES.get(tan_alpha, {}).items() if k != "markevery"}
+        inset.plot(r[window], d["wobbling"][tan_alpha][window], **style)
+        ys.append(d["wobbling"][tan_alpha][window])
+    inset.set_xlim(*ZOOM)
+    lo, hi = float(np.min(ys)), float(np.max(ys))
+    inset.set_ylim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
+    inset.tick_params(labelsize=6)
+    a, b = m["slender_pair"]
+    inset.set_title(f"tan α = {a:g} vs {b:g}: ≤ {100 * m['max_rel_gap_slender_pair']:.1f} % apart",
+                    fontsize=6.5)
+    ax.indicate_inset_zoom(inset, edgecolor="0.4")

@@ -8,8 +8,10 @@ Three initial conditions, all released from tilt θ0 at rest in θ:
   that oscillates without coming close to zero, which a fraction of the wobbling spin gives).
 
 θ0 = 0.1 rad reproduces the paper's first approach speed: θ̇ = −p √(2 (cos(α − θ0) − cos α))
-= 0.190 rad/s, the 0.19 of its Eq (32). Undamped and damped models are overlaid. From the same
-runs the figure measures the angle of turn of the contact point per quasi-impact (paper: 3.058;
+= 0.190 rad/s, the 0.19 of its Eq (32). The undamped model is overlaid with the damped one for
+the paper's eight contact parameters (§3: ωn ∈ {200, 2000} rad/s, ζ ∈ {0.05, 0.5, 5, 50}),
+whose curves the paper reports to coincide; the figure measures how far apart they are. From
+the same runs it measures the angle of turn of the contact point per quasi-impact (paper: 3.058;
 asymptote π √(κo/κt) = 3.188) and the apparent coefficient of restitution of the damped model
 over the first five quasi-impacts (paper Eq 32: 0.942).
 """
@@ -18,12 +20,14 @@ from __future__ import annotations
 
 import math
 
+import matplotlib as mpl
 import numpy as np
+from matplotlib import ticker
 from matplotlib.figure import Figure
 from scipy.signal import find_peaks
 
 from ...dynamics.bodies import Cylinder
-from ._style import MODE_STYLE, styled
+from ._style import styled
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -32,6 +36,8 @@ QUASI_ROCKING_SPIN = 1e-8
 MIXED_FRACTION = 0.5
 CASES = ("quasi-rocking", "wobbling", "mixed")
 MODELS = ("3d", "3d-damped")
+PAIRS = tuple((wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0))
+"""The paper's eight contact parameters (ωn [rad/s], ζ [-]) of the damped model (§3)."""
 
 
 def initial_spin(body: Cylinder, case: str, theta0: float) -> float:
@@ -119,6 +125,11 @@ def restitution(theta, theta_dot, n_impacts: int = 5) -> float:
     return float((v[n_impacts] / v[0]) ** (1.0 / n_impacts))
 
 
+def damped_key(omega_n: float, zeta: float) -> str:
+    """Name of a damped run in ``runs[case]``: ``"3d-damped ωn=2000 ζ=5"``."""
+    return f"3d-damped ωn={omega_n:g} ζ={zeta:g}"
+
+
 def data(
     *,
     R: float = R,
@@ -127,7 +138,10 @@ def data(
     duration: float = 15.0,
     cases: tuple[str, ...] = CASES,
     models: tuple[str, ...] = MODELS,
-    **model_kw,
+    pairs: tuple[tuple[float, float], ...] = PAIRS,
+    omega_n: float = 2000.0,
+    zeta: float = 5.0,
+    rtol: float | None = None,
 ) -> dict:
     """Run the free-vibration analyses of Fig 4 and return the histories and measurements.
 
@@ -143,44 +157,43 @@ def data(
         Length of each analysis [s].
     cases, models : tuple of str
         Subsets of :data:`CASES` and :data:`MODELS`.
-    **model_kw
-        Passed to :func:`rocking.free_vibration` (``rtol``, ``omega_n``, ``zeta``).
+    pairs : tuple of (float, float)
+        Contact parameters (ωn [rad/s], ζ [-]) of the damped runs (default the paper's eight).
+    omega_n, zeta : float
+        The study's contact parameters [rad/s], [-]: added to ``pairs`` if absent; their run
+        gives the damped restitution.
+    rtol : float, optional
+        Relative tolerance of the integrations (None: the models' defaults).
 
     Returns
     -------
     dict
-        ``runs[case][model]`` = dict of ``t, theta, theta_dot, phi, phi_dot, x, y`` arrays,
-        ``theta_max``, ``status``; ``measured`` = turn angle and restitution when the
-        quasi-rocking runs exist; ``body`` parameters.
+        ``runs[case][key]`` (key ``"3d"`` or :func:`damped_key`) = dict of ``t, theta,
+        theta_dot, phi, phi_dot, t_orbit, x, y`` arrays, ``theta_max``, ``status``,
+        ``model``, ``omega_n``, ``zeta``; ``reference``: the key of the study's damped run;
+        ``measured``: turn angle, restitutions and the spread among the damped runs;
+        ``body``; ``predicted`` closed forms.
     """
-    from ...dynamics.analysis import free_vibration  # imported late: figures stay light to import
-
     body = Cylinder(R, tan_alpha)
+    runs_pairs = list(pairs) + [(omega_n, zeta)] * ((omega_n, zeta) not in pairs)
     runs: dict[str, dict[str, dict]] = {}
     for case in cases:
         spin = initial_spin(body, case, theta0)
         runs[case] = {}
-        for model in models:
-            res = free_vibration(body, theta0, spin, duration=duration, model=model, **model_kw)
-            t_orbit, theta_orbit, phi_orbit = densify(res.t, res.theta, res.phi)
-            x, y = centre_of_mass_orbit(body, theta_orbit, phi_orbit)
-            runs[case][model] = {
-                "t": np.asarray(res.t),
-                "theta": np.asarray(res.theta),
-                "theta_dot": np.asarray(res.theta_dot),
-                "phi": np.asarray(res.phi),
-                "phi_dot": np.asarray(res.phi_dot),
-                "t_orbit": t_orbit,
-                "x": x,
-                "y": y,
-                "theta_max": float(res.theta_max),
-                "status": str(res.status.value),
-                "phi_dot0": spin,
-            }
+        if "3d" in models:
+            runs[case]["3d"] = _run(body, theta0, spin, duration, "3d", rtol)
+        if "3d-damped" in models:
+            for wn, z in runs_pairs:
+                runs[case][damped_key(wn, z)] = _run(body, theta0, spin, duration, "3d-damped",
+                                                     rtol, omega_n=wn, zeta=z)
+    reference = damped_key(omega_n, zeta) if "3d-damped" in models else None
     return {
         "runs": runs,
-        "measured": measurements(runs),
-        "body": {"R": R, "tan_alpha": tan_alpha, "theta0": theta0, "duration": duration},
+        "reference": reference,
+        "measured": measurements(runs, reference),
+        "body": {"R": R, "tan_alpha": tan_alpha, "theta0": theta0, "duration": duration,
+                 "omega_n": omega_n, "zeta": zeta, "pairs": [list(p) for p in runs_pairs]},
+        "axes": {"text": "x, y: horizontal axes of Fig 1; released towards +x (φ0 = 0)"},
         "predicted": {
             "turn_angle": body.turn_angle,
             "restitution": body.e,
@@ -191,9 +204,45 @@ def data(
     }
 
 
-def measurements(runs: dict) -> dict:
-    """Turn angle (undamped quasi-rocking) and restitution (both models) from the runs."""
-    out: dict[str, float] = {}
+def _run(body: Cylinder, theta0: float, spin: float, duration: float, model: str,
+         rtol: float | None, **contact) -> dict:
+    """One free-vibration history with the densified centre-of-mass orbit."""
+    from ...dynamics.analysis import free_vibration  # imported late: figures stay light to import
+
+    res = free_vibration(body, theta0, spin, duration=duration, model=model, rtol=rtol,
+                         **contact)
+    t_orbit, theta_orbit, phi_orbit = densify(res.t, res.theta, res.phi)
+    x, y = centre_of_mass_orbit(body, theta_orbit, phi_orbit)
+    return {
+        "t": np.asarray(res.t),
+        "theta": np.asarray(res.theta),
+        "theta_dot": np.asarray(res.theta_dot),
+        "phi": np.asarray(res.phi),
+        "phi_dot": np.asarray(res.phi_dot),
+        "t_orbit": t_orbit,
+        "x": x,
+        "y": y,
+        "theta_max": float(res.theta_max),
+        "status": str(res.status.value),
+        "phi_dot0": spin,
+        "model": model,
+        **{k: float(v) for k, v in contact.items()},
+    }
+
+
+def max_gap(runs: list[dict], key: str = "theta") -> float:
+    """Largest difference of ``key`` between any run and the first, over the first's times."""
+    if len(runs) < 2:
+        return float("nan")
+    ref = runs[0]
+    gaps = [np.max(np.abs(np.interp(ref["t"], r["t"], r[key]) - ref[key])) for r in runs[1:]]
+    return float(max(gaps))
+
+
+def measurements(runs: dict, reference: str | None = None) -> dict:
+    """Turn angle (undamped quasi-rocking), restitutions, and how far apart the damped runs of
+    different contact parameters and the undamped run are, per case [rad]."""
+    out: dict = {}
     quasi = runs.get("quasi-rocking", {})
     if "3d" in quasi:
         r = quasi["3d"]
@@ -203,11 +252,20 @@ def measurements(runs: dict) -> dict:
             out["turn_angle_mean"] = float(np.mean(angles))
             out["n_turns"] = int(angles.size)
         out["restitution_undamped"] = _safe_restitution(r)
-    if "3d-damped" in quasi:
-        r = quasi["3d-damped"]
-        out["restitution_damped"] = _safe_restitution(r)
-        v = approach_speeds(r["theta"], r["theta_dot"])
-        out["approach_speeds_damped"] = v[:6].tolist()
+    damped_quasi = {k: r for k, r in quasi.items() if r["model"] == "3d-damped"}
+    if damped_quasi:
+        rest = {k: _safe_restitution(r) for k, r in damped_quasi.items()}
+        found = [v for v in rest.values() if v is not None]
+        out["restitution_damped_range"] = [min(found), max(found)] if found else None
+        ref = damped_quasi.get(reference, next(iter(damped_quasi.values())))
+        out["restitution_damped"] = _safe_restitution(ref)
+        out["approach_speeds_damped"] = approach_speeds(ref["theta"], ref["theta_dot"])[:6].tolist()
+    for case, models in runs.items():
+        damped = [r for r in models.values() if r["model"] == "3d-damped"]
+        if len(damped) > 1:
+            out[f"max_gap_theta_damped_pairs_{case}"] = max_gap(damped)
+        if damped and "3d" in models:
+            out[f"max_gap_theta_damped_undamped_{case}"] = max_gap([models["3d"], *damped])
     return out
 
 
@@ -219,49 +277,102 @@ def _safe_restitution(run: dict) -> float | None:
         return None
 
 
+def run_style(key: str, run: dict) -> dict:
+    """Line style of a run: undamped black solid; damped dashed, ωn = 200 blues, 2000 reds,
+    darker for larger ζ."""
+    if run["model"] == "3d":
+        return {"color": "black", "ls": "-", "lw": 1.6, "label": "undamped", "zorder": 1}
+    shade = {0.05: 0.45, 0.5: 0.6, 5.0: 0.75, 50.0: 0.9}.get(run["zeta"], 0.7)
+    cmap = mpl.colormaps["Blues" if run["omega_n"] < 1000.0 else "Reds"]
+    return {"color": cmap(shade), "ls": "--", "lw": 0.9, "zorder": 2,
+            "label": f"ωn = {run['omega_n']:g}, ζ = {run['zeta']:g}"}
+
+
+def symlog_ticks(ax, values, linthresh: float = 1.0, max_ticks: int = 5) -> None:
+    """At most ``max_ticks`` decades labelled on a symmetric log axis, as 10^k."""
+    values = np.asarray(values, dtype=float)
+    top = float(np.nanmax(np.abs(values), initial=linthresh))
+    k_max = max(1, math.ceil(math.log10(max(top, linthresh * 10.0))))
+    step = max(1, math.ceil(k_max / (max_ticks - 1)))
+    decades = [10.0**k for k in range(0, k_max + 1, step)]
+    ticks = [0.0, *decades]
+    if np.nanmin(values, initial=0.0) < -linthresh:
+        ticks = [-v for v in decades[::-1]] + ticks
+    ax.yaxis.set_major_locator(ticker.FixedLocator(ticks))
+    ax.yaxis.set_major_formatter(ticker.FuncFormatter(_power_label))
+    ax.yaxis.set_minor_locator(ticker.NullLocator())
+
+
+def _power_label(value: float, _pos) -> str:
+    if value == 0.0:
+        return "0"
+    k = round(math.log10(abs(value)))
+    return f"{'−' if value < 0 else ''}10$^{{{k}}}$"
+
+
 @styled
 def plot(d: dict) -> Figure:
     """Figure 4: orbits (left) and θ, θ̇, φ, φ̇ histories (right), one row per case."""
     runs = d["runs"]
     cases = list(runs)
-    fig = Figure(figsize=(10.0, 2.6 * len(cases) + 0.4), layout="constrained")
+    fig = Figure(figsize=(10.5, 2.7 * len(cases) + 1.0), layout="constrained")
     grid = fig.add_gridspec(len(cases), 3, width_ratios=(1.2, 1.0, 1.0))
-    names = (("theta", "θ [rad]"), ("theta_dot", "θ̇ [rad/s]"))
-    names2 = (("phi", "φ [rad]"), ("phi_dot", "φ̇ [rad/s]"))
+    names = (("theta", "θ [rad]"), ("theta_dot", "θ̇ [rad/s]"), ("phi", "φ [rad]"),
+             ("phi_dot", "φ̇ [rad/s]"))
     for row, case in enumerate(cases):
-        ax_orbit = fig.add_subplot(grid[row, 0])
-        sub_a = grid[row, 1].subgridspec(2, 1, hspace=0.05)
-        sub_b = grid[row, 2].subgridspec(2, 1, hspace=0.05)
-        ax_hist = [fig.add_subplot(sub_a[i]) for i in range(2)]
-        ax_hist += [fig.add_subplot(sub_b[i]) for i in range(2)]
-        for model, r in runs[case].items():
-            style = dict(MODE_STYLE[model])
-            style["color"] = "black" if model == "3d" else "tab:red"
-            ax_orbit.plot(r["x"], r["y"], **style)  # the densified orbit, see densify()
-            for ax, (key, _) in zip(ax_hist, names + names2, strict=True):
-                ax.plot(r["t"], r[key], **style)
-        ax_orbit.set_aspect("equal", adjustable="datalim")
-        ax_orbit.set_xlabel("x of centre of mass [m]")
-        ax_orbit.set_ylabel("y [m]")
-        ax_orbit.set_title(f"{case}: φ̇0 = {_first(runs[case])['phi_dot0']:.3g} rad/s")
-        ax_orbit.legend(loc="upper right")
-        for ax, (key, label) in zip(ax_hist, names + names2, strict=True):
-            ax.set_ylabel(label)
-            if case != "quasi-rocking":
-                _min_span(ax, [r[key] for r in runs[case].values()])
-        for ax in (ax_hist[0], ax_hist[2]):
-            ax.tick_params(labelbottom=False)
-        for ax in (ax_hist[1], ax_hist[3]):
-            ax.set_xlabel("t [s]")
-        if case == "quasi-rocking":
-            # φ̇ spikes to ~1e8 rad/s in quasi-impacts: a symmetric log scale keeps them visible
-            ax_hist[3].set_yscale("symlog", linthresh=1.0)
+        axes = _case_axes(fig, grid, row)
+        for key, run in runs[case].items():
+            style = run_style(key, run)
+            axes[0].plot(run["x"], run["y"], **style)  # the densified orbit, see densify()
+            for ax, (name, _) in zip(axes[1:], names, strict=True):
+                ax.plot(run["t"], run[name], **{**style, "label": None})
+        _label_case(axes, case, runs[case], names, d.get("measured", {}))
+    handles, labels = fig.axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=5,
+               fontsize=7, title="undamped (solid) and damped (dashed; ωn [rad/s], ζ [-])",
+               title_fontsize=7.5)
     b = d["body"]
     fig.suptitle(
-        f"Free vibration, R = {b['R']:g} m, tan α = {b['tan_alpha']:g}, θ0 = {b['theta0']:g} rad"
-        " (Fig 4; black undamped, red damped)"
+        f"Free vibration, R = {b['R']:g} m, tan α = {b['tan_alpha']:g}, θ0 = {b['theta0']:g} rad "
+        "(Fig 4); released towards +x"
     )
     return fig
+
+
+def _case_axes(fig: Figure, grid, row: int) -> list:
+    """Orbit axes and the four history axes (θ, θ̇ | φ, φ̇) of one row."""
+    ax_orbit = fig.add_subplot(grid[row, 0])
+    sub_a = grid[row, 1].subgridspec(2, 1, hspace=0.05)
+    sub_b = grid[row, 2].subgridspec(2, 1, hspace=0.05)
+    hist = [fig.add_subplot(sub_a[i]) for i in range(2)] + [fig.add_subplot(sub_b[i])
+                                                            for i in range(2)]
+    return [ax_orbit, *hist]
+
+
+def _label_case(axes: list, case: str, models: dict, names, measured: dict) -> None:
+    """Axis labels, scales and the measured gap between the damped runs of one case."""
+    ax_orbit, hist = axes[0], axes[1:]
+    ax_orbit.set_aspect("equal", adjustable="datalim")
+    ax_orbit.set_xlabel("x of centre of mass [m]")
+    ax_orbit.set_ylabel("y [m]")
+    ax_orbit.set_title(f"{case}: φ̇0 = {_first(models)['phi_dot0']:.3g} rad/s")
+    for ax, (key, label) in zip(hist, names, strict=True):
+        ax.set_ylabel(label)
+        if case != "quasi-rocking":
+            _min_span(ax, [r[key] for r in models.values()])
+    for ax in (hist[0], hist[2]):
+        ax.tick_params(labelbottom=False)
+    for ax in (hist[1], hist[3]):
+        ax.set_xlabel("t [s]")
+    if case == "quasi-rocking":
+        # φ̇ spikes to ~1e8 rad/s in quasi-impacts: a symmetric log scale keeps them visible
+        hist[3].set_yscale("symlog", linthresh=1.0)
+        symlog_ticks(hist[3], np.concatenate([r["phi_dot"] for r in models.values()]))
+    gap = measured.get(f"max_gap_theta_damped_pairs_{case}")
+    if gap is not None and np.isfinite(gap):
+        n = sum(r["model"] == "3d-damped" for r in models.values())
+        hist[0].set_title(f"{n} damped runs coincide: max |Δθ| = {gap:.2g} rad", fontsize=7,
+                          loc="right")
 
 
 def _min_span(ax, series, span: float = 0.02) -> None:

@@ -1,8 +1,9 @@
 """Figure 7: contours of the peak normalized tilt θmax/α over (R, PGA/(g tan α)), El Centro.
 
 Reads the tilt map of the study (``results/<study>/tilt_map.zarr``, variable
-``theta_max_over_alpha`` with dims (model, R, intensity)); one panel per model present
-(undamped left, damped right in the paper).
+``theta_max_over_alpha`` over (mode, R, intensity); older stores name the first dimension
+``model``); one panel per model present (undamped left, damped right in the paper). The
+contours are drawn on the grid the configuration gives, which the figure states and marks.
 """
 
 from __future__ import annotations
@@ -12,8 +13,8 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from . import _load
-from ._style import MODE_STYLE, new_figure, styled
+from . import _axes, _load
+from ._style import MODE_STYLE, footnote, new_figure, styled
 
 VARIABLE = "theta_max_over_alpha"
 MODEL_ORDER = ("3d", "3d-damped")
@@ -23,26 +24,32 @@ TOP = 1.2
 """Upper edge of the top colour class (θmax > α) [-]."""
 
 
-def data(path: str | Path) -> dict:
-    """Load the map: ``R`` [m], ``intensity`` [-], ``theta_over_alpha[model]`` (R, intensity).
+def data(path: str | Path, motions: str | Path | None = None) -> dict:
+    """Load the map: ``R`` [m], ``intensity`` [-], ``theta_over_alpha[mode]`` (R, intensity).
+
+    Parameters
+    ----------
+    path : path
+        The tilt-map store.
+    motions : path, optional
+        The ensemble file, for the physical directions of the record's x and y.
 
     Models are returned in the paper's order (undamped, damped, then any other).
     """
     ds = _load.open_store(path)
     if VARIABLE not in ds:
         raise ValueError(f"{str(path)!r} has no variable {VARIABLE!r}: {list(ds.data_vars)}")
-    da = ds[VARIABLE].transpose("model", "R", "intensity")
+    da = ds[VARIABLE].transpose("mode", "R", "intensity")
     attrs = dict(ds.attrs)  # the store's: motion, tan_alpha, config, tolerances
-    models = [str(m) for m in da["model"].values]
+    models = _load.labels(da, "mode")
     ordered = [m for m in MODEL_ORDER if m in models] + [m for m in models if m not in MODEL_ORDER]
     R = da["R"].values.astype(float)
     intensity = da["intensity"].values.astype(float)
-    maps = {m: da.sel(model=m).values.astype(float) for m in ordered}
-    measured = {f"first_intensity_theta_above_alpha_{m}": first_above(z, intensity).tolist()
-                for m, z in maps.items()}
-    measured["R"] = R.tolist()
+    maps = {m: da.sel(mode=m).values.astype(float) for m in ordered}
     return {"R": R, "intensity": intensity, "theta_over_alpha": maps, "attrs": attrs,
-            "measured": measured}
+            "axes": _axes.from_ensemble(motions),
+            "grid": {"R": R.tolist(), "intensity": intensity.tolist()},
+            "measured": measurements(R, intensity, maps)}
 
 
 def first_above(z: np.ndarray, intensity: np.ndarray, level: float = 1.0) -> np.ndarray:
@@ -52,17 +59,40 @@ def first_above(z: np.ndarray, intensity: np.ndarray, level: float = 1.0) -> np.
     return np.where(hit.any(axis=1), intensity[first], np.nan)
 
 
+def measurements(R: np.ndarray, intensity: np.ndarray, maps: dict) -> dict:
+    """Per model the lowest intensity with θmax ≥ α per R and whether it grows with R; between
+    models the relative gap of those intensities and the mean |Δ(θmax/α)| below α."""
+    out: dict = {"R": R.tolist()}
+    firsts = {}
+    for m, z in maps.items():
+        firsts[m] = first_above(z, intensity)
+        out[f"first_intensity_theta_above_alpha_{m}"] = firsts[m].tolist()
+        steps = np.diff(firsts[m][np.isfinite(firsts[m])])
+        out[f"fraction_rising_{m}"] = float(np.mean(steps >= 0)) if steps.size else None
+    if "3d" in maps and "3d-damped" in maps:
+        a, b = firsts["3d"], firsts["3d-damped"]
+        both = np.isfinite(a) & np.isfinite(b)
+        out["max_rel_gap_first_intensity"] = (float(np.max(np.abs(b[both] - a[both]) / a[both]))
+                                              if both.any() else None)
+        za, zb = maps["3d"], maps["3d-damped"]
+        below = (za < 1.0) & (zb < 1.0) & np.isfinite(za) & np.isfinite(zb)
+        out["mean_abs_gap_below_alpha"] = (float(np.mean(np.abs(za - zb)[below]))
+                                           if below.any() else None)
+    return out
+
+
 @styled
 def plot(d: dict) -> Figure:
     """Filled contours of θmax/α, values above 1 (incl. overturning) in one top class."""
     models = list(d["theta_over_alpha"])
-    fig, axes = new_figure(4.2 * max(len(models), 1) + 0.8, 4.0, ncols=max(len(models), 1),
+    fig, axes = new_figure(4.2 * max(len(models), 1) + 0.8, 4.4, ncols=max(len(models), 1),
                            sharey=True, squeeze=False)
     axes = axes[0]
     # One class above θmax = α (incl. overturning at π/2/α): clip into it so the colour scale
     # stays finite and the detail below α, where the paper's contours are, stays readable.
     levels = [*LEVELS, TOP]
     mappable = None
+    RR, II = np.meshgrid(d["R"], d["intensity"])
     for ax, model in zip(axes, models, strict=False):
         z = np.minimum(d["theta_over_alpha"][model].T, 0.5 * (LEVELS[-1] + TOP))
         # NaN (not computed) stays blank; overturned values (θ = π/2) fall in the top class.
@@ -70,6 +100,7 @@ def plot(d: dict) -> Figure:
                                cmap="viridis", extend="neither")
         ax.contour(d["R"], d["intensity"], np.ma.masked_invalid(z), levels=[1.0],
                    colors="white", linewidths=1.2)
+        ax.plot(RR.ravel(), II.ravel(), ".", color="white", ms=1.2, alpha=0.6)  # the grid
         ax.grid(False)  # grid lines would read as contours
         ax.set_title(MODE_STYLE.get(model, {}).get("label", model) + " model")
         ax.set_xlabel("R [m]")
@@ -80,6 +111,14 @@ def plot(d: dict) -> Figure:
         cbar = fig.colorbar(mappable, ax=list(axes), ticks=[*LEVELS, TOP])
         cbar.ax.set_yticklabels([f"{v:g}" for v in LEVELS] + ["> 1"])
         cbar.set_label("θmax/α [-] (top class: θmax > α, incl. overturning)")
-    motion = d["attrs"].get("motion", "El Centro 1940")
-    fig.suptitle(f"Normalized peak tilt, scaled record {motion} (Fig 7); white line θmax = α")
+    R, inten = d["R"], d["intensity"]
+    tan_alpha = d["attrs"].get("tan_alpha", "0.2")
+    footnote(fig, [
+        f"Grid (dots): {R.size} sizes R = {R.min():g}–{R.max():g} m × {inten.size} intensities "
+        f"PGA/(g tan α) = {inten.min():g}–{inten.max():g}; contours interpolate linearly "
+        "between grid points.",
+        f"Record on its principal axes: {d['axes']['text']}; PGA = max √(ügx² + ügy²) (vector).",
+    ])
+    fig.suptitle(f"Normalized peak tilt, scaled El Centro 1940 record, tan α = {tan_alpha} "
+                 "(Fig 7); white line θmax = α")
     return fig

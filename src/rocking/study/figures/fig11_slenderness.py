@@ -1,7 +1,8 @@
 """Figure 11: mean performance spectra for tan α = 0.1, 0.2 and 0.3 (undamped 3D model).
 
 Normalized by g tan α the spectra nearly coincide: slenderness acts mostly through
-PGA/(g tan α) (paper §5.3). Slendernesses absent from a reduced run are listed as missing.
+PGA/(g tan α) (paper §5.3). Slendernesses, modes or limit states absent from a reduced run
+are named in the figure.
 """
 
 from __future__ import annotations
@@ -11,24 +12,26 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from . import _load
-from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+from ...spectra.fragility import fit_line
+from . import _axes, _load
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
 
 TAN_ALPHAS = (0.1, 0.2, 0.3)
 MODE = "3d"
-COLORS = ("tab:blue", "black", "tab:red")
+STYLES = {0.1: ("tab:blue", "s"), 0.2: ("black", "o"), 0.3: ("tab:red", "^")}
+"""Colour and marker per slenderness (others cycle through the default colours)."""
 
 
 def data(means: str | Path, *, tan_alphas: tuple[float, ...] = TAN_ALPHAS,
-         mode: str = MODE) -> dict:
-    """``panels``: [{``limit_state``, ``curves`` {tan α: mean (R,)}}], ``R`` [m], ``missing``."""
+         mode: str = MODE, motions: str | Path | None = None) -> dict:
+    """``panels``: [{``limit_state``, ``curves`` {tan α: mean (R,)}}], ``R`` [m], ``missing``,
+    ``measured``: spread across slendernesses and line fits per curve."""
     agg = _load.open_means(means)
     states = _load.labels(agg, "limit_state")
     missing = []
     if mode not in _load.labels(agg, "mode"):
         missing.append(f"mode {mode} not computed")
     present = [t for t in tan_alphas if _load.has_value(agg, "tan_alpha", t)]
-    missing += [f"tan α = {t:g} not computed" for t in tan_alphas if t not in present]
     panels = []
     for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
                       ("excessive tilt", _load.excessive_tilt(states))):
@@ -41,35 +44,54 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] = TAN_ALPHAS,
             if y is not None:
                 curves[float(t)] = y
         panels.append({"limit_state": ls, "curves": curves})
-    measured = {}
+    shown = {t for p in panels for t in p["curves"]}
+    absent = [t for t in tan_alphas if t not in shown]
+    if absent and mode in _load.labels(agg, "mode"):
+        missing.append("tan α = " + ", ".join(f"{t:g}" for t in absent) + " not computed")
+    R = agg["R"].values.astype(float)
+    return {"R": R, "panels": panels, "mode": mode, "missing": missing,
+            "measured": measurements(R, panels), "axes": _axes.from_ensemble(motions)}
+
+
+def measurements(R: np.ndarray, panels: list[dict]) -> dict:
+    """Largest relative spread across slendernesses per limit state, and line fits."""
+    measured: dict = {}
     for panel in panels:
+        ls = panel["limit_state"]
+        measured[f"tan_alphas|{ls}"] = sorted(panel["curves"])
         if len(panel["curves"]) >= 2:
             # Spread across slendernesses relative to their mean: the paper's "very small".
             y = np.vstack(list(panel["curves"].values()))
             spread = (np.nanmax(y, axis=0) - np.nanmin(y, axis=0)) / np.nanmean(y, axis=0)
-            measured[f"max_rel_spread_{panel['limit_state']}"] = float(np.nanmax(spread))
-    return {"R": agg["R"].values.astype(float), "panels": panels, "mode": mode,
-            "missing": missing, "measured": measured}
+            measured[f"max_rel_spread_{ls}"] = float(np.nanmax(spread))
+        for t, y in panel["curves"].items():
+            fit = fit_line(R, y)
+            measured[f"line|{ls}|{t:g}"] = {"slope": fit.slope, "intercept": fit.intercept,
+                                           "r_squared": fit.r_squared, "n": fit.n}
+    return measured
 
 
 @styled
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt), one line per slenderness."""
     panels = d["panels"]
-    fig, axes = new_figure(9.0, 4.0, ncols=max(len(panels), 1), squeeze=False)
+    fig, axes = new_figure(9.0, 4.4, ncols=max(len(panels), 1), squeeze=False)
     axes = axes[0]
     for ax, panel in zip(axes, panels, strict=False):
         for i, (t, y) in enumerate(panel["curves"].items()):
-            ax.plot(d["R"], y, color=COLORS[i % len(COLORS)], lw=1.6, marker="o", ms=3,
-                    label=f"tan α = {t:g}")
+            color, marker = STYLES.get(t, (f"C{i % 10}", "d"))
+            ax.plot(d["R"], y, color=color, lw=1.6, marker=marker, ms=3.5, label=f"tan α = {t:g}")
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-]")
         ax.set_xlim(left=0.0)
         ax.set_ylim(bottom=0.0)
         ax.legend(loc="upper left")
-    title = f"Mean spectra for three slendernesses, {MODE_STYLE[d['mode']]['label']} model (Fig 11)"
+    title = f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)"
     if d["missing"]:
-        title += "\nmissing: " + "; ".join(d["missing"])
+        title += "\nreduced run: not everything the paper shows was computed (note below)"
     fig.suptitle(title)
+    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
+                   if d["missing"] else "",
+                   f"Motions on their principal axes: {d['axes']['text']}; PGA = vector peak."])
     return fig

@@ -1,12 +1,17 @@
 """Figure 12: mean spectra of the bidirectional 3D model versus unidirectional 2D models.
 
 For each ensemble (El Centro, black; Loma Prieta or its stand-in, red) the 3D model under both
-components is compared with the 2D model under the x and under the y component alone; the
-intensity is the bidirectional PGA in all three (paper §5.4). tan α = 0.2.
+components is compared with the 2D model under the x (major principal axis) and under the y
+(minor) component alone; the intensity is the bidirectional PGA in all three (paper §5.4).
+tan α = 0.2. The legend names each ensemble by its record and the number of motions averaged;
+the note under the axes gives each ensemble's axis azimuths, so the 2D curves can be matched
+with the paper's (whose x is E–W and y N–S before its rotation).
 """
 
 from __future__ import annotations
 
+import json
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -14,65 +19,97 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from . import _load
-from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+from . import _axes, _load
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
 
 TAN_ALPHA = 0.2
 MODES = ("3d", "2d-x", "2d-y")
 REFERENCE_R = 10.0
 """Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice 2D) [m]."""
 ENSEMBLE_COLORS = ("black", "tab:red", "tab:blue", "tab:green")
+MODE_LABELS = {"3d": "3D, both components", "2d-x": "2D, x (major axis) component only",
+               "2d-y": "2D, y (minor axis) component only"}
 
 
-def data(studies: Sequence[tuple[str, str | Path, str | Path | None]], *,
-         tan_alpha: float = TAN_ALPHA, modes: tuple[str, ...] = MODES) -> dict:
+def data(studies: Sequence[tuple], *, tan_alpha: float = TAN_ALPHA,
+         modes: tuple[str, ...] = MODES) -> dict:
     """Mean spectra per ensemble and mode.
 
     Parameters
     ----------
-    studies : sequence of (name, mean_spectra path, store path or None)
-        One entry per ensemble; the store's attributes give its label and stand-in flag.
+    studies : sequence of (name, mean_spectra path, store path or None[, ensemble file or None])
+        One entry per study; the store's attributes give the ensemble's label, motions and
+        stand-in flag, the ensemble file the azimuths of x and y.
 
     Returns
     -------
     dict
-        ``ensembles``: [{``label``, ``stand_in``, ``R`` [m], ``panels``: {limit state:
-        {mode: mean PGA/(g tan α) (R,)}}}], ``missing``: notes.
+        ``ensembles``: [{``name``, ``label``, ``stand_in``, ``n_motions``, ``axes``, ``R`` [m],
+        ``panels``: {"overturning"/"excessive tilt": {mode: mean PGA/(g tan α) (R,)}}},
+        ``missing``: notes; ``measured``: the means at R = 10 m.
     """
     ensembles = []
     missing: list[str] = []
-    for name, means, store in studies:
-        agg = _load.open_means(means)
-        attrs = dict(agg.attrs)
-        if store is not None and Path(store).exists():
-            attrs = {**attrs, **_load.open_store(store).attrs}
-        label, stand_in = _load.ensemble_label(attrs, name)
-        if not _load.has_value(agg, "tan_alpha", tan_alpha):
-            missing.append(f"{label}: tan α = {tan_alpha:g} not computed")
-            continue
-        agg = _load.select_value(agg, "tan_alpha", tan_alpha)
-        states = _load.labels(agg, "limit_state")
-        panels: dict[str, dict[str, np.ndarray]] = {}
-        for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
-                          ("excessive tilt", _load.excessive_tilt(states))):
-            if ls is None:
-                missing.append(f"{label}: limit state {title} not computed")
-                continue
-            panels[title] = {}
-            for mode in modes:
-                y = _load.mean_curve(agg, mode, ls)
-                if y is None:
-                    missing.append(f"{label}: mode {mode} not computed")
-                else:
-                    panels[title][mode] = y
-        ensembles.append({"name": name, "label": label, "stand_in": stand_in,
-                          "R": agg["R"].values.astype(float), "panels": panels})
+    for entry in studies:
+        name, means, store = entry[:3]
+        motions = entry[3] if len(entry) > 3 else None
+        ens = _ensemble(name, means, store, motions, tan_alpha, modes, missing)
+        if ens is not None:
+            ensembles.append(ens)
     names = " ".join(f"{e['name']} {e['label']}" for e in ensembles).lower()
     for wanted in ("El Centro", "Loma Prieta"):
         if wanted.split()[0].lower() not in names:
             missing.append(f"no {wanted} ensemble in this run")
     return {"ensembles": ensembles, "tan_alpha": tan_alpha, "missing": sorted(set(missing)),
-            "measured": at_size(ensembles, REFERENCE_R)}
+            "measured": at_size(ensembles, REFERENCE_R),
+            "axes": {e["name"]: e["axes"] for e in ensembles}}
+
+
+def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing: list[str]):
+    """One ensemble's curves, or None (with a note) when its tan α was not computed."""
+    agg = _load.open_means(means)
+    attrs = dict(agg.attrs)
+    if store is not None and Path(store).exists():
+        attrs = {**attrs, **_load.open_store(store).attrs}
+    record, stand_in = _load.ensemble_label(attrs, name)
+    n = len(_load.labels(agg, "motion")) or _count_motions(attrs)
+    label = f"{record}: mean of {n} motions" if n else f"{record}: ensemble mean"
+    if not _load.has_value(agg, "tan_alpha", tan_alpha):
+        missing.append(f"{record}: tan α = {tan_alpha:g} not computed")
+        return None
+    agg = _load.select_value(agg, "tan_alpha", tan_alpha)
+    states = _load.labels(agg, "limit_state")
+    panels: dict[str, dict[str, np.ndarray]] = {}
+    spread: dict[str, np.ndarray] = {}
+    for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
+                      ("excessive tilt", _load.excessive_tilt(states))):
+        if ls is None:
+            missing.append(f"{record}: limit state {title} not computed")
+            continue
+        panels[title] = {}
+        for mode in modes:
+            y = _load.mean_curve(agg, mode, ls)
+            if y is None:
+                missing.append(f"{record}: mode {mode} not computed")
+                continue
+            panels[title][mode] = y
+            for stat in ("std", "count"):
+                if stat in agg:
+                    spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
+                        mode=mode, limit_state=ls).values.astype(float)
+    return {"name": name, "label": label, "record": record, "stand_in": stand_in,
+            "n_motions": n, "axes": _axes.from_ensemble(motions),
+            "R": agg["R"].values.astype(float), "panels": panels, "spread": spread}
+
+
+def _count_motions(attrs: dict) -> int:
+    """Number of motions listed in a store's ``ensemble`` attribute (0 if unknown)."""
+    raw = attrs.get("ensemble")
+    try:
+        raw = json.loads(raw) if isinstance(raw, str) else raw
+    except json.JSONDecodeError:
+        return 0
+    return len(raw.get("motions", [])) if isinstance(raw, dict) else 0
 
 
 def at_size(ensembles: list[dict], R: float) -> dict:
@@ -85,6 +122,13 @@ def at_size(ensembles: list[dict], R: float) -> dict:
                 inside = ok.any() and ens["R"][ok].min() <= R <= ens["R"][ok].max()
                 value = float(np.interp(R, ens["R"][ok], y[ok])) if inside else float("nan")
                 out[f"{ens['name']}|{title}|{mode}"] = value
+                for stat in ("std", "count"):
+                    s = ens.get("spread", {}).get(f"{title}|{mode}|{stat}")
+                    if s is not None and inside:
+                        out[f"{ens['name']}|{title}|{mode}|{stat}"] = float(
+                            np.interp(R, ens["R"][ok], s[ok]))
+        out[f"{ens['name']}|label"] = ens["label"]
+        out[f"{ens['name']}|stand_in"] = bool(ens["stand_in"])
     return out
 
 
@@ -92,36 +136,40 @@ def at_size(ensembles: list[dict], R: float) -> dict:
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
     titles = ("overturning", "excessive tilt")
-    fig, axes = new_figure(10.0, 5.2, ncols=2)
-    handles, modes_seen = [], []
+    fig, axes = new_figure(10.0, 5.8, ncols=2)
+    handles, modes_seen, notes = [], [], []
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
         if ens["stand_in"] and "stand-in" not in label:
             label += " (stand-in)"
-        handles.append(Line2D([], [], color=color, lw=1.6, label=label))
+        handles.append(Line2D([], [], color=color, lw=1.6,
+                              label="\n".join(textwrap.wrap(label, 48))))
+        notes.append(f"{ens['record']}: {ens['axes']['text']}.")
         for ax, title in zip(axes, titles, strict=True):
             for mode, y in ens["panels"].get(title, {}).items():
                 ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.6,
-                        marker="o", ms=3, label=f"{label}: {MODE_STYLE[mode]['label']}")
+                        marker="o", ms=3, label=f"{label}: {MODE_LABELS.get(mode, mode)}")
                 if mode not in modes_seen:
                     modes_seen.append(mode)
     handles += [Line2D([], [], color="gray", lw=1.6, ls=MODE_STYLE[m]["linestyle"],
-                       label=MODE_STYLE[m]["label"] + (" (both components)" if m == "3d"
-                                                       else " only"))
-                for m in modes_seen]
+                       label=MODE_LABELS.get(m, m)) for m in modes_seen]
     for ax, title in zip(axes, titles, strict=True):
-        ax.set_title(limit_state_title("overturning") if title == "overturning"
-                     else "Excessive tilt θ > α/3")
+        ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3"))
         ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
         ax.set_xlim(left=0.0)
-        ax.set_ylim(bottom=0.0)
+        # headroom above the curves for the legend (one line per ensemble and mode)
+        ax.set_ylim(0.0, ax.get_ylim()[1] * (1.12 + 0.07 * len(handles)))
     if handles:
-        # One legend for both panels, below them: colours are ensembles, styles are modes.
-        fig.legend(handles=handles, loc="outside lower center", ncols=2)
+        # One legend for both panels, where the curves leave room (small R, high intensity):
+        # colours are ensembles, line styles are modes.
+        axes[0].legend(handles=handles, loc="upper left", fontsize=7)
     title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
     if d["missing"]:
-        title += "\nmissing: " + "; ".join(d["missing"])
+        title += "\nreduced run: not everything the paper shows was computed (note below)"
+        notes.insert(0, "Not computed in this run: " + "; ".join(d["missing"]) + ".")
+    notes.append(f"Axes: {_axes.PAPER_AXES}.")
+    footnote(fig, notes)
     fig.suptitle(title)
     return fig

@@ -14,15 +14,15 @@ import xarray as xr
 from matplotlib.figure import Figure
 from scipy import stats
 
-from . import _load
-from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+from . import _axes, _load
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
 
 TAN_ALPHA = 0.2
 MODE = "3d"
 
 
 def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALPHA,
-         mode: str = MODE, n: int = 200) -> dict:
+         mode: str = MODE, n: int = 200, motions: str | Path | None = None) -> dict:
     """Fitted curves and empirical points for the overturning and excessive-tilt states.
 
     Returns
@@ -32,12 +32,13 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
         ``p``, ``x_obs`` (sorted reached critical intensities), ``p_obs``}}}], ``missing``.
     """
     with xr.open_dataset(fragility) as f:
-        frag = f.load()
+        frag = _load.canonical(f.load())
+    axes = _axes.from_ensemble(motions)
     ds = _load.open_store(store)
     missing: list[str] = []
     if mode not in _load.labels(frag, "mode") or not _load.has_value(frag, "tan_alpha",
                                                                        tan_alpha):
-        return {"panels": [], "mode": mode, "tan_alpha": tan_alpha,
+        return {"panels": [], "mode": mode, "tan_alpha": tan_alpha, "axes": axes,
                 "missing": [f"mode {mode} at tan α = {tan_alpha:g} not computed"]}
     frag = _load.select_value(frag, "tan_alpha", tan_alpha).sel(mode=mode)
     ds = _load.select_value(ds, "tan_alpha", tan_alpha).sel(mode=mode)
@@ -77,7 +78,8 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
             c["im"] = im
             c["p"] = stats.norm.cdf(np.log(im / c["median"]) / c["beta"])
         panels.append({"limit_state": ls, "curves": curves})
-    return {"panels": panels, "mode": mode, "tan_alpha": tan_alpha, "missing": missing}
+    return {"panels": panels, "mode": mode, "tan_alpha": tan_alpha, "missing": missing,
+            "axes": axes}
 
 
 @styled
@@ -104,6 +106,9 @@ def plot(d: dict) -> Figure:
     title = (f"Fragility curves, {MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
              f"tan α = {d['tan_alpha']:g}")
     if d["missing"]:
-        title += "\nmissing: " + "; ".join(d["missing"])
+        title += "\nreduced run: not every point was computed (note below)"
     fig.suptitle(title)
+    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
+                   if d["missing"] else "",
+                   f"Motions on their principal axes: {d['axes']['text']}; PGA = vector peak."])
     return fig

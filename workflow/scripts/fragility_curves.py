@@ -1,13 +1,12 @@
-"""Fragility (Snakemake script): lognormal MLE per point, line fits of the mean spectra."""
+"""Fragility curves (Snakemake script): lognormal MLE per point, line fits of the mean spectra."""
 
 from rocking.spectra import fragility
-from rocking.study.cluster import log_to
-from rocking.study.figures import open_means, open_store, render
+from rocking.study.figures import log_to_file, open_means, open_store, render
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to_file(snakemake.log[0]):
         table = fragility.fragility_table(open_store(snakemake.input.store),
                                           upper=float(snakemake.params.upper))
         table.to_netcdf(out.fragility_nc)
@@ -15,8 +14,8 @@ def main(snakemake):
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")
-        render("fragility", [out.png, out.pdf], out.notes, fragility=out.fragility_nc,
-               store=snakemake.input.store)
+        render("fragility_curves", [out.png, out.pdf], out.notes, fragility=out.fragility_nc,
+               store=snakemake.input.store, motions=snakemake.input.motions)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,104 @@
+"""Captions of the figures: what each shows and what the paper states about it.
+
+The one source of caption text: the HTML report (:mod:`rocking.study.report`) prints them under
+the figures and the workflow's Snakemake report renders them through
+``workflow/report/figure.rst`` (``{{ snakemake.params.caption }}``). Keys are the figure names,
+which are also the module, rule and script names.
+"""
+
+from __future__ import annotations
+
+CAPTIONS: dict[str, str] = {
+    "fig03_wobbling_period": (
+        "Fig 3. Period of pure wobbling T, normalized by the frequency parameter p, against the "
+        "normalized tilt θ/α for tan α = 0.1, 0.2, 1 and 1000 (Euler's disk), with Housner's "
+        "linearized 2D rocking period. Closed form of Eq (24) as corrected in docs/equations.md "
+        "(the printed equation has a sign error under the root); no ground motion, so no x/y "
+        "direction. The curves of tan α = 0.1 and 0.2 lie within 1 % of each other; the inset "
+        "magnifies them."
+    ),
+    "fig04_free_vibration": (
+        "Fig 4. Free vibration of the R = 6 m, tan α = 0.2 cylinder released from θ0 = 0.1 rad "
+        "towards +x (φ0 = 0) with three initial spins: quasi-rocking (φ̇0 = 1e-8 rad/s, the "
+        "paper's value), pure wobbling (φ̇0 = the wobbling rate of Eq 24) and a mixed case (half "
+        "that rate). Black: undamped; coloured: the damped model for the paper's eight contact "
+        "parameters ωn ∈ {200, 2000} rad/s × ζ ∈ {0.05, 0.5, 5, 50} (§3). Left: orbit of the "
+        "centre of mass in the horizontal x–y plane of Fig 1. The φ̇ panel of the quasi-rocking "
+        "case has a symmetric log scale (linear below 1 rad/s)."
+    ),
+    "fig06_el_centro": (
+        "Fig 6. Response of the R = 6 m, tan α = 0.2 cylinder to the El Centro 1940 pair "
+        "(NGA-West2 RSN 6), rotated to its principal axes and high-passed as in §4–5.1: tilt θ, "
+        "θ̇, spin φ, φ̇, contact-spring w, ẇ (damped model only) and the two ground components, "
+        "undamped (black) and damped (red), over the record's duration. The paper reports peak "
+        "tilts of 0.0838 rad (undamped) and 0.0668 rad (damped) and coinciding responses for "
+        "the first 15 s; why ours differ is written in the figure and shown in the companion "
+        "figure of θmax versus scale factor."
+    ),
+    "fig06_theta_max_sensitivity": (
+        "Companion to Fig 6 (not in the paper): peak tilt θmax of the R = 6 m, tan α = 0.2 "
+        "cylinder versus a scale factor on the El Centro pair, for the versions of the record "
+        "available here (as recorded: x = E–W, y = N–S, unfiltered; on principal axes and "
+        "high-passed, as this study uses it; rotated by the paper's 22.33° and high-passed), "
+        "undamped and damped. The horizontal lines are the paper's 0.0838 and 0.0668 rad. "
+        "Scatter over a few per cent of scale is the chaotic sensitivity of a single-record "
+        "peak: a match of θmax at scale 1 is not expected."
+    ),
+    "fig07_tilt_map": (
+        "Fig 7. Contours of the peak normalized tilt θmax/α over cylinder size R and "
+        "normalized intensity PGA/(g tan α) for the scaled El Centro record (principal axes, "
+        "high-passed), tan α = 0.2, undamped (left) and damped (right); PGA is the vector peak "
+        "max √(ügx² + ügy²). Contours are drawn on the grid the configuration gives (dots); the "
+        "white line is θmax = α. The paper reports that larger cylinders are harder to "
+        "overturn and that both models give almost identical maps."
+    ),
+    "fig08_motions": (
+        "Fig 8. Acceleration traces on the principal axes (x = major, y = minor) and 5 %-damped "
+        "pseudo-acceleration spectra of the record (top, black) and its synthetic "
+        "Rezaeian–Der Kiureghian pairs. The paper rotates El Centro by 22.33° to uncorrelated "
+        "axes and simulates 10 pairs; the seeds are not the paper's, so individual synthetic "
+        "motions differ from its Fig 8."
+    ),
+    "fig09_spectra": (
+        "Fig 9. Seismic performance rocking spectra per ground motion (one colour each; "
+        "undamped solid, damped dashed) and their means over the motions (thick black), for "
+        "overturning and excessive tilt θ > α/3, tan α = 0.2. Below: the relative difference "
+        "damped − undamped per motion and of the means. The paper reports essentially "
+        "identical undamped and damped overturning spectra, differences for excessive tilt "
+        "that vanish in the mean, and mean spectra that are almost straight lines in R."
+    ),
+    "fig10_goals": (
+        "Fig 10. Mean performance spectra (undamped 3D model, tan α = 0.2) for the performance "
+        "goals θ > r·α, r ∈ {0.1, 0.2, 1/3, 0.5, 0.75, 1}, and overturning. The paper shows "
+        "seven goals, all almost linear in R; goals this run did not compute are named in the "
+        "figure."
+    ),
+    "fig11_slenderness": (
+        "Fig 11. Mean performance spectra (undamped 3D model) for tan α = 0.1, 0.2 and 0.3. "
+        "The paper reports that, once the intensity is normalized by g tan α, slenderness has "
+        "a very small influence. Slendernesses this run did not compute are named in the "
+        "figure."
+    ),
+    "fig12_2d_vs_3d": (
+        "Fig 12. Mean performance spectra of the 3D model under both components against the "
+        "2D model under the major-axis (x) or the minor-axis (y) component alone, tan α = 0.2; "
+        "the intensity is the bidirectional PGA in all three (§5.4). Colours are ensembles, "
+        "line styles modes; the legend gives each ensemble's axis azimuths. The paper reports "
+        "that overturning an R = 10 m cylinder needs PGA/(g tan α) of about 4 bidirectionally "
+        "and about twice that unidirectionally (El Centro black, Loma Prieta red)."
+    ),
+    "fragility_curves": (
+        "Fragility curves (beyond the paper): lognormal maximum-likelihood fits of the "
+        "ensemble's critical intensities PGA/(g tan α) per size R (motions that never reached "
+        "the limit state are right-censored at the search bound); markers are the empirical "
+        "fractions."
+    ),
+}
+"""Caption of every figure, keyed by figure name, in the paper's order."""
+
+
+def caption(name: str) -> str:
+    """The caption of figure ``name`` (a key of :data:`CAPTIONS`)."""
+    if name not in CAPTIONS:
+        raise ValueError(f"figure must be one of {list(CAPTIONS)}, got {name!r}")
+    return CAPTIONS[name]

@@ -1,0 +1,14 @@
+"""Fig 7 (Snakemake script): θmax/α contours from results/<study>/tilt_map.zarr."""
+
+from rocking.study.figures import log_to_file, render
+
+
+def main(snakemake):
+    out = snakemake.output
+    with log_to_file(snakemake.log[0]):
+        render("fig07_tilt_map", [out.png, out.pdf], out.notes, path=snakemake.input.store,
+               motions=snakemake.input.motions)
+
+
+if __name__ == "__main__":
+    main(snakemake)

@@ -1,0 +1,14 @@
+"""Fig 10 (Snakemake script): mean spectra for every performance goal."""
+
+from rocking.study.figures import log_to_file, render
+
+
+def main(snakemake):
+    out = snakemake.output
+    with log_to_file(snakemake.log[0]):
+        render("fig10_goals", [out.png, out.pdf], out.notes, means=snakemake.input.means,
+               motions=snakemake.input.motions)
+
+
+if __name__ == "__main__":
+    main(snakemake)
