@@ -1,6 +1,7 @@
 # Rules of the paper's figures, the fragility curves and the HTML report; helpers in
 # figures_common.smk. Each rule is named after its figure: module rocking.study.figures.<name>,
-# script ../scripts/<name>.py, caption rocking.study.figures.captions.CAPTIONS[<name>].
+# script ../scripts/<name>.py, caption rocking.study.figures.captions.CAPTIONS[<name>] (handed
+# to ../report/figure.rst as params.caption; a function, so its braces are not wildcards).
 
 
 rule fig03_wobbling_period:
@@ -10,7 +11,7 @@ rule fig03_wobbling_period:
         **_figure_output(f"{FIGURES_DIR}/fig03_wobbling_period", "Paper figures",
                          figure="Fig 3"),
     params:
-        caption=caption("fig03_wobbling_period"),
+        caption=lambda wildcards: caption("fig03_wobbling_period"),
     log:
         "logs/figures/fig03_wobbling_period.log",
     script:
@@ -24,7 +25,7 @@ rule fig04_free_vibration:
         **_figure_output(f"{FIGURES_DIR}/fig04_free_vibration", "Paper figures",
                          figure="Fig 4"),
     params:
-        caption=caption("fig04_free_vibration"),
+        caption=lambda wildcards: caption("fig04_free_vibration"),
         duration=FIG04_DURATION,
         # the study's contact parameters; the figure adds the paper's eight pairs
         model_options=lambda wildcards: damped_options(["3d-damped"]),
@@ -41,7 +42,7 @@ rule fig06_theta_max_sensitivity:
         **_figure_output(f"{FIGURES_DIR}/fig06_theta_max_sensitivity", "Paper figures",
                          figure="Fig 6 (companion)"),
     params:
-        caption=caption("fig06_theta_max_sensitivity"),
+        caption=lambda wildcards: caption("fig06_theta_max_sensitivity"),
         spec=lambda wildcards: ensemble_spec(el_centro_ensemble()),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
@@ -59,7 +60,7 @@ rule fig06_el_centro:
     output:
         **_figure_output(f"{FIGURES_DIR}/fig06_el_centro", "Paper figures", figure="Fig 6"),
     params:
-        caption=caption("fig06_el_centro"),
+        caption=lambda wildcards: caption("fig06_el_centro"),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
         "logs/figures/fig06_el_centro.log",
@@ -78,7 +79,7 @@ rule fig07_tilt_map:
         **_figure_output("results/{study}/figures/fig07_tilt_map", "Paper figures",
                          figure="Fig 7", study="{study}"),
     params:
-        caption=caption("fig07_tilt_map"),
+        caption=lambda wildcards: caption("fig07_tilt_map"),
     log:
         "logs/{study}/fig07_tilt_map.log",
     script:
@@ -94,7 +95,7 @@ rule fig08_motions:
         **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
                          figure="Fig 8", ensemble="{ensemble}"),
     params:
-        caption=caption("fig08_motions"),
+        caption=lambda wildcards: caption("fig08_motions"),
     log:
         "logs/figures/fig08_motions_{ensemble}.log",
     script:
@@ -113,7 +114,7 @@ rule fig09_spectra:
         **_figure_output("results/{study}/figures/fig09_spectra", "Paper figures",
                          figure="Fig 9", study="{study}"),
     params:
-        caption=caption("fig09_spectra"),
+        caption=lambda wildcards: caption("fig09_spectra"),
     log:
         "logs/{study}/fig09_spectra.log",
     script:
@@ -130,7 +131,7 @@ rule fig10_goals:
         **_figure_output("results/{study}/figures/fig10_goals", "Paper figures",
                          figure="Fig 10", study="{study}"),
     params:
-        caption=caption("fig10_goals"),
+        caption=lambda wildcards: caption("fig10_goals"),
     log:
         "logs/{study}/fig10_goals.log",
     script:
@@ -147,7 +148,7 @@ rule fig11_slenderness:
         **_figure_output("results/{study}/figures/fig11_slenderness", "Paper figures",
                          figure="Fig 11", study="{study}"),
     params:
-        caption=caption("fig11_slenderness"),
+        caption=lambda wildcards: caption("fig11_slenderness"),
     log:
         "logs/{study}/fig11_slenderness.log",
     script:
@@ -164,7 +165,7 @@ rule fig12_2d_vs_3d:
     output:
         **_figure_output(f"{FIGURES_DIR}/fig12_2d_vs_3d", "Paper figures", figure="Fig 12"),
     params:
-        caption=caption("fig12_2d_vs_3d"),
+        caption=lambda wildcards: caption("fig12_2d_vs_3d"),
         studies=list(config["studies"]),
     log:
         "logs/figures/fig12_2d_vs_3d.log",
@@ -193,7 +194,7 @@ rule fragility_curves:
         **_figure_output("results/{study}/figures/fragility_curves", "Beyond the paper",
                          figure="fragility", study="{study}"),
     params:
-        caption=caption("fragility_curves"),
+        caption=lambda wildcards: caption("fragility_curves"),
         upper=float(config["search"]["upper"]),
     log:
         "logs/{study}/fragility_curves.log",
@@ -219,7 +220,6 @@ rule report:
     params:
         study=lambda wildcards: wildcards.study,
         ensemble=lambda wildcards: ensemble_of(wildcards.study),
-        config=lambda wildcards: dict(config),
     log:
         "logs/{study}/report.log",
     script:

@@ -1,21 +1,39 @@
-"""Report (Snakemake script): results/<study>/report.html with every figure and the headline
-numbers of the paper against this run's."""
+"""Report (Snakemake script): results/<study>/report.html with what was run, every figure and
+the paper's statements against this run's numbers."""
 
-from rocking.study.cluster import log_to
-from rocking.study.report import build
+import json
+from datetime import datetime
+from pathlib import Path
+
+from rocking.study.figures import log_to_file
+from rocking.study.report import build, what_was_run
+
+
+def workflow_elapsed() -> float | None:
+    """Seconds since the Snakemake run that writes this report started: its log file is named
+    after its start time (``.snakemake/log/2026-11-23T104517.055836.snakemake.log``)."""
+    starts = []
+    for log in Path(".snakemake/log").glob("*.snakemake.log"):
+        try:
+            starts.append(datetime.strptime(log.name.split(".snakemake")[0], "%Y-%m-%dT%H%M%S.%f"))
+        except ValueError:
+            continue
+    return (datetime.now() - max(starts)).total_seconds() if starts else None
 
 
 def main(snakemake):
-    files = [str(f) for f in snakemake.input]
-    with log_to(snakemake.log[0]):
-        build(
-            snakemake.output[0],
-            title=f"rocking: study {snakemake.params.study} "
-                  f"(ensemble {snakemake.params.ensemble})",
-            figures=[f for f in files if f.endswith(".png")],
-            linear_fit=next(f for f in files if f.endswith("linear_fit.csv")),
-            fragility=next(f for f in files if f.endswith("fragility.csv")),
-        )
+    inp = snakemake.input
+    figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
+    sens = [f for f in inp.figures if str(f).endswith("fig06_theta_max_sensitivity.json")]
+    with log_to_file(snakemake.log[0]):
+        run = what_was_run(stores=list(inp.stores), tilt_maps=list(getattr(inp, "tilt_map", [])),
+                           ensembles=list(inp.ensembles), done=list(inp.done),
+                           sensitivity=json.loads(Path(sens[0]).read_text()) if sens else None,
+                           elapsed_seconds=workflow_elapsed())
+        build(snakemake.output[0],
+              title=f"rocking: study {snakemake.params.study} "
+                    f"(ensemble {snakemake.params.ensemble})",
+              figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run)
 
 
 if __name__ == "__main__":

@@ -1,9 +1,11 @@
-"""A self-contained HTML report: every figure with its caption, and the paper's headline
-numbers against this run's, each difference with its reason.
+"""A self-contained HTML report: what was run, every figure with its caption, and for every
+figure the paper's statements set against this run's numbers with a verdict.
 
-Inputs are the figure PNGs with their JSON sidecars (written by :func:`.figures.render`),
-the linear fits of the mean spectra and the fragility table. Images are embedded (base64), so
-the page can be moved or mailed alone.
+Inputs are the figure PNGs with their JSON sidecars (written by :func:`.figures.render`), the
+linear fits of the mean spectra, the fragility table and, for the "what was run" section, the
+configuration and the stores and summaries the run wrote. Images are embedded (base64), so
+the page can be moved or mailed alone. Captions come from :mod:`.figures.captions`, verdicts
+from :mod:`.figures.comparisons`.
 """
 
 from __future__ import annotations
@@ -12,136 +14,34 @@ import base64
 import html
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
-from ..dynamics.bodies import Cylinder
+from .figures import FIGURES, _load, figure_name
+from .figures._style import limit_state_title
+from .figures.captions import CAPTIONS
+from .figures.comparisons import Comparison, compare, fmt
 
-PAPER = {
-    "turn_angle_printed": 3.058,
-    "turn_angle_eq27": 3.0952,
-    "restitution": 0.942,
-    "theta_max_3d": 0.0838,
-    "theta_max_3d-damped": 0.0668,
-    "principal_angle_deg": 22.33,
-    "overturn_R10_3d": 4.0,
-    "overturn_R10_2d_ratio": 2.0,
-}
-"""Numbers printed in Vassiliou et al. (2017)."""
-
-CAPTIONS = {
-    "fig03": (
-        "Fig 3. Period of pure wobbling, normalized by p, against θ/α for tan α = 0.1, 0.2, 1 and "
-        "1000 (Euler's disk), with Housner's linearized 2D rocking period. The paper reports the "
-        "analogy of 2D rocking and 3D wobbling (both periods grow from 0 at θ = 0 without bound "
-        "as θ → α). Curves here are the closed form of the corrected Eq (24) (the printed one "
-        "has a sign error under the root)."
-    ),
-    "fig04": (
-        "Fig 4. Free vibration of the R = 6 m, tan α = 0.2 cylinder from θ0 = 0.1 rad: quasi-"
-        "rocking (φ̇0 = 1e-8 rad/s), pure wobbling (φ̇0 = wobbling rate) and a mixed case "
-        "(half the wobbling rate); black undamped, red damped. The paper reports an angle of "
-        "turn of 3.058 rad per quasi-impact and a restitution (0.1408/0.19)^(1/5) = 0.942 "
-        "over five quasi-impacts of the damped model, and identical damped/undamped responses"
-        " for wobbling."
-    ),
-    "fig06": (
-        "Fig 6. R = 6 m, tan α = 0.2 cylinder under the El Centro 1940 pair on its principal "
-        "axes (first motion of the ensemble), undamped (black) and damped (red). The paper "
-        "reports peak tilts 0.0838 rad (undamped) and 0.0668 rad (damped), coinciding "
-        "responses for the first 15 s."
-    ),
-    "fig07": (
-        "Fig 7. Contours of θmax/α over (R, PGA/(g tan α)) for the scaled El Centro record, "
-        "undamped and damped. The paper reports that larger cylinders are harder to overturn "
-        "and that both models give almost identical maps."
-    ),
-    "fig08": (
-        "Fig 8. Acceleration traces (x: major principal axis) and 5 %-damped pseudo-acceleration "
-        "spectra of the record and its synthetic RDK pairs. The paper rotates El Centro by "
-        "22.33° to uncorrelated axes and simulates 10 pairs; seeds differ from the paper's, so "
-        "the individual synthetic motions are not the paper's."
-    ),
-    "fig09": (
-        "Fig 9. Performance spectra per motion (undamped solid, damped dashed) and their mean "
-        "(thick), overturning and excessive tilt θ > α/3, tan α = 0.2. The paper reports "
-        "essentially identical undamped/damped overturning spectra and mean spectra that are "
-        "almost straight lines in R."
-    ),
-    "fig10": (
-        "Fig 10. Mean spectra for the performance goals θ > r·α and overturning (undamped, "
-        "tan α = 0.2). The paper shows seven goals, all almost linear in R."
-    ),
-    "fig11": (
-        "Fig 11. Mean spectra for tan α = 0.1, 0.2, 0.3 (undamped). The paper reports that "
-        "slenderness has a very small influence once the intensity is normalized by g tan α."
-    ),
-    "fig12": (
-        "Fig 12. Mean spectra of the 3D model under both components versus the 2D model under "
-        "the x or the y component alone, with the bidirectional PGA as intensity in all three. "
-        "The paper reports for R = 10 m overturning at PGA/(g tan α) ≈ 4 bidirectionally and "
-        "about twice that unidirectionally (El Centro black; Loma Prieta red)."
-    ),
-    "fragility": (
-        "Fragility curves (beyond the paper): lognormal maximum-likelihood fits of the ensemble's "
-        "critical intensities per size R (motions that never reached the limit state are "
-        "right-censored at the search bound); markers are the empirical fractions."
-    ),
-}
-"""What each figure shows and what the paper reports about it."""
-
-REASONS = {
-    "turn_angle": (
-        "The printed Eq (27) inverts the inertia ratio; the corrected asymptote is π√(κo/κt) = "
-        "3.18802 and 2π − 3.18802 = 3.09516 is the paper's 3.0952. The measured turn depends on "
-        "the finite spin and on how the turn is read off (φ between tilt maxima here); the paper "
-        "does not say how its 3.058 was measured."
-    ),
-    "restitution": (
-        "Measured like Eq (32) (ratio of the approach speeds over five quasi-impacts). "
-        "Differences come from the contact spring-dashpot parameters (ωn, ζ) and θ0, "
-        "which the paper does not give for Fig 4."
-    ),
-    "theta_max": (
-        "Record version (NGA-West2 RSN 6 here, PGA 0.281 g; the paper's version is not stated), "
-        "rotation angle, high-pass corner and the chaotic sensitivity of a single record "
-        "response: a single-record peak is not expected to match closely."
-    ),
-    "principal_angle": (
-        "Computed from the record version used here (NGA-West2 RSN 6) after high-pass "
-        "filtering; the paper's record version and processing differ."
-    ),
-    "linearity": (
-        "The paper gives no fitted numbers, only 'almost straight lines'; R² close to 1 "
-        "supports it. Slopes depend on the ensemble (random seeds differ from the paper's)."
-    ),
-    "r10": (
-        "Means over a different synthetic ensemble (own seeds), the search bound and the "
-        "accuracy preset; the paper prints 'PGA/tan α of about 4' (g omitted)."
-    ),
-}
+SHOWN = 10
+"""Grids with at most this many values are listed in full, longer ones as a range."""
 
 
 @dataclass(frozen=True)
 class FigureEntry:
-    """One figure of the report: its key, image and sidecar notes."""
+    """One figure of the report: its name, image and sidecar notes."""
 
-    key: str
+    name: str
     png: Path
     notes: dict
 
-
-def figure_key(path: str | Path) -> str:
-    """``fig03`` … ``fig12`` or ``fragility`` from a figure's file name."""
-    stem = Path(path).stem
-    if stem.startswith("fragility"):
-        return "fragility"
-    if stem.startswith("fig") and stem[3:5].isdigit():
-        return stem[:5]
-    raise ValueError(f"figure file name must start with figNN_ or fragility, got {stem!r}")
+    @property
+    def stem(self) -> str:
+        """File stem (``fig08_motions_elcentro``): the key of its notes."""
+        return self.png.stem
 
 
 def load_figures(pngs: Sequence[str | Path]) -> list[FigureEntry]:
@@ -153,130 +53,227 @@ def load_figures(pngs: Sequence[str | Path]) -> list[FigureEntry]:
             raise ValueError(f"figure file does not exist: {str(png)!r}")
         sidecar = png.with_suffix(".json")
         notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
-        out.append(FigureEntry(figure_key(png), png, notes))
-    order = list(CAPTIONS)
-    return sorted(out, key=lambda f: (order.index(f.key), str(f.png)))
+        out.append(FigureEntry(figure_name(png), png, notes))
+    return sorted(out, key=lambda f: (FIGURES.index(f.name), str(f.png)))
 
 
-def _fmt(value, digits: int = 4) -> str:
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return "not measured"
-    if isinstance(value, float):
-        return f"{value:.{digits}g}"
-    return str(value)
+def figure_comparisons(entries: Sequence[FigureEntry]) -> dict[str, list[Comparison]]:
+    """The comparisons of every figure in ``entries``, keyed by figure name."""
+    notes = {e.stem: e.notes for e in entries}  # fig08 has one stem per ensemble
+    names = list(dict.fromkeys(e.name for e in entries))
+    out: dict[str, list[Comparison]] = {n: [] for n in names}
+    for c in compare(notes, names):
+        out[c.figure].append(c)
+    return out
+
+
+def comparison_table(rows: Sequence[Comparison], *, with_figure: bool = True) -> pd.DataFrame:
+    """Rows as a table: (figure,) statement, paper, this run, verdict."""
+    data = [((c.figure,) if with_figure else ()) + (c.statement, c.paper, c.ours,
+                                                   c.verdict_text) for c in rows]
+    columns = (["figure"] if with_figure else []) + ["statement", "paper", "this run", "verdict"]
+    return pd.DataFrame(data, columns=columns)
 
 
 def measured_lines(entry: FigureEntry) -> list[str]:
-    """'What this run measured' of one figure, from its notes."""
-    notes = entry.notes
-    m = notes.get("measured", {})
+    """What a figure's notes say beyond the comparisons: directions of x/y, missing parts."""
     lines = []
-    if entry.key == "fig04":
-        lines.append(
-            f"Angle of turn (first quasi-impact, undamped): {_fmt(m.get('turn_angle_first'))} rad "
-            f"(mean over {m.get('n_turns', 0)}: {_fmt(m.get('turn_angle_mean'))}); restitution "
-            f"damped {_fmt(m.get('restitution_damped'))}, undamped "
-            f"{_fmt(m.get('restitution_undamped'))} (1 expected: energy is conserved)."
-        )
-    elif entry.key == "fig06":
-        lines.append(
-            f"Peak tilt undamped {_fmt(m.get('theta_max_3d'))} rad, damped "
-            f"{_fmt(m.get('theta_max_3d-damped'))} rad."
-        )
-    elif entry.key == "fig08":
-        lines.append(
-            f"Record {m.get('record')}: PGA {_fmt(m.get('record_pga_g'))} g, principal axis "
-            f"{_fmt(m.get('principal_offset_deg'))}° from the nearest recording axis; "
-            f"{m.get('n_motions')} motions."
-        )
-    elif entry.key == "fig07" and "R" in m:
-        for key, values in m.items():
-            if key.startswith("first_intensity_theta_above_alpha_"):
-                pairs = ", ".join(f"R = {r:g} m: {_fmt(v, 3)}" for r, v in
-                                  zip(m["R"], values, strict=False))
-                lines.append(f"Lowest intensity with θmax ≥ α, {key.rsplit('_', 1)[1]}: "
-                             f"{pairs}.")
-    elif m:
-        shown = {k: v for k, v in m.items() if not isinstance(v, list)}
-        if shown:
-            lines.append("Measured: " + "; ".join(f"{k} = {_fmt(v)}" for k, v in shown.items()))
-    missing = notes.get("missing", [])
+    axes = entry.notes.get("axes")
+    if isinstance(axes, dict) and "text" in axes:
+        lines.append(f"Axes: {axes['text']}.")
+    missing = entry.notes.get("missing", [])
     if missing:
-        lines.append("Missing in this run: " + "; ".join(missing) + ".")
+        lines.append("Not computed in this run: " + "; ".join(missing) + ".")
     return lines
 
 
-def headline_table(figures: Sequence[FigureEntry], linear_fit: pd.DataFrame | None,
-                   *, tan_alpha: float = 0.2, R_ref: float = 10.0) -> pd.DataFrame:
-    """The paper's headline numbers next to this run's, with the reason for each difference."""
-    notes = {f.key: f.notes.get("measured", {}) for f in figures}
-    body = Cylinder(6.0, 0.2)
-    rows = []
-    f4 = notes.get("fig04", {})
-    turn = f4.get("turn_angle_first")
-    rows.append(("Angle of turn per quasi-impact [rad]",
-                 f"{PAPER['turn_angle_printed']} (Eq 27 printed: {PAPER['turn_angle_eq27']})",
-                 f"asymptote π√(κo/κt) = {body.turn_angle:.5f}; measured {_fmt(turn)}"
-                 + ("" if turn is None else f" (2π − it = {2 * math.pi - turn:.4f})"),
-                 REASONS["turn_angle"]))
-    rows.append(("Restitution, damped quasi-rocking [-]",
-                 f"{PAPER['restitution']} (Eq 31 and Eq 32)",
-                 f"Eq 31: {body.e:.6f}; measured {_fmt(f4.get('restitution_damped'))}",
-                 REASONS["restitution"]))
-    f6 = notes.get("fig06", {})
-    rows.append(("Fig 6 peak tilt, undamped / damped [rad]",
-                 f"{PAPER['theta_max_3d']} / {PAPER['theta_max_3d-damped']}",
-                 f"{_fmt(f6.get('theta_max_3d'))} / {_fmt(f6.get('theta_max_3d-damped'))}",
-                 REASONS["theta_max"]))
-    f8 = notes.get("fig08", {})
-    rows.append((f"Principal-axis angle of the record ({f8.get('record', 'not run')}) [deg]",
-                 f"{PAPER['principal_angle_deg']} (El Centro)",
-                 _fmt(f8.get("principal_offset_deg")), REASONS["principal_angle"]))
-    if linear_fit is not None:
-        rows += _linearity_rows(linear_fit, tan_alpha)
-    f12 = notes.get("fig12", {})
-    rows += _r10_rows(f12, R_ref)
-    return pd.DataFrame(rows, columns=["quantity", "paper", "this run", "reason for difference"])
+# --------------------------------------------------------------------------- what was run
 
 
-def _linearity_rows(linear_fit: pd.DataFrame, tan_alpha: float) -> list[tuple]:
-    rows = []
-    sel = linear_fit[(linear_fit["mode"] == "3d")
-                     & (abs(linear_fit["tan_alpha"] - tan_alpha) < 1e-9)]
-    for _, r in sel.iterrows():
-        rows.append((f"Mean spectrum linear in R, {r['limit_state']} (3d, tan α = {tan_alpha:g})",
-                     "almost straight lines (no numbers)",
-                     f"slope {_fmt(r['slope'])} 1/m, intercept {_fmt(r['intercept'])}, "
-                     f"R² {_fmt(r['r_squared'], 5)} (n = {int(r['n'])})",
-                     REASONS["linearity"]))
+def _attr(attrs: Mapping, key: str, default=None):
+    """A store attribute, decoded when it is a JSON string."""
+    raw = attrs.get(key, default)
+    if isinstance(raw, str):
+        try:
+            return json.loads(raw)
+        except json.JSONDecodeError:
+            return raw
+    return raw
+
+
+def grid_text(values: Sequence[float], unit: str = "") -> str:
+    """``"0.5, 1, 2 m"`` for short grids, ``"20 values, 0.5–10 m (step 0.5)"`` for long."""
+    v = [float(x) for x in values]
+    if not v:
+        return "none"
+    u = f" {unit}" if unit else ""
+    if len(v) <= SHOWN:
+        return ", ".join(f"{x:g}" for x in v) + u
+    steps = np.diff(v)
+    step = f" (step {steps[0]:g})" if np.allclose(steps, steps[0], rtol=1e-6) else ""
+    return f"{len(v)} values, {min(v):g}–{max(v):g}{u}{step}"
+
+
+def study_rows(path: str | Path) -> list[tuple[str, str]]:
+    """What a spectra store says was run: ensemble, grids, limit states, modes per tan α,
+    accuracy, contact parameters, version."""
+    ds = _load.open_store(path)
+    cfg = _attr(ds.attrs, "config", {}) or {}
+    ens = _attr(ds.attrs, "ensemble", {}) or {}
+    opts = _attr(ds.attrs, "search_options", {}) or {}
+    study = cfg.get("study", Path(path).parent.name)
+    motions = ens.get("motions", [])
+    ens_cfg = cfg.get("ensemble", {})
+    record = motions[0]["label"] if motions else ens_cfg.get("record", "?")
+    p = f"study {study}"
+    rows = [
+        (f"{p}: motions", f"ensemble {ens.get('name', ens_cfg.get('name', '?'))}: {record} and "
+                          f"{max(len(motions) - 1, 0)} synthetic pairs (seed "
+                          f"{ens_cfg.get('seed', '?')}); " + ", ".join(m["name"] for m in motions)),
+        (f"{p}: sizes R", grid_text(ds["R"].values, "m")),
+        (f"{p}: slenderness tan α", grid_text(ds["tan_alpha"].values)),
+        (f"{p}: limit states", ", ".join(limit_state_title(ls)
+                                         for ls in _load.labels(ds, "limit_state"))),
+        (f"{p}: modes per tan α", modes_text(ds)),
+        (f"{p}: accuracy", f"preset {cfg.get('accuracy', '?')}; tolerances "
+                           f"{json.dumps(_attr(ds.attrs, 'tolerances', {}))}; search up to "
+                           f"PGA/(g tan α) = {fmt(opts.get('upper'))}"),
+    ]
+    if "omega_n" in opts:
+        rows.append((f"{p}: damped contact (3d-damped)",
+                     f"ωn = {fmt(opts['omega_n'])} rad/s, ζ = {fmt(opts['zeta'])} (Fig 4 also "
+                     "overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
+                     "ζ ∈ {0.05, 0.5, 5, 50})"))
+    rows.append((f"{p}: package version", f"rocking {ds.attrs.get('rocking_version', '?')}"))
     return rows
 
 
-def _r10_rows(measured: dict, R_ref: float) -> list[tuple]:
+def modes_text(ds) -> str:
+    """``"tan α = 0.2: 3d, 3d-damped; tan α = 0.1: 3d"`` plus the share of cells not computed."""
+    per = _load.modes_per_tan_alpha(ds)
+    text = "; ".join(f"tan α = {t:g}: {', '.join(m) or 'none'}" for t, m in per.items())
+    done = _load.computed(ds).values
+    if not done.all():
+        text += (f" ({int((~done).sum())} of {done.size} cells not computed: not requested "
+                 "or not run, left empty)")
+    return text
+
+
+def tilt_map_rows(path: str | Path) -> list[tuple[str, str]]:
+    """Grid and models of a Fig 7 tilt-map store."""
+    ds = _load.open_store(path)
+    cfg = _attr(ds.attrs, "config", {}) or {}
+    p = f"study {cfg.get('study', Path(path).parent.name)}: Fig 7 tilt map"
+    return [(p, f"record {ds.attrs.get('motion', '?')}, tan α = {ds.attrs.get('tan_alpha', '?')}, "
+                f"models {', '.join(_load.labels(ds, 'mode'))}; R: {grid_text(ds['R'].values, 'm')}"
+                f"; PGA/(g tan α): {grid_text(ds['intensity'].values)}")]
+
+
+def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
+    """Processing of an ensemble's record and its synthetic pairs (``results/motions/*.json``)."""
+    e = json.loads(Path(path).read_text())
+    hp = e.get("highpass") or {}
+    name = e.get("ensemble", Path(path).stem)
+    stand_in = f" — stand-in for {e['stand_in_for']}" if e.get("stand_in") else ""
+    return [(f"ensemble {name}",
+             f"{e.get('label', e.get('record'))}{stand_in}; rotated by "
+             f"{fmt(e.get('rotation_deg'))}° to principal axes (x = major; offset "
+             f"{fmt(e.get('principal_offset_deg'))}° from the nearest recording axis); "
+             f"high-pass {hp.get('kind', '?')} at {fmt(hp.get('fc_hz'))} Hz "
+             f"(Mw {fmt(hp.get('mw'))}); {e.get('n_synthetic', 0)} synthetic pairs, "
+             f"seed {e.get('seed', '?')}")]
+
+
+def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str, str]:
+    """The record's PGA: one number and what it is."""
+    ens = _attr(_load.open_store(store).attrs, "ensemble", {}) or {}
+    motions = ens.get("motions", [])
+    if not motions:
+        return ("record PGA", "not recorded in the store")
+    from ..constants import G
+
+    first = motions[0]
+    text = (f"{first['pga'] / G:.3f} g: vector peak max √(ax² + ay²) of {first['label']} after "
+            "rotation to principal axes and high-pass, as every spectrum is scaled (a vector peak "
+            "does not depend on the rotation)")
+    m = (sensitivity or {}).get("measured", {})
+    raw = [k.split("|", 1)[1] for k in m if k.startswith("component_pga_g|as recorded")]
+    if raw:
+        v = raw[0]
+        cx, cy = m[f"component_pga_g|{v}"]
+        text += (f". For reference, unprocessed: vector {m[f'pga_g|{v}']:.3f} g, components "
+                 f"x (E–W) {cx:.3f} g and y (N–S) {cy:.3f} g, the 0.281 g often quoted being "
+                 "the N–S component")
+    return ("record PGA", text)
+
+
+def timing_rows(done: Sequence[str | Path] = (), ensembles: Sequence[str | Path] = (),
+                elapsed_seconds: float | None = None) -> list[tuple[str, str]]:
+    """Wall times of the main jobs (from their completion summaries) and of the workflow."""
     rows = []
-    ensembles = sorted({k.split("|")[0] for k in measured if k.count("|") == 2})
-    for ens in ensembles:
-        v3 = measured.get(f"{ens}|overturning|3d", math.nan)
-        ratios = [measured.get(f"{ens}|overturning|{m}", math.nan) / v3
-                  for m in ("2d-x", "2d-y")]
-        rows.append((f"Overturning at R = {R_ref:g} m, {ens}: 3D mean PGA/(g tan α); 2D-x, 2D-y "
-                     "relative to 3D",
-                     f"≈ {PAPER['overturn_R10_3d']:g}; about {PAPER['overturn_R10_2d_ratio']:g}×",
-                     f"{_fmt(v3)}; " + ", ".join(_times(r) for r in ratios),
-                     REASONS["r10"]))
+    for path in ensembles:
+        t = json.loads(Path(path).read_text()).get("timings", {})
+        if t:
+            rows.append((f"run time: ensemble {Path(path).stem}",
+                         ", ".join(f"{k.removesuffix('_s')} {v:.1f} s" for k, v in t.items())))
+    for path in done:
+        s = json.loads(Path(path).read_text())
+        if "wall_seconds" in s:
+            rows.append((f"run time: {Path(path).parent.name}/{Path(path).name.split('.')[0]}",
+                         f"{s['wall_seconds']:.0f} s wall for {s.get('computed', '?')} of "
+                         f"{s.get('chunks', '?')} chunks on {s.get('cluster', '?')} "
+                         f"(resumed after {s.get('done_before', 0)})"))
+    if elapsed_seconds is not None and math.isfinite(elapsed_seconds):
+        rows.append(("run time: workflow", f"{elapsed_seconds / 60:.1f} min from the start of "
+                                           "the Snakemake run to this report"))
     return rows
 
 
-def _times(ratio: float) -> str:
-    return "not computed" if math.isnan(ratio) else f"{ratio:.3g}×"
+def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str | Path] = (),
+                 ensembles: Sequence[str | Path] = (), done: Sequence[str | Path] = (),
+                 sensitivity: Mapping | None = None,
+                 elapsed_seconds: float | None = None) -> list[tuple[str, str]]:
+    """Rows (item, value) of the report's "what was run" section.
+
+    Parameters
+    ----------
+    stores : sequence of path
+        Spectra stores of the studies (configuration, grids, modes per tan α, accuracy, contact
+        parameters, version).
+    tilt_maps : sequence of path
+        Fig 7 tilt-map stores.
+    ensembles : sequence of path
+        ``results/motions/<ensemble>.json`` (rotation, high-pass, seeds, timings).
+    done : sequence of path
+        Completion summaries ``*.done.json`` (wall times).
+    sensitivity : mapping, optional
+        Notes of the Fig 6 companion figure (unprocessed record peaks).
+    elapsed_seconds : float, optional
+        Time from the start of the workflow to the report [s].
+    """
+    rows = []
+    for path in ensembles:
+        rows += ensemble_rows(path)
+    if stores:
+        rows.append(pga_row(stores[0], sensitivity))
+    for path in stores:
+        rows += study_rows(path)
+    for path in tilt_maps:
+        rows += tilt_map_rows(path)
+    return rows + timing_rows(done, ensembles, elapsed_seconds)
+
+
+# --------------------------------------------------------------------------- HTML
 
 
 _CSS = """
-body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
-table{border-collapse:collapse;font-size:0.9em;margin:1em 0}
+body{font-family:sans-serif;max-width:1150px;margin:2em auto;padding:0 1em;color:#222}
+table{border-collapse:collapse;font-size:0.85em;margin:1em 0}
 td,th{border:1px solid #bbb;padding:4px 8px;vertical-align:top;text-align:left}
 th{background:#eee} figure{margin:2em 0} img{max-width:100%;border:1px solid #ddd}
 figcaption{font-size:0.92em;margin-top:0.5em} .measured{color:#05509b}
+td.reproduced{background:#e4f4e4} td.differs{background:#fbeede}
+td.not-computed{background:#eeeeee} td.not-reproducible{background:#f8dddd}
 """
 
 
@@ -285,9 +282,32 @@ def _table_html(df: pd.DataFrame) -> str:
                       float_format=lambda v: f"{v:.5g}")
 
 
+def _verdict_html(rows: Sequence[Comparison], with_figure: bool) -> str:
+    """A comparison table whose verdict cells are shaded by verdict."""
+    df = comparison_table(rows, with_figure=with_figure)
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in df.columns)
+    body = []
+    for c, values in zip(rows, df.itertuples(index=False), strict=True):
+        cls = c.verdict.replace("not computed in this run", "not-computed").replace(" ", "-")
+        cells = [f"<td>{html.escape(str(v))}</td>" for v in values[:-1]]
+        cells.append(f"<td class='{cls}'>{html.escape(str(values[-1]))}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+
+
+def _figure_html(entry: FigureEntry, rows: Sequence[Comparison]) -> str:
+    img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
+    lines = "".join(f"<br><span class='measured'>{html.escape(s)}</span>"
+                    for s in measured_lines(entry))
+    table = _verdict_html(rows, with_figure=False) if rows else ""
+    return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
+            f"src='data:image/png;base64,{img}'><figcaption>"
+            f"{html.escape(CAPTIONS[entry.name])}{lines}</figcaption>{table}</figure>")
+
+
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
-          notes: Sequence[str] = ()) -> Path:
+          notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = ()) -> Path:
     """Write the HTML report.
 
     Parameters
@@ -299,9 +319,11 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     figures : sequence of path
         Figure PNGs (each with an optional ``.json`` sidecar beside it).
     linear_fit, fragility : path, optional
-        CSV tables of :mod:`rocking.spectra.fragility` (shown, and used by the headline table).
+        CSV tables of :mod:`rocking.spectra.fragility`.
     notes : sequence of str
         Extra paragraphs (e.g. stand-in records of this run).
+    run : sequence of (str, str)
+        Rows of the "what was run" section (:func:`what_was_run`).
 
     Returns
     -------
@@ -309,31 +331,33 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         ``out``.
     """
     entries = load_figures(figures)
-    lin = pd.read_csv(linear_fit) if linear_fit is not None else None
+    verdicts = figure_comparisons(entries)
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
-    parts.append("<h2>Headline numbers: paper versus this run</h2>")
-    parts.append(_table_html(headline_table(entries, lin)))
+    parts.append("<h2 id='what-was-run'>What was run</h2>")
+    parts.append(_table_html(pd.DataFrame(list(run), columns=["item", "value"])) if run
+                 else "<p>Not recorded.</p>")
+    parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
+    parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True))
     parts.append("<h2>Figures</h2>")
-    for entry in entries:
-        img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
-        lines = "".join(f"<br><span class='measured'>{html.escape(s)}</span>"
-                        for s in measured_lines(entry))
-        parts.append(f"<figure id='{entry.key}'><img alt='{entry.key}' "
-                     f"src='data:image/png;base64,{img}'><figcaption>"
-                     f"{html.escape(CAPTIONS[entry.key])}{lines}</figcaption></figure>")
-    if lin is not None:
+    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [])
+              for i, e in enumerate(entries)]
+    if linear_fit is not None:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")
-        parts.append(_table_html(lin))
+        parts.append(_table_html(pd.read_csv(linear_fit)))
     if fragility is not None:
-        frag = pd.read_csv(fragility)
         parts.append("<h2>Lognormal fragility parameters (median in PGA/(g tan α) and in g, "
                      "dispersion β)</h2>")
-        parts.append(_table_html(frag))
+        parts.append(_table_html(pd.read_csv(fragility)))
     parts.append("</body></html>")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
     return out
+
+
+def _first(entries: Sequence[FigureEntry], entry: FigureEntry) -> int:
+    """Index of the first entry of ``entry``'s figure (its verdict table is shown once)."""
+    return next(i for i, e in enumerate(entries) if e.name == entry.name)
