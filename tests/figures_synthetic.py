@@ -2,7 +2,10 @@
 
 Values follow a known formula so tests can check what the figures and tables receive:
 pga_crit = (1 + r_ls) · (0.5 + 0.4 R) · f_motion · f_mode, with a few points not reached
-(stored at the search bound UPPER, as the engine does).
+(stored at the search bound UPPER, as the engine does). A partially computed store (modes
+requested only at some slendernesses) leaves the other cells NaN and not flagged, as a study
+with per-mode configuration does; limit states can be spelt either way ("tilt:0.3333" or the
+canonical "tilt:1/3") and the tilt map's first dimension named "model" or "mode".
 """
 
 from __future__ import annotations
@@ -35,8 +38,15 @@ def pga_crit_formula() -> np.ndarray:
 
 def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
                 stand_in: bool = False, modes: list[str] | None = None,
-                with_tilt_map: bool = True) -> dict[str, Path]:
-    """Write spectra.zarr, mean_spectra.nc/.csv and tilt_map.zarr under ``root``."""
+                with_tilt_map: bool = True, requested: dict[str, list[float]] | None = None,
+                limit_states: list[str] | None = None, tilt_dim: str = "model",
+                with_motions: bool = True) -> dict[str, Path]:
+    """Write spectra.zarr, mean_spectra.nc/.csv, tilt_map.zarr and motions.nc under ``root``.
+
+    ``requested`` maps a mode to the slendernesses it was computed at (default: all); the other
+    cells of that mode stay NaN and not flagged. ``limit_states`` respells :data:`LIMIT_STATES`
+    (same order and ratios).
+    """
     modes = MODES if modes is None else modes
     keep = [MODES.index(m) for m in modes]
     root.mkdir(parents=True, exist_ok=True)
@@ -46,10 +56,15 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
     not_reached[0, -1, 1, 1, 0] = True
     not_reached[0, -1, 2, 1, 0] = True
     values = np.where(not_reached, UPPER, values)
+    for i, mode in enumerate(modes):
+        for j, t in enumerate(TAN_ALPHA):
+            if requested is not None and mode in requested and t not in requested[mode]:
+                values[i, :, :, j, :] = np.nan
+                not_reached[i, :, :, j, :] = False
     dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
     coords = {
         "mode": np.array(modes, dtype=object),
-        "limit_state": np.array(LIMIT_STATES, dtype=object),
+        "limit_state": np.array(limit_states or LIMIT_STATES, dtype=object),
         "motion": np.array(MOTIONS, dtype=object),
         "tan_alpha": np.array(TAN_ALPHA),
         "R": np.array(R),
@@ -65,10 +80,16 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
         },
         coords=coords,
         attrs={
-            "config": json.dumps({"spectra": {"upper": UPPER}}),
+            "config": json.dumps({"study": "synth", "accuracy": "default",
+                                  "ensemble": {"name": "synth", "record": "el-centro-1940",
+                                               "n_synthetic": 3, "seed": 2017},
+                                  "search_options": {"upper": UPPER}}),
             "tolerances": json.dumps({"intensity_rtol": 0.01}),
             "rocking_version": "0.1.0",
-            "ensemble": json.dumps({"label": ensemble, "stand_in": stand_in}),
+            "ensemble": json.dumps({"label": ensemble, "stand_in": stand_in, "name": "synth",
+                                    "motions": [{"name": m, "label": m, "pga": 2.7}
+                                                for m in MOTIONS]}),
+            "search_options": json.dumps({"upper": UPPER, "omega_n": 2000.0, "zeta": 5.0}),
         },
     )
     paths = {"store": root / "spectra.zarr", "means": root / "mean_spectra.nc",
@@ -80,7 +101,7 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
             "mean": reached.mean("motion"),
             "std": reached.std("motion", ddof=1),
             "median": reached.median("motion"),
-            "count": (~ds["not_reached"]).sum("motion").astype(np.int32),
+            "count": reached.notnull().sum("motion").astype(np.int32),
         },
         attrs=ds.attrs,
     ).transpose("mode", "limit_state", "tan_alpha", "R")
@@ -88,8 +109,34 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
     means.to_dataframe().reset_index().to_csv(paths["means_csv"], index=False)
     if with_tilt_map:
         paths["tilt_map"] = root / "tilt_map.zarr"
-        write_tilt_map(paths["tilt_map"])
+        write_tilt_map(paths["tilt_map"], dim=tilt_dim)
+    if with_motions:
+        paths["motions"] = root / "motions.nc"
+        write_motions(paths["motions"])
     return paths
+
+
+RECORD_AZIMUTHS = (340.46, 250.46)
+"""Azimuths of x and y of the synthetic record [deg]: x N19.5°W, y S70.5°W."""
+
+
+def write_motions(path: Path, n: int = 2, duration: float = 3.0):
+    """A small ensemble file whose record (first motion) is on principal axes with azimuths."""
+    from rocking import GroundMotion
+    from rocking.motions.ensemble_io import save_ensemble
+
+    dt = 0.01
+    t = np.arange(0.0, duration, dt)
+    env = np.sin(np.pi * t / duration) ** 2
+    meta = {"axes": "principal (x = major)", "x_azimuth": RECORD_AZIMUTHS[0],
+            "y_azimuth": RECORD_AZIMUTHS[1], "title": "synthetic record"}
+    motions = [GroundMotion(4.0 * env * np.sin(2 * np.pi * (1.5 + 0.2 * i) * t),
+                            3.0 * env * np.cos(2 * np.pi * 1.1 * t), dt, name,
+                            meta if i == 0 else {"axes": "principal (x = major)"})
+               for i, name in enumerate(["el-centro-1940", *[f"synthetic-{k:02d}"
+                                                          for k in range(1, n)]])]
+    save_ensemble(path, motions)
+    return motions
 
 
 def tilt_map_formula(R_: np.ndarray, intensity: np.ndarray, damped: bool) -> np.ndarray:
@@ -99,14 +146,14 @@ def tilt_map_formula(R_: np.ndarray, intensity: np.ndarray, damped: bool) -> np.
     return np.where(val > 1.3, np.pi / 2 / np.arctan(0.2), val)
 
 
-def write_tilt_map(path: Path) -> xr.Dataset:
-    """A tilt map store with dims (model, R, intensity)."""
+def write_tilt_map(path: Path, dim: str = "model") -> xr.Dataset:
+    """A tilt map store with dims (``dim``, R, intensity), ``dim`` "model" or "mode"."""
     R_ = np.array([1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0])
     intensity = np.linspace(1.0, 8.0, 15)
     z = np.stack([tilt_map_formula(R_, intensity, d) for d in (False, True)])
     ds = xr.Dataset(
-        {"theta_max_over_alpha": (("model", "R", "intensity"), z)},
-        coords={"model": np.array(["3d", "3d-damped"], dtype=object), "R": R_,
+        {"theta_max_over_alpha": ((dim, "R", "intensity"), z)},
+        coords={dim: np.array(["3d", "3d-damped"], dtype=object), "R": R_,
                 "intensity": intensity},
         attrs={"motion": "el-centro-1940", "tan_alpha": "0.2"},
     )

@@ -1,5 +1,6 @@
 """Figures: the data handed to matplotlib equals the store/aggregate/engine values, closed
-forms and invariants hold, files are written, and the Snakemake rules build them."""
+forms and invariants hold, partially computed stores and reduced runs degrade into notes the
+figure shows, files are written, and the Snakemake rules build them under one name each."""
 
 from __future__ import annotations
 
@@ -18,10 +19,14 @@ import yaml
 
 from rocking import Cylinder, GroundMotion
 from rocking.constants import G
+from rocking.motions.principal import rotate
+from rocking.study import figures
 from rocking.study.figures import (
+    _axes,
     fig03_wobbling_period,
     fig04_free_vibration,
     fig06_el_centro,
+    fig06_theta_max_sensitivity,
     fig07_tilt_map,
     fig08_motions,
     fig09_spectra,
@@ -30,6 +35,8 @@ from rocking.study.figures import (
     fig12_2d_vs_3d,
     render,
 )
+from rocking.study.figures._style import limit_state_title
+from rocking.study.figures.captions import CAPTIONS
 
 ROOT = Path(__file__).parents[1]
 
@@ -47,6 +54,16 @@ def reduced(tmp_path_factory):
                           with_tilt_map=False)
 
 
+@pytest.fixture(scope="module")
+def partial(tmp_path_factory):
+    """Per-mode configuration: damped and 2D only at tan α = 0.2, canonical limit-state names,
+    a tilt map whose first dimension is called "mode"."""
+    only = [0.2]
+    return fs.write_study(tmp_path_factory.mktemp("partial"), tilt_dim="mode",
+                          requested={"3d-damped": only, "2d-x": only, "2d-y": only},
+                          limit_states=["tilt:0.1", "tilt:1/3", "tilt:0.6", "overturning"])
+
+
 def _lines(ax):
     return [(np.asarray(ln.get_xdata(), float), np.asarray(ln.get_ydata(), float))
             for ln in ax.get_lines()]
@@ -54,6 +71,57 @@ def _lines(ax):
 
 def _same(a, b):
     np.testing.assert_array_equal(np.asarray(a, float), np.asarray(b, float))
+
+
+def _texts(fig) -> str:
+    """Every text of a figure (titles, labels, notes, legends) in one string."""
+    from matplotlib.text import Text
+
+    return "\n".join(t.get_text() for t in fig.findobj(Text))
+
+
+# ---------------------------------------------------------------- names, captions, axes
+
+
+def test_one_name_per_figure_across_module_script_and_caption():
+    for name in figures.FIGURES:
+        assert figures.module(name).__name__.endswith(f".{name}")
+        if name != "fig08_motions":  # its module belongs to the ensembles work; script here
+            assert hasattr(figures.module(name), "plot")
+        assert (ROOT / "workflow/scripts" / f"{name}.py").exists(), name
+        assert name in CAPTIONS
+    rules = (ROOT / "workflow/rules/figures.smk").read_text()
+    for name in figures.FIGURES:
+        assert f"rule {name}:" in rules and f'caption("{name}")' in rules
+    assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
+        "figure", "fragility_table", "linear_fit", "mean_spectra"]
+    assert figures.figure_name("results/figures/fig08_motions_lomaprieta.png") == "fig08_motions"
+    assert figures.figure_name("fig06_theta_max_sensitivity.png") == (
+        "fig06_theta_max_sensitivity")
+    with pytest.raises(ValueError, match="must start with"):
+        figures.figure_name("plot.png")
+
+
+def test_axes_are_named_by_azimuth_and_principal_axis():
+    assert _axes.bearing(340.46) == "N19.5°W"
+    assert _axes.bearing(250.46) == "S70.5°W"
+    assert _axes.bearing(90.0) == "E" and _axes.bearing(135.0) == "S45.0°E"
+    raw = _axes.describe({"x_azimuth": 270.0, "y_azimuth": 180.0})
+    assert raw["x"] == "E–W (270°)" and raw["y"] == "N–S (180°)"
+    principal = _axes.describe({"x_azimuth": 340.46, "y_azimuth": 250.46,
+                                "axes": "principal (x = major)"})
+    assert principal["x"] == "major principal axis, az 340.5° (N19.5°W)"
+    assert "unknown" not in principal["text"] and principal["principal"] == "yes"
+    assert "not recorded" in _axes.describe({})["text"]
+
+
+def test_limit_state_titles_in_either_spelling():
+    assert limit_state_title("tilt:1/3") == limit_state_title("tilt:0.3333") == (
+        "Tilt θ > α/3 (excessive tilt)")
+    assert limit_state_title("tilt:0.75") == "Tilt θ > 3α/4"
+    assert limit_state_title("tilt:1") == "Tilt θ > α"
+    assert limit_state_title("tilt:0.37") == "Tilt θ > 0.37·α"
+    assert limit_state_title("excessive-tilt") == limit_state_title("tilt:1/3")
 
 
 # ---------------------------------------------------------------- Fig 3: closed forms
@@ -78,14 +146,25 @@ def test_fig03_small_tilt_asymptotes_and_size_independence():
                                    rtol=1e-12)
 
 
-def test_fig03_plot_hands_the_data_to_matplotlib():
-    d = fig03_wobbling_period.data(n=50)
-    lines = _lines(fig03_wobbling_period.plot(d).axes[0])
+def test_fig03_shows_the_two_slender_curves_apart():
+    d = fig03_wobbling_period.data(n=199)
+    gap = np.max(np.abs(d["wobbling"][0.1] / d["wobbling"][0.2] - 1))
+    assert d["measured"]["max_rel_gap_slender_pair"] == pytest.approx(gap)
+    assert 0.0 < gap < 0.01  # the curves nearly coincide: why the figure needs the inset
+    fig = fig03_wobbling_period.plot(d)
+    main = fig.axes[0]
+    inset = main.child_axes[0]
+    lines = _lines(main)
     expected = [*d["wobbling"].values(), d["housner"]]
-    assert len(lines) == len(expected)
     for (x, y), e in zip(lines, expected, strict=True):
         _same(x, d["theta_over_alpha"])
         _same(y, e)
+    styles = [(ln.get_linestyle(), ln.get_marker()) for ln in main.get_lines()[:2]]
+    assert styles[0] != styles[1]  # tan α = 0.1 and 0.2 drawn differently
+    # the inset holds both curves, separated by more than a line width at its scale
+    (x1, y1), (x2, y2) = _lines(inset)
+    lo, hi = inset.get_ylim()
+    assert np.min(np.abs(y1 - y2)) / (hi - lo) > 0.02
     with pytest.raises(ValueError, match="theta_over_alpha"):
         fig03_wobbling_period.housner_period_times_p([1.2])
 
@@ -121,6 +200,17 @@ def test_turn_angle_and_restitution_of_a_known_signal():
         fig04_free_vibration.restitution(theta, theta_dot, n_impacts=20)
 
 
+def test_symlog_ticks_are_few_and_decades():
+    from matplotlib.figure import Figure
+
+    ax = Figure().subplots()
+    ax.set_yscale("symlog", linthresh=1.0)
+    fig04_free_vibration.symlog_ticks(ax, [0.0, 3.0, 2e8])
+    ticks = ax.yaxis.get_major_locator()()
+    assert 3 <= len(ticks) <= 6 and ticks[0] == 0.0
+    assert all(math.log10(t).is_integer() for t in ticks[1:])
+
+
 @pytest.fixture(scope="module")
 def fig04_data():
     return fig04_free_vibration.data(duration=15.0)
@@ -134,40 +224,55 @@ def test_fig04_against_closed_forms_and_invariants(fig04_data):
     assert m["turn_angle_first"] == pytest.approx(body.turn_angle, abs=1e-3)
     # Undamped: energy conserved, so every approach speed is the first one
     assert m["restitution_undamped"] == pytest.approx(1.0, abs=1e-4)
-    # Damped: Housner's e = 1 − 2 sin²α/κo (Eq 31), the paper's 0.942 (Eq 32)
+    # Damped: Housner's e = 1 − 2 sin²α/κo (Eq 31), the paper's 0.942 (Eq 32), for all pairs
     assert m["restitution_damped"] == pytest.approx(body.e, abs=2e-3)
+    lo, hi = m["restitution_damped_range"]
+    assert body.e - 2e-3 <= lo <= hi <= body.e + 2e-3
     # First approach speed from energy: p √(2 (cos(α − θ0) − cos α)) = 0.190 (paper's 0.19)
     assert m["approach_speeds_damped"][0] == pytest.approx(pred["first_approach_speed"],
                                                            rel=1e-3)
     wob = d["runs"]["wobbling"]
-    for model in ("3d", "3d-damped"):
+    assert len(wob) == 1 + len(fig04_free_vibration.PAIRS)  # undamped + the paper's 8 pairs
+    for run in wob.values():
         # Pure wobbling (corrected Eq 24) keeps the tilt and spin constant
-        np.testing.assert_allclose(wob[model]["theta"], 0.1, atol=1e-6)
-        np.testing.assert_allclose(wob[model]["phi_dot"], body.wobbling_rate(0.1), rtol=1e-6)
+        np.testing.assert_allclose(run["theta"], 0.1, atol=1e-6)
+        np.testing.assert_allclose(run["phi_dot"], body.wobbling_rate(0.1), rtol=1e-6)
     mixed = d["runs"]["mixed"]["3d"]
     assert mixed["theta"].min() > 0.02  # "the tilt never comes close to zero"
+    # the paper's §3: the eight contact parameters give overlapping responses
+    for case in ("quasi-rocking", "wobbling", "mixed"):
+        assert m[f"max_gap_theta_damped_pairs_{case}"] < 0.002
 
 
-def test_fig04_plot_draws_the_histories(fig04_data):
+def test_fig04_plot_draws_every_run_and_names_the_pairs(fig04_data):
     fig = fig04_free_vibration.plot(fig04_data)
-    run = fig04_data["runs"]["mixed"]["3d-damped"]
+    run = fig04_data["runs"]["mixed"][fig04_free_vibration.damped_key(200.0, 50.0)]
     drawn = [ln for ax in fig.axes for ln in ax.get_lines()]
     ys = [np.asarray(ln.get_ydata(), float) for ln in drawn]
     for key in ("theta", "theta_dot", "phi", "phi_dot", "y"):
         assert any(y.shape == run[key].shape and np.array_equal(y, run[key]) for y in ys), key
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert legend[0] == "undamped" and len(legend) == 9
+    assert "ωn = 200, ζ = 0.05" in legend and "ωn = 2000, ζ = 50" in legend
 
 
 # ---------------------------------------------------------------- Fig 6: El Centro response
 
 
+def _pulse_pair(duration=3.0, dt=0.01, meta=None, name="pulse-pair"):
+    t = np.arange(0.0, duration, dt)
+    env = np.sin(np.pi * t / duration) ** 2
+    return GroundMotion(4.0 * env * np.sin(2 * np.pi * 1.5 * t),
+                        3.0 * env * np.cos(2 * np.pi * 1.1 * t), dt, name, meta or {})
+
+
 def test_fig06_passes_the_engine_response_and_ground_unchanged():
     from rocking.dynamics.analysis import ground_response
 
-    dt = 0.01
-    t = np.arange(0.0, 3.0, dt)
-    env = np.sin(np.pi * t / 3.0) ** 2
-    motion = GroundMotion(4.0 * env * np.sin(2 * np.pi * 1.5 * t),
-                          3.0 * env * np.cos(2 * np.pi * 1.1 * t), dt, "pulse-pair")
+    meta = {"x_azimuth": 340.46, "y_azimuth": 250.46, "axes": "principal (x = major)",
+            "processing": [{"step": "highpass", "pad_front": 0, "pad_end": 50}],
+            "title": "pulse pair record"}
+    motion = _pulse_pair(meta=meta)
     d = fig06_el_centro.data(motion, R=2.0, tan_alpha=0.2, models=("3d",))
     direct = ground_response(Cylinder(2.0, 0.2), motion, model="3d")
     run = d["runs"]["3d"]
@@ -178,22 +283,67 @@ def test_fig06_passes_the_engine_response_and_ground_unchanged():
     # the engine's peak is located between output samples: never below the sampled maximum
     assert np.max(run["theta"]) <= direct.theta_max <= np.max(run["theta"]) * (1 + 1e-4)
     _same(d["ground"]["ax"], motion.ax)
+    # the padding of the high-pass is not drawn: the time axis ends with the record
+    assert d["ground"]["t_end"] == pytest.approx((motion.npts - 1 - 50) * motion.dt)
     fig = fig06_el_centro.plot(d)
     assert len(fig.axes) == 8
-    _same(_lines(fig.axes[0])[0][1], run["theta"])
-    _same(_lines(fig.axes[-1])[0][1], motion.ay)
+    shown = run["t"] <= d["ground"]["t_end"]
+    _same(_lines(fig.axes[0])[0][1], run["theta"][shown])
+    assert fig.axes[-1].get_xlim()[1] == pytest.approx(d["ground"]["t_end"])
+    text = _texts(fig)
+    assert "pulse pair record" in text and "N19.5°W" in text and "0.0838" in text
+    assert "el-centro-1940" not in text
     with pytest.raises(ValueError, match="zero component"):
         fig06_el_centro.data(motion.component("x"))
+
+
+def test_fig06_quotes_the_sensitivity_evidence(tmp_path):
+    notes = {"measured": {"band": 0.05, "versions": ["as recorded", "processed"],
+                          "band_range|as recorded|3d": [0.046, 0.091],
+                          "band_range|processed|3d": [0.022, 0.068]}}
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(notes))
+    d = fig06_el_centro.data(_pulse_pair(), R=2.0, sensitivity=path)
+    assert "as recorded: 0.046–0.091" in d["explanation"]
+    assert "processed: 0.022–0.068" in d["explanation"]
+    assert d["measured"]["t_part_theta"] is None or d["measured"]["t_part_theta"] >= 0
+
+
+def test_fig06_sensitivity_rotation_leaves_theta_max_unchanged():
+    from rocking.dynamics.analysis import ground_response
+
+    motion = _pulse_pair(meta={"x_azimuth": 270.0, "y_azimuth": 180.0})
+    versions = {fig06_theta_max_sensitivity.AS_RECORDED: motion,
+                fig06_theta_max_sensitivity.STUDY: motion.scaled(1.1),
+                fig06_theta_max_sensitivity.PAPER_ROTATION: rotate(motion.scaled(1.1), 22.33)}
+    scales = np.array([0.9, 1.0, 1.1])
+    d = fig06_theta_max_sensitivity.data(versions=versions, scales=scales, R=1.0,
+                                         models=("3d",))
+    direct = [ground_response(Cylinder(1.0, 0.2), motion, scale=s).theta_max for s in scales]
+    np.testing.assert_allclose(d["theta_max"][fig06_theta_max_sensitivity.AS_RECORDED]["3d"],
+                               direct, rtol=1e-9)
+    # axisymmetry, independent of the figure: a rotated pair gives the same peak tilt
+    assert d["measured"]["rotation_check"]["3d"] < 1e-8
+    m = d["measured"]
+    band = m[f"band_range|{fig06_theta_max_sensitivity.AS_RECORDED}|3d"]
+    assert band == [min(direct), max(direct)]
+    assert m[f"component_pga_g|{fig06_theta_max_sensitivity.AS_RECORDED}"][0] == pytest.approx(
+        np.max(np.abs(motion.ax)) / G)
+    fig = fig06_theta_max_sensitivity.plot(d)
+    assert "0.0838" in _texts(fig) and "22.33°" in _texts(fig)
 
 
 # ---------------------------------------------------------------- Figs 7–12 from a store
 
 
-def test_fig07_data_equal_the_tilt_map_store(study):
-    d = fig07_tilt_map.data(study["tilt_map"])
-    with xr.open_zarr(study["tilt_map"], consolidated=False) as ds:
+@pytest.mark.parametrize("which", ["study", "partial"])
+def test_fig07_data_equal_the_tilt_map_store(which, study, partial):
+    paths = {"study": study, "partial": partial}[which]
+    d = fig07_tilt_map.data(paths["tilt_map"], motions=paths["motions"])
+    dim = "model" if which == "study" else "mode"
+    with xr.open_zarr(paths["tilt_map"], consolidated=False) as ds:
         for model in ("3d", "3d-damped"):
-            _same(d["theta_over_alpha"][model], ds["theta_max_over_alpha"].sel(model=model))
+            _same(d["theta_over_alpha"][model], ds["theta_max_over_alpha"].sel({dim: model}))
         _same(d["R"], ds["R"])
     z = d["theta_over_alpha"]["3d"]
     first = fig07_tilt_map.first_above(z, d["intensity"])
@@ -202,17 +352,22 @@ def test_fig07_data_equal_the_tilt_map_store(study):
         assert first[i] == (above.min() if above.size else np.nan) or np.isnan(first[i])
     assert d["measured"]["first_intensity_theta_above_alpha_3d"] == pytest.approx(
         first.tolist(), nan_ok=True)
+    # the damped map is 0.8 × the undamped one below θmax = α (formula): gap measured
+    assert d["measured"]["mean_abs_gap_below_alpha"] > 0
+    assert d["grid"]["R"] == d["R"].tolist()
     fig = fig07_tilt_map.plot(d)
     assert len(fig.axes) == 3  # two maps and the colour bar
+    text = _texts(fig)
+    assert "7 sizes R = 1–10 m × 15 intensities" in text and "N19.5°W" in text
 
 
 def test_fig09_lines_are_the_store_and_the_aggregate(study):
-    d = fig09_spectra.data(study["store"], study["means"])
+    d = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
     assert [p["limit_state"] for p in d["panels"]] == ["overturning", "tilt:0.3333"]
     ds = xr.open_zarr(study["store"], consolidated=False).load()
     agg = xr.open_dataset(study["means"]).load()
     fig = fig09_spectra.plot(d)
-    for ax, panel in zip(fig.axes, d["panels"], strict=True):
+    for ax, panel in zip(fig.axes[:2], d["panels"], strict=True):
         ls = panel["limit_state"]
         lines = _lines(ax)
         per_motion, means = lines[:8], lines[8:10]
@@ -228,8 +383,22 @@ def test_fig09_lines_are_the_store_and_the_aggregate(study):
             _same(y, agg["mean"].sel(mode=mode, limit_state=ls, tan_alpha=0.2))
     # two cut-off motions leave NaN, never the search bound, in the drawn overturning curves
     assert np.isnan(d["panels"][0]["curves"]["3d"]["synthetic-01"][0])
-    # synthetic damped spectra are 5 % above the undamped ones wherever all motions count
+
+
+def test_damping_effect_of_a_known_ratio(study):
+    # the synthetic damped spectra are exactly 5 % above the undamped ones
+    d = fig09_spectra.data(study["store"], study["means"])
+    eff = d["measured"]["damping|tilt:0.3333"]
+    np.testing.assert_allclose(eff["rel_diff_means"], 0.05, rtol=1e-9)
+    np.testing.assert_allclose(eff["paired_mean"], 0.05, rtol=1e-9)
+    np.testing.assert_allclose(eff["paired_std"], 0.0, atol=1e-12)
+    assert eff["paired_n"] == [4] * len(fs.R)
+    # spread among motions: std/mean of the factors 1, 0.8, 1.25, 1.1
+    f = np.array([1.0, 0.8, 1.25, 1.1])
+    np.testing.assert_allclose(eff["cov_undamped"], np.std(f, ddof=1) / np.mean(f), rtol=1e-9)
     assert d["measured"]["max_rel_diff_damped_tilt:0.3333"] == pytest.approx(0.05, rel=1e-9)
+    bottom = fig09_spectra.plot(d).axes[3]
+    _same(_lines(bottom)[-1][1], 100 * np.asarray(eff["rel_diff_means"]))
 
 
 def test_fig10_fig11_lines_are_the_aggregate(study):
@@ -239,6 +408,13 @@ def test_fig10_fig11_lines_are_the_aggregate(study):
     for (x, y), ls in zip(_lines(fig10_goals.plot(d10).axes[0]), d10["curves"], strict=True):
         _same(x, agg["R"])
         _same(y, agg["mean"].sel(mode="3d", limit_state=ls, tan_alpha=0.2))
+    # the synthetic means are exactly linear in R except where a cut-off motion drops out
+    assert d10["measured"]["line|tilt:0.1"]["r_squared"] == pytest.approx(1.0, abs=1e-12)
+    assert d10["measured"]["line|tilt:0.1"]["slope"] == pytest.approx(
+        0.4 * 1.2 * np.mean([1.0, 0.8, 1.25, 1.1]), rel=1e-12)
+    absent = d10["measured"]["absent_goals"]
+    assert absent == ["tilt:0.2", "tilt:0.5", "tilt:0.75", "tilt:1"]
+    assert "4 of the paper's 7 goals not computed" in d10["missing"][0]
     d11 = fig11_slenderness.data(study["means"])
     fig = fig11_slenderness.plot(d11)
     for ax, panel in zip(fig.axes, d11["panels"], strict=True):
@@ -250,36 +426,74 @@ def test_fig10_fig11_lines_are_the_aggregate(study):
 
 
 def test_fig12_compares_modes_across_ensembles(study, reduced):
-    d = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"]),
+    d = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"], study["motions"]),
                              ("lomaprieta", reduced["means"], reduced["store"])])
     labels = [(e["label"], e["stand_in"]) for e in d["ensembles"]]
-    assert labels == [("El Centro 1940 ensemble", False),
-                      ("Loma Prieta 1989 (stand-in: Corralitos)", True)]
+    assert labels == [("El Centro 1940 ensemble: mean of 4 motions", False),
+                      ("Loma Prieta 1989 (stand-in: Corralitos): mean of 4 motions", True)]
     m = d["measured"]
     # R = 10 m is on the grid and every motion reaches θ > α/3 there: the 2D-x mean is
     # exactly MODE_FACTOR = 2 times the 3D one
     ratio = m["elcentro|excessive tilt|2d-x"] / m["elcentro|excessive tilt|3d"]
     assert ratio == pytest.approx(2.0, rel=1e-12)
-    assert "Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed" in d["missing"]
+    assert m["elcentro|overturning|3d|count"] == 4
+    assert ("Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed"
+            in d["missing"])
     fig = fig12_2d_vs_3d.plot(d)
-    assert any("stand-in" in t.get_text() for t in fig.legends[0].get_texts())
+    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any("stand-in" in t for t in legend)
+    assert any("mean of 4 motions" in t for t in legend)
+    assert "2D, x (major axis) component only" in legend
+    text = _texts(fig)
+    assert "N19.5°W" in text and "E–W" in text and "not computed in this run" in text.lower()
     agg = xr.open_dataset(study["means"]).load()
     _same(_lines(fig.axes[0])[0][1], agg["mean"].sel(mode="3d", limit_state="overturning",
                                                       tan_alpha=0.2))
+
+
+def test_partially_computed_store_builds_every_figure(partial, tmp_path):
+    """Damped and 2D only at tan α = 0.2, limit states spelt canonically: every figure that
+    reads a store builds, draws no empty curve and names what is missing."""
+    d9 = fig09_spectra.data(partial["store"], partial["means"], tan_alpha=0.1)
+    assert "mode 3d-damped not computed at tan α = 0.1" in d9["missing"]
+    assert [p["limit_state"] for p in d9["panels"]] == ["overturning", "tilt:1/3"]
+    assert all(p["damping"] is None for p in d9["panels"])
+    d9 = fig09_spectra.data(partial["store"], partial["means"])
+    assert d9["missing"] == []
+    d11 = fig11_slenderness.data(partial["means"], mode="3d-damped")
+    assert "tan α = 0.1, 0.3 not computed" in d11["missing"]
+    assert all(list(p["curves"]) == [0.2] for p in d11["panels"])
+    d12 = fig12_2d_vs_3d.data([("p", partial["means"], partial["store"])], tan_alpha=0.3)
+    assert any("mode 2d-x not computed" in s for s in d12["missing"])
+    out = tmp_path / "figs"
+    for name, kw in (("fig07_tilt_map", {"path": partial["tilt_map"]}),
+                     ("fig09_spectra", {"store": partial["store"], "means": partial["means"],
+                                        "tan_alpha": 0.3}),
+                     ("fig10_goals", {"means": partial["means"]}),
+                     ("fig11_slenderness", {"means": partial["means"], "mode": "2d-y"}),
+                     ("fig12_2d_vs_3d", {"studies": [("p", partial["means"], partial["store"])],
+                                         "tan_alpha": 0.1})):
+        render(name, [out / f"{name}.png"], out / f"{name}.json", **kw)
+        notes = json.loads((out / f"{name}.json").read_text())
+        assert notes["figure"] == name
+        assert (out / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert json.loads((out / "fig09_spectra.json").read_text())["missing"] == [
+        "mode 3d-damped not computed at tan α = 0.3"]
 
 
 def test_reduced_run_degrades_gracefully(reduced, tmp_path):
     d9 = fig09_spectra.data(reduced["store"], reduced["means"])
     assert "mode 3d-damped not computed" in d9["missing"]
     out = [tmp_path / "f9.png", tmp_path / "f9.pdf"]
-    render("fig09", out, tmp_path / "f9.json", store=reduced["store"], means=reduced["means"])
+    render("fig09_spectra", out, tmp_path / "f9.json", store=reduced["store"],
+           means=reduced["means"])
     notes = json.loads((tmp_path / "f9.json").read_text())
     assert notes["missing"] == ["mode 3d-damped not computed"]
     assert out[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert out[1].read_bytes()[:5] == b"%PDF-"
     d11 = fig11_slenderness.data(reduced["means"], tan_alphas=(0.2, 0.5))
     assert "tan α = 0.5 not computed" in d11["missing"]
-    fig11_slenderness.plot(d11)
+    assert "not computed" in _texts(fig11_slenderness.plot(d11))
 
 
 def test_fig08_traces_and_spectra():
@@ -310,20 +524,19 @@ def test_fig08_traces_and_spectra():
 
 def _workdir(tmp_path: Path) -> tuple[Path, Path]:
     """A work directory whose results/ holds the upstream products of a tiny study."""
-    from rocking.motions.ensemble_io import save_ensemble
-
     wd = tmp_path / "wd"
-    dt = 0.01
-    t = np.arange(0.0, 3.0, dt)
-    env = np.sin(np.pi * t / 3.0) ** 2
-    motions = [GroundMotion(4.0 * env * np.sin(2 * np.pi * f * t),
-                            3.0 * env * np.cos(2 * np.pi * 0.8 * f * t), dt, name)
-               for f, name in ((1.5, "el-centro-1940"), (1.2, "synthetic-01"))]
-    save_ensemble(wd / "results/motions/elcentro.nc", motions)
-    paths = fs.write_study(wd / "results/synth")
+    paths = fs.write_study(wd / "results/synth", with_motions=False)
+    fs.write_motions(wd / "results/motions/elcentro.nc")
+    (wd / "results/motions/elcentro.json").write_text(json.dumps(
+        {"ensemble": "elcentro", "label": "synthetic record", "rotation_deg": -70.46,
+         "principal_offset_deg": 19.54, "highpass": {"kind": "oscillator", "fc_hz": 0.0946},
+         "n_synthetic": 1, "seed": 2017, "timings": {"fit_s": 1.0}}))
     for name in ("spectra", "tilt_map"):
-        (wd / f"results/synth/{name}.done.json").write_text("{}")
+        (wd / f"results/synth/{name}.done.json").write_text(json.dumps(
+            {"wall_seconds": 12.0, "chunks": 3, "computed": 3, "cluster": "local"}))
     cfg = {
+        # the Fig 6 companion reads the El Centro record itself: 3 s of it keep this test short
+        "motions": {"max_duration": 3.0},
         "ensembles": {"elcentro": {"record": "el-centro-1940", "n_synthetic": 1}},
         "studies": {"synth": {
             "ensemble": "elcentro", "R": fs.R, "tan_alpha": fs.TAN_ALPHA,
@@ -340,9 +553,7 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path]:
 @pytest.mark.slow
 def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     wd, config = _workdir(tmp_path)
-    mine = ["fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro", "fig08_motions",
-            "fig07_tilt_map", "fig09_spectra", "fig10_goals", "fig11_slenderness",
-            "fig12_2d_vs_3d", "fragility", "report_html"]
+    mine = [*figures.FIGURES, "fragility_curves", "report"]
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
     cmd = [snakemake or "snakemake", "results/synth/report.html", "-s", str(ROOT / "Snakefile"),
@@ -351,18 +562,22 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     logs = "\n".join(p.read_text() for p in (wd / "logs").rglob("*.log"))
     assert proc.returncode == 0, proc.stderr[-4000:] + logs[-4000:]
-    figures = wd / "results/figures"
+    out = wd / "results/figures"
     for stem in ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",
-                 "fig08_motions_elcentro", "fig12_2d_vs_3d"):
+                 "fig06_theta_max_sensitivity", "fig08_motions_elcentro", "fig12_2d_vs_3d"):
         for suffix in (".png", ".pdf", ".json"):
-            assert (figures / f"{stem}{suffix}").stat().st_size > 0, stem + suffix
+            assert (out / f"{stem}{suffix}").stat().st_size > 0, stem + suffix
     for stem in ("fig07_tilt_map", "fig09_spectra", "fig10_goals", "fig11_slenderness",
                  "fragility_curves"):
         assert (wd / f"results/synth/figures/{stem}.png").stat().st_size > 10_000
     # the rule's figure notes are those of the library on the same store
     notes = json.loads((wd / "results/synth/figures/fig09_spectra.json").read_text())
     assert notes["measured"]["max_rel_diff_damped_tilt:0.3333"] == pytest.approx(0.05)
+    assert "N19.5°W" in notes["axes"]["text"]
+    sens = json.loads((out / "fig06_theta_max_sensitivity.json").read_text())
+    assert sens["measured"]["rotation_check"]["3d"] < 1e-6
     html = (wd / "results/synth/report.html").read_text()
-    assert html.count("<figure") == 10
+    assert html.count("<figure") == 11
+    assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}

@@ -1,5 +1,5 @@
-"""The HTML report: every figure with its caption, and the headline table quoting the paper
-and this run (numbers known from the synthetic study's formula)."""
+"""The HTML report: what was run, every figure with its caption, and per figure the paper's
+statements against this run's numbers with verdicts that follow from the numbers."""
 
 from __future__ import annotations
 
@@ -8,14 +8,13 @@ import json
 import math
 
 import figures_synthetic as fs
-import numpy as np
-import pandas as pd
 import pytest
 
-from rocking import Cylinder
 from rocking.spectra import fragility
 from rocking.study import report
 from rocking.study.figures import _load, _style, render
+from rocking.study.figures import comparisons as cmp
+from rocking.study.figures.captions import CAPTIONS
 
 
 @pytest.fixture(scope="module")
@@ -25,93 +24,181 @@ def outputs(tmp_path_factory):
     out = root / "figures"
     pngs = []
 
-    def fig(name, stem, **kw):
+    def fig(name, stem=None, **kw):
+        stem = stem or name
         render(name, [out / f"{stem}.png"], out / f"{stem}.json", **kw)
         pngs.append(out / f"{stem}.png")
 
-    fig("fig03", "fig03_wobbling_period", n=40)
-    fig("fig07", "fig07_tilt_map", path=paths["tilt_map"])
-    fig("fig09", "fig09_spectra", store=paths["store"], means=paths["means"])
-    fig("fig10", "fig10_goals", means=paths["means"])
-    fig("fig11", "fig11_slenderness", means=paths["means"])
-    fig("fig12", "fig12_2d_vs_3d", studies=[("synth", paths["means"], paths["store"])])
+    fig("fig03_wobbling_period", n=40)
+    fig("fig07_tilt_map", path=paths["tilt_map"], motions=paths["motions"])
+    fig("fig09_spectra", store=paths["store"], means=paths["means"])
+    fig("fig10_goals", means=paths["means"])
+    fig("fig11_slenderness", means=paths["means"])
+    fig("fig12_2d_vs_3d", studies=[("elcentro", paths["means"], paths["store"])])
     table = fragility.fragility_table(_load.open_store(paths["store"]))
     table.to_netcdf(root / "fragility.nc")
     fragility.to_frame(table).to_csv(root / "fragility.csv", index=False)
     lines = fragility.linear_fit_table(_load.open_means(paths["means"]))
     fragility.to_frame(lines).to_csv(root / "linear_fit.csv", index=False)
-    fig("fragility", "fragility_curves", fragility=root / "fragility.nc", store=paths["store"])
+    fig("fragility_curves", fragility=root / "fragility.nc", store=paths["store"])
     # Figures of analyses (4, 6, 8) as the report receives them: a PNG and its notes
     notes = {
         "fig04_free_vibration": {"turn_angle_first": 3.1881, "turn_angle_mean": 3.1880,
                                  "n_turns": 6, "restitution_damped": 0.9422,
-                                 "restitution_undamped": 1.0},
-        "fig06_el_centro": {"theta_max_3d": 0.048, "theta_max_3d-damped": 0.0479},
-        "fig08_motions_elcentro": {"record": "el-centro-1940", "record_pga_g": 0.28,
+                                 "restitution_undamped": 1.0,
+                                 "restitution_damped_range": [0.9421, 0.9423],
+                                 "max_gap_theta_damped_pairs_quasi-rocking": 7e-4,
+                                 "max_gap_theta_damped_pairs_wobbling": 0.0,
+                                 "max_gap_theta_damped_pairs_mixed": 0.01,
+                                 "max_gap_theta_damped_undamped_wobbling": 0.0,
+                                 "max_gap_theta_damped_undamped_mixed": 1e-5},
+        "fig06_el_centro": {"theta_max_3d": 0.048, "theta_max_3d-damped": 0.0479,
+                            "t_part_theta": 15.8},
+        "fig06_theta_max_sensitivity": {
+            "band": 0.05, "versions": ["as recorded", "processed"],
+            "band_range|as recorded|3d": [0.046, 0.091],
+            "band_range|processed|3d": [0.022, 0.068],
+            "component_pga_g|as recorded (x E–W, y N–S), unfiltered": [0.211, 0.281],
+            "pga_g|as recorded (x E–W, y N–S), unfiltered": 0.2865,
+            "rotation_check": {"3d": 1e-11}},
+        "fig08_motions_elcentro": {"record": "el-centro-1940", "record_pga_g": 0.2753,
                                    "principal_offset_deg": 19.54, "n_motions": 4},
     }
     for stem, measured in notes.items():
         f, _ = _style.new_figure(2.0, 2.0)
         _style.save(f, [out / f"{stem}.png"])
-        _style.write_notes(out / f"{stem}.json", {"measured": measured, "missing": []})
+        _style.write_notes(out / f"{stem}.json", {"measured": measured, "missing": [],
+                                                 "body": {"theta0": 0.1, "omega_n": 2000.0,
+                                                          "zeta": 5.0}})
         pngs.append(out / f"{stem}.png")
-    html = report.build(root / "report.html", title="synthetic study", figures=pngs,
+    ensemble_json = root / "elcentro.json"
+    ensemble_json.write_text(json.dumps(
+        {"ensemble": "elcentro", "label": "El Centro", "rotation_deg": -70.46,
+         "principal_offset_deg": 19.54, "highpass": {"kind": "oscillator", "fc_hz": 0.0946,
+                                                     "mw": 6.95},
+         "n_synthetic": 3, "seed": 2017, "timings": {"fit_s": 7.4}}))
+    done = root / "study" / "spectra.done.json"
+    done.write_text(json.dumps({"wall_seconds": 638.4, "chunks": 48, "computed": 48,
+                                "cluster": "local", "done_before": 0}))
+    run = report.what_was_run(
+        stores=[paths["store"]], tilt_maps=[paths["tilt_map"]], ensembles=[ensemble_json],
+        done=[done], elapsed_seconds=840.0,
+        sensitivity={"measured": notes["fig06_theta_max_sensitivity"]})
+    page = report.build(root / "report.html", title="synthetic study", figures=pngs,
                         linear_fit=root / "linear_fit.csv", fragility=root / "fragility.csv",
-                        notes=["The Loma Prieta record is a stand-in."])
-    return {"root": root, "pngs": pngs, "html": html}
+                        notes=["The Loma Prieta record is a stand-in."], run=run)
+    return {"root": root, "pngs": pngs, "html": page, "run": dict(run), "paths": paths}
 
 
 def test_report_shows_every_figure_with_its_caption(outputs):
     text = outputs["html"].read_text()
-    assert text.count("<figure") == len(outputs["pngs"]) == 10
-    assert text.count("data:image/png;base64,") == 10
-    for key, caption in report.CAPTIONS.items():
-        assert f"id='{key}'" in text
-        assert html.escape(caption) in text
+    assert text.count("<figure") == len(outputs["pngs"]) == 11
+    assert text.count("data:image/png;base64,") == 11
+    for name, caption in CAPTIONS.items():
+        assert html.escape(caption) in text, name
     # figures in the paper's order
-    positions = [text.index(f"id='{k}'") for k in report.CAPTIONS]
+    positions = [text.index(f"id='{n}") for n in CAPTIONS]
     assert positions == sorted(positions)
     assert "The Loma Prieta record is a stand-in." in text
-    assert "Peak tilt undamped 0.048 rad, damped 0.0479 rad." in text
+    assert text.index("What was run") < text.index("figure by figure") < text.index("<figure")
 
 
-def test_headline_table_quotes_paper_and_run(outputs):
+def test_what_was_run_says_config_grids_modes_contact_seeds_version_and_time(outputs):
+    run = outputs["run"]
+    assert run["study synth: sizes R"] == "1, 2, 4, 6, 10 m"
+    assert run["study synth: slenderness tan α"] == "0.1, 0.2, 0.3"
+    assert "Tilt θ > α/3 (excessive tilt)" in run["study synth: limit states"]
+    assert run["study synth: modes per tan α"].startswith(
+        "tan α = 0.1: 3d, 3d-damped, 2d-x, 2d-y;")
+    assert "ωn = 2000 rad/s, ζ = 5" in run["study synth: damped contact (3d-damped)"]
+    assert "{0.05, 0.5, 5, 50}" in run["study synth: damped contact (3d-damped)"]
+    assert "seed 2017" in run["ensemble elcentro"] and "0.0946 Hz" in run["ensemble elcentro"]
+    assert run["study synth: package version"] == "rocking 0.1.0"
+    assert "intensity_rtol" in run["study synth: accuracy"]
+    assert run["run time: study/spectra"].startswith("638 s wall for 48 of 48 chunks")
+    assert run["run time: workflow"].startswith("14.0 min")
+    # one PGA, with what it is; the unprocessed numbers only for reference
+    pga = run["record PGA"]
+    assert pga.startswith(f"{2.7 / 9.80665:.3f} g: vector peak")
+    assert "high-pass" in pga and "N–S" in pga
+
+
+def test_modes_per_tan_alpha_of_a_partial_store(tmp_path):
+    paths = fs.write_study(tmp_path, requested={"3d-damped": [0.2], "2d-x": [0.2],
+                                                "2d-y": [0.2]}, with_tilt_map=False)
+    text = report.modes_text(_load.open_store(paths["store"]))
+    assert text.startswith("tan α = 0.1: 3d; tan α = 0.2: 3d, 3d-damped, 2d-x, 2d-y; "
+                           "tan α = 0.3: 3d")
+    # 3 modes × 2 slendernesses × 4 limit states × 4 motions × 5 sizes left empty
+    assert f"{3 * 2 * 4 * 4 * 5} of {4 * 3 * 4 * 4 * 5} cells not computed" in text
+    assert report.grid_text([0.5 + 0.5 * i for i in range(20)], "m") == (
+        "20 values, 0.5–10 m (step 0.5)")
+
+
+def test_every_figure_has_a_verdict(outputs):
     figures = report.load_figures(outputs["pngs"])
-    lin = pd.read_csv(outputs["root"] / "linear_fit.csv")
-    table = report.headline_table(figures, lin).set_index("quantity")
-    body = Cylinder(6.0, 0.2)
-    turn = table.loc["Angle of turn per quasi-impact [rad]"]
-    assert turn["paper"].startswith("3.058")
-    assert f"{body.turn_angle:.5f}" == "3.18802" and "3.18802" in turn["this run"]
-    assert f"{2 * math.pi - 3.1881:.4f}" in turn["this run"]
-    rest = table.loc["Restitution, damped quasi-rocking [-]"]
-    assert "0.942169" in rest["this run"] and "0.9422" in rest["this run"]
-    assert table.loc["Fig 6 peak tilt, undamped / damped [rad]", "paper"] == "0.0838 / 0.0668"
-    angle = table.loc["Principal-axis angle of the record (el-centro-1940) [deg]"]
-    assert angle["this run"] == "19.54" and angle["paper"] == "22.33 (El Centro)"
-    # synthetic means of θ > α/3: 1.5 (0.5 + 0.4 R) · mean motion factor 1.0375, exactly linear
-    row = table.loc["Mean spectrum linear in R, tilt:0.3333 (3d, tan α = 0.2)", "this run"]
-    assert "slope 0.6225 1/m" in row and "intercept 0.7781" in row and "R² 1 " in row
-    r10 = table.loc["Overturning at R = 10 m, synth: 3D mean PGA/(g tan α); 2D-x, 2D-y "
-                    "relative to 3D", "this run"]
-    expected = 4.0 * (0.5 + 0.4 * 10.0) * np.mean([1.0, 0.8, 1.25, 1.1])
-    assert r10.startswith(f"{expected:.4g};")
-    assert all(len(r) > 40 for r in table["reason for difference"])
+    verdicts = report.figure_comparisons(figures)
+    assert set(verdicts) == set(CAPTIONS)
+    for name, rows in verdicts.items():
+        assert rows, name
+        assert all(r.verdict in cmp.VERDICTS for r in rows)
+    text = outputs["html"].read_text()
+    for verdict in ("reproduced", "differs because", "not computed in this run"):
+        assert verdict in text
 
 
-def test_missing_measurements_are_said_not_invented(outputs):
-    figures = [f for f in report.load_figures(outputs["pngs"]) if f.key != "fig06"]
-    table = report.headline_table(figures, None).set_index("quantity")
-    assert table.loc["Fig 6 peak tilt, undamped / damped [rad]", "this run"] == (
-        "not measured / not measured")
+def test_verdicts_follow_from_the_numbers(outputs):
+    figures = report.load_figures(outputs["pngs"])
+    rows = {(r.figure, r.statement): r for r in cmp.compare({f.stem: f.notes for f in figures})}
+
+    def find(figure, words):
+        return next(r for (f, s), r in rows.items() if f == figure and words in s)
+
+    # Eq 32: 0.9422 against 0.942 within 0.002
+    assert find("fig04_free_vibration", "restitution").verdict == cmp.REPRODUCED
+    # Eq 27: ours is 2π minus the printed value: differs, and says so with the number
+    eq27 = find("fig04_free_vibration", "Eq (27)")
+    assert eq27.verdict == cmp.DIFFERS and f"{2 * math.pi - 3.1881:.4g}" in eq27.reason
+    # the mixed case's pairs are 0.01 rad apart (> 2 % of θ0): differs
+    assert find("fig04_free_vibration", "mixed (§3").verdict == cmp.DIFFERS
+    # Fig 6: 0.048 against 0.0838; the paper's value inside the as-recorded band only
+    peak = find("fig06_el_centro", "undamped, R = 6 m")
+    assert peak.verdict == cmp.DIFFERS and "inside the range of as recorded" in peak.reason
+    assert find("fig06_el_centro", "first 15 s").verdict == cmp.REPRODUCED
+    # synthetic damped spectra are exactly 5 % above the undamped: at the tolerance
+    damp = find("fig09_spectra", "Tilt θ > α/3")
+    assert damp.verdict == cmp.REPRODUCED
+    # synthetic means are linear in R (R² = 1 where all motions count)
+    assert find("fig10_goals", "Tilt θ > α/10").verdict == cmp.REPRODUCED
+    assert find("fig10_goals", "Seven").verdict == cmp.NOT_COMPUTED
+    # slenderness spread of the synthetic store: (1.02 − 0.97)/mean ≈ 5 % ≤ 15 %
+    assert find("fig11_slenderness", "Overturning").verdict == cmp.REPRODUCED
+    # Fig 12 at R = 10 m: 3D overturning 4·(0.5 + 4)·mean(1, 0.8, 1.25, 1.1) (cut-offs aside)
+    r10 = find("fig12_2d_vs_3d", "Overturning of an R = 10 m")
+    assert r10.verdict == cmp.DIFFERS
+    # every motion reaches θ > α/3 at R = 10 m: 2D-x is exactly MODE_FACTOR = 2 × 3D
+    ratio = find("fig12_2d_vs_3d", "El Centro, excessive tilt, R = 10 m: 2D under the x")
+    assert ratio.verdict == cmp.REPRODUCED and ratio.ours.startswith("2D/3D = 2 (")
+    assert find("fig12_2d_vs_3d", "Loma Prieta, overturning").verdict == cmp.NOT_COMPUTED
+    assert find("fig08_motions", "Rotation").verdict == cmp.DIFFERS
+    assert find("fragility_curves", "fragility").verdict == cmp.NOT_IN_PAPER
+
+
+def test_missing_figures_are_said_not_invented(outputs):
+    rows = cmp.compare({}, ["fig06_el_centro", "fig12_2d_vs_3d", "fig09_spectra"])
+    assert all(r.verdict == cmp.NOT_COMPUTED for r in rows)
+    assert rows[0].ours == "—"
+
+
+def test_a_comparison_refuses_an_unknown_verdict_and_figure():
+    with pytest.raises(ValueError, match="verdict"):
+        cmp.Comparison("fig03_wobbling_period", "s", "p", "o", "close enough")
+    with pytest.raises(ValueError, match="figure"):
+        cmp.compare({}, ["fig05"])
 
 
 def test_bad_inputs_name_the_file(tmp_path):
-    with pytest.raises(ValueError, match="figNN_"):
-        report.figure_key(tmp_path / "plot.png")
+    with pytest.raises(ValueError, match="must start with"):
+        report.load_figures([tmp_path / "plot.png"])
     with pytest.raises(ValueError, match="does not exist"):
-        report.load_figures([tmp_path / "fig03_missing.png"])
-    notes = json.dumps({"measured": {}})
-    (tmp_path / "fig09_x.json").write_text(notes)
-    with pytest.raises(ValueError, match="fig09_x.png"):
-        report.load_figures([tmp_path / "fig09_x.png"])
+        report.load_figures([tmp_path / "fig03_wobbling_period.png"])

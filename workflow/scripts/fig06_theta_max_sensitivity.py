@@ -11,6 +11,7 @@ def main(snakemake):
         spec = snakemake.params.spec
         render("fig06_theta_max_sensitivity", [out.png, out.pdf], out.notes,
                record=read_motion(spec["record"], spec["paths"]), mw=spec["mw"],
+               max_duration=spec["max_duration"],
                **snakemake.params.model_options)
 
 

@@ -49,11 +49,12 @@ def load_figures(pngs: Sequence[str | Path]) -> list[FigureEntry]:
     out = []
     for png in pngs:
         png = Path(png)
+        name = figure_name(png)
         if not png.exists():
             raise ValueError(f"figure file does not exist: {str(png)!r}")
         sidecar = png.with_suffix(".json")
         notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
-        out.append(FigureEntry(figure_name(png), png, notes))
+        out.append(FigureEntry(name, png, notes))
     return sorted(out, key=lambda f: (FIGURES.index(f.name), str(f.png)))
 
 

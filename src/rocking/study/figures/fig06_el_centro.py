@@ -34,10 +34,16 @@ _KEYS = ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot")
 
 
 def record_end(motion: GroundMotion) -> float:
-    """Time of the last sample of the record itself, before any padding a filter appended [s]."""
+    """Time of the last sample of the record itself, before any padding a filter appended [s].
+
+    A motion cut to a shorter duration afterwards (``motions.max_duration``) is shown whole.
+    """
+    steps = motion.metadata.get("processing", [])
+    if any(step.get("step") == "truncate" for step in steps):
+        return motion.duration
     pad = sum(int(step.get("pad_front", 0)) + int(step.get("pad_end", 0))
-              for step in motion.metadata.get("processing", []) if step.get("step") == "highpass")
-    return (motion.npts - 1 - pad) * motion.dt
+              for step in steps if step.get("step") == "highpass")
+    return max(motion.npts - 1 - pad, 1) * motion.dt
 
 
 def data(

@@ -41,8 +41,8 @@ VERSION_STYLE = {AS_RECORDED: "tab:blue", STUDY: "black"}
 MODEL_STYLE = {"3d": {"ls": "-", "marker": "o"}, "3d-damped": {"ls": "--", "marker": "s"}}
 
 
-def record_versions(record: GroundMotion, *, mw: float | None = None,
-                    seed: int = 0) -> dict[str, GroundMotion]:
+def record_versions(record: GroundMotion, *, mw: float | None = None, seed: int = 0,
+                    max_duration: float | None = None) -> dict[str, GroundMotion]:
     """The versions of a recorded pair compared here, processed like the study's ensembles:
     as recorded, on principal axes + high-passed, and rotated by the paper's 22.33° +
     high-passed (the last only to check that a rotation leaves θmax unchanged).
@@ -55,18 +55,28 @@ def record_versions(record: GroundMotion, *, mw: float | None = None,
         Moment magnitude for the Brune corner of the high-pass (default from the record).
     seed : int
         Root seed (unused without synthetic pairs; kept for :func:`build_ensemble`).
+    max_duration : float, optional
+        Keep the first ``max_duration`` seconds, as a run with ``motions.max_duration`` does
+        with every motion [s].
     """
     from ...motions.build import build_ensemble  # imported late: figures stay light to import
 
     def processed(rotation):
-        return build_ensemble(record, 0, seed, rotation=rotation, mw=mw).motions[0]
+        return build_ensemble(record, 0, seed, rotation=rotation, mw=mw,
+                              max_duration=max_duration).motions[0]
 
-    return {AS_RECORDED: record, STUDY: processed("auto"),
+    raw = record
+    if max_duration is not None and max_duration < record.duration:
+        keep = int(round(max_duration / record.dt)) + 1
+        raw = GroundMotion(record.ax[:keep], record.ay[:keep], record.dt, record.name,
+                           record.metadata)
+    return {AS_RECORDED: raw, STUDY: processed("auto"),
             PAPER_ROTATION: processed(PAPER_ANGLE_DEG)}
 
 
 def data(record: GroundMotion | None = None, *,
          versions: dict[str, GroundMotion] | None = None, mw: float | None = None,
+         max_duration: float | None = None,
          scales: Sequence[float] = SCALES, R: float = R, tan_alpha: float = TAN_ALPHA,
          models: tuple[str, ...] = MODELS, **model_kw) -> dict:
     """Peak tilt per (version, model, scale).
@@ -77,7 +87,7 @@ def data(record: GroundMotion | None = None, *,
         The pair as recorded; its versions come from :func:`record_versions`.
     versions : dict of str to GroundMotion, optional
         Ready versions instead of ``record``.
-    mw : float, optional
+    mw, max_duration : float, optional
         Passed to :func:`record_versions`.
     scales : sequence of float
         Scale factors on both components [-].
@@ -102,7 +112,7 @@ def data(record: GroundMotion | None = None, *,
     if versions is None:
         if record is None:
             raise ValueError("give record (the pair as recorded) or versions")
-        versions = record_versions(record, mw=mw)
+        versions = record_versions(record, mw=mw, max_duration=max_duration)
     scales = np.asarray(scales, dtype=float)
     if scales.ndim != 1 or scales.size < 2 or np.any(scales <= 0):
         raise ValueError(f"scales must hold at least two factors > 0, got {scales!r}")
