@@ -202,14 +202,6 @@ rule fragility_curves:
         "../scripts/fragility_curves.py"
 
 
-def report_inputs(study):
-    """Named inputs of the report of ``study``."""
-    return {"figures": report_figures(study),
-            "linear_fit": rules.fragility_curves.output.linear_csv.format(study=study),
-            "fragility": rules.fragility_curves.output.fragility_csv.format(study=study),
-            **report_run_files(study)}
-
-
 rule report:
     conda:
         "../envs/rocking.yaml"

@@ -70,6 +70,14 @@ def report_run_files(study):
     return files
 
 
+def report_inputs(study):
+    """Named inputs of the report of ``study``."""
+    return {"figures": report_figures(study),
+            "linear_fit": rules.fragility_curves.output.linear_csv.format(study=study),
+            "fragility": rules.fragility_curves.output.fragility_csv.format(study=study),
+            **report_run_files(study)}
+
+
 def figure_targets():
     """All figure files and one report per study (asked for by the Snakefile's rule all)."""
     targets = [f for s in global_figure_stems() for f in figure_files(s)]
