@@ -123,6 +123,18 @@ def test_what_was_run_says_config_grids_modes_contact_seeds_version_and_time(out
     assert "high-pass" in pga and "N–S" in pga
 
 
+def test_fig09_damping_is_quantified_per_R(outputs):
+    entry = next(e for e in report.load_figures(outputs["pngs"]) if e.name == "fig09_spectra")
+    tables = dict(report.damping_tables(entry.notes))
+    assert len(tables) == 2
+    tilt = next(df for title, df in tables.items() if "α/3" in title)
+    # the synthetic damped spectra are 5 % above the undamped ones for every motion
+    assert tilt["R [m]"].tolist() == fs.R
+    assert tilt["Δ of the means [%]"].tolist() == pytest.approx([5.0] * len(fs.R))
+    assert tilt["± 2 SE [%]"].tolist() == pytest.approx([0.0] * len(fs.R), abs=1e-9)
+    assert "spread among motions, std/mean undamped [%]" in outputs["html"].read_text()
+
+
 def test_modes_per_tan_alpha_of_a_partial_store(tmp_path):
     paths = fs.write_study(tmp_path, requested={"3d-damped": [0.2], "2d-x": [0.2],
                                                 "2d-y": [0.2]}, with_tilt_map=False)

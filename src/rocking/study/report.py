@@ -203,8 +203,8 @@ def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str,
         v = raw[0]
         cx, cy = m[f"component_pga_g|{v}"]
         text += (f". For reference, unprocessed: vector {m[f'pga_g|{v}']:.3f} g, components "
-                 f"x (E–W) {cx:.3f} g and y (N–S) {cy:.3f} g, the 0.281 g often quoted being "
-                 "the N–S component")
+                 f"x (E–W) {cx:.3f} g and y (N–S) {cy:.3f} g (the larger one is the PGA record "
+                 "tables quote)")
     return ("record PGA", text)
 
 
@@ -226,7 +226,8 @@ def timing_rows(done: Sequence[str | Path] = (), ensembles: Sequence[str | Path]
                          f"(resumed after {s.get('done_before', 0)})"))
     if elapsed_seconds is not None and math.isfinite(elapsed_seconds):
         rows.append(("run time: workflow", f"{elapsed_seconds / 60:.1f} min from the start of "
-                                           "the Snakemake run to this report"))
+                                           "the Snakemake invocation that wrote this report "
+                                           "(jobs done by earlier invocations not counted)"))
     return rows
 
 
@@ -296,11 +297,37 @@ def _verdict_html(rows: Sequence[Comparison], with_figure: bool) -> str:
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
 
+def damping_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
+    """Fig 9's damped against undamped means per size R, with the spread among motions."""
+    m = notes.get("measured", {})
+    R = m.get("R")
+    out = []
+    for key, eff in m.items():
+        if not key.startswith("damping|") or not R:
+            continue
+        df = pd.DataFrame({
+            "R [m]": R,
+            "Δ of the means [%]": 100 * np.asarray(eff["rel_diff_means"], float),
+            "per-motion Δ, mean [%]": 100 * np.asarray(eff["paired_mean"], float),
+            "± 2 SE [%]": 200 * np.asarray(eff["paired_se"], float),
+            "motions": eff["paired_n"],
+            "spread among motions, std/mean undamped [%]": 100 * np.asarray(
+                eff["cov_undamped"], float),
+        })
+        out.append((f"Damped − undamped, {limit_state_title(key.split('|', 1)[1])}: "
+                    "relative difference of the ensemble means, and of each motion's pair of "
+                    "spectra (mean ± 2 standard errors), against the spread among motions", df))
+    return out
+
+
 def _figure_html(entry: FigureEntry, rows: Sequence[Comparison]) -> str:
     img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
     lines = "".join(f"<br><span class='measured'>{html.escape(s)}</span>"
                     for s in measured_lines(entry))
     table = _verdict_html(rows, with_figure=False) if rows else ""
+    if entry.name == "fig09_spectra":
+        table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
+                         for title, df in damping_tables(entry.notes))
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption>"
             f"{html.escape(CAPTIONS[entry.name])}{lines}</figcaption>{table}</figure>")
