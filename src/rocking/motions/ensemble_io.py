@@ -5,6 +5,12 @@ the longest motion, ``npts`` (motion) giving each motion's own length, ``dt`` (m
 ``metadata`` (motion) holding each motion's metadata as a JSON string, and the coordinate
 ``motion`` with the names (unique). Float64 values are stored as they are, so the round trip
 is lossless; metadata comes back as JSON does (tuples as lists, numpy scalars as numbers).
+
+Each motion's identity is also stored in plain variables over ``motion``, readable without
+parsing JSON (:func:`rocking.motions.source.identity`): ``source_record``, ``processing``
+(one line: rotation, high-pass corner, padding, cut), ``rotation_deg``, ``highpass_fc_hz``,
+``padding_s``, ``duration_s``, ``PGA`` [g], ``Ia_x``, ``Ia_y`` [m/s]. Every variable has CF
+``units`` and ``long_name``.
 """
 
 from __future__ import annotations
@@ -19,13 +25,37 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .._json import json_default
+from .. import _json
+from ..units import attrs as _attrs
 from .motion import GroundMotion
+from .source import identity
 
-__all__ = ["FORMAT", "ensemble_attrs", "load_ensemble", "save_ensemble"]
+__all__ = ["FORMAT", "IDENTITY", "ensemble_attrs", "load_ensemble", "open_netcdf",
+           "save_ensemble"]
 
 FORMAT = "rocking-ensemble-1"
 """Value of the ``format`` attribute; bumped when the layout changes."""
+
+IDENTITY = ("source_record", "processing", "rotation_deg", "highpass_fc_hz", "padding_s",
+            "duration_s", "PGA", "Ia_x", "Ia_y")
+"""Per-motion identity variables (see :func:`rocking.motions.source.identity`)."""
+
+_TEXT = ("source_record", "processing")
+
+
+def open_netcdf(path: str | Path) -> xr.Dataset:
+    """Open a NetCDF file for reading, without memory-mapping classic files.
+
+    scipy's reader maps classic (NetCDF3) files into memory and warns ("Cannot close a
+    netcdf_file opened with mmap=True") when the file is closed while arrays still refer to
+    it; reading without the map copies the data and closes cleanly.
+    """
+    p = Path(path)
+    with p.open("rb") as fh:
+        classic = fh.read(3) == b"CDF"
+    if classic:
+        return xr.open_dataset(p, engine="scipy", mmap=False)
+    return xr.open_dataset(p)
 
 
 def save_ensemble(
@@ -71,21 +101,28 @@ def save_ensemble(
         ax[i, : m.npts] = m.ax
         ay[i, : m.npts] = m.ay
         try:
-            meta.append(json.dumps(m.metadata, default=json_default, sort_keys=True))
+            meta.append(_json.dumps(m.metadata, sort_keys=True))
         except (TypeError, ValueError) as exc:
             raise ValueError(f"metadata of motion {m.name!r} cannot be saved: {exc}") from None
+    ids = [identity(m) for m in motions]
     ds = xr.Dataset(
         {
-            "ax": (("motion", "time"), ax, {"units": "m s-2", "long_name": "x acceleration"}),
-            "ay": (("motion", "time"), ay, {"units": "m s-2", "long_name": "y acceleration"}),
-            "npts": ("motion", np.array([m.npts for m in motions], dtype=np.int64)),
-            "dt": ("motion", np.array([m.dt for m in motions]), {"units": "s"}),
-            "metadata": ("motion", np.array(meta, dtype=object)),
+            "ax": (("motion", "time"), ax, _attrs("ax")),
+            "ay": (("motion", "time"), ay, _attrs("ay")),
+            "npts": ("motion", np.array([m.npts for m in motions], dtype=np.int64),
+                     _attrs("npts")),
+            "dt": ("motion", np.array([m.dt for m in motions]), _attrs("dt")),
+            "metadata": ("motion", np.array(meta, dtype=object), _attrs("metadata")),
+            **{k: ("motion", np.array([i[k] for i in ids],
+                                      dtype=object if k in _TEXT else float), _attrs(k))
+               for k in IDENTITY},
         },
-        coords={"motion": np.array(names, dtype=object)},
+        coords={"motion": ("motion", np.array(names, dtype=object), _attrs("motion"))},
         attrs={
             "format": FORMAT,
-            "attrs_json": json.dumps(attrs or {}, default=json_default, sort_keys=True),
+            "title": "Ground-motion ensemble (rocking): the processed record, then its "
+                     "synthetic pairs",
+            "attrs_json": _json.dumps(attrs or {}, sort_keys=True),
         },
     )
     out = Path(path)
@@ -120,7 +157,7 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
     p = Path(path)
     if not p.is_file():
         raise FileNotFoundError(f"ensemble file not found: {p}")
-    with xr.open_dataset(p) as ds:
+    with open_netcdf(p) as ds:
         missing = [v for v in ("ax", "ay", "npts", "dt", "metadata") if v not in ds]
         if missing:
             raise ValueError(f"{p} is not a rocking ensemble: missing variables {missing}")
@@ -145,5 +182,5 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
 
 def ensemble_attrs(path: str | Path) -> dict[str, Any]:
     """Global attributes stored by :func:`save_ensemble` (``attrs`` argument) [-]."""
-    with xr.open_dataset(Path(path)) as ds:
+    with open_netcdf(path) as ds:
         return json.loads(ds.attrs.get("attrs_json", "{}"))

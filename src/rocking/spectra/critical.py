@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .._progress import maybe as _progress
 from .._validate import positive_finite
 from ..constants import G
 from ..dynamics.bodies import Block, Cylinder
@@ -20,22 +21,11 @@ from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .limit_states import parse_limit_states
+from .modes import MODES, check_mode
 from .search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, search_critical
 
-MODES: dict[str, tuple[str, str | None]] = {
-    "3d": ("3d", None),
-    "3d-damped": ("3d-damped", None),
-    "2d-x": ("2d", "x"),
-    "2d-y": ("2d", "y"),
-}
-"""Mode → (dynamics model, component exciting the 2D model or None for the pair)."""
-
-
-def check_mode(mode: str) -> str:
-    """Return ``mode`` if it is one of :data:`MODES`, else raise ValueError naming it."""
-    if mode not in MODES:
-        raise ValueError(f"mode must be one of {list(MODES)}, got {mode!r}")
-    return mode
+__all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batch",
+           "make_analysis", "uplift_intensity"]
 
 
 def uplift_intensity(motion: GroundMotion, mode: str) -> float:
@@ -116,7 +106,8 @@ def critical_intensity(
         The unscaled ground-motion pair; its vector PGA normalizes the intensity in every
         mode.
     limit_states : str, sequence or None
-        E.g. ``["tilt:1/3", "overturning"]``; None: the seven defaults.
+        E.g. ``["overturning", "tilt:1/3"]``; None: the seven defaults. The result lists
+        them in this order (canonical names, duplicates dropped).
     mode : {"3d", "3d-damped", "2d-x", "2d-y"}
         Model and excitation (2D: one component of the pair).
     accuracy : str, Accuracy or dict
@@ -130,17 +121,36 @@ def critical_intensity(
     Returns
     -------
     CriticalResult
+        Per limit state, in the order asked: ``intensity`` = PGA/(g tan α) [-] and
+        ``pga_g`` = PGA [g] of the smallest exceeding motion, with the search's flags.
     """
     check_mode(mode)
     if motion.pga <= 0.0:
         raise ValueError(f"motion {motion.name!r} has zero PGA")
+    asked = parse_limit_states(limit_states, sort=False)
     lower = uplift_intensity(motion, mode)
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta)
     acc = get_accuracy(accuracy)
-    res = search_critical(analyze, limit_states, body.alpha, lower=lower, upper=upper,
+    res = search_critical(analyze, asked, body.alpha, lower=lower, upper=upper,
                           accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]))
+    res = _in_order(res, [ls.name for ls in asked])
     return replace(res, mode=mode, motion=motion.name, R=float(body.R),
                    tan_alpha=float(body.tan_alpha))
+
+
+_PER_LIMIT_STATE = ("intensity", "bracket_lo", "bracket_hi", "not_reached", "non_monotonic",
+                    "failed")
+
+
+def _in_order(res: CriticalResult, names: list[str]) -> CriticalResult:
+    """``res`` with its per-limit-state arrays in the order of ``names``.
+
+    The search orders limit states by tilt goal; a caller indexing ``res.intensity[0]``
+    means the first limit state it asked for.
+    """
+    idx = [res.limit_states.index(n) for n in names]
+    return replace(res, limit_states=tuple(names),
+                   **{k: np.asarray(getattr(res, k))[idx] for k in _PER_LIMIT_STATE})
 
 
 Task = tuple[float, float, GroundMotion, str]
@@ -155,6 +165,7 @@ def critical_intensity_batch(
     upper: float = DEFAULT_UPPER,
     omega_n: float | None = None,
     zeta: float | None = None,
+    progress=False,
 ) -> list[CriticalResult]:
     """:func:`critical_intensity` of a cylinder for each task, in order (one Dask task).
 
@@ -163,20 +174,27 @@ def critical_intensity_batch(
     tasks : iterable of (R, tan_alpha, motion, mode)
     limit_states, accuracy, upper, omega_n, zeta
         As in :func:`critical_intensity`, shared by all tasks.
+    progress : bool or rocking._progress.Progress
+        True: report points done / total, rate and ETA on stderr (a live bar on a
+        terminal, a line every few seconds otherwise).
 
     Returns
     -------
     list of CriticalResult
     """
     acc = get_accuracy(accuracy)
-    states = parse_limit_states(limit_states)
-    out = []
+    states = parse_limit_states(limit_states, sort=False)
+    tasks = list(tasks)
     for i, task in enumerate(tasks):
-        try:
-            R, tan_alpha, motion, mode = task
-        except (TypeError, ValueError):
-            raise ValueError(f"task {i} must be (R, tan_alpha, motion, mode), got {task!r}") \
-                from None
+        if not isinstance(task, tuple | list) or len(task) != 4:
+            raise ValueError(f"task {i} must be (R, tan_alpha, motion, mode), got {task!r}")
+    bar = _progress(progress, len(tasks), "spectra")
+    out = []
+    for R, tan_alpha, motion, mode in tasks:
         out.append(critical_intensity(Cylinder(R, tan_alpha), motion, states, mode,
                                       accuracy=acc, upper=upper, omega_n=omega_n, zeta=zeta))
+        if bar is not None:
+            bar.update()
+    if bar is not None and bar is not progress:
+        bar.close()
     return out

@@ -103,7 +103,9 @@ class Evaluation:
 class CriticalResult:
     """Critical intensities of several limit states for one (body, motion, mode).
 
-    Arrays are indexed like :attr:`limit_states` (sorted by increasing tilt goal).
+    Arrays are indexed like :attr:`limit_states`: in the order asked for results of
+    :func:`rocking.spectra.critical.critical_intensity`, by increasing tilt goal for
+    :func:`search_critical`. ``repr`` is one short line per limit state.
 
     Attributes
     ----------
@@ -148,15 +150,33 @@ class CriticalResult:
     R: float = float("nan")
     tan_alpha: float = float("nan")
 
+    @property
+    def pga_g(self) -> np.ndarray:
+        """Critical PGA [g] = intensity · tan α (NaN where not reached or tan α unknown)."""
+        return np.asarray(self.intensity, dtype=float) * self.tan_alpha
+
+    def __repr__(self) -> str:
+        head = (f"CriticalResult(mode={self.mode!r}, motion={self.motion!r}, R={self.R:g} m, "
+                f"tan_alpha={self.tan_alpha:g}, accuracy={self.accuracy.name!r}, "
+                f"{self.n_analyses} analyses)")
+        rows = []
+        for k, name in enumerate(self.limit_states):
+            flags = [f for f in ("not_reached", "non_monotonic", "failed")
+                     if bool(getattr(self, f)[k])]
+            rows.append(f"  {name}: PGA/(g tan alpha) = {float(self.intensity[k]):.6g}, "
+                        f"PGA = {float(self.pga_g[k]):.6g} g"
+                        + (f" [{', '.join(flags)}]" if flags else ""))
+        return "\n".join([head, *rows])
+
     def index(self, limit_state: str | LimitState) -> int:
         """Position of ``limit_state`` in the arrays (any accepted spelling)."""
-        name = parse_limit_states([limit_state])[0].name
+        from .limit_states import match_limit_state
+
         try:
-            return self.limit_states.index(name)
-        except ValueError:
-            raise ValueError(
-                f"limit_state {name!r} not in this result {list(self.limit_states)}"
-            ) from None
+            return self.limit_states.index(match_limit_state(limit_state,
+                                                             self.limit_states))
+        except KeyError as exc:
+            raise ValueError(exc.args[0]) from None
 
     def __getitem__(self, limit_state: str | LimitState) -> dict:
         """Answer for one limit state as a dict (intensity, bracket and flags)."""
@@ -174,6 +194,7 @@ class CriticalResult:
                     "tan_alpha": self.tan_alpha,
                     "limit_state": name,
                     "intensity": float(self.intensity[k]),
+                    "pga_g": float(self.pga_g[k]),
                     "bracket_lo": float(self.bracket_lo[k]),
                     "bracket_hi": float(self.bracket_hi[k]),
                     "not_reached": bool(self.not_reached[k]),

@@ -8,12 +8,15 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
+from .._progress import maybe as _progress
 from .._validate import positive_finite
 from ..dynamics.bodies import Cylinder
 from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
+from ..units import attrs
 from .accuracy import Accuracy, get_accuracy
-from .critical import MODES, check_mode, make_analysis, uplift_intensity
+from .critical import make_analysis, uplift_intensity
+from .modes import MODES, check_mode
 from .search import RETRY_RTOL_FACTOR, _checked
 
 
@@ -27,6 +30,7 @@ def tilt_map(
     accuracy: str | Accuracy | dict = "default",
     omega_n: float | None = None,
     zeta: float | None = None,
+    progress=False,
 ) -> xr.Dataset:
     """Peak normalized tilt θ_max/α over a grid of sizes and intensities (paper Fig 7).
 
@@ -46,12 +50,16 @@ def tilt_map(
         Only its ODE tolerance is used.
     omega_n, zeta : float, optional
         Damped-model parameters.
+    progress : bool or rocking._progress.Progress
+        True: report analyses done / total, rate and ETA on stderr.
 
     Returns
     -------
     xarray.Dataset
         ``theta_max_over_alpha`` (R, intensity) [-] (π/(2α) where overturned, 0 below uplift,
-        NaN where the analysis failed twice), ``overturned`` and ``failed`` (bool).
+        NaN where the analysis failed twice), ``overturned`` and ``failed`` (bool); the
+        coordinate ``pga_g`` gives each intensity as PGA [g]. Every variable and
+        coordinate has CF ``units`` and ``long_name``.
     """
     check_mode(mode)
     acc = get_accuracy(accuracy)
@@ -62,11 +70,14 @@ def tilt_map(
     ratio = np.zeros((R_arr.size, I_arr.size))
     overturned = np.zeros(ratio.shape, dtype=bool)
     failed = np.zeros(ratio.shape, dtype=bool)
+    bar = _progress(progress, ratio.size, f"tilt map {mode}", unit="analysis")
     for i, R in enumerate(R_arr):
         body = Cylinder(R, tan_alpha)
         analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta)
         for j, intensity in enumerate(I_arr):
             if intensity <= lower:
+                if bar is not None:
+                    bar.update()
                 continue  # below uplift the body stays at rest
             out = _checked(analyze(intensity, None, rtol))
             if out.status is Status.FAILED:
@@ -75,15 +86,20 @@ def tilt_map(
             overturned[i, j] = out.overturned
             theta = 0.5 * math.pi if out.overturned else out.theta_max
             ratio[i, j] = np.nan if failed[i, j] else theta / body.alpha
-    coords = {"R": ("R", R_arr, {"units": "m"}),
-              "intensity": ("intensity", I_arr, {"long_name": "PGA/(g tan alpha)"})}
+            if bar is not None:
+                bar.update()
+    if bar is not None and bar is not progress:
+        bar.close()
+    coords = {"R": ("R", R_arr, attrs("R")),
+              "intensity": ("intensity", I_arr, attrs("intensity")),
+              "pga_g": ("intensity", I_arr * float(tan_alpha), attrs("pga_g"))}
     return xr.Dataset(
         {
-            "theta_max_over_alpha": (("R", "intensity"), ratio, {"units": "1"}),
-            "overturned": (("R", "intensity"), overturned),
-            "failed": (("R", "intensity"), failed),
+            "theta_max_over_alpha": (("R", "intensity"), ratio, attrs("theta_max_over_alpha")),
+            "overturned": (("R", "intensity"), overturned, attrs("overturned")),
+            "failed": (("R", "intensity"), failed, attrs("failed")),
         },
         coords=coords,
         attrs={"mode": mode, "tan_alpha": float(tan_alpha), "motion": motion.name,
-               "rtol": rtol, "pga": motion.pga},
+               "rtol": rtol, "pga_g": motion.pga_g},
     )

@@ -1,0 +1,226 @@
+"""Where a ground motion comes from, and what was done to it: one loader for every front end.
+
+The library, the command line and the workflow take a motion from the same three places:
+
+- a named record (``record="el-centro-1940"``), as recorded;
+- one or two acceleration files (``files=[x, y]``; with ``record`` the named record is read
+  from those files and its sha256 checked);
+- an ensemble file written by ``rocking motions`` or the workflow, and a motion in it
+  (``ensemble="results/motions/elcentro.nc", motion="el-centro-1940"``): the motion exactly
+  as the study used it (rotated, high-passed, padded, cut).
+
+:func:`process_motion` applies the study's processing to a record (the steps of
+:func:`rocking.motions.build.build_ensemble`), so asking for the same processing gives the
+same samples. :func:`identity` says in a few fields where a motion comes from and what was
+applied; the ensemble files, the stores and the CSV outputs carry these fields.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from .motion import GroundMotion
+
+__all__ = ["describe_processing", "identity", "load_motion", "process_motion"]
+
+
+def load_motion(record: str | None = None, files=None, ensemble: str | Path | None = None,
+                motion: str | None = None, *, name: str | None = None) -> GroundMotion:
+    """A ground motion from a named record, acceleration files or an ensemble file.
+
+    Parameters
+    ----------
+    record : str, optional
+        Named record (:data:`rocking.motions.records.RECORDS`); with ``files``, the files
+        of that record.
+    files : sequence of one or two paths, optional
+        Acceleration files, x then y (AT2 or text, in g). One file gives a motion with only
+        an x component (for the 2D modes).
+    ensemble : str or Path, optional
+        Ensemble file (NetCDF of :mod:`rocking.motions.ensemble_io`).
+    motion : str, optional
+        Name of the motion in ``ensemble``; default its first motion (the record).
+    name : str, optional
+        Name of a motion read from ``files`` without ``record`` (default: the file stems).
+
+    Returns
+    -------
+    GroundMotion
+        Accelerations [m/s²].
+
+    Raises
+    ------
+    ValueError
+        A missing or contradictory source, an unknown record or motion name.
+    FileNotFoundError
+        A file that does not exist.
+    """
+    if ensemble is not None:
+        if record is not None or files:
+            raise ValueError("give an ensemble file or a record/files, not both")
+        return _from_ensemble(Path(ensemble), motion)
+    if motion is not None:
+        raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
+    files = list(files or [])
+    if not files:
+        if record is None:
+            raise ValueError("give a record name, acceleration files or an ensemble file")
+        from .build import read_motion
+
+        return read_motion(record)
+    if len(files) == 2:
+        from .build import read_motion
+
+        stems = "+".join(Path(f).stem for f in files)
+        return read_motion(record, files, name or stems)
+    if len(files) == 1 and record is None:
+        from .records import read_record
+
+        rec = read_record(files[0])
+        return GroundMotion(rec.acc, None, rec.dt, name or Path(files[0]).stem,
+                            {**rec.meta, "source": "file", "components": {"x": rec.meta}})
+    raise ValueError(f"files must be one or two paths (x, y), got {len(files)}: {files!r}")
+
+
+def _from_ensemble(path: Path, name: str | None) -> GroundMotion:
+    from .ensemble_io import load_ensemble
+
+    motions = load_ensemble(path)
+    if name is None:
+        return motions[0]
+    by_name = {m.name: m for m in motions}
+    if name not in by_name:
+        raise ValueError(f"motion {name!r} is not in ensemble {str(path)!r}; it holds "
+                         f"{list(by_name)}")
+    return by_name[name]
+
+
+def process_motion(motion: GroundMotion, *, rotation: float | str | None = None,
+                   highpass: str = "none", fc_hz: float | None = None,
+                   mw: float | None = None, max_duration: float | None = None) -> GroundMotion:
+    """Apply the study's processing of a record: principal axes, high-pass, cut.
+
+    Parameters
+    ----------
+    motion : GroundMotion
+        A recorded pair [m/s²].
+    rotation : None, "auto" or float
+        None: keep the recorded axes; otherwise as in
+        :func:`rocking.motions.principal.to_principal_axes` [deg].
+    highpass : {"none", "oscillator", "butterworth"}
+        High-pass filter (zero padding kept).
+    fc_hz, mw : float, optional
+        Corner frequency [Hz], default the Brune corner of ``mw`` (default: the record's).
+    max_duration : float, optional
+        Keep the first seconds [s].
+
+    Returns
+    -------
+    GroundMotion
+        With rotation given, exactly the first motion :func:`build_ensemble` writes for the
+        same settings (the workflow's ensemble files); the steps are in
+        ``metadata["processing"]``.
+    """
+    from .build import build_ensemble
+
+    if rotation is not None:
+        return build_ensemble(motion, 0, 0, rotation=rotation, highpass=highpass, fc_hz=fc_hz,
+                              mw=mw, max_duration=max_duration).motions[0]
+    out = motion
+    if highpass != "none":
+        from .build import HIGHPASS_KINDS
+        from .highpass import brune_corner, highpass_motion
+
+        if highpass not in HIGHPASS_KINDS:
+            raise ValueError(f"highpass must be one of {HIGHPASS_KINDS}, got {highpass!r}")
+        if fc_hz is None:
+            mw = mw if mw is not None else motion.metadata.get("mw")
+            if mw is None:
+                raise ValueError(f"mw (or fc_hz) is needed for the high-pass of {motion.name!r}")
+            fc_hz = brune_corner(mw)
+        out = highpass_motion(out, highpass, fc_hz)
+    if max_duration is not None:
+        from .build import _cut
+
+        out = _cut(out, max_duration)
+    return out
+
+
+def _steps(motion: GroundMotion) -> list[dict[str, Any]]:
+    return [s for s in motion.metadata.get("processing", []) if isinstance(s, dict)]
+
+
+def _unprocessed_npts(motion: GroundMotion) -> int:
+    """Samples of the motion before any filter padding (record or simulation length)."""
+    for step in _steps(motion):
+        if step.get("step") == "rdk-simulation":
+            return int(step["npts"])
+        if step.get("step") == "zero-pad-end":
+            return int(step["to"])
+    comps = motion.metadata.get("components", {})
+    counts = [int(c["npts"]) for c in comps.values() if isinstance(c, dict) and "npts" in c]
+    return max(counts) if counts else motion.npts
+
+
+def identity(motion: GroundMotion) -> dict[str, Any]:
+    """Where a motion comes from and what was applied, as flat fields.
+
+    Returns
+    -------
+    dict
+        ``source_record`` (the recorded pair it comes from), ``kind`` (``"record"`` or
+        ``"synthetic"``), ``rotation_deg`` [deg] (NaN: recorded axes), ``highpass_fc_hz``
+        [Hz] (NaN: none), ``padding_s`` [s] (zeros the high-pass padding left in the
+        motion), ``duration_s`` [s], ``PGA`` [g], ``Ia_x``,
+        ``Ia_y`` [m/s] and ``processing``, one line saying it all.
+    """
+    from .intensity import arias
+
+    meta = motion.metadata
+    synthetic = "generator" in meta
+    source = str(meta.get("record") if synthetic else motion.name)
+    rotation = math.nan
+    fc = math.nan
+    n_data = _unprocessed_npts(motion)
+    front = 0
+    words = []
+    for step in _steps(motion):
+        kind = step.get("step")
+        if kind == "rotation" and not synthetic:
+            rotation = float(step["angle_deg"])
+            words.append(f"rotated {rotation:.2f} deg to principal axes")
+        elif kind == "highpass":
+            fc = float(step["fc_hz"])
+            front += int(step.get("pad_front", 0))
+            words.append(f"high-passed ({step['kind']}, fc {fc:.4g} Hz)")
+        elif kind == "truncate":
+            words.append(f"cut to {float(step['max_duration']):g} s")
+    if synthetic:
+        head = (f"RDK synthetic pair {meta.get('realization')} of {source} "
+                f"(seed {meta.get('seed')})")
+    else:
+        head = f"{source} ({meta.get('title', 'recorded')})"
+    # zeros the filters added that are still in the motion (a cut may have removed them)
+    padding = (motion.npts - min(n_data, max(motion.npts - front, 0))) * motion.dt
+    if padding:
+        words.append(f"zero-padded to {motion.duration:.2f} s ({padding:.2f} s of zeros)")
+    text = head + (": " + ", ".join(words) if words else ": as recorded")
+    return {
+        "source_record": source,
+        "kind": "synthetic" if synthetic else "record",
+        "rotation_deg": rotation,
+        "highpass_fc_hz": fc,
+        "padding_s": padding,
+        "duration_s": motion.duration,
+        "PGA": motion.pga_g,
+        "Ia_x": float(arias(motion.ax, motion.dt)),
+        "Ia_y": float(arias(motion.ay, motion.dt)),
+        "processing": text,
+    }
+
+
+def describe_processing(motion: GroundMotion) -> str:
+    """One line: the source record and the processing steps of ``motion``."""
+    return identity(motion)["processing"]

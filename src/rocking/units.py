@@ -1,0 +1,112 @@
+"""Units and descriptions of every quantity the project writes (stores, NetCDF, CSV, JSON).
+
+One table, :data:`QUANTITIES`, gives each output name its CF ``units`` (UDUNITS-2 strings:
+``"1"`` for dimensionless numbers, labels and flags; ``"gravity"`` for accelerations in
+g = 9.80665 m/s²), the unit as written in CSV headers (``"-"``, ``"g"``, ``"m/s2"``) and a
+``long_name``. :func:`attrs` gives the xarray attributes, :func:`header` a CSV column title
+``name [unit]``. Intensity measures keep the field's names: ``PGA`` [g], ``SA(T)`` [g],
+Arias intensity ``Ia`` [m/s].
+
+The normalized intensity PGA/(g tan α) is dimensionless; in CSV headers its unit is written
+``g tan(alpha)`` (PGA measured in units of g·tan α), so a table says what the number is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+__all__ = ["QUANTITIES", "attrs", "header", "headers", "strip_units"]
+
+# name: (CF units, CSV unit, long_name)
+QUANTITIES: dict[str, tuple[str, str, str]] = {
+    # labels and grid coordinates
+    "mode": ("1", "", "analysis mode: dynamics model and excitation (3d, 3d-damped, 2d-x, 2d-y)"),
+    "limit_state": ("1", "", "performance limit state (overturning or tilt:r, theta > r alpha)"),
+    "motion": ("1", "", "ground-motion name"),
+    "tan_alpha": ("1", "-", "slenderness tan(alpha) = b/h"),
+    "R": ("m", "m", "semi-diagonal R = sqrt(b^2 + h^2)"),
+    "intensity": ("1", "g tan(alpha)", "normalized intensity PGA/(g tan(alpha))"),
+    "pga_g": ("gravity", "g", "vector peak ground acceleration PGA"),
+    # spectra store and critical-intensity tables
+    "pga_crit": ("1", "g tan(alpha)",
+                 "critical intensity PGA/(g tan(alpha)): smallest exceeding the limit state"),
+    "pga_crit_g": ("gravity", "g", "critical PGA: smallest exceeding the limit state"),
+    "not_reached": ("1", "", "limit state not exceeded up to the search bound"),
+    "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
+    "failed": ("1", "", "an analysis failed even after a retry"),
+    "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
+    "done": ("1", "", "chunk computed and written"),
+    "bracket_lo": ("1", "g tan(alpha)", "largest intensity known not to exceed, below the answer"),
+    "bracket_hi": ("1", "g tan(alpha)", "smallest exceeding intensity found (the answer)"),
+    "lower": ("1", "g tan(alpha)", "uplift intensity (start of the search)"),
+    "upper": ("1", "g tan(alpha)", "highest intensity searched"),
+    "accuracy": ("1", "", "accuracy preset of the search"),
+    # tilt map
+    "theta_max_over_alpha": ("1", "-", "peak tilt theta_max/alpha (pi/(2 alpha) if overturned)"),
+    "overturned": ("1", "", "the body overturned"),
+    # ensemble statistics
+    "mean": ("1", "g tan(alpha)", "mean over motions of the critical PGA/(g tan(alpha))"),
+    "std": ("1", "g tan(alpha)", "sample std (ddof 1) over motions of PGA/(g tan(alpha))"),
+    "median": ("1", "g tan(alpha)", "median of PGA/(g tan(alpha))"),
+    "mean_pga_g": ("gravity", "g", "mean over motions of the critical PGA"),
+    "count": ("1", "", "motions whose limit state was reached"),
+    "n_not_reached": ("1", "", "motions left out: limit state not reached"),
+    # fragility and line fits
+    "median_pga_g": ("gravity", "g", "median critical PGA of the lognormal fragility"),
+    "beta": ("1", "-", "lognormal dispersion beta (std of ln PGA)"),
+    "log_likelihood": ("1", "-", "maximized log-likelihood of the lognormal fit"),
+    "n": ("1", "", "motions used"),
+    "n_censored": ("1", "", "motions right-censored (not reached)"),
+    "status": ("1", "", "fit status (ok, too-few-observed, no-spread, not-computed)"),
+    "slope": ("m-1", "1/m", "slope of the mean PGA/(g tan(alpha)) against R"),
+    "intercept": ("1", "g tan(alpha)", "intercept of the mean PGA/(g tan(alpha)) at R = 0"),
+    "r_squared": ("1", "-", "coefficient of determination of the line fit"),
+    # ground motions
+    "ax": ("m s-2", "m/s2", "ground acceleration along x"),
+    "ay": ("m s-2", "m/s2", "ground acceleration along y"),
+    "dt": ("s", "s", "time step"),
+    "npts": ("1", "", "samples of the motion (the rest of the row is padding)"),
+    "metadata": ("1", "", "provenance of the motion as JSON text"),
+    "source_record": ("1", "", "recorded pair the motion comes from"),
+    "processing": ("1", "", "processing of the motion, in order"),
+    "rotation_deg": ("degree", "deg", "rotation applied to the recorded axes"),
+    "highpass_fc_hz": ("Hz", "Hz", "high-pass corner frequency (NaN: none)"),
+    "padding_s": ("s", "s", "zero padding added by the processing"),
+    "duration_s": ("s", "s", "duration of the motion"),
+    "PGA": ("gravity", "g", "vector peak ground acceleration PGA = max sqrt(ax^2 + ay^2)"),
+    "Ia_x": ("m s-1", "m/s", "Arias intensity of the x component"),
+    "Ia_y": ("m s-1", "m/s", "Arias intensity of the y component"),
+    "SA": ("gravity", "g", "5 %-damped pseudo-spectral acceleration SA(T)"),
+    # time histories of one analysis
+    "t": ("s", "s", "time"),
+    "theta": ("rad", "rad", "tilt theta"),
+    "theta_dot": ("rad s-1", "rad/s", "tilt rate"),
+    "phi": ("rad", "rad", "rolling angle of the contact point phi"),
+    "phi_dot": ("rad s-1", "rad/s", "rolling rate of the contact point"),
+    "w": ("m", "m", "contact-spring displacement"),
+    "w_dot": ("m s-1", "m/s", "contact-spring velocity"),
+    "contact_force": ("N kg-1", "N/kg", "normal contact force per unit mass of the body"),
+}
+"""Output name → (CF units, unit in CSV headers, long_name)."""
+
+
+def attrs(name: str, **extra: str) -> dict[str, str]:
+    """CF attributes ``{"units", "long_name"}`` of an output quantity (KeyError if unknown)."""
+    units, _, long_name = QUANTITIES[name]
+    return {"units": units, "long_name": long_name, **extra}
+
+
+def header(name: str) -> str:
+    """CSV column title: ``"R [m]"``; labels and flags keep their bare name."""
+    unit = QUANTITIES[name][1] if name in QUANTITIES else ""
+    return f"{name} [{unit}]" if unit else name
+
+
+def headers(columns: Iterable[str]) -> dict[str, str]:
+    """Column renaming ``{name: header(name)}`` for :meth:`pandas.DataFrame.rename`."""
+    return {c: header(c) for c in columns}
+
+
+def strip_units(column: str) -> str:
+    """The bare name of a CSV column title (``"R [m]"`` → ``"R"``)."""
+    return column.split(" [", 1)[0]
