@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+from rocking.motions.ensemble_io import open_netcdf
 from rocking.study.aggregate import STAT_DIMS, ensemble_statistics, write_statistics
 
 
@@ -58,10 +59,19 @@ def test_netcdf_and_csv_round_trip(tmp_path):
     stats = ensemble_statistics(spectra([[2.0, 3.0], [4.0, np.nan]]))
     nc, csv = tmp_path / "mean_spectra.nc", tmp_path / "mean_spectra.csv"
     write_statistics(stats, nc, csv)
-    back = xr.open_dataset(nc)
-    np.testing.assert_array_equal(back["mean"].values, stats["mean"].values)
-    assert list(back["mode"].values) == ["3d"]
+    with open_netcdf(nc) as back:
+        np.testing.assert_array_equal(back["mean"].values, stats["mean"].values)
+        assert list(back["mode"].values) == ["3d"]
+        # CF attributes survive the file: every variable and coordinate
+        for name in back.variables:
+            assert {"units", "long_name"} <= set(back[name].attrs), name
+        assert back["mean_pga_g"].attrs["units"] == "gravity"
+        np.testing.assert_allclose(back["mean_pga_g"].values,
+                                   back["mean"].values * back["tan_alpha"].values[:, None])
     table = pd.read_csv(csv)
-    assert list(table.columns) == [*STAT_DIMS, "mean", "std", "median", "count",
+    assert list(table.columns) == ["mode", "limit_state", "tan_alpha [-]", "R [m]",
+                                   "mean [g tan(alpha)]", "mean_pga_g [g]",
+                                   "std [g tan(alpha)]", "median [g tan(alpha)]", "count",
                                    "n_not_reached"]
-    assert table["mean"].tolist() == [3.0, 3.0] and table["count"].tolist() == [2, 1]
+    assert table["mean [g tan(alpha)]"].tolist() == [3.0, 3.0]
+    assert table["count"].tolist() == [2, 1]

@@ -153,7 +153,8 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
     path = tmp_path / "s.zarr"
     layout = make_spectra_store(path, ensemble)
     shape = (1, len(LIMIT_STATES), 1, 1, 2)
-    good = {"pga_crit": np.ones(shape), "not_reached": np.zeros(shape, bool),
+    good = {"pga_crit": np.ones(shape), "pga_crit_g": np.full(shape, 0.2),
+            "not_reached": np.zeros(shape, bool),
             "non_monotonic": np.zeros(shape, bool), "failed": np.zeros(shape, bool),
             "n_analyses": np.ones(shape, np.int32)}
     with pytest.raises(ValueError, match="unexplained NaN"):

@@ -139,7 +139,7 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
     assert options == {"omega_n": 2000.0, "zeta": 5.0}  # the schema's defaults
     for model in ("3d", "3d-damped"):
         want = tilt_map([2.0], 0.2, record, [2.0, 4.0], model, accuracy="fast", **options)
-        np.testing.assert_array_equal(tm["theta_max_over_alpha"].sel(model=model).values,
+        np.testing.assert_array_equal(tm["theta_max_over_alpha"].sel(mode=model).values,
                                       want["theta_max_over_alpha"].values)
     # the log shows the dashboard and the progress; the summary says where it ran
     log = (reference / f"logs/{STUDY}/spectra.log").read_text()

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-__all__ = ["QUANTITIES", "attrs", "header", "headers", "strip_units"]
+__all__ = ["QUANTITIES", "attrs", "header", "headers", "read_table", "set_attrs",
+           "strip_units"]
 
 # name: (CF units, CSV unit, long_name)
 QUANTITIES: dict[str, tuple[str, str, str]] = {
@@ -110,3 +111,21 @@ def headers(columns: Iterable[str]) -> dict[str, str]:
 def strip_units(column: str) -> str:
     """The bare name of a CSV column title (``"R [m]"`` → ``"R"``)."""
     return column.split(" [", 1)[0]
+
+
+def set_attrs(ds):
+    """Give every variable and coordinate of an xarray Dataset its CF attributes (in place).
+
+    Names not in :data:`QUANTITIES` are left as they are. Returns ``ds``.
+    """
+    for name in ds.variables:
+        if str(name) in QUANTITIES:
+            ds[name].attrs.update(attrs(str(name)))
+    return ds
+
+
+def read_table(path):
+    """A CSV written by the project as a pandas DataFrame with bare column names."""
+    import pandas as pd
+
+    return pd.read_csv(path).rename(columns=strip_units)

@@ -92,13 +92,13 @@ def tilt_map_spec(study):
         "study": study,
         "ensemble": {"name": ensemble_of(study), **ensemble_spec(ensemble_of(study))},
         "motion": t["motion"],
-        "models": list(t["models"]),
+        "modes": list(t["modes"]),
         "tan_alpha": float(t["tan_alpha"]),
         "R": expand_grid(t["R"], f"studies.{study}.tilt_map.R"),
         "intensity": expand_grid(t["intensity"], f"studies.{study}.tilt_map.intensity"),
         "chunk_R": int(t["chunk_R"]),
         "accuracy": accuracy_config(),
-        "model_options": damped_options(t["models"]),
+        "model_options": damped_options(t["modes"]),
     }
 
 

@@ -18,7 +18,7 @@ def main(snakemake):
         if motion not in names:
             raise ValueError(f"studies.{spec['study']}.tilt_map.motion={motion!r} is not a "
                              f"motion of ensemble {spec['ensemble']['name']!r}: {names}")
-        layout = store.tilt_map_layout(spec["models"], spec["R"], spec["intensity"],
+        layout = store.tilt_map_layout(spec["modes"], spec["R"], spec["intensity"],
                                        spec["chunk_R"])
         attrs = {
             "title": f"Peak tilt over size and intensity (Fig 7), study {spec['study']}",

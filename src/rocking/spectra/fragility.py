@@ -27,6 +27,8 @@ import numpy as np
 import xarray as xr
 from scipy import optimize, stats
 
+from ..units import header, set_attrs
+
 MIN_OBSERVED = 2
 """Fewest uncensored samples that identify both θ and β."""
 
@@ -246,8 +248,8 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
         coords=coords,
     )
     ds["median_pga_g"] = ds["median"] * ds["tan_alpha"]
-    ds["median"].attrs["units"] = "PGA/(g tan alpha)"
-    ds["median_pga_g"].attrs["units"] = "g"
+    set_attrs(ds)
+    ds["median"].attrs["long_name"] = "median PGA/(g tan(alpha)) of the lognormal fragility"
     ds.attrs["censoring_bound"] = "none" if bound is None else bound
     return ds
 
@@ -281,13 +283,13 @@ def linear_fit_table(means: xr.Dataset, stat: str = "mean") -> xr.Dataset:
     dims = da.dims[:-1]
     ds = xr.Dataset({**{k: (dims, v) for k, v in res.items()}, "n": (dims, n)},
                     coords={d: _plain(da[d].values) for d in dims})
-    ds["slope"].attrs["units"] = "1/m"
-    return ds
+    return set_attrs(ds)
 
 
 def to_frame(ds: xr.Dataset):
-    """Flat pandas table of a parameter dataset (one row per index combination)."""
-    return ds.to_dataframe().reset_index()
+    """Flat pandas table of a parameter dataset (one row per index combination); the
+    column titles carry units (``median [g tan(alpha)]``, ``median_pga_g [g]``)."""
+    return ds.to_dataframe().reset_index().rename(columns=header)
 
 
 __all__ = [

@@ -15,6 +15,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from ..units import attrs, header
+
 STAT_DIMS = ("mode", "limit_state", "tan_alpha", "R")
 """Dimensions of the aggregated spectra."""
 
@@ -32,7 +34,8 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     -------
     xarray.Dataset
         ``mean``, ``std`` (sample, ddof = 1; NaN with fewer than 2 values), ``median``
-        [PGA/(g tan α), -], ``count`` (motions used) and ``n_not_reached``.
+        [PGA/(g tan α), -], ``mean_pga_g`` (the mean as PGA [g]), ``count`` (motions used)
+        and ``n_not_reached``; CF ``units`` and ``long_name`` on everything.
 
     Raises
     ------
@@ -61,21 +64,20 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
             "n_not_reached": (~reached).sum("motion").astype(np.int32),
         }
     ).transpose(*STAT_DIMS)
-    for name in ("mean", "std", "median"):
-        out[name].attrs = {"long_name": f"{name} of PGA/(g tan alpha) over motions",
-                           "units": "1"}
+    out["mean_pga_g"] = out["mean"] * out["tan_alpha"]
+    for name in out.variables:
+        out[name].attrs = attrs(str(name))
     out["std"].attrs["ddof"] = 1
-    out["count"].attrs["long_name"] = "motions whose limit state was reached"
-    out["n_not_reached"].attrs["long_name"] = "motions left out: limit state not reached"
     out.attrs = {k: v for k, v in ds.attrs.items() if k != "layout"}
     out.attrs["motions"] = ", ".join(map(str, ds["motion"].values))
     return out
 
 
 def to_frame(stats: xr.Dataset) -> pd.DataFrame:
-    """Long table, one row per (mode, limit_state, tan_alpha, R)."""
-    df = stats[["mean", "std", "median", "count", "n_not_reached"]].to_dataframe()
-    return df.reset_index()[[*STAT_DIMS, "mean", "std", "median", "count", "n_not_reached"]]
+    """Long table, one row per (mode, limit_state, tan_alpha, R); headers with units."""
+    cols = ["mean", "mean_pga_g", "std", "median", "count", "n_not_reached"]
+    df = stats[cols].to_dataframe().reset_index()[[*STAT_DIMS, *cols]]
+    return df.rename(columns=header)
 
 
 def write_statistics(stats: xr.Dataset, nc_path: str | Path, csv_path: str | Path) -> None:
@@ -83,6 +85,7 @@ def write_statistics(stats: xr.Dataset, nc_path: str | Path, csv_path: str | Pat
     nc = stats.copy()
     for dim in ("mode", "limit_state"):
         # plain str labels: the netCDF writer does not take numpy's StringDType
-        nc = nc.assign_coords({dim: np.array([str(v) for v in nc[dim].values], dtype=object)})
+        nc = nc.assign_coords({dim: (dim, np.array([str(v) for v in nc[dim].values],
+                                                    dtype=object), nc[dim].attrs)})
     nc.to_netcdf(nc_path)
     to_frame(nc).to_csv(csv_path, index=False, float_format="%.10g")

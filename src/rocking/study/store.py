@@ -1,12 +1,14 @@
 """Resumable zarr v3 stores of gridded study results, written chunk by chunk by Dask tasks.
 
-A store holds data variables on a grid of coordinates (``results/<study>/spectra.zarr``:
-dims mode, limit_state, motion, tan_alpha, R; ``tilt_map.zarr``: model, R, intensity; see
-``docs/design.md``). Some dimensions are *task dimensions*: the grid is cut along them into
-rectangular regions, one per task, and every array is chunked so that one region is exactly
-one chunk of every variable. A task therefore owns whole chunk files and tasks never write to
-the same file, which makes concurrent writes from independent worker processes safe without
-locks (zarr's local store writes each chunk file atomically, by a rename).
+A store holds data variables on a grid of coordinates (``results/<study>/spectra.zarr``: dims
+mode, limit_state, motion, tan_alpha, R; ``tilt_map.zarr``: mode, R, intensity; see
+``docs/design.md``). Every variable and coordinate carries CF ``units`` and ``long_name``
+(:mod:`rocking.units`); the motions carry their identity (source record, processing, PGA) as
+coordinates along ``motion``. Some dimensions are *task dimensions*: the grid is cut along them
+into rectangular regions, one per task, and every array is chunked so that one region is
+exactly one chunk of every variable. A task therefore owns whole chunk files and tasks never
+write to the same file, which makes concurrent writes from independent worker processes safe
+without locks (zarr's local store writes each chunk file atomically, by a rename).
 
 A boolean ``done`` array over the task dimensions, chunked like the tasks, is set for a
 region only *after* all its results are written. A run that is killed at any point leaves
@@ -38,8 +40,11 @@ import numpy as np
 import xarray as xr
 import zarr
 
+from .. import _json
 from .._json import json_default
 from ..motions.motion import GroundMotion
+from ..units import QUANTITIES
+from ..units import attrs as cf_attrs
 
 SPECTRA_DIMS = ("mode", "limit_state", "motion", "tan_alpha", "R")
 """Dimensions of the spectra variables, in storage order."""
@@ -47,11 +52,11 @@ SPECTRA_DIMS = ("mode", "limit_state", "motion", "tan_alpha", "R")
 SPECTRA_TASK_DIMS = ("mode", "motion", "tan_alpha", "R")
 """Dimensions the spectra grid is cut along; each task holds all limit states of its points."""
 
-TILT_MAP_DIMS = ("model", "R", "intensity")
+TILT_MAP_DIMS = ("mode", "R", "intensity")
 """Dimensions of the Fig 7 map ``theta_max_over_alpha``."""
 
-TILT_MAP_TASK_DIMS = ("model", "R")
-"""A tilt-map task computes every intensity of a few sizes R for one model."""
+TILT_MAP_TASK_DIMS = ("mode", "R")
+"""A tilt-map task computes every intensity of a few sizes R for one mode."""
 
 DONE = "done"
 """Name of the completion mask."""
@@ -190,6 +195,7 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
     }
     variables = {
         "pga_crit": Variable(SPECTRA_DIMS, "float64", np.nan),
+        "pga_crit_g": Variable(SPECTRA_DIMS, "float64", np.nan),
         "not_reached": Variable(SPECTRA_DIMS, "bool", False),
         "non_monotonic": Variable(SPECTRA_DIMS, "bool", False),
         "failed": Variable(SPECTRA_DIMS, "bool", False),
@@ -198,14 +204,14 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
     return Layout(coords, variables, SPECTRA_TASK_DIMS, {"R": int(chunk_R)})
 
 
-def tilt_map_layout(models: Sequence[str], R: Sequence[float], intensity: Sequence[float],
+def tilt_map_layout(modes: Sequence[str], R: Sequence[float], intensity: Sequence[float],
                     chunk_R: int) -> Layout:
-    """Layout of the Fig 7 store: ``theta_max_over_alpha`` over (model, R, intensity).
+    """Layout of the Fig 7 store: ``theta_max_over_alpha`` over (mode, R, intensity).
 
     Parameters
     ----------
-    models : sequence of str
-        Model names, e.g. ``["3d", "3d-damped"]``.
+    modes : sequence of str
+        Analysis modes, e.g. ``["3d", "3d-damped"]``.
     R : sequence of float
         Semi-diagonals [m].
     intensity : sequence of float
@@ -214,7 +220,7 @@ def tilt_map_layout(models: Sequence[str], R: Sequence[float], intensity: Sequen
         Sizes R per task.
     """
     coords = {
-        "model": _labels("model", models),
+        "mode": _labels("mode", modes),
         "R": _values("R", R),
         "intensity": _values("intensity", intensity),
     }
@@ -267,7 +273,8 @@ def file_sha256(path: str | Path) -> str:
 
 
 def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
-                 config_digest: str) -> Path:
+                 config_digest: str,
+                 coords: dict[str, tuple[str, Sequence[Any]]] | None = None) -> Path:
     """Create an empty store (replacing any store at ``path``).
 
     The store is built in a sibling temporary directory and renamed into place, so a
@@ -284,6 +291,9 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         ``tolerances``, ``ensemble``...), readable with ``json.loads``.
     config_digest : str
         :func:`config_hash` of the result-affecting configuration.
+    coords : dict, optional
+        Auxiliary coordinates ``{name: (dim, values)}``, e.g. each motion's source record
+        and processing (:func:`identity_coords`).
 
     Returns
     -------
@@ -293,13 +303,17 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     path = Path(path)
     tmp = path.with_name(path.name + ".creating")
     shutil.rmtree(tmp, ignore_errors=True)
-    ds = xr.Dataset(coords={d: (d, v) for d, v in layout.coords.items()})
+    ds = xr.Dataset(coords={d: (d, v, _cf(d)) for d, v in layout.coords.items()})
+    for name, (dim, values) in (coords or {}).items():
+        kind = "O" if any(isinstance(v, str) for v in values) else "f8"
+        ds = ds.assign_coords({name: (dim, np.array(list(values), dtype=kind), _cf(name))})
     for name, var in {**layout.variables, DONE: _done_variable(layout)}.items():
         shape, chunks = layout.shape(var.dims), layout.chunks(var.dims)
         # lazy fill: to_zarr(compute=False) writes metadata and coordinates, no chunk files
-        ds[name] = (var.dims, da.full(shape, var.fill, dtype=var.dtype, chunks=chunks))
-    ds.attrs = {k: v if isinstance(v, str) else json.dumps(v, default=json_default)
-                for k, v in attrs.items()}
+        ds[name] = (var.dims, da.full(shape, var.fill, dtype=var.dtype, chunks=chunks),
+                    _cf(name))
+    ds.attrs = {k: v if isinstance(v, str) else _json.dumps(v) for k, v in attrs.items()}
+    ds.attrs["Conventions"] = "CF-1.10"
     ds.attrs["config_hash"] = config_digest
     ds.attrs["layout"] = layout.to_json()
     encoding = {name: {"chunks": layout.chunks(ds[name].dims)}
@@ -311,6 +325,31 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp.rename(path)
     return path
+
+
+def _cf(name: str) -> dict[str, str]:
+    # units and long_name of every known output; others (a test's own) get a neutral pair
+    return cf_attrs(name) if name in QUANTITIES else {"units": "1", "long_name": name}
+
+
+IDENTITY_COORDS = ("source_record", "processing", "PGA", "rotation_deg", "highpass_fc_hz",
+                   "padding_s", "duration_s")
+"""Per-motion fields of :func:`ensemble_attrs` stored as coordinates along ``motion``."""
+
+
+def identity_coords(ensemble: dict[str, Any]) -> dict[str, tuple[str, list]]:
+    """Coordinates along ``motion`` saying where each motion comes from (for create_store).
+
+    Parameters
+    ----------
+    ensemble : dict
+        :func:`ensemble_attrs` of the store's ensemble file.
+    """
+    rows = ensemble["motions"]
+    return {k: ("motion", [math.nan if r.get(k) is None and k not in ("source_record",
+                                                                        "processing")
+                           else r.get(k, "") for r in rows])
+            for k in IDENTITY_COORDS}
 
 
 def _done_variable(layout: Layout) -> Variable:
@@ -325,9 +364,12 @@ def open_layout(path: str | Path) -> Layout:
     dims_of = {k: tuple(group[k].metadata.dimension_names) for k in names}
     coord_names = [k for k, d in dims_of.items() if d == (k,)]
     coords = {k: _read_coord(group[k]) for k in coord_names}
+    task_dims = set(chunking["task_dims"])
+    # data variables span every task dimension; auxiliary coordinates (a motion's source
+    # record, processing) span one dimension and are not results
     variables = {
         k: Variable(dims_of[k], str(group[k].dtype), group[k].fill_value)
-        for k in names if k not in coords and k != DONE
+        for k in names if k not in coords and k != DONE and task_dims <= set(dims_of[k])
     }
     return Layout(coords, variables, tuple(chunking["task_dims"]),
                   {k: int(v) for k, v in chunking["task_chunks"].items()})
@@ -467,9 +509,12 @@ def finalize(path: str | Path) -> None:
 def ensemble_attrs(motions_path: str | Path, name: str) -> dict[str, Any]:
     """What a store records about its ensemble: file hash, motions, labels, stand-in flags."""
     motions = list(motions_by_name(motions_path).values())
+    from ..motions.source import identity
+
     rows = []
     for m in motions:
         meta = m.metadata
+        who = identity(m)
         rows.append({
             "name": m.name,
             "label": str(meta.get("label", meta.get("title", m.name))),
@@ -477,7 +522,7 @@ def ensemble_attrs(motions_path: str | Path, name: str) -> dict[str, Any]:
             "stand_in_for": meta.get("stand_in_for"),
             "dt": m.dt,
             "npts": m.npts,
-            "pga": m.pga,
+            **{k: who[k] for k in IDENTITY_COORDS},
         })
     return {
         "name": name,
@@ -549,7 +594,7 @@ def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
 
     def cost(i: int) -> float:
         rc = region_coords(layout, i)
-        mode = rc.get("mode", rc.get("model", ["?"]))[0]
+        mode = rc.get("mode", ["?"])[0]
         return MODE_COST.get(str(mode), 1.0) * float(np.sum(rc.get("R", [1.0])))
 
     return sorted(indices, key=lambda i: (-cost(i), i))
@@ -633,10 +678,12 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
     results = batch(tasks, limit_states, accuracy=attrs["tolerances"],
                     **attrs.get("search_options", {}))
     flat = spectra_values(results, limit_states)
+    flat["pga_crit_g"] = flat["pga_crit"] * float(tan_alpha)  # PGA [g] = I·tan α
     # (limit_state, R) -> (mode=1, limit_state, motion=1, tan_alpha=1, R)
     values = {k: v[None, :, None, None, :] for k, v in flat.items()}
     write_region(path, layout, index, values,
-                 nan_allowed={"pga_crit": values["not_reached"]})
+                 nan_allowed={"pga_crit": values["not_reached"],
+                              "pga_crit_g": values["not_reached"]})
     return {"index": index, "points": len(tasks), "seconds": time.perf_counter() - t0}
 
 
@@ -701,7 +748,7 @@ zeta=...) -> Dataset`` with ``theta_max_over_alpha``, ``overturned``, ``failed``
 
 def fill_tilt_map_region(path: str | Path, index: int, motions: MotionSource, *,
                          tilt_map: TiltMapFunction | None = None) -> dict[str, float]:
-    """Compute and store θmax/α over all intensities for one model and a run of sizes R.
+    """Compute and store θmax/α over all intensities for one mode and a run of sizes R.
 
     The motion, tan α, tolerances and model options come from the store's attributes
     (``motion``, ``tan_alpha``, ``tolerances``, ``model_options``).
@@ -728,10 +775,10 @@ def fill_tilt_map_region(path: str | Path, index: int, motions: MotionSource, *,
     layout = open_layout(path)
     attrs = read_attrs(path)
     rc = region_coords(layout, index)
-    (model,) = rc["model"]
+    (mode,) = rc["mode"]
     out = tilt_map([float(r) for r in rc["R"]], float(attrs["tan_alpha"]),
                    _motion(motions, attrs["motion"]), [float(i) for i in rc["intensity"]],
-                   str(model), accuracy=attrs["tolerances"], **attrs.get("model_options", {}))
+                   str(mode), accuracy=attrs["tolerances"], **attrs.get("model_options", {}))
     values = {k: out[k].transpose("R", "intensity").values[None]
               for k in ("theta_max_over_alpha", "overturned", "failed")}
     write_region(path, layout, index, values,
