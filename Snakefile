@@ -26,7 +26,11 @@ if not workflow.overwrite_configfiles:
     configfile: str(DEFAULT_CONFIG)
 
 
-validate(config, "workflow/schemas/config.schema.yaml")
+# Schema errors in one line naming the key, then cross-field checks (records and their
+# files, tilt goals against every tan_alpha), all before any job is planned.
+from rocking.study.config_checks import validate_config
+
+validate_config(config, Path(workflow.basedir, "workflow/schemas/config.schema.yaml"), validate)
 
 
 include: "workflow/rules/common.smk"

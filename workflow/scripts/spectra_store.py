@@ -27,10 +27,11 @@ def main(snakemake):
             "search_options": spec["search_options"],
             "rocking_version": __version__,
             "ensemble": ensemble,
-            "pga_crit_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
+            "pga_crit_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair; "
+                                   "pga_crit_g = pga_crit * tan_alpha is the same PGA in g",
         }
         store.create_store(Path(snakemake.output[0]), layout, attrs,
-                           snakemake.params.config_hash)
+                           snakemake.params.config_hash, coords=store.identity_coords(ensemble))
         logging.getLogger("spectra_store").info(
             "created %s: %d chunks of %d sizes R, motions %s", snakemake.output[0],
             layout.n_regions, chunk_R, names)

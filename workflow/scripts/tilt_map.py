@@ -1,18 +1,17 @@
 """Fill a study's Fig 7 tilt-map store on Dask (resuming after the chunks already done)."""
 
-import json
-
+from rocking import _json
 from rocking.study import cluster, store
 
 
 def main(snakemake):
+    study = snakemake.wildcards.study
     with cluster.log_to(snakemake.log[0]):
         summary = cluster.fill_store(
             snakemake.input.store, store.fill_tilt_map_region, snakemake.input.motions,
             config_digest=snakemake.params.config_hash, n_workers=snakemake.threads,
-            key=f"tilt-map-{snakemake.wildcards.study}", **snakemake.params.dask)
-    with open(snakemake.output[0], "w") as fh:
-        json.dump(summary, fh, indent=2)
+            key=f"tilt-map-{study}", label=f"tilt map {study}", **snakemake.params.dask)
+        _json.write(snakemake.output[0], summary)
 
 
 if __name__ == "__main__":

@@ -30,8 +30,12 @@ def main(snakemake):
             "rocking_version": __version__,
             "ensemble": ensemble,
         }
+        who = next(m for m in ensemble["motions"] if m["name"] == motion)
+        attrs["motion_processing"] = who["processing"]
+        attrs["motion_PGA_g"] = who["PGA"]
+        pga_g = ("intensity", [i * spec["tan_alpha"] for i in spec["intensity"]])
         store.create_store(Path(snakemake.output[0]), layout, attrs,
-                           snakemake.params.config_hash)
+                           snakemake.params.config_hash, coords={"pga_g": pga_g})
         logging.getLogger("tilt_map_store").info(
             "created %s: %d chunks, motion %s", snakemake.output[0], layout.n_regions, motion)
 

@@ -6,7 +6,11 @@ on a free port. A run can instead join a cluster that is already running, named 
 ``scheduler_address`` or ``scheduler_file`` (from the configuration) or by the
 ``DASK_SCHEDULER_ADDRESS`` environment variable, in that order of precedence.
 
-Progress is reported as one line per ``interval`` seconds, ``k/n chunks``, in the rule's log.
+Progress is reported in points (one spectrum point: a search for all limit states; one tilt
+map point: one analysis) done / total, with the rate and the time left, in the rule's log and
+on the terminal Snakemake runs in (a live bar there when it is a TTY), with the Dask
+dashboard address once at the start. A joined cluster without workers is waited for
+``worker_timeout`` seconds, then the run stops with an error that says so.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ import logging
 import os
 import sys
 import time
+import traceback
 import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -24,7 +29,19 @@ from typing import Any
 
 from distributed import Client, LocalCluster, as_completed
 
+from .._progress import Progress
+
 log = logging.getLogger("rocking.study.cluster")
+
+DEFAULT_WORKER_TIMEOUT = 60.0
+"""Seconds to wait for a first worker of a joined cluster that has none [s]."""
+
+_terminal: list = []  # the stream the user sees while output is sent to a log (log_to)
+
+
+def terminal():
+    """The user's terminal (stderr before :func:`log_to` redirected it), else stderr."""
+    return _terminal[-1] if _terminal else sys.stderr
 
 ENV_ADDRESS = "DASK_SCHEDULER_ADDRESS"
 """Environment variable naming an existing scheduler (``tcp://host:port``)."""
@@ -89,7 +106,9 @@ def resolve_target(scheduler_address: str | None = None, scheduler_file: str | N
 
 @contextlib.contextmanager
 def dask_client(target: Target, n_workers: int = 1, *,
-                local_directory: str | None = None) -> Iterator[Client]:
+                local_directory: str | None = None,
+                worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
+                say=None) -> Iterator[Client]:
     """A client on ``target``; a LocalCluster is started and stopped around the block.
 
     Parameters
@@ -101,11 +120,21 @@ def dask_client(target: Target, n_workers: int = 1, *,
         joining an existing cluster.
     local_directory : str, optional
         Scratch space of embedded workers.
+    worker_timeout : float
+        Seconds to wait for a worker when a joined cluster has none [s].
+    say : callable, optional
+        Where the cluster and dashboard lines go (default: the log).
 
     Yields
     ------
     distributed.Client
+
+    Raises
+    ------
+    RuntimeError
+        When a joined cluster still has no worker after ``worker_timeout`` seconds.
     """
+    say = say or log.info
     if n_workers < 1:
         raise ValueError(f"n_workers must be >= 1, got {n_workers!r}")
     if target.kind == "local":
@@ -119,9 +148,8 @@ def dask_client(target: Target, n_workers: int = 1, *,
                                    silence_logs=logging.WARNING)
         try:
             with Client(cluster) as client:
-                log.info("embedded LocalCluster: %d worker processes, 1 thread each",
-                         n_workers)
-                log.info("dashboard: %s", client.dashboard_link)
+                say(f"embedded Dask LocalCluster: {n_workers} worker processes, 1 thread "
+                    f"each; dashboard: {client.dashboard_link}")
                 yield client
         finally:
             cluster.close()
@@ -134,11 +162,26 @@ def dask_client(target: Target, n_workers: int = 1, *,
         raise ValueError(f"target.kind must be local, address or scheduler_file, "
                          f"got {target.kind!r}")
     with client:
-        info = client.scheduler_info()
-        log.info("joined scheduler %s with %d workers", client.scheduler.address,
-                 len(info.get("workers", {})))
-        log.info("dashboard: %s", client.dashboard_link)
+        address = client.scheduler.address
+        n = len(client.scheduler_info().get("workers", {}))
+        say(f"joined Dask scheduler {address} with {n} workers; dashboard: "
+            f"{client.dashboard_link}")
+        if n == 0:
+            _wait_for_a_worker(client, address, worker_timeout, say)
         yield client
+
+
+def _wait_for_a_worker(client: Client, address: str, timeout: float, say) -> None:
+    say(f"scheduler {address} has no workers: waiting up to {timeout:g} s "
+        f"(dask.worker_timeout) for one to join")
+    try:
+        client.wait_for_workers(1, timeout=timeout)
+    except (TimeoutError, OSError):
+        raise RuntimeError(
+            f"no Dask worker joined scheduler {address} within {timeout:g} s "
+            f"(dask.worker_timeout); start some, e.g. `dask worker {address} --nthreads 1`"
+        ) from None
+    say(f"a worker joined scheduler {address}")
 
 
 def worker_pids(client: Client) -> dict[str, int]:
@@ -149,7 +192,7 @@ def worker_pids(client: Client) -> dict[str, int]:
 def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
                 args: Sequence[Any] = (), kwargs: Mapping[str, Any] | None = None, *,
                 key: str = "region", interval: float = 10.0,
-                retries: int = 2) -> list[dict]:
+                retries: int = 2, progress: Progress | None = None) -> list[dict]:
     """Run ``fn(*args, index, **kwargs)`` for every region index on the cluster.
 
     Tasks are independent and idempotent (each writes whole chunks, then its done flag),
@@ -171,6 +214,8 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     retries : int
         Extra attempts of a task that raised (not counting worker losses, which the
         scheduler reschedules on its own).
+    progress : Progress, optional
+        Advanced by each task's ``points`` as it finishes (None: only the log's chunk lines).
 
     Returns
     -------
@@ -204,6 +249,8 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
             for f in futures:
                 f.cancel()
             raise RuntimeError(f"chunk {key}-{index} failed: {exc}") from exc
+        if progress is not None:
+            progress.update(int(reports[-1].get("points", 1)))
         now = time.monotonic()
         if now - last >= interval or len(reports) == n:
             log.info("%d/%d chunks done, %.1f s elapsed", len(reports), n, now - t0)
@@ -216,7 +263,10 @@ def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
     """Send this process's and its children's output (stdout, stderr, logging) to ``path``.
 
     Both the Python streams and the file descriptors 1 and 2 are redirected, so worker
-    processes started inside the block (a LocalCluster) write there too.
+    processes started inside the block (a LocalCluster) write there too. The terminal stays
+    reachable through :func:`terminal` (progress goes there as well as to the log). An
+    exception leaving the block is written to the log with its traceback, then re-raised:
+    the log Snakemake points to says what went wrong.
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -234,9 +284,15 @@ def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
     old_level = root.level
     root.addHandler(handler)
     root.setLevel(level)
+    _terminal.append(os.fdopen(os.dup(saved_fds[1]), "w", buffering=1))
     try:
         yield
+    except BaseException as exc:
+        fh.write("".join(traceback.format_exception(exc)))
+        fh.write(f"error: {type(exc).__name__}: {exc}\n")
+        raise
     finally:
+        _terminal.pop().close()
         fh.flush()
         root.removeHandler(handler)
         root.setLevel(old_level)
@@ -251,7 +307,8 @@ def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
 def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *,
                config_digest: str, n_workers: int = 1, scheduler_address: str | None = None,
                scheduler_file: str | None = None, progress_interval: float = 10.0,
-               key: str = "region") -> dict[str, Any]:
+               key: str = "region", worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
+               label: str | None = None) -> dict[str, Any]:
     """Compute every region of a store not yet done, on Dask, then consolidate it.
 
     Parameters
@@ -270,9 +327,13 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
     scheduler_address, scheduler_file : str, optional
         An existing cluster (see :func:`resolve_target`).
     progress_interval : float
-        Seconds between progress lines [s].
+        Seconds between progress lines [s] (log, and terminal when it is not a TTY).
     key : str
         Task-key prefix.
+    worker_timeout : float
+        Seconds to wait for a first worker of a joined cluster without any [s].
+    label : str, optional
+        Name of the computation in progress lines (default ``key``).
 
     Returns
     -------
@@ -295,10 +356,18 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
     target = resolve_target(scheduler_address, scheduler_file)
     reports: list[dict] = []
     if pending:
-        with dask_client(target, n_workers) as client:
-            log.info("worker pids: %s", sorted(worker_pids(client).values()))
-            reports = run_regions(client, fn, pending, (str(path),), {"motions": str(motions)},
-                                  key=f"{key}-{config_digest}", interval=progress_interval)
+        total = sum(store.region_points(layout, i) for i in pending)
+        with Progress(total, label or key, stream=terminal(), log=log,
+                      interval=progress_interval) as bar:
+            bar.message(f"{label or key}: {total} points in {len(pending)} chunks to compute "
+                        f"({n - len(pending)} of {n} chunks already done)")
+            with dask_client(target, n_workers, worker_timeout=worker_timeout,
+                             say=bar.message) as client:
+                log.info("worker pids: %s", sorted(worker_pids(client).values()))
+                reports = run_regions(client, fn, pending, (str(path),),
+                                      {"motions": str(motions)},
+                                      key=f"{key}-{config_digest}",
+                                      interval=progress_interval, progress=bar)
     store.finalize(path)
     seconds = sorted(r["seconds"] for r in reports)
     summary = {

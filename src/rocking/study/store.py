@@ -600,6 +600,27 @@ def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
     return sorted(indices, key=lambda i: (-cost(i), i))
 
 
+POINT_FREE_DIMS = ("limit_state",)
+"""Dimensions that do not multiply the work: one search decides every limit state."""
+
+
+def region_points(layout: Layout, index: int) -> int:
+    """Points of work in region ``index``: spectrum points (searches) or tilt-map analyses.
+
+    The product of the region's lengths over the largest variable's dimensions, without
+    :data:`POINT_FREE_DIMS`; tasks report the same count as ``points``.
+    """
+    region = layout.region(index)
+    dims = max((v.dims for v in layout.variables.values()), key=len)
+    n = 1
+    for d in dims:
+        if d in region:
+            n *= len(range(*region[d].indices(len(layout.coords[d]))))
+        elif d not in POINT_FREE_DIMS:
+            n *= len(layout.coords[d])
+    return n
+
+
 def region_coords(layout: Layout, index: int) -> dict[str, np.ndarray]:
     """Coordinate values of region ``index`` along every dimension."""
     region = layout.region(index)
