@@ -1,8 +1,13 @@
 """The ``rocking`` command line: one subcommand per module in :mod:`rocking.cli`.
 
 Each ``rocking.cli.<name>`` module defines ``add_parser(subparsers)`` (registering its
-options and ``set_defaults(func=run)``) and ``run(args) -> int``. Subcommands are imported
-only when listed here, so a broken optional stage never hides the others' help.
+options and ``set_defaults(func=run)``) and ``run(args) -> int``, and imports the library
+only inside ``run``. Only the subcommand being run (or asked for help) is imported, so
+``rocking --help`` loads neither numpy nor the dynamics engine.
+
+Every user error (a missing or unreadable file, a bad value, an unwritable output) ends the
+command with one line ``rocking <command>: error: ...`` on stderr and exit code 2; a
+traceback means a bug.
 """
 
 from __future__ import annotations
@@ -10,35 +15,66 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+from collections.abc import Iterable, Sequence
 
-SUBCOMMANDS = ("simulate", "motions", "spectra")
+from .. import __version__
+
+SUBCOMMANDS: dict[str, str] = {
+    "simulate": "one rocking analysis (free vibration or ground motion) -> history + summary",
+    "motions": "record + synthetic RDK pairs -> ensemble file (.nc)",
+    "spectra": "critical PGA/(g tan alpha) of cylinders vs R (performance spectrum)",
+}
+"""Subcommand → one-line summary (shown by ``rocking --help`` without importing it)."""
+
+EPILOG = """examples:
+  rocking simulate --R 6 --tan-alpha 0.2 --record el-centro-1940 --pga-ratio 2 -o run
+  rocking motions --record el-centro-1940 -n 10 -o results/motions/elcentro.nc
+  rocking spectra --R 1,2,6 --record el-centro-1940 --mode 3d -o spectrum.csv
+
+`rocking COMMAND --help` lists a command's options with their defaults."""
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:
+    """The argument parser; ``commands`` get their full options (default: all)."""
+    full = set(SUBCOMMANDS if commands is None else commands)
     parser = argparse.ArgumentParser(
-        prog="rocking",
+        prog="rocking", epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Seismic rocking of free-standing cylinders (3D) and blocks (2D).",
     )
-    sub = parser.add_subparsers(dest="command", required=True)
-    for name in SUBCOMMANDS:
-        try:
-            module = importlib.import_module(f"rocking.cli.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"rocking.cli.{name}":
-                raise
-            continue
-        module.add_parser(sub)
+    parser.add_argument("--version", action="version", version=f"rocking {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name, summary in SUBCOMMANDS.items():
+        if name in full:
+            importlib.import_module(f"rocking.cli.{name}").add_parser(sub)
+        else:
+            sub.add_parser(name, help=summary)
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+def error_message(exc: BaseException) -> str:
+    """One line for a user error: the file and the problem for OS errors."""
+    if isinstance(exc, OSError) and exc.filename is not None:
+        reason = exc.strerror or type(exc).__name__
+        return f"{exc.filename}: {reason}"
+    if isinstance(exc, KeyError) and exc.args:
+        return str(exc.args[0])
+    return str(exc)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit code (0 ok, 1 failed analysis, 2 user error)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((a for a in argv if a in SUBCOMMANDS), None)
+    parser = build_parser([] if command is None else [command])
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except ValueError as exc:
-        # Bad input is reported as one line naming the field; tracebacks are for bugs.
-        print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"rocking {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except (ValueError, OSError, KeyError) as exc:
+        # Bad input is reported as one line naming the field or file; tracebacks are for bugs.
+        print(f"rocking {args.command}: error: {error_message(exc)}", file=sys.stderr)
         return 2
 
 

@@ -1,89 +1,70 @@
 """``rocking motions``: a record and its synthetic RDK pairs, written as one ensemble file.
 
-The pipeline is :func:`rocking.motions.build.build_ensemble`; this command writes the
-record first, then the pairs, with :mod:`rocking.motions.ensemble_io`, and the fitted
-parameters as JSON.
-
-Example::
-
-    rocking motions --record el-centro-1940 -n 10 --seed 2017 \\
-        -o results/motions/elcentro.nc
+The pipeline is :func:`rocking.motions.build.build_ensemble` (the workflow's ``motions``
+rule calls it with the same settings); this command writes the record first, then the pairs,
+with :mod:`rocking.motions.ensemble_io`, and the settings and fitted parameters as JSON.
 """
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 from pathlib import Path
 
-from ..motions.build import HIGHPASS_KINDS
+from . import _common
 
-
-def _rotation(text: str) -> float | str:
-    if text.strip().lower() == "auto":
-        return "auto"
-    try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"rotation must be 'auto' or degrees, got {text!r}") \
-            from None
+EXAMPLES = """\
+  rocking motions --record el-centro-1940 -n 10 --seed 2017 -o results/motions/elcentro.nc
+  rocking motions --record loma-prieta-sjte --files RSN801_LOMAP_SJTE315.AT2 \\
+      RSN801_LOMAP_SJTE225.AT2 -n 10 -o results/motions/lomaprieta.nc
+  rocking motions --files x.AT2 y.AT2 --name my-site --mw 6.5 -n 5 -o my-site.nc"""
 
 
 def add_parser(subparsers) -> None:
     """Register the ``motions`` subcommand."""
-    p = subparsers.add_parser(
-        "motions",
-        help="record + synthetic RDK pairs to an ensemble file",
+    p = _common.add_command(
+        subparsers, "motions", examples=EXAMPLES,
+        help="record + synthetic RDK pairs -> ensemble file (.nc)",
         description="Rotate a record pair to its principal axes, high-pass it, fit the "
-        "Rezaeian-Der Kiureghian model and write the record plus N synthetic pairs.",
-    )
-    src = p.add_mutually_exclusive_group()
-    src.add_argument("--record", default=None,
-                     help="named record (el-centro-1940, loma-prieta-corralitos, "
-                     "loma-prieta-sjte); default el-centro-1940")
-    src.add_argument("--files", nargs=2, metavar=("X", "Y"), default=None,
-                     help="two component files (AT2 or text, in g)")
-    p.add_argument("--paths", nargs=2, metavar=("X", "Y"), default=None,
-                   help="files for a named record (e.g. RSN801 SJTE315 SJTE225)")
-    p.add_argument("--name", default=None, help="motion name when --files is used")
+        "Rezaeian-Der Kiureghian model and write the record plus N synthetic pairs to one "
+        "ensemble file (the record first). Default record: el-centro-1940.")
+    _common.add_motion_source(p, ensemble=False)
+    p.add_argument("--name", default=None,
+                   help="motion name for --files without --record (default: the file stems)")
     p.add_argument("-n", "--n-synthetic", type=int, default=10, help="synthetic pairs")
     p.add_argument("--seed", type=int, default=2017, help="root seed")
-    p.add_argument("--rotation", type=_rotation, default="auto",
-                   help="'auto' or the forced offset of the major axis [deg], e.g. 22.33")
-    p.add_argument("--highpass", choices=HIGHPASS_KINDS, default="oscillator")
-    p.add_argument("--fc-hz", type=float, default=None,
-                   help="high-pass corner [Hz] (default: Brune corner of --mw)")
-    p.add_argument("--mw", type=float, default=None,
-                   help="moment magnitude (default: the named record's)")
-    p.add_argument("--stress-bar", type=float, default=50.0, help="Brune stress drop [bar]")
-    p.add_argument("--beta-kms", type=float, default=3.5, help="shear-wave velocity [km/s]")
-    p.add_argument("--order", type=int, default=4, help="Butterworth order")
-    p.add_argument("--method", choices=("time", "spectral"), default="time")
-    p.add_argument("--axes", choices=("principal", "record"), default="principal")
-    p.add_argument("--max-duration", type=float, default=None,
-                   help="keep the first seconds of every motion [s]")
+    _common.add_processing(p, rotation_default="auto", highpass_default="oscillator")
+    g = p.add_argument_group("high-pass and simulation details")
+    g.add_argument("--stress-bar", type=float, default=50.0, help="Brune stress drop [bar]")
+    g.add_argument("--beta-kms", type=float, default=3.5, help="shear-wave velocity [km/s]")
+    g.add_argument("--order", type=int, default=4, help="Butterworth order")
+    g.add_argument("--method", choices=("time", "spectral"), default="time",
+                   help="RDK discretization")
+    g.add_argument("--axes", choices=("principal", "record"), default="principal",
+                   help="axes of the synthetic pairs")
     p.add_argument("-o", "--out", type=Path, required=True, help="ensemble file (.nc)")
     p.add_argument("--params-out", type=Path, default=None,
                    help="JSON of settings and fitted parameters (default: OUT with .json)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
+    _common.add_quiet(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Build the ensemble, write the NetCDF and JSON files; returns 0."""
-    from ..motions.build import build_ensemble, read_motion
+    from .. import _json
+    from ..motions.build import build_ensemble
     from ..motions.ensemble_io import save_ensemble
+    from ..motions.source import load_motion
 
     def say(message: str) -> None:
         if not args.quiet:
             print(f"rocking motions: {message}", file=sys.stderr, flush=True)
 
-    if args.out.suffix.lower() != ".nc":
-        raise ValueError(f"out must end in .nc, got {str(args.out)!r}")
+    _common.check_output(args.out, (".nc",))
+    if args.rotation is None:
+        raise ValueError("--rotation none: the ensemble's record is always on principal axes "
+                         "(its fit needs them); give 'auto' or the forced offset [deg]")
     record = args.record if (args.record or args.files) else "el-centro-1940"
-    paths = args.files or args.paths
-    motion = read_motion(record, paths, args.name)
+    motion = load_motion(record, args.files, name=args.name)
     say(f"read {motion.name} ({motion.npts} samples, dt {motion.dt} s, vector PGA "
         f"{motion.pga_g:.4f} g){' [stand-in]' if motion.metadata.get('stand_in') else ''}")
     build = build_ensemble(
@@ -98,6 +79,6 @@ def run(args) -> int:
         "n_synthetic")})
     params_out = args.params_out or args.out.with_suffix(".json")
     params_out.parent.mkdir(parents=True, exist_ok=True)
-    params_out.write_text(json.dumps(params, indent=2, sort_keys=True, default=str) + "\n")
+    _json.write(params_out, params, sort_keys=True)
     say(f"wrote {len(build.motions)} motions to {args.out} and parameters to {params_out}")
     return 0

@@ -1,95 +1,140 @@
 """``rocking simulate``: one free-vibration or ground-motion analysis → history CSV + summary.
 
-Examples::
-
-    rocking simulate --R 6 --tan-alpha 0.2 --theta0 0.1 --phi-dot0 1e-8 --duration 20 --out run
-    rocking simulate --R 6 --tan-alpha 0.2 --record el-centro-1940 --pga-ratio 2 --out run
-    rocking simulate --R 6 --tan-alpha 0.2 --record x.AT2,y.AT2 --scale 1.5 --model 2d --out run
+``--out DIR`` receives ``history.csv`` (column titles with units; the 2D model writes only
+t, theta, theta_dot) and ``summary.json`` (strict JSON, with a ``units`` map); the summary
+is also printed on stdout. Exit code 1 when the analysis failed.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
-import pandas as pd
+from ..spectra.modes import MODES
+from . import _common
 
-from ..constants import G
-from ..dynamics.analysis import MODELS, free_vibration, ground_response
-from ..dynamics.bodies import Block, Cylinder
+EXAMPLES = """\
+  rocking simulate --R 6 --tan-alpha 0.2 --theta0 0.1 --phi-dot0 1e-8 --duration 20 -o run
+  rocking simulate --R 6 --tan-alpha 0.2 --record el-centro-1940 --pga-ratio 2 -o run
+  rocking simulate --R 1 --tan-alpha 0.25 --files x.AT2 y.AT2 --scale 1.5 --mode 2d-x \\
+      --body block -o run
+  rocking simulate --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc \\
+      --motion el-centro-1940-rdk-000 --mode 3d-damped -o run"""
+
+HISTORY_COLUMNS = {
+    "3d": ("t", "theta", "theta_dot", "phi", "phi_dot"),
+    "3d-damped": ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot", "contact_force"),
+    "2d": ("t", "theta", "theta_dot"),
+}
+"""Columns of history.csv per dynamics model (the 2D model has no phi, w)."""
 
 
 def add_parser(subparsers) -> None:
-    p = subparsers.add_parser(
-        "simulate", help="one rocking analysis (free vibration or ground motion)",
-        description="Run one analysis; write history.csv and summary.json to --out.")
+    """Register the ``simulate`` subcommand."""
+    p = _common.add_command(
+        subparsers, "simulate", examples=EXAMPLES,
+        help="one rocking analysis (free vibration or ground motion) -> history + summary",
+        description="Run one analysis of a cylinder (3D or 2D) or a block (2D): free "
+        "vibration from --theta0, or the response to a ground motion; write history.csv "
+        "and summary.json to --out.")
     p.add_argument("--R", type=float, required=True, help="semi-diagonal [m]")
     p.add_argument("--tan-alpha", type=float, required=True, help="slenderness b/h [-]")
     p.add_argument("--body", choices=("cylinder", "block"), default="cylinder",
-                   help="rigid body (a block only with --model 2d)")
-    p.add_argument("--model", choices=MODELS, default="3d")
-    p.add_argument("--rtol", type=float, default=None, help="relative tolerance")
+                   help="rigid body (a block only in the 2D modes)")
+    p.add_argument("--mode", choices=list(MODES), default="3d",
+                   help="model and excitation: 3d, 3d-damped, or the 2D model under the x or "
+                   "y component (in free vibration 2d-x and 2d-y are the same)")
+    p.add_argument("--rtol", type=float, default=None,
+                   help="relative tolerance (default: the model's, 1e-8)")
     p.add_argument("--stop-at", type=float, default=None, help="stop once |theta| > this [rad]")
-    p.add_argument("--omega-n", type=float, default=2000.0, help="3d-damped contact [rad/s]")
-    p.add_argument("--zeta", type=float, default=5.0, help="3d-damped damping ratio [-]")
-    fv = p.add_argument_group("free vibration")
+    p.add_argument("--omega-n", type=float, default=2000.0,
+                   help="contact spring frequency of mode 3d-damped [rad/s]")
+    p.add_argument("--zeta", type=float, default=5.0,
+                   help="contact damping ratio of mode 3d-damped [-]")
+    fv = p.add_argument_group("free vibration (when no ground motion is given)")
     fv.add_argument("--theta0", type=float, help="initial tilt [rad]")
     fv.add_argument("--phi-dot0", type=float, default=0.0, help="initial spin [rad/s]")
     fv.add_argument("--duration", type=float, help="length [s]")
-    gm = p.add_argument_group("ground motion")
-    gm.add_argument("--record", help="'el-centro-1940' or PATH[,PATH2] (x then y)")
-    amp = gm.add_mutually_exclusive_group()
-    amp.add_argument("--scale", type=float, default=None, help="factor on the record [-]")
+    _common.add_motion_source(p)
+    _common.add_processing(p)
+    amp = p.add_argument_group("intensity (default: the motion as it is)") \
+        .add_mutually_exclusive_group()
+    amp.add_argument("--scale", type=float, default=None, help="factor on the motion [-]")
     amp.add_argument("--pga-ratio", type=float, default=None,
-                     help="scale so that the vector PGA/(g tan alpha) equals this [-]")
-    p.add_argument("--out", type=Path, required=True, help="output folder")
+                     help="scale so that the pair's vector PGA/(g tan alpha) equals this [-]")
+    p.add_argument("-o", "--out", type=Path, required=True, help="output folder")
+    _common.add_quiet(p)
     p.set_defaults(func=run)
 
 
-def _motion(spec: str):
-    from ..motions.motion import GroundMotion
-    from ..motions.records import load_record, read_pair, read_record
+def _ground(args, body, model: str, component: str | None, motion, common: dict):
+    from ..constants import G
+    from ..dynamics.analysis import ground_response
+    from ..motions.source import identity
 
-    paths = [s for s in spec.split(",") if s]
-    if len(paths) == 1 and not Path(paths[0]).exists():
-        return load_record(paths[0])
-    if len(paths) == 2:
-        return read_pair(paths[0], paths[1], name=f"{Path(paths[0]).stem}+{Path(paths[1]).stem}")
-    if len(paths) == 1:  # one component, on x (for model="2d")
-        rec = read_record(paths[0])
-        return GroundMotion(rec.acc, None, rec.dt, name=Path(paths[0]).stem, metadata=rec.meta)
-    raise ValueError(f"record must be a name or PATH[,PATH2], got {spec!r}")
+    excitation = motion if component is None else motion.component(component)
+    # the pair's vector PGA normalizes the intensity in every mode, as in the spectra
+    scale = args.scale if args.scale is not None else 1.0
+    if args.pga_ratio is not None:
+        scale = args.pga_ratio * G * body.tan_alpha / motion.pga
+    res = ground_response(body, excitation, scale=scale, stop_at=args.stop_at, model=model,
+                          **common)
+    who = identity(motion)
+    meta = {"motion": motion.name, "source_record": who["source_record"],
+            "processing": who["processing"], "scale": scale,
+            "pga_ratio": scale * motion.pga / (G * body.tan_alpha),
+            "pga_g": scale * motion.pga_g}
+    return res, meta
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the analysis, write history.csv and summary.json; 0, or 1 if it failed."""
+    import pandas as pd
+
+    from .. import _json
+    from ..dynamics.analysis import free_vibration
+    from ..dynamics.bodies import Block, Cylinder
+    from ..units import QUANTITIES, header
+
+    model, component = MODES[args.mode]
+    if args.body == "block" and model != "2d":
+        raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
+                         f"got --mode {args.mode}")
     body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha)
-    common = dict(model=args.model, rtol=args.rtol, omega_n=args.omega_n, zeta=args.zeta)
-    if args.record:
-        motion = _motion(args.record)
-        scale = 1.0
-        if args.pga_ratio is not None:
-            scale = args.pga_ratio * G * body.tan_alpha / motion.pga
-        elif args.scale is not None:
-            scale = args.scale
-        res = ground_response(body, motion, scale=scale, stop_at=args.stop_at, **common)
-        meta = {"record": motion.name, "scale": scale, "pga_ratio": scale * motion.pga / (
-            G * body.tan_alpha)}
+    common = dict(rtol=args.rtol, omega_n=args.omega_n, zeta=args.zeta)
+    motion = _common.motion_from_args(args)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out must be a folder, {str(out)!r} is a file")
+    if motion is not None:
+        res, meta = _ground(args, body, model, component, motion, common)
     else:
         if args.theta0 is None or args.duration is None:
-            raise ValueError("free vibration needs --theta0 and --duration (or give --record)")
+            raise ValueError("free vibration needs --theta0 and --duration (or give a ground "
+                             "motion: --record, --files or --ensemble)")
         res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
-                             **common)
+                             model=model, **common)
         meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0, "duration": args.duration}
-    out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    cols = {"t": res.t, "theta": res.theta, "phi": res.phi, "theta_dot": res.theta_dot,
-            "phi_dot": res.phi_dot}
-    if res.w is not None:
-        cols.update(w=res.w, w_dot=res.w_dot, contact_force=res.contact_force)
-    pd.DataFrame(cols).to_csv(out / "history.csv", index=False)
-    summary = {**res.summary(), "R": body.R, "tan_alpha": body.tan_alpha,
+    cols = HISTORY_COLUMNS[model]
+    pd.DataFrame({header(c): getattr(res, c) for c in cols}).to_csv(out / "history.csv",
+                                                                    index=False)
+    summary = {**res.summary(), "mode": args.mode, "R": body.R, "tan_alpha": body.tan_alpha,
                "body": args.body, **meta}
-    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    print(json.dumps(summary))
+    if model == "2d":  # the 2D model has impacts, not quasi-impacts
+        summary["n_impacts"] = summary.pop("n_quasi_impacts")
+    summary["units"] = {k: u for k, u in SUMMARY_UNITS.items() if k in summary} | {
+        c: QUANTITIES[c][1] for c in cols}
+    _json.write(out / "summary.json", summary)
+    print(_json.dumps(summary))
     return 0 if res.ok else 1
+
+
+SUMMARY_UNITS = {
+    "theta_max": "rad", "t_theta_max": "s", "t_uplift": "s (null: never uplifted)", "R": "m",
+    "tan_alpha": "-", "scale": "-", "pga_ratio": "g tan(alpha)", "pga_g": "g",
+    "theta0": "rad", "phi_dot0": "rad/s", "duration": "s", "free_tail_peak": "rad",
+    "dissipated": "J/kg (energy dissipated by the contact dashpot, per unit mass)",
+    "contact_force_min": "N/kg (smallest normal contact force per unit mass)",
+}
+"""Units of the summary fields (``summary.json`` → ``units``)."""

@@ -1,25 +1,36 @@
 """``rocking spectra``: one seismic performance rocking spectrum to CSV or JSON.
 
-Example::
-
-    rocking spectra --R 0.5,1,2,5,10 --tan-alpha 0.2 --record el-centro-1940 \\
-        --mode 3d --limit-states tilt:1/3,overturning --accuracy default -o spectrum.csv
+The numbers are those of the workflow's stores when asked the same thing: the same motion
+(``--ensemble FILE --motion NAME``), mode, limit states, accuracy and search bound give the
+store's ``pga_crit`` bit for bit (README, "Reproduce a number from the study").
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path
 
-import pandas as pd
+from ..spectra.accuracy import PRESETS
+from ..spectra.modes import MODES
+from . import _common
 
-from ..spectra.accuracy import PRESETS, get_accuracy
-from ..spectra.critical import MODES, critical_intensity_batch
-from ..spectra.limit_states import parse_limit_states
-from ..spectra.search import DEFAULT_UPPER
+EXAMPLES = """\
+  rocking spectra --R 0.5,1,2,5,10 --record el-centro-1940 --mode 3d -o spectrum.csv
+  rocking spectra --R 6 --ensemble results/motions/elcentro.nc --motion el-centro-1940 \\
+      --mode 3d --limit-states overturning,tilt:1/3 --accuracy default
+  rocking spectra --R 2 --files RSN801_LOMAP_SJTE315.AT2 RSN801_LOMAP_SJTE225.AT2 \\
+      --rotation auto --highpass oscillator --mw 6.93 -o sjte.json"""
+
+UPPER_DEFAULT = 20.0
+"""Highest PGA/(g tan α) searched by default (:data:`rocking.spectra.search.DEFAULT_UPPER`,
+checked equal in the tests; the search module is not imported to print the help)."""
+
+COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "pga_crit", "pga_crit_g",
+           "not_reached", "non_monotonic", "failed", "n_analyses", "bracket_lo",
+           "bracket_hi", "lower", "upper", "accuracy", "source_record", "processing")
+"""Columns of the CSV (titles with units) and keys of the JSON results."""
 
 
 def _floats(text: str) -> list[float]:
@@ -33,82 +44,104 @@ def _floats(text: str) -> list[float]:
 
 def add_parser(subparsers) -> None:
     """Register the ``spectra`` subcommand."""
-    p = subparsers.add_parser(
-        "spectra",
-        help="critical PGA/(g tan α) of cylinders vs R for one scaled record",
+    p = _common.add_command(
+        subparsers, "spectra", examples=EXAMPLES,
+        help="critical PGA/(g tan alpha) of cylinders vs R (performance spectrum)",
         description="Seismic performance rocking spectrum of one ground-motion pair: for each "
-        "R, the smallest normalized intensity PGA/(g tan α) exceeding each limit state.",
+        "R, the smallest intensity exceeding each limit state, as PGA/(g tan alpha) "
+        "(pga_crit) and as PGA in g (pga_crit_g). PGA is the pair's vector PGA in every mode.",
     )
     p.add_argument("--R", dest="R", type=_floats, action="extend", required=True,
                    help="cylinder semi-diagonals [m], comma-separated or repeated")
     p.add_argument("--tan-alpha", type=float, default=0.2, help="slenderness b/h [-]")
-    src = p.add_mutually_exclusive_group()
-    src.add_argument("--record", default="el-centro-1940",
-                     help="named record (see rocking.motions.records); default el-centro-1940")
-    src.add_argument("--files", nargs=2, metavar=("X", "Y"),
-                     help="two component files (x, y) in g instead of a named record")
-    p.add_argument("--mode", choices=list(MODES), default="3d")
+    p.add_argument("--mode", choices=list(MODES), default="3d",
+                   help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
     p.add_argument("--limit-states", default="default",
-                   help="comma-separated: overturning, tilt:<r> (e.g. tilt:1/3); 'default' = "
-                   "tilt:0.1,0.2,1/3,0.5,0.75,1 and overturning")
+                   help="comma-separated, in the order wanted: overturning, tilt:<r> "
+                   "(theta > r alpha, e.g. tilt:1/3); 'default' = tilt:0.1,0.2,1/3,0.5,0.75,1 "
+                   "and overturning")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="search and ODE tolerances preset")
-    p.add_argument("--upper", type=float, default=DEFAULT_UPPER,
-                   help="highest PGA/(g tan α) searched [-]")
+    p.add_argument("--upper", type=float, default=UPPER_DEFAULT,
+                   help="highest PGA/(g tan alpha) searched [-]")
     p.add_argument("--omega-n", type=float, default=None,
-                   help="contact spring frequency of mode 3d-damped [rad/s]")
-    p.add_argument("--zeta", type=float, default=None, help="contact damping ratio [-]")
+                   help="contact spring frequency of mode 3d-damped [rad/s] (default: 2000)")
+    p.add_argument("--zeta", type=float, default=None,
+                   help="contact damping ratio of mode 3d-damped [-] (default: 5)")
+    _common.add_motion_source(p)
+    _common.add_processing(p)
     p.add_argument("-o", "--out", type=Path, default=None,
-                   help="output file, .csv or .json (default: table on stdout)")
+                   help="output file, .csv or .json (default: a table on stdout)")
+    _common.add_quiet(p)
     p.set_defaults(func=run)
 
 
-def _motion(args):
-    from ..motions.records import load_record  # import the readers only when the command runs
+def rows(results, motion) -> list[dict]:
+    """One dict per (R, limit state) with the columns of :data:`COLUMNS`."""
+    from ..motions.source import identity
 
-    if args.files:
-        return load_record(Path(args.files[0]).stem, paths=args.files)
-    return load_record(args.record)
+    who = identity(motion)
+    out = []
+    for res in results:
+        for rec in res.to_records():
+            rec["pga_crit"] = rec.pop("intensity")
+            rec["pga_crit_g"] = rec.pop("pga_g")
+            rec.update(source_record=who["source_record"], processing=who["processing"])
+            out.append({k: rec[k] for k in COLUMNS})
+    return out
 
 
 def run(args) -> int:
     """Compute the spectrum and write it; returns 0."""
+    import pandas as pd
+
+    from .. import _json
+    from ..motions.source import identity
+    from ..spectra.accuracy import get_accuracy
+    from ..spectra.critical import critical_intensity_batch
+    from ..spectra.limit_states import parse_limit_states
+    from ..units import QUANTITIES, header
+
     out = args.out
-    if out is not None and out.suffix.lower() not in {".csv", ".json"}:
-        raise ValueError(f"out must end in .csv or .json, got {str(out)!r}")
-    states = parse_limit_states(args.limit_states)
+    if out is not None:
+        _common.check_output(out, (".csv", ".json"))
+    states = parse_limit_states(args.limit_states, sort=False)
     acc = get_accuracy(args.accuracy)
-    motion = _motion(args)
+    motion = _common.motion_from_args(args, default_record="el-centro-1940")
     tasks = [(R, args.tan_alpha, motion, args.mode) for R in args.R]
     t0 = time.perf_counter()
     results = critical_intensity_batch(tasks, states, accuracy=acc, upper=args.upper,
-                                       omega_n=args.omega_n, zeta=args.zeta)
+                                       omega_n=args.omega_n, zeta=args.zeta,
+                                       progress=not args.quiet)
     seconds = time.perf_counter() - t0
-    table = pd.concat([r.to_frame() for r in results], ignore_index=True)
+    table = pd.DataFrame(rows(results, motion), columns=list(COLUMNS))
     if out is None:
-        cols = ["R", "limit_state", "intensity", "not_reached", "non_monotonic", "failed",
-                "n_analyses"]
-        print(table[cols].to_string(index=False))
+        cols = ["R", "limit_state", "pga_crit", "pga_crit_g", "not_reached", "non_monotonic",
+                "failed", "n_analyses"]
+        print(f"# {identity(motion)['processing']}; mode {args.mode}, tan_alpha "
+              f"{args.tan_alpha:g}")
+        print(table[cols].rename(columns=header).to_string(index=False))
     elif out.suffix.lower() == ".csv":
         out.parent.mkdir(parents=True, exist_ok=True)
-        table.to_csv(out, index=False)
+        table.rename(columns=header).to_csv(out, index=False)
     else:
         out.parent.mkdir(parents=True, exist_ok=True)
         doc = {
-            "motion": {"name": motion.name, "pga": motion.pga, "dt": motion.dt,
-                       "npts": motion.npts,
-                       "metadata": json.loads(json.dumps(motion.metadata, default=str))},
+            "motion": {"name": motion.name, **identity(motion), "dt": motion.dt,
+                       "npts": motion.npts, "metadata": motion.metadata},
             "mode": args.mode,
             "tan_alpha": args.tan_alpha,
             "limit_states": [s.name for s in states],
             "accuracy": acc.to_dict(),
             "upper": args.upper,
             "seconds": seconds,
-            # NaN is not JSON: a not-reached intensity is written as null.
-            "results": [{k: (None if isinstance(v, float) and v != v else v)
-                         for k, v in row.items()} for r in results for row in r.to_records()],
+            "units": {k: QUANTITIES[k][1] for k in COLUMNS if QUANTITIES[k][1]},
+            # a not-reached intensity (NaN) is written as null: strict JSON
+            "results": table.to_dict(orient="records"),
         }
-        out.write_text(json.dumps(doc, indent=1) + "\n")
-    n = sum(r.n_analyses for r in results)
-    print(f"{len(results)} spectrum point(s), {n} analyses, {seconds:.2f} s", file=sys.stderr)
+        _json.write(out, doc, indent=1)
+    if not args.quiet:
+        n = sum(r.n_analyses for r in results)
+        print(f"{len(results)} spectrum point(s), {n} analyses, {seconds:.2f} s",
+              file=sys.stderr)
     return 0

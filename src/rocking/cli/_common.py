@@ -1,0 +1,117 @@
+"""Options shared by the commands: where a motion comes from, its processing, the output.
+
+Every command takes a motion from the same places as the library
+(:func:`rocking.motions.source.load_motion`): ``--record NAME``, ``--files X [Y]`` (with
+``--record``: that record's files), or ``--ensemble FILE --motion NAME``; and applies the
+same processing when asked the same thing (``--rotation``, ``--highpass``, ``--fc-hz``,
+``--mw``, ``--max-duration``, as the workflow's ensembles). Kept light: no library import
+happens before a command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+HIGHPASS_CHOICES = ("none", "oscillator", "butterworth")
+"""High-pass kinds of :func:`rocking.motions.build.build_ensemble` (checked again there)."""
+
+RECORD_NAMES = "el-centro-1940, loma-prieta-corralitos, loma-prieta-sjte"
+
+
+class Formatter(argparse.RawDescriptionHelpFormatter):
+    """Help with the examples laid out as written and every real default shown."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        default = action.default
+        if ("%(default)" in text or default in (None, False, argparse.SUPPRESS)
+                or not action.option_strings):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
+def add_command(subparsers, name: str, *, help: str, description: str,
+                examples: str) -> argparse.ArgumentParser:
+    """A subcommand parser with the shared formatter and an examples epilog."""
+    return subparsers.add_parser(name, help=help, description=description,
+                                 epilog="examples:\n" + examples, formatter_class=Formatter)
+
+
+def rotation(text: str) -> float | str | None:
+    """``--rotation``: 'none', 'auto' or degrees."""
+    key = text.strip().lower()
+    if key in ("none", "auto"):
+        return None if key == "none" else "auto"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"rotation must be 'none', 'auto' or degrees, got {text!r}") from None
+
+
+def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> None:
+    """``--record``, ``--files``, and (unless ``ensemble`` is False) ``--ensemble/--motion``."""
+    g = p.add_argument_group("ground motion (a record, files, or a motion of an ensemble)")
+    g.add_argument("--record", metavar="NAME",
+                   help=f"named record ({RECORD_NAMES}); with --files, read from those files")
+    g.add_argument("--files", nargs="+", metavar="FILE",
+                   help="acceleration files, x then y (PEER AT2 or text, in g)")
+    if ensemble:
+        g.add_argument("--ensemble", type=Path, metavar="FILE",
+                       help="ensemble file (.nc) written by `rocking motions` or the workflow")
+        g.add_argument("--motion", metavar="NAME",
+                       help="motion of --ensemble (default: its first, the record)")
+
+
+def add_processing(p: argparse.ArgumentParser, *, rotation_default: str | None = None,
+                   highpass_default: str = "none") -> None:
+    """The record processing of the study's ensembles (principal axes, high-pass, cut)."""
+    g = p.add_argument_group("processing of a record (as in the workflow's ensembles)")
+    g.add_argument("--rotation", type=rotation, default=rotation_default,
+                   help="principal axes: 'auto', or the forced offset of the major axis [deg] "
+                   "(e.g. 22.33); 'none' keeps the recorded axes"
+                   + ("" if rotation_default else " (default: none)"))
+    g.add_argument("--highpass", choices=HIGHPASS_CHOICES, default=highpass_default,
+                   help="high-pass filter (zero padding kept)")
+    g.add_argument("--fc-hz", type=float, default=None,
+                   help="high-pass corner [Hz] (default: Brune corner of --mw)")
+    g.add_argument("--mw", type=float, default=None,
+                   help="moment magnitude for the Brune corner (default: the named record's)")
+    g.add_argument("--max-duration", type=float, default=None,
+                   help="keep the first seconds of the motion [s] (default: all)")
+
+
+def add_quiet(p: argparse.ArgumentParser) -> None:
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
+
+
+def motion_from_args(args: argparse.Namespace, default_record: str | None = None):
+    """The motion the options ask for, processed as asked (None: no source given)."""
+    from ..motions.source import load_motion, process_motion
+
+    ensemble = getattr(args, "ensemble", None)
+    record = args.record
+    if ensemble is None and record is None and not args.files:
+        if default_record is None:
+            return None
+        record = default_record
+    processing = {k: getattr(args, k, None) for k in ("rotation", "fc_hz", "mw",
+                                                      "max_duration")}
+    highpass = getattr(args, "highpass", "none")
+    if ensemble is not None and (any(v is not None for v in processing.values())
+                                 or highpass != "none"):
+        raise ValueError("--rotation, --highpass, --fc-hz, --mw and --max-duration process a "
+                         "record; a motion of --ensemble is used as stored")
+    motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None))
+    if ensemble is None and (any(v is not None for v in processing.values())
+                             or highpass != "none"):
+        motion = process_motion(motion, highpass=highpass, **processing)
+    return motion
+
+
+def check_output(path: Path, suffixes: tuple[str, ...]) -> Path:
+    """``path`` if its suffix is one of ``suffixes``, else a ValueError naming it."""
+    if path.suffix.lower() not in suffixes:
+        raise ValueError(f"--out must end in {' or '.join(suffixes)}, got {str(path)!r}")
+    return path
