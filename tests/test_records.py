@@ -217,7 +217,9 @@ NGA_HEADER = (
          "NaN"),
         ("inf.txt", "0.0 0.1\n0.01 inf\n", 2, "inf"),
         ("step.txt", "0.0 0.1\n0.01 0.2\n0.025 0.3\n0.03 0.4\n", 3, "time step"),
-        ("backwards.txt", "0.03 0.1\n0.02 0.2\n0.01 0.3\n", 3, "increase"),
+        ("backwards.txt", "0.03 0.1\n0.02 0.2\n0.01 0.3\n", 2, "increase"),
+        ("repeated.txt", "0 0.1\n0 0.2\n0 0.3\n", 2, r"t = 0.0 s after t = 0.0 s"),
+        ("empty.AT2", "", None, "the file is empty"),
         ("columns.txt", "0.0 0.1\n0.01 0.2 0.3\n", 2, "columns"),
     ],
 )

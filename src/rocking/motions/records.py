@@ -195,10 +195,14 @@ def _unit_factor(units: str) -> float:
 
 
 def _read_lines(path: Path) -> list[str]:
+    if path.is_dir():
+        raise RecordFormatError(path, None, "is a directory, not a record file")
     try:
         raw = path.read_bytes()
     except FileNotFoundError:
         raise FileNotFoundError(f"record file not found: {path}") from None
+    if not raw.strip():
+        raise RecordFormatError(path, None, "the file is empty")
     # latin-1 never fails, so odd header bytes cannot hide the data behind a decode error.
     return raw.decode("latin-1").splitlines()
 
@@ -420,16 +424,20 @@ def read_text(
     else:
         t = data[:, 0]
         steps = np.diff(t)
-        step = (t[-1] - t[0]) / (t.size - 1)
-        if step <= 0.0:
-            raise RecordFormatError(path, origin[-1], f"time must increase, dt = {step!r} <= 0")
+        back = np.flatnonzero(steps <= 0.0)
+        if back.size:
+            k = int(back[0]) + 1
+            raise RecordFormatError(
+                path, origin[k], f"time does not increase: t = {float(t[k])!r} s after "
+                f"t = {float(t[k - 1])!r} s (line {origin[k - 1]}); times must be increasing")
+        step = float((t[-1] - t[0]) / (t.size - 1))
         bad = np.flatnonzero(np.abs(steps - step) > 1e-6 * step)
         if bad.size:
             k = int(bad[0]) + 1
             raise RecordFormatError(
                 path, origin[k],
-                f"time step {steps[k - 1]!r} differs from the mean step {step!r}: resample the "
-                "record to a uniform dt first",
+                f"time step {float(steps[k - 1])!r} s differs from the mean step {step!r} s: "
+                "resample the record to a uniform dt first",
             )
         if dt is not None and abs(float(dt) - step) > 1e-6 * step:
             raise ValueError(f"dt={dt!r} disagrees with the time column of {path} ({step!r})")
@@ -451,8 +459,8 @@ def read_text(
 
 
 def _looks_like_at2(path: Path) -> bool:
-    if path.suffix.upper() == ".AT2":
-        return True
+    if path.suffix.upper() == ".AT2" or not path.is_file():
+        return True  # the AT2 reader names a missing file or a directory
     with path.open("rb") as fh:
         head = fh.read(4096).decode("latin-1")
     return bool(_NPTS_DT.search(head) or re.search(r"NPTS\s*,\s*DT", head, re.IGNORECASE))
