@@ -392,7 +392,8 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
 
 
 def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str = "3d",
-                    scale: float = 1.0, stop_at: float | None = None,
+                    scale: float | None = None, pga_ratio: float | None = None,
+                    stop_at: float | None = None,
                     rtol: float | None = None, omega_n: float = 2000.0, zeta: float = 5.0,
                     history: bool = True, free_tail: bool = True) -> Response:
     """Response of a body initially at rest to a (scaled) ground motion.
@@ -405,8 +406,11 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         Ground accelerations [m/s²]; "2d" uses ``motion.ax`` only, the 3D models need both
         components (a unidirectional motion is a ValueError pointing to "2d").
     model : {"3d", "3d-damped", "2d"}
-    scale : float
-        Factor on both components [-], > 0.
+    scale : float, optional
+        Factor on both components [-], > 0 (default 1: the motion as it is).
+    pga_ratio : float, optional
+        Instead of ``scale``: the normalized intensity PGA/(g tan α) [-] to scale the
+        motion's vector PGA to (``scale = pga_ratio·g·tan α / PGA``).
     stop_at : float, optional
         End as soon as |θ| > stop_at [rad] (status STOPPED_AT_LIMIT).
     rtol : float, optional
@@ -427,7 +431,14 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     rtol = _check_common(rtol, omega_n, zeta, model)
     if not isinstance(motion, GroundMotion):
         raise ValueError(f"motion must be a GroundMotion, got {type(motion).__name__}")
-    scale = positive_finite("scale", scale)
+    if pga_ratio is not None:
+        if scale is not None:
+            raise ValueError(f"give scale or pga_ratio, not both; got scale={scale!r}, "
+                             f"pga_ratio={pga_ratio!r}")
+        if motion.pga <= 0.0:
+            raise ValueError(f"motion {motion.name!r} has zero PGA: pga_ratio cannot scale it")
+        scale = positive_finite("pga_ratio", pga_ratio) * G * body.tan_alpha / motion.pga
+    scale = positive_finite("scale", 1.0 if scale is None else scale)
     stop_level = _check_stop(stop_at)
     if model != "2d" and motion.is_unidirectional:
         raise ValueError(

@@ -89,6 +89,16 @@ class Cylinder(_RigidBody):
         Coefficient of restitution for the 2D model [-]; default Eq (31), 1 − 2 sin²α/κo.
     """
 
+    @classmethod
+    def from_dimensions(cls, diameter: float, height: float, **kwargs) -> Cylinder:
+        """The cylinder of a measured ``diameter`` 2b [m] and ``height`` 2h [m].
+
+        R = √(b² + h²), tan α = b/h = diameter/height; ``kwargs`` as the constructor's.
+        """
+        d = positive_finite("diameter", diameter)
+        h = positive_finite("height", height)
+        return cls(0.5 * math.hypot(d, h), d / h, **kwargs)
+
     def _kappa_o(self) -> float:
         c2 = math.cos(self.alpha) ** 2
         return (15.0 + c2) / 12.0
@@ -143,6 +153,14 @@ class Block(_RigidBody):
     restitution : float, optional
         Coefficient of restitution [-]; default Housner's 1 − 1.5 sin²α.
     """
+
+    @classmethod
+    def from_dimensions(cls, width: float, height: float, **kwargs) -> Block:
+        """The block of a measured ``width`` 2b [m] and ``height`` 2h [m] (in the rocking
+        plane): R = √(b² + h²), tan α = width/height; ``kwargs`` as the constructor's."""
+        w = positive_finite("width", width)
+        h = positive_finite("height", height)
+        return cls(0.5 * math.hypot(w, h), w / h, **kwargs)
 
     def _kappa_o(self) -> float:
         return 4.0 / 3.0

@@ -78,6 +78,10 @@ class Response:
         The body left its rest position at least once.
     t_uplift : float
         First uplift time [s] (NaN if never).
+    extras : dict
+        Model-specific numbers: ``free_tail_peak`` [rad]; for "3d-damped" ``dissipated``
+        (energy dissipated by the contact dashpot per unit mass of the body [J/kg]),
+        ``n_tension`` (steps with a tensile contact force) and ``contact_force_min`` [N/kg].
     """
 
     model: str
