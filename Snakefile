@@ -40,6 +40,10 @@ include: "workflow/rules/tilt_map.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures_common.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/run_config.smk"
+
+
+report: "workflow/report/workflow.rst"
 
 
 rule all:

@@ -27,6 +27,8 @@ _EXPORTS = {
     "ground_response": "dynamics.analysis",
     # ground motions
     "GroundMotion": "motions.motion",
+    "load_motion": "motions.source",
+    "process_motion": "motions.source",
     "load_record": "motions.records",
     "read_record": "motions.records",
     "read_pair": "motions.records",
@@ -54,6 +56,9 @@ _EXPORTS = {
     "critical_intensity": "spectra.critical",
     "critical_intensity_batch": "spectra.critical",
     "tilt_map": "spectra.tilt_map",
+    "match_limit_state": "spectra.limit_states",
+    # study outputs
+    "select": "study.select",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -142,6 +142,9 @@ def tilt_map_complete(study):
     return f"results/{study}/tilt_map.done.json"
 
 
+RUN_CONFIG = "results/config.yaml"  # this run's configuration, defaults filled in (report)
+
+
 def all_targets():
     targets = []
     for study in config["studies"]:
@@ -149,6 +152,7 @@ def all_targets():
         if has_tilt_map(study):
             targets.append(tilt_map_complete(study))
     targets += list(figure_targets())
+    targets.append(RUN_CONFIG)
     return targets
 
 

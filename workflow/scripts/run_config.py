@@ -1,0 +1,17 @@
+"""Write the run's configuration (defaults filled in) for the Snakemake report."""
+
+import yaml
+
+from rocking.study.cluster import log_to
+
+
+def main(snakemake):
+    with log_to(snakemake.log[0]):
+        with open(snakemake.output[0], "w") as fh:
+            fh.write("# Configuration of this run, with the schema's defaults filled in\n"
+                     "# (config/README.md explains every key).\n")
+            yaml.safe_dump(dict(snakemake.params.config), fh, sort_keys=False)
+
+
+if __name__ == "__main__":
+    main(snakemake)
