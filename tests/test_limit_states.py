@@ -98,3 +98,59 @@ def test_accuracy_round_trips_through_its_dict():
     # The study store keeps tolerances as JSON and workers rebuild them with get_accuracy.
     for acc in PRESETS.values():
         assert get_accuracy(acc.to_dict()) == acc
+
+
+# --- one spelling per limit state, every spelling accepted -------------------------------
+
+SPELLINGS_OF_A_THIRD = ["tilt:1/3", "tilt:2/6", "TILT:1/3", " tilt:1/3 ", "excessive-tilt",
+                        "tilt:0.333333333333333", "tilt:0.3333"]
+
+
+def test_canonical_names_are_unique_per_ratio():
+    from rocking.spectra.limit_states import parse_limit_state
+
+    assert parse_limit_state("tilt:1/2").name == parse_limit_state("tilt:0.5").name == \
+        "tilt:0.5"
+    assert parse_limit_state("tilt:3/3").name == "tilt:1"
+    assert parse_limit_state("tilt:2/6").name == "tilt:1/3"
+    assert parse_limit_state("tilt:0.333333333333333").name == "tilt:1/3"
+    assert parse_limit_state("tilt:0.3333").name == "tilt:0.3333"  # a different goal
+
+
+def test_every_spelling_selects_the_same_store_entry():
+    import numpy as np
+    import xarray as xr
+
+    from rocking.study import select
+
+    for stored in ("tilt:0.3333", "tilt:1/3"):
+        ds = xr.Dataset({"pga_crit": (("limit_state", "R"), np.array([[1.0, 2.0], [3.0, 4.0]]))},
+                        coords={"limit_state": ["overturning", stored], "R": [1.0, 6.0]})
+        for spelling in SPELLINGS_OF_A_THIRD:
+            got = select(ds.pga_crit, limit_state=spelling, R=6)
+            assert float(got) == 4.0, (stored, spelling)
+        assert float(select(ds.pga_crit, limit_state="OVERTURNING", R=1.0)) == 1.0
+    with pytest.raises(KeyError, match="tilt:0.5"):
+        select(ds.pga_crit, limit_state="tilt:0.5")
+
+
+def test_result_comes_back_in_the_order_asked():
+    import numpy as np
+
+    from rocking import Cylinder, GroundMotion, critical_intensity
+
+    t = np.arange(0, 3.0, 0.01)
+    a = np.where(t < 1.0, 4.0 * np.sin(2 * np.pi * t), 0.0)
+    m = GroundMotion(a, 0.5 * a, 0.01, "pulse")
+    asked = ["overturning", "tilt:1/3", "tilt:0.1"]
+    res = critical_intensity(Cylinder(1.0, 0.2), m, asked, "3d", accuracy="fast", upper=5.0)
+    assert res.limit_states == ("overturning", "tilt:1/3", "tilt:0.1")
+    ref = critical_intensity(Cylinder(1.0, 0.2), m, list(reversed(asked)), "3d",
+                             accuracy="fast", upper=5.0)
+    assert res.limit_states == tuple(reversed(ref.limit_states))
+    np.testing.assert_array_equal(res.intensity, ref.intensity[::-1])
+    assert res.intensity[0] == res["overturning"]["intensity"]
+    assert res["excessive-tilt"]["intensity"] == res.intensity[1]
+    np.testing.assert_array_equal(res.pga_g, res.intensity * 0.2)
+    text = repr(res)
+    assert len(text) < 500 and text.count("\n") == 3 and "PGA = " in text

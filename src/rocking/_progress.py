@@ -38,8 +38,8 @@ class Progress:
         What is being computed (starts every line), e.g. ``"spectra elcentro"``.
     unit : str
         Name of one point (``"point"``, ``"analysis"``).
-    stream : text stream or None
-        Where to report (default ``sys.stderr``); None: nowhere.
+    stream : text stream, "stderr" or None
+        Where to report (default: ``sys.stderr`` at the time of the call); None: nowhere.
     log : logging.Logger, optional
         Also write the lines there (e.g. a rule's log).
     interval : float
@@ -49,12 +49,13 @@ class Progress:
     """
 
     def __init__(self, total: int, label: str = "progress", *, unit: str = "point",
-                 stream: TextIO | None = sys.stderr, log: logging.Logger | None = None,
+                 stream: TextIO | None | str = "stderr", log: logging.Logger | None = None,
                  interval: float = 5.0, live: bool | None = None) -> None:
         self.total = int(total)
         self.label = label
         self.unit = unit
-        self.stream = stream
+        self.stream = sys.stderr if stream == "stderr" else stream
+        stream = self.stream
         self.log = log
         self.interval = float(interval)
         self.done = 0
@@ -74,7 +75,8 @@ class Progress:
         rate = self.done / elapsed if elapsed > 0.0 else 0.0
         left = (self.total - self.done) / rate if rate > 0.0 else float("inf")
         pct = 100.0 * self.done / self.total if self.total else 100.0
-        return (f"{self.label}: {self.done}/{self.total} {self.unit}s done ({pct:.0f} %), "
+        plural = self.unit[:-2] + "es" if self.unit.endswith("is") else self.unit + "s"
+        return (f"{self.label}: {self.done}/{self.total} {plural} done ({pct:.0f} %), "
                 f"{rate:.3g} {self.unit}/s, elapsed {format_seconds(elapsed)}, "
                 f"ETA {format_seconds(0.0 if self.done >= self.total else left)}")
 

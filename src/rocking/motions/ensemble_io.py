@@ -51,10 +51,14 @@ def open_netcdf(path: str | Path) -> xr.Dataset:
     it; reading without the map copies the data and closes cleanly.
     """
     p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"NetCDF file not found: {p}")
     with p.open("rb") as fh:
-        classic = fh.read(3) == b"CDF"
-    if classic:
+        magic = fh.read(8)
+    if magic[:3] == b"CDF":
         return xr.open_dataset(p, engine="scipy", mmap=False)
+    if magic[:8] != b"\x89HDF\r\n\x1a\n":
+        raise ValueError(f"{p}: not a NetCDF file")
     return xr.open_dataset(p)
 
 

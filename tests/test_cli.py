@@ -1,0 +1,171 @@
+"""The command line: help with defaults and examples, one-line user errors, outputs with
+units, strict JSON, results in the order asked."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rocking.cli import SUBCOMMANDS, build_parser, main
+from rocking.motions.ensemble_io import save_ensemble
+from rocking.motions.records import load_record
+
+
+def _no_nan(text):
+    raise ValueError(f"non-standard JSON constant {text}")
+
+
+def strict_json(path: Path):
+    """json.loads that refuses NaN and Infinity (what other tools do)."""
+    return json.loads(Path(path).read_text(), parse_constant=_no_nan)
+
+
+def test_version_and_help_show_defaults_and_examples(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["--version"])
+    assert exit_.value.code == 0 and capsys.readouterr().out.startswith("rocking 0.")
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    for name in SUBCOMMANDS:
+        text = sub.choices[name].format_help()
+        assert "examples:" in text and f"rocking {name} " in text, name
+        assert "(default:" in text, name
+    spectra = sub.choices["spectra"].format_help()
+    assert "slenderness b/h [-] (default: 0.2)" in spectra.replace("\n", " ").replace(
+        "  ", " ")
+    assert "(default: 3d)" in spectra and "(default: 20.0)" in spectra
+
+
+def test_help_default_of_the_search_bound_is_the_library_s():
+    from rocking.cli.spectra import UPPER_DEFAULT
+    from rocking.spectra.search import DEFAULT_UPPER
+
+    assert UPPER_DEFAULT == DEFAULT_UPPER
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("inputs")
+    (d / "adir").mkdir()
+    (d / "empty.AT2").write_text("")
+    (d / "repeated.txt").write_text("0 0.1\n0 0.2\n0 0.3\n")
+    (d / "bad.AT2").write_text("PEER\nx\nunits g\nNPTS= 3, DT= .01 SEC\n0.1 abc 0.3\n")
+    (d / "plain.txt").write_text("not an ensemble\n")
+    return d
+
+
+@pytest.mark.parametrize(
+    ("argv", "what"),
+    [
+        (["simulate", "--R", "1", "--tan-alpha", "0.2", "--files", "nosuch.AT2", "y.AT2",
+          "-o", "o"], "nosuch.AT2"),
+        (["spectra", "--R", "1", "--files", "nosuch.AT2", "y.AT2"], "nosuch.AT2"),
+        (["motions", "--files", "nosuch.AT2", "y.AT2", "-o", "m.nc"], "nosuch.AT2"),
+        (["spectra", "--R", "1", "--files", "{d}/adir", "{d}/adir"], "is a directory"),
+        (["spectra", "--R", "1", "--files", "{d}/empty.AT2", "{d}/empty.AT2"], "is empty"),
+        (["spectra", "--R", "1", "--files", "{d}/repeated.txt", "{d}/repeated.txt"],
+         "time does not increase"),
+        (["spectra", "--R", "1", "--files", "{d}/bad.AT2", "{d}/bad.AT2"], "line 5"),
+        (["spectra", "--R", "1", "--record", "kobe-1995"], "kobe-1995"),
+        (["spectra", "--R", "1", "--ensemble", "{d}/nosuch.nc"], "nosuch.nc"),
+        (["spectra", "--R", "1", "--ensemble", "{d}/plain.txt"], "plain.txt"),
+        (["spectra", "--R", "1", "-o", "{d}/x.txt"], "x.txt"),
+        (["spectra", "--R", "1", "-q", "--accuracy", "fast", "--limit-states", "tilt:1",
+          "-o", "{d}/adir/sub/x.csv/"], None),
+        (["simulate", "--R", "1", "--tan-alpha", "0.2", "--theta0", "0.01", "--duration",
+          "1", "-o", "{d}/bad.AT2"], "bad.AT2"),
+        (["simulate", "--R", "1", "--tan-alpha", "0.2", "--body", "block", "-o", "o"],
+         "--body block"),
+        (["motions", "-o", "{d}/m.csv"], "m.csv"),
+    ],
+)
+def test_user_errors_are_one_line_with_nonzero_exit(argv, what, files, capsys, tmp_path,
+                                                     monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    argv = [a.format(d=files) for a in argv]
+    code = main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    if what is None:  # writing into a file as if it were a folder
+        assert code == 0 or (code == 2 and len(err) == 1)
+        return
+    assert code == 2
+    assert len(err) == 1 and err[0].startswith(f"rocking {argv[0]}: error: "), err
+    assert what in err[0] and "Traceback" not in err[0]
+
+
+def test_unwritable_output_is_one_line_without_traceback(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    out = subprocess.run([sys.executable, "-m", "rocking.cli", "simulate", "--R", "1",
+                          "--tan-alpha", "0.2", "--theta0", "0.01", "--duration", "0.5",
+                          "-o", str(blocker / "run")], capture_output=True, text=True)
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+    assert str(blocker / "run") in out.stderr or str(blocker) in out.stderr
+
+
+def test_simulate_outputs_have_units_and_strict_json(tmp_path, capsys):
+    # a body too wide to uplift: t_uplift is "never" (NaN inside), null in the JSON
+    assert main(["simulate", "--R", "1", "--tan-alpha", "1e6", "--record", "el-centro-1940",
+                 "-o", str(tmp_path / "wide")]) == 0
+    summary = strict_json(tmp_path / "wide/summary.json")
+    assert summary["t_uplift"] is None and summary["uplifted"] is False
+    assert json.loads(capsys.readouterr().out, parse_constant=_no_nan)["t_uplift"] is None
+    assert summary["units"]["theta_max"] == "rad"
+    # 2D: no 3D-only columns, impacts named as impacts
+    assert main(["simulate", "--R", "1", "--tan-alpha", "0.2", "--mode", "2d-x", "--record",
+                 "el-centro-1940", "--pga-ratio", "2", "-o", str(tmp_path / "two")]) == 0
+    hist = pd.read_csv(tmp_path / "two/history.csv")
+    assert list(hist.columns) == ["t [s]", "theta [rad]", "theta_dot [rad/s]"]
+    summary = strict_json(tmp_path / "two/summary.json")
+    assert "n_impacts" in summary and "n_quasi_impacts" not in summary
+    assert summary["n_impacts"] > 0
+    assert summary["pga_ratio"] == pytest.approx(2.0, rel=1e-12)
+    assert summary["pga_g"] == pytest.approx(2.0 * 0.2, rel=1e-12)
+    # damped: contact quantities with their units
+    assert main(["simulate", "--R", "6", "--tan-alpha", "0.2", "--mode", "3d-damped",
+                 "--theta0", "0.1", "--phi-dot0", "1e-3", "--duration", "0.2",
+                 "-o", str(tmp_path / "damped")]) == 0
+    cols = pd.read_csv(tmp_path / "damped/history.csv").columns
+    assert list(cols)[-3:] == ["w [m]", "w_dot [m/s]", "contact_force [N/kg]"]
+    assert "J/kg" in strict_json(tmp_path / "damped/summary.json")["units"]["dissipated"]
+
+
+def _short_ensemble(path: Path) -> Path:
+    rec = load_record("el-centro-1940")
+    keep = 800  # 8 s: quick searches that still tip a small cylinder
+    from rocking.motions.motion import GroundMotion
+
+    m = GroundMotion(rec.ax[:keep], rec.ay[:keep], rec.dt, "elc-8s", rec.metadata)
+    return save_ensemble(path, [m])
+
+
+def test_spectra_csv_json_order_units_and_both_intensities(tmp_path):
+    ens = _short_ensemble(tmp_path / "e.nc")
+    common = ["spectra", "--R", "1,2", "--ensemble", str(ens), "--accuracy", "fast",
+              "--limit-states", "overturning,tilt:1/3", "-q"]
+    assert main([*common, "-o", str(tmp_path / "s.csv")]) == 0
+    table = pd.read_csv(tmp_path / "s.csv")
+    assert list(table["limit_state"][:2]) == ["overturning", "tilt:1/3"]  # order asked
+    np.testing.assert_allclose(table["pga_crit_g [g]"],
+                               table["pga_crit [g tan(alpha)]"] * 0.2, rtol=1e-15)
+    assert {"R [m]", "tan_alpha [-]", "source_record", "processing"} <= set(table.columns)
+    assert main([*common, "--upper", "1.05", "-o", str(tmp_path / "s.json")]) == 0
+    doc = strict_json(tmp_path / "s.json")  # not reached up to 1.05: null, never NaN
+    values = [r["pga_crit"] for r in doc["results"]]
+    assert None in values and all(v is None or math.isfinite(v) for v in values)
+    assert doc["units"]["pga_crit_g"] == "g" and doc["limit_states"][0] == "overturning"
+
+
+def test_motions_json_is_strict(tmp_path):
+    assert main(["motions", "-n", "1", "--max-duration", "5", "-q",
+                 "-o", str(tmp_path / "m.nc")]) == 0
+    params = strict_json(tmp_path / "m.json")
+    assert params["n_synthetic"] == 1
