@@ -29,6 +29,7 @@ from rocking.dynamics.bodies import Cylinder
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.tilt_map import tilt_map
+from rocking.units import read_table
 
 pytestmark = pytest.mark.slow
 
@@ -44,10 +45,10 @@ TINY = {
             "ensemble": "tiny",
             "R": [1.0, 3.0],
             "tan_alpha": [0.2],
-            "limit_states": ["overturning", "tilt:0.3333"],
+            "limit_states": ["overturning", "tilt:1/3"],
             "modes": ["3d", "2d-x"],
             "chunk_R": 1,
-            "tilt_map": {"models": ["3d", "3d-damped"], "R": [2.0], "intensity": [2.0, 4.0]},
+            "tilt_map": {"modes": ["3d", "3d-damped"], "R": [2.0], "intensity": [2.0, 4.0]},
         }
     },
     "dask": {"progress_interval": 0},
@@ -97,7 +98,8 @@ def copy_motions(src: Path, dst: Path) -> None:
 def reference(tmp_path_factory) -> Path:
     """One uninterrupted run on an embedded LocalCluster of 2 worker processes."""
     workdir = tmp_path_factory.mktemp("reference")
-    snakemake(workdir, *TARGETS, configfile=write_config(workdir))
+    out = snakemake(workdir, *TARGETS, configfile=write_config(workdir))
+    (workdir / "snakemake.stderr").write_text(out.stderr)
     return workdir
 
 
@@ -124,7 +126,7 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
                     want.not_reached)
                 assert int(point["n_analyses"].values[0]) == want.n_analyses
     # aggregation: the CSV against numpy over the stored values
-    table = pd.read_csv(reference / f"results/{STUDY}/mean_spectra.csv")
+    table = read_table(reference / f"results/{STUDY}/mean_spectra.csv")
     assert len(table) == 2 * 2 * 1 * 2
     for row in table.itertuples():
         v = ds["pga_crit"].sel(mode=row.mode, limit_state=row.limit_state,
@@ -246,19 +248,104 @@ def test_dry_run_plans_every_rule(config, tmp_path):
     ("change", "message"),
     [
         (lambda c: c["studies"][STUDY].update(Rr=[1.0]),
-         "Additional properties are not allowed ('Rr' was unexpected)"),
-        (lambda c: c["studies"][STUDY].update(modes=["3d", "4d"]), "'4d' is not one of"),
+         "unknown config key 'Rr' in studies.tiny; allowed: R, "),
+        (lambda c: c.update(studys={}), "unknown config key 'studys' at the top level"),
+        (lambda c: c["ensembles"]["tiny"].update(record="kobe-1995"),
+         "ensembles.tiny.record='kobe-1995' is not a known record"),
+        (lambda c: c["ensembles"]["tiny"].update(paths=["nosuch_x.AT2", "nosuch_y.AT2"]),
+         "ensembles.tiny.paths[0]='nosuch_x.AT2' does not exist"),
+        (lambda c: c["studies"][STUDY].update(limit_states=["tilt:50"]),
+         "studies.tiny.limit_states: 'tilt:50' with tan_alpha=0.2"),
+        (lambda c: c["studies"][STUDY].update(modes=["3d", "4d"]),
+         "config key studies.tiny.modes[1]='4d': must be one of"),
         (lambda c: c["studies"][STUDY].update(ensemble="nope"),
          "studies.tiny.ensemble='nope' is not a key of ensembles"),
     ],
-    ids=["unknown-key", "bad-mode", "missing-ensemble"],
+    ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
+         "tilt-beyond-overturning", "bad-mode", "missing-ensemble"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))
     change(cfg)
     path = tmp_path / "bad.yaml"
     path.write_text(yaml.safe_dump(cfg))
-    out = snakemake(tmp_path, *TARGETS, configfile=path, check=False)
+    out = snakemake(tmp_path, "-n", *TARGETS, configfile=path, check=False)
     assert out.returncode != 0
-    assert message in out.stdout + out.stderr
+    text = out.stdout + out.stderr
+    assert message in text
+    assert len(text.splitlines()) < 15  # the message, not the schema
     assert not (tmp_path / "results").exists()
+
+
+def _no_nan(text):
+    raise ValueError(f"non-standard JSON constant {text}")
+
+
+def test_progress_and_dashboard_reach_the_terminal(reference):
+    err = (reference / "snakemake.stderr").read_text()
+    # spectra: 8 chunks of one point each; tilt map: 2 chunks of 2 analyses
+    assert re.search(r"spectra tiny: \d+/8 points done \(\d+ %\), [0-9.e+-]+ point/s, "
+                     r"elapsed \d+:\d\d, ETA", err)
+    assert "spectra tiny: 8/8 points done (100 %)" in err
+    assert "tilt map tiny: 4/4 points done (100 %)" in err
+    assert re.search(r"embedded Dask LocalCluster: 2 worker processes.*dashboard: "
+                     r"http://127\.0\.0\.1:\d+", err)
+    assert "motions tiny: wrote 2 motions" in err
+    log = (reference / f"logs/{STUDY}/spectra.log").read_text()
+    assert "spectra tiny: 8/8 points done (100 %)" in log and "dashboard: http://" in log
+    # quiet logs: no scipy mmap warning from reading the ensemble file
+    for path in (reference / "logs").rglob("*.log"):
+        assert "Cannot close a netcdf_file" not in path.read_text(), path
+
+
+def test_every_output_is_self_describing(reference):
+    from rocking.motions.ensemble_io import open_netcdf
+
+    spectra = xr.open_zarr(reference / SPECTRA, consolidated=True)
+    tm = xr.open_zarr(reference / f"results/{STUDY}/tilt_map.zarr", consolidated=True)
+    with open_netcdf(reference / f"results/{STUDY}/mean_spectra.nc") as means:
+        for ds in (spectra, tm, means):
+            for name in ds.variables:
+                attrs = ds[name].attrs
+                assert attrs.get("units") and attrs.get("long_name"), name
+    assert spectra["pga_crit_g"].attrs["units"] == "gravity"
+    np.testing.assert_array_equal(spectra["pga_crit_g"].values,
+                                  spectra["pga_crit"].values * 0.2)
+    # each motion says where it comes from and what was done to it
+    record = spectra.sel(motion="el-centro-1940")
+    text = str(record["processing"].values)
+    assert "rotated -70.46 deg to principal axes" in text and "cut to 3 s" in text
+    assert "high-passed (oscillator, fc 0.09465 Hz)" in text
+    assert str(spectra.sel(motion="el-centro-1940-rdk-000")["source_record"].values) == \
+        "el-centro-1940"
+    table = pd.read_csv(reference / f"results/{STUDY}/mean_spectra.csv")
+    assert "R [m]" in table.columns and "mean_pga_g [g]" in table.columns
+    for path in (reference / "results").rglob("*.json"):
+        json.loads(path.read_text(), parse_constant=_no_nan)
+
+
+@pytest.mark.parametrize(("mode", "motion", "R"),
+                         [("3d", "el-centro-1940", 3.0), ("2d-x", "el-centro-1940-rdk-000", 1.0)])
+def test_store_entry_reproduced_by_the_cli_and_the_library_bit_for_bit(reference, tmp_path,
+                                                                         mode, motion, R):
+    from rocking.cli import main
+    from rocking.study import select
+
+    ds = xr.open_zarr(reference / SPECTRA, consolidated=True)
+    out = tmp_path / "spectrum.csv"
+    # the README's command: the store's ensemble file and motion, mode and settings
+    assert main(["spectra", "--ensemble", str(reference / "results/motions/tiny.nc"),
+                 "--motion", motion, "--R", str(R), "--tan-alpha", "0.2", "--mode", mode,
+                 "--limit-states", "overturning,tilt:1/3", "--accuracy", "fast",
+                 "-q", "-o", str(out)]) == 0
+    table = pd.read_csv(out).set_index("limit_state")
+    for spelling, row in (("overturning", "overturning"), ("tilt:1/3", "tilt:1/3"),
+                          ("excessive-tilt", "tilt:1/3"), ("tilt:0.3333", "tilt:1/3")):
+        stored = select(ds, mode=mode, motion=motion, tan_alpha=0.2, R=R, limit_state=spelling)
+        assert table.loc[row, "pga_crit [g tan(alpha)]"] == float(stored["pga_crit"])
+        assert table.loc[row, "pga_crit_g [g]"] == float(stored["pga_crit_g"])
+        assert table.loc[row, "n_analyses"] == int(stored["n_analyses"])
+    # the README's one xarray call: canonical labels need nothing but .sel
+    assert ds["pga_crit"].sel(mode=mode, motion=motion, tan_alpha=0.2, R=R,
+                              limit_state="tilt:1/3").values == \
+        table.loc["tilt:1/3", "pga_crit [g tan(alpha)]"]
