@@ -108,3 +108,18 @@ def test_log_to_captures_this_and_child_processes(tmp_path):
                        check=True)
     text = log.read_text()
     assert "from the parent" in text and "from a child" in text and "a log record" in text
+
+
+def test_scheduler_without_workers_is_reported_then_given_up(caplog):
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=0, scheduler_port=0, dashboard_address=":0",
+                      processes=False) as empty:
+        said = []
+        with pytest.raises(RuntimeError, match=r"no Dask worker joined scheduler "
+                           r"\S+ within 1 s \(dask.worker_timeout\)"):
+            with cluster.dask_client(cluster.Target("address", empty.scheduler_address),
+                                     worker_timeout=1.0, say=said.append):
+                pass
+    assert "with 0 workers" in said[0] and "dashboard:" in said[0]
+    assert "has no workers: waiting up to 1 s" in said[1]
