@@ -7,7 +7,6 @@ stay the same across figures (PNG for the HTML report, PDF for print).
 from __future__ import annotations
 
 import functools
-import json
 import textwrap
 from collections.abc import Callable, Sequence
 from fractions import Fraction
@@ -16,6 +15,7 @@ from typing import ParamSpec
 
 import matplotlib
 
+from ... import _json
 from ...spectra.limit_states import parse_limit_state
 
 # Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
@@ -120,15 +120,9 @@ def write_notes(path: str | Path, notes: dict) -> Path:
     """Write a figure's measured numbers and missing-data notes as JSON (read by the report)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(notes, indent=2, sort_keys=True, default=_jsonable) + "\n")
+    # strict JSON: a NaN measurement (e.g. a limit state not reached) is written as null
+    path.write_text(_json.dumps(notes, indent=2, sort_keys=True) + "\n")
     return path
-
-
-def _jsonable(value):
-    # numpy scalars and arrays are the usual non-JSON values in the notes.
-    if hasattr(value, "tolist"):
-        return value.tolist()
-    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
 
 
 def footnote(fig: Figure, lines: Sequence[str], size: float = 7.0) -> None:
