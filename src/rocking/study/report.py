@@ -54,6 +54,10 @@ def load_figures(pngs: Sequence[str | Path]) -> list[FigureEntry]:
             raise ValueError(f"figure file does not exist: {str(png)!r}")
         sidecar = png.with_suffix(".json")
         notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
+        # the notes are strict JSON: a NaN measurement was written as null
+        measured = notes.get("measured")
+        if isinstance(measured, dict):
+            notes["measured"] = {k: math.nan if v is None else v for k, v in measured.items()}
         out.append(FigureEntry(name, png, notes))
     return sorted(out, key=lambda f: (FIGURES.index(f.name), str(f.png)))
 
