@@ -336,6 +336,17 @@ def test_fig06_sensitivity_rotation_leaves_theta_max_unchanged():
 # ---------------------------------------------------------------- Figs 7–12 from a store
 
 
+def test_fig07_with_one_size_colours_its_points(study):
+    # One R (a small test study) has no contour: the map shows the grid points' classes.
+    d = fig07_tilt_map.data(study["tilt_map"], motions=study["motions"])
+    d = {**d, "R": d["R"][:1],
+         "theta_over_alpha": {m: z[:1] for m, z in d["theta_over_alpha"].items()}}
+    fig = fig07_tilt_map.plot(d)
+    colours = fig.axes[0].collections[0].get_array()
+    np.testing.assert_array_equal(np.asarray(colours), np.minimum(
+        d["theta_over_alpha"]["3d"][0], 0.5 * (fig07_tilt_map.LEVELS[-1] + fig07_tilt_map.TOP)))
+
+
 @pytest.mark.parametrize("which", ["study", "partial"])
 def test_fig07_data_equal_the_tilt_map_store(which, study, partial):
     paths = {"study": study, "partial": partial}[which]

@@ -11,6 +11,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from matplotlib import colormaps
+from matplotlib.colors import BoundaryNorm
 from matplotlib.figure import Figure
 
 from . import _axes, _load
@@ -96,10 +98,16 @@ def plot(d: dict) -> Figure:
     for ax, model in zip(axes, models, strict=False):
         z = np.minimum(d["theta_over_alpha"][model].T, 0.5 * (LEVELS[-1] + TOP))
         # NaN (not computed) stays blank; overturned values (θ = π/2) fall in the top class.
-        mappable = ax.contourf(d["R"], d["intensity"], np.ma.masked_invalid(z), levels=levels,
-                               cmap="viridis", extend="neither")
-        ax.contour(d["R"], d["intensity"], np.ma.masked_invalid(z), levels=[1.0],
-                   colors="white", linewidths=1.2)
+        zm = np.ma.masked_invalid(z)
+        if min(z.shape) >= 2:
+            mappable = ax.contourf(d["R"], d["intensity"], zm, levels=levels, cmap="viridis",
+                                   extend="neither")
+            ax.contour(d["R"], d["intensity"], zm, levels=[1.0], colors="white",
+                       linewidths=1.2)
+        else:  # one size or one intensity: no contour exists, colour the points
+            norm = BoundaryNorm(levels, colormaps["viridis"].N)
+            mappable = ax.scatter(RR.ravel(), II.ravel(), c=zm.ravel(), marker="s", s=90,
+                                  cmap="viridis", norm=norm)
         ax.plot(RR.ravel(), II.ravel(), ".", color="white", ms=1.2, alpha=0.6)  # the grid
         ax.grid(False)  # grid lines would read as contours
         ax.set_title(MODE_STYLE.get(model, {}).get("label", model) + " model")
