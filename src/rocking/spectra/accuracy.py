@@ -34,6 +34,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+SCANS = ("fixed", "adaptive")
+"""Kinds of coarse scan (:attr:`Accuracy.scan`)."""
+
 
 @dataclass(frozen=True)
 class Accuracy:
@@ -53,6 +56,17 @@ class Accuracy:
         ODE relative tolerance of the "3d-damped" analyses [-]; default ``rtol``.
     scan_relative : bool
         True: geometric scan I_j = I_0 (1 + step)^j; False: arithmetic I_j = I_0 + j·step.
+        The adaptive scan is always relative.
+    scan : {"fixed", "adaptive"}
+        "fixed": every step is ``scan_step``. "adaptive": each step follows from how far
+        the last peak tilt θ is below the next undecided tilt goal τ,
+        h = ln(τ/θ)/``tilt_growth``, kept within [``scan_step``, ``scan_step_max``]
+        (:meth:`adaptive_step`).
+    scan_step_max : float
+        Largest relative step of the adaptive scan [-], >= ``scan_step``.
+    tilt_growth : float
+        Assumed largest growth rate d ln θmax / d ln I of the peak tilt with the intensity
+        [-], > 0: the adaptive step is the step that could just lift θ to τ at that rate.
     """
 
     name: str
@@ -61,6 +75,9 @@ class Accuracy:
     bisection_tol: float
     rtol_damped: float | None = None
     scan_relative: bool = True
+    scan: str = "fixed"
+    scan_step_max: float = 0.1
+    tilt_growth: float = 40.0
 
     def __post_init__(self) -> None:
         _check_range("rtol", self.rtol, 0.0, 1e-2)
@@ -69,6 +86,17 @@ class Accuracy:
         _check_range("rtol_damped", self.rtol_damped, 0.0, 1e-2)
         _check_range("scan_step", self.scan_step, 0.0, math.inf)
         _check_range("bisection_tol", self.bisection_tol, 0.0, 1.0, upper_open=True)
+        if self.scan not in SCANS:
+            raise ValueError(f"scan must be one of {list(SCANS)}, got {self.scan!r}")
+        _check_range("tilt_growth", self.tilt_growth, 0.0, math.inf)
+        _check_range("scan_step_max", self.scan_step_max, 0.0, math.inf)
+        if self.scan == "adaptive":
+            if not self.scan_relative:
+                raise ValueError("scan='adaptive' needs scan_relative=True (its steps are "
+                                 "relative), got scan_relative=False")
+            if self.scan_step_max < self.scan_step:
+                raise ValueError(f"scan_step_max must be >= scan_step={self.scan_step!r}, "
+                                 f"got {self.scan_step_max!r}")
 
     def with_(self, **changes) -> Accuracy:
         """A copy with some fields changed (named ``"custom"`` unless a name is given)."""
@@ -80,10 +108,27 @@ class Accuracy:
         return self.rtol_damped if model == "3d-damped" else self.rtol
 
     def scan_point(self, lower: float, j: int) -> float:
-        """The j-th point of the coarse scan starting at ``lower`` (j = 0 is ``lower``)."""
+        """The j-th point of the fixed scan starting at ``lower`` (j = 0 is ``lower``)."""
         if self.scan_relative:
             return lower * (1.0 + self.scan_step) ** j
         return lower + j * self.scan_step
+
+    def adaptive_step(self, theta: float, goal: float) -> float:
+        """Relative step of the adaptive scan after a peak tilt ``theta`` [rad] when the next
+        undecided tilt goal is ``goal`` [rad].
+
+        If θmax grew with the intensity no faster than I^κ (κ = ``tilt_growth``), it could
+        not reach the goal before I·(τ/θ)^(1/κ): the step is ln(τ/θ)/κ, at least
+        ``scan_step`` (near a goal, where narrow windows of exceedance hide) and at most
+        ``scan_step_max``. A body at rest (θ = 0) takes the largest step; an unknown tilt
+        (NaN, a failed analysis) the smallest.
+        """
+        if not theta < goal:  # also NaN
+            return self.scan_step
+        if theta <= 0.0:
+            return self.scan_step_max
+        h = math.log(goal / theta) / self.tilt_growth
+        return min(self.scan_step_max, max(self.scan_step, h))
 
     def to_dict(self) -> dict:
         """JSON-serialisable form (written into study attributes and CLI outputs)."""
@@ -94,6 +139,9 @@ class Accuracy:
             "scan_step": self.scan_step,
             "scan_relative": self.scan_relative,
             "bisection_tol": self.bisection_tol,
+            "scan": self.scan,
+            "scan_step_max": self.scan_step_max,
+            "tilt_growth": self.tilt_growth,
         }
 
 
@@ -139,7 +187,8 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
     if isinstance(accuracy, dict):
         fields = dict(accuracy)
         base = get_accuracy(fields.pop("preset", "default"))
-        allowed = {"name", "rtol", "rtol_damped", "scan_step", "bisection_tol", "scan_relative"}
+        allowed = {"name", "rtol", "rtol_damped", "scan_step", "bisection_tol", "scan_relative",
+                   "scan", "scan_step_max", "tilt_growth"}
         unknown = sorted(set(fields) - allowed)
         if unknown:
             raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed {sorted(allowed)}")

@@ -324,11 +324,15 @@ class _Search:
         )
         return out
 
-    def run(self, intensity: float) -> bool:
-        """Analyse at ``intensity`` if it can teach anything; False if it failed twice."""
+    def run(self, intensity: float) -> float:
+        """Analyse at ``intensity`` if it can teach anything.
+
+        Returns the peak tilt reached [rad]: 0.0 if no analysis was needed, NaN if it failed
+        twice (nothing was learnt there).
+        """
         informative = self.know.informative(intensity)
         if not informative.any():
-            return True
+            return 0.0
         top = int(np.flatnonzero(informative)[-1])
         stop_at = None if self.states[top].is_overturning else float(self.tau[top])
         out = self._call(intensity, stop_at, self.rtol)
@@ -336,21 +340,33 @@ class _Search:
             out = self._call(intensity, stop_at, self.rtol * RETRY_RTOL_FACTOR)
         if out.status is Status.FAILED:
             self.know.failed_at.append(intensity)
-            return False
+            return math.nan
         known, exceeded = _classify(out, self.states, self.tau, self.alpha, stop_at)
         self.know.add(intensity, known, exceeded)
-        return True
+        return math.pi / 2 if out.overturned else float(out.theta_max)
+
+    def _next_scan_point(self, previous: float, j: int, theta: float) -> float:
+        """Scan point after ``previous`` (the j-th), given the peak tilt ``theta`` reached
+        there [rad] (0 at uplift, NaN after a failure)."""
+        if self.acc.scan == "fixed":
+            return self.acc.scan_point(self.lower, j)
+        _, hi = self.know.brackets()
+        # The lowest goal not yet exceeded, but never above α: no tilt beyond α (and no
+        # overturning) is reached without first passing α, where the restoring moment of
+        # the body's weight vanishes, so closeness to α is what warns of them.
+        goal = min(float(np.min(self.tau[np.isnan(hi)])), self.alpha)
+        return previous * (1.0 + self.acc.adaptive_step(theta, goal))
 
     def scan(self) -> None:
         """Step upward from uplift until every limit state is exceeded or ``upper`` is done."""
-        j = 1
+        j, intensity, theta = 1, self.lower, 0.0
         while self.lower < self.upper:
             _, hi = self.know.brackets()
             if not np.isnan(hi).any():
                 return
-            intensity = self.acc.scan_point(self.lower, j)
+            intensity = self._next_scan_point(intensity, j, theta)
             last = intensity >= self.upper * (1.0 - 1e-9)
-            self.run(self.upper if last else intensity)
+            theta = self.run(self.upper if last else intensity)
             if last:
                 return
             j += 1
@@ -368,7 +384,7 @@ class _Search:
             if not lo[k] < mid < hi[k]:  # float resolution reached: nothing left to halve
                 self.resolved[k] = True
                 continue
-            if not self.run(mid):
+            if math.isnan(self.run(mid)):
                 # Cannot learn anything here: stop refining every bracket around this point.
                 self.stuck |= (lo < mid) & (mid < hi)
 
