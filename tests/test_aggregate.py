@@ -72,6 +72,28 @@ def test_netcdf_and_csv_round_trip(tmp_path):
     assert list(table.columns) == ["mode", "limit_state", "tan_alpha [-]", "R [m]",
                                    "mean [g tan(alpha)]", "mean_pga_g [g]",
                                    "std [g tan(alpha)]", "median [g tan(alpha)]", "count",
-                                   "n_not_reached"]
+                                   "n_not_reached", "requested"]
     assert table["mean [g tan(alpha)]"].tolist() == [3.0, 3.0]
     assert table["count"].tolist() == [2, 1]
+
+
+def test_cells_not_requested_are_not_computed_not_not_reached():
+    """A (mode, limit state, tan α) cell no run asked for holds NaN with every flag false:
+    its statistics are NaN with count 0 and n_not_reached 0, and ``requested`` says why."""
+    ds = spectra([[2.0, 3.0], [4.0, 5.0]])
+    both = xr.concat([ds, ds.assign_coords(limit_state=["tilt:1/3"])], "limit_state")
+    both["pga_crit"].loc[{"limit_state": "tilt:1/3"}] = np.nan
+    both["not_reached"].loc[{"limit_state": "tilt:1/3"}] = False
+    both["done"] = ds["done"]
+    both["requested"] = (("mode", "limit_state", "tan_alpha"), np.array([[[True], [False]]]))
+    stats = ensemble_statistics(both)
+    asked = stats.sel(limit_state="overturning")
+    np.testing.assert_allclose(asked["mean"].values.ravel(), [3.0, 4.0])
+    other = stats.sel(limit_state="tilt:1/3")
+    assert np.isnan(other["mean"].values).all()
+    assert (other["count"].values == 0).all() and (other["n_not_reached"].values == 0).all()
+    assert stats["requested"].sel(limit_state="overturning").all()
+    assert not stats["requested"].sel(limit_state="tilt:1/3").any()
+    # Without the mask the same NaN would be an unexplained hole: refused.
+    with pytest.raises(ValueError, match="NaN"):
+        ensemble_statistics(both.drop_vars("requested"))

@@ -1,10 +1,11 @@
 """The Snakemake workflow end to end: real snakemake (subprocess), real Dask, real zarr.
 
-A tiny study (El Centro cut to 3 s + one synthetic pair, 2 sizes, 2 modes, 2 limit states)
-runs once uninterrupted on an embedded LocalCluster of worker processes; its store is checked
-against direct library calls and serves as the reference of the other runs: against an
-external ``dask scheduler`` with two ``dask worker`` processes (one killed mid-run), and a run
-killed mid-way then resumed. Every one must give the same bytes.
+A tiny study (El Centro cut to 3 s + one synthetic pair, 2 sizes, 2 modes; 2 limit states
+for 3D and one for 2D, so that one cell of the store is not requested) runs once
+uninterrupted on an embedded LocalCluster of worker processes; its store is checked against
+direct library calls and serves as the reference of the other runs: against an external
+``dask scheduler`` with two ``dask worker`` processes (one killed mid-run), and a run killed
+mid-way then resumed. Every one must give the same bytes.
 """
 
 from __future__ import annotations
@@ -44,9 +45,12 @@ TINY = {
         STUDY: {
             "ensemble": "tiny",
             "R": [1.0, 3.0],
-            "tan_alpha": [0.2],
-            "limit_states": ["overturning", "tilt:1/3"],
-            "modes": ["3d", "2d-x"],
+            "runs": [
+                {"modes": ["3d"], "tan_alpha": [0.2],
+                 "limit_states": ["overturning", "tilt:1/3"]},
+                {"purpose": "a run asking for fewer limit states", "modes": ["2d-x"],
+                 "tan_alpha": [0.2], "limit_states": ["overturning"]},
+            ],
             "chunk_R": 1,
             "tilt_map": {"modes": ["3d", "3d-damped"], "R": [2.0], "intensity": [2.0, 4.0]},
         }
@@ -110,12 +114,21 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
     motions = {m.name: m for m in load_ensemble(reference / "results/motions/tiny.nc")}
     assert list(ds["motion"].values) == list(motions)  # the record first, then its pair
     assert bool(ds["done"].all())
-    states = [str(s) for s in ds["limit_state"].values]
+    assert [str(s) for s in ds["limit_state"].values] == ["tilt:1/3", "overturning"]
+    asked = {"3d": ["tilt:1/3", "overturning"], "2d-x": ["overturning"]}
+    np.testing.assert_array_equal(ds["requested"].sel(tan_alpha=0.2).values,
+                                  [[True, True], [False, True]])
+    # the cell no run asked for: not computed (NaN, no flag), told apart from not reached
+    skipped = ds.sel(mode="2d-x", limit_state="tilt:1/3")
+    assert bool(skipped["pga_crit"].isnull().all())
+    for flag in ("not_reached", "non_monotonic", "failed"):
+        assert not bool(skipped[flag].any()), flag
+    assert int(skipped["n_analyses"].max()) == 0
     for mode in ds["mode"].values:
         for name, motion in motions.items():
             for R in ds["R"].values:
-                want = critical_intensity(Cylinder(float(R), 0.2), motion, states, str(mode),
-                                          accuracy=attrs["tolerances"],
+                want = critical_intensity(Cylinder(float(R), 0.2), motion, asked[str(mode)],
+                                          str(mode), accuracy=attrs["tolerances"],
                                           **attrs["search_options"])
                 point = ds.sel(mode=mode, motion=name, tan_alpha=0.2, R=R)
                 got = point["pga_crit"].sel(limit_state=list(want.limit_states)).values
@@ -124,13 +137,18 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
                 np.testing.assert_array_equal(
                     point["not_reached"].sel(limit_state=list(want.limit_states)).values,
                     want.not_reached)
-                assert int(point["n_analyses"].values[0]) == want.n_analyses
+                assert int(point["n_analyses"].sel(limit_state="overturning")) == \
+                    want.n_analyses
     # aggregation: the CSV against numpy over the stored values
     table = read_table(reference / f"results/{STUDY}/mean_spectra.csv")
     assert len(table) == 2 * 2 * 1 * 2
     for row in table.itertuples():
         v = ds["pga_crit"].sel(mode=row.mode, limit_state=row.limit_state,
                                tan_alpha=row.tan_alpha, R=row.R).values
+        assert row.requested == (row.limit_state in asked[row.mode])
+        if not row.requested:
+            assert np.isnan(row.mean) and row.count == 0 and row.n_not_reached == 0
+            continue
         assert row.mean == pytest.approx(np.mean(v), rel=1e-9)
         assert row.std == pytest.approx(np.std(v, ddof=1), rel=1e-9)
         assert row.count == 2
@@ -254,15 +272,20 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "ensembles.tiny.record='kobe-1995' is not a known record"),
         (lambda c: c["ensembles"]["tiny"].update(paths=["nosuch_x.AT2", "nosuch_y.AT2"]),
          "ensembles.tiny.paths[0]='nosuch_x.AT2' does not exist"),
-        (lambda c: c["studies"][STUDY].update(limit_states=["tilt:50"]),
-         "studies.tiny.limit_states: 'tilt:50' with tan_alpha=0.2"),
-        (lambda c: c["studies"][STUDY].update(modes=["3d", "4d"]),
-         "config key studies.tiny.modes[1]='4d': must be one of"),
+        (lambda c: c["studies"][STUDY]["runs"][1].update(limit_states=["tilt:50"]),
+         "studies.tiny.runs[1].limit_states: 'tilt:50' with tan_alpha=0.2"),
+        (lambda c: c["studies"][STUDY]["runs"][1].update(modes=["3d", "4d"]),
+         "config key studies.tiny.runs[1].modes[1]='4d': must be one of"),
+        (lambda c: c["studies"][STUDY]["runs"][1].pop("limit_states"),
+         "config studies.tiny.runs[1]: 'limit_states' is a required property"),
+        (lambda c: c["studies"][STUDY]["runs"][0].update(limit_states=["tilt:0.5", "tilt:1/2"]),
+         "studies.tiny.runs[0].limit_states names one tilt goal twice"),
         (lambda c: c["studies"][STUDY].update(ensemble="nope"),
          "studies.tiny.ensemble='nope' is not a key of ensembles"),
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
-         "tilt-beyond-overturning", "bad-mode", "missing-ensemble"],
+         "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
+         "missing-ensemble"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))

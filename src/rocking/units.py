@@ -37,6 +37,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "failed": ("1", "", "an analysis failed even after a retry"),
     "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
     "done": ("1", "", "chunk computed and written"),
+    "requested": ("1", "", "some run of the study asks for this cell (false: not computed)"),
     "bracket_lo": ("1", "g tan(alpha)", "largest intensity known not to exceed, below the answer"),
     "bracket_hi": ("1", "g tan(alpha)", "smallest exceeding intensity found (the answer)"),
     "lower": ("1", "g tan(alpha)", "uplift intensity (start of the search)"),

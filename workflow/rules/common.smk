@@ -5,7 +5,7 @@ import re
 
 import numpy as np
 
-from rocking.spectra.limit_states import parse_limit_states
+from rocking.study.plan import plan_study
 from rocking.study.store import config_hash
 from snakemake.exceptions import WorkflowError
 
@@ -59,21 +59,37 @@ def damped_options(modes):
     return {"omega_n": float(config["damped"]["omega_n"]), "zeta": float(config["damped"]["zeta"])}
 
 
+def study_plan(study):
+    """The study's runs checked and united (rocking.study.plan): modes, tan α, limit states
+    and which of their cells are requested."""
+    runs = []
+    for i, run in enumerate(study_config(study)["runs"]):
+        field = f"studies.{study}.runs[{i}]"
+        runs.append({**run, "tan_alpha": expand_grid(run["tan_alpha"], f"{field}.tan_alpha")})
+    return plan_study(runs, f"studies.{study}.runs")
+
+
 def spectra_spec(study):
-    """The result-affecting description of a spectra store (its hash invalidates the store)."""
+    """The result-affecting description of a spectra store (its hash invalidates the store).
+
+    ``runs`` say what is computed; ``modes``, ``tan_alpha`` and ``limit_states`` are their
+    union, the store's grid (cells of the grid no run asks for stay NaN, requested = false).
+    """
     s = study_config(study)
+    plan = study_plan(study)
     return {
         "study": study,
         "ensemble": {"name": ensemble_of(study), **ensemble_spec(ensemble_of(study))},
         "R": expand_grid(s["R"], f"studies.{study}.R"),
-        "tan_alpha": expand_grid(s["tan_alpha"], f"studies.{study}.tan_alpha"),
-        "limit_states": [ls.name for ls in parse_limit_states(s["limit_states"])],
-        "modes": list(s["modes"]),
+        **plan.to_dict(),
+        "tan_alpha": list(plan.tan_alpha),
+        "limit_states": list(plan.limit_states),
+        "modes": list(plan.modes),
         "chunk_R": s["chunk_R"],
         "min_task_seconds": config["dask"]["min_task_seconds"] if s["chunk_R"] == "auto" else None,
         "accuracy": accuracy_config(),
         "search_options": {"upper": float(config["search"]["upper"]),
-                           **damped_options(s["modes"])},
+                           **damped_options(plan.modes)},
     }
 
 

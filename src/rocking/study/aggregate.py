@@ -4,7 +4,9 @@ The paper's Figs 10–12 plot, for each size R, the mean over the ground motions
 critical intensity PGA/(g tan α). A motion whose search ended without reaching the limit
 state (``not_reached``) has no critical intensity, only a lower bound; it is left out of the
 statistics and counted separately (``n_not_reached``), so ``count`` says how many motions a
-statistic rests on.
+statistic rests on. Cells no run of the study asked for (``requested`` false, see
+:mod:`rocking.study.plan`) were never computed: their statistics are NaN with count 0, and
+``requested`` is carried over so that a reader can tell "not computed" from "not reached".
 """
 
 from __future__ import annotations
@@ -34,8 +36,9 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     -------
     xarray.Dataset
         ``mean``, ``std`` (sample, ddof = 1; NaN with fewer than 2 values), ``median``
-        [PGA/(g tan α), -], ``mean_pga_g`` (the mean as PGA [g]), ``count`` (motions used)
-        and ``n_not_reached``; CF ``units`` and ``long_name`` on everything.
+        [PGA/(g tan α), -], ``mean_pga_g`` (the mean as PGA [g]), ``count`` (motions used),
+        ``n_not_reached`` and ``requested`` (mode, limit_state, tan_alpha; all true for a
+        store without the mask); CF ``units`` and ``long_name`` on everything.
 
     Raises
     ------
@@ -50,7 +53,11 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
         raise ValueError(f"spectra store is incomplete: {int(missing.sum())} points not done, "
                          f"first at {first}")
     pga = ds["pga_crit"].load()
-    reached = ~ds["not_reached"].load().astype(bool)
+    if "requested" in ds:
+        requested = ds["requested"].load().astype(bool)
+    else:
+        requested = xr.ones_like(pga.isel(motion=0, R=0, drop=True), dtype=bool)
+    reached = ~ds["not_reached"].load().astype(bool) & requested
     if bool((pga.isnull() & reached).any()):
         raise ValueError("pga_crit is NaN at a point whose limit state was reached")
     values = pga.where(reached)
@@ -61,9 +68,10 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
             "std": values.std("motion", ddof=1, skipna=True).where(count >= 2),
             "median": values.median("motion", skipna=True),
             "count": count,
-            "n_not_reached": (~reached).sum("motion").astype(np.int32),
+            "n_not_reached": (~reached & requested).sum("motion").astype(np.int32),
         }
     ).transpose(*STAT_DIMS)
+    out["requested"] = requested.transpose(*(d for d in STAT_DIMS if d in requested.dims))
     out["mean_pga_g"] = out["mean"] * out["tan_alpha"]
     for name in out.variables:
         out[name].attrs = attrs(str(name))
@@ -75,7 +83,8 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
 
 def to_frame(stats: xr.Dataset) -> pd.DataFrame:
     """Long table, one row per (mode, limit_state, tan_alpha, R); headers with units."""
-    cols = ["mean", "mean_pga_g", "std", "median", "count", "n_not_reached"]
+    cols = ["mean", "mean_pga_g", "std", "median", "count", "n_not_reached", "requested"]
+    cols = [c for c in cols if c in stats]
     df = stats[cols].to_dataframe().reset_index()[[*STAT_DIMS, *cols]]
     return df.rename(columns=header)
 

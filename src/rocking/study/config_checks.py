@@ -95,7 +95,7 @@ def check_config(config: Mapping[str, Any]) -> None:
     ------
     ValueError
         An unknown record name without files, a record file that does not exist, a study
-        naming an unknown ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of the study.
+        naming an unknown ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
     """
     for name, spec in config["ensembles"].items():
         _check_record(f"ensembles.{name}", spec)
@@ -103,7 +103,9 @@ def check_config(config: Mapping[str, Any]) -> None:
         if s["ensemble"] not in config["ensembles"]:
             raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "
                              f"ensembles {sorted(config['ensembles'])}")
-        _check_tilt_goals(f"studies.{study}", s["limit_states"], _grid(s["tan_alpha"]))
+        for i, run in enumerate(s["runs"]):
+            _check_tilt_goals(f"studies.{study}.runs[{i}]", run["limit_states"],
+                              _grid(run["tan_alpha"]))
 
 
 def _check_record(key: str, spec: Mapping[str, Any]) -> None:

@@ -30,7 +30,7 @@ import shutil
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -60,6 +60,12 @@ TILT_MAP_TASK_DIMS = ("mode", "R")
 
 DONE = "done"
 """Name of the completion mask."""
+
+REQUESTED = "requested"
+"""Name of the spectra store's mask of cells some run of the study asks for."""
+
+REQUESTED_DIMS = ("mode", "limit_state", "tan_alpha")
+"""Dimensions of :data:`REQUESTED`."""
 
 # Snakemake marks a finished directory output with a ".snakemake_timestamp" file; zarr notes
 # it is not part of the hierarchy whenever it lists a store's members. It is harmless.
@@ -99,12 +105,16 @@ class Layout:
         Dimensions cut into task regions, in the order regions are numbered (C order).
     task_chunks : dict of str to int
         Region length along each task dimension (the last region may be shorter).
+    static : dict of str to Variable
+        Variables of the configuration rather than of the results (e.g. ``requested``),
+        written whole when the store is created, never by a task.
     """
 
     coords: dict[str, np.ndarray]
     variables: dict[str, Variable]
     task_dims: tuple[str, ...]
     task_chunks: dict[str, int]
+    static: dict[str, Variable] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for dim in self.task_dims:
@@ -121,6 +131,11 @@ class Layout:
             if not set(self.task_dims) <= set(var.dims):
                 raise ValueError(f"variable {name!r} must span every task dimension "
                                  f"{self.task_dims}, has {var.dims}")
+        for name, var in self.static.items():
+            missing = [d for d in var.dims if d not in self.coords]
+            if missing or name in self.variables:
+                raise ValueError(f"static variable {name!r} uses dimensions without "
+                                 f"coordinates {missing} or repeats a variable's name")
 
     def shape(self, dims: Sequence[str]) -> tuple[int, ...]:
         """Array shape over ``dims``."""
@@ -164,12 +179,17 @@ class Layout:
         """The chunking part of the layout (coordinates live in the store's arrays)."""
         return json.dumps({"task_dims": list(self.task_dims),
                            "task_chunks": {d: int(self.task_chunks.get(d, 1))
-                                           for d in self.task_dims}})
+                                           for d in self.task_dims},
+                           "static": sorted(self.static)})
 
 
 def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: Sequence[str],
                    tan_alpha: Sequence[float], R: Sequence[float], chunk_R: int) -> Layout:
     """Layout of a performance-spectra store (``docs/design.md``, "Study store").
+
+    Besides the results it holds the static ``requested`` (mode, limit_state, tan_alpha):
+    which cells the study's runs ask for (:mod:`rocking.study.plan`); cells not requested
+    are never computed and keep the fill values (NaN, flags false).
 
     Parameters
     ----------
@@ -201,7 +221,9 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
         "failed": Variable(SPECTRA_DIMS, "bool", False),
         "n_analyses": Variable(SPECTRA_DIMS, "int32", 0),
     }
-    return Layout(coords, variables, SPECTRA_TASK_DIMS, {"R": int(chunk_R)})
+    # fill True: a store made without a study plan computes every cell
+    static = {REQUESTED: Variable(REQUESTED_DIMS, "bool", True)}
+    return Layout(coords, variables, SPECTRA_TASK_DIMS, {"R": int(chunk_R)}, static)
 
 
 def tilt_map_layout(modes: Sequence[str], R: Sequence[float], intensity: Sequence[float],
@@ -274,11 +296,14 @@ def file_sha256(path: str | Path) -> str:
 
 def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
                  config_digest: str,
-                 coords: dict[str, tuple[str, Sequence[Any]]] | None = None) -> Path:
+                 coords: dict[str, tuple[str, Sequence[Any]]] | None = None,
+                 static: dict[str, np.ndarray] | None = None) -> Path:
     """Create an empty store (replacing any store at ``path``).
 
     The store is built in a sibling temporary directory and renamed into place, so a
-    creation that is interrupted never leaves a half-made store at ``path``.
+    creation that is interrupted never leaves a half-made store at ``path``. Regions in which
+    the static ``requested`` mask (if the layout has one) asks for nothing are marked done at
+    once: there is nothing to compute in them.
 
     Parameters
     ----------
@@ -294,6 +319,9 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     coords : dict, optional
         Auxiliary coordinates ``{name: (dim, values)}``, e.g. each motion's source record
         and processing (:func:`identity_coords`).
+    static : dict of str to ndarray, optional
+        Values of the layout's static variables (each shaped over its dims); a variable
+        left out takes its fill value everywhere.
 
     Returns
     -------
@@ -301,6 +329,7 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         The store path.
     """
     path = Path(path)
+    static = _static_values(layout, static or {})
     tmp = path.with_name(path.name + ".creating")
     shutil.rmtree(tmp, ignore_errors=True)
     ds = xr.Dataset(coords={d: (d, v, _cf(d)) for d, v in layout.coords.items()})
@@ -312,6 +341,8 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         # lazy fill: to_zarr(compute=False) writes metadata and coordinates, no chunk files
         ds[name] = (var.dims, da.full(shape, var.fill, dtype=var.dtype, chunks=chunks),
                     _cf(name))
+    for name, values in static.items():
+        ds[name] = (layout.static[name].dims, values, _cf(name))
     ds.attrs = {k: v if isinstance(v, str) else _json.dumps(v) for k, v in attrs.items()}
     ds.attrs["Conventions"] = "CF-1.10"
     ds.attrs["config_hash"] = config_digest
@@ -320,6 +351,13 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
                 for name in [*layout.variables, DONE]}
     ds.to_zarr(tmp, mode="w", compute=False, zarr_format=3, consolidated=False,
                encoding=encoding)
+    if static:
+        # to_zarr(compute=False) leaves out eager data too: write the static arrays now
+        group = zarr.open_group(tmp, mode="r+", zarr_format=3)
+        for name, values in static.items():
+            group[name][...] = values
+        for index in regions_not_requested(layout, static.get(REQUESTED)):
+            group[DONE][layout.selection(layout.task_dims, layout.region(index))] = True
     if path.exists():
         shutil.rmtree(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -356,6 +394,44 @@ def _done_variable(layout: Layout) -> Variable:
     return Variable(layout.task_dims, "bool", False)
 
 
+def _static_values(layout: Layout, values: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Values of every static variable of ``layout``, checked (fill value where not given)."""
+    unknown = sorted(set(values) - set(layout.static))
+    if unknown:
+        raise ValueError(f"static values {unknown} are not static variables of the layout "
+                         f"{sorted(layout.static)}")
+    out = {}
+    for name, var in layout.static.items():
+        shape = layout.shape(var.dims)
+        a = np.asarray(values.get(name, np.full(shape, var.fill)), dtype=var.dtype)
+        if a.shape != shape:
+            raise ValueError(f"static variable {name!r} has shape {a.shape}, expected "
+                             f"{shape} over {var.dims}")
+        out[name] = a
+    return out
+
+
+def regions_not_requested(layout: Layout, requested: np.ndarray | None) -> list[int]:
+    """Regions of a spectra layout whose (mode, tan α) asks for no limit state.
+
+    Parameters
+    ----------
+    layout : Layout
+        A spectra layout (task dims mode, motion, tan_alpha, R).
+    requested : ndarray of bool or None
+        (mode, limit_state, tan_alpha) mask; None: everything is requested.
+    """
+    if requested is None:
+        return []
+    wanted = np.asarray(requested, dtype=bool).any(axis=REQUESTED_DIMS.index("limit_state"))
+    out = []
+    for index in range(layout.n_regions):
+        region = layout.region(index)
+        if not wanted[region["mode"], region["tan_alpha"]].any():
+            out.append(index)
+    return out
+
+
 def open_layout(path: str | Path) -> Layout:
     """Read the layout of an existing store."""
     group = _open_group(path, "r")
@@ -365,14 +441,29 @@ def open_layout(path: str | Path) -> Layout:
     coord_names = [k for k, d in dims_of.items() if d == (k,)]
     coords = {k: _read_coord(group[k]) for k in coord_names}
     task_dims = set(chunking["task_dims"])
-    # data variables span every task dimension; auxiliary coordinates (a motion's source
-    # record, processing) span one dimension and are not results
-    variables = {
-        k: Variable(dims_of[k], str(group[k].dtype), group[k].fill_value)
-        for k in names if k not in coords and k != DONE and task_dims <= set(dims_of[k])
-    }
+    static_names = set(chunking.get("static", []))
+    variables, static = {}, {}
+    for k in names:
+        if k in coords or k == DONE:
+            continue
+        var = Variable(dims_of[k], str(group[k].dtype), group[k].fill_value)
+        if k in static_names:
+            static[k] = var
+        # data variables span every task dimension; auxiliary coordinates (a motion's
+        # source record, processing) span one dimension and are not results
+        elif task_dims <= set(dims_of[k]):
+            variables[k] = var
     return Layout(coords, variables, tuple(chunking["task_dims"]),
-                  {k: int(v) for k, v in chunking["task_chunks"].items()})
+                  {k: int(v) for k, v in chunking["task_chunks"].items()}, static)
+
+
+def read_requested(path: str | Path, layout: Layout | None = None) -> np.ndarray:
+    """The ``requested`` mask (mode, limit_state, tan_alpha) of a spectra store; all True
+    for a store without one."""
+    layout = open_layout(path) if layout is None else layout
+    if REQUESTED not in layout.static:
+        return np.ones(layout.shape(REQUESTED_DIMS), dtype=bool)
+    return np.asarray(_open_group(path, "r")[REQUESTED][...], dtype=bool)
 
 
 def _read_coord(array: zarr.Array) -> np.ndarray:
@@ -695,16 +786,22 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
     (mode,), (name,), (tan_alpha,) = rc["mode"], rc["motion"], rc["tan_alpha"]
     motion = _motion(motions, name)
     limit_states = [str(s) for s in layout.coords["limit_state"]]
+    region = layout.region(index)
+    # (limit_state,): the cells of this region some run of the study asks for
+    wanted = read_requested(path, layout)[region["mode"], :, region["tan_alpha"]][0, :, 0]
+    computed = [ls for ls, w in zip(limit_states, wanted, strict=True) if w]
     tasks = [(float(R), float(tan_alpha), motion, str(mode)) for R in rc["R"]]
-    results = batch(tasks, limit_states, accuracy=attrs["tolerances"],
-                    **attrs.get("search_options", {}))
-    flat = spectra_values(results, limit_states)
+    results = batch(tasks, computed, accuracy=attrs["tolerances"],
+                    **attrs.get("search_options", {})) if computed else []
+    flat = spectra_values(results, limit_states, computed) if computed else \
+        _unrequested_values(len(limit_states), len(tasks))
     flat["pga_crit_g"] = flat["pga_crit"] * float(tan_alpha)  # PGA [g] = I·tan α
     # (limit_state, R) -> (mode=1, limit_state, motion=1, tan_alpha=1, R)
     values = {k: v[None, :, None, None, :] for k, v in flat.items()}
+    # NaN is an answer where the limit state was not reached, or where nobody asked
+    nan_ok = values["not_reached"] | ~wanted[None, :, None, None, None]
     write_region(path, layout, index, values,
-                 nan_allowed={"pga_crit": values["not_reached"],
-                              "pga_crit_g": values["not_reached"]})
+                 nan_allowed={"pga_crit": nan_ok, "pga_crit_g": nan_ok})
     return {"index": index, "points": len(tasks), "seconds": time.perf_counter() - t0}
 
 
@@ -716,7 +813,19 @@ def _motion(source: MotionSource, name: str) -> GroundMotion:
     return by_name[name]
 
 
-def spectra_values(results: Sequence[Any], limit_states: Sequence[str]) -> dict[str, np.ndarray]:
+def _unrequested_values(n_ls: int, n: int) -> dict[str, np.ndarray]:
+    """Arrays (limit_state, point) of cells not computed: NaN and every flag false."""
+    return {
+        "pga_crit": np.full((n_ls, n), np.nan),
+        "not_reached": np.zeros((n_ls, n), dtype=bool),
+        "non_monotonic": np.zeros((n_ls, n), dtype=bool),
+        "failed": np.zeros((n_ls, n), dtype=bool),
+        "n_analyses": np.zeros((n_ls, n), dtype=np.int32),
+    }
+
+
+def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
+                   computed: Sequence[str] | None = None) -> dict[str, np.ndarray]:
     """Arrays (limit_state, point) of a batch of critical-intensity results.
 
     Parameters
@@ -728,24 +837,24 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str]) -> dict[
         ``n_analyses``.
     limit_states : sequence of str
         Order of the first axis (canonical names, as in the store).
+    computed : sequence of str, optional
+        The limit states the results answer (default all); the others stay NaN with every
+        flag false (not requested).
 
     Raises
     ------
     ValueError
-        If a result lacks a limit state of the store, or has a NaN intensity for a limit
+        If a result lacks a limit state of ``computed``, or has a NaN intensity for a limit
         state it reports as reached.
     """
     n_ls, n = len(limit_states), len(results)
-    out = {
-        "pga_crit": np.full((n_ls, n), np.nan),
-        "not_reached": np.zeros((n_ls, n), dtype=bool),
-        "non_monotonic": np.zeros((n_ls, n), dtype=bool),
-        "failed": np.zeros((n_ls, n), dtype=bool),
-        "n_analyses": np.zeros((n_ls, n), dtype=np.int32),
-    }
+    out = _unrequested_values(n_ls, n)
+    computed = set(limit_states if computed is None else computed)
     for j, res in enumerate(results):
         names = list(res.limit_states)
         for i, ls in enumerate(limit_states):
+            if ls not in computed:
+                continue
             if ls not in names:
                 raise ValueError(f"result {j} has no limit state {ls!r} (has {names})")
             k = names.index(ls)
@@ -755,6 +864,7 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str]) -> dict[
             out["failed"][i, j] = res.failed[k]
             out["n_analyses"][i, j] = res.n_analyses
     bad = np.isnan(out["pga_crit"]) & ~out["not_reached"]
+    bad &= np.isin(np.asarray(limit_states, dtype=object), list(computed))[:, None]
     if bad.any():
         i, j = np.argwhere(bad)[0]
         raise ValueError(f"point {j}: intensity of {limit_states[i]!r} is NaN but the limit "

@@ -141,6 +141,9 @@ def mean_curve(agg: xr.Dataset, mode: str, limit_state: str, stat: str = "mean")
     of the curve was computed (a mode not requested at this tan α is all NaN)."""
     if mode not in labels(agg, "mode") or limit_state not in labels(agg, "limit_state"):
         return None
+    if "requested" in agg and not bool(agg["requested"].sel(mode=mode,
+                                                            limit_state=limit_state).any()):
+        return None  # no run of the study asked for it
     y = agg[stat].sel(mode=mode, limit_state=limit_state).values.astype(float)
     return y if np.isfinite(y).any() else None
 
