@@ -137,6 +137,10 @@ def compute_threads():
         return 1
 
 
+NUMBA_CACHE = "results/numba_cache.json"
+"""Marker of the numba_cache step (the kernels compiled into numba's on-disk cache)."""
+
+
 # Paths other rules (figures.smk) consume. A store is complete once its *.done.json exists.
 def spectra_store(study):
     return f"results/{study}/spectra.zarr"

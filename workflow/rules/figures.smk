@@ -21,6 +21,8 @@ rule fig03_wobbling_period:
 rule fig04_free_vibration:
     conda:
         "../envs/rocking.yaml"
+    input:
+        numba=ancient(NUMBA_CACHE),
     output:
         **_figure_output(f"{FIGURES_DIR}/fig04_free_vibration", "Paper figures",
                          figure="Fig 4"),
@@ -38,6 +40,8 @@ rule fig04_free_vibration:
 rule fig06_theta_max_sensitivity:
     conda:
         "../envs/rocking.yaml"
+    input:
+        numba=ancient(NUMBA_CACHE),
     output:
         **_figure_output(f"{FIGURES_DIR}/fig06_theta_max_sensitivity", "Paper figures",
                          figure="Fig 6 (companion)"),
@@ -57,6 +61,7 @@ rule fig06_el_centro:
     input:
         motions=lambda wildcards: ensemble_file(el_centro_ensemble()),
         sensitivity=rules.fig06_theta_max_sensitivity.output.notes,
+        numba=ancient(NUMBA_CACHE),
     output:
         **_figure_output(f"{FIGURES_DIR}/fig06_el_centro", "Paper figures", figure="Fig 6"),
     params:

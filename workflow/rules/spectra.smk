@@ -24,6 +24,7 @@ rule spectra_store:
 rule spectra:
     input:
         store="results/{study}/spectra.zarr",
+        numba=ancient(NUMBA_CACHE),
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
         "results/{study}/spectra.done.json",
@@ -37,3 +38,18 @@ rule spectra:
         "logs/{study}/spectra.log",
     script:
         "../scripts/spectra.py"
+
+
+# Compilation once per machine: the kernels are compiled (or loaded from numba's cache) here,
+# before any rule that runs analyses starts worker processes, so they all load them from the
+# cache instead of each compiling its own copy. Its output is an ancient() input of those
+# rules: ordering only, a fresh marker never reruns finished results.
+rule numba_cache:
+    output:
+        NUMBA_CACHE,
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/numba_cache.log",
+    script:
+        "../scripts/numba_cache.py"

@@ -22,6 +22,7 @@ rule tilt_map_store:
 rule tilt_map:
     input:
         store="results/{study}/tilt_map.zarr",
+        numba=ancient(NUMBA_CACHE),
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
         "results/{study}/tilt_map.done.json",

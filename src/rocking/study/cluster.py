@@ -11,6 +11,11 @@ map point: one analysis) done / total, with the rate and the time left, in the r
 on the terminal Snakemake runs in (a live bar there when it is a TTY), with the Dask
 dashboard address once at the start. A joined cluster without workers is waited for
 ``worker_timeout`` seconds, then the run stops with an error that says so.
+
+Compilation is paid once per machine: the kernels are numba functions cached on disk
+(``cache=True``), so :func:`warm_numba_cache` run once before any worker starts (the
+workflow's first step) compiles them, and every later process, worker or rule loads them
+from the cache instead of compiling its own copy.
 """
 
 from __future__ import annotations
@@ -182,6 +187,56 @@ def _wait_for_a_worker(client: Client, address: str, timeout: float, say) -> Non
             f"(dask.worker_timeout); start some, e.g. `dask worker {address} --nthreads 1`"
         ) from None
     say(f"a worker joined scheduler {address}")
+
+
+WARM_R = 1.0
+"""Size of the warm-up cylinder [m] (tan α 0.2): small enough to rock, tail and overturn
+under :func:`_warm_motion` within a few analyses."""
+
+
+def _warm_motion():
+    """2 s of two half-sine pulses at 100 Hz: a cheap motion under which a search meets
+    rest, rocking, the free tail after the record and overturning."""
+    import numpy as np
+
+    from ..motions.motion import GroundMotion
+
+    t = np.arange(201) * 0.01
+    pulse = np.where(t < 1.0, np.sin(np.pi * t), 0.0)
+    return GroundMotion(3.0 * pulse, 2.0 * np.roll(pulse, 50), 0.01, "warm-up")
+
+
+def warm_numba_cache(modes: Sequence[str] | None = None) -> dict[str, float]:
+    """Compile the kernels of ``modes`` in this process, or load them from numba's cache.
+
+    One critical-intensity search per mode on a 2 s motion runs every kernel a study's
+    tasks call (the search's summary-only analyses, stop at a tilt, free tail, overturning).
+    Compiled code is written to numba's on-disk cache, so processes started afterwards on
+    this machine (Dask workers, other rules) load it in a fraction of a second instead of
+    compiling for 10–20 s each.
+
+    Parameters
+    ----------
+    modes : sequence of str, optional
+        Modes of :data:`rocking.spectra.critical.MODES` (default all).
+
+    Returns
+    -------
+    dict
+        Seconds per mode [s]: compilation on an empty cache, loading on a warm one.
+    """
+    from ..dynamics.bodies import Cylinder
+    from ..spectra.critical import MODES, critical_intensity
+
+    motion = _warm_motion()
+    seconds = {}
+    for mode in dict.fromkeys(MODES if modes is None else modes):
+        t0 = time.perf_counter()
+        critical_intensity(Cylinder(WARM_R, 0.2), motion, ["tilt:0.5", "overturning"], mode,
+                           accuracy="fast", upper=8.0)
+        seconds[mode] = time.perf_counter() - t0
+        log.info("numba kernels of mode %s ready in %.2f s", mode, seconds[mode])
+    return seconds
 
 
 def worker_pids(client: Client) -> dict[str, int]:

@@ -1,0 +1,99 @@
+"""Cold start: seconds to the first spectrum point of each mode with an empty numba cache.
+
+``python -m rocking.benchmarks coldstart`` writes ``results/benchmarks/coldstart.csv`` and
+``.md``. Each scenario runs in a fresh process whose numba cache (``NUMBA_CACHE_DIR``) starts
+empty, starts an embedded Dask cluster of two worker processes as the workflow does and has
+each worker compute one spectrum point per mode, as every worker of a study eventually does
+(El Centro, R = 2 m, tan α = 0.2, overturning and θ > α/3, "default" accuracy):
+
+- ``before``: the workers start at once, so each compiles the kernels it meets itself;
+- ``after``: :func:`rocking.study.cluster.warm_numba_cache` runs first in the client process
+  (the workflow's ``numba_cache`` step), the workers then load the kernels from the cache;
+- ``warm``: ``after`` again on the cache the previous scenario filled (every later rule or
+  run on the machine).
+
+Per scenario and mode: seconds from the start of the scenario (before any warm-up or cluster)
+until both workers have computed their point of the mode; per scenario: the warm-up time and
+the total. Wall times on a shared
+machine: compilation is CPU-bound, so a loaded machine stretches it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import pandas as pd
+
+from ._io import write_table
+
+MODES = ("3d", "3d-damped", "2d-x", "2d-y")
+R = 2.0
+TAN_ALPHA = 0.2
+LIMIT_STATES = ("overturning", "tilt:1/3")
+
+
+def _point(mode: str) -> float:
+    """One spectrum point of ``mode`` (a Dask task); returns the time it finished [epoch s]."""
+    from rocking.dynamics.bodies import Cylinder
+    from rocking.motions.records import load_record
+    from rocking.spectra.critical import critical_intensity
+
+    critical_intensity(Cylinder(R, TAN_ALPHA), load_record("el-centro-1940"), LIMIT_STATES,
+                       mode)
+    return time.time()
+
+
+def scenario(warm: bool) -> dict:
+    """Run one scenario in this process; seconds since its start per mode."""
+    from distributed import Client, LocalCluster
+
+    from rocking.study.cluster import warm_numba_cache
+
+    t0 = time.time()
+    warm_seconds = sum(warm_numba_cache(MODES).values()) if warm else 0.0
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as cluster, Client(cluster) as client:
+        workers = list(client.scheduler_info()["workers"])
+        futures = {mode: [client.submit(_point, mode, pure=False, workers=[w])
+                          for w in workers] for mode in MODES}
+        done = {mode: max(f.result() for f in fs) - t0 for mode, fs in futures.items()}
+    return {"warm_up": warm_seconds, "first_result": done, "total": time.time() - t0}
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the scenarios in fresh processes and write the table."""
+    parser = argparse.ArgumentParser(prog="python -m rocking.benchmarks coldstart")
+    parser.add_argument("--scenario", choices=("before", "after"),
+                        help=argparse.SUPPRESS)  # internal: one scenario in this process
+    args = parser.parse_args(argv)
+    if args.scenario:
+        print(json.dumps(scenario(args.scenario == "after")))
+        return 0
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="numba-cold-") as tmp:
+        for name, kind, cache in (("before", "before", "a"), ("after", "after", "b"),
+                                  ("warm", "after", "b")):
+            env = {**os.environ, "NUMBA_CACHE_DIR": os.path.join(tmp, cache)}
+            out = subprocess.run([sys.executable, "-m", "rocking.benchmarks", "coldstart",
+                                  "--scenario", kind], env=env, capture_output=True,
+                                 text=True, check=True)
+            res = json.loads(out.stdout.strip().splitlines()[-1])
+            print(f"  {name}: {res}", flush=True)
+            for mode, seconds in res["first_result"].items():
+                rows.append({"scenario": name, "mode": mode, "seconds_to_result": seconds,
+                             "warm_up_seconds": res["warm_up"], "total_seconds": res["total"]})
+    df = pd.DataFrame(rows)
+    notes = (f"One point per mode (El Centro, R = {R:g} m, tan α = {TAN_ALPHA:g}, "
+             f"{', '.join(LIMIT_STATES)}, accuracy 'default') on an embedded LocalCluster of 2 "
+             "worker processes, each scenario in a fresh process with its own numba cache "
+             "directory; seconds from the scenario's start (warm-up, cluster start, import "
+             f"of the record included). {os.cpu_count()} cores shared with other jobs.")
+    write_table("coldstart", df, "Cold start: first spectrum point per mode", notes)
+    print(df.to_string(index=False))
+    return 0
