@@ -47,6 +47,7 @@ rule spectra:
 rule numba_cache:
     output:
         NUMBA_CACHE,
+    threads: compute_threads()
     conda:
         "../envs/rocking.yaml"
     log:

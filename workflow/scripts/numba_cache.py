@@ -11,7 +11,7 @@ from rocking.study.cluster import log_to, warm_numba_cache
 def main(snakemake):
     with log_to(snakemake.log[0]):
         t0 = time.perf_counter()
-        seconds = warm_numba_cache()
+        seconds = warm_numba_cache(processes=snakemake.threads)
         summary = {"seconds_per_mode": seconds, "seconds": time.perf_counter() - t0,
                    "numba": numba.__version__}
     with open(snakemake.output[0], "w") as fh:
