@@ -11,7 +11,7 @@ under ``results/benchmarks/``:
   Per configuration: median, 90th percentile and largest relative error over every answer
   reached in both, the fraction within 1 %, reached/not-reached mismatches, analyses and
   seconds per spectrum point. The reference takes long: it is computed once and cached in
-  ``results/benchmarks/spectra_reference.json``, keyed by everything it depends on (motion,
+  ``results/benchmarks/spectra_reference_<n>pts.json``, keyed by everything it depends on (motion,
   points, tolerances, the sources of the engine and of the search).
 - ``spectra_cost.csv`` / ``.md`` (cost): per spectrum point, for R ∈ {0.5, 2, 4, 6, 10} m,
   every mode and the limit-state sets of ``config/paper.yaml``, on each ensemble's record and
@@ -180,7 +180,8 @@ def _reference(points, motion: GroundMotion, refresh: bool) -> list[Point]:
            "points": [list(p) for p in points], "tan_alpha": TAN_ALPHA,
            "limit_states": list(DEFAULT_LIMIT_STATES), "accuracy": REFERENCE.to_dict(),
            "sources": _sources_digest()}
-    path = results_dir() / "spectra_reference.json"
+    # one file per point set, so that a --quick smoke run never replaces the full reference
+    path = results_dir() / f"spectra_reference_{len(points)}pts.json"
     if path.exists() and not refresh:
         cached = json.loads(path.read_text())
         if cached.get("key") == key:
@@ -225,10 +226,13 @@ def _variants(quick: bool) -> list[tuple[str, Accuracy]]:
     out += [("fixed scan_step", FIXED.with_(scan_step=s)) for s in (0.005, 0.02, 0.05, 0.1)]
     out += [("scan_step", base.with_(scan_step=s)) for s in (0.0035, 0.0075)
             if s != base.scan_step]
-    out += [("scan_step_max", base.with_(scan_step_max=s)) for s in (0.05, 0.2)
+    out += [("scan_step_max", base.with_(scan_step_max=s)) for s in (0.05, 0.1)
             if s != base.scan_step_max]
-    out += [("tilt_growth", base.with_(tilt_growth=k)) for k in (20.0, 40.0, 120.0)
+    out += [("tilt_growth", base.with_(tilt_growth=k)) for k in (40.0, 80.0, 120.0)
             if k != base.tilt_growth]
+    out.append(("precise, adaptive", PRESETS["precise"].with_(
+        name="precise with the adaptive scan", scan="adaptive", scan_step=0.0035,
+        scan_step_max=0.03, tilt_growth=120.0)))
     out += [("bisection_tol", base.with_(bisection_tol=t)) for t in (0.001, 0.02)]
     # The damped model keeps its decade above the undamped ones (as in the presets).
     ratio = base.rtol_damped / base.rtol
@@ -238,7 +242,7 @@ def _variants(quick: bool) -> list[tuple[str, Accuracy]]:
 
 
 def _label(varied: str, acc: Accuracy) -> str:
-    if varied in ("preset", "before"):
+    if varied in ("preset", "before", "precise, adaptive"):
         return acc.name
     if varied == "rtol":
         return f"rtol={acc.rtol:g} (damped {acc.rtol_damped:g})"

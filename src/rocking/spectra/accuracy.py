@@ -158,8 +158,9 @@ def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = Fals
 
 PRESETS: dict[str, Accuracy] = {
     "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.1, bisection_tol=0.02),
-    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.01,
-                        bisection_tol=0.005),
+    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.005,
+                        bisection_tol=0.005, scan="adaptive", scan_step_max=0.03,
+                        tilt_growth=60.0),
     "precise": Accuracy("precise", rtol=1e-10, rtol_damped=1e-9, scan_step=0.0075,
                         bisection_tol=0.001),
 }
