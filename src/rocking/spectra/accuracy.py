@@ -1,32 +1,56 @@
 """Named accuracy presets of the critical-intensity search.
 
-Three numbers set together how close a performance spectrum is to its converged value and
+Four choices set together how close a performance spectrum is to its converged value and
 what it costs:
 
 - ``rtol``: relative tolerance of the ODE integration of each analysis of the undamped 3D
   and the 2D models, and ``rtol_damped`` that of the stiff damped 3D model (its cost grows
   faster with the accuracy asked, so it gets its own value);
-- ``scan_step``: step of the coarse upward scan in normalized intensity I = PGA/(g tan α),
-  relative (I_{j+1} = I_j·(1 + step)) or absolute (I_{j+1} = I_j + step);
+- the upward scan in normalized intensity I = PGA/(g tan α) that looks for the first
+  exceedance: ``scan="fixed"`` steps by ``scan_step`` everywhere (relative,
+  I_{j+1} = I_j·(1 + step), or absolute); ``scan="adaptive"`` sets each step from how far the
+  peak tilt θ of the last analysis lies below the next undecided tilt goal τ (capped at α:
+  nothing beyond α is reached without passing α), h = ln(τ/θ)/``tilt_growth`` within
+  [``scan_step``, ``scan_step_max``] — the step over which θmax, growing like I^κ, could just
+  reach the goal;
 - ``bisection_tol``: width of the final bracket (lo, hi] relative to hi.
 
 A coarser scan is cheaper but may step over a narrow window of exceedance below the first
 one it sees (rocking response is not monotonic in the intensity); the bisection tolerance
 bounds the error inside the bracket; the ODE tolerance moves the boundary itself where the
 response is sensitive. The presets were chosen from ``python -m rocking.benchmarks spectra``
-(results/benchmarks/spectra.md): "default" aims at ≤ 1 % error in I_crit at the lowest cost.
+(results/benchmarks/spectra.md): "default" aims at ≤ 1 % median error in I_crit at the
+lowest cost.
 
 What that benchmark measured (El Centro, tan α = 0.2, 18 (R, mode) points × 7 limit states,
-126 answers, against a reference with 0.5 % scan steps, 0.01 % brackets, rtol 1e-11): the scan
-step dominates the error, because rocking response has narrow windows of exceedance below the
-first robust one (a 10 m cylinder overturns in 3D on a < 2 %-wide window near I = 2.44,
-converged in rtol, while a 10 % scan answers 4.0). Median error: 5.2 % with 10 % steps,
-3.5 % with 5 %, 0.96 % with 2 %, 0.85 % with 1 % ("default"); rtol from 1e-6 to 1e-10
-changes it by < 0.4 % while tripling the cost. "default" (1 % steps, rtol 1e-7): median
-0.85 %, 90th percentile 8.9 %, 71 analyses and 0.6 s per spectrum point; "fast": 5.9 %,
-20 analyses; "precise": 0.64 %, 102 analyses, 3.6 s. About 10 % of the answers stay several
-per cent off at any affordable step (windows narrower than the step are missed); the result
-flags ``non_monotonic`` wherever the search saw such a window.
+126 answers, against a reference with a fixed 0.5 % scan, 0.01 % brackets, rtol 1e-11):
+
+- The scan dominates the error, because rocking response has narrow windows of exceedance
+  (0.25–2 % of I wide) below the first robust one (a 10 m cylinder overturns in 3D on a
+  < 2 %-wide window near I = 2.44, converged in rtol, while a 10 % scan answers 4.0). Fixed
+  scan, median / 90th percentile error: 0.13 % / 0.8 % with 0.5 % steps (132 analyses per
+  point), 0.85 % / 8.9 % with 1 % (71), 0.96 % / 9.6 % with 2 % (43), 3.5 % / 19 % with 5 %,
+  5.2 % / 45 % with 10 %. rtol from 1e-6 to 1e-10 moves the median between 0.55 % and 1.1 %
+  at up to 5× the cost: that is the scatter of the median itself.
+- Such windows appear wherever the peak tilt comes within a factor of about 2–3 of a goal,
+  and with goals spaced by factors 1.3–2 (0.1, 0.2, 1/3, 0.5, 0.75, 1) the response is that
+  close over most of the range: 75 % of a fixed scan's analyses have θ ≥ τ/2. The adaptive
+  scan therefore saves little there but skips the far region (the micro-uplift just above
+  uplift, where θ ~ 1e-7…1e-4 rad and an analysis costs up to 100 median ones) and uses
+  finer steps right below a goal.
+- "default" (adaptive, 0.5 % near a goal, at most 5 %, κ = 60; rtol 1e-7): median 0.82 %,
+  90th percentile 6.3 %, 67 analyses per point, against 0.85 %, 8.9 %, 71 for its former fixed
+  1 % scan, in 2.3–4× less time on El Centro. With the two limit states of Figs 9, 11, 12
+  (overturning, θ > α/3) it runs 44 analyses instead of 69, at a median error of 1.7 %
+  instead of 0.84 % (36 answers; on 233 answers of 118 (motion, R, mode) points with a 0.25 %
+  grid as truth: 1.2 % against 0.5 %, 79 against 125 analyses): between θ > α/3 and α its
+  steps grow to ~2 %. ``tilt_growth=80`` trades some of that saving back.
+- "precise" (adaptive, 0.35 % near a goal, at most 3 %, κ = 120; rtol 1e-10): 0.59 % /
+  6.0 %, 113 analyses; "fast" (fixed 10 %): 5.9 % / 44 %, 20 analyses.
+
+About 10 % of the answers stay several per cent off at any affordable step (windows narrower
+than the step are missed); the result flags ``non_monotonic`` wherever the search saw such a
+window.
 """
 
 from __future__ import annotations
@@ -159,10 +183,11 @@ def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = Fals
 PRESETS: dict[str, Accuracy] = {
     "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.1, bisection_tol=0.02),
     "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.005,
-                        bisection_tol=0.005, scan="adaptive", scan_step_max=0.03,
+                        bisection_tol=0.005, scan="adaptive", scan_step_max=0.05,
                         tilt_growth=60.0),
-    "precise": Accuracy("precise", rtol=1e-10, rtol_damped=1e-9, scan_step=0.0075,
-                        bisection_tol=0.001),
+    "precise": Accuracy("precise", rtol=1e-10, rtol_damped=1e-9, scan_step=0.0035,
+                        bisection_tol=0.001, scan="adaptive", scan_step_max=0.03,
+                        tilt_growth=120.0),
 }
 """The named presets, from cheapest to most accurate."""
 
