@@ -81,7 +81,8 @@ def test_cells_not_requested_are_not_computed_not_not_reached():
     """A (mode, limit state, tan α) cell no run asked for holds NaN with every flag false:
     its statistics are NaN with count 0 and n_not_reached 0, and ``requested`` says why."""
     ds = spectra([[2.0, 3.0], [4.0, 5.0]])
-    both = xr.concat([ds, ds.assign_coords(limit_state=["tilt:1/3"])], "limit_state")
+    both = xr.concat([ds, ds.assign_coords(limit_state=["tilt:1/3"])], "limit_state",
+                     data_vars="all")
     both["pga_crit"].loc[{"limit_state": "tilt:1/3"}] = np.nan
     both["not_reached"].loc[{"limit_state": "tilt:1/3"}] = False
     both["done"] = ds["done"]

@@ -33,8 +33,11 @@ def test_shipped_configurations_pass():
         (lambda c: c.update(foo=1), "unknown config key 'foo' at the top level; allowed: "),
         (lambda c: c["studies"]["elcentro"].update(Rr=[1]),
          "unknown config key 'Rr' in studies.elcentro"),
-        (lambda c: c["studies"]["elcentro"].update(modes=["3d", "4d"]),
-         "config key studies.elcentro.modes[1]='4d': must be one of"),
+        (lambda c: c["studies"]["elcentro"]["runs"][0].update(modes=["3d", "4d"]),
+         "config key studies.elcentro.runs[0].modes[1]='4d': must be one of"),
+        (lambda c: c["studies"]["elcentro"].update(modes=["3d"]),
+         "unknown config key 'modes' in studies.elcentro; allowed: R, chunk_R, ensemble, "
+         "runs"),
         (lambda c: c.update(accuracy="fastest"), "config key accuracy='fastest'"),
     ],
 )
@@ -52,11 +55,11 @@ def test_schema_errors_are_one_short_line(change, message):
          "ensembles.elcentro.paths[0]='/nope/x.AT2' does not exist"),
         (lambda c: c["ensembles"]["elcentro"].update(paths=["/", "/"]),
          "ensembles.elcentro.paths[0]='/' is not a file"),
-        (lambda c: c["studies"]["elcentro"].update(limit_states=["tilt:50"]),
-         "studies.elcentro.limit_states: 'tilt:50' with tan_alpha=0.2"),
-        (lambda c: c["studies"]["elcentro"].update(limit_states=["tilt:3"],
-                                                    tan_alpha=[0.2, 1.0]),
-         "'tilt:3' with tan_alpha=1"),
+        (lambda c: c["studies"]["elcentro"]["runs"][1].update(limit_states=["tilt:50"]),
+         "studies.elcentro.runs[1].limit_states: 'tilt:50' with tan_alpha=0.2"),
+        (lambda c: c["studies"]["elcentro"]["runs"][2].update(limit_states=["tilt:3"],
+                                                              tan_alpha=[0.2, 1.0]),
+         "studies.elcentro.runs[2].limit_states: 'tilt:3' with tan_alpha=1"),
     ],
 )
 def test_cross_field_errors_name_key_and_value(change, message):

@@ -117,7 +117,7 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
     attrs = {"tolerances": get_accuracy(paper["accuracy"]).to_dict(), "search_options": options,
              "ensemble": store.ensemble_attrs(ensemble, "elcentro")}
     path = workdir / f"{name}.zarr"
-    store.create_store(path, layout, attrs, name, {store.REQUESTED: requested})
+    store.create_store(path, layout, attrs, name, static={store.REQUESTED: requested})
     return path
 
 

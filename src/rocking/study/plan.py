@@ -176,7 +176,7 @@ def plan_study(runs: Sequence[Mapping | Run], field: str = "runs") -> StudyPlan:
     parsed = tuple(r if isinstance(r, Run) else parse_run(r, f"{field}[{i}]")
                    for i, r in enumerate(runs))
     modes = tuple(m for m in MODES if any(m in r.modes for r in parsed))
-    # one name per tilt goal: the first spelling met ("tilt:1/2" and "tilt:0.5" are one)
+    # one name per tilt goal ("tilt:1/2" and "tilt:0.5" are one)
     union = parse_limit_states([ls for r in parsed for ls in r.limit_states])
     ratios = [s.ratio for s in union]
     states = tuple(s.name for s in union)
