@@ -87,7 +87,7 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
             "tolerances": json.dumps({"intensity_rtol": 0.01}),
             "rocking_version": "0.1.0",
             "ensemble": json.dumps({"label": ensemble, "stand_in": stand_in, "name": "synth",
-                                    "motions": [{"name": m, "label": m, "pga": 2.7}
+                                    "motions": [{"name": m, "label": m, "PGA": 2.7 / 9.80665}
                                                 for m in MOTIONS]}),
             "search_options": json.dumps({"upper": UPPER, "omega_n": 2000.0, "zeta": 5.0}),
         },

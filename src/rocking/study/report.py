@@ -198,7 +198,9 @@ def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str,
     from ..constants import G
 
     first = motions[0]
-    text = (f"{first['pga'] / G:.3f} g: vector peak max √(ax² + ay²) of {first['label']} after "
+    # stores record the motion's identity "PGA" [g]; older ones its "pga" [m/s²]
+    pga_g = first["PGA"] if "PGA" in first else first["pga"] / G
+    text = (f"{pga_g:.3f} g: vector peak max √(ax² + ay²) of {first['label']} after "
             "rotation to principal axes and high-pass, as every spectrum is scaled (a vector peak "
             "does not depend on the rotation)")
     m = (sensitivity or {}).get("measured", {})
