@@ -257,7 +257,7 @@ def test_lint_is_clean(config, tmp_path):
 @pytest.mark.parametrize("config", ["config/config.yaml", "config/paper.yaml"])
 def test_dry_run_plans_every_rule(config, tmp_path):
     dry = snakemake(tmp_path, "-n", configfile=REPO / config)
-    for rule in ("motions", "numba_cache", "spectra_store", "spectra", "tilt_map",
+    for rule in ("motions", "numba_cache", "spectra", "tilt_map",
                  "mean_spectra"):
         assert re.search(rf"^{rule}\s+\d+$", dry.stdout, re.MULTILINE), rule
     assert not (tmp_path / "results").exists()

@@ -4,8 +4,7 @@
 
 rule mean_spectra:
     input:
-        store="results/{study}/spectra.zarr",
-        complete="results/{study}/spectra.done.json",
+        complete=rules.spectra.output.done,
     output:
         nc="results/{study}/mean_spectra.nc",
         csv=report(
@@ -14,6 +13,8 @@ rule mean_spectra:
             category="Performance spectra",
             labels={"study": "{study}", "table": "ensemble statistics"},
         ),
+    params:
+        store=lambda wildcards: spectra_store(wildcards.study),
     conda:
         "../envs/rocking.yaml"
     log:

@@ -45,7 +45,7 @@ def ensemble_spec(name):
 
 
 def ensemble_file(name):
-    return f"results/motions/{name}.nc"
+    return expand(rules.motions.output.motions, ensemble=name)[0]
 
 
 def accuracy_config():
@@ -141,25 +141,27 @@ NUMBA_CACHE = "results/numba_cache.json"
 """Marker of the numba_cache step (the kernels compiled into numba's on-disk cache)."""
 
 
-# Paths other rules (figures.smk) consume. A store is complete once its *.done.json exists.
+# The stores are prepared and filled by their compute rule and are not Snakemake outputs (see
+# spectra.smk); other rules take the rule's completion marker as input and the store path as
+# a parameter. Everything else is named by the rule that writes it (rules.<name>.output).
 def spectra_store(study):
     return f"results/{study}/spectra.zarr"
-
-
-def spectra_complete(study):
-    return f"results/{study}/spectra.done.json"
-
-
-def mean_spectra(study):
-    return f"results/{study}/mean_spectra.nc"
 
 
 def tilt_map_store(study):
     return f"results/{study}/tilt_map.zarr"
 
 
+def spectra_complete(study):
+    return expand(rules.spectra.output.done, study=study)[0]
+
+
 def tilt_map_complete(study):
-    return f"results/{study}/tilt_map.done.json"
+    return expand(rules.tilt_map.output.done, study=study)[0]
+
+
+def mean_spectra(study):
+    return expand(rules.mean_spectra.output.nc, study=study)[0]
 
 
 RUN_CONFIG = "results/config.yaml"  # this run's configuration, defaults filled in (report)
@@ -168,7 +170,7 @@ RUN_CONFIG = "results/config.yaml"  # this run's configuration, defaults filled 
 def all_targets():
     targets = []
     for study in config["studies"]:
-        targets += [mean_spectra(study), f"results/{study}/mean_spectra.csv"]
+        targets += expand(rules.mean_spectra.output, study=study)
         if has_tilt_map(study):
             targets.append(tilt_map_complete(study))
     targets += list(figure_targets())

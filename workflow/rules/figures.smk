@@ -77,14 +77,14 @@ rule fig07_tilt_map:
     conda:
         "../envs/rocking.yaml"
     input:
-        store=lambda wildcards: tilt_map_store(wildcards.study),
-        complete=lambda wildcards: tilt_map_complete(wildcards.study),
+        complete=rules.tilt_map.output.done,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
         **_figure_output("results/{study}/figures/fig07_tilt_map", "Paper figures",
                          figure="Fig 7", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig07_tilt_map"),
+        store=lambda wildcards: tilt_map_store(wildcards.study),
     log:
         "logs/{study}/fig07_tilt_map.log",
     script:
@@ -111,15 +111,15 @@ rule fig09_spectra:
     conda:
         "../envs/rocking.yaml"
     input:
-        store=lambda wildcards: spectra_store(wildcards.study),
-        complete=lambda wildcards: spectra_complete(wildcards.study),
-        means=lambda wildcards: mean_spectra(wildcards.study),
+        complete=rules.spectra.output.done,
+        means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
         **_figure_output("results/{study}/figures/fig09_spectra", "Paper figures",
                          figure="Fig 9", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig09_spectra"),
+        store=lambda wildcards: spectra_store(wildcards.study),
     log:
         "logs/{study}/fig09_spectra.log",
     script:
@@ -130,7 +130,7 @@ rule fig10_goals:
     conda:
         "../envs/rocking.yaml"
     input:
-        means=lambda wildcards: mean_spectra(wildcards.study),
+        means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
         **_figure_output("results/{study}/figures/fig10_goals", "Paper figures",
@@ -147,7 +147,7 @@ rule fig11_slenderness:
     conda:
         "../envs/rocking.yaml"
     input:
-        means=lambda wildcards: mean_spectra(wildcards.study),
+        means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
         **_figure_output("results/{study}/figures/fig11_slenderness", "Paper figures",
@@ -165,13 +165,14 @@ rule fig12_2d_vs_3d:
         "../envs/rocking.yaml"
     input:
         means=[mean_spectra(s) for s in config["studies"]],
-        stores=[spectra_store(s) for s in config["studies"]],
+        complete=[spectra_complete(s) for s in config["studies"]],
         motions=[study_motions(s) for s in config["studies"]],
     output:
         **_figure_output(f"{FIGURES_DIR}/fig12_2d_vs_3d", "Paper figures", figure="Fig 12"),
     params:
         caption=lambda wildcards: caption("fig12_2d_vs_3d"),
         studies=list(config["studies"]),
+        stores=[spectra_store(s) for s in config["studies"]],
     log:
         "logs/figures/fig12_2d_vs_3d.log",
     script:
@@ -182,9 +183,8 @@ rule fragility_curves:
     conda:
         "../envs/rocking.yaml"
     input:
-        store=lambda wildcards: spectra_store(wildcards.study),
-        complete=lambda wildcards: spectra_complete(wildcards.study),
-        means=lambda wildcards: mean_spectra(wildcards.study),
+        complete=rules.spectra.output.done,
+        means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
         fragility_nc="results/{study}/fragility.nc",
@@ -200,6 +200,7 @@ rule fragility_curves:
                          figure="fragility", study="{study}"),
     params:
         caption=lambda wildcards: caption("fragility_curves"),
+        store=lambda wildcards: spectra_store(wildcards.study),
         upper=float(config["search"]["upper"]),
     log:
         "logs/{study}/fragility_curves.log",
@@ -217,6 +218,8 @@ rule report:
     params:
         study=lambda wildcards: wildcards.study,
         ensemble=lambda wildcards: ensemble_of(wildcards.study),
+        stores=lambda wildcards: report_stores(wildcards.study)["stores"],
+        tilt_maps=lambda wildcards: report_stores(wildcards.study)["tilt_maps"],
     log:
         "logs/{study}/report.log",
     script:

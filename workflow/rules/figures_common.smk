@@ -59,15 +59,19 @@ def report_figures(study):
 
 
 def report_run_files(study):
-    """What the report's "what was run" section reads: stores, completion summaries, the
+    """What the report's "what was run" section reads: the completion summaries and the
     ensemble parameters of every study (Fig 12 uses them all)."""
-    files = {"ensembles": [f"results/motions/{e}.json" for e in study_ensembles()],
-             "stores": [spectra_store(s) for s in config["studies"]],
+    files = {"ensembles": expand(rules.motions.output.params, ensemble=study_ensembles()),
              "done": [spectra_complete(s) for s in config["studies"]]}
     if has_tilt_map(study):
-        files["tilt_map"] = [tilt_map_store(study)]
         files["done"].append(tilt_map_complete(study))
     return files
+
+
+def report_stores(study):
+    """The stores the report reads (parameters: they are not Snakemake outputs)."""
+    return {"stores": [spectra_store(s) for s in config["studies"]],
+            "tilt_maps": [tilt_map_store(study)] if has_tilt_map(study) else []}
 
 
 def report_inputs(study):

@@ -1,43 +1,8 @@
-# Performance spectra: an empty zarr store per study (its own rule, so that a killed
-# computation resumes in it), then the chunked critical-intensity searches on Dask.
-# The store is complete when results/<study>/spectra.done.json exists.
-
-
-rule spectra_store:
-    input:
-        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
-    output:
-        directory("results/{study}/spectra.zarr"),
-    params:
-        # a change of any result-affecting setting changes the hash, which reruns this rule
-        # (a fresh store) instead of adding results of another configuration
-        spec=lambda wildcards: spectra_spec(wildcards.study),
-        config_hash=lambda wildcards: spectra_hash(wildcards.study),
-    conda:
-        "../envs/rocking.yaml"
-    log:
-        "logs/{study}/spectra_store.log",
-    script:
-        "../scripts/spectra_store.py"
-
-
-rule spectra:
-    input:
-        store="results/{study}/spectra.zarr",
-        numba=ancient(NUMBA_CACHE),
-        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
-    output:
-        "results/{study}/spectra.done.json",
-    params:
-        config_hash=lambda wildcards: spectra_hash(wildcards.study),
-        dask=dask_options(),
-    threads: compute_threads()
-    conda:
-        "../envs/rocking.yaml"
-    log:
-        "logs/{study}/spectra.log",
-    script:
-        "../scripts/spectra.py"
+# Performance spectra: the chunked critical-intensity searches of a study on Dask, written to
+# its zarr store results/<study>/spectra.zarr. The store is prepared by the rule itself (made
+# anew when the configuration changes, resumed after a killed run) and is not a Snakemake
+# output, so that Snakemake never deletes finished chunks; the rule's output is the
+# completion marker results/<study>/spectra.done.json, which later rules take as input.
 
 
 # Compilation once per machine: the kernels are compiled (or loaded from numba's cache) here,
@@ -54,3 +19,26 @@ rule numba_cache:
         "logs/numba_cache.log",
     script:
         "../scripts/numba_cache.py"
+
+
+rule spectra:
+    input:
+        numba=ancient(rules.numba_cache.output[0]),
+        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
+    output:
+        done="results/{study}/spectra.done.json",
+    params:
+        kind="spectra",
+        store=lambda wildcards: spectra_store(wildcards.study),
+        # a change of any result-affecting setting changes the hash: the rule reruns and
+        # makes a fresh store instead of adding results of another configuration
+        spec=lambda wildcards: spectra_spec(wildcards.study),
+        config_hash=lambda wildcards: spectra_hash(wildcards.study),
+        dask=dask_options(),
+    threads: compute_threads()
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/{study}/spectra.log",
+    script:
+        "../scripts/compute_store.py"

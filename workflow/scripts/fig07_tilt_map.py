@@ -6,7 +6,7 @@ from rocking.study.figures import log_to_file, render
 def main(snakemake):
     out = snakemake.output
     with log_to_file(snakemake.log[0]):
-        render("fig07_tilt_map", [out.png, out.pdf], out.notes, path=snakemake.input.store,
+        render("fig07_tilt_map", [out.png, out.pdf], out.notes, path=snakemake.params.store,
                motions=snakemake.input.motions)
 
 

@@ -7,7 +7,7 @@ from rocking.study.figures import log_to_file, open_means, open_store, render
 def main(snakemake):
     out = snakemake.output
     with log_to_file(snakemake.log[0]):
-        table = fragility.fragility_table(open_store(snakemake.input.store),
+        table = fragility.fragility_table(open_store(snakemake.params.store),
                                           upper=float(snakemake.params.upper))
         table.to_netcdf(out.fragility_nc)
         fragility.to_frame(table).to_csv(out.fragility_csv, index=False, float_format="%.10g")
@@ -15,7 +15,7 @@ def main(snakemake):
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")
         render("fragility_curves", [out.png, out.pdf], out.notes, fragility=out.fragility_nc,
-               store=snakemake.input.store, motions=snakemake.input.motions)
+               store=snakemake.params.store, motions=snakemake.input.motions)
 
 
 if __name__ == "__main__":

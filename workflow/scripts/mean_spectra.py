@@ -8,7 +8,7 @@ from rocking.study.cluster import log_to
 
 def main(snakemake):
     with log_to(snakemake.log[0]):
-        with xr.open_zarr(snakemake.input.store, consolidated=True) as ds:
+        with xr.open_zarr(snakemake.params.store, consolidated=True) as ds:
             stats = ensemble_statistics(ds)
         write_statistics(stats, snakemake.output.nc, snakemake.output.csv)
         print(f"wrote {snakemake.output.nc} and {snakemake.output.csv}: "

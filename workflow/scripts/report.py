@@ -26,7 +26,8 @@ def main(snakemake):
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
     sens = [f for f in inp.figures if str(f).endswith("fig06_theta_max_sensitivity.json")]
     with log_to_file(snakemake.log[0]):
-        run = what_was_run(stores=list(inp.stores), tilt_maps=list(getattr(inp, "tilt_map", [])),
+        run = what_was_run(stores=list(snakemake.params.stores),
+                           tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),
                            sensitivity=json.loads(Path(sens[0]).read_text()) if sens else None,
                            elapsed_seconds=workflow_elapsed())
