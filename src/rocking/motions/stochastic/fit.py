@@ -254,7 +254,8 @@ def fit_component(
             "dt": dt, "T0": 0.0,
         },
     }  # fmt: skip
-    return RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, search.zeta, diagnostics)
+    return RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, search.zeta,
+                     diagnostics=diagnostics)
 
 
 @dataclass(frozen=True)
