@@ -253,6 +253,7 @@ def synthesize(
         meta: dict[str, Any] = {
             "generator": "Rezaeian-Der Kiureghian (rocking.motions.stochastic)",
             "record": fit.name,
+            "fit_method": fit.diagnostics.get("method", "counts"),
             "parameters": copy.deepcopy(params),
             "rotation_deg": fit.angle,
             "principal_offset_deg": fit.diagnostics.get("principal_offset_deg"),
