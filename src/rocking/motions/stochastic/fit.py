@@ -217,6 +217,7 @@ def fit_component(
     zeta_grid: tuple[float, ...] = ZETA_GRID,
     n_sim: int = 50,
     psa_sims: int = 20,
+    iterations: int = 2,
     seed: int = 0,
     refine: bool = False,
     floor_hz: float = DEFAULT_FLOOR_HZ,
@@ -236,8 +237,9 @@ def fit_component(
         the simulations of the fit alike ((m, n) → (m, n′)); None: none.
     zeta_grid, n_sim, refine
         ``"counts"`` only: settings of the ζ_f search, see :func:`fit_zeta`.
-    psa_sims : int
-        ``"spectrum"`` only: simulations per misfit evaluation (:func:`.fit_spectrum`).
+    psa_sims, iterations : int
+        ``"spectrum"`` only: simulations per misfit evaluation and Gauss–Newton steps
+        (:func:`.fit_spectrum`).
     seed : int
         Seed of the simulations of either search.
     floor_hz : float
@@ -276,9 +278,10 @@ def fit_component(
     # ζ does not enter steps 1-2; a mid-grid value stands in until it is identified.
     trial = RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, 0.5, diagnostics=diagnostics)
     if method == "spectrum":
-        diagnostics["settings"]["psa_sims"] = int(psa_sims)
+        diagnostics["settings"].update(psa_sims=int(psa_sims), iterations=int(iterations))
         return fit_spectrum(x, dt, trial, post if post is not None else _identity,
-                            n_sim=psa_sims, seed=seed, floor_hz=floor_hz)
+                            n_sim=psa_sims, seed=seed, iterations=iterations,
+                            floor_hz=floor_hz)
     search = fit_zeta(
         x, dt, trial, ht["t05"], ht["t95"],
         zeta_grid=zeta_grid, n_sim=n_sim, seed=seed, refine=refine, floor_hz=floor_hz,
