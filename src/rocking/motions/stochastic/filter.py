@@ -140,7 +140,7 @@ def filter_poles(
     conjugate pole pair). With ``low = (ω_low, ζ_low)`` it is followed by the low-frequency
     (Clough–Penzien) filter s²/(s² + 2ζ_low ω_low s + ω_low²), which removes the flat
     long-period plateau of the oscillator: |H|² falls as ω⁴ below ω_low (two pole pairs).
-    See docs/equations.md (stochastic model).
+    See docs/design.md (ground-motion ensembles).
 
     Parameters
     ----------

@@ -4,7 +4,7 @@ The six parameters of RDK (2010) — Ia, D5-95, t_mid (envelope) and f_mid, f′
 and, for the spectrum-matched identification, an extension within the same model family:
 a second filtered process sharing the envelope and the relative frequency drift
 (f_mid2, ζ_f2, its variance share) and a time-invariant low-frequency filter (f_low, ζ_low).
-See docs/equations.md (stochastic model).
+See docs/design.md (ground-motion ensembles).
 """
 
 from __future__ import annotations

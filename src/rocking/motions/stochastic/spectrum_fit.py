@@ -31,7 +31,7 @@ Identification, two nested problems:
    theory), so r(θ) ≈ r(θ_k) + ½[ln E_θ − ln E_θk](1/T), a problem of step 1's kind. A step
    that did not lower the objective is followed by a half step. The best iterate is kept.
 
-See docs/equations.md (stochastic model) and docs/design.md (ensembles).
+See docs/design.md (ground-motion ensembles).
 """
 
 from __future__ import annotations
