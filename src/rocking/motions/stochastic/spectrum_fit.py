@@ -77,7 +77,7 @@ _MAX_STEP = 0.5
 
 #: Time samples (equal shares of the expected energy) and sub-frequencies per band of the
 #: model's energy spectrum.
-_N_TIME, _N_SUB = 48, 5
+_N_TIME, _N_SUB = 24, 3
 
 
 def band_edges(f_centres: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
