@@ -507,27 +507,55 @@ def test_reduced_run_degrades_gracefully(reduced, tmp_path):
     assert "not computed" in _texts(fig11_slenderness.plot(d11))
 
 
-def test_fig08_traces_and_spectra():
+def _scaled(motion, factors, method):
+    return [GroundMotion(f * motion.ax, f * motion.ay, motion.dt, f"syn-{f:g}",
+                         {"fit_method": method}) for f in factors]
+
+
+def test_fig08_traces_spectra_and_fit_quality():
     dt = 0.005
     t = np.arange(0.0, 20.0, dt)
     env = np.sin(np.pi * t / 20.0) ** 2  # smooth, slow: no energy near 50 Hz
-    motions = [GroundMotion(3.0 * env * np.sin(2 * np.pi * f * t),
-                            2.0 * env * np.cos(2 * np.pi * 1.3 * f * t), dt, name,
-                            {"principal_offset_deg": 19.5} if i == 0 else {})
-               for i, (f, name) in enumerate([(1.0, "record"), (1.4, "synthetic-01")])]
-    d = fig08_motions.data(motions, periods=np.array([0.02, 0.5, 2.0]))
+    record = GroundMotion(3.0 * env * np.sin(2 * np.pi * t), 2.0 * env * np.cos(2.6 * np.pi * t),
+                          dt, "record", {"principal_offset_deg": 19.5, "x_azimuth": 340.5,
+                                         "y_azimuth": 250.5})
+    # Scaled copies of the record: every PSA ratio is the scale factor, so the geometric
+    # mean ratio is known exactly and the record's place in the range is known.
+    motions = [record, *_scaled(record, (2.0, 2.5, 3.0), "spectrum")]
+    comparison = [record, *_scaled(record, (0.9, 1.0, 1.1), "counts")]
+    d = fig08_motions.data(motions, comparison, periods=np.array([0.02, 0.5, 2.0]))
     first = d["motions"][0]
-    _same(first["ax"], motions[0].ax / G)
+    _same(first["ax"], record.ax / G)
     # a stiff oscillator (T = 0.02 s, 50 Hz ≫ 1 Hz input) follows the ground: PSA → PGA
     assert first["psa_x"][0] == pytest.approx(np.max(np.abs(first["ax"])), rel=2e-3)
     assert first["psa_y"][0] == pytest.approx(np.max(np.abs(first["ay"])), rel=2e-3)
-    assert d["measured"]["principal_offset_deg"] == 19.5
+    spectrum, counts = d["groups"]
+    assert spectrum["method"] == "spectrum" and counts["method"] == "counts"
+    np.testing.assert_allclose(spectrum["median_x"], 15.0 ** (1 / 3) * first["psa_x"], rtol=1e-12)
+    q = d["measured"]["fit_quality"]
+    for key in ("x", "y"):
+        assert all(r == pytest.approx(15.0 ** (1 / 3)) for r in q["spectrum"][key]["band_ratio"]
+                   .values())
+        assert q["spectrum"][key]["inside_5_95"] == 0.0  # the record is below every copy
+        assert q["counts"][key]["inside_5_95"] == 1.0
+        assert q["counts"][key]["ratio_max"] == pytest.approx(0.99 ** (1 / 3))
+    assert d["measured"]["fit_method"] == "spectrum"
+    assert fig08_motions.bearing(340.5) == "N 19.5° W"
+    assert fig08_motions.bearing(250.5) == "S 70.5° W"
     fig = fig08_motions.plot(d)
-    spectra_ax = fig.axes[-1]
-    _same(_lines(spectra_ax)[0][1], first["psa_x"])
-    _same(_lines(spectra_ax)[1][1], first["psa_y"])
+    spectra_axes = [ax for ax in fig.axes if ax.get_xscale() == "log"]
+    assert len(spectra_axes) == 4  # (x, y) × (counts, spectrum)
+    for ax in spectra_axes:
+        assert ax.get_xlabel() == "T [s]" and "[g]" in ax.get_ylabel()
+        drawn = [y for label, y in ((ln.get_label(), ln.get_ydata()) for ln in ax.get_lines())
+                 if label == "record"]
+        assert any(np.array_equal(y, first["psa_x"]) or np.array_equal(y, first["psa_y"])
+                   for y in drawn)
     with pytest.raises(ValueError, match="motions"):
         fig08_motions.data([])
+    alone = fig08_motions.data(motions[:2], periods=np.array([0.5]))
+    assert alone["groups"][0]["fit_quality"] is None  # one pair: no range to compare with
+    assert any("comparison" in m for m in alone["missing"])
 
 
 # ---------------------------------------------------------------- the Snakemake rules
@@ -538,6 +566,7 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path]:
     wd = tmp_path / "wd"
     paths = fs.write_study(wd / "results/synth", with_motions=False)
     fs.write_motions(wd / "results/motions/elcentro.nc")
+    fs.write_motions(wd / "results/motions/elcentro.compare.nc")
     (wd / "results/motions/elcentro.json").write_text(json.dumps(
         {"ensemble": "elcentro", "label": "synthetic record", "rotation_deg": -70.46,
          "principal_offset_deg": 19.54, "highpass": {"kind": "oscillator", "fc_hz": 0.0946},

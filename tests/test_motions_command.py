@@ -19,8 +19,12 @@ from rocking.motions.records import load_record
 def test_cli_writes_record_then_pairs(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     out = tmp_path / "motions" / "elcentro.nc"
     assert main(["motions", "--record", "el-centro-1940", "-n", "2", "--seed", "5",
-                 "-o", str(out)]) == 0
-    assert "rocking motions:" in capsys.readouterr().err  # progress on stderr
+                 "--compare", "-o", str(out)]) == 0
+    printed = capsys.readouterr()
+    assert "rocking motions:" in printed.err  # progress on stderr
+    # The fit quality of both identifications on stdout, per component and band.
+    assert "spectrum fit" in printed.out and "counts fit" in printed.out
+    assert printed.out.count("x (major): median PSA / record 0.1-0.3 s") == 2
     motions = load_ensemble(out)
     assert len(motions) == 3
     # The record, processed independently here, is stored first and unchanged.
@@ -33,7 +37,15 @@ def test_cli_writes_record_then_pairs(tmp_path: Path, capsys: pytest.CaptureFixt
     assert params["rotation_deg"] == pytest.approx(angle, abs=1e-12)
     assert params["highpass"]["fc_hz"] == pytest.approx(0.0946, abs=1e-4)
     assert 0.0 < params["fit"]["major"]["zeta_f"] < 1.0
-    assert ensemble_attrs(out)["n_synthetic"] == 2
+    assert params["fit_method"] == "spectrum" and params["fit"]["major"]["f_low"] > 0.0
+    attrs = ensemble_attrs(out)
+    assert attrs["n_synthetic"] == 2 and attrs["fit_method"] == "spectrum"
+    assert attrs["fit_quality"] == params["fit_quality"]
+    assert set(attrs["fit_quality"]["x"]["band_ratio"]) == {"0.1-0.3 s", "0.3-1 s", "1-4 s"}
+    other = load_ensemble(out.with_name("elcentro.compare.nc"))
+    assert [m.metadata.get("fit_method") for m in other[1:]] == ["counts", "counts"]
+    np.testing.assert_array_equal(other[0].ax, motions[0].ax)  # the same record
+    assert ensemble_attrs(out.with_name("elcentro.compare.nc"))["fit_method"] == "counts"
     for syn in motions[1:]:
         assert syn.dt == 0.01 and syn.metadata["seed"] == 5
         # High-passed like the record: no residual velocity or displacement.
@@ -61,4 +73,6 @@ def test_bad_arguments(tmp_path: Path) -> None:
         build_ensemble(motion, 0, 1, highpass="fir")
     with pytest.raises(ValueError, match="n must be"):
         build_ensemble(motion, -1, 1)
+    with pytest.raises(ValueError, match="fit_method"):
+        build_ensemble(motion, 0, 1, fit_method="zeros")
     assert main(["motions", "-o", str(tmp_path / "x.csv")]) == 2

@@ -17,6 +17,15 @@ from rocking.study.figures import comparisons as cmp
 from rocking.study.figures.captions import CAPTIONS
 
 
+def _quality(ratio: float, inside: float) -> dict:
+    comp = {"band_ratio": {"0.1-0.3 s": ratio, "0.3-1 s": ratio, "1-4 s": ratio},
+            "ratio_min": ratio, "ratio_max": ratio, "inside_5_95": inside, "n": 3}
+    return {"x": comp, "y": comp}
+
+
+QUALITY = {"spectrum": _quality(0.93, 0.9), "counts": _quality(0.43, 0.12)}
+
+
 @pytest.fixture(scope="module")
 def outputs(tmp_path_factory):
     root = tmp_path_factory.mktemp("report")
@@ -62,7 +71,8 @@ def outputs(tmp_path_factory):
             "pga_g|as recorded (x E–W, y N–S), unfiltered": 0.2865,
             "rotation_check": {"3d": 1e-11}},
         "fig08_motions_elcentro": {"record": "el-centro-1940", "record_pga_g": 0.2753,
-                                   "principal_offset_deg": 19.54, "n_motions": 4},
+                                   "principal_offset_deg": 19.54, "n_motions": 4,
+                                   "fit_method": "spectrum", "fit_quality": QUALITY},
     }
     for stem, measured in notes.items():
         f, _ = _style.new_figure(2.0, 2.0)
@@ -214,3 +224,15 @@ def test_bad_inputs_name_the_file(tmp_path):
         report.load_figures([tmp_path / "plot.png"])
     with pytest.raises(ValueError, match="does not exist"):
         report.load_figures([tmp_path / "fig03_wobbling_period.png"])
+
+
+def test_fit_quality_of_fig08_is_tabulated(outputs):
+    table = report.fit_quality_table(report.load_figures(outputs["pngs"]))
+    assert len(table) == 4  # 2 methods × 2 components
+    used = table[table["identification"] == "spectrum *"]
+    assert list(used["component"]) == ["x (major)", "y (minor)"]
+    assert (used["median/record 0.3-1 s"] == 0.93).all()
+    other = table[table["identification"] == "counts"]
+    assert (other["record inside 5–95 %"] == "12 % of periods").all()
+    text = outputs["html"].read_text()
+    assert "Fit quality of the synthetic ensembles" in text and "counts" in text

@@ -104,7 +104,8 @@ def test_frequency_parameters_are_re_identified(raw, comp):
 def test_zeta_is_re_identified_on_eight_realizations(raw):
     # Spec round trip: 0.176 → 0.178 ± 0.013 (8 realizations, M = 20); here the sd over
     # 40 realizations of the El Centro fit was 0.02, so the mean of 8 has se ~0.007.
-    zetas = [fit_component(m.ax, DT, n_sim=20, seed=i).zeta_f for i, m in enumerate(raw[:8])]
+    zetas = [fit_component(m.ax, DT, method="counts", n_sim=20, seed=i).zeta_f
+             for i, m in enumerate(raw[:8])]
     assert np.mean(zetas) == pytest.approx(MAJOR.zeta_f, abs=0.03)
     assert np.std(zetas) < 0.05
 

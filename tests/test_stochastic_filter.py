@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from rocking.motions.stochastic.filter import impulse_response, normalized_irf, omega_f
+from rocking.motions.stochastic.filter import (
+    filter_poles,
+    impulse_response,
+    normalized_irf,
+    omega_f,
+    unit_psd,
+)
 
 
 def _dense_reference(omega, zeta, dt):
@@ -93,3 +99,60 @@ def test_omega_is_linear_held_and_floored():
 def test_bad_input_is_named(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_cascade_impulse_response_is_the_fourth_order_system():
+    # Independent reference: scipy's impulse response of ω_f² s² / [(s² + 2ζω_f s + ω_f²)
+    # (s² + 2ζ_l ω_l s + ω_l²)] against the partial fractions of filter_poles.
+    wf, z, wl, zl = 20.0, 0.3, 2.5, 0.6
+    lti = signal.lti([wf**2, 0.0, 0.0], np.polymul([1, 2 * z * wf, wf**2], [1, 2 * zl * wl, wl**2]))
+    tau = np.linspace(0.0, 6.0, 601)
+    _, ref = signal.impulse(lti, T=tau)
+    c, p = filter_poles([wf], z, (wl, zl))
+    h = 2.0 * np.real((c[0] * np.exp(np.outer(tau, p[0]))).sum(axis=1))
+    np.testing.assert_allclose(h, ref, atol=1e-12 * np.abs(ref).max())
+    # The oscillator alone: the closed form of impulse_response.
+    c1, p1 = filter_poles([wf], z)
+    h1 = 2.0 * np.real(c1[0, 0] * np.exp(tau * p1[0, 0]))
+    np.testing.assert_allclose(h1, impulse_response(tau, wf, z), atol=1e-12 * wf)
+
+
+@pytest.mark.parametrize("low", [None, (2.5, 0.6)])
+def test_unit_psd_integrates_to_one_and_is_the_sampled_response(low):
+    dt, wf, z = 0.01, 2 * np.pi * 4.0, 0.25
+    f = np.linspace(0.0, 0.5 / dt, 200001)
+    phi = unit_psd(f, [wf], z, dt, low)[0]
+    assert np.trapezoid(phi, f) == pytest.approx(1.0, abs=1e-6)
+    # Against the FFT of the sampled impulse response (long enough to have decayed).
+    c, p = filter_poles([wf], z, low)
+    h = 2.0 * np.real((c[0] * np.exp(np.outer(np.arange(2**15) * dt, p[0]))).sum(axis=1))
+    fr = np.fft.rfftfreq(h.size, dt)
+    ref = 2.0 * dt * np.abs(np.fft.rfft(h)) ** 2 / np.sum(h * h)
+    sel = (fr > 0.05) & (fr < 20.0)
+    np.testing.assert_allclose(unit_psd(fr[sel], [wf], z, dt, low)[0], ref[sel], rtol=1e-8)
+
+
+def test_cascade_band_has_unit_rows_and_matches_the_dense_definition():
+    dt, n = 0.02, 300
+    om = np.linspace(25.0, 15.0, n)
+    low = (3.0, 0.5)
+    s = normalized_irf(om, 0.2, dt, band_tol=1e-300, low=low).to_dense()
+    c, p = filter_poles(om, 0.2, low)
+    k, i = np.arange(n)[:, None], np.arange(n)[None, :]
+    lag = np.maximum(k - i, 0) * dt
+    h = 2.0 * np.real(c[None, :, 0] * np.exp(lag * p[None, :, 0])
+                      + c[None, :, 1] * np.exp(lag * p[None, :, 1]))
+    h[k < i] = 0.0
+    norm = np.sqrt((h**2).sum(axis=1))
+    norm[0] = 1.0
+    np.testing.assert_allclose(s, h / norm[:, None], atol=1e-12)
+    np.testing.assert_allclose(np.sum(s[1:] ** 2, axis=1), 1.0, rtol=1e-12)
+
+
+def test_bad_low_frequency_filter_is_named():
+    with pytest.raises(ValueError, match="zeta_low"):
+        normalized_irf(np.ones(10) * 20.0, 0.2, 0.01, low=(2.0, 1.0))
+    with pytest.raises(ValueError, match="omega_low"):
+        normalized_irf(np.ones(10) * 20.0, 0.2, 0.01, low=(-2.0, 0.5))
+    with pytest.raises(ValueError, match="coincides"):
+        filter_poles([20.0], 0.2, (20.0, 0.2))

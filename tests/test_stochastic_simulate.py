@@ -16,7 +16,12 @@ from rocking.motions.counts import pmnm_cum, zero_upcrossings_cum
 from rocking.motions.intensity import arias, husid, times_from_husid
 from rocking.motions.stochastic.filter import impulse_response
 from rocking.motions.stochastic.params import RDKParams
-from rocking.motions.stochastic.simulate import spectral, spectral_frequencies, time_domain
+from rocking.motions.stochastic.simulate import (
+    noise_rows,
+    spectral,
+    spectral_frequencies,
+    time_domain,
+)
 
 DT = 0.01
 
@@ -49,13 +54,21 @@ def test_time_domain_is_q_times_the_defining_matrix_product():
     np.testing.assert_allclose(time_domain(p, dt, n, u), ref, atol=1e-12 * np.abs(ref).max())
 
 
+EXTENDED = RDKParams(1.2, 8.0, 3.0, 5.0, -0.2, 0.2, f_mid2=1.5, zeta_f2=0.3, share2=0.4,
+                     f_low=0.4, zeta_low=0.6)
+
+
 @pytest.mark.parametrize("method", ["time", "spectral"])
-def test_variance_is_exactly_q_squared(method):
+@pytest.mark.parametrize("p", [RDKParams(1.2, 8.0, 3.0, 5.0, -0.2, 0.2), EXTENDED],
+                         ids=["rdk", "extended"])
+def test_variance_is_exactly_q_squared(method, p):
     # With the identity as noise, the columns are the basis responses and Σ_r x_r(t)² is the
-    # exact variance of x(t): it must equal q(t)² (spec §7.2) for every sample.
-    p = RDKParams(1.2, 8.0, 3.0, 5.0, -0.2, 0.2)
+    # exact variance of x(t): it must equal q(t)² (spec §7.2) for every sample, also for the
+    # sum of two processes with the low-frequency filter (the shares add to 1).
     dt, n = 0.02, 600
-    rows = n if method == "time" else 2 * spectral_frequencies(dt, n).size
+    rows = noise_rows(p, dt, n, method)
+    assert rows == (2 if p.f_mid2 else 1) * (n if method == "time"
+                                              else 2 * spectral_frequencies(dt, n).size)
     fn = time_domain if method == "time" else spectral
     x = fn(p, dt, n, np.eye(rows))
     q2 = p.envelope(np.arange(n) * dt) ** 2
@@ -100,6 +113,39 @@ def test_power_spectrum_follows_the_continuous_filter(method):
     for lo, hi in [(0.5, 0.8), (0.8, 1.2), (1.2, 1.6), (1.6, 2.4)]:
         band = (fr >= lo * f0) & (fr < hi * f0)
         assert pxx[band].sum() == pytest.approx(g[band].sum(), rel=0.08), (lo, hi)
+
+
+def test_extended_process_is_the_weighted_sum_of_its_two_processes():
+    # Independent construction: each process alone (one-filter parameters with the same
+    # low-frequency filter) on its own half of the noise, weighted by √share.
+    dt, n = 0.02, 400
+    u = np.random.default_rng(2).standard_normal((2 * n, 3))
+    x = time_domain(EXTENDED, dt, n, u, modulate=False)
+    one = RDKParams(1.2, 8.0, 3.0, 5.0, -0.2, 0.2, f_low=0.4, zeta_low=0.6)
+    two = RDKParams(1.2, 8.0, 3.0, 1.5, -0.2 * 1.5 / 5.0, 0.3, f_low=0.4, zeta_low=0.6)
+    ref = (math.sqrt(0.6) * time_domain(one, dt, n, u[:n], modulate=False)
+           + math.sqrt(0.4) * time_domain(two, dt, n, u[n:], modulate=False))
+    np.testing.assert_allclose(x, ref, rtol=0, atol=1e-12)
+
+
+def test_low_frequency_filter_removes_the_long_period_plateau():
+    # Welch spectrum of the stationary process vs the closed-form unit-variance spectrum of
+    # the cascade (oscillator × Clough–Penzien filter); below f_low it falls like f⁴.
+    from rocking.motions.stochastic.filter import unit_psd
+
+    p = RDKParams(1.0, 20.0, 8.0, 3.0, 0.0, 0.3, f_low=0.5, zeta_low=0.6)
+    x = _simulate("time", p, 8192, 60, seed=3)
+    fr, pxx = signal.welch(x[:, 1000:], fs=1 / DT, nperseg=2048, axis=-1)
+    pxx = pxx.mean(axis=0)
+    g = unit_psd(fr, [2 * np.pi * 3.0], 0.3, DT, (2 * np.pi * 0.5, 0.6))[0]
+    for lo, hi in [(0.2, 0.4), (0.4, 0.8), (0.8, 2.0), (2.0, 4.0), (4.0, 8.0)]:
+        band = (fr >= lo) & (fr < hi)
+        assert pxx[band].sum() == pytest.approx(g[band].sum(), rel=0.1), (lo, hi)
+    plain = _stationary(3.0, 0.3)
+    y = _simulate("time", plain, 8192, 60, seed=3)
+    _, pyy = signal.welch(y[:, 1000:], fs=1 / DT, nperseg=2048, axis=-1)
+    low = (fr > 0.1) & (fr < 0.25)
+    assert pxx[low].sum() < 0.05 * pyy.mean(axis=0)[low].sum()
 
 
 def test_time_and_spectral_ensembles_agree():

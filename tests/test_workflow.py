@@ -94,7 +94,7 @@ def store_bytes(path: Path) -> dict[str, bytes]:
 def copy_motions(src: Path, dst: Path) -> None:
     """Reuse the reference run's ensemble file (its rule has no result-affecting change)."""
     (dst / "results/motions").mkdir(parents=True)
-    for name in ("tiny.nc", "tiny.json"):
+    for name in ("tiny.nc", "tiny.json", "tiny.compare.nc"):
         shutil.copy2(src / "results/motions" / name, dst / "results/motions" / name)
 
 

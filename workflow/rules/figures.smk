@@ -96,6 +96,7 @@ rule fig08_motions:
         "../envs/rocking.yaml"
     input:
         motions=lambda wildcards: ensemble_file(wildcards.ensemble),
+        comparison=lambda wildcards: comparison_file(wildcards.ensemble),
     output:
         **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
                          figure="Fig 8", ensemble="{ensemble}"),

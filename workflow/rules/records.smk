@@ -1,12 +1,15 @@
 # Ground-motion ensembles: the record (rotated to principal axes and high-passed) first, then
-# its synthetic RDK pairs, written by rocking.motions.ensemble_io to results/motions/<ensemble>.nc;
-# the settings and fitted RDK parameters go to results/motions/<ensemble>.json.
+# its synthetic RDK pairs, written by rocking.motions.ensemble_io to
+# results/motions/<ensemble>.nc;
+# the settings, fitted RDK parameters and fit quality go to results/motions/<ensemble>.json.
+# <ensemble>.compare.nc holds the pairs of the other identification method (Fig 8 only).
 
 
 rule motions:
     output:
         motions="results/motions/{ensemble}.nc",
         params="results/motions/{ensemble}.json",
+        comparison="results/motions/{ensemble}.compare.nc",
     params:
         spec=lambda wildcards: ensemble_spec(wildcards.ensemble),
     conda:

@@ -1,4 +1,5 @@
-"""Fig 8 (Snakemake script): traces and 5 %-damped PSA spectra of one ensemble."""
+"""Fig 8 (Snakemake script): traces and 5 %-damped PSA spectra of one ensemble, with the
+pairs of the other identification method beside it."""
 
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.study.figures import log_to_file, render
@@ -8,7 +9,8 @@ def main(snakemake):
     out = snakemake.output
     with log_to_file(snakemake.log[0]):
         render("fig08_motions", [out.png, out.pdf], out.notes,
-               motions=load_ensemble(snakemake.input.motions))
+               motions=load_ensemble(snakemake.input.motions),
+               comparison=load_ensemble(snakemake.input.comparison))
 
 
 if __name__ == "__main__":

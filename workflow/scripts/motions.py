@@ -1,19 +1,17 @@
 """Build a ground-motion ensemble: the processed record first, then its synthetic pairs.
 
 rocking.motions.build.build_ensemble does the work (principal axes, Brune-corner
-high-pass, RDK fit and simulation, optional cut to motions.max_duration); this rule only
-maps the configuration onto it and writes the ensemble file and its parameters.
+high-pass, RDK fit and simulation, fit quality, optional cut to motions.max_duration); this
+rule only maps the configuration onto it and writes the ensemble file, its parameters, and
+the comparison ensemble of the other identification method (used by Fig 8 only).
 """
 
 import logging
 
 from rocking import _json
-from rocking.motions.build import build_ensemble, read_motion
+from rocking.motions.build import ENSEMBLE_ATTRS, build_ensemble, quality_lines, read_motion
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.study.cluster import log_to, terminal
-
-ATTRS = ("record", "label", "stand_in", "stand_in_for", "rotation_deg", "highpass", "seed",
-         "n_synthetic")
 
 
 def main(snakemake):
@@ -30,12 +28,18 @@ def main(snakemake):
         motion = read_motion(spec["record"], spec["paths"])
         build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
                                rotation=spec["rotation_deg"], mw=spec["mw"],
-                               max_duration=spec["max_duration"], progress=say)
+                               max_duration=spec["max_duration"],
+                               fit_method=spec["fit_method"], compare=True, progress=say)
         params = build.parameters()
         params["ensemble"] = snakemake.wildcards.ensemble
-        save_ensemble(snakemake.output.motions, build.motions,
-                      attrs={"ensemble": snakemake.wildcards.ensemble,
-                             **{k: params[k] for k in ATTRS}})
+        attrs = {"ensemble": snakemake.wildcards.ensemble,
+                 **{k: params[k] for k in ENSEMBLE_ATTRS}}
+        save_ensemble(snakemake.output.motions, build.motions, attrs=attrs)
+        # The other identification's pairs (same seed), for Fig 8's side-by-side view.
+        save_ensemble(snakemake.output.comparison, build.comparison or build.motions[:1],
+                      attrs={**attrs, **(params["comparison"] or {})})
+        for line in quality_lines(params):
+            say(line)
         _json.write(snakemake.output.params, params, sort_keys=True)
         say(f"wrote {len(build.motions)} motions of {motion.name} to "
             f"{snakemake.output.motions} (stand-in: {params['stand_in']})")

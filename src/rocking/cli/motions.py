@@ -1,8 +1,11 @@
 """``rocking motions``: a record and its synthetic RDK pairs, written as one ensemble file.
 
 The pipeline is :func:`rocking.motions.build.build_ensemble` (the workflow's ``motions``
-rule calls it with the same settings); this command writes the record first, then the pairs,
-with :mod:`rocking.motions.ensemble_io`, and the settings and fitted parameters as JSON.
+rule calls it with the same settings); this command prints the fit quality (the ensemble's
+median 5 % PSA ÷ the record's, per component and period band) and writes the record first,
+then the pairs, with :mod:`rocking.motions.ensemble_io`, and the settings, fitted parameters
+and fit quality as JSON. ``--compare`` also writes the other identification method's pairs
+to ``<out stem>.compare.nc``.
 """
 
 from __future__ import annotations
@@ -39,6 +42,12 @@ def add_parser(subparsers) -> None:
     g.add_argument("--order", type=int, default=4, help="Butterworth order")
     g.add_argument("--method", choices=("time", "spectral"), default="time",
                    help="RDK discretization")
+    g.add_argument("--fit-method", choices=("spectrum", "counts"), default="spectrum",
+                   help="identification: match the record's 5 %% response spectrum "
+                   "(default) or the RDK 2010 zero-crossing/extrema counts")
+    g.add_argument("--compare", action="store_true",
+                   help="also build the other identification's pairs (same seed), written "
+                   "to OUT with the suffix .compare.nc")
     g.add_argument("--axes", choices=("principal", "record"), default="principal",
                    help="axes of the synthetic pairs")
     p.add_argument("-o", "--out", type=Path, required=True, help="ensemble file (.nc)")
@@ -51,7 +60,7 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     """Build the ensemble, write the NetCDF and JSON files; returns 0."""
     from .. import _json
-    from ..motions.build import build_ensemble
+    from ..motions.build import ENSEMBLE_ATTRS, build_ensemble, comparison_path, quality_lines
     from ..motions.ensemble_io import save_ensemble
     from ..motions.source import load_motion
 
@@ -71,12 +80,15 @@ def run(args) -> int:
         motion, args.n_synthetic, args.seed, rotation=args.rotation, highpass=args.highpass,
         fc_hz=args.fc_hz, mw=args.mw, stress_bar=args.stress_bar, beta_kms=args.beta_kms,
         order=args.order, method=args.method, axes=args.axes, max_duration=args.max_duration,
-        progress=say,
+        fit_method=args.fit_method, compare=args.compare, progress=say,
     )
     params = build.parameters()
-    save_ensemble(args.out, build.motions, attrs={k: params[k] for k in (
-        "record", "label", "stand_in", "stand_in_for", "rotation_deg", "highpass", "seed",
-        "n_synthetic")})
+    print("\n".join(quality_lines(params)))
+    attrs = {k: params[k] for k in ENSEMBLE_ATTRS}
+    save_ensemble(args.out, build.motions, attrs=attrs)
+    if build.comparison:
+        save_ensemble(comparison_path(args.out), build.comparison,
+                      attrs={**attrs, **params["comparison"]})
     params_out = args.params_out or args.out.with_suffix(".json")
     params_out.parent.mkdir(parents=True, exist_ok=True)
     _json.write(params_out, params, sort_keys=True)

@@ -5,9 +5,13 @@ Pipeline: read the pair (named record or two files) → rotate to its principal 
 (x = major; ``rotation="auto"`` or a forced offset such as the paper's 22.33°) → high-pass
 (critically damped oscillator at the Brune corner of the event, "baseline corrected via a
 high-pass filter based on Brune's source model") → fit the RDK model to both principal
-components → simulate N pairs with independent seeded noise and the same high-pass. The
-command line (``rocking motions``) and the workflow's ``motions`` rule both call
-:func:`build_ensemble`.
+components (by default matching the record's 5 % response spectrum after the same high-pass;
+``fit_method="counts"`` for the RDK 2010 count-based filter) → simulate N pairs with
+independent seeded noise and the same high-pass → measure how well the ensemble's median
+spectrum matches the record's, per component and period band
+(:mod:`rocking.motions.stochastic.quality`). ``compare=True`` also builds the other
+method's pairs (same seed), for Fig 8's side-by-side view. The command line
+(``rocking motions``) and the workflow's ``motions`` rule both call :func:`build_ensemble`.
 """
 
 from __future__ import annotations
@@ -24,8 +28,14 @@ from .motion import GroundMotion
 from .principal import to_principal_axes
 from .records import load_record, loma_prieta_pair
 from .stochastic import fit_rdk, synthesize
+from .stochastic.quality import ensemble_quality, format_quality
 
 HIGHPASS_KINDS = ("oscillator", "butterworth", "none")
+FIT_METHODS = ("spectrum", "counts")
+
+ENSEMBLE_ATTRS = ("record", "label", "stand_in", "stand_in_for", "rotation_deg", "highpass",
+                  "seed", "n_synthetic", "fit_method", "fit_quality")
+"""Keys of :meth:`EnsembleBuild.parameters` kept in the ensemble file's attributes."""
 
 
 @dataclass
@@ -39,12 +49,17 @@ class EnsembleBuild:
     fit : object
         The :class:`rocking.motions.stochastic.RDKFit` (None when no pair was simulated).
     info : dict
-        Settings and derived values (rotation, corner frequency, seed, timings [s]).
+        Settings and derived values (rotation, corner frequency, seed, fit method, fit
+        quality, timings [s]).
+    comparison : list of GroundMotion
+        With ``compare``: the record, then the pairs of the other identification method
+        (same seed); else empty.
     """
 
     motions: list[GroundMotion]
     fit: Any
     info: dict[str, Any] = field(default_factory=dict)
+    comparison: list[GroundMotion] = field(default_factory=list)
 
     def parameters(self) -> dict[str, Any]:
         """JSON-able summary: the settings plus the fitted RDK parameters."""
@@ -85,6 +100,8 @@ def build_ensemble(
     method: str = "time",
     axes: str = "principal",
     max_duration: float | None = None,
+    fit_method: str = "spectrum",
+    compare: bool = False,
     progress: Callable[[str], None] | None = None,
 ) -> EnsembleBuild:
     """Process a recorded pair and synthesize ``n`` pairs like it.
@@ -112,6 +129,11 @@ def build_ensemble(
         Axes of the synthetic pairs (the record stays on its principal axes).
     max_duration : float, optional
         Keep only the first ``max_duration`` seconds of every motion [s].
+    fit_method : {"spectrum", "counts"}
+        Identification of the RDK parameters (:func:`rocking.motions.stochastic.fit_rdk`).
+    compare : bool
+        Also fit and simulate with the other method (same seed and settings): its pairs go
+        to ``comparison`` and its fit and quality to ``info["comparison"]``.
     progress : callable, optional
         Called with one line of text after each stage (None: silent).
 
@@ -124,6 +146,8 @@ def build_ensemble(
         raise ValueError(f"highpass must be one of {HIGHPASS_KINDS}, got {highpass!r}")
     if isinstance(n, bool) or int(n) != n or n < 0:
         raise ValueError(f"n must be an integer >= 0, got {n!r}")
+    if fit_method not in FIT_METHODS:
+        raise ValueError(f"fit_method must be one of {FIT_METHODS}, got {fit_method!r}")
     if highpass != "none" and fc_hz is None:
         mw = mw if mw is not None else motion.metadata.get("mw")
         if mw is None:
@@ -143,30 +167,17 @@ def build_ensemble(
         record = highpass_motion(rotated, highpass, fc_hz, order)
         say(f"high-pass {highpass} at {fc_hz:.4f} Hz")
     timings["process_s"] = time.perf_counter() - t0
-    motions = [record]
-    fit = None
-    if n > 0:
-        t1 = time.perf_counter()
-        # Fit the rotated record before its high-pass (spec §5: the high-pass post-processes
-        # simulations; a Butterworth's padding would shift the envelope). It is on its
-        # principal axes already: a forced 0 keeps it there.
-        fit = fit_rdk(rotated, 0.0, seed=seed)
-        timings["fit_s"] = time.perf_counter() - t1
-        say(
-            f"RDK fit in {timings['fit_s']:.1f} s: zeta_f major {fit.major.zeta_f:.3f}, "
-            f"minor {fit.minor.zeta_f:.3f}",
-        )
-        t2 = time.perf_counter()
-        kw: dict[str, Any] = {"method": method, "axes": axes, "order": order}
-        if highpass == "none":
-            kw["highpass"] = False
-        else:
-            kw.update(highpass=highpass, fc_hz=fc_hz)
-        motions += synthesize(fit, n, seed, **kw)
-        timings["synthesize_s"] = time.perf_counter() - t2
-        say(f"{n} synthetic pairs in {timings['synthesize_s']:.1f} s")
-    if max_duration is not None:
-        motions = [_cut(m, max_duration) for m in motions]
+    sim = {"method": method, "axes": axes, "order": order, "highpass": highpass,
+           "fc_hz": fc_hz, "max_duration": max_duration}
+    motions, fit, quality = _synthetic_pairs(rotated, record, n, seed, fit_method, sim,
+                                             timings, say)
+    comparison, other = [], None
+    if compare and n > 0:
+        other_method = next(m for m in FIT_METHODS if m != fit_method)
+        comparison, other_fit, other_quality = _synthetic_pairs(
+            rotated, record, n, seed, other_method, sim, {}, say)
+        other = {"fit_method": other_method, "fit_quality": other_quality,
+                 "fit": other_fit.to_dict()}
     info = {
         "record": motion.name,
         "label": motion.metadata.get("label", motion.name),
@@ -182,11 +193,84 @@ def build_ensemble(
         "n_synthetic": int(n),
         "seed": int(seed),
         "method": method,
+        "fit_method": fit_method,
+        "fit_quality": quality,
+        "comparison": other,
         "axes": axes,
         "max_duration": max_duration,
         "timings": timings,
     }
-    return EnsembleBuild(motions, fit, info)
+    return EnsembleBuild(motions, fit, info, comparison)
+
+
+def _synthetic_pairs(
+    rotated: GroundMotion,
+    record: GroundMotion,
+    n: int,
+    seed: int,
+    fit_method: str,
+    sim: dict[str, Any],
+    timings: dict[str, float],
+    say: Callable[[str], None],
+) -> tuple[list[GroundMotion], Any, dict[str, Any] | None]:
+    """[record, pairs…], the RDK fit and the fit quality (None below 2 pairs) of one method."""
+    motions, fit, quality = [record], None, None
+    if n > 0:
+        hp: dict[str, Any] = {"highpass": False}
+        if sim["highpass"] != "none":
+            hp = {"highpass": sim["highpass"], "fc_hz": sim["fc_hz"]}
+        t1 = time.perf_counter()
+        # Fit the rotated record before its high-pass (a Butterworth's padding would shift
+        # the envelope); the spectrum match compares both after the same high-pass. It is on
+        # its principal axes already: a forced 0 keeps it there.
+        fit = fit_rdk(rotated, 0.0, method=fit_method, seed=seed, order=sim["order"], **hp)
+        timings["fit_s"] = time.perf_counter() - t1
+        say(f"RDK fit ({fit_method}) in {timings['fit_s']:.1f} s: {_describe(fit)}")
+        t2 = time.perf_counter()
+        motions += synthesize(fit, n, seed, method=sim["method"], axes=sim["axes"],
+                              order=sim["order"], **hp)
+        timings["synthesize_s"] = time.perf_counter() - t2
+        say(f"{n} synthetic pairs in {timings['synthesize_s']:.1f} s")
+    if sim["max_duration"] is not None:
+        motions = [_cut(m, sim["max_duration"]) for m in motions]
+    if n >= 2 and sim["axes"] == "principal":
+        quality = ensemble_quality(motions)
+    return motions, fit, quality
+
+
+def _describe(fit: Any) -> str:
+    """One line of the fitted spectral parameters of both components."""
+    parts = []
+    for name, p in (("major", fit.major), ("minor", fit.minor)):
+        text = f"{name} f_mid {p.f_mid:.2f} Hz, zeta_f {p.zeta_f:.3f}"
+        if p.f_mid2 is not None:
+            text += f"; f_mid2 {p.f_mid2:.2f} Hz, zeta_f2 {p.zeta_f2:.3f}, share2 {p.share2:.2f}"
+        if p.f_low is not None:
+            text += f"; f_low {p.f_low:.2f} Hz, zeta_low {p.zeta_low:.2f}"
+        parts.append(text)
+    return " | ".join(parts)
+
+
+def comparison_path(out: str | Path) -> Path:
+    """File of the other identification's ensemble: ``<out stem>.compare.nc``."""
+    out = Path(out)
+    return out.with_name(f"{out.stem}.compare.nc")
+
+
+def quality_lines(params: dict[str, Any]) -> list[str]:
+    """Fit-quality summary of an ensemble (and of its comparison) as text lines."""
+    lines = []
+    runs = [(params.get("fit_method"), params.get("fit_quality"))]
+    if params.get("comparison"):
+        runs.append((params["comparison"]["fit_method"], params["comparison"]["fit_quality"]))
+    for method, quality in runs:
+        if quality is None:
+            lines.append(f"{params['record']}: no fit quality ({method}; needs >= 2 pairs "
+                         "on principal axes)")
+        else:
+            lines += format_quality(quality, f"{params['record']}, {method} fit: 5 % PSA of "
+                                    f"the ensemble (geometric mean) / record")
+    return lines
 
 
 def _cut(motion: GroundMotion, max_duration: float) -> GroundMotion:

@@ -35,6 +35,7 @@ __all__ = [
     "butterworth_acausal",
     "butterworth_pad",
     "highpass_motion",
+    "highpass_rows",
     "oscillator",
     "oscillator_pad",
     "oscillator_transfer",
@@ -284,6 +285,38 @@ def residuals(a, dt: float) -> Residuals:
                      float(np.max(np.abs(d))))
 
 
+def highpass_rows(
+    a, dt: float, kind: str, fc_hz: float, order: int = 4, pad: float | None = None
+) -> tuple[np.ndarray, int]:
+    """High-pass every row of ``a`` with the filter named by ``kind``; the padding is kept.
+
+    Parameters
+    ----------
+    a : array_like
+        Acceleration(s) [m/s²], 1-D or one signal per row.
+    dt : float
+        Time step [s].
+    kind : {"oscillator", "butterworth"}
+        :func:`oscillator` (padding at the end) or :func:`butterworth_acausal` (both ends).
+    fc_hz : float
+        Corner frequency [Hz].
+    order : int
+        Butterworth order N (ignored by the oscillator).
+    pad : float, optional
+        Padding [s] (each filter's default when None).
+
+    Returns
+    -------
+    (numpy.ndarray, int)
+        Filtered signals and the number of samples added at the front.
+    """
+    if kind == "oscillator":
+        return oscillator(a, dt, fc_hz, pad), 0
+    if kind == "butterworth":
+        return butterworth_acausal(a, dt, fc_hz, order, pad)
+    raise ValueError(f"kind must be 'oscillator' or 'butterworth', got {kind!r}")
+
+
 def highpass_motion(
     motion: GroundMotion,
     kind: str = "oscillator",
@@ -315,15 +348,9 @@ def highpass_motion(
     """
     if fc_hz is None:
         raise ValueError("fc_hz is required (e.g. rocking.motions.highpass.brune_corner(mw))")
-    both = np.vstack([motion.ax, motion.ay])
-    if kind == "oscillator":
-        out = oscillator(both, motion.dt, fc_hz, pad)
-        front, info_order = 0, None
-    elif kind == "butterworth":
-        out, front = butterworth_acausal(both, motion.dt, fc_hz, order, pad)
-        info_order = int(order)
-    else:
-        raise ValueError(f"kind must be 'oscillator' or 'butterworth', got {kind!r}")
+    out, front = highpass_rows(np.vstack([motion.ax, motion.ay]), motion.dt, kind, fc_hz,
+                               order, pad)
+    info_order = int(order) if kind == "butterworth" else None
     res = [residuals(row, motion.dt) for row in out]
     step: dict[str, Any] = {
         "step": "highpass",

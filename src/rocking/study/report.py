@@ -92,6 +92,36 @@ def measured_lines(entry: FigureEntry) -> list[str]:
     return lines
 
 
+def fit_quality_table(entries: Sequence[FigureEntry]) -> pd.DataFrame:
+    """Fit quality of every ensemble of Fig 8 (and its comparison), one row per component.
+
+    Columns: record, identification method (``*`` marks the ensemble the study uses),
+    component, the median ÷ record PSA ratio per period band, its range over 0.1–4 s, and
+    the share of periods with the record inside the ensemble's 5–95 % range.
+    """
+    rows = []
+    for entry in entries:
+        if entry.name != "fig08_motions":
+            continue
+        m = entry.notes.get("measured", {})
+        used = m.get("fit_method")
+        for method, quality in (m.get("fit_quality") or {}).items():
+            if not quality:
+                continue
+            for key, name in (("x", "x (major)"), ("y", "y (minor)")):
+                q = quality[key]
+                row = {"record": m.get("record"),
+                       "identification": method + (" *" if method == used else ""),
+                       "component": name}
+                row.update({f"median/record {b}": round(r, 2)
+                            for b, r in q["band_ratio"].items()})
+                row["range 0.1-4 s"] = f"{q['ratio_min']:.2f}–{q['ratio_max']:.2f}"
+                row["record inside 5–95 %"] = f"{100 * q['inside_5_95']:.0f} % of periods"
+                row["pairs"] = q["n"]
+                rows.append(row)
+    return pd.DataFrame(rows)
+
+
 # --------------------------------------------------------------------------- what was run
 
 
@@ -377,6 +407,12 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts.append("<h2>Figures</h2>")
     parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [])
               for i, e in enumerate(entries)]
+    quality = fit_quality_table(entries)
+    if not quality.empty:
+        parts.append("<h2 id='fit-quality'>Fit quality of the synthetic ensembles (5 % PSA, "
+                     "geometric mean of the synthetic motions ÷ record; * = the ensemble the "
+                     "study uses)</h2>")
+        parts.append(_table_html(quality))
     if linear_fit is not None:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")

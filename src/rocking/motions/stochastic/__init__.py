@@ -1,23 +1,31 @@
 """Rezaeian–Der Kiureghian stochastic ground-motion model: identification and simulation.
 
 Modules: :mod:`.envelope` (gamma modulating function), :mod:`.filter` (time-varying filter,
-normalized impulse-response band), :mod:`.params` (the six parameters of a component),
-:mod:`.simulate` (time-domain and spectral discretizations), :mod:`.fit` (identification from
-a record, both principal components), :mod:`.ensemble` (reproducible bidirectional ensembles).
+optional low-frequency filter, normalized impulse-response band, unit-variance spectrum),
+:mod:`.params` (the parameters of a component, with the extension of the spectrum-matched
+fit), :mod:`.simulate` (time-domain and spectral discretizations), :mod:`.fit`
+(identification from a record, both principal components; count-based or spectrum-matched),
+:mod:`.spectrum_fit` (the spectrum-matched identification), :mod:`.quality` (how well an
+ensemble's elastic spectrum matches its record's), :mod:`.ensemble` (reproducible
+bidirectional ensembles).
 """
 
 from .ensemble import synthesize
 from .envelope import GammaEnvelope, alphas_from_physical, physical_from_alphas
 from .fit import RDKFit, fit_component, fit_rdk
 from .params import RDKParams
+from .quality import ensemble_quality
+from .spectrum_fit import fit_spectrum
 
 __all__ = [
     "GammaEnvelope",
     "RDKFit",
     "RDKParams",
     "alphas_from_physical",
+    "ensemble_quality",
     "fit_component",
     "fit_rdk",
+    "fit_spectrum",
     "physical_from_alphas",
     "synthesize",
 ]

@@ -24,11 +24,9 @@ from ..motion import GroundMotion
 from .filter import DEFAULT_FLOOR_HZ, normalized_irf
 from .fit import RDKFit
 from .params import RDKParams
-from .simulate import spectral, spectral_frequencies, time_domain
+from .simulate import DEFAULT_FC_HZ, noise_rows, spectral, time_domain
 
-#: Corner of the post-processing high-pass used by RDK (2010) [Hz]. For the Vassiliou et al.
-#: reproduction pass the Brune corner instead (``rocking.motions.highpass.brune_corner``).
-DEFAULT_FC_HZ = 0.2
+__all__ = ["DEFAULT_FC_HZ", "energy_correction", "simulate_component", "synthesize"]
 
 
 def _streams(seed: int, n: int) -> list[list[np.random.SeedSequence]]:
@@ -51,30 +49,25 @@ def simulate_component(
     **kw: Any,
 ) -> np.ndarray:
     """(n, npts) unfiltered realizations of one component, realization r from ``seqs[r]``."""
-    if method == "time":
-        return time_domain(params, dt, npts, _draw(seqs, npts), **kw)
-    if method == "spectral":
-        k = spectral_frequencies(dt, npts, kw.get("f_max_hz")).size
-        return spectral(params, dt, npts, _draw(seqs, 2 * k), **kw)
-    raise ValueError(f"method must be 'time' or 'spectral', got {method!r}")
+    rows = noise_rows(params, dt, npts, method, kw.get("f_max_hz"))
+    simulate = time_domain if method == "time" else spectral
+    return simulate(params, dt, npts, _draw(seqs, rows), **kw)
 
 
 def _apply_highpass(
     x: np.ndarray, dt: float, kind: str, fc_hz: float, order: int
 ) -> tuple[np.ndarray, dict[str, Any]]:
     """High-pass all rows of ``x`` at once with :mod:`rocking.motions.highpass` (padding kept)."""
-    from .. import highpass
+    from ..highpass import highpass_rows
 
-    if kind == "oscillator":
-        out, front = highpass.oscillator(x, dt, fc_hz), 0
-        step: dict[str, Any] = {"step": "highpass", "kind": "oscillator", "fc_hz": fc_hz}
-    elif kind == "butterworth":
-        out, front = highpass.butterworth_acausal(x, dt, fc_hz, order)
-        step = {"step": "highpass", "kind": "butterworth", "fc_hz": fc_hz, "order": order}
-    else:
+    if kind not in ("oscillator", "butterworth"):
         raise ValueError(
             f"highpass must be True, False, 'oscillator' or 'butterworth', got {kind!r}"
         )
+    out, front = highpass_rows(x, dt, kind, fc_hz, order)
+    step: dict[str, Any] = {"step": "highpass", "kind": kind, "fc_hz": fc_hz}
+    if kind == "butterworth":
+        step["order"] = order
     step["pad_front"] = int(front)
     step["pad_end"] = int(out.shape[-1] - x.shape[-1] - front)
     return out, step
@@ -91,9 +84,10 @@ def energy_correction(
 ) -> float:
     """Deterministic factor c = √(E[Σ x̂²] / E[Σ a²]) restoring the energy a high-pass removes.
 
-    The time-domain simulation and the filter are linear, a = L diag(q) S u with iid unit
-    normals u, so E[Σ a²] = Σ_i ‖L (q ⊙ S[:, i])‖²: the filtered responses to each single
-    pulse, summed in chunks of ``chunk`` pulses. E[Σ x̂²] = Σ q² because S has unit rows.
+    The time-domain simulation and the filter are linear, a = L diag(q) Σ_k √s_k S_k u_k with
+    iid unit normals u_k, so E[Σ a²] = Σ_k s_k Σ_i ‖L (q ⊙ S_k[:, i])‖²: the filtered
+    responses to each single pulse, summed in chunks of ``chunk`` pulses. E[Σ x̂²] = Σ q²
+    because every S_k has unit rows and the shares s_k sum to 1.
     One factor per component, the same for every realization: the record-to-record
     variability of Ia is kept (spec §2.7; the Su/Broccardo toolbox does the same).
 
@@ -118,14 +112,15 @@ def energy_correction(
         c ≥ 1 for a high-pass [-].
     """
     t = np.arange(npts) * dt
-    s = normalized_irf(params.omega(t, floor_hz), params.zeta_f, dt).to_sparse().tocsc()
     q = params.envelope(t)
     den = 0.0
-    for start in range(0, npts, chunk):
-        # Pulses at i ≥ start are zero before it, and the filter is time-invariant and starts
-        # at rest, so the leading zeros can be dropped without changing the output energy.
-        cols = (q[start:, None] * s[start:, start : start + chunk].toarray()).T
-        den += float(np.sum(filt(cols) ** 2))
+    for share, omega, zeta in params.terms(t, floor_hz):
+        s = normalized_irf(omega, zeta, dt, low=params.low).to_sparse().tocsc()
+        for start in range(0, npts, chunk):
+            # Pulses at i ≥ start are zero before it, and the filter is time-invariant and
+            # starts at rest, so the leading zeros can be dropped without changing the energy.
+            cols = (q[start:, None] * s[start:, start : start + chunk].toarray()).T
+            den += share * float(np.sum(filt(cols) ** 2))
     num = float(np.sum(q[1:] ** 2))  # row 0 of S is zero
     return math.sqrt(num / den)
 
@@ -258,6 +253,7 @@ def synthesize(
         meta: dict[str, Any] = {
             "generator": "Rezaeian-Der Kiureghian (rocking.motions.stochastic)",
             "record": fit.name,
+            "fit_method": fit.diagnostics.get("method", "counts"),
             "parameters": copy.deepcopy(params),
             "rotation_deg": fit.angle,
             "principal_offset_deg": fit.diagnostics.get("principal_offset_deg"),

@@ -10,6 +10,12 @@ S[k, i] = h(t_k − t_i; ω_f(t_i)) / √(Σ_{j≤k} h²(t_k − t_j; ω_f(t_j))
 column built with the frequency of its own pulse. Every row of S has unit norm, so the
 process has unit variance at every sample. h decays like exp(−ζ ω_f τ), so S is stored as a
 band of lags ℓ = k − i < w.
+
+Extension (spectrum-matched identification): the oscillator may be followed by a
+time-invariant low-frequency filter s²/(s² + 2ζ_low ω_low s + ω_low²) (the second filter of
+Clough & Penzien, used by later models of this family), which replaces the flat long-period
+plateau of the oscillator by an ω⁴ roll-off. The cascade's impulse response is a sum of two
+damped complex exponentials (:func:`filter_poles`), normalized the same way.
 """
 
 from __future__ import annotations
@@ -107,18 +113,137 @@ def impulse_response(tau: ArrayLike, omega: ArrayLike, zeta: float) -> NDArray[n
     return np.where(tau >= 0.0, h, 0.0)
 
 
-def band_width(omega: ArrayLike, zeta: float, dt: float, band_tol: float, npts: int) -> int:
+def check_low(low: tuple[float, float] | None) -> tuple[float, float] | None:
+    """Return the low-frequency filter (ω_low [rad/s], ζ_low) as floats, or None.
+
+    Raises ValueError unless ω_low > 0 and 0 < ζ_low < 1 (complex poles).
+    """
+    if low is None:
+        return None
+    try:
+        w_low, z_low = low
+    except (TypeError, ValueError):
+        raise ValueError(f"low must be None or (omega_low, zeta_low), got {low!r}") from None
+    w_low = positive_finite("omega_low", w_low)
+    z_low = finite("zeta_low", z_low)
+    if not 0.0 < z_low < 1.0:
+        raise ValueError(f"zeta_low must be in (0, 1), got {z_low!r}")
+    return w_low, z_low
+
+
+def filter_poles(
+    omega: ArrayLike, zeta: float, low: tuple[float, float] | None = None
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Residues c and poles p of the filter: h(τ) = 2 Re Σ_k c_k exp(p_k τ) for τ ≥ 0.
+
+    Without ``low`` the filter is the RDK oscillator H(s) = ω_f²/(s² + 2ζω_f s + ω_f²) (one
+    conjugate pole pair). With ``low = (ω_low, ζ_low)`` it is followed by the low-frequency
+    (Clough–Penzien) filter s²/(s² + 2ζ_low ω_low s + ω_low²), which removes the flat
+    long-period plateau of the oscillator: |H|² falls as ω⁴ below ω_low (two pole pairs).
+    See docs/design.md (ground-motion ensembles).
+
+    Parameters
+    ----------
+    omega : array_like, shape (n,)
+        Filter frequency ω_f of each pulse [rad/s], > 0.
+    zeta : float
+        Filter damping ratio ζ_f, 0 < ζ_f < 1.
+    low : (float, float) or None
+        (ω_low [rad/s], ζ_low) of the low-frequency filter.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        c and p, complex, shape (n, K) with K = 1 (no ``low``) or 2.
+    """
+    zeta = check_zeta(zeta)
+    low = check_low(low)
+    w = np.atleast_1d(np.asarray(omega, dtype=np.float64))
+    p1 = w * (-zeta + 1j * math.sqrt(1.0 - zeta * zeta))
+    if low is None:
+        return (w * w / (p1 - p1.conj()))[:, None], p1[:, None]
+    w_low, z_low = low
+    p2 = np.full_like(p1, w_low * (-z_low + 1j * math.sqrt(1.0 - z_low * z_low)))
+    if np.any(np.abs(p1 - p2) <= 1e-6 * np.abs(p1)):
+        raise ValueError(
+            f"the low-frequency filter (omega_low={w_low!r} rad/s, zeta_low={z_low!r}) "
+            "coincides with the filter: its poles must differ"
+        )
+    # Partial fractions of ω_f² s² / [(s − p1)(s − p̄1)(s − p2)(s − p̄2)].
+    c1 = w * w * p1 * p1 / ((p1 - p1.conj()) * (p1 - p2) * (p1 - p2.conj()))
+    c2 = w * w * p2 * p2 / ((p2 - p2.conj()) * (p2 - p1) * (p2 - p1.conj()))
+    return np.stack([c1, c2], axis=1), np.stack([p1, p2], axis=1)
+
+
+def unit_psd(
+    f_hz: ArrayLike,
+    omega: ArrayLike,
+    zeta: float,
+    dt: float,
+    low: tuple[float, float] | None = None,
+) -> NDArray[np.float64]:
+    """One-sided power spectral density of the sampled filter's unit-variance output [1/Hz].
+
+    For the impulse response sampled at the simulation step, h_ℓ = h(ℓΔt), the stationary
+    output of white noise normalized to unit variance has the one-sided density
+    φ(f) = 2Δt |Σ_ℓ h_ℓ e^(−2πifℓΔt)|² / Σ_ℓ h_ℓ², so that ∫₀^(1/2Δt) φ df = 1. Both sums are
+    geometric series in the poles z = exp(pΔt) and are evaluated in closed form. This is
+    the spectrum of the discrete-time process the time-domain method simulates (including
+    the aliased high-frequency content of the sampled response).
+
+    Parameters
+    ----------
+    f_hz : array_like, shape (m,)
+        Frequencies [Hz], 0 ≤ f ≤ 1/(2Δt).
+    omega : array_like, shape (n,)
+        Filter frequencies ω_f [rad/s] (one spectrum per value).
+    zeta : float
+        Filter damping ratio.
+    dt : float
+        Time step [s].
+    low : (float, float) or None
+        Low-frequency filter (ω_low [rad/s], ζ_low), see :func:`filter_poles`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, m)
+        φ(f) [1/Hz].
+    """
+    dt = positive_finite("dt", dt)
+    c, p = filter_poles(omega, zeta, low)
+    # All poles: each pair (c, p) and its conjugate, so h_ℓ = Σ_a C_a Z_a^ℓ is real.
+    cc = np.concatenate([c, c.conj()], axis=1)
+    zz = np.exp(np.concatenate([p, p.conj()], axis=1) * dt)
+    norm = np.real(np.sum(cc[:, :, None] * cc[:, None, :]
+                          / (1.0 - zz[:, :, None] * zz[:, None, :]), axis=(1, 2)))
+    e = np.exp(-2j * math.pi * np.asarray(f_hz, dtype=np.float64) * dt)
+    dtft = np.sum(cc[:, None, :] / (1.0 - zz[:, None, :] * e[None, :, None]), axis=2)
+    return 2.0 * dt * np.abs(dtft) ** 2 / norm[:, None]
+
+
+def band_width(
+    omega: ArrayLike,
+    zeta: float,
+    dt: float,
+    band_tol: float,
+    npts: int,
+    low: tuple[float, float] | None = None,
+) -> int:
     """Number of lags w kept in the band: h has decayed to ``band_tol`` of its scale at w·Δt.
 
-    The envelope of h is exp(−ζ ω τ); the slowest decay is at the smallest ω_f.
+    The envelope of h decays like exp(−ζ ω τ) for each pole pair; the slowest decay is that
+    of the smallest ω_f or of the low-frequency filter.
     """
     zeta = check_zeta(zeta)
     dt = positive_finite("dt", dt)
     band_tol = positive_finite("band_tol", band_tol)
     if band_tol >= 1.0:
         raise ValueError(f"band_tol must be < 1, got {band_tol!r}")
-    w_min = float(np.min(omega))
-    tau_max = math.log(1.0 / band_tol) / (zeta * w_min)
+    decay = zeta * float(np.min(omega))
+    low = check_low(low)
+    if low is not None:
+        decay = min(decay, low[0] * low[1])
+    tau_max = math.log(1.0 / band_tol) / decay
     return int(min(npts, math.ceil(tau_max / dt) + 1))
 
 
@@ -167,7 +292,11 @@ class NormalizedIRF:
 
 
 def normalized_irf(
-    omega: ArrayLike, zeta: float, dt: float, band_tol: float = 1e-8
+    omega: ArrayLike,
+    zeta: float,
+    dt: float,
+    band_tol: float = 1e-8,
+    low: tuple[float, float] | None = None,
 ) -> NormalizedIRF:
     """Normalized impulse-response matrix S of the discretized RDK process, as a band.
 
@@ -180,8 +309,11 @@ def normalized_irf(
     dt : float
         Time step [s], > 0.
     band_tol : float
-        Lags where exp(−ζ ω_f,min τ) < band_tol are dropped (the normalization is computed
-        over the kept band, so rows still have exactly unit norm).
+        Lags where the slowest pole's decay exp(−ζ ω τ) < band_tol are dropped (the
+        normalization is computed over the kept band, so rows still have exactly unit norm).
+    low : (float, float) or None
+        Low-frequency filter (ω_low [rad/s], ζ_low) in cascade with the oscillator, see
+        :func:`filter_poles`; it is time-invariant, the oscillator follows the pulse time.
 
     Returns
     -------
@@ -194,35 +326,15 @@ def normalized_irf(
         raise ValueError(f"omega must be positive and finite, got min {np.min(omega)!r}")
     zeta = check_zeta(zeta)
     dt = positive_finite("dt", dt)
-    w = band_width(omega, zeta, dt, band_tol, omega.size)
-    return NormalizedIRF(_normalized_diagonals(omega, zeta, dt, w), dt)
+    w = band_width(omega, zeta, dt, band_tol, omega.size, low)
+    c, p = filter_poles(omega, zeta, low)
+    return NormalizedIRF(_normalized_pole_diagonals(2.0 * c, np.exp(p * dt), w), dt)
 
 
 @numba.njit(cache=True)
-def _normalized_diagonals(omega, zeta, dt, w):  # pragma: no cover - compiled
-    """diag[ℓ, i] = h(ℓΔt; ω[i]) / ‖row i+ℓ of S‖.
-
-    Column i of S is a damped sinusoid sampled on the grid: h(ℓΔt) = ω/√(1−ζ²)·Im z^ℓ with
-    z = exp[(−ζω + iω√(1−ζ²))Δt]. All columns advance one lag at a time (p_i ← p_i z_i), so
-    each entry costs one complex product instead of an exp and a sin, memory is written
-    contiguously, and the rounding error grows only like ℓ·eps.
-    """
-    n = omega.size
-    diag = np.zeros((w, n))
-    c = math.sqrt(1.0 - zeta * zeta)
-    amp = omega / c
-    e = np.exp(-zeta * omega * dt)
-    zr = e * np.cos(omega * c * dt)
-    zi = e * np.sin(omega * c * dt)
-    pr = np.ones(n)
-    pi = np.zeros(n)
-    for ell in range(1, w):
-        for i in range(n - ell):
-            r = pr[i] * zr[i] - pi[i] * zi[i]
-            pi[i] = pr[i] * zi[i] + pi[i] * zr[i]
-            pr[i] = r
-            diag[ell, i] = amp[i] * pi[i]
-    # Row norms of S: row k collects lag ℓ of the column i = k − ℓ.
+def _normalize_rows(diag):  # pragma: no cover - compiled
+    """Divide the band in place by the norms of the rows of S (row k: lags ℓ of column k − ℓ)."""
+    w, n = diag.shape
     s2 = np.zeros(n)
     for ell in range(w):
         for i in range(n - ell):
@@ -235,4 +347,27 @@ def _normalized_diagonals(omega, zeta, dt, w):  # pragma: no cover - compiled
     for ell in range(w):
         for i in range(n - ell):
             diag[ell, i] *= inv[i + ell]
+
+
+@numba.njit(cache=True)
+def _normalized_pole_diagonals(c2, z, w):  # pragma: no cover - compiled
+    """diag[ℓ, i] = Re Σ_k c2[i, k] z[i, k]^ℓ / ‖row i+ℓ of S‖.
+
+    Column i of S is the sampled impulse response of the filter of pulse i, a sum of damped
+    complex exponentials z^ℓ with z = exp(pΔt) (``c2`` holds twice the residues, so the real
+    part is the response). All columns advance one lag at a time (z^ℓ ← z^(ℓ−1)·z), so each
+    entry costs one complex product per pole pair instead of an exp and a sin, memory is
+    written contiguously, and the rounding error grows only like ℓ·eps.
+    """
+    n, npairs = c2.shape
+    diag = np.zeros((w, n))
+    pw = np.ones((n, npairs), dtype=np.complex128)
+    for ell in range(1, w):
+        for i in range(n - ell):
+            acc = 0.0
+            for k in range(npairs):
+                pw[i, k] *= z[i, k]
+                acc += (c2[i, k] * pw[i, k]).real
+            diag[ell, i] = acc
+    _normalize_rows(diag)
     return diag

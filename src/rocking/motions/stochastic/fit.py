@@ -1,4 +1,4 @@
-"""Identification of the Rezaeian–Der Kiureghian parameters from a record (spec §3).
+"""Identification of the Rezaeian–Der Kiureghian parameters from a record.
 
 Per component:
 
@@ -6,10 +6,17 @@ Per component:
    exactly.
 2. f_mid and f′ from the cumulative zero-level up-crossings: a quadratic fitted through nine
    equally spaced samples of N₀⁺(t) between t_0.01 and t_0.99 has derivative f_f(t).
-3. ζ_f from the cumulative count of positive minima and negative maxima on [t_0.05, t_0.95]:
-   the root of the signed area between the record's curve and the mean curve of unmodulated
-   simulations (common random numbers for every ζ), bracketed on a grid and interpolated
-   linearly (the SCEC BBP procedure), optionally refined by Brent's method.
+3. The spectral parameters, by one of two methods:
+
+   - ``"spectrum"`` (default): the extended model whose ensemble's median 5 %-damped
+     response spectrum matches the record's (:mod:`.spectrum_fit`); steps 1–2 give the
+     envelope and the relative drift of the filter frequency.
+   - ``"counts"`` (RDK 2010): ζ_f from the cumulative count of positive minima and negative
+     maxima on [t_0.05, t_0.95]: the root of the signed area between the record's curve and
+     the mean curve of unmodulated simulations (common random numbers for every ζ),
+     bracketed on a grid and interpolated linearly (the SCEC BBP procedure), optionally
+     refined by Brent's method. One narrow-band filter: it reproduces the record's crossing
+     and extrema rates, not its response spectrum.
 
 :func:`fit_rdk` does this for both principal components of a bidirectional motion.
 """
@@ -18,8 +25,9 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,7 +39,11 @@ from ..intensity import husid, times_from_husid
 from ..motion import GroundMotion
 from .filter import DEFAULT_FLOOR_HZ
 from .params import RDKParams, _jsonable
-from .simulate import time_domain
+from .simulate import DEFAULT_FC_HZ, time_domain
+from .spectrum_fit import fit_spectrum
+
+#: Identification methods of :func:`fit_component` and :func:`fit_rdk`.
+METHODS = ("spectrum", "counts")
 
 #: ζ grid of the bracketing search (spec §3.5: 0.02, 0.05, 0.10, …, 0.90).
 ZETA_GRID: tuple[float, ...] = (0.02, *[round(0.05 * i, 2) for i in range(1, 19)])
@@ -200,29 +212,47 @@ def fit_component(
     a: ArrayLike,
     dt: float,
     *,
+    method: Literal["spectrum", "counts"] = "spectrum",
+    post: Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None,
     zeta_grid: tuple[float, ...] = ZETA_GRID,
     n_sim: int = 50,
+    psa_sims: int = 20,
+    iterations: int = 2,
     seed: int = 0,
     refine: bool = False,
     floor_hz: float = DEFAULT_FLOOR_HZ,
 ) -> RDKParams:
-    """Identify θ = (Ia, D5-95, t_mid, f_mid, f′, ζ_f) of one acceleration component.
+    """Identify the RDK parameters of one acceleration component.
 
     Parameters
     ----------
     a : array_like
         Acceleration [m/s²], 1-D, starting at the record's first sample (T0 = 0).
     dt : float
-        Time step [s], > 0 (the record's own step: the extrema count depends on it).
-    zeta_grid, n_sim, seed, refine, floor_hz
-        Settings of the ζ_f search, see :func:`fit_zeta`.
+        Time step [s], > 0 (the record's own step: simulations use it).
+    method : {"spectrum", "counts"}
+        Spectrum-matched extended model (default) or the RDK (2010) count-based filter.
+    post : callable or None
+        ``"spectrum"`` only: the high-pass the ensemble will get, applied to the record and
+        the simulations of the fit alike ((m, n) → (m, n′)); None: none.
+    zeta_grid, n_sim, refine
+        ``"counts"`` only: settings of the ζ_f search, see :func:`fit_zeta`.
+    psa_sims, iterations : int
+        ``"spectrum"`` only: simulations per misfit evaluation and Gauss–Newton steps
+        (:func:`.fit_spectrum`).
+    seed : int
+        Seed of the simulations of either search.
+    floor_hz : float
+        Floor of the filter frequency [Hz].
 
     Returns
     -------
     RDKParams
-        With ``diagnostics``: Husid times, up-crossing fit coefficients, the ζ search
-        errors, the total counts of the record and the settings used.
+        With ``diagnostics``: the method, Husid times, up-crossing fit coefficients, the
+        record's counts, the settings and the search record of the method.
     """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     x = finite_array("a", a)
     dt = positive_finite("dt", dt)
     if x.size < 10:
@@ -234,27 +264,61 @@ def fit_component(
     f_mid, f_slope, coef = fit_frequency(x, dt, ht["t01"], ht["t99"], ht["t45"])
     if not f_mid > 0.0:
         raise ValueError(f"fitted f_mid = {f_mid!r} Hz is not positive: is a an acceleration?")
+    i05, i95 = _window(ht["t05"], ht["t95"], dt)
+    diagnostics: dict[str, Any] = {
+        "method": method,
+        **ht,
+        "upcrossing_coef": coef.tolist(),
+        "upcrossing_f_mid": f_mid,
+        "upcrossing_f_slope": f_slope,
+        "n_upcrossings": int(zero_upcrossings_cum(x)[-1]),
+        "n_pmnm_5_95": int(pmnm_cum(x[i05 : i95 + 1])[-1]),
+        "settings": {"seed": int(seed), "floor_hz": float(floor_hz), "dt": dt, "T0": 0.0},
+    }
     # ζ does not enter steps 1-2; a mid-grid value stands in until it is identified.
-    trial = RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, 0.5)
+    trial = RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, 0.5, diagnostics=diagnostics)
+    if method == "spectrum":
+        diagnostics["settings"].update(psa_sims=int(psa_sims), iterations=int(iterations))
+        return fit_spectrum(x, dt, trial, post if post is not None else _identity,
+                            n_sim=psa_sims, seed=seed, iterations=iterations,
+                            floor_hz=floor_hz)
     search = fit_zeta(
         x, dt, trial, ht["t05"], ht["t95"],
         zeta_grid=zeta_grid, n_sim=n_sim, seed=seed, refine=refine, floor_hz=floor_hz,
     )  # fmt: skip
-    i05, i95 = _window(ht["t05"], ht["t95"], dt)
-    diagnostics = {
-        **ht,
-        "upcrossing_coef": coef.tolist(),
-        "n_upcrossings": int(zero_upcrossings_cum(x)[-1]),
-        "n_pmnm_5_95": int(pmnm_cum(x[i05 : i95 + 1])[-1]),
-        "zeta_errors": {f"{z:.4f}": e for z, e in search.evaluated.items()},
-        "zeta_clipped": search.clipped,
-        "settings": {
-            "n_sim": int(n_sim), "seed": int(seed), "refine": bool(refine),
-            "floor_hz": float(floor_hz), "zeta_grid": [float(z) for z in zeta_grid],
-            "dt": dt, "T0": 0.0,
-        },
-    }  # fmt: skip
-    return RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, search.zeta, diagnostics)
+    diagnostics["zeta_errors"] = {f"{z:.4f}": e for z, e in search.evaluated.items()}
+    diagnostics["zeta_clipped"] = search.clipped
+    diagnostics["settings"].update(n_sim=int(n_sim), refine=bool(refine),
+                                   zeta_grid=[float(z) for z in zeta_grid])
+    return RDKParams(ht["Ia"], d5_95, ht["t45"], f_mid, f_slope, search.zeta,
+                     diagnostics=diagnostics)
+
+
+def _identity(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    return x
+
+
+def highpass_post(
+    highpass: bool | str = True, fc_hz: float = DEFAULT_FC_HZ, order: int = 4, dt: float = 0.01
+) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    """The post-processing high-pass of :func:`~rocking.motions.stochastic.synthesize`, a function.
+
+    ``highpass`` True means the RDK (2010) oscillator, False none; the padding is kept.
+    """
+    if highpass is False:
+        return _identity
+    kind = "oscillator" if highpass is True else str(highpass)
+    if kind not in ("oscillator", "butterworth"):
+        raise ValueError(
+            f"highpass must be True, False, 'oscillator' or 'butterworth', got {highpass!r}"
+        )
+    fc_hz = positive_finite("fc_hz", fc_hz)
+    from ..highpass import highpass_rows
+
+    def post(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return highpass_rows(x, dt, kind, fc_hz, order)[0]
+
+    return post
 
 
 @dataclass(frozen=True)
@@ -313,7 +377,12 @@ def fit_rdk(
     motion: GroundMotion,
     angle: float | str | None = None,
     *,
+    method: Literal["spectrum", "counts"] = "spectrum",
+    highpass: bool | str = True,
+    fc_hz: float = DEFAULT_FC_HZ,
+    order: int = 4,
     n_sim: int = 50,
+    psa_sims: int = 20,
     seed: int = 0,
     refine: bool = False,
     zeta_grid: tuple[float, ...] = ZETA_GRID,
@@ -329,9 +398,14 @@ def fit_rdk(
         Principal-axis rotation: None/"auto" computes θ_p; a number [deg] forces the offset
         of the major axis from the nearest recording axis with the computed sense (e.g. the
         paper's 22.33° for El Centro), see :func:`rocking.motions.principal.to_principal_axes`.
-    n_sim, seed, refine, zeta_grid, floor_hz
-        Settings of the ζ_f search (:func:`fit_zeta`); the minor component uses ``seed + 1``
-        so that its simulations are independent of the major one's.
+    method : {"spectrum", "counts"}
+        Identification of the spectral parameters (:func:`fit_component`).
+    highpass, fc_hz, order
+        ``"spectrum"`` only: the post-processing high-pass the ensemble will get (as in
+        :func:`~rocking.motions.stochastic.synthesize`); the match is between high-passed spectra.
+    n_sim, psa_sims, seed, refine, zeta_grid, floor_hz
+        Settings of the searches (:func:`fit_component`); the minor component uses
+        ``seed + 1`` so that its simulations are independent of the major one's.
 
     Returns
     -------
@@ -344,7 +418,10 @@ def fit_rdk(
     if motion.is_unidirectional:
         raise ValueError(f"motion {motion.name!r} has a zero component: a pair is needed")
     rotated, applied = to_principal_axes(motion, angle)
-    kw = dict(n_sim=n_sim, refine=refine, zeta_grid=zeta_grid, floor_hz=floor_hz)
+    kw: dict[str, Any] = dict(method=method, n_sim=n_sim, psa_sims=psa_sims, refine=refine,
+                              zeta_grid=zeta_grid, floor_hz=floor_hz)
+    if method == "spectrum":
+        kw["post"] = highpass_post(highpass, fc_hz, order, motion.dt)
     major = fit_component(rotated.ax, motion.dt, seed=seed, **kw)
     minor = fit_component(rotated.ay, motion.dt, seed=seed + 1, **kw)
     keys = (
@@ -355,4 +432,7 @@ def fit_rdk(
     provenance = ("source", "files", "sha256", "title")
     meta["record"] = {k: motion.metadata[k] for k in provenance if k in motion.metadata}
     meta["npts"] = motion.npts
+    meta["method"] = method
+    if method == "spectrum":
+        meta["highpass"] = {"kind": highpass, "fc_hz": fc_hz, "order": order}
     return RDKFit(float(applied), major, minor, motion.dt, motion.name, meta)

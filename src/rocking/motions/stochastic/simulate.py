@@ -13,6 +13,11 @@ Both take the standard-normal noise as an argument, so the caller owns the rando
 (:mod:`rocking.motions.stochastic.ensemble` draws one independent stream per component and
 realization). Both give E[x̂²(t)] = q²(t) exactly and return an array of shape (m, n):
 one realization per row, time along the last axis.
+
+Parameters with a second filtered process (:class:`~rocking.motions.stochastic.params.RDKParams`)
+take the noise of both processes stacked: the rows of process 1, then those of process 2
+(:func:`noise_rows` gives the total), and x̂ = q (√(1 − s₂) z₁ + √s₂ z₂) with independent
+unit-variance z₁, z₂.
 """
 
 from __future__ import annotations
@@ -24,8 +29,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..._validate import positive_finite
-from .filter import DEFAULT_FLOOR_HZ, normalized_irf
+from .filter import DEFAULT_FLOOR_HZ, normalized_irf, unit_psd
 from .params import RDKParams
+
+#: Corner of the post-processing high-pass used by RDK (2010) [Hz]. For the Vassiliou et al.
+#: reproduction pass the Brune corner instead (``rocking.motions.highpass.brune_corner``).
+DEFAULT_FC_HZ = 0.2
 
 #: Upper bound on the number of (time × frequency) entries of one block of the spectral
 #: sum: it caps the memory at ~16 MB per temporary array whatever the record length.
@@ -50,6 +59,22 @@ def _noise(noise: ArrayLike, rows: int, what: str) -> NDArray[np.float64]:
     return u
 
 
+def noise_rows(
+    params: RDKParams,
+    dt: float,
+    npts: int,
+    method: Literal["time", "spectral"] = "time",
+    f_max_hz: float | None = None,
+) -> int:
+    """Standard normals per realization needed by :func:`time_domain` or :func:`spectral`."""
+    n_terms = 2 if params.f_mid2 is not None else 1
+    if method == "time":
+        return n_terms * _grid(dt, npts)[1]
+    if method == "spectral":
+        return n_terms * 2 * spectral_frequencies(dt, npts, f_max_hz).size
+    raise ValueError(f"method must be 'time' or 'spectral', got {method!r}")
+
+
 def time_domain(
     params: RDKParams,
     dt: float,
@@ -70,8 +95,9 @@ def time_domain(
         Time step [s], > 0.
     npts : int
         Number of samples (t_k = kΔt, k = 0 … n−1).
-    noise : array_like, shape (npts, m)
-        Independent standard normals, one column per realization.
+    noise : array_like, shape (rows, m)
+        Independent standard normals, one column per realization; rows = npts per filtered
+        process (:func:`noise_rows`).
     modulate : bool
         False gives the unit-variance normalized process y/σ_y (q ≡ 1), used to identify ζ_f.
     floor_hz : float
@@ -85,10 +111,12 @@ def time_domain(
         Accelerations [m/s²] (dimensionless when ``modulate`` is False); x̂(t_0) = 0.
     """
     dt, npts = _grid(dt, npts)
-    u = _noise(noise, npts, "the time-domain method")
+    u = _noise(noise, noise_rows(params, dt, npts), "the time-domain method")
     t = np.arange(npts) * dt
-    s = normalized_irf(params.omega(t, floor_hz), params.zeta_f, dt, band_tol)
-    x = s.apply(u)
+    x = np.zeros((npts, u.shape[1]))
+    for k, (share, omega, zeta) in enumerate(params.terms(t, floor_hz)):
+        s = normalized_irf(omega, zeta, dt, band_tol, params.low)
+        x += math.sqrt(share) * s.apply(u[k * npts : (k + 1) * npts])
     if modulate:
         x *= params.envelope(t)[:, None]
     return np.ascontiguousarray(x.T)
@@ -130,7 +158,8 @@ def spectral(
     x(t) = q(t) Σ_j a_j(t) [u_j cos ω_j t + v_j sin ω_j t],  a_j(t)² = |H_j(t)|² / Σ_i |H_i(t)|²
 
     which is the Broccardo–Der Kiureghian sum √(2Φ(ω_j, t)Δω) with Φ normalized so that
-    2ΣΦΔω = 1 (Δω cancels). The filter frequency follows the response time t.
+    2ΣΦΔω = 1 (Δω cancels). The filter frequency follows the response time t. A second
+    filtered process adds its own sum, weighted by √s₂, with its own noise.
 
     With ``filter_psd="discrete"`` (default) |H_j|² is the spectrum of the *sampled* impulse
     response h(ℓΔt) used by :func:`time_domain`, so both methods share the same
@@ -148,9 +177,10 @@ def spectral(
         Time step [s], > 0.
     npts : int
         Number of samples.
-    noise : array_like, shape (2K, m)
-        Independent standard normals: rows 0…K−1 are the u_j, rows K…2K−1 the v_j, with K
-        the length of :func:`spectral_frequencies` (dt, npts, f_max_hz).
+    noise : array_like, shape (rows, m)
+        Independent standard normals: per filtered process, K rows of u_j then K rows of
+        v_j, with K the length of :func:`spectral_frequencies` (dt, npts, f_max_hz)
+        (:func:`noise_rows`).
     modulate : bool
         False gives the unit-variance process (q ≡ 1).
     floor_hz : float
@@ -172,42 +202,37 @@ def spectral(
     dt, npts = _grid(dt, npts)
     w = spectral_frequencies(dt, npts, f_max_hz)
     nk = w.size
-    u = _noise(noise, 2 * nk, "the spectral method")
+    u = _noise(noise, noise_rows(params, dt, npts, "spectral", f_max_hz), "the spectral method")
     brune = 1.0
     if fc_hz is not None:
         wc2 = (2.0 * math.pi * positive_finite("fc_hz", fc_hz)) ** 2
         brune = w**4 / (w * w + wc2) ** 2
     if filter_psd not in ("discrete", "continuous"):
         raise ValueError(f"filter_psd must be 'discrete' or 'continuous', got {filter_psd!r}")
-    gain = _discrete_gain2 if filter_psd == "discrete" else _continuous_gain2
     t = np.arange(npts) * dt
-    wf = params.omega(t, floor_hz)
-    x = np.empty((npts, u.shape[1]))
+    x = np.zeros((npts, u.shape[1]))
     rows = max(1, _SPECTRAL_BLOCK // nk)
-    for start in range(0, npts, rows):
-        sl = slice(start, min(npts, start + rows))
-        h2 = gain(wf[sl, None], params.zeta_f, w, dt) * brune
-        amp = np.sqrt(h2 / h2.sum(axis=1, keepdims=True))
-        phase = t[sl, None] * w
-        x[sl] = (amp * np.cos(phase)) @ u[:nk] + (amp * np.sin(phase)) @ u[nk:]
+    for k, (share, wf, zeta) in enumerate(params.terms(t, floor_hz)):
+        uk, vk = u[2 * k * nk : (2 * k + 1) * nk], u[(2 * k + 1) * nk : (2 * k + 2) * nk]
+        for start in range(0, npts, rows):
+            sl = slice(start, min(npts, start + rows))
+            if filter_psd == "discrete":
+                h2 = unit_psd(w / (2.0 * math.pi), wf[sl], zeta, dt, params.low) * brune
+            else:
+                h2 = _continuous_gain2(wf[sl, None], zeta, w, params.low) * brune
+            amp = np.sqrt(share * h2 / h2.sum(axis=1, keepdims=True))
+            phase = t[sl, None] * w
+            x[sl] += (amp * np.cos(phase)) @ uk + (amp * np.sin(phase)) @ vk
     if modulate:
         x *= params.envelope(t)[:, None]
     return np.ascontiguousarray(x.T)
 
 
-def _continuous_gain2(wf, zeta, w, dt):
-    """|H(ω)|² = ω_f⁴ / [(ω_f² − ω²)² + 4ζ²ω_f²ω²] of the continuous filter (dt unused)."""
+def _continuous_gain2(wf, zeta, w, low):
+    """|H(ω)|² of the continuous filter: ω_f⁴ / [(ω_f² − ω²)² + 4ζ²ω_f²ω²] × |H_low(ω)|²."""
     wf2 = wf * wf
-    return wf2 * wf2 / ((wf2 - w * w) ** 2 + 4.0 * zeta * zeta * wf2 * w * w)
-
-
-def _discrete_gain2(wf, zeta, w, dt):
-    """|Σ_ℓ h(ℓΔt) e^(−iωℓΔt)|² up to a constant factor (it cancels in the normalization).
-
-    h(ℓΔt) ∝ Im z^ℓ with z = exp[(−ζω_f + iω_f√(1−ζ²))Δt], so the sum is the difference of
-    two geometric series: [1/(1 − z e^(−iωΔt)) − 1/(1 − z̄ e^(−iωΔt))] / 2i.
-    """
-    c = math.sqrt(1.0 - zeta * zeta)
-    z = np.exp((-zeta * wf + 1j * wf * c) * dt)
-    e = np.exp(-1j * w * dt)
-    return np.abs(1.0 / (1.0 - z * e) - 1.0 / (1.0 - np.conj(z) * e)) ** 2
+    h2 = wf2 * wf2 / ((wf2 - w * w) ** 2 + 4.0 * zeta * zeta * wf2 * w * w)
+    if low is not None:
+        wl2, zl = low[0] ** 2, low[1]
+        h2 = h2 * w**4 / ((wl2 - w * w) ** 2 + 4.0 * zl * zl * wl2 * w * w)
+    return h2

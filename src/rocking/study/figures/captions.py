@@ -55,9 +55,12 @@ CAPTIONS: dict[str, str] = {
     "fig08_motions": (
         "Fig 8. Acceleration traces on the principal axes (x = major, y = minor) and 5 %-damped "
         "pseudo-acceleration spectra of the record (top, black) and its synthetic "
-        "Rezaeian–Der Kiureghian pairs. The paper rotates El Centro by 22.33° to uncorrelated "
-        "axes and simulates 10 pairs; the seeds are not the paper's, so individual synthetic "
-        "motions differ from its Fig 8."
+        "Rezaeian–Der Kiureghian pairs: per component the record (black), every synthetic "
+        "motion (grey) and their median with the 16–84 % range (blue); left the count-based "
+        "identification of RDK (2010), right the spectrum-matched one the study uses (fit "
+        "quality in the table below the figures). The paper rotates El Centro by 22.33° to "
+        "uncorrelated axes and simulates 10 pairs; the seeds are not the paper's, so individual "
+        "synthetic motions differ from its Fig 8."
     ),
     "fig09_spectra": (
         "Fig 9. Seismic performance rocking spectra per ground motion (one colour each; "

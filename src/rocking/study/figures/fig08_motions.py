@@ -1,9 +1,13 @@
 """Figure 8: the ensemble's acceleration traces and 5 %-damped pseudo-acceleration spectra.
 
-Top row the record on its principal axes (first member of the ensemble file), then the
-synthetic pairs; left the x (major) and y components, right the spectra of all motions, the
-record's drawn thick. The synthetic pairs match the record only through linear-oscillator
-statistics, which is why their rocking spectra scatter (paper §5.1–5.2).
+Left, the traces: top row the record on its principal axes (first member of the ensemble
+file), then the synthetic pairs; x (major) and y (minor) components. Right, per component,
+the response spectra: the record's (thick black), every synthetic motion's (thin grey), and
+the ensemble's median (geometric mean) with its 16–84 % range, log–log over 0.05–5 s. With a
+comparison ensemble (the other identification method, same seed) both methods are shown side
+by side, each panel with its fit quality (median ÷ record per period band). Synthetic pairs
+match the record only through linear-oscillator statistics, which is why their rocking
+spectra scatter (paper §5.1–5.2).
 """
 
 from __future__ import annotations
@@ -16,28 +20,89 @@ from matplotlib.figure import Figure
 from ...constants import G
 from ...motions.motion import GroundMotion
 from ...motions.response_spectrum import pseudo_acceleration
+from ...motions.stochastic import quality
 from ._style import styled
 
-DAMPING = 0.05
-PERIODS = np.geomspace(0.02, 5.0, 120)
-"""Oscillator periods [s], log-spaced as the spectra are drawn."""
+DAMPING = quality.DAMPING
+PERIODS = np.geomspace(0.05, 5.0, 100)
+"""Oscillator periods of the drawn spectra [s], log-spaced."""
+
+METHOD_TITLES = {
+    "spectrum": "spectrum-matched fit",
+    "counts": "count-based fit (RDK 2010)",
+}
+"""Panel title of each identification method."""
+
+COMPONENTS = (("x", "ax", "major"), ("y", "ay", "minor"))
 
 
-def data(motions: Sequence[GroundMotion], *, periods=PERIODS, damping: float = DAMPING) -> dict:
-    """Traces [g] and PSA spectra [g] of every motion, in ensemble order.
+def bearing(azimuth: float | None) -> str:
+    """Quadrant bearing of an azimuth [deg clockwise from north], e.g. ``"N 19.5° W"``."""
+    if azimuth is None:
+        return "direction unknown"
+    az = float(azimuth) % 360.0
+    if az <= 90.0:
+        return f"N {az:.1f}° E"
+    if az <= 180.0:
+        return f"S {180.0 - az:.1f}° E"
+    if az <= 270.0:
+        return f"S {az - 180.0:.1f}° W"
+    return f"N {360.0 - az:.1f}° W"
+
+
+def _spectra(motions: Sequence[GroundMotion], periods: np.ndarray, attr: str) -> np.ndarray:
+    """(n, p) PSA [g] of one component of every motion."""
+    return np.vstack([pseudo_acceleration(getattr(m, attr), m.dt, periods, DAMPING) / G
+                      for m in motions])
+
+
+def _method(motions: Sequence[GroundMotion]) -> str:
+    """Identification method of an ensemble's synthetic motions (``"counts"`` if unstated)."""
+    return str(motions[1].metadata.get("fit_method", "counts")) if len(motions) > 1 else "none"
+
+
+def _group(motions: Sequence[GroundMotion], periods: np.ndarray) -> dict:
+    """Spectra, percentiles and fit quality of one ensemble's synthetic motions."""
+    out: dict = {"method": _method(motions), "n": len(motions) - 1}
+    syn = motions[1:]
+    for key, attr, _ in COMPONENTS:
+        if not syn:
+            continue
+        psa = _spectra(syn, periods, attr)
+        out[f"psa_{key}"] = psa
+        out[f"median_{key}"] = np.exp(np.log(psa).mean(axis=0))
+        out[f"p16_{key}"], out[f"p84_{key}"] = np.percentile(psa, [16.0, 84.0], axis=0)
+    out["fit_quality"] = quality.ensemble_quality(motions) if len(syn) >= 2 else None
+    return out
+
+
+def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | None = None,
+         *, periods=PERIODS) -> dict:
+    """Traces [g] and PSA spectra [g] of the ensemble and, optionally, of a comparison.
+
+    Parameters
+    ----------
+    motions : sequence of GroundMotion
+        The ensemble: the record on its principal axes, then the synthetic pairs [m/s²].
+    comparison : sequence of GroundMotion, optional
+        The same record, then the pairs of the other identification method.
+    periods : array_like
+        Periods of the drawn spectra [s].
 
     Returns
     -------
     dict
         ``motions``: [{``name``, ``t`` [s], ``ax``, ``ay`` [g], ``psa_x``, ``psa_y`` [g],
-        ``stand_in``}], ``periods`` [s], ``damping`` [-].
+        ``stand_in``}] of the ensemble; ``groups``: per ensemble (this one first) its
+        method, synthetic spectra, median and 16/84 % percentiles [g] and fit quality;
+        ``record``: azimuths [deg] and label; ``measured``, ``missing`` notes.
     """
     if not motions:
         raise ValueError("motions must hold at least one GroundMotion, got an empty list")
     periods = np.asarray(periods, dtype=float)
     out = []
     for m in motions:
-        psa = pseudo_acceleration(np.vstack([m.ax, m.ay]), m.dt, periods, damping) / G
+        psa = pseudo_acceleration(np.vstack([m.ax, m.ay]), m.dt, periods, DAMPING) / G
         out.append({
             "name": m.name,
             "t": m.time,
@@ -47,6 +112,9 @@ def data(motions: Sequence[GroundMotion], *, periods=PERIODS, damping: float = D
             "psa_y": psa[1],
             "stand_in": bool(m.metadata.get("stand_in", False)),
         })
+    groups = [_group(motions, periods)]
+    if comparison is not None and len(comparison) > 1:
+        groups.append(_group(comparison, periods))
     first = motions[0].metadata
     measured = {
         "record": motions[0].name,
@@ -54,19 +122,23 @@ def data(motions: Sequence[GroundMotion], *, periods=PERIODS, damping: float = D
         "principal_offset_deg": first.get("principal_offset_deg"),
         "rotation_deg": first.get("rotation_deg"),
         "n_motions": len(motions),
+        "fit_method": groups[0]["method"],
+        "fit_quality": {g["method"]: g["fit_quality"] for g in groups},
     }
     missing = [f"{m['name']} is a stand-in" for m in out if m["stand_in"]]
-    return {"motions": out, "periods": periods, "damping": damping, "measured": measured,
-            "missing": missing}
+    if 1 < len(motions) < 11:
+        missing.append(f"{len(motions) - 1} synthetic pairs (paper: 10): medians, 16–84 % "
+                       "ranges and fit quality rest on few motions")
+    if len(groups) == 1:
+        missing.append("no comparison ensemble of the other identification method")
+    record = {"x_azimuth": first.get("x_azimuth"), "y_azimuth": first.get("y_azimuth"),
+              "label": first.get("label", motions[0].name)}
+    return {"motions": out, "groups": groups, "periods": periods, "damping": DAMPING,
+            "record": record, "measured": measured, "missing": missing}
 
 
-@styled
-def plot(d: dict) -> Figure:
-    """Traces in stacked rows (x left, y middle), spectra in one panel on the right."""
-    motions = d["motions"]
+def _traces(fig: Figure, grid, motions: list[dict]) -> None:
     n = len(motions)
-    fig = Figure(figsize=(11.0, max(0.75 * n + 1.6, 4.5)), layout="constrained")
-    grid = fig.add_gridspec(n, 3, width_ratios=(1.0, 1.0, 1.1))
     peak = max(float(np.max(np.abs(np.r_[m["ax"], m["ay"]]))) for m in motions)
     t_end = max(float(m["t"][-1]) for m in motions)
     first_x = None
@@ -86,21 +158,66 @@ def plot(d: dict) -> Figure:
             if i < n - 1:
                 ax.tick_params(labelbottom=False)
         if i == 0:
-            ax_x.set_title("x (major principal) component [g]")
-            ax_y.set_title("y component [g]")
+            ax_x.set_title("x (major) acceleration [g]")
+            ax_y.set_title("y (minor) acceleration [g]")
     for ax in (ax_x, ax_y):  # the bottom row carries the time axis
         ax.set_xlabel("t [s]")
-    ax_s = fig.add_subplot(grid[:, 2])
-    for i, m in enumerate(motions):
-        color = "black" if i == 0 else f"C{(i - 1) % 10}"
-        lw = 2.0 if i == 0 else 0.8
-        ax_s.plot(d["periods"], m["psa_x"], color=color, lw=lw, label=f"{m['name']} x")
-        ax_s.plot(d["periods"], m["psa_y"], color=color, lw=lw, ls="--")
-    ax_s.set_xscale("log")
-    ax_s.set_xlim(float(d["periods"][0]), float(d["periods"][-1]))
-    ax_s.set_xlabel("T [s]")
-    ax_s.set_ylabel(f"PSA, ζ = {100 * d['damping']:g} % [g]")
-    ax_s.set_title("Pseudo-acceleration spectra\n(solid x, dashed y)")
-    ax_s.legend(loc="upper left", fontsize=6)
-    fig.suptitle("Ground motions of the ensemble (Fig 8)")
+
+
+def _spectrum_panel(ax, d: dict, group: dict, key: str, in_use: bool) -> None:
+    T = d["periods"]
+    record = d["motions"][0][f"psa_{key}"]
+    for psa in group.get(f"psa_{key}", []):
+        ax.plot(T, psa, color="0.6", lw=0.4, alpha=0.7)
+    if f"median_{key}" in group:
+        ax.fill_between(T, group[f"p16_{key}"], group[f"p84_{key}"], color="tab:blue",
+                        alpha=0.25, lw=0, label="16–84 %")
+        ax.plot(T, group[f"median_{key}"], color="tab:blue", lw=1.8,
+                label=f"median (geometric mean), n = {group['n']}")
+    ax.plot(T, record, color="black", lw=1.8, label="record")
+    ax.plot([], [], color="0.6", lw=0.4, label="each synthetic")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(float(T[0]), float(T[-1]))
+    ax.set_xlabel("T [s]")
+    ax.set_ylabel(f"PSA, ζ = {100 * d['damping']:g} % [g]")
+    q = group.get("fit_quality")
+    if q is not None:
+        text = "median/record: " + ", ".join(
+            f"{b.replace(' s', '')} s {r:.2f}" for b, r in q[key]["band_ratio"].items())
+        text += f"\nrecord inside 5–95 %: {100 * q[key]['inside_5_95']:.0f} % of 0.1–4 s"
+        ax.text(0.02, 0.03, text, transform=ax.transAxes, fontsize=6.5, va="bottom",
+                bbox={"facecolor": "white", "alpha": 0.8, "lw": 0})
+    ax.legend(loc="upper right", fontsize=6)
+    method = METHOD_TITLES.get(group["method"], group["method"])
+    ax.set_title(f"{method}{' (this ensemble)' if in_use else ' (comparison)'}", fontsize=8)
+
+
+@styled
+def plot(d: dict) -> Figure:
+    """Traces in stacked rows (x, y), spectra per component and method on the right."""
+    motions = d["motions"]
+    n = len(motions)
+    # Counts left, spectrum right: the repair reads left to right.
+    groups = sorted(d["groups"], key=lambda g: g["method"] != "counts")
+    fig = Figure(figsize=(7.0 + 3.6 * len(groups), max(0.6 * n + 1.8, 6.5)),
+                 layout="constrained")
+    outer = fig.add_gridspec(1, 2, width_ratios=(2.0, 1.8 * len(groups)))
+    _traces(fig, outer[0].subgridspec(n, 2), motions)
+    right = outer[1].subgridspec(2, len(groups))
+    rec = d["record"]
+    for row, (key, _, name) in enumerate(COMPONENTS):
+        share = None
+        for col, group in enumerate(groups):
+            ax = fig.add_subplot(right[row, col], sharey=share)
+            share = share or ax
+            _spectrum_panel(ax, d, group, key, group is d["groups"][0])
+            if col == 0:
+                az = rec.get(f"{key}_azimuth")
+                ax.annotate(f"{key}: {name} principal axis, azimuth "
+                            f"{'?' if az is None else f'{az:.1f}°'} ({bearing(az)})",
+                            (0.0, 1.13), xycoords="axes fraction", fontsize=8.5,
+                            fontweight="bold", annotation_clip=False)
+    fig.suptitle(f"Ground motions of the ensemble (Fig 8): {rec['label']} and its synthetic "
+                 "RDK pairs")
     return fig
