@@ -48,11 +48,6 @@ def ensemble_file(name):
     return expand(rules.motions.output.motions, ensemble=name)[0]
 
 
-def comparison_file(name):
-    """The pairs of the other identification method (Fig 8's side-by-side view)."""
-    return f"results/motions/{name}.compare.nc"
-
-
 def accuracy_config():
     return config["accuracy"]
 

@@ -95,8 +95,8 @@ rule fig08_motions:
     conda:
         "../envs/rocking.yaml"
     input:
-        motions=lambda wildcards: ensemble_file(wildcards.ensemble),
-        comparison=lambda wildcards: comparison_file(wildcards.ensemble),
+        motions=rules.motions.output.motions,
+        comparison=rules.motions.output.comparison,
     output:
         **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
                          figure="Fig 8", ensemble="{ensemble}"),
