@@ -236,3 +236,17 @@ def test_fit_quality_of_fig08_is_tabulated(outputs):
     assert (other["record inside 5–95 %"] == "12 % of periods").all()
     text = outputs["html"].read_text()
     assert "Fit quality of the synthetic ensembles" in text and "counts" in text
+
+
+def test_link_images_replaces_every_embedded_png_and_nothing_else():
+    from rocking.study.report import link_images
+
+    page = ("<p>x</p><figure id='fig03_wobbling_period'><img alt='fig03_wobbling_period' "
+            "src='data:image/png;base64,iVBORw0KGgo='><figcaption>c</figcaption></figure>"
+            "<figure id='fig09_spectra'><img alt='fig09_spectra' "
+            "src='data:image/png;base64,AAAA'><figcaption>d</figcaption></figure>")
+    out = link_images(page, lambda stem: f"figures/{stem}.png")
+    assert "base64" not in out
+    assert "src='figures/fig03_wobbling_period.png'" in out
+    assert "src='figures/fig09_spectra.png'" in out
+    assert out.count("<figcaption>") == 2 and out.startswith("<p>x</p>")

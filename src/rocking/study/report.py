@@ -14,7 +14,8 @@ import base64
 import html
 import json
 import math
-from collections.abc import Mapping, Sequence
+import re
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -367,6 +368,20 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison]) -> str:
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption>"
             f"{html.escape(CAPTIONS[entry.name])}{lines}</figcaption>{table}</figure>")
+
+
+_EMBEDDED = re.compile(r"<figure id='(?P<stem>[^']+)'><img alt='(?P=stem)' "
+                       r"src='data:image/png;base64,[A-Za-z0-9+/=]*'>")
+
+
+def link_images(page: str, href: Callable[[str], str]) -> str:
+    """The report with each embedded figure image replaced by a link ``href(stem)``.
+
+    The standalone report embeds its PNGs; a folder that keeps the PNGs beside the report
+    (the committed gallery) links them instead, so the page stays small.
+    """
+    return _EMBEDDED.sub(lambda m: f"<figure id='{m['stem']}'><img alt='{m['stem']}' "
+                                   f"src='{html.escape(href(m['stem']), quote=True)}'>", page)
 
 
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
