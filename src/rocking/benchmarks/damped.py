@@ -38,14 +38,16 @@ from scipy.integrate import solve_ivp
 
 from ..constants import G
 from ..dynamics import cylinder3d_damped as cd
+from ..dynamics import models
 from ..dynamics._rosenbrock import TABLEAUX
+from ..dynamics.analysis import THETA_REST
 from ..dynamics.bodies import Cylinder
 from ..motions.motion import GroundMotion
 from ._io import write_table
 
 GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]
 REFERENCE_RTOL = 1e-11
-NO_STOP = 10.0
+NO_STOP = -1.0
 
 
 def _el_centro() -> tuple[GroundMotion, str]:
@@ -92,9 +94,23 @@ _E3 = np.ascontiguousarray(_SCIPY_DOP853.E3, dtype=np.float64)
 
 
 @nb.njit(cache=True)
+def _ground(t, ax, ay, dt_rec, scale, k, n, F):
+    """Forcing (a0x, a0y, slopes) of segment k at time t, zero after the record."""
+    if n < 2 or k >= n - 1:
+        F[:] = 0.0
+        return
+    dax = scale * (ax[k + 1] - ax[k]) / dt_rec
+    day = scale * (ay[k + 1] - ay[k]) / dt_rec
+    F[0] = scale * ax[k] + dax * (t - k * dt_rec)
+    F[1] = scale * ay[k] + day * (t - k * dt_rec)
+    F[2] = dax
+    F[3] = day
+
+
+@nb.njit(cache=True)
 def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C, E5, E3):
     """Explicit DOP853 with the kernel's error scales; returns (code, steps, rejected, θmax)."""
-    g, wn, R, ko = par[2], par[3], par[0], par[1]
+    g, wn, R, ko = par[3], par[4], par[1], par[2]
     p = math.sqrt(g / (ko * R))
     w_ref, wd_ref = g / (wn * wn), g / wn
     n = ax.shape[0]
@@ -105,8 +121,9 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
     ynew = np.empty(7)
     t = t0
     k = int(t0 / dt_rec)
-    axv, ayv, dax, day = cd._ground(t, ax, ay, dt_rec, scale, k, n)
-    cd._deriv(y, axv, ayv, par, K[0])
+    F = np.empty(4)
+    _ground(t, ax, ay, dt_rec, scale, k, n, F)
+    cd.rhs(0.0, y, par, F, K[0])
     h = 1e-6
     n_acc = 0
     n_rej = 0
@@ -125,14 +142,13 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
                 for j in range(s):
                     acc += A[s, j] * K[j, i]
                 ytmp[i] = y[i] + hs * acc
-            tau = C[s] * hs
-            cd._deriv(ytmp, axv + dax * tau, ayv + day * tau, par, K[s])
+            cd.rhs(C[s] * hs, ytmp, par, F, K[s])
         for i in range(7):
             acc = 0.0
             for j in range(12):
                 acc += B[j] * K[j, i]
             ynew[i] = y[i] + hs * acc
-        cd._deriv(ynew, axv + dax * hs, ayv + day * hs, par, K[12])
+        cd.rhs(hs, ynew, par, F, K[12])
         e5 = 0.0
         e3 = 0.0
         for i in range(6):
@@ -167,7 +183,7 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
         t = t_new
         if hit and k < n - 1:
             k += 1
-        axv, ayv, dax, day = cd._ground(t, ax, ay, dt_rec, scale, k, n)
+        _ground(t, ax, ay, dt_rec, scale, k, n, F)
         for i in range(7):
             y[i] = ynew[i]
             K[0, i] = K[12, i]
@@ -182,34 +198,36 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
 # Runs
 # ---------------------------------------------------------------------------------------------
 def _kernel(tab_name, y0, t0, t_end, motion, scale, body, wn, z, rtol):
-    tab = TABLEAUX[tab_name]
-    return cd._integrate_core(
-        y0, t0, t_end, motion.ax, motion.ay, motion.dt, scale, body.alpha, body.R,
-        body.kappa_o, G, wn, z, rtol, NO_STOP, False, 50_000_000, tab.a, tab.c, tab.m, tab.e,
-        tab.alpha, tab.gamma_t, tab.new_f, float(tab.gamma), float(tab.order))
+    """The damped model through the driver with Rosenbrock method ``tab_name``."""
+    prep = models.prepare(models.MODELS["3d-damped"], body, rtol,
+                          models.rest_criterion(body, THETA_REST["3d-damped"]), omega_n=wn,
+                          zeta=z, max_steps=50_000_000, method=tab_name)
+    k0 = int(t0 // motion.dt)
+    return models.run(prep, motion.ax * scale, motion.ay * scale, motion.dt, k0,
+                      t0 - k0 * motion.dt, 0.0, y0, t_end, NO_STOP, history=False)
 
 
 def _scipy(method, y0, t0, t_end, motion, scale, body, wn, z, rtol):
-    par = cd._params(body.alpha, body.R, body.kappa_o, G, wn, z)
+    P = cd.params(body, wn, z)
     tk = np.arange(motion.npts) * motion.dt
     ax, ay = motion.ax * scale, motion.ay * scale
     f = np.empty(7)
-    Aq, Av, ft = np.empty((3, 3)), np.empty((3, 3)), np.empty(3)
+    LA = np.empty(cd.LA_SHAPE)
 
     def rhs(t, y):
-        yy = np.append(y, 0.0)
-        cd._deriv(yy, np.interp(t, tk, ax), np.interp(t, tk, ay), par, f)
+        F = np.array([np.interp(t, tk, ax), np.interp(t, tk, ay), 0.0, 0.0])
+        cd.rhs(0.0, np.append(y, 0.0), P, F, f)
         return f[:6].copy()
 
     def jac(t, y):
         yy = np.append(y, 0.0)
-        gx, gy = np.interp(t, tk, ax), np.interp(t, tk, ay)
-        cd._deriv(yy, gx, gy, par, f)
-        cd._jacobian(yy, gx, gy, 0.0, 0.0, par, f[3:6].copy(), Aq, Av, ft)
+        F = np.array([np.interp(t, tk, ax), np.interp(t, tk, ay), 0.0, 0.0])
+        cd.rhs(0.0, yy, P, F, f)
+        cd.jacobian(0.0, yy, P, F, f, LA)
         J = np.zeros((6, 6))
         J[0:3, 3:6] = np.eye(3)
-        J[3:6, 0:3] = Aq
-        J[3:6, 3:6] = Av
+        J[3:6, 0:3] = LA[0:3]
+        J[3:6, 3:6] = LA[3:6]
         return J
 
     scales = np.array([0.0, 1.0, G / wn**2, body.p * body.alpha, body.p, G / wn])
@@ -239,7 +257,7 @@ def _rows(motion, body, scale, t_end, rtols, with_scipy, repeat, log):
                 wall, r = _best_of(lambda n=name, rt=rtol, w=wn, zz=z: _kernel(
                     n, y0, t0, t_end, motion, scale, body, w, zz, rt), repeat)
                 add(name, rtol, wall, r[0], r[3], r[4], st * (r[3] + r[4]), r[5])
-        par = cd._params(body.alpha, body.R, body.kappa_o, G, wn, z)
+        par = cd.params(body, wn, z)
         for rtol in rtols:
             wall, r = _best_of(lambda rt=rtol, pp=par: _dop853(
                 y0, t0, t_end, motion.ax, motion.ay, motion.dt, scale, pp, rt, 20_000_000,

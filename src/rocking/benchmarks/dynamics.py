@@ -22,7 +22,7 @@ import pandas as pd
 
 from ..constants import G
 from ..dynamics import analysis
-from ..dynamics.analysis import _uplift_3d, free_vibration, ground_response
+from ..dynamics.analysis import _uplift, free_vibration, ground_response
 from ..dynamics.bodies import Cylinder
 from ._io import write_table
 
@@ -75,7 +75,8 @@ def _scipy_3d(body, motion, scale, method, rtol, budget):
     from scipy.integrate import solve_ivp
 
     ax, ay, dt = motion.ax * scale, motion.ay * scale, motion.dt
-    k, tau, a_x, a_y = _uplift_3d(ax, ay, dt, G * body.tan_alpha)
+    thr = G * body.tan_alpha
+    k, tau, a_x, a_y = _uplift(ax, ay, dt, thr, np.flatnonzero(np.hypot(ax, ay) > thr))
     t0 = k * dt + tau
     tt = motion.time
     s, c = math.sin(body.alpha), math.cos(body.alpha)

@@ -1,4 +1,4 @@
-"""Rosenbrock (linearly implicit Runge–Kutta) tableaux for the stiff damped 3D kernel.
+"""Rosenbrock (linearly implicit Runge–Kutta) steppers of the driver, for the stiff damped model.
 
 All methods are written in the Hairer–Wanner form without matrix–vector products with J
 (Hairer & Wanner, *Solving ODEs II*, §IV.7; the same form as ``rodas.f`` and KPP):
@@ -8,7 +8,15 @@ All methods are written in the Hairer–Wanner form without matrix–vector prod
 
 with J = ∂f/∂y at the start of the step. Each step costs one Jacobian, one factorization and
 ``stages`` linear solves, and no Newton iteration (the reason Rosenbrock methods suit small,
-cheap systems such as this 6-state one).
+cheap systems such as the damped model's).
+
+:func:`ros_step` has the stepper signature of :mod:`.driver`; the model supplies the linear
+algebra through two hooks, ``factor(tau, y, f0, P, F, c, LA)`` (Jacobian J and ∂f/∂t at the
+step start, factorization of c I − J with c = 1/(hγ), all kept in ``LA``; False if
+singular) and ``solve(LA, P, r, g)`` (overwrites r with (c I − J)⁻¹ (r + g ∂f/∂t)), so that
+it can use the structure of its Jacobian (the damped model reduces 7×7 systems to 3×3 ones).
+Every stage evaluates the right-hand side (the methods whose stage repeats the previous
+point, RODAS3 and ROS3, pay one evaluation more than they need).
 
 Tableaux (coefficients of Hairer's ``rodas.f`` and of the KPP Rosenbrock integrators):
 
@@ -19,9 +27,14 @@ Tableaux (coefficients of Hairer's ``rodas.f`` and of the KPP Rosenbrock integra
 
 from __future__ import annotations
 
+import functools
+import math
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
+
+from ._numerics import error_scale
 
 
 class Tableau(NamedTuple):
@@ -131,3 +144,94 @@ ROS3 = Tableau(
 
 TABLEAUX: dict[str, Tableau] = {t.name: t for t in (RODAS4, RODAS3, ROS3)}
 """The available methods by name."""
+
+
+@functools.cache
+def tableau(method: str = "rodas4") -> tuple:
+    """``(T, γ)``: the coefficients of a method packed in one array, the ``tab`` of
+    :func:`ros_step`.
+
+    With s stages, the rows of ``T`` are a (s rows), c (s rows), m, e, α, γ_i and the
+    new-evaluation flags (1.0/0.0).
+    """
+    t = TABLEAUX[method]
+    s = t.m.size
+    T = np.zeros((2 * s + 5, s))
+    T[:s], T[s:2 * s] = t.a, t.c
+    T[2 * s], T[2 * s + 1], T[2 * s + 2], T[2 * s + 3] = t.m, t.e, t.alpha, t.gamma_t
+    T[2 * s + 4] = t.new_f
+    return T, float(t.gamma)
+
+
+@functools.cache
+def control(method: str = "rodas4") -> np.ndarray:
+    """Step-size control constants (see :func:`rocking.dynamics._rk.control`).
+
+    Growth at most 6× a step and none right after a rejection, no memory of a larger
+    proposal across a record sample: the slope of the ground acceleration jumps there and
+    excites the contact mode, and reusing the proposal made the next step fail more often.
+    The error estimate of an order-p method here is of order p − 1.
+    """
+    return np.array([6.0, float(TABLEAUX[method].order - 1), 0.0, 1.0, 0.0])
+
+
+def work_rows(method: str = "rodas4") -> int:
+    """Rows of the work array of :func:`ros_step`: the stages and the error estimate."""
+    return max(len(TABLEAUX[method].m) + 1, 2)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def ros_step(rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, y_new, f_new):
+    """One Rosenbrock step of length ``h`` from ``(tau, y)`` with ``f0 = rhs(tau, y)``.
+
+    Fills ``y_new`` (``f_new`` is scratch: the derivative at the step end is not part of the
+    method, the driver evaluates it once a step is accepted); returns the scaled RMS error
+    norm (NaN when the step is not finite or the stage matrix is singular). The stages are
+    the rows of ``W``; no array is sliced or rebound here, which keeps the compiled step free
+    of reference counting.
+    """
+    T, gamma = tab
+    ns = T.shape[1]
+    n = y.size
+    cinv = 1.0 / (h * gamma)
+    if not factor(tau, y, f0, P, F, cinv, LA):
+        return math.nan
+    for st in range(ns):
+        if st == 0:
+            for i in range(n):
+                f_new[i] = f0[i]
+        else:
+            for i in range(n):  # the stage point, in y_new until the end of the step
+                acc = y[i]
+                for j in range(st):
+                    acc += T[st, j] * W[j, i]
+                y_new[i] = acc
+            rhs(tau + T[2 * ns + 2, st] * h, y_new, P, F, f_new)
+        for i in range(n):  # the stage's right side, solved in place in f_new
+            acc = f_new[i]
+            for j in range(st):
+                acc += (T[ns + st, j] / h) * W[j, i]
+            f_new[i] = acc
+        solve(LA, P, f_new, T[2 * ns + 3, st] * h)
+        for i in range(n):
+            W[st, i] = f_new[i]
+    for i in range(n):
+        acc = y[i]
+        er = 0.0
+        for st in range(ns):
+            acc += T[2 * ns, st] * W[st, i]
+            er += T[2 * ns + 1, st] * W[st, i]
+        y_new[i] = acc
+        W[ns, i] = er
+    return _error_norm(W, ns, y, y_new, tol[0], tol[1], tol[2])
+
+
+@njit(cache=True, error_model="numpy")
+def _error_norm(W, row, y, y_new, rtol, SC, n):
+    """Scaled RMS norm of the error estimate in ``W[row]`` over the first ``n`` components."""
+    tilt = max(abs(y[0]), abs(y_new[0]))
+    acc = 0.0
+    for i in range(n):
+        q = W[row, i] / error_scale(rtol, SC[0, i], SC[1, i], y[i], y_new[i], tilt)
+        acc += q * q
+    return math.sqrt(acc / n)

@@ -1,9 +1,9 @@
 """Public rocking analyses: free vibration and response to a ground motion.
 
-This module validates the input, finds the uplift from rest, dispatches to the compiled
-kernels (:mod:`.cylinder3d`, :mod:`.housner2d`, :mod:`.cylinder3d_damped`),
-decides the motion after the record ends by invariants (the "free tail") and assembles a
-:class:`rocking.dynamics.result.Response`.
+This module validates the input, finds the uplift from rest, runs the models through the one
+driver (:mod:`.models`, :mod:`.driver`), looks for the next uplift after the body came back
+to rest, decides the motion after the record ends by invariants (the "free tail") and
+assembles a :class:`rocking.dynamics.result.Response`.
 
 Free tail. Once the excitation has ended the undamped models cannot gain energy, so their
 future is decided without integrating to the end of time:
@@ -13,7 +13,7 @@ future is decided without integrating to the end of time:
   above the present tilt (:func:`.cylinder3d.free_peak`); the cylinder overturns iff V
   stays below E up to π/2.
 - 2D: the energy above rest is multiplied by e² at each impact, so the next peak is the
-  largest and follows from energy in closed form (:func:`rocking.dynamics.housner2d.free_peak`).
+  largest and follows from energy in closed form (:func:`.housner2d.free_peak`).
 
 The kernel is then run in free vibration only up to that next peak (at most one swing) to
 date it; the decision itself is the invariant one.
@@ -28,12 +28,11 @@ import numpy as np
 from .._validate import finite, nonnegative_finite, positive_finite
 from ..constants import G
 from ..motions.motion import GroundMotion
-from . import cylinder3d, cylinder3d_damped, housner2d
-from ._rk import tableau
+from . import codes, cylinder3d, cylinder3d_damped, housner2d, models
 from .bodies import Block, Cylinder
 from .result import QuasiImpacts, Response, Status
 
-MODELS = ("3d", "3d-damped", "2d")
+MODELS = tuple(models.MODELS)
 
 DEFAULT_RTOL = {"3d": 1e-8, "2d": 1e-8, "3d-damped": cylinder3d_damped.DEFAULT_RTOL}
 """Default relative tolerance per model [-].
@@ -49,20 +48,18 @@ damped default, 1e-8, comes from ``python -m rocking.benchmarks damped``: θmax 
 the paper's whole (ωn, ζ) grid, where 1e-6 reaches 1e-2 at ωn = 2000, ζ = 0.5."""
 
 METHOD = "dp5"
-"""Runge–Kutta pair of the undamped kernels (see :mod:`._rk` for the measurement)."""
+"""Runge–Kutta pair of the undamped models (see :mod:`._rk` for the measurement)."""
 
 THETA_EPS = 1e-7
-"""Tilt at which a 3D analysis starts from rest at uplift [rad] (equations.md)."""
+"""Tilt at which a 3D analysis starts from rest at uplift [rad] (docs/equations.md)."""
+
+THETA_REST = {"3d": 0.0, "2d": 0.0, "3d-damped": 1e-6}
+"""Tilt [rad] whose potential energy is the rest energy of each model (see
+:func:`rocking.dynamics.models.rest_criterion`)."""
 
 MAX_STEPS = 20_000_000
 """Budget of integration steps of one kernel call."""
 
-_FAILURES = {
-    -1: "step-size underflow (the error could not be controlled)",
-    -2: "the tilt reached zero: theta <= 0 (nearly planar 3D motion; use model='2d')",
-    -3: "non-finite state (NaN or inf)",
-    -4: "too many integration steps",
-}
 _HALF_PI = 0.5 * math.pi
 
 
@@ -96,22 +93,22 @@ def _check_stop(stop_at) -> float:
 
 
 # ----------------------------------------------------------------------------- uplift
-def _uplift_3d(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float, k_from: int = 0,
-               tau_from: float = 0.0):
+def _uplift(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float, above: np.ndarray,
+            k_from: int = 0, tau_from: float = 0.0):
     """First time at or after (k_from, tau_from) where |a| > threshold, |a| linear per interval.
 
-    Returns ``(k, tau, a_x, a_y)`` (interval, time in it, acceleration there) or None.
+    ``above`` holds the indices of the samples where |a| > threshold (sorted). Returns
+    ``(k, tau, a_x, a_y)`` (interval, time in it, acceleration there) or None.
     """
     n = ax.size
     ak = (ax[k_from] + (ax[k_from + 1] - ax[k_from]) * tau_from / dt) if k_from + 1 < n else 0.0
     bk = (ay[k_from] + (ay[k_from + 1] - ay[k_from]) * tau_from / dt) if k_from + 1 < n else 0.0
     if math.hypot(ak, bk) > threshold:
         return k_from, tau_from, ak, bk
-    mag = np.hypot(ax[k_from + 1:], ay[k_from + 1:])
-    above = np.flatnonzero(mag > threshold)
-    if above.size == 0:
+    i = int(np.searchsorted(above, k_from + 1))
+    if i == above.size:
         return None
-    j = k_from + 1 + int(above[0])
+    j = int(above[i])
     k = j - 1
     a0 = np.array([ax[k], ay[k]])
     d = np.array([ax[j] - ax[k], ay[j] - ay[k]])
@@ -127,52 +124,54 @@ def _uplift_3d(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float, k_fr
     return k, tau, float(a[0]), float(a[1])
 
 
+def _start_state(model: str, phi0: float) -> tuple[np.ndarray, float]:
+    """State at uplift along the D'Alembert direction φ0, and the 2D pivot side."""
+    if model == "2d":
+        return np.zeros(2), (1.0 if math.cos(phi0) >= 0.0 else -1.0)
+    y0 = np.zeros(len(models.MODELS[model].state))
+    y0[0], y0[1] = THETA_EPS, phi0
+    return y0, 1.0
+
+
 # ----------------------------------------------------------------------------- kernels
-def _kernel_3d(body, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, rtol, history,
-               until_peak):
-    return cylinder3d.integrate(
-        cylinder3d.params(body), cylinder3d.error_floor(body), ax, ay, dt, int(k0),
-        float(tau0), float(t_offset), np.asarray(y0, dtype=float), float(t_end),
-        float(stop_level), float(rtol), tableau(METHOD), bool(history), bool(until_peak),
-        MAX_STEPS)
+class _Runner:
+    """Runs one model on one body with the analysis' settings (all kernel calls go here)."""
 
+    def __init__(self, model: str, body, rtol: float, history: bool, omega_n: float,
+                 zeta: float):
+        self.model = models.MODELS[model]
+        self.body = body
+        self.history = history
+        self.prep = models.prepare(self.model, body, rtol,
+                                   models.rest_criterion(body, THETA_REST[model]),
+                                   omega_n=omega_n, zeta=zeta, max_steps=MAX_STEPS,
+                                   method=None if self.model.implicit else METHOD)
 
-def _kernel_2d(body, ax, dt, k0, tau0, t_offset, y0, side, t_end, stop_level, rtol, history,
-               until_peak):
-    return housner2d.integrate(
-        housner2d.params(body, side), housner2d.error_floor(body), ax, dt, int(k0),
-        float(tau0), float(t_offset), np.asarray(y0, dtype=float), float(t_end),
-        float(stop_level), float(rtol), tableau(METHOD), bool(history), bool(until_peak),
-        MAX_STEPS)
+    def __call__(self, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, side=1.0,
+                 until_peak=False):
+        return models.run(self.prep, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level,
+                          history=self.history, until_peak=until_peak, side=side)
 
-
-def _kernel_damped(body, ax, ay, dt, t0, y0, t_end, stop_level, rtol, history, omega_n, zeta):
-    """Adapter to ``cylinder3d_damped.integrate_full`` (same contract, 6-component state)."""
-    mod = cylinder3d_damped
-    omega_n, zeta = mod.check_parameters(omega_n, zeta)
-    stop = stop_level if stop_level > 0.0 else 10.0
-    return mod.integrate_full(
-        np.asarray(y0, dtype=float), float(t0), float(t_end), ax, ay, float(dt), 1.0,
-        body.alpha, body.R, body.kappa_o, G, omega_n, zeta, float(rtol), float(stop),
-        bool(history), MAX_STEPS)
-
-
-def _free_chunk(body) -> float:
-    """Record-interval length used for unforced integration (caps the step) [s]."""
-    return 0.1 / body.p
+    def free(self, t0: float, y0: np.ndarray, duration: float, stop_level: float,
+             side: float = 1.0, until_peak: bool = False):
+        """Unforced run from ``t0`` [s] for ``duration`` [s], record intervals of 0.1/p s."""
+        chunk = min(0.1 / self.body.p, duration)
+        z = np.zeros(int(math.ceil(duration / chunk)) + 2)
+        return self(z, z, chunk, 0, 0.0, t0, y0, t0 + duration, stop_level, side, until_peak)
 
 
 # ----------------------------------------------------------------------------- assembly
 class _Acc:
-    """Accumulates kernel segments into one response."""
+    """Accumulates kernel runs into one response."""
 
-    def __init__(self, width: int, history: bool):
+    def __init__(self, model: str, history: bool):
+        self.model = model
         self.history = history
+        self.width = len(models.MODELS[model].state)
         self.t: list[np.ndarray] = []
         self.y: list[np.ndarray] = []
         self.ev_t: list[np.ndarray] = []
         self.ev_y: list[np.ndarray] = []
-        self.width = width
         self.n_steps = 0
         self.n_rej = 0
         self.theta_max = 0.0
@@ -180,7 +179,7 @@ class _Acc:
         self.extras: dict = {}
 
     def add(self, out, skip_first: bool = False) -> None:
-        code, t, y, n_steps, n_rej, th_max, t_th_max, ev_t, ev_y, t_stop = out[:10]
+        code, t, y, n_steps, n_rej, th_max, t_th_max, ev_t, ev_y, t_stop, y_end, diag = out
         if self.history:
             i0 = 1 if (skip_first and t.size > 1) else 0
             self.t.append(t[i0:])
@@ -192,6 +191,11 @@ class _Acc:
         if abs(th_max) > self.theta_max:
             self.theta_max = abs(float(th_max))
             self.t_theta_max = float(t_th_max)
+        if self.model == "3d-damped":
+            ex = self.extras
+            ex["dissipated"] = ex.get("dissipated", 0.0) + float(y_end[6])
+            ex["n_tension"] = ex.get("n_tension", 0) + int(diag[0])
+            ex["contact_force_min"] = min(ex.get("contact_force_min", G), float(diag[1]))
 
     def add_rest(self, t0: float, t1: float) -> None:
         """A stretch at rest (zero state) from t0 to t1."""
@@ -211,18 +215,9 @@ class _Acc:
         return t, y, ev_t, ev_y
 
 
-def _status(code: int, t_stop: float) -> tuple[Status, str]:
-    if code < 0:
-        return Status.FAILED, f"{_FAILURES.get(code, f'kernel code {code}')} at t = {t_stop:.9g} s"
-    if code == 1:
-        return Status.OVERTURNED, ""
-    if code == 2:
-        return Status.STOPPED_AT_LIMIT, ""
-    return Status.OK, ""
-
-
-def _response(model: str, acc: _Acc, status: Status, reason: str, uplifted: bool,
-              t_uplift: float, omega_n: float, zeta: float) -> Response:
+def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: float,
+              omega_n: float, zeta: float) -> Response:
+    """The one :class:`Response` assembly of every model."""
     t, y, ev_t, ev_y = acc.arrays()
     theta_max = acc.theta_max
     if status is not Status.FAILED and not math.isfinite(theta_max):
@@ -230,18 +225,18 @@ def _response(model: str, acc: _Acc, status: Status, reason: str, uplifted: bool
     if status is not Status.FAILED and y.size and not np.all(np.isfinite(y)):
         status, reason = Status.FAILED, "non-finite state in the history"
     w = w_dot = force = None
-    if model == "3d-damped":
+    if acc.model == "3d-damped":
         th, ph, thd, phd = y[:, 0], y[:, 1], y[:, 3], y[:, 4]
         w, w_dot = y[:, 2], y[:, 5]
-        force = G - omega_n**2 * w - 2.0 * zeta * omega_n * w_dot
-    elif model == "2d":
+        force = cylinder3d_damped.contact_force(y, omega_n, zeta)
+    elif acc.model == "2d":
         th, thd = y[:, 0], y[:, 1]
         ph = np.zeros_like(th)
         phd = np.zeros_like(th)
     else:
         th, ph, thd, phd = y[:, 0], y[:, 1], y[:, 2], y[:, 3]
     return Response(
-        model=model, t=t, theta=th, theta_dot=thd, phi=ph, phi_dot=phd,
+        model=acc.model, t=t, theta=th, theta_dot=thd, phi=ph, phi_dot=phd,
         theta_max=float(theta_max), t_theta_max=float(acc.t_theta_max),
         overturned=status is Status.OVERTURNED, status=status,
         quasi_impacts=QuasiImpacts(ev_t, ev_y), n_steps=acc.n_steps, n_rejected=acc.n_rej,
@@ -251,65 +246,44 @@ def _response(model: str, acc: _Acc, status: Status, reason: str, uplifted: bool
 
 
 # ----------------------------------------------------------------------------- free tails
-def _decide_tail(body, acc: _Acc, peak: float, run, stop_level: float):
-    """Combine the invariant decision ``peak`` with a free run up to the next peak.
+def _free_tail(body, acc: _Acc, runner: _Runner, y_end: np.ndarray, t_end: float,
+               stop_level: float):
+    """Combine the invariant decision on the next peak with a free run up to it.
 
-    ``run()`` integrates the unforced motion up to its next tilt peak (code 4), overturning
-    (1), the stop level (2) or rest (3, 2D). The decision and θmax come from ``peak``; the
+    The free run integrates the unforced motion up to its next tilt peak (AT_PEAK),
+    overturning, the stop level or rest. The decision and θmax come from the invariants; the
     run only supplies the time (and the history). Returns (status, reason).
     """
+    if acc.model == "2d":
+        peak = housner2d.free_peak(body, float(y_end[0]), float(y_end[1]))
+        # On θ = 0 right after an impact the body moves to the side of θ̇.
+        side = math.copysign(1.0, y_end[0] if y_end[0] != 0.0 else y_end[1])
+    else:
+        theta, _, theta_dot, phi_dot = (float(v) for v in y_end)
+        peak = cylinder3d.free_peak(body, theta, theta_dot, phi_dot)
+        side = 1.0
     acc.extras["free_tail_peak"] = peak
     limit = stop_level if stop_level > 0.0 else _HALF_PI
     record_max, record_t = acc.theta_max, acc.t_theta_max
     if math.isfinite(peak) and peak <= limit and peak <= record_max and not acc.history:
         return Status.OK, ""  # nothing new can happen and no history is wanted
-    out = run()
+    out = runner.free(t_end, y_end, 400.0 / body.p, stop_level, side, until_peak=True)
     code = int(out[0])
     if code < 0:
-        return _status(code, float(out[9]))
+        return codes.status_of(code, float(out[9]))
     acc.add(out, skip_first=True)
     if math.isinf(peak) or peak > limit:
-        if code in (1, 2):
-            return _status(code, float(out[9]))
+        if code in (codes.OVERTURNED, codes.STOPPED):
+            return codes.status_of(code, float(out[9]))
         acc.theta_max, acc.t_theta_max = limit, math.nan
         status = Status.OVERTURNED if stop_level <= 0.0 else Status.STOPPED_AT_LIMIT
         return status, "decided by energy after the record; the free run did not confirm it"
     if peak > record_max:
         acc.theta_max = peak
-        acc.t_theta_max = float(out[6]) if code == 4 else math.nan
+        acc.t_theta_max = float(out[6]) if code == codes.AT_PEAK else math.nan
     else:
         acc.theta_max, acc.t_theta_max = record_max, record_t
     return Status.OK, ""
-
-
-def _tail_3d(body, acc: _Acc, y_end: np.ndarray, t_end: float, stop_level: float, rtol: float):
-    """Free tail of the undamped 3D model (see the module docstring)."""
-    theta, _, theta_dot, phi_dot = (float(v) for v in y_end)
-    peak = cylinder3d.free_peak(body, theta, theta_dot, phi_dot)
-
-    def run():
-        chunk = _free_chunk(body)
-        n = int(math.ceil(400.0 / (body.p * chunk))) + 2  # 400/p s: far beyond one swing
-        z = np.zeros(n)
-        return _kernel_3d(body, z, z, chunk, 0, 0.0, t_end, y_end, t_end + (n - 1) * chunk,
-                          stop_level, rtol, acc.history, True)
-
-    return _decide_tail(body, acc, peak, run, stop_level)
-
-
-def _tail_2d(body, acc: _Acc, y_end: np.ndarray, side: float, t_end: float, stop_level: float,
-             rtol: float):
-    """Free tail of the 2D model: next peak from energy and e (closed form)."""
-    peak = housner2d.free_peak(body, float(y_end[0]), float(y_end[1]))
-
-    def run():
-        chunk = _free_chunk(body)
-        n = int(math.ceil(400.0 / (body.p * chunk))) + 2
-        z = np.zeros(n)
-        return _kernel_2d(body, z, chunk, 0, 0.0, t_end, y_end, side, t_end + (n - 1) * chunk,
-                          stop_level, rtol, acc.history, True)
-
-    return _decide_tail(body, acc, peak, run, stop_level)
 
 
 # ----------------------------------------------------------------------------- public API
@@ -335,13 +309,16 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     rtol : float, optional
         Relative tolerance; default :data:`DEFAULT_RTOL` of the model.
     omega_n, zeta : float
-        Contact spring–dashpot of "3d-damped" [rad/s], [-] (validated for all models).
+        Contact spring–dashpot of "3d-damped" [rad/s], [-] (validated for all models); the
+        damped model starts at rest on the spring (w = ẇ = 0).
     history : bool
         Keep the time histories (False: summary only).
 
     Returns
     -------
     Response
+        ``"3d-damped"`` adds ``w``, ``w_dot``, ``contact_force`` and ``extras``
+        (``dissipated`` [J/kg], ``n_tension``, ``contact_force_min`` [m/s²]).
     """
     _check_model(model, body)
     rtol = _check_common(rtol, omega_n, zeta, model)
@@ -353,42 +330,25 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     if model == "2d":
         if abs(theta0) >= _HALF_PI:
             raise ValueError(f"theta0 must satisfy |theta0| < pi/2, got {theta0!r}")
+        y0 = np.array([theta0, theta_dot0])
+        side = 1.0 if theta0 > 0 or (theta0 == 0 and theta_dot0 >= 0) else -1.0
     elif not 0.0 < theta0 < _HALF_PI:
         raise ValueError(f"theta0 must lie in (0, pi/2) for model={model!r}, got {theta0!r}")
-    if model == "3d-damped":
-        y0 = np.array([theta0, phi0, 0.0, theta_dot0, phi_dot0, 0.0])
-        e = np.zeros(0)
-        out = _kernel_damped(body, e, e, 1.0, 0.0, y0, duration, -1.0, rtol, history,
-                             omega_n, zeta)
-        acc = _Acc(6, history)
-        acc.add(out)
-        if len(out) > 10:
-            acc.extras.update(dissipated=float(out[10]), n_tension=int(out[11]),
-                              contact_force_min=float(out[12]))
-        status, reason = _status(int(out[0]), float(out[9]))
-        return _response(model, acc, status, reason, True, 0.0, omega_n, zeta)
-    chunk = min(_free_chunk(body), duration)
-    n = int(math.ceil(duration / chunk)) + 1
-    z = np.zeros(n)
-    if model == "2d":
-        out = _kernel_2d(body, z, chunk, 0, 0.0, 0.0, np.array([theta0, theta_dot0]),
-                         1.0 if theta0 > 0 or (theta0 == 0 and theta_dot0 >= 0) else -1.0,
-                         duration, -1.0, rtol, history, False)
-        acc = _Acc(2, history)
+    elif model == "3d-damped":
+        y0, side = np.array([theta0, phi0, 0.0, theta_dot0, phi_dot0, 0.0]), 1.0
     else:
-        out = _kernel_3d(body, z, z, chunk, 0, 0.0, 0.0,
-                         np.array([theta0, phi0, theta_dot0, phi_dot0]), duration, -1.0, rtol,
-                         history, False)
-        acc = _Acc(4, history)
+        y0, side = np.array([theta0, phi0, theta_dot0, phi_dot0]), 1.0
+    runner = _Runner(model, body, rtol, history, omega_n, zeta)
+    out = runner.free(0.0, y0, duration, -1.0, side)
+    acc = _Acc(model, history)
     acc.theta_max = abs(theta0)
     acc.t_theta_max = 0.0
     acc.add(out)
     code = int(out[0])
-    status, reason = _status(code, float(out[9]))
-    if code == 3:
-        reason = f"came back to rest at t = {float(out[9]):.9g} s"
+    status, reason = codes.status_of(code, float(out[9]))
+    if code == codes.AT_REST:
         acc.add_rest(float(out[9]), duration)
-    return _response(model, acc, status, reason, True, 0.0, omega_n, zeta)
+    return _response(acc, status, reason, True, 0.0, omega_n, zeta)
 
 
 def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str = "3d",
@@ -445,142 +405,54 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
             f"motion {motion.name!r} has a zero component: unidirectional excitation of the 3D "
             "model is exactly planar and reaches theta = 0 where the model is undefined; "
             "use model='2d'")
-    dt = motion.dt
     ax = motion.ax * scale
-    ay = motion.ay * scale
-    t_end = motion.duration
-    threshold = G * body.tan_alpha
-    if model == "2d":
-        return _ground_2d(body, ax, dt, t_end, threshold, stop_level, rtol, history, free_tail,
-                          omega_n, zeta)
-    width = 6 if model == "3d-damped" else 4
-    acc = _Acc(width, history)
-    up = _uplift_3d(ax, ay, dt, threshold)
-    if up is None:
-        acc.add_rest(0.0, t_end)
+    ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
+    runner = _Runner(model, body, rtol, history, omega_n, zeta)
+    acc = _Acc(model, history)
+    out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
+                                             G * body.tan_alpha, stop_level)
+    if math.isnan(t_first):
         acc.t_theta_max = 0.0
-        return _response(model, acc, Status.OK, "", False, math.nan, omega_n, zeta)
-    k, tau, a_x, a_y = up
-    t_up = k * dt + tau
-    acc.add_rest(0.0, t_up)
-    phi0 = math.atan2(-a_y, -a_x)  # along the D'Alembert force
-    if model == "3d-damped":
-        return _ground_damped(body, acc, ax, ay, dt, t_up, phi0, t_end, threshold, stop_level,
-                              rtol, history, omega_n, zeta)
-    y0 = np.array([THETA_EPS, phi0, 0.0, 0.0])
-    out = _kernel_3d(body, ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, rtol, history,
-                     False)
-    acc.add(out)
-    code = int(out[0])
-    status, reason = _status(code, float(out[9]))
-    if code == 0 and free_tail:
-        status, reason = _tail_3d(body, acc, out[2][-1], t_end, stop_level, rtol)
-    return _response(model, acc, status, reason, True, t_up, omega_n, zeta)
+        return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta)
+    if (out is not None and int(out[0]) == codes.OK and free_tail
+            and model != "3d-damped"):
+        status, reason = _free_tail(body, acc, runner, out[2][-1], motion.duration,
+                                    stop_level)
+    return _response(acc, status, reason, True, t_first, omega_n, zeta)
 
 
-def _uplift_2d(ax: np.ndarray, dt: float, threshold: float, k_from: int, tau_from: float):
-    """First time at or after (k_from, tau_from) with |a_x| > threshold: (k, tau, side)."""
-    n = ax.size
-    if k_from + 1 < n:
-        a = ax[k_from] + (ax[k_from + 1] - ax[k_from]) * tau_from / dt
-        if abs(a) > threshold:
-            return k_from, tau_from, -math.copysign(1.0, a)
-    above = np.flatnonzero(np.abs(ax[k_from + 1:]) > threshold)
-    if above.size == 0:
-        return None
-    j = k_from + 1 + int(above[0])
-    k = j - 1
-    level = math.copysign(threshold, ax[j])
-    d = ax[j] - ax[k]
-    s = (level - ax[k]) / d if d != 0.0 else 1.0
-    tau = min(max(s, 0.0), 1.0) * dt
-    if k == k_from:
-        tau = max(tau, tau_from)
-    return k, tau, -math.copysign(1.0, ax[j])
+def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level):
+    """Rocking episodes: from each uplift until the body is back at rest, then the next one.
 
-
-def _ground_2d(body, ax, dt, t_end, threshold, stop_level, rtol, history, free_tail, omega_n,
-               zeta) -> Response:
-    acc = _Acc(2, history)
-    k, tau = 0, 0.0
-    t_rest = 0.0
-    t_first = math.nan
-    status, reason = Status.OK, ""
-    out = None
+    Returns the last kernel output (None if the record ended at rest), the first uplift time
+    [s] (NaN if never) and the status and reason.
+    """
+    k, tau, t_rest, t_first = 0, 0.0, 0.0, math.nan
     stalls = 0
+    above = np.flatnonzero(np.hypot(ax, ay) > threshold)
     while True:
-        up = _uplift_2d(ax, dt, threshold, k, tau)
+        up = _uplift(ax, ay, dt, threshold, above, k, tau)
         if up is None:
             acc.add_rest(t_rest, t_end)
-            out = None
-            break
-        k, tau, side = up
+            return None, t_first, Status.OK, ""
+        k, tau, a_x, a_y = up
         t_up = k * dt + tau
-        if not math.isfinite(t_first):
+        if math.isnan(t_first):
             t_first = t_up
         acc.add_rest(t_rest, t_up)
-        out = _kernel_2d(body, ax, dt, k, tau, 0.0, np.zeros(2), side, t_end, stop_level, rtol,
-                         history, False)
+        y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
+        out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side)
         acc.add(out)
-        code = int(out[0])
-        t_stop = float(out[9])
-        if code != 3:
-            status, reason = _status(code, t_stop)
-            break
-        # Back at rest (Zeno guard): look for the next uplift after t_stop.
+        code, t_stop = int(out[0]), float(out[9])
+        if code != codes.AT_REST:
+            status, reason = codes.status_of(code, t_stop)
+            return out, t_first, status, reason
+        # Back at rest: look for the next uplift after t_stop.
         stalls = stalls + 1 if t_stop - t_up <= 1e-12 * max(1.0, t_up) else 0
         if stalls > 10:
-            status, reason = Status.FAILED, f"no progress from rest at t = {t_stop:.9g} s"
-            out = None
-            break
+            return None, t_first, Status.FAILED, f"no progress from rest at t = {t_stop:.9g} s"
+        if t_stop >= t_end:
+            return None, t_first, Status.OK, ""
         k = min(int(t_stop // dt), ax.size - 2)
         tau = t_stop - k * dt
         t_rest = t_stop
-        if t_stop >= t_end:
-            out = None
-            break
-    if math.isnan(t_first):
-        acc.t_theta_max = 0.0
-        return _response("2d", acc, Status.OK, "", False, math.nan, omega_n, zeta)
-    if out is not None and int(out[0]) == 0 and free_tail:
-        y_end = out[2][-1]
-        # On θ = 0 right after an impact the body moves to the side of θ̇.
-        side = math.copysign(1.0, y_end[0] if y_end[0] != 0.0 else y_end[1])
-        status, reason = _tail_2d(body, acc, y_end, side, t_end, stop_level, rtol)
-    return _response("2d", acc, status, reason, True, t_first, omega_n, zeta)
-
-
-def _ground_damped(body, acc, ax, ay, dt, t_up, phi0, t_end, threshold, stop_level, rtol,
-                   history, omega_n, zeta) -> Response:
-    """3d-damped through the adapter; uplifts again after coming back to rest (code 3)."""
-    t_first = t_up
-    status, reason = Status.OK, ""
-    while True:
-        y0 = np.array([THETA_EPS, phi0, 0.0, 0.0, 0.0, 0.0])
-        out = _kernel_damped(body, ax, ay, dt, t_up, y0, t_end, stop_level, rtol, history,
-                             omega_n, zeta)
-        acc.add(out)
-        if len(out) > 10:
-            acc.extras["dissipated"] = acc.extras.get("dissipated", 0.0) + float(out[10])
-            acc.extras["n_tension"] = acc.extras.get("n_tension", 0) + int(out[11])
-            acc.extras["contact_force_min"] = min(acc.extras.get("contact_force_min", G),
-                                                  float(out[12]))
-        code = int(out[0])
-        t_stop = float(out[9])
-        if code != 3 or t_stop >= t_end:
-            status, reason = _status(code, t_stop)
-            break
-        k = min(int(t_stop // dt), ax.size - 2)
-        up = _uplift_3d(ax, ay, dt, threshold, k, t_stop - k * dt)
-        if up is None:
-            acc.add_rest(t_stop, t_end)
-            break
-        k, tau, a_x, a_y = up
-        t_next = k * dt + tau
-        if t_next <= t_stop + 1e-12 and t_next - t_up <= 1e-12:
-            status, reason = Status.FAILED, f"no progress from rest at t = {t_stop:.9g} s"
-            break
-        acc.add_rest(t_stop, t_next)
-        t_up = t_next
-        phi0 = math.atan2(-a_y, -a_x)
-    return _response("3d-damped", acc, status, reason, True, t_first, omega_n, zeta)

@@ -2,7 +2,7 @@
 
 Geometry follows Vassiliou et al. (2017), Fig 1: base radius (or half-width) b, height 2h,
 semi-diagonal R = √(b² + h²), slenderness tan α = b/h. Inertia constants are the corrected
-forms of ``shared/spec/equations.md``:
+forms of docs/equations.md:
 
 - cylinder: κo = I_o/(mR²) = (15 + cos²α)/12, κt = (3 + 13 cos²α)/12,
   Housner restitution e = 1 − 2 sin²α/κo (Eq 31);
@@ -20,6 +20,7 @@ import numpy as np
 
 from .._validate import positive_finite
 from ..constants import G
+from . import inertia as _inertia
 
 
 def _restitution(name: str, value: float | None, default: float) -> float:
@@ -118,7 +119,7 @@ class Cylinder(_RigidBody):
         return math.pi * math.sqrt(self.kappa_o / self.kappa_t)
 
     def mu(self, theta):
-        """Spin inertia function μ(θ) of equations.md (cancellation-free form) [-]."""
+        """Spin inertia function μ(θ) (docs/equations.md, cancellation-free form) [-]."""
         return mu(theta, self.alpha)
 
     def mu_prime(self, theta):
@@ -169,25 +170,17 @@ class Block(_RigidBody):
         return 1.5 * math.sin(self.alpha) ** 2
 
 
-def mu(theta, alpha: float):
-    """μ(θ) = (4/3 c² − 5/4 s²) sin²θ + 3 s² (1 − cos θ) + 2 s c sin θ (1 − cos θ).
+def _tilts(theta):
+    """``theta`` as a float or a float array (the two forms the compiled functions take)."""
+    th = np.asarray(theta, dtype=float)
+    return float(th) if th.ndim == 0 else th
 
-    1 − cos θ is evaluated as 2 sin²(θ/2): θ reaches 1e-11 rad in quasi-impacts where the
-    literal form rounds to zero.
-    """
-    s, c = math.sin(alpha), math.cos(alpha)
-    st = np.sin(theta)
-    omc = 2.0 * np.sin(0.5 * np.asarray(theta)) ** 2
-    return (4.0 / 3.0 * c * c - 1.25 * s * s) * st * st + 3.0 * s * s * omc + 2.0 * s * c * st * omc
+
+def mu(theta, alpha: float):
+    """Spin inertia μ(θ) [-] of a cylinder of slenderness angle ``alpha`` (:mod:`.inertia`)."""
+    return _inertia.mu(_tilts(theta), math.sin(alpha), math.cos(alpha))
 
 
 def mu_prime(theta, alpha: float):
-    """μ'(θ), with 2 sin²θ + cos θ − 1 evaluated as cos θ (1 − cos θ) + sin²θ."""
-    s, c = math.sin(alpha), math.cos(alpha)
-    st, ct = np.sin(theta), np.cos(theta)
-    omc = 2.0 * np.sin(0.5 * np.asarray(theta)) ** 2
-    return (
-        (4.0 / 3.0 * c * c - 1.25 * s * s) * 2.0 * st * ct
-        + 3.0 * s * s * st
-        + 2.0 * s * c * (ct * omc + st * st)
-    )
+    """μ'(θ) [-] (:mod:`.inertia`)."""
+    return _inertia.mu_prime(_tilts(theta), math.sin(alpha), math.cos(alpha))

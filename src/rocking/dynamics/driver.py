@@ -1,0 +1,372 @@
+"""The one integrator of the rocking models: record intervals, step control, events.
+
+Every model (:mod:`.cylinder3d`, :mod:`.cylinder3d_damped`, :mod:`.housner2d`) is integrated
+by :func:`integrate`, as SciPy's ``solve_ivp`` drives every method of ``integrate/_ivp``: one
+step loop, methods that differ only by their tableau (explicit Dormand–Prince in
+:mod:`._rk`, Rosenbrock RODAS4 in :mod:`._rosenbrock`), events located on the step's cubic
+Hermite interpolant by small separate functions. A model is a set of compiled hooks:
+
+- ``rhs(tau, y, P, F, out)``: the right-hand side at time ``tau`` inside the current record
+  interval, whose forcing is ``F = (a0x, a0y, slope_x, slope_y)``: the ground acceleration
+  is ``a0 + slope * tau`` [m/s²];
+- ``impact(y, P)``: the impact map applied where the tilt crosses zero (2D: rate × e and the
+  pivot changes side), for models whose layout asks for impacts;
+- ``energy(y, P)``: the rocking energy above rest per unit mass [J/kg] (rest criterion);
+- ``output(y, P, row)``: the state the user sees (e.g. φ̇ from the spin momentum);
+- ``observe(y, P, diag)``: bookkeeping after each accepted step (e.g. contact force);
+- ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`).
+
+The model's compiled entry point calls :func:`integrate` with its hooks as module-level
+globals; :func:`integrate` is inlined there (``inline="always"``), which is what lets numba
+cache the whole kernel (a function taking jitted functions as arguments is otherwise linked
+through dynamic globals and not cached).
+
+Conventions of every model: state component 0 is the tilt θ, component ``i_thd`` its rate;
+``P[0]`` is the pivot side σ = ±1 (always +1 in 3D), and the driver works with the signed
+tilt m = σ θ ≥ 0 between impacts.
+
+Time is kept as (record interval k, local time τ inside it): quasi-impacts last 1e-10 s at
+t = 40 s, where an absolute time would have a resolution of only 7e-15 s. No step crosses a
+record sample, so the forcing is smooth inside every step.
+
+Events of a step, in the order they occur inside it:
+
+- threshold: m reaches ``stop_level`` (code 2) or π/2 (code 1); the time is refined by up to
+  three Newton steps on the landed tilt;
+- impact (2D): m crosses zero; the state before it is recorded, the impact map applied and
+  the step restarted from there;
+- tilt maximum: ṁ from + to −; updates θmax (and ends a run that asked for the first peak);
+- tilt minimum (3D quasi-impact): ṁ from − to +; recorded.
+
+An event's state is computed by a genuine step of the stepper from the step start to the
+event time ("landing"), so it has the accuracy of the integrator, not of the interpolant.
+After a tilt minimum or an impact the rest criterion (docs/equations.md, "Back at rest") may
+end the run with code 3.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import codes
+from ._numerics import EPS, error_scale, hermite_root, record, recorded, recorder, set_forcing
+
+# Layout of the model (int64 array ``layout`` of the run tuple).
+L_NOUT, L_ITHD, L_IMPACTS, L_MINIMA, L_POSITIVE, L_NDIAG = 0, 1, 2, 3, 4, 5
+L_WROWS, L_LAROWS, L_LACOLS, L_HISTORY, L_UNTIL_PEAK, L_MAXSTEPS = 6, 7, 8, 9, 10, 11
+LAYOUT_SIZE = 12
+
+# Event kinds, in the order that breaks ties inside a step.
+_THRESHOLD, _IMPACT, _MAXIMUM, _MINIMUM = 0, 1, 2, 3
+
+
+@njit(cache=True, error_model="numpy")
+def no_factor(tau, y, f0, P, F, c, LA):
+    """``factor`` hook of a model integrated by an explicit method (never called)."""
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def no_solve(LA, P, r, g):
+    """``solve`` hook of a model integrated by an explicit method (never called)."""
+
+
+@njit(cache=True, error_model="numpy")
+def no_impact(y, P):
+    """``impact`` hook of a model without impacts (never called)."""
+
+
+@njit(cache=True, error_model="numpy")
+def no_observe(y, P, diag):
+    """``observe`` hook of a model without per-step bookkeeping."""
+
+
+@njit(cache=True, error_model="numpy")
+def last_interval(n_samples, dt, t_offset, t_end):
+    """Last record interval of a run ending at ``t_end`` [s] and the local end time in it."""
+    span = (t_end - t_offset) / dt
+    k_last = min(int(math.floor(span)), n_samples - 1)
+    tau_last = (t_end - t_offset) - k_last * dt
+    if k_last >= n_samples - 1:
+        k_last = n_samples - 2
+        tau_last = dt
+    if tau_last <= 4.0 * EPS * dt and k_last > 0:
+        k_last -= 1
+        tau_last = dt
+    return k_last, min(tau_last, dt)
+
+
+@njit(cache=True, error_model="numpy")
+def growth(largest, q, freeze, err, rejected):
+    """Step-size factor after a step with scaled error ``err`` (see ``control`` of a stepper):
+    0.9 err^(−1/(q+1)) within [0.2, ``largest``], at most 1 right after a rejection if
+    ``freeze``."""
+    if err == 0.0:
+        fac = largest
+    else:
+        fac = min(largest, max(0.2, 0.9 * err ** (-1.0 / (q + 1.0))))
+    if rejected and freeze != 0.0:
+        fac = min(fac, 1.0)
+    return fac
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def initial_step(rhs, q, tau, y, f0, P, F, tol, h_max, ytmp, f1):
+    """Hairer's starting step (as SciPy's ``select_initial_step``), capped at ``h_max``."""
+    rtol, SC, n = tol
+    tilt = abs(y[0])
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(n):
+        sc = error_scale(rtol, SC[0, i], SC[1, i], y[i], y[i], tilt)
+        d0 += (y[i] / sc) ** 2
+        d1 += (f0[i] / sc) ** 2
+    d0 = math.sqrt(d0 / n)
+    d1 = math.sqrt(d1 / n)
+    h0 = 1e-6 * h_max if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+    h0 = min(h0, h_max)
+    for i in range(y.size):
+        ytmp[i] = y[i] + h0 * f0[i]
+    rhs(tau + h0, ytmp, P, F, f1)
+    d2 = 0.0
+    for i in range(n):
+        d2 += ((f1[i] - f0[i]) / error_scale(rtol, SC[0, i], SC[1, i], y[i], y[i], tilt)) ** 2
+    d2 = math.sqrt(d2 / n) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (q + 1.0))
+    return min(100.0 * h0, h1, h_max)
+
+
+@njit(cache=True, error_model="numpy")
+def find_events(m0, dm0, ddm0, m1, dm1, ddm1, h, lvl, overturn, impacts, minima):
+    """Events inside an accepted step: ``(n, s_a, kind_a, s_b, kind_b)``, sorted by their
+    fraction s of the step.
+
+    Arguments are the signed tilt m = σθ, its rate and its acceleration at both ends of the
+    step. Detection is by sign changes between the step ends; each time is the root of the
+    Hermite interpolant of m or of ṁ.
+    """
+    n, s_a, k_a, s_b, k_b = 0, 0.0, 0, 0.0, 0
+    if m1 > lvl or (overturn and m1 >= lvl):
+        n, s_a, k_a = 1, hermite_root(m0, dm0, m1, dm1, h, lvl, 1.0), _THRESHOLD
+    elif impacts and m1 < 0.0:
+        n, s_a, k_a = 1, hermite_root(m0, dm0, m1, dm1, h, 0.0, 1.0), _IMPACT
+    turn_max = dm0 > 0.0 and dm1 <= 0.0
+    if turn_max or (minima and dm0 < 0.0 and dm1 >= 0.0):
+        s = hermite_root(dm0, ddm0, dm1, ddm1, h, 0.0, 1.0)
+        kind = _MAXIMUM if turn_max else _MINIMUM
+        if n == 0:
+            n, s_a, k_a = 1, s, kind
+        elif s < s_a:
+            n, s_a, k_a, s_b, k_b = 2, s, kind, s_a, k_a
+        else:
+            n, s_b, k_b = 2, s, kind
+    return n, s_a, k_a, s_b, k_b
+
+
+@njit(cache=True, error_model="numpy")
+def newton_fraction(s, ys, sigma, i_thd, lvl, h):
+    """Next fraction of a threshold landing (Newton on the landed tilt), or −1 when done.
+
+    The Hermite root is only O(h⁴) accurate; the landed state has the accuracy of the step.
+    """
+    m, dm = sigma * ys[0], sigma * ys[i_thd]
+    if dm <= 0.0 or abs(m - lvl) <= 4.0 * EPS * lvl:
+        return -1.0
+    return min(max(s + (lvl - m) / (dm * h), 0.0), 1.0)
+
+
+@njit(cache=True, error_model="numpy")
+def at_rest(energy_now, F, tau, rest):
+    """The rest criterion: rocking energy below the Zeno floor ``rest[0]``, or below the rest
+    energy ``rest[1]`` while the ground acceleration at ``tau`` is below ``rest[2]`` = g tan α
+    (the ground cannot lift the body again) [J/kg, m/s²]."""
+    if energy_now < rest[0]:
+        return True
+    if energy_now >= rest[1]:
+        return False
+    return math.hypot(F[0] + F[2] * tau, F[1] + F[3] * tau) <= rest[2]
+
+
+@njit(cache=True, error_model="numpy")
+def step_failure(err, tilt, positive):
+    """Failure code of a step (0 if it can be accepted): a non-finite error estimate (a
+    non-finite state makes it so), a tilt ≤ 0 where the model needs θ > 0, or an error above
+    the tolerance."""
+    if not math.isfinite(err):
+        return codes.NONFINITE
+    if positive and tilt <= 0.0:
+        return codes.NEGATIVE_TILT
+    if err > 1.0:
+        return codes.UNDERFLOW
+    return 0
+
+
+@njit(cache=True, error_model="numpy")
+def outcome(kind, rest_now, until_peak, lvl_code):
+    """(action, code) of an event: action 0 continues the step, 1 ends the run, 2 restarts
+    the step after an impact."""
+    if kind == _THRESHOLD:
+        return 1, lvl_code
+    if kind == _MAXIMUM:
+        return (1, codes.AT_PEAK) if until_peak else (0, codes.OK)
+    if rest_now:
+        return 1, codes.AT_REST
+    return (2, codes.OK) if kind == _IMPACT else (0, codes.OK)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def land(step, rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, ys, fs, kind, s,
+         i_thd, lvl):
+    """State ``ys`` at fraction ``s`` of the step by a genuine step of length s·h; a threshold
+    is refined by up to three Newton steps. Returns the final fraction."""
+    for _ in range(4):
+        step(rhs, factor, solve, tab, tau, y, f0, s * h, P, F, tol, W, LA, ys, fs)
+        if kind != _THRESHOLD:
+            return s
+        s_next = newton_fraction(s, ys, P[0], i_thd, lvl, h)
+        if s_next < 0.0:
+            return s
+        s = s_next
+    return s
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
+    """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
+
+    ``run = (P, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
+    rest, diag)`` is built by :func:`rocking.dynamics.models.make_run`. Returns ``(code,
+    t_hist, y_hist, n_steps, n_rejected, theta_max, t_theta_max, ev_t, ev_y, t_stop, y_end,
+    diag)``: a code of :mod:`.codes`, the history of output rows (the final row only without
+    history), step counts, the largest |θ| [rad] and its time [s], the events (tilt minima
+    in 3D, the state before each impact in 2D), the end time [s], the final internal state
+    and the model's diagnostics.
+    """
+    (P0, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
+     rest, diag0) = run
+    P, diag, y = P0.copy(), diag0.copy(), y0.copy()
+    n = y.size
+    i_thd = layout[L_ITHD]
+    history = layout[L_HISTORY] != 0
+    f0, y_new, f_new, ys, fs = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    F = np.empty(4)
+    W = np.empty((layout[L_WROWS], n))
+    LA = np.empty((layout[L_LAROWS], layout[L_LACOLS]))
+    row = np.empty(layout[L_NOUT])
+    hist, events = recorder(), recorder()
+    n_steps, n_rej, rejected = 0, 0, False
+    k_last, tau_last = last_interval(ax.size, dt, t_offset, t_end)
+    k, tau = k0, tau0
+    set_forcing(F, ax, ay, k, dt)
+    rhs(tau, y, P, F, f0)
+    h_min = 32.0 * EPS * dt
+    h = initial_step(rhs, ctrl[1], tau, y, f0, P, F, tol, dt, W[0], W[1])
+    theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
+    if history:
+        output(y, P, row)
+        record(hist, t_theta_max, row)
+    code, t_stop = codes.OK, math.nan
+    lvl, lvl_code = 0.5 * math.pi, codes.OVERTURNED
+    if 0.0 < stop_level < lvl:
+        lvl, lvl_code = stop_level, codes.STOPPED
+    if k > k_last or (k == k_last and tau >= tau_last):
+        k = k_last + 1  # nothing to integrate
+    while k <= k_last:
+        tau_end = dt if k < k_last else tau_last
+        if tau_end - tau <= 4.0 * EPS * dt:  # at a record sample: next interval
+            if k == k_last:
+                break
+            k, tau = k + 1, 0.0
+            set_forcing(F, ax, ay, k, dt)
+            rhs(tau, y, P, F, f0)
+            continue
+        if n_steps + n_rej >= layout[L_MAXSTEPS]:
+            code, t_stop = codes.TOO_MANY_STEPS, t_offset + k * dt + tau
+            break
+        last = h >= tau_end - tau
+        h_try = tau_end - tau if last else h
+        err = step(rhs, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA, y_new, f_new)
+        fail = step_failure(err, y_new[0], layout[L_POSITIVE])
+        if fail != 0:
+            n_rej += 1
+            rejected = True
+            h = h_try * (min(ctrl[0], max(0.2, 0.9 * err ** (-1.0 / (ctrl[1] + 1.0))))
+                         if fail == codes.UNDERFLOW else 0.25)
+            if not h >= h_min:  # also a NaN step size
+                code, t_stop = fail, t_offset + k * dt + tau
+                break
+            continue
+        n_steps += 1
+        if ctrl[4] == 0.0:  # the stepper does not provide the derivative at the step end
+            rhs(tau + h_try, y_new, P, F, f_new)
+        observe(y_new, P, diag)
+        t0 = t_offset + k * dt + tau
+        sg = P[0]
+        n_ev, s_a, k_a, s_b, k_b = find_events(
+            sg * y[0], sg * f0[0], sg * f0[i_thd], sg * y_new[0], sg * f_new[0],
+            sg * f_new[i_thd], h_try, lvl, lvl_code == codes.OVERTURNED, layout[L_IMPACTS],
+            layout[L_MINIMA])
+        action = 0
+        for j in range(n_ev):
+            kind = k_a if j == 0 else k_b
+            s = land(step, rhs, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA, ys,
+                     fs, kind, s_a if j == 0 else s_b, i_thd, lvl)
+            t_ev = t0 + s * h_try
+            rest_now = False
+            if kind == _THRESHOLD:  # landed within rounding of the level: put it there
+                ys[0] = P[0] * lvl
+            if kind == _MAXIMUM or kind == _THRESHOLD:
+                if P[0] * ys[0] > theta_max:
+                    theta_max, t_theta_max = P[0] * ys[0], t_ev
+            else:  # a tilt minimum or an impact: recorded, and the body may be at rest
+                if kind == _IMPACT:
+                    ys[0] = 0.0
+                output(ys, P, row)
+                record(events, t_ev, row)
+                if kind == _IMPACT:
+                    if history:
+                        record(hist, t_ev, row)
+                    impact(ys, P)
+                rest_now = at_rest(energy(ys, P), F, tau + s * h_try, rest)
+            action, code = outcome(kind, rest_now, layout[L_UNTIL_PEAK], lvl_code)
+            if action != 0:
+                for i in range(n):
+                    y[i] = ys[i]
+                tau += s * h_try
+                t_stop = t_ev
+                if history:
+                    output(y, P, row)
+                    record(hist, t_ev, row)
+                break
+        if action == 1:
+            break
+        if action == 2:  # restart from the impact with the new pivot
+            rhs(tau, y, P, F, f0)
+            continue
+        if abs(y_new[0]) > theta_max:
+            theta_max, t_theta_max = abs(y_new[0]), t0 + h_try
+        for i in range(n):
+            y[i] = y_new[i]
+            f0[i] = f_new[i]
+        tau = tau_end if last else tau + h_try
+        if history:
+            output(y, P, row)
+            record(hist, t_offset + k * dt + tau, row)
+        h_next = h_try * growth(ctrl[0], ctrl[1], ctrl[3], err, rejected)
+        h = min(max(h_next, h) if (last and ctrl[2] != 0.0) else h_next, dt)
+        rejected = False
+    if code == codes.OK:
+        t_stop = t_offset + k_last * dt + tau_last
+    if not history:
+        output(y, P, row)
+        record(hist, t_stop, row)
+    t_hist, y_hist = recorded(hist, row.size)
+    ev_t, ev_y = recorded(events, row.size)
+    return (code, t_hist, y_hist, n_steps, n_rej, theta_max, t_theta_max, ev_t, ev_y, t_stop,
+            y, diag)

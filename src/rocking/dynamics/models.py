@@ -1,0 +1,219 @@
+"""The three rocking models as the driver sees them, and one call that runs any of them.
+
+A :class:`Model` names a model's compiled entry point, its state layout and the Python-level
+set-up of a run (parameters, error scales, kernel state); :func:`run` builds the run tuple of
+:func:`rocking.dynamics.driver.integrate` and calls the entry point. :mod:`.analysis` runs
+every kernel through here.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+
+from ..constants import G
+from . import _rk, _rosenbrock, cylinder3d, cylinder3d_damped, driver, housner2d
+from .bodies import Block, Cylinder
+
+ZENO_RATE = 1e-6
+"""Impact rate, as a fraction of p α, below which a 2D body is back at rest whatever the rest
+tolerance [-]: the accumulation point of ever shorter hops cannot be resolved in floating
+point (its energy ½κoR²(1e-6 p α)² is the rest criterion's floor in every model)."""
+
+
+class Model(NamedTuple):
+    """How the driver integrates one model.
+
+    Attributes
+    ----------
+    name : str
+        ``"3d"``, ``"3d-damped"`` or ``"2d"``.
+    kernel : callable
+        Compiled entry point ``kernel(run)``.
+    state : tuple of str
+        Names of the output state.
+    i_thd : int
+        Index of the tilt rate in the kernel state.
+    impacts : bool
+        The tilt crosses zero through an impact map (2D); otherwise θ > 0 is enforced (3D).
+    implicit : bool
+        Integrated by the Rosenbrock stepper (else by the explicit Runge–Kutta pair).
+    n_diag : int
+        Length of the model's per-step diagnostics.
+    la_shape : tuple of int
+        Shape of the linear-algebra work array of an implicit step.
+    params : callable
+        ``params(body, omega_n, zeta) -> (P, floor, wtilt)``: parameters and error scales.
+    kernel_state : callable
+        ``kernel_state(body, y0, P) -> (y, diag0)``: kernel state of an output state and the
+        initial diagnostics.
+    """
+
+    name: str
+    kernel: Callable
+    state: tuple[str, ...]
+    i_thd: int
+    impacts: bool
+    implicit: bool
+    n_diag: int
+    la_shape: tuple[int, int]
+    params: Callable
+    kernel_state: Callable
+
+
+def _params_3d(body, omega_n, zeta):
+    return (cylinder3d.params(body), *cylinder3d.tolerances(body))
+
+
+def _params_2d(body, omega_n, zeta):
+    return (housner2d.params(body), *housner2d.tolerances(body))
+
+
+def _params_damped(body, omega_n, zeta):
+    omega_n, zeta = cylinder3d_damped.check_parameters(omega_n, zeta)
+    return (cylinder3d_damped.params(body, omega_n, zeta),
+            *cylinder3d_damped.tolerances(body, omega_n))
+
+
+def _state_3d(body, y0, P):
+    return cylinder3d.to_state(body, y0), _NO_DIAG
+
+
+def _state_2d(body, y0, P):
+    return np.asarray(y0, dtype=float).copy(), _NO_DIAG
+
+
+def _state_damped(body, y0, P):
+    y = cylinder3d_damped.to_state(y0)
+    return y, np.array([0.0, float(cylinder3d_damped.contact(y, P))])
+
+
+_NO_DIAG = np.zeros(0)
+
+MODELS: dict[str, Model] = {
+    "3d": Model("3d", cylinder3d.integrate, cylinder3d.STATE, 2, False, False, 0, (1, 1),
+                _params_3d, _state_3d),
+    "3d-damped": Model("3d-damped", cylinder3d_damped.integrate, cylinder3d_damped.STATE, 3,
+                       False, True, 2, cylinder3d_damped.LA_SHAPE, _params_damped,
+                       _state_damped),
+    "2d": Model("2d", housner2d.integrate, housner2d.STATE, 1, True, False, 0, (1, 1),
+                _params_2d, _state_2d),
+}
+"""The models by name."""
+
+
+def rest_criterion(body: Block | Cylinder, theta_rest: float) -> np.ndarray:
+    """``[Zeno floor energy, rest energy, g tan α]`` of the driver's rest test [J/kg, m/s²].
+
+    The rest energy is what lifting the body from rest to the tilt ``theta_rest`` [rad]
+    takes, gR[cos(α − θ_rest) − cos α] (docs/equations.md, "Back at rest"); the floor is the
+    energy of the 2D hop of rate :data:`ZENO_RATE` p α.
+    """
+    a = body.alpha
+    e_rest = G * body.R * (math.sin(a) * math.sin(theta_rest)
+                           - 2.0 * math.cos(a) * math.sin(0.5 * theta_rest) ** 2)
+    e_floor = 0.5 * body.kappa_o * body.R**2 * (ZENO_RATE * body.p * a) ** 2
+    return np.array([e_floor, max(e_rest, 0.0), G * body.tan_alpha])
+
+
+class Prepared(NamedTuple):
+    """Everything of a run that does not change between the runs of one analysis."""
+
+    model: Model
+    body: Block | Cylinder
+    P: np.ndarray
+    tol: tuple
+    tab: tuple
+    ctrl: np.ndarray
+    layout: np.ndarray
+    rest: np.ndarray
+
+
+def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray, *,
+            omega_n: float = 2000.0, zeta: float = 5.0, max_steps: int = 20_000_000,
+            method: str | None = None) -> Prepared:
+    """Parameters, tolerances, stepper and layout of the runs of ``model`` on ``body``.
+
+    Parameters
+    ----------
+    model : Model
+    body : Cylinder or Block
+    rtol : float
+        Relative tolerance.
+    rest : ndarray
+        :func:`rest_criterion`.
+    omega_n, zeta : float
+        Contact spring–dashpot of the damped model [rad/s], [-].
+    max_steps : int
+        Budget of accepted plus rejected steps of one run.
+    method : str, optional
+        Stepper: a Runge–Kutta pair of :mod:`._rk` for the explicit models (default
+        ``"dp5"``), a Rosenbrock method of :mod:`._rosenbrock` for the damped one (default
+        ``"rodas4"``).
+    """
+    P, floor, wtilt = model.params(body, omega_n, zeta)
+    if model.implicit:
+        method = method or "rodas4"
+        tab, ctrl = _rosenbrock.tableau(method), _rosenbrock.control(method)
+        work_rows = _rosenbrock.work_rows(method)
+    else:
+        method = method or "dp5"
+        tab, ctrl, work_rows = _rk.tableau(method), _rk.control(method), _rk.WORK_ROWS
+    layout = np.zeros(driver.LAYOUT_SIZE, dtype=np.int64)
+    layout[driver.L_NOUT] = len(model.state)
+    layout[driver.L_ITHD] = model.i_thd
+    layout[driver.L_IMPACTS] = model.impacts
+    layout[driver.L_MINIMA] = not model.impacts
+    layout[driver.L_POSITIVE] = not model.impacts
+    layout[driver.L_NDIAG] = model.n_diag
+    layout[driver.L_WROWS] = work_rows
+    layout[driver.L_LAROWS], layout[driver.L_LACOLS] = model.la_shape
+    layout[driver.L_MAXSTEPS] = max_steps
+    tol = (float(rtol), np.array([floor, wtilt]), floor.size)
+    return Prepared(model, body, P, tol, tab, ctrl, layout, rest)
+
+
+def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0: float,
+        t_offset: float, y0: np.ndarray, t_end: float, stop_level: float, *, history: bool,
+        until_peak: bool = False, side: float = 1.0) -> tuple:
+    """Integrate a prepared model from record interval ``k0``, local time ``tau0`` [s].
+
+    Parameters
+    ----------
+    prep : Prepared
+    ax, ay : ndarray
+        Ground accelerations [m/s²] (already scaled), sample j at ``t_offset + j dt``.
+    dt : float
+        Sample interval [s]; no step is longer, and every step ends on or before a sample.
+    k0, tau0 : int, float
+        Start interval and local time in it [s].
+    t_offset : float
+        Absolute time of sample 0 [s].
+    y0 : ndarray
+        Start state in output form (``model.state``).
+    t_end : float
+        End time [s] (clamped to the last sample).
+    stop_level : float
+        End with code STOPPED once |θ| > stop_level [rad]; ≤ 0 for none.
+    history, until_peak : bool
+        Keep every step; end at the first tilt maximum.
+    side : float
+        Initial pivot side (±1; the 2D model).
+
+    Returns
+    -------
+    tuple
+        As :func:`rocking.dynamics.driver.integrate`.
+    """
+    P = prep.P.copy()
+    P[0] = 1.0 if side >= 0 else -1.0
+    y, diag0 = prep.model.kernel_state(prep.body, y0, P)
+    layout = prep.layout.copy()
+    layout[driver.L_HISTORY] = history
+    layout[driver.L_UNTIL_PEAK] = until_peak
+    return prep.model.kernel((P, ax, ay, float(dt), int(k0), float(tau0), float(t_offset), y,
+                              float(t_end), float(stop_level), prep.tol, prep.tab, prep.ctrl,
+                              layout, prep.rest, diag0))
