@@ -44,5 +44,13 @@ def test_reflected_record_mirrors_spin(el_centro):
     out = rocking.ground_response(cyl, mir, model="3d", scale=1.6, rtol=1e-10)
     assert out.theta_max == pytest.approx(ref.theta_max, rel=1e-6)
     k = min(ref.t.size, out.t.size) // 2
-    np.testing.assert_allclose(np.interp(ref.t[:k], out.t, out.phi_dot), -ref.phi_dot[:k],
+    # Compare at the reference's times; where an episode ends (back at rest) a time appears
+    # twice, once with the last rocking state and once at rest, and interpolation could pick
+    # either: those instants are compared by the episode ends themselves.
+    ends = np.flatnonzero(np.diff(ref.t[:k]) == 0.0)
+    np.testing.assert_array_equal(ends, np.flatnonzero(np.diff(out.t[:k]) == 0.0))
+    keep = np.ones(k, dtype=bool)
+    keep[ends] = keep[ends + 1] = False
+    np.testing.assert_allclose(np.interp(ref.t[:k][keep], out.t, out.phi_dot),
+                               -ref.phi_dot[:k][keep],
                                rtol=1e-4, atol=1e-6 * np.abs(ref.phi_dot).max())

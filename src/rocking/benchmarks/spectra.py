@@ -50,13 +50,14 @@ from ._io import results_dir, write_table
 
 TAN_ALPHA = 0.2
 REFERENCE = Accuracy("reference", rtol=1e-11, rtol_damped=1e-9, scan_step=0.005,
-                     bisection_tol=1e-4, scan="fixed")
+                     bisection_tol=1e-4, scan="fixed", rest_tilt=0.0)
 """Reference: fixed 0.5 % scan steps, 0.01 % brackets, rtol 1e-11 (damped model 1e-9, where
-its peaks agree with 1e-11 to ~1e-9)."""
+its peaks agree with 1e-11 to ~1e-9), every micro-uplift followed to its end."""
 
-FIXED = PRESETS["default"].with_(name="fixed 1 % scan (before)", scan="fixed",
-                                 scan_step=0.01)
-"""The "default" preset with the fixed 1 % scan it had before the adaptive scan."""
+FIXED = PRESETS["default"].with_(name="fixed 1 % scan, exact micro-uplift (before)",
+                                 scan="fixed", scan_step=0.01, rest_tilt=0.0)
+"""The "default" preset as it was before the adaptive scan and the micro-uplift rest
+criterion: a fixed 1 % scan, every micro-uplift followed to its end."""
 
 GOALS_2 = ("overturning", "tilt:1/3")
 """The limit states of Figs 9, 11 and 12."""
@@ -94,7 +95,7 @@ def solve_point(body: Cylinder, motion: GroundMotion, limit_states, mode: str,
                 acc: Accuracy) -> Point:
     """Critical intensities of one point, each analysis timed (the search of
     :func:`rocking.spectra.critical.critical_intensity`, instrumented)."""
-    analyze = make_analysis(body, motion, mode)
+    analyze = make_analysis(body, motion, mode, rest_tilt=acc.rest_tilt)
     times: list[float] = []
 
     def timed(intensity, stop_at, rtol):
@@ -223,7 +224,8 @@ def _variants(quick: bool) -> list[tuple[str, Accuracy]]:
     out.append(("before", FIXED))
     if quick:
         return out
-    out += [("fixed scan_step", FIXED.with_(scan_step=s)) for s in (0.005, 0.02, 0.05, 0.1)]
+    out += [("fixed scan_step", FIXED.with_(scan_step=s, rest_tilt=None))
+            for s in (0.005, 0.02, 0.05, 0.1)]
     out += [("scan_step", base.with_(scan_step=s)) for s in (0.0035, 0.0075, 0.01)
             if s != base.scan_step]
     out += [("scan_step_max", base.with_(scan_step_max=s)) for s in (0.03, 0.1)

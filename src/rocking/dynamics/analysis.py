@@ -53,9 +53,24 @@ METHOD = "dp5"
 THETA_EPS = 1e-7
 """Tilt at which a 3D analysis starts from rest at uplift [rad] (docs/equations.md)."""
 
-THETA_REST = {"3d": 0.0, "2d": 0.0, "3d-damped": 1e-6}
-"""Tilt [rad] whose potential energy is the rest energy of each model (see
-:func:`rocking.dynamics.models.rest_criterion`)."""
+THETA_REST = {"2d": 0.0, "3d-damped": 1e-6}
+"""Default rest tilt [rad] of the 2D and the damped model: the tilt whose potential energy is
+the rest energy (:func:`rocking.dynamics.models.rest_criterion`). The 2D model loses energy
+at every impact and ends its episodes at the Zeno floor; the damped model dissipates its
+micro-rocking in the contact dashpot, and 1e-6 rad only ends what is left of it."""
+
+REST_LIFT = 5e-6
+"""Rim lift [m] below which an episode of the undamped 3D model ends (docs/equations.md,
+"Micro-uplift: when a rocking episode ends"): the default rest tilt of "3d" is the tilt that
+lifts the rim of the base, of diameter 2R sin α, by this much, REST_LIFT/(2R sin α).
+
+The undamped model conserves energy exactly, so a body lifted by a sub-threshold pulse keeps
+rocking by micrometres, with ever faster quasi-impacts, until the next strong pulse: up to
+1.5 M steps (1.3 s) for one analysis whose peak tilt is 1e-6 rad. Any real contact (and the
+damped model) dissipates that energy, and no rigid contact model means anything below the
+roughness of the contact surfaces (tens of µm for dressed stone or concrete). The value is
+the measured trade (``python -m rocking.benchmarks micro``): the cost of the slowest
+analysis near uplift against how many critical intensities move."""
 
 MAX_STEPS = 20_000_000
 """Budget of integration steps of one kernel call."""
@@ -90,6 +105,25 @@ def _check_stop(stop_at) -> float:
     if stop_at is None:
         return -1.0
     return positive_finite("stop_at", stop_at)
+
+
+def default_rest_tilt(model: str, body: Cylinder | Block) -> float:
+    """Rest tilt [rad] of ``model`` on ``body`` when none is given: :data:`REST_LIFT` at the
+    rim for "3d", :data:`THETA_REST` otherwise."""
+    if model == "3d":
+        return REST_LIFT / (2.0 * body.R * math.sin(body.alpha))
+    return THETA_REST[model]
+
+
+def _check_rest_tilt(rest_tilt, model: str, body) -> float:
+    if rest_tilt is None:
+        return default_rest_tilt(model, body)
+    r = nonnegative_finite("rest_tilt", rest_tilt)
+    if r >= 0.01 * body.alpha:
+        raise ValueError(f"rest_tilt must be below 0.01 alpha = {0.01 * body.alpha:.4g} rad "
+                         f"(an episode must not end above a tilt a limit state could see), "
+                         f"got {rest_tilt!r}")
+    return r
 
 
 # ----------------------------------------------------------------------------- uplift
@@ -138,12 +172,12 @@ class _Runner:
     """Runs one model on one body with the analysis' settings (all kernel calls go here)."""
 
     def __init__(self, model: str, body, rtol: float, history: bool, omega_n: float,
-                 zeta: float):
+                 zeta: float, rest_tilt: float):
         self.model = models.MODELS[model]
         self.body = body
         self.history = history
         self.prep = models.prepare(self.model, body, rtol,
-                                   models.rest_criterion(body, THETA_REST[model]),
+                                   models.rest_criterion(body, rest_tilt),
                                    omega_n=omega_n, zeta=zeta, max_steps=MAX_STEPS,
                                    method=None if self.model.implicit else METHOD)
 
@@ -290,7 +324,8 @@ def _free_tail(body, acc: _Acc, runner: _Runner, y_end: np.ndarray, t_end: float
 def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0, *,
                    theta_dot0: float = 0.0, phi0: float = 0.0, duration: float,
                    model: str = "3d", rtol: float | None = None, omega_n: float = 2000.0,
-                   zeta: float = 5.0, history: bool = True) -> Response:
+                   zeta: float = 5.0, history: bool = True,
+                   rest_tilt: float | None = None) -> Response:
     """Free rocking (2D) or rocking and wobbling (3D) from an initial state.
 
     Parameters
@@ -313,6 +348,12 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
         damped model starts at rest on the spring (w = ẇ = 0).
     history : bool
         Keep the time histories (False: summary only).
+    rest_tilt : float, optional
+        Tilt [rad] whose potential energy is the rest energy: at a tilt minimum (3D) or an
+        impact (2D) with less rocking energy, while the ground is below g tan α, the episode
+        ends and the body rests until the ground lifts it again (docs/equations.md,
+        "Micro-uplift: when a rocking episode ends"). Default :func:`default_rest_tilt`;
+        0 is the exact treatment (only the Zeno floor ends an episode); below 0.01 α.
 
     Returns
     -------
@@ -323,6 +364,7 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     _check_model(model, body)
     rtol = _check_common(rtol, omega_n, zeta, model)
     duration = positive_finite("duration", duration)
+    rest_tilt = _check_rest_tilt(rest_tilt, model, body)
     theta0 = finite("theta0", theta0)
     phi_dot0 = finite("phi_dot0", phi_dot0)
     theta_dot0 = finite("theta_dot0", theta_dot0)
@@ -338,7 +380,7 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
         y0, side = np.array([theta0, phi0, 0.0, theta_dot0, phi_dot0, 0.0]), 1.0
     else:
         y0, side = np.array([theta0, phi0, theta_dot0, phi_dot0]), 1.0
-    runner = _Runner(model, body, rtol, history, omega_n, zeta)
+    runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
     out = runner.free(0.0, y0, duration, -1.0, side)
     acc = _Acc(model, history)
     acc.theta_max = abs(theta0)
@@ -355,7 +397,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
                     scale: float | None = None, pga_ratio: float | None = None,
                     stop_at: float | None = None,
                     rtol: float | None = None, omega_n: float = 2000.0, zeta: float = 5.0,
-                    history: bool = True, free_tail: bool = True) -> Response:
+                    history: bool = True, free_tail: bool = True,
+                    rest_tilt: float | None = None) -> Response:
     """Response of a body initially at rest to a (scaled) ground motion.
 
     Parameters
@@ -382,6 +425,12 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     free_tail : bool
         Decide the motion after the record ends by invariants (undamped models) and include
         the next swing in θmax.
+    rest_tilt : float, optional
+        Tilt [rad] whose potential energy is the rest energy: at a tilt minimum (3D) or an
+        impact (2D) with less rocking energy, while the ground is below g tan α, the episode
+        ends and the body rests until the ground lifts it again (docs/equations.md,
+        "Micro-uplift: when a rocking episode ends"). Default :func:`default_rest_tilt`;
+        0 is the exact treatment (only the Zeno floor ends an episode); below 0.01 α.
 
     Returns
     -------
@@ -389,6 +438,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     """
     _check_model(model, body)
     rtol = _check_common(rtol, omega_n, zeta, model)
+    rest_tilt = _check_rest_tilt(rest_tilt, model, body)
     if not isinstance(motion, GroundMotion):
         raise ValueError(f"motion must be a GroundMotion, got {type(motion).__name__}")
     if pga_ratio is not None:
@@ -407,7 +457,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
             "use model='2d'")
     ax = motion.ax * scale
     ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
-    runner = _Runner(model, body, rtol, history, omega_n, zeta)
+    runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
     acc = _Acc(model, history)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
                                              G * body.tan_alpha, stop_level)

@@ -91,6 +91,11 @@ class Accuracy:
     tilt_growth : float
         Assumed largest growth rate d ln θmax / d ln I of the peak tilt with the intensity
         [-], > 0: the adaptive step is the step that could just lift θ to τ at that rate.
+    rest_tilt : float, optional
+        Rest tilt of every analysis [rad] (``rest_tilt`` of
+        :func:`rocking.dynamics.analysis.ground_response`): None, the engine's default per
+        model (micro-uplift below a 5 µm rim lift ends an undamped 3D episode); 0, the exact
+        treatment that follows every micro-uplift to its end.
     """
 
     name: str
@@ -102,6 +107,7 @@ class Accuracy:
     scan: str = "fixed"
     scan_step_max: float = 0.1
     tilt_growth: float = 40.0
+    rest_tilt: float | None = None
 
     def __post_init__(self) -> None:
         _check_range("rtol", self.rtol, 0.0, 1e-2)
@@ -114,6 +120,9 @@ class Accuracy:
             raise ValueError(f"scan must be one of {list(SCANS)}, got {self.scan!r}")
         _check_range("tilt_growth", self.tilt_growth, 0.0, math.inf)
         _check_range("scan_step_max", self.scan_step_max, 0.0, math.inf)
+        if self.rest_tilt is not None:
+            _check_range("rest_tilt", self.rest_tilt, 0.0, 0.01, lower_closed=True)
+            object.__setattr__(self, "rest_tilt", float(self.rest_tilt))
         if self.scan == "adaptive":
             if not self.scan_relative:
                 raise ValueError("scan='adaptive' needs scan_relative=True (its steps are "
@@ -166,18 +175,22 @@ class Accuracy:
             "scan": self.scan,
             "scan_step_max": self.scan_step_max,
             "tilt_growth": self.tilt_growth,
+            "rest_tilt": self.rest_tilt,
         }
 
 
-def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = False) -> None:
+def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = False,
+                 lower_closed: bool = False) -> None:
     try:
         v = float(value)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a number, got {value!r}") from None
     above = v >= hi if upper_open else v > hi
-    if not math.isfinite(v) or v <= lo or above:
+    below = v < lo if lower_closed else v <= lo
+    if not math.isfinite(v) or below or above:
         bound = f"< {hi}" if upper_open else f"<= {hi}"
-        raise ValueError(f"{name} must be > {lo} and {bound}, got {value!r}")
+        low = f">= {lo}" if lower_closed else f"> {lo}"
+        raise ValueError(f"{name} must be {low} and {bound}, got {value!r}")
 
 
 PRESETS: dict[str, Accuracy] = {
@@ -214,7 +227,7 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
         fields = dict(accuracy)
         base = get_accuracy(fields.pop("preset", "default"))
         allowed = {"name", "rtol", "rtol_damped", "scan_step", "bisection_tol", "scan_relative",
-                   "scan", "scan_step_max", "tilt_growth"}
+                   "scan", "scan_step_max", "tilt_growth", "rest_tilt"}
         unknown = sorted(set(fields) - allowed)
         if unknown:
             raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed {sorted(allowed)}")

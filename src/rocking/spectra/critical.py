@@ -63,11 +63,13 @@ def make_analysis(
     *,
     omega_n: float | None = None,
     zeta: float | None = None,
+    rest_tilt: float | None = None,
 ) -> AnalysisFn:
     """Bind :func:`rocking.dynamics.analysis.ground_response` to ``analyze(I, stop_at, rtol)``.
 
     The motion is scaled so that the pair's vector PGA equals I·g·tan α; the 2D modes are
-    excited by one component (``motion.component``) scaled by the same factor.
+    excited by one component (``motion.component``) scaled by the same factor;
+    ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact).
     """
     from ..dynamics.analysis import ground_response  # the engine is imported only when needed
 
@@ -79,7 +81,8 @@ def make_analysis(
 
     def analyze(intensity: float, stop_at: float | None, rtol: float) -> Outcome:
         r = ground_response(body, excitation, model=model, scale=intensity * unit_scale,
-                            stop_at=stop_at, rtol=rtol, history=False, **kw)
+                            stop_at=stop_at, rtol=rtol, history=False,
+                            rest_tilt=rest_tilt, **kw)
         return Outcome(float(r.theta_max), bool(r.overturned), Status(r.status), r.reason)
 
     return analyze
@@ -129,8 +132,9 @@ def critical_intensity(
         raise ValueError(f"motion {motion.name!r} has zero PGA")
     asked = parse_limit_states(limit_states, sort=False)
     lower = uplift_intensity(motion, mode)
-    analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta)
     acc = get_accuracy(accuracy)
+    analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+                            rest_tilt=acc.rest_tilt)
     res = search_critical(analyze, asked, body.alpha, lower=lower, upper=upper,
                           accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]))
     res = _in_order(res, [ls.name for ls in asked])

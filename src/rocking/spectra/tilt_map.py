@@ -73,7 +73,8 @@ def tilt_map(
     bar = _progress(progress, ratio.size, f"tilt map {mode}", unit="analysis")
     for i, R in enumerate(R_arr):
         body = Cylinder(R, tan_alpha)
-        analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta)
+        analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+                                rest_tilt=acc.rest_tilt)
         for j, intensity in enumerate(I_arr):
             if intensity <= lower:
                 if bar is not None:
