@@ -26,6 +26,19 @@ from rocking import __version__
 from rocking.study.report import link_images
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
+CRITICAL = "critical.csv"
+"""Every motion's answers (the spectra store as a table): what tests/test_gallery.py holds
+against a slice of the study run again."""
+
+
+def write_critical(store: Path, csv: Path) -> None:
+    """The spectra store of a study as one row per computed answer."""
+    import xarray as xr
+
+    from rocking.study.aggregate import critical_frame
+
+    with xr.open_zarr(store, consolidated=True) as ds:
+        critical_frame(ds).to_csv(csv, index=False, float_format="%.10g")
 
 
 def _copy(src: Path, dst: Path) -> None:
@@ -52,6 +65,8 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
         for name in TABLES:
             _copy(src / name, dst / name)
             copied.append(dst / name)
+        write_critical(src / "spectra.zarr", dst / CRITICAL)
+        copied.append(dst / CRITICAL)
         page = (src / "report.html").read_text()
         # study figures live in <study>/figures/, the others in ../figures/
         page = link_images(page, lambda stem, d=dst: (

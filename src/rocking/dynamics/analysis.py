@@ -349,11 +349,8 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     history : bool
         Keep the time histories (False: summary only).
     rest_tilt : float, optional
-        Tilt [rad] whose potential energy is the rest energy: at a tilt minimum (3D) or an
-        impact (2D) with less rocking energy, while the ground is below g tan α, the episode
-        ends and the body rests until the ground lifts it again (docs/equations.md,
-        "Micro-uplift: when a rocking episode ends"). Default :func:`default_rest_tilt`;
-        0 is the exact treatment (only the Zeno floor ends an episode); below 0.01 α.
+        Rest tilt [rad], as in :func:`ground_response` (in free vibration the ground is
+        always below g tan α: an episode with less energy ends at its first tilt minimum).
 
     Returns
     -------

@@ -89,6 +89,28 @@ def to_frame(stats: xr.Dataset) -> pd.DataFrame:
     return df.rename(columns=header)
 
 
+CRITICAL_COLUMNS = ("pga_crit", "pga_crit_g", "not_reached", "non_monotonic", "failed",
+                    "n_analyses")
+"""Per-motion results of a spectra store, as :func:`critical_frame` lists them."""
+
+
+def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
+    """Every computed answer of a spectra store, one row per (mode, limit_state, motion,
+    tan_alpha, R) that the study's runs asked for: the critical intensity [PGA/(g tan α)],
+    as PGA [g], the search's flags and its analyses; headers with units."""
+    cols = [c for c in CRITICAL_COLUMNS if c in ds]
+    frame = ds[cols].load().to_dataframe().reset_index()
+    if "requested" in ds:
+        req = ds["requested"].load().to_dataframe().reset_index()
+        frame = frame.merge(req, on=list(ds["requested"].dims))
+        frame = frame[frame["requested"].astype(bool)].drop(columns="requested")
+    dims = ["mode", "limit_state", "motion", "tan_alpha", "R"]
+    for dim in ("mode", "limit_state", "motion"):
+        frame[dim] = frame[dim].astype(str)
+    frame = frame[[*dims, *cols]].sort_values(dims, kind="stable").reset_index(drop=True)
+    return frame.rename(columns=header)
+
+
 def write_statistics(stats: xr.Dataset, nc_path: str | Path, csv_path: str | Path) -> None:
     """Write ``mean_spectra.nc`` (netCDF) and its CSV twin."""
     nc = stats.copy()

@@ -12,7 +12,6 @@ so realization r is the same whatever n, and the streams are statistically indep
 
 from __future__ import annotations
 
-import copy
 import math
 from collections.abc import Callable
 from typing import Any, Literal
@@ -244,30 +243,10 @@ def synthesize(
             comps = [c * f for c, f in zip(comps, factors, strict=True)]
             processing.append({"step": "energy-rescale", "factors": factors})
 
-    from ... import __version__  # here: the package imports this module while initializing
-
     base = name or f"{fit.name}-rdk"
-    params = {"major": _params_only(fit.major), "minor": _params_only(fit.minor)}
     motions = []
     for r in range(n):
-        meta: dict[str, Any] = {
-            "generator": "Rezaeian-Der Kiureghian (rocking.motions.stochastic)",
-            "record": fit.name,
-            "fit_method": fit.diagnostics.get("method", "counts"),
-            "parameters": copy.deepcopy(params),
-            "rotation_deg": fit.angle,
-            "principal_offset_deg": fit.diagnostics.get("principal_offset_deg"),
-            "seed": seed,
-            "realization": r,
-            "streams": {
-                "x": list(streams[0][r].spawn_key),
-                "y": list(streams[1][r].spawn_key),
-            },
-            "processing": [dict(p) for p in processing],
-            "axes": "principal (x = major)",
-            "stand_in": False,
-            "rocking_version": __version__,
-        }
+        meta = _metadata(fit, seed, r, streams, processing)
         gm = GroundMotion(comps[0][r], comps[1][r], dt, f"{base}-{r:03d}", meta)
         if axes == "record":
             from ..principal import rotate
@@ -276,6 +255,27 @@ def synthesize(
             gm.metadata["axes"] = "record"
         motions.append(gm)
     return motions
+
+
+def _metadata(fit: RDKFit, seed: int, r: int, streams, processing: list[dict]) -> dict:
+    """Metadata of realization ``r``: parameters, seed, stream ids and processing steps."""
+    from ... import __version__  # here: the package imports this module while initializing
+
+    return {
+        "generator": "Rezaeian-Der Kiureghian (rocking.motions.stochastic)",
+        "record": fit.name,
+        "fit_method": fit.diagnostics.get("method", "counts"),
+        "parameters": {"major": _params_only(fit.major), "minor": _params_only(fit.minor)},
+        "rotation_deg": fit.angle,
+        "principal_offset_deg": fit.diagnostics.get("principal_offset_deg"),
+        "seed": seed,
+        "realization": r,
+        "streams": {"x": list(streams[0][r].spawn_key), "y": list(streams[1][r].spawn_key)},
+        "processing": [dict(p) for p in processing],
+        "axes": "principal (x = major)",
+        "stand_in": False,
+        "rocking_version": __version__,
+    }
 
 
 def _params_only(p: RDKParams) -> dict[str, float]:

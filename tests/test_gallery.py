@@ -1,0 +1,91 @@
+"""The committed gallery of the paper's full run (results/paper/) cannot silently go stale.
+
+A slice of ``config/paper.yaml`` (the El Centro study's first run: mode 3d, tan α 0.2, its
+seven limit states; the record and its first synthetic pair; two sizes of the R grid) is run
+again through the committed workflow (real Snakemake, Dask and zarr) and every answer it
+computes must equal the committed ``results/paper/elcentro/critical.csv``; the committed mean
+spectra must be the mean over motions of that same table.
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+import yaml
+
+from rocking.study.aggregate import critical_frame
+
+REPO = Path(__file__).resolve().parents[1]
+GALLERY = REPO / "results" / "paper"
+STUDY = "elcentro"
+SLICE_R = [2.0, 6.0]
+KEYS = ["mode", "limit_state", "motion", "tan_alpha [-]", "R [m]"]
+
+
+def test_gallery_is_documented_and_complete():
+    manifest = json.loads((GALLERY / "MANIFEST.json").read_text())
+    assert manifest["elapsed_seconds"] > 0 and manifest["commit"]
+    for f in manifest["files"]:
+        assert (GALLERY / f).is_file(), f
+    assert (GALLERY / "README.md").is_file()
+    for study in manifest["studies"]:
+        for table in ("mean_spectra.csv", "fragility.csv", "linear_fit.csv", "critical.csv"):
+            assert (GALLERY / study / table).stat().st_size > 0
+    assert not list(GALLERY.rglob("*.zarr")) and not list(GALLERY.rglob("*.nc"))
+
+
+def _slice_config(tmp: Path) -> Path:
+    cfg = yaml.safe_load((REPO / "config" / "paper.yaml").read_text())
+    ensemble = cfg["studies"][STUDY]["ensemble"]
+    cfg["ensembles"] = {ensemble: {**cfg["ensembles"][ensemble], "n_synthetic": 1}}
+    study = cfg["studies"][STUDY]
+    cfg["studies"] = {STUDY: {"ensemble": ensemble, "R": SLICE_R, "chunk_R": 1,
+                              "runs": study["runs"][:1]}}
+    path = tmp / "slice.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+@pytest.fixture(scope="module")
+def slice_answers(tmp_path_factory) -> pd.DataFrame:
+    work = tmp_path_factory.mktemp("gallery_slice")
+    cmd = [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"), "--directory",
+           str(work), "--cores", "2", "--nocolor", "--configfile", str(_slice_config(work)),
+           f"results/{STUDY}/spectra.done.json"]
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900)
+    assert out.returncode == 0, out.stderr[-4000:]
+    with xr.open_zarr(work / "results" / STUDY / "spectra.zarr", consolidated=True) as ds:
+        return critical_frame(ds)
+
+
+def test_committed_answers_equal_a_slice_run_again(slice_answers):
+    committed = pd.read_csv(GALLERY / STUDY / "critical.csv")
+    assert len(slice_answers) == 2 * len(SLICE_R) * 7  # two motions, seven limit states
+    merged = slice_answers.merge(committed, on=KEYS, how="left", suffixes=("", "_gallery"),
+                                 indicator=True)
+    assert (merged["_merge"] == "both").all(), merged[merged["_merge"] != "both"][KEYS]
+    for col in ("pga_crit [-]", "n_analyses"):
+        np.testing.assert_allclose(merged[col], merged[f"{col}_gallery"], rtol=1e-9,
+                                   err_msg=f"{col}: the gallery is stale")
+    for col in ("not_reached", "non_monotonic", "failed"):
+        assert (merged[col] == merged[f"{col}_gallery"]).all(), col
+
+
+def test_committed_means_are_the_committed_answers():
+    """mean_spectra.csv is the mean over motions of critical.csv (the two tables agree)."""
+    crit = pd.read_csv(GALLERY / STUDY / "critical.csv")
+    means = pd.read_csv(GALLERY / STUDY / "mean_spectra.csv")
+    reached = crit[~crit["not_reached"].astype(bool)]
+    ours = (reached.groupby(["mode", "limit_state", "tan_alpha [-]", "R [m]"])["pga_crit [-]"]
+            .mean().rename("ours").reset_index())
+    merged = means.merge(ours, on=["mode", "limit_state", "tan_alpha [-]", "R [m]"])
+    assert len(merged) > 100
+    mean_col = next(c for c in means.columns if c.split(" [")[0] == "mean")
+    np.testing.assert_allclose(merged[mean_col], merged["ours"], rtol=1e-8)
