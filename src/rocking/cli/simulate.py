@@ -2,12 +2,15 @@
 
 ``--out DIR`` receives ``history.csv`` (column titles with units; the 2D model writes only
 t, theta, theta_dot) and ``summary.json`` (strict JSON, with a ``units`` map); the summary
-is also printed on stdout. Exit code 1 when the analysis failed.
+is also printed on stdout. Exit code 1 when the analysis failed. A squat body whose
+restitution formula is negative (2D modes) gets a one-line note on stderr and
+``restitution_clipped``/``restitution_note`` in the summary.
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from ..spectra.modes import MODES
@@ -128,6 +131,8 @@ def run(args: argparse.Namespace) -> int:
     summary["units"] = {k: u for k, u in SUMMARY_UNITS.items() if k in summary} | {
         c: QUANTITIES[c][1] for c in cols}
     _json.write(out / "summary.json", summary)
+    if summary.get("restitution_clipped"):  # stdout stays one JSON document
+        print(f"rocking simulate: note: {summary['restitution_note']}", file=sys.stderr)
     print(_json.dumps(summary))
     return 0 if res.ok else 1
 
@@ -136,6 +141,7 @@ SUMMARY_UNITS = {
     "theta_max": "rad", "t_theta_max": "s", "t_uplift": "s (null: never uplifted)", "R": "m",
     "tan_alpha": "-", "scale": "-", "pga_ratio": "g tan(alpha)", "pga_g": "g",
     "theta0": "rad", "phi_dot0": "rad/s", "duration": "s", "free_tail_peak": "rad",
+    "restitution": "- (theta_dot after / before an impact)",
     "dissipated": "J/kg (energy dissipated by the contact dashpot, per unit mass)",
     "contact_force_min": "N/kg (smallest normal contact force per unit mass)",
 }

@@ -380,6 +380,8 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
     out = runner.free(0.0, y0, duration, -1.0, side)
     acc = _Acc(model, history)
+    if model == "2d":  # the restitution used, and whether a squat body's was clipped
+        acc.extras.update(housner2d.restitution_extras(body))
     acc.theta_max = abs(theta0)
     acc.t_theta_max = 0.0
     acc.add(out)
@@ -456,6 +458,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
     acc = _Acc(model, history)
+    if model == "2d":  # the restitution used, and whether a squat body's was clipped
+        acc.extras.update(housner2d.restitution_extras(body))
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
                                              G * body.tan_alpha, stop_level)
     if math.isnan(t_first):

@@ -9,12 +9,23 @@ forms of docs/equations.md:
 - rectangular block: κo = 4/3, e = 1 − 1.5 sin²α (Housner 1963).
 
 In both, p² = g/(κo R) is the frequency parameter of the tilt equation.
+
+Squat bodies. Both restitution formulas come from the balance of angular momentum about the
+new pivot, I_o θ̇⁺ = (I_o − 2 m b²) θ̇⁻, assuming the body goes on rocking about the new
+corner (Housner 1963). The formula changes sign at I_o = 2 m b², i.e. sin²α = κo/2: at
+tan α = √2 ≈ 1.41 for the block and tan α = 4/3 ≈ 1.33 for the cylinder
+(:attr:`_RigidBody.SQUAT_TAN_ALPHA`). Beyond it rotating on about the new corner would push
+the old one into the ground: the only outcome compatible with compressive impulses at both
+corners is the body stopped flat (no bouncing, enough friction). The default ``e`` is
+therefore clipped at 0 there (the impact ends the rocking episode); ``e_formula`` keeps the
+formula's value and ``restitution_clipped`` says so.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -40,20 +51,38 @@ class _RigidBody:
     alpha: float = field(init=False)
     kappa_o: float = field(init=False)
     e: float = field(init=False)
+    e_formula: float = field(init=False)
+    restitution_clipped: bool = field(init=False)
+
+    SQUAT_TAN_ALPHA: ClassVar[float]
+    """tan α above which the restitution formula is negative (module docstring) [-]."""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "R", positive_finite("R", self.R))
         object.__setattr__(self, "tan_alpha", positive_finite("tan_alpha", self.tan_alpha))
         object.__setattr__(self, "alpha", math.atan(self.tan_alpha))
         object.__setattr__(self, "kappa_o", self._kappa_o())
-        default_e = 1.0 - self._impact_loss()
-        object.__setattr__(self, "e", _restitution("restitution", self.restitution, default_e))
+        e_formula = 1.0 - self._impact_loss()
+        clipped = self.restitution is None and e_formula < 0.0
+        object.__setattr__(self, "e_formula", e_formula)
+        object.__setattr__(self, "restitution_clipped", clipped)
+        object.__setattr__(self, "e", _restitution("restitution", self.restitution,
+                                                   max(e_formula, 0.0)))
 
     def _kappa_o(self) -> float:  # pragma: no cover - abstract
         raise NotImplementedError
 
     def _impact_loss(self) -> float:  # pragma: no cover - abstract
         raise NotImplementedError
+
+    @property
+    def restitution_note(self) -> str:
+        """One line on the clipped restitution of a squat body ("" when not clipped)."""
+        if not self.restitution_clipped:
+            return ""
+        e = f"{self.e_formula:.2f}".replace("-", "−")
+        return (f"restitution formula gives e = {e} for tan α = {self.tan_alpha:g} (squat "
+                f"body, tan α > {self.SQUAT_TAN_ALPHA:.3g}): impacts end the rocking (e = 0)")
 
     @property
     def b(self) -> float:
@@ -87,8 +116,20 @@ class Cylinder(_RigidBody):
     tan_alpha : float
         Slenderness b/h [-].
     restitution : float, optional
-        Coefficient of restitution for the 2D model [-]; default Eq (31), 1 − 2 sin²α/κo.
+        Coefficient of restitution for the 2D model [-], in [0, 1]; default Eq (31),
+        1 − 2 sin²α/κo, clipped at 0 for tan α > 4/3 (module docstring).
+
+    Attributes
+    ----------
+    e : float
+        Restitution the 2D model applies [-].
+    e_formula : float
+        Eq (31)'s value, negative for squat cylinders [-].
+    restitution_clipped : bool
+        The default restitution was clipped at 0 (``e_formula`` < 0).
     """
+
+    SQUAT_TAN_ALPHA: ClassVar[float] = 4.0 / 3.0
 
     @classmethod
     def from_dimensions(cls, diameter: float, height: float, **kwargs) -> Cylinder:
@@ -152,8 +193,11 @@ class Block(_RigidBody):
     tan_alpha : float
         Slenderness b/h [-].
     restitution : float, optional
-        Coefficient of restitution [-]; default Housner's 1 − 1.5 sin²α.
+        Coefficient of restitution [-], in [0, 1]; default Housner's 1 − 1.5 sin²α, clipped
+        at 0 for tan α > √2 (module docstring). Attributes as :class:`Cylinder`'s.
     """
+
+    SQUAT_TAN_ALPHA: ClassVar[float] = math.sqrt(2.0)
 
     @classmethod
     def from_dimensions(cls, width: float, height: float, **kwargs) -> Block:

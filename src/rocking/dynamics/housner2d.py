@@ -13,6 +13,11 @@ genuine step, applies the impact map and restarts. An impact after which the bod
 rest (driver's rest criterion) ends the rocking episode: the caller looks for the next uplift
 in the record.
 
+Squat bodies (tan α above ``body.SQUAT_TAN_ALPHA``) have e = 0 (:mod:`.bodies`): the first
+impact leaves θ = θ̇ = 0, whose energy is below the rest criterion's floor, so the impact
+ends the episode exactly (no chatter); :func:`free_peak` gives the peak already reached.
+:func:`restitution_extras` reports the clipping in the result.
+
 Error control: relative, with absolute floors 1e-6 α on θ and 1e-6 p α on θ̇ (θ passes
 through zero at every impact, so a purely relative control would stall there).
 """
@@ -60,8 +65,9 @@ def rhs(tau, y, P, F, out):
 
 @njit(cache=True, error_model="numpy")
 def impact(y, P):
-    """Housner's impact at θ = 0: θ̇ → e θ̇, the pivot moves to the other edge."""
-    y[1] = P[5] * y[1]
+    """Housner's impact at θ = 0: θ̇ → e θ̇, the pivot moves to the other edge (+ 0.0: e = 0
+    leaves θ̇ = +0, not −0)."""
+    y[1] = P[5] * y[1] + 0.0
     P[0] = -P[0]
 
 
@@ -86,6 +92,16 @@ def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, impact, rocking_energy, output, driver.no_observe,
                             driver.no_factor, driver.no_solve, rk_step, run)
+
+
+def restitution_extras(body: Block | Cylinder) -> dict:
+    """Result fields of the restitution the model applies: ``restitution`` (e [-]),
+    ``restitution_clipped`` (the default formula was negative and e set to 0) and, when
+    clipped, ``restitution_note`` (one line for the user)."""
+    out = {"restitution": body.e, "restitution_clipped": body.restitution_clipped}
+    if body.restitution_clipped:
+        out["restitution_note"] = body.restitution_note
+    return out
 
 
 def energy(body: Block | Cylinder, theta, theta_dot):
@@ -119,7 +135,8 @@ def free_peak(body: Block | Cylinder, theta: float, theta_dot: float) -> float:
     Moving away from θ = 0 (θ θ̇ > 0) the next peak has the present energy; moving towards
     it, the swing first passes the impact and the peak has e² times the kinetic energy at
     θ = 0 (which is the whole energy above rest). Later peaks only decrease. When |θ| > α the
-    block must first climb back over θ = α to avoid falling.
+    block must first climb back over θ = α to avoid falling. With e = 0 (squat body) the
+    impact stops the body: the peak is the present |θ|.
 
     Returns
     -------

@@ -81,7 +81,10 @@ class Response:
     extras : dict
         Model-specific numbers: ``free_tail_peak`` [rad]; for "3d-damped" ``dissipated``
         (energy dissipated by the contact dashpot per unit mass of the body [J/kg]),
-        ``n_tension`` (steps with a tensile contact force) and ``contact_force_min`` [N/kg].
+        ``n_tension`` (steps with a tensile contact force) and ``contact_force_min`` [N/kg];
+        for "2d" ``restitution`` (e applied at each impact [-]) and ``restitution_clipped``
+        (a squat body: the restitution formula was negative and every impact ends the
+        rocking, e = 0), with ``restitution_note`` (one line) when True.
     """
 
     model: str
