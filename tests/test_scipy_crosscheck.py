@@ -1,9 +1,10 @@
 """The compiled kernels against an independent SciPy solution (DOP853, rtol 1e-12).
 
-The reference integrates the equations of ``shared/spec/equations.md`` as printed there, in
-the state (θ, φ, θ̇, φ̇) (the kernel uses the spin momentum μφ̇ instead of φ̇), with the
-ground acceleration interpolated by ``np.interp`` and SciPy's own step control and event
-location. Windows are short (2–3 s after uplift), before the response becomes chaotic.
+The reference integrates the equations of ``docs/equations.md`` ("3D undamped model",
+"2D Housner model") as written there, in the state (θ, φ, θ̇, φ̇) (the kernel uses the spin
+momentum μφ̇ instead of φ̇), with the ground acceleration interpolated by ``np.interp`` and
+SciPy's own step control and event location. Windows are short (2–3 s after uplift), before
+the response becomes chaotic.
 """
 
 from __future__ import annotations
