@@ -4,8 +4,9 @@ Reproduces and extends Vassiliou, Burger, Egger, Bachmann, Broccardo & Stojadino
 "The three-dimensional behavior of inverted pendulum cylindrical structures during
 earthquakes", Earthquake Engng Struct. Dyn. 46:2261–2280.
 
-Subpackages, from the bottom up: :mod:`rocking.dynamics` (bodies, models, analyses),
-:mod:`rocking.motions` (records, principal axes, filters, stochastic ensembles),
+Subpackages, from the bottom up: :mod:`rocking.motions` (records, principal axes, filters,
+stochastic ensembles), :mod:`rocking.dynamics` (bodies, models, analyses; it takes a
+:class:`GroundMotion`),
 :mod:`rocking.spectra` (limit states, critical-intensity search, fragility) and
 :mod:`rocking.study` (zarr store, Dask cluster, aggregates, figures, report). The names below
 are the public API; each is imported on first use.

@@ -241,7 +241,7 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
     """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
 
     ``run = (P, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
-    rest, diag)`` is built by :func:`rocking.dynamics.models.make_run`. Returns ``(code,
+    rest, diag)`` is built by :func:`rocking.dynamics.models.run`. Returns ``(code,
     t_hist, y_hist, n_steps, n_rejected, theta_max, t_theta_max, ev_t, ev_y, t_stop, y_end,
     diag)``: a code of :mod:`.codes`, the history of output rows (the final row only without
     history), step counts, the largest |θ| [rad] and its time [s], the events (tilt minima

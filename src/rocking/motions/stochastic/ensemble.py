@@ -3,7 +3,7 @@
 Each realization is a pair along the record's principal axes: the major and minor components
 are simulated with their own fitted parameters and independent white noise, so the pair is
 uncorrelated in the ensemble sense (RDK 2012; Penzien & Watabe 1975). Parameters are kept at
-the fitted values: all variability comes from the noise (spec §4.3).
+the fitted values: all variability comes from the noise (docs/equations.md, "Ensembles").
 
 Reproducibility: one root seed; the noise of component c (0 = major, 1 = minor) of
 realization r comes from ``SeedSequence(seed).spawn(2)[c].spawn(n)[r]`` (spawn key (c, r)),
@@ -88,7 +88,8 @@ def energy_correction(
     responses to each single pulse, summed in chunks of ``chunk`` pulses. E[Σ x̂²] = Σ q²
     because every S_k has unit rows and the shares s_k sum to 1.
     One factor per component, the same for every realization: the record-to-record
-    variability of Ia is kept (spec §2.7; the Su/Broccardo toolbox does the same).
+    variability of Ia is kept (docs/equations.md, "Ensembles"; the Su/Broccardo toolbox
+    does the same).
 
     Parameters
     ----------

@@ -45,7 +45,7 @@ from .spectrum_fit import fit_spectrum
 #: Identification methods of :func:`fit_component` and :func:`fit_rdk`.
 METHODS = ("spectrum", "counts")
 
-#: ζ grid of the bracketing search (spec §3.5: 0.02, 0.05, 0.10, …, 0.90).
+#: ζ grid of the bracketing search (docs/equations.md, "Identification": 0.02, 0.05, 0.10, …, 0.90).
 ZETA_GRID: tuple[float, ...] = (0.02, *[round(0.05 * i, 2) for i in range(1, 19)])
 
 #: Husid fractions recorded in the diagnostics.
@@ -73,7 +73,8 @@ def husid_times(a: ArrayLike, dt: float) -> dict[str, float]:
 def fit_frequency(
     a: ArrayLike, dt: float, t01: float, t99: float, t_mid: float, n_points: int = 9
 ) -> tuple[float, float, NDArray[np.float64]]:
-    """f_mid [Hz] and f′ [Hz/s] from the cumulative zero up-crossings (spec §3.4).
+    """f_mid [Hz] and f′ [Hz/s] from the cumulative zero up-crossings (docs/equations.md,
+    "Identification").
 
     Parameters
     ----------
@@ -125,7 +126,8 @@ def fit_zeta(
     refine: bool = False,
     floor_hz: float = DEFAULT_FLOOR_HZ,
 ) -> ZetaSearch:
-    """ζ_f from the positive-minima + negative-maxima count on [t_0.05, t_0.95] (spec §3.5).
+    """ζ_f from the positive-minima + negative-maxima count on [t_0.05, t_0.95]
+    (docs/equations.md, "Identification").
 
     Parameters
     ----------
@@ -141,7 +143,7 @@ def fit_zeta(
         Increasing ζ values in (0, 1) bracketing the root.
     n_sim : int
         Number of unmodulated simulations averaged per ζ (the same noise for every ζ).
-        The spec's minimum is 20; the default 50 halves the seed scatter of ζ̂ (El Centro
+        20 is the usual minimum; the default 50 halves the seed scatter of ζ̂ (El Centro
         major component: sd 0.004 with 20, 0.002 with 100).
     seed : int
         Seed of that noise.

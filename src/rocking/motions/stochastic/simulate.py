@@ -1,6 +1,6 @@
 """Simulation of the Rezaeian–Der Kiureghian process for many realizations at once.
 
-Two discretizations of the same model (spec §2.4 and §2.6):
+Two discretizations of the same model (docs/equations.md, "The RDK model"):
 
 - :func:`time_domain` (default, RDK 2008/2010): x̂ = diag(q) · S · U with the banded,
   row-normalized impulse-response matrix S (filter frequency attached to the pulse time);
@@ -85,7 +85,7 @@ def time_domain(
     floor_hz: float = DEFAULT_FLOOR_HZ,
     band_tol: float = 1e-8,
 ) -> NDArray[np.float64]:
-    """Realizations of the time-domain discretized RDK process (spec §2.4).
+    """Realizations of the time-domain discretized RDK process (Rezaeian & Der Kiureghian 2008).
 
     Parameters
     ----------
@@ -153,7 +153,8 @@ def spectral(
     fc_hz: float | None = None,
     filter_psd: Literal["discrete", "continuous"] = "discrete",
 ) -> NDArray[np.float64]:
-    """Realizations of the spectral-representation form of the RDK process (spec §2.6).
+    """Realizations of the spectral-representation form of the RDK process (Broccardo & Der
+    Kiureghian 2014).
 
     x(t) = q(t) Σ_j a_j(t) [u_j cos ω_j t + v_j sin ω_j t],  a_j(t)² = |H_j(t)|² / Σ_i |H_i(t)|²
 
@@ -164,7 +165,8 @@ def spectral(
     With ``filter_psd="discrete"`` (default) |H_j|² is the spectrum of the *sampled* impulse
     response h(ℓΔt) used by :func:`time_domain`, so both methods share the same
     discrete-time process: the count of positive minima and negative maxima, from which
-    ζ_f is identified at the record's Δt (spec §2.5), is then the same for both. The
+    ζ_f is identified at the record's Δt (Rezaeian & Der Kiureghian 2008), is then the same
+    for both. The
     continuous |H(ω)|² (``"continuous"``, Broccardo & Der Kiureghian's form) lacks the
     aliased high-frequency content and gives ~25 % fewer PM+NM at Δt = 0.01 s, so an
     ensemble built with it would not reproduce the record's count.
