@@ -45,6 +45,24 @@ def test_union_grid_and_requested_cells():
     assert "purpose" not in str(plan.to_dict())
 
 
+def test_figures_drawn_only_where_the_runs_give_them_data():
+    assert plan_study(RUNS).figures() == ["fig10_goals", "fig11_slenderness",
+                                          "fragility_curves"]
+    damped = [*RUNS, {"modes": ["3d-damped"], "tan_alpha": [0.2],
+                      "limit_states": ["overturning"]}]
+    assert plan_study(damped).figures()[0] == "fig09_spectra"
+    # the paper's Loma Prieta study: 3D and 2D at one tan α, two goals
+    loma = [{"modes": ["3d", "2d-x", "2d-y"], "tan_alpha": [0.2],
+             "limit_states": ["overturning", "tilt:1/3"]}]
+    assert plan_study(loma).figures() == ["fragility_curves"]
+    # damped at a tan α where 3d is not computed cannot be compared with it
+    apart = [{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["overturning"]},
+             {"modes": ["3d-damped"], "tan_alpha": [0.3], "limit_states": ["overturning"]}]
+    assert "fig09_spectra" not in plan_study(apart).figures()
+    assert plan_study([{"modes": ["2d-x"], "tan_alpha": [0.2],
+                        "limit_states": ["overturning"]}]).figures() == []
+
+
 def test_one_goal_spelt_two_ways_is_one_cell():
     plan = plan_study([{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["tilt:1/2"]},
                        {"modes": ["2d-x"], "tan_alpha": [0.2], "limit_states": ["tilt:0.5"]}])

@@ -44,7 +44,8 @@ def global_figure_stems():
 
 
 def study_figure_stems(study):
-    names = ["fig09_spectra", "fig10_goals", "fig11_slenderness", "fragility_curves"]
+    """The study's figures that its runs have data for (StudyPlan.figures), and Fig 7."""
+    names = study_plan(study).figures()
     if has_tilt_map(study):
         names.insert(0, "fig07_tilt_map")
     return [f"results/{study}/figures/{n}" for n in names]

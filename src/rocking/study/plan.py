@@ -86,6 +86,21 @@ class StudyPlan:
         per_mode = self.requested.any(axis=1).sum(axis=1)
         return {m: int(n) * n_motions * n_R for m, n in zip(self.modes, per_mode, strict=True)}
 
+    def figures(self) -> list[str]:
+        """The per-study figures this plan's cells can fill (a figure without its data is
+        not drawn): Fig 9 needs the damped mode beside "3d" at a common tan α, Fig 10 more
+        than two goals of "3d" at one tan α, Fig 11 "3d" at two or more tan α, the fragility
+        curves "3d"."""
+        if "3d" not in self.modes:
+            return []
+        shared = [t for t in self.tan_alpha if self.limit_states_of("3d", t)]
+        damped = "3d-damped" in self.modes and any(
+            self.limit_states_of("3d-damped", t) for t in shared)
+        goals = max(len(self.limit_states_of("3d", t)) for t in shared)
+        return [name for name, ok in (("fig09_spectra", damped), ("fig10_goals", goals > 2),
+                                      ("fig11_slenderness", len(shared) > 1),
+                                      ("fragility_curves", True)) if ok]
+
     def to_dict(self) -> dict:
         """JSON form of the runs (what a store records and hashes)."""
         return {"runs": [r.to_dict() for r in self.runs]}
