@@ -257,10 +257,19 @@ def timing_rows(done: Sequence[str | Path] = (), ensembles: Sequence[str | Path]
     for path in done:
         s = json.loads(Path(path).read_text())
         if "wall_seconds" in s:
+            before = s.get("done_before", 0)
+            if s.get("store_state") in ("created", "replaced"):
+                # a new store marks the chunks that hold no requested cell done at once
+                origin = f"new store; {before} chunks hold no requested cell" if before else \
+                    "new store"
+            else:
+                origin = f"resumed: {before} chunks were already done"
+            points = s.get("points_computed")
+            what = f" ({points} spectrum points)" if points else ""
             rows.append((f"run time: {Path(path).parent.name}/{Path(path).name.split('.')[0]}",
                          f"{s['wall_seconds']:.0f} s wall for {s.get('computed', '?')} of "
-                         f"{s.get('chunks', '?')} chunks on {s.get('cluster', '?')} "
-                         f"(resumed after {s.get('done_before', 0)})"))
+                         f"{s.get('chunks', '?')} chunks{what} on {s.get('cluster', '?')} "
+                         f"({origin})"))
     if elapsed_seconds is not None and math.isfinite(elapsed_seconds):
         rows.append(("run time: workflow", f"{elapsed_seconds / 60:.1f} min from the start of "
                                            "the Snakemake invocation that wrote this report "
