@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from matplotlib import colormaps
 from matplotlib.figure import Figure
 from scipy import stats
 
@@ -86,11 +87,16 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
 def plot(d: dict) -> Figure:
     """Two panels, one colour per R; fitted lognormal lines and empirical markers."""
     panels = d["panels"]
-    fig, axes = new_figure(12.0, 4.4, ncols=max(len(panels), 1), squeeze=False)
+    n_max = max((len(p["curves"]) for p in panels), default=0)
+    fig, axes = new_figure(12.0, max(4.4, 1.2 + 0.17 * n_max), ncols=max(len(panels), 1),
+                           squeeze=False)
     axes = axes[0]
     for ax, panel in zip(axes, panels, strict=False):
+        n = len(panel["curves"])
+        # one colour per R along a sequential map: 20 sizes must not repeat a colour
+        colors = colormaps["viridis"](np.linspace(0.0, 0.9, max(n, 1)))
         for i, (R, c) in enumerate(panel["curves"].items()):
-            color = f"C{i % 10}"
+            color = colors[i]
             ax.plot(c["im"], c["p"], color=color,
                     label=f"R = {R:g} m: θ̂ = {c['median']:.3g}, β = {c['beta']:.2f}")
             ax.plot(c["x_obs"], c["p_obs"], "o", color=color, ms=3.5, mfc="none")
