@@ -91,11 +91,20 @@ class Point:
                      self.non_monotonic[idx], self.failed[idx], self.n_analyses, self.seconds)
 
 
+def _rest_tilt(acc: Accuracy, mode: str) -> float | None:
+    """The rest tilt of ``acc`` in ``mode``. :data:`FIXED` stands for the engine before the
+    micro-uplift criterion, which only changed the undamped 3D model: its other models keep
+    their own (unchanged) rest tilts."""
+    if acc == FIXED and MODES[mode][0] != "3d":
+        return None
+    return acc.rest_tilt
+
+
 def solve_point(body: Cylinder, motion: GroundMotion, limit_states, mode: str,
                 acc: Accuracy) -> Point:
     """Critical intensities of one point, each analysis timed (the search of
     :func:`rocking.spectra.critical.critical_intensity`, instrumented)."""
-    analyze = make_analysis(body, motion, mode, rest_tilt=acc.rest_tilt)
+    analyze = make_analysis(body, motion, mode, rest_tilt=_rest_tilt(acc, mode))
     times: list[float] = []
 
     def timed(intensity, stop_at, rtol):
