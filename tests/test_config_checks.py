@@ -55,11 +55,11 @@ def test_schema_errors_are_one_short_line(change, message):
          "ensembles.elcentro.paths[0]='/nope/x.AT2' does not exist"),
         (lambda c: c["ensembles"]["elcentro"].update(paths=["/", "/"]),
          "ensembles.elcentro.paths[0]='/' is not a file"),
-        (lambda c: c["studies"]["elcentro"]["runs"][1].update(limit_states=["tilt:50"]),
-         "studies.elcentro.runs[1].limit_states: 'tilt:50' with tan_alpha=0.2"),
-        (lambda c: c["studies"]["elcentro"]["runs"][2].update(limit_states=["tilt:3"],
+        (lambda c: c["studies"]["elcentro"]["runs"][2].update(limit_states=["tilt:50"]),
+         "studies.elcentro.runs[2].limit_states: 'tilt:50' with tan_alpha=0.2"),
+        (lambda c: c["studies"]["elcentro"]["runs"][3].update(limit_states=["tilt:3"],
                                                               tan_alpha=[0.2, 1.0]),
-         "studies.elcentro.runs[2].limit_states: 'tilt:3' with tan_alpha=1"),
+         "studies.elcentro.runs[3].limit_states: 'tilt:3' with tan_alpha=1"),
     ],
 )
 def test_cross_field_errors_name_key_and_value(change, message):
