@@ -95,5 +95,9 @@ def test_accuracy_carries_the_exact_treatment():
     acc = get_accuracy({"preset": "default", "rest_tilt": 0})
     assert acc.rest_tilt == 0.0 and acc.to_dict()["rest_tilt"] == 0.0
     assert get_accuracy("default").rest_tilt is None
-    with pytest.raises(ValueError, match="rest_tilt"):
-        get_accuracy({"preset": "default", "rest_tilt": -1})
+    for bad in (-1, 2e-4, float("nan")):
+        with pytest.raises(ValueError, match="rest_tilt"):
+            get_accuracy({"preset": "default", "rest_tilt": bad})
+    # every accepted value is accepted by the engine too, down to tan α = 0.01
+    body = rocking.Cylinder(1.0, 0.01)
+    assert analysis._check_rest_tilt(1e-4, "3d", body) == 1e-4

@@ -95,7 +95,7 @@ class Accuracy:
         Rest tilt of every analysis [rad] (``rest_tilt`` of
         :func:`rocking.dynamics.analysis.ground_response`): None, the engine's default per
         model (micro-uplift below a 5 µm rim lift ends an undamped 3D episode); 0, the exact
-        treatment that follows every micro-uplift to its end.
+        treatment that follows every micro-uplift to its end; at most 1e-4.
     """
 
     name: str
@@ -121,7 +121,9 @@ class Accuracy:
         _check_range("tilt_growth", self.tilt_growth, 0.0, math.inf)
         _check_range("scan_step_max", self.scan_step_max, 0.0, math.inf)
         if self.rest_tilt is not None:
-            _check_range("rest_tilt", self.rest_tilt, 0.0, 0.01, lower_closed=True)
+            # ≤ 1e-4 rad stays below the engine's bound 0.01 α for every tan α ≥ 0.01, so a
+            # valid study configuration never fails inside a worker
+            _check_range("rest_tilt", self.rest_tilt, 0.0, 1e-4, lower_closed=True)
             object.__setattr__(self, "rest_tilt", float(self.rest_tilt))
         if self.scan == "adaptive":
             if not self.scan_relative:
