@@ -121,7 +121,7 @@ class Accuracy:
         _check_range("tilt_growth", self.tilt_growth, 0.0, math.inf)
         _check_range("scan_step_max", self.scan_step_max, 0.0, math.inf)
         if self.rest_tilt is not None:
-            # ≤ 1e-4 rad stays below the engine's bound 0.01 α for every tan α ≥ 0.01, so a
+            # ≤ 1e-4 rad stays below the engine's bound 0.01 α for every tan α > 0.0101, so a
             # valid study configuration never fails inside a worker
             _check_range("rest_tilt", self.rest_tilt, 0.0, 1e-4, lower_closed=True)
             object.__setattr__(self, "rest_tilt", float(self.rest_tilt))
