@@ -17,9 +17,12 @@ from rocking.spectra.search import Outcome, search_critical
 
 ALPHA = math.atan(0.2)
 STATES = ["tilt:0.1", "tilt:0.2", "tilt:0.5", "tilt:0.75", "overturning"]
-FIXED = PRESETS["default"].with_(name="fixed", scan="fixed", scan_step=0.01)
-"""The default tolerances with the fixed 1 % scan the default had before the adaptive one."""
-SCANS = [FIXED, PRESETS["default"]]
+FIXED = PRESETS["default"]
+"""The default tolerances: a fixed 1 % scan."""
+ADAPTIVE = PRESETS["default"].with_(name="adaptive", scan="adaptive", scan_step=0.005,
+                                    scan_step_max=0.05, tilt_growth=60.0)
+"""The adaptive scan measured against it (rocking.benchmarks.spectra.ADAPTIVE)."""
+SCANS = [FIXED, ADAPTIVE]
 
 
 def windows_response(I):
@@ -231,7 +234,7 @@ def test_adaptive_scan_finds_what_the_fixed_scan_finds(response, exact, saving):
 
 
 def test_adaptive_step_follows_the_distance_to_the_goal():
-    acc = PRESETS["default"]
+    acc = ADAPTIVE
     goal = 0.1
     assert acc.adaptive_step(0.0, goal) == acc.scan_step_max  # at rest: the largest step
     assert acc.adaptive_step(goal, goal) == acc.scan_step  # on the goal: the smallest
@@ -247,7 +250,7 @@ def test_adaptive_scan_steps_against_the_lowest_open_goal_but_never_above_alpha(
     """After a step from θ the next intensity is I·(1 + h(θ, min(τ_open, α))): once every
     tilt goal is passed, the approach to overturning is judged against α, not π/2."""
     calls = []
-    acc = PRESETS["default"].with_(scan_step=0.001, scan_step_max=1.0, tilt_growth=10.0)
+    acc = ADAPTIVE.with_(scan_step=0.001, scan_step_max=1.0, tilt_growth=10.0)
     search_critical(fake_analysis(lambda I: 0.5 if I < 4.0 else None, calls),
                     ["tilt:0.1", "overturning"], ALPHA, lower=1.0, upper=10.0, accuracy=acc)
     scan = [c[0] for c in calls[:3]]

@@ -22,31 +22,27 @@ response is sensitive. The presets were chosen from ``python -m rocking.benchmar
 (results/benchmarks/spectra.md): "default" aims at ≤ 1 % median error in I_crit at the
 lowest cost.
 
-What that benchmark measured (El Centro, tan α = 0.2, 18 (R, mode) points × 7 limit states,
-126 answers, against a reference with a fixed 0.5 % scan, 0.01 % brackets, rtol 1e-11):
+What that benchmark measured (El Centro, tan α = 0.2, 18 (R, mode) points, 126 answers with
+the seven limit states and 36 with the two of Figs 9, 11, 12, against a reference with a fixed
+0.5 % scan, 0.01 % brackets, rtol 1e-11 and every micro-uplift followed to its end):
 
 - The scan dominates the error, because rocking response has narrow windows of exceedance
   (0.25–2 % of I wide) below the first robust one (a 10 m cylinder overturns in 3D on a
-  < 2 %-wide window near I = 2.44, converged in rtol, while a 10 % scan answers 4.0). Fixed
-  scan, median / 90th percentile error: 0.13 % / 0.8 % with 0.5 % steps (132 analyses per
-  point), 0.85 % / 8.9 % with 1 % (71), 0.96 % / 9.6 % with 2 % (43), 3.5 % / 19 % with 5 %,
-  5.2 % / 45 % with 10 %. rtol from 1e-6 to 1e-10 moves the median between 0.55 % and 1.1 %
-  at up to 5× the cost: that is the scatter of the median itself.
-- Such windows appear wherever the peak tilt comes within a factor of about 2–3 of a goal,
-  and with goals spaced by factors 1.3–2 (0.1, 0.2, 1/3, 0.5, 0.75, 1) the response is that
-  close over most of the range: 75 % of a fixed scan's analyses have θ ≥ τ/2. The adaptive
-  scan therefore saves little there but skips the far region (the micro-uplift just above
-  uplift, where θ ~ 1e-7…1e-4 rad and an analysis costs up to 100 median ones) and uses
-  finer steps right below a goal.
-- "default" (adaptive, 0.5 % near a goal, at most 5 %, κ = 60; rtol 1e-7): median 0.82 %,
-  90th percentile 6.3 %, 67 analyses per point, against 0.85 %, 8.9 %, 71 for its former fixed
-  1 % scan, in 2.3–4× less time on El Centro. With the two limit states of Figs 9, 11, 12
-  (overturning, θ > α/3) it runs 44 analyses instead of 69, at a median error of 1.7 %
-  instead of 0.84 % (36 answers; on 233 answers of 118 (motion, R, mode) points with a 0.25 %
-  grid as truth: 1.2 % against 0.5 %, 79 against 125 analyses): between θ > α/3 and α its
-  steps grow to ~2 %. ``tilt_growth=80`` trades some of that saving back.
-- "precise" (adaptive, 0.35 % near a goal, at most 3 %, κ = 120; rtol 1e-10): 0.59 % /
-  6.0 %, 113 analyses; "fast" (fixed 10 %): 5.9 % / 44 %, 20 analyses.
+  < 2 %-wide window near I = 2.44, converged in rtol, while a 10 % scan answers 4.0). Such
+  windows appear wherever the peak tilt comes within a factor of about 2–3 of a goal, which
+  with goals 0.1, 0.2, 1/3, 0.5, 0.75, 1 α is most of the range. rtol from 1e-6 to 1e-10
+  moves the median between 0.5 % and 1 %: the scatter of the median itself.
+- "default" (fixed 1 % scan; rtol 1e-7): median / 90th percentile error 0.85 % / 8.9 % (7
+  goals, 71 analyses per point) and 0.84 % / 9.8 % (2 goals, 69) — the same answers as before
+  the micro-uplift rest criterion, in about half the time.
+- The adaptive scan (0.5 % near a goal, at most 5 %, κ = 60) saved analyses while
+  micro-uplift was expensive; with the rest criterion it no longer keeps the default's
+  accuracy: 1.15 % / 7.1 % (7 goals, 68 analyses) and 2.1 % / 12 % (2 goals, 45). κ = 120
+  gives 0.82 % / 5.0 % and 1.04 % / 4.6 % for 94 and 69 analyses; a fixed 0.75 % scan
+  0.62 % / 6.5 % and 0.64 % / 6.0 % for 94 and 92.
+- "precise" (adaptive, 0.35 % near a goal, at most 3 %, κ = 120; rtol 1e-10): 0.60 % /
+  6.5 % (7 goals, 118 analyses), 0.53 % / 4.9 % (2 goals, 78); "fast" (fixed 10 %): 5.9 % /
+  47 %, 21 analyses.
 
 About 10 % of the answers stay several per cent off at any affordable step (windows narrower
 than the step are missed); the result flags ``non_monotonic`` wherever the search saw such a
@@ -197,9 +193,8 @@ def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = Fals
 
 PRESETS: dict[str, Accuracy] = {
     "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.1, bisection_tol=0.02),
-    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.005,
-                        bisection_tol=0.005, scan="adaptive", scan_step_max=0.05,
-                        tilt_growth=60.0),
+    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.01,
+                        bisection_tol=0.005, scan="fixed"),
     "precise": Accuracy("precise", rtol=1e-10, rtol_damped=1e-9, scan_step=0.0035,
                         bisection_tol=0.001, scan="adaptive", scan_step_max=0.03,
                         tilt_growth=120.0),
