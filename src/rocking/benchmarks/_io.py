@@ -1,12 +1,30 @@
-"""Writing benchmark tables: one CSV for machines, one Markdown table for people."""
+"""Shared by the benchmarks: best-of timing, and tables written as one CSV for machines and one
+Markdown table for people."""
 
 from __future__ import annotations
 
+import math
 import os
 import platform
+import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 import pandas as pd
+
+_T = TypeVar("_T")
+
+
+def _best_of(fn: Callable[[], _T], repeat: int) -> tuple[float, _T]:
+    """Shortest wall time [s] of ``repeat`` calls of ``fn`` after a warm-up, and the last result."""
+    out = fn()  # warm-up: compilation, caches, imports
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
 
 
 def results_dir() -> Path:

@@ -43,7 +43,7 @@ from ..dynamics._rosenbrock import TABLEAUX
 from ..dynamics.analysis import THETA_REST
 from ..dynamics.bodies import Cylinder
 from ..motions.motion import GroundMotion
-from ._io import write_table
+from ._io import _best_of, write_table
 
 GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]
 REFERENCE_RTOL = 1e-11
@@ -71,16 +71,6 @@ def _uplift_state(body: Cylinder, motion: GroundMotion, scale: float):
     k = int(np.argmax(a > body.uplift_acceleration))
     phi0 = math.atan2(-motion.ay[k], -motion.ax[k])
     return np.array([1e-7, phi0, 0.0, 0.0, 0.0, 0.0]), k * motion.dt
-
-
-def _best_of(fn, repeat: int):
-    out = fn()  # compile / warm up
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 # ---------------------------------------------------------------------------------------------

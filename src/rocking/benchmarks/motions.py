@@ -10,23 +10,11 @@ Writes ``results/benchmarks/motions.csv`` and ``.md``.
 from __future__ import annotations
 
 import argparse
-import time
-from collections.abc import Callable
 
 import numpy as np
 import pandas as pd
 
-from ._io import write_table
-
-
-def _best(fn: Callable[[], object], repeat: int) -> tuple[float, object]:
-    out = fn()  # warm-up: compilation, caches, imports
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+from ._io import _best_of, write_table
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -50,31 +38,31 @@ def main(argv: list[str] | None = None) -> int:
         rotated, _ = to_principal_axes(load_record("el-centro-1940"))
         return highpass_motion(rotated, "oscillator", fc)
 
-    t, record = _best(process, args.repeat)
+    t, record = _best_of(process, args.repeat)
     rows.append({"task": "read + sha256 + principal axes + high-pass, El Centro pair",
                  "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
 
     from ..motions.stochastic import fit_rdk, synthesize
 
     rotated, _ = to_principal_axes(load_record("el-centro-1940"))
-    t, _ = _best(lambda: fit_rdk(rotated, 0.0, method="counts", seed=args.seed),
-                 max(1, args.repeat - 2))
+    t, _ = _best_of(lambda: fit_rdk(rotated, 0.0, method="counts", seed=args.seed),
+                    max(1, args.repeat - 2))
     rows.append({"task": "fit_rdk, counts (both components; zeta search, 50 sims per zeta)",
                  "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
-    t, fit = _best(lambda: fit_rdk(rotated, 0.0, fc_hz=fc, seed=args.seed),
-                   max(1, args.repeat - 2))
+    t, fit = _best_of(lambda: fit_rdk(rotated, 0.0, fc_hz=fc, seed=args.seed),
+                      max(1, args.repeat - 2))
     steps = fit.major.diagnostics["spectrum_fit"]["iterations"]
     rows.append({"task": f"fit_rdk, spectrum (both components; {steps} Gauss-Newton steps, "
                          "20 sims each)", "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
 
-    t, pairs = _best(lambda: synthesize(fit, args.n, args.seed, fc_hz=fc),
-                     max(1, args.repeat - 2))
+    t, pairs = _best_of(lambda: synthesize(fit, args.n, args.seed, fc_hz=fc),
+                        max(1, args.repeat - 2))
     rows.append({"task": f"synthesize {args.n} pairs (time domain, oscillator high-pass)",
                  "n": args.n, "seconds": t, "per_item_ms": 1e3 * t / args.n})
 
     acc = np.vstack([m.ax for m in pairs])
     periods = np.logspace(-2, 1, args.periods)
-    t, _ = _best(lambda: pseudo_acceleration(acc, record.dt, periods), args.repeat)
+    t, _ = _best_of(lambda: pseudo_acceleration(acc, record.dt, periods), args.repeat)
     rows.append({"task": f"{args.n} response spectra x {args.periods} periods "
                          f"({acc.shape[1]} samples)",
                  "n": args.n, "seconds": t, "per_item_ms": 1e3 * t / args.n})

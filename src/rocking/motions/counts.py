@@ -18,6 +18,8 @@ excursion has one more maximum than minima, N_pmnm ≈ N_max − N₀⁺ up to e
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -61,8 +63,14 @@ def zero_upcrossings_cum(a: ArrayLike) -> NDArray[np.int64]:
     return _cumulate_at(up, 1, x.shape[-1])
 
 
-def _interior(x: NDArray[np.float64]):
-    return x[..., :-2], x[..., 1:-1], x[..., 2:]
+def _interior_cum(
+    a: ArrayLike,
+    event: Callable[[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+                    NDArray[np.bool_]],
+) -> NDArray[np.int64]:
+    """Cumulative count of ``event(prev, mid, nxt)``, judged at each interior sample of ``a``."""
+    x = _signal(a)
+    return _cumulate_at(event(x[..., :-2], x[..., 1:-1], x[..., 2:]), 1, x.shape[-1])
 
 
 def pmnm_cum(a: ArrayLike) -> NDArray[np.int64]:
@@ -78,11 +86,13 @@ def pmnm_cum(a: ArrayLike) -> NDArray[np.int64]:
     numpy.ndarray of int64
         Same shape as ``a``.
     """
-    x = _signal(a)
-    prev, mid, nxt = _interior(x)
-    pos_min = (mid > 0.0) & (prev > mid) & (nxt > mid)
-    neg_max = (mid < 0.0) & (prev < mid) & (nxt < mid)
-    return _cumulate_at(pos_min | neg_max, 1, x.shape[-1])
+
+    def pm_or_nm(prev, mid, nxt):
+        pos_min = (mid > 0.0) & (prev > mid) & (nxt > mid)
+        neg_max = (mid < 0.0) & (prev < mid) & (nxt < mid)
+        return pos_min | neg_max
+
+    return _interior_cum(a, pm_or_nm)
 
 
 def maxima_cum(a: ArrayLike) -> NDArray[np.int64]:
@@ -98,6 +108,4 @@ def maxima_cum(a: ArrayLike) -> NDArray[np.int64]:
     numpy.ndarray of int64
         Same shape as ``a``.
     """
-    x = _signal(a)
-    prev, mid, nxt = _interior(x)
-    return _cumulate_at((prev < mid) & (nxt < mid), 1, x.shape[-1])
+    return _interior_cum(a, lambda prev, mid, nxt: (prev < mid) & (nxt < mid))

@@ -114,6 +114,14 @@ def _as_signal(name: str, a) -> np.ndarray:
     return x
 
 
+def _pad_seconds(pad: float | None, default: float) -> float:
+    """Zero padding [s]: ``pad``, or the filter's ``default`` when None; finite and >= 0."""
+    pad_s = default if pad is None else float(pad)
+    if not math.isfinite(pad_s) or pad_s < 0.0:
+        raise ValueError(f"pad must be a finite number >= 0 [s], got {pad!r}")
+    return pad_s
+
+
 def _foh_oscillator(dt: float, wc: float):
     """Exact first-order-hold discretization of the oscillator filter.
 
@@ -164,9 +172,7 @@ def oscillator(a, dt: float, fc_hz: float, pad: float | None = None) -> np.ndarr
     x = _as_signal("a", a)
     step = positive_finite("dt", dt)
     wc = 2.0 * math.pi * positive_finite("fc_hz", fc_hz)
-    pad_s = oscillator_pad(fc_hz) if pad is None else float(pad)
-    if not math.isfinite(pad_s) or pad_s < 0.0:
-        raise ValueError(f"pad must be a finite number >= 0 [s], got {pad!r}")
+    pad_s = _pad_seconds(pad, oscillator_pad(fc_hz))
     npad = int(round(pad_s / step))
     u = np.concatenate([x, np.zeros(x.shape[:-1] + (npad,))], axis=-1)
     num, den, phi, gamma1, c_vec = _foh_oscillator(step, wc)
@@ -218,9 +224,7 @@ def butterworth_acausal(
         raise ValueError(f"order must be a positive integer, got {order!r}")
     if fc >= 0.5 / step:
         raise ValueError(f"fc_hz={fc_hz!r} must be below the Nyquist frequency {0.5 / step} Hz")
-    pad_s = butterworth_pad(fc, int(order)) if pad is None else float(pad)
-    if not math.isfinite(pad_s) or pad_s < 0.0:
-        raise ValueError(f"pad must be a finite number >= 0 [s], got {pad!r}")
+    pad_s = _pad_seconds(pad, butterworth_pad(fc, int(order)))
     half = int(round(0.5 * pad_s / step))
     widths = [(0, 0)] * (x.ndim - 1) + [(half, half)]
     u = np.pad(x, widths)

@@ -55,6 +55,17 @@ def _check_periods(periods) -> np.ndarray:
     return T
 
 
+def _recurrence_inputs(periods, damping: float, dt: float,
+                       hint: str = "") -> tuple[np.ndarray, float, float, np.ndarray]:
+    """Checked periods T > 0 [s], damping ζ [-], step Δt [s] and ω = 2π/T [rad/s]."""
+    T = _check_periods(periods)
+    if np.any(T <= 0.0):
+        raise ValueError("periods must be > 0 for the recurrence" + hint)
+    z = _check_damping(damping)
+    h = positive_finite("dt", dt)
+    return T, z, h, 2.0 * np.pi / T
+
+
 def nigam_jennings_coefficients(periods, damping: float, dt: float) -> np.ndarray:
     """Exact recurrence coefficients for each period.
 
@@ -73,12 +84,7 @@ def nigam_jennings_coefficients(periods, damping: float, dt: float) -> np.ndarra
         Shape (len(periods), 8): A, B, C, D, A′, B′, C′, D′ of the recurrence in the module
         notes (unit mass; C, D, C′, D′ multiply the force p = −a_g).
     """
-    T = _check_periods(periods)
-    if np.any(T <= 0.0):
-        raise ValueError("periods must be > 0 for the recurrence; T = 0 is handled as PGA")
-    z = _check_damping(damping)
-    h = positive_finite("dt", dt)
-    w = 2.0 * np.pi / T
+    T, z, h, w = _recurrence_inputs(periods, damping, dt, "; T = 0 is handled as PGA")
     long = w * h < _SMALL_WDT
     if np.any(long):
         # The closed form subtracts terms of size 2ζ/(ωΔt): relative rounding error about
@@ -129,12 +135,7 @@ def foh_coefficients(periods, damping: float, dt: float) -> np.ndarray:
     numpy.ndarray
         Shape (len(periods), 8), ordered like :func:`nigam_jennings_coefficients`.
     """
-    T = _check_periods(periods)
-    if np.any(T <= 0.0):
-        raise ValueError("periods must be > 0 for the recurrence")
-    z = _check_damping(damping)
-    h = positive_finite("dt", dt)
-    w = 2.0 * np.pi / T
+    T, z, h, w = _recurrence_inputs(periods, damping, dt)
     # [[A, B, 0], [0, 0, 1/h], [0, 0, 0]]·h; state (u, u̇), input p = −a_g per unit mass.
     em = np.zeros((T.size, 4, 4))
     em[:, 0, 1] = h

@@ -59,6 +59,14 @@ def _noise(noise: ArrayLike, rows: int, what: str) -> NDArray[np.float64]:
     return u
 
 
+def _realizations(x: NDArray[np.float64], params: RDKParams, t: NDArray[np.float64],
+                  modulate: bool) -> NDArray[np.float64]:
+    """One realization per row of the (time, realization) sum ``x``, times q(t) if ``modulate``."""
+    if modulate:
+        x *= params.envelope(t)[:, None]
+    return np.ascontiguousarray(x.T)
+
+
 def noise_rows(
     params: RDKParams,
     dt: float,
@@ -117,9 +125,7 @@ def time_domain(
     for k, (share, omega, zeta) in enumerate(params.terms(t, floor_hz)):
         s = normalized_irf(omega, zeta, dt, band_tol, params.low)
         x += math.sqrt(share) * s.apply(u[k * npts : (k + 1) * npts])
-    if modulate:
-        x *= params.envelope(t)[:, None]
-    return np.ascontiguousarray(x.T)
+    return _realizations(x, params, t, modulate)
 
 
 def spectral_frequencies(
@@ -225,9 +231,7 @@ def spectral(
             amp = np.sqrt(share * h2 / h2.sum(axis=1, keepdims=True))
             phase = t[sl, None] * w
             x[sl] += (amp * np.cos(phase)) @ uk + (amp * np.sin(phase)) @ vk
-    if modulate:
-        x *= params.envelope(t)[:, None]
-    return np.ascontiguousarray(x.T)
+    return _realizations(x, params, t, modulate)
 
 
 def _continuous_gain2(wf, zeta, w, low):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -84,6 +85,18 @@ def excessive_tilt(available: list[str]) -> str | None:
     The exact ``"tilt:1/3"`` wins over a rounded spelling such as ``"tilt:0.3333"``.
     """
     return find_limit_state(available, "tilt:1/3")
+
+
+def _paper_limit_states(available: list[str], missing: list[str],
+                        prefix: str = "") -> Iterator[tuple[str, str]]:
+    """(title, store name) of the paper's overturning and excessive tilt, those computed."""
+    for title, ls in (("overturning", find_limit_state(available, "overturning")),
+                      ("excessive tilt", excessive_tilt(available))):
+        if ls is None:
+            # a generator, so this note lands between the notes of the panels, as it did inline
+            missing.append(f"{prefix}limit state {title} not computed")
+            continue
+        yield title, ls
 
 
 def has_value(ds: xr.Dataset | xr.DataArray, dim: str, value: float, rtol: float = 1e-6) -> bool:

@@ -144,3 +144,20 @@ def footnote(fig: Figure, lines: Sequence[str], size: float = 7.0) -> None:
         engine.set(rect=(0.0, share, 1.0, 1.0 - share))
     fig.text(0.01, share - 2.0 / 72.0 / height, "\n".join(lines), fontsize=size, ha="left",
              va="top", wrap=False)
+
+
+def _suptitle_and_notes(fig: Figure, d: dict, title: str, *,
+                        reduced: str = "not everything the paper shows was computed (note below)",
+                        intensity: str = "; PGA = vector peak.") -> None:
+    """Suptitle of figure data ``d`` (a reduced run flagged), footnote of its gaps and axes."""
+    if d["missing"]:
+        title += "\nreduced run: " + reduced
+    fig.suptitle(title)
+    _missing_and_axes_note(fig, d, intensity)
+
+
+def _missing_and_axes_note(fig: Figure, d: dict, intensity: str = "; PGA = vector peak.") -> None:
+    """Footnote of what a reduced run left out of ``d`` and of the motions' principal axes."""
+    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
+                   if d["missing"] else "",
+                   f"Motions on their principal axes: {d['axes']['text']}{intensity}"])

@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from . import _axes, _load
-from ._style import footnote, limit_state_title, new_figure, styled
+from ._style import _suptitle_and_notes, limit_state_title, new_figure, styled
 
 TAN_ALPHA = 0.2
 MODES = ("3d", "3d-damped")
@@ -57,11 +57,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
     motion_names = _load.labels(ds, "motion")
     missing: list[str] = []
     panels = []
-    for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
-                      ("excessive tilt", _load.excessive_tilt(states))):
-        if ls is None:
-            missing.append(f"limit state {title} not computed")
-            continue
+    for _title, ls in _load._paper_limit_states(states, missing):
         panel = _panel(ds, agg, ls, modes, motion_names, missing, tan_alpha)
         panels.append(panel)
     measured: dict = {"R": ds["R"].values.astype(float).tolist()}
@@ -176,13 +172,8 @@ def plot(d: dict) -> Figure:
         ax.text(0.5, 0.5, "no limit state computed", ha="center", transform=ax.transAxes)
     title = (f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9); "
              "solid undamped, dashed damped")
-    if d["missing"]:
-        title += "\nreduced run: not everything the paper shows was computed (note below)"
-    fig.suptitle(title)
-    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
-                   if d["missing"] else "",
-                   f"Motions on their principal axes: {d['axes']['text']}. Intensity: "
-                   "PGA = max √(ügx² + ügy²) (vector), normalized by g tan α."])
+    _suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
+                        "(vector), normalized by g tan α.")
     return fig
 
 

@@ -18,7 +18,7 @@ from ...spectra.limit_states import DEFAULT_LIMIT_STATES
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
-    footnote,
+    _missing_and_axes_note,
     limit_state_sort_key,
     limit_state_title,
     new_figure,
@@ -87,7 +87,5 @@ def plot(d: dict) -> Figure:
     if d["missing"]:
         title += f"\nreduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals"
     ax.set_title(title, fontsize=8)
-    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
-                   if d["missing"] else "",
-                   f"Motions on their principal axes: {d['axes']['text']}; PGA = vector peak."])
+    _missing_and_axes_note(fig, d)
     return fig

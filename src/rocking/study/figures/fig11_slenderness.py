@@ -14,7 +14,7 @@ from matplotlib.figure import Figure
 
 from ...spectra.fragility import fit_line
 from . import _axes, _load
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+from ._style import MODE_STYLE, _suptitle_and_notes, limit_state_title, new_figure, styled
 
 TAN_ALPHAS = (0.1, 0.2, 0.3)
 MODE = "3d"
@@ -33,11 +33,7 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] = TAN_ALPHAS,
         missing.append(f"mode {mode} not computed")
     present = [t for t in tan_alphas if _load.has_value(agg, "tan_alpha", t)]
     panels = []
-    for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
-                      ("excessive tilt", _load.excessive_tilt(states))):
-        if ls is None:
-            missing.append(f"limit state {title} not computed")
-            continue
+    for _title, ls in _load._paper_limit_states(states, missing):
         curves: dict[float, np.ndarray] = {}
         for t in present:
             y = _load.mean_curve(_load.select_value(agg, "tan_alpha", t), mode, ls)
@@ -87,11 +83,6 @@ def plot(d: dict) -> Figure:
         ax.set_xlim(left=0.0)
         ax.set_ylim(bottom=0.0)
         ax.legend(loc="upper left")
-    title = f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)"
-    if d["missing"]:
-        title += "\nreduced run: not everything the paper shows was computed (note below)"
-    fig.suptitle(title)
-    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
-                   if d["missing"] else "",
-                   f"Motions on their principal axes: {d['axes']['text']}; PGA = vector peak."])
+    _suptitle_and_notes(
+        fig, d, f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)")
     return fig

@@ -81,11 +81,7 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
     states = _load.labels(agg, "limit_state")
     panels: dict[str, dict[str, np.ndarray]] = {}
     spread: dict[str, np.ndarray] = {}
-    for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
-                      ("excessive tilt", _load.excessive_tilt(states))):
-        if ls is None:
-            missing.append(f"{record}: limit state {title} not computed")
-            continue
+    for title, ls in _load._paper_limit_states(states, missing, prefix=f"{record}: "):
         panels[title] = {}
         for mode in modes:
             y = _load.mean_curve(agg, mode, ls)

@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from scipy import stats
 
 from . import _axes, _load
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+from ._style import MODE_STYLE, _suptitle_and_notes, limit_state_title, new_figure, styled
 
 TAN_ALPHA = 0.2
 MODE = "3d"
@@ -45,11 +45,7 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
     ds = _load.select_value(ds, "tan_alpha", tan_alpha).sel(mode=mode)
     states = _load.labels(frag, "limit_state")
     panels = []
-    for title, ls in (("overturning", _load.find_limit_state(states, "overturning")),
-                      ("excessive tilt", _load.excessive_tilt(states))):
-        if ls is None:
-            missing.append(f"limit state {title} not computed")
-            continue
+    for title, ls in _load._paper_limit_states(states, missing):
         curves = {}
         for R in frag["R"].values.astype(float):
             par = _load.select_value(frag.sel(limit_state=ls), "R", R)
@@ -111,10 +107,5 @@ def plot(d: dict) -> Figure:
         axes[0].text(0.5, 0.5, "; ".join(d["missing"]), ha="center", transform=axes[0].transAxes)
     title = (f"Fragility curves, {MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
              f"tan α = {d['tan_alpha']:g}")
-    if d["missing"]:
-        title += "\nreduced run: not every point was computed (note below)"
-    fig.suptitle(title)
-    footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
-                   if d["missing"] else "",
-                   f"Motions on their principal axes: {d['axes']['text']}; PGA = vector peak."])
+    _suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
     return fig
