@@ -20,9 +20,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import xarray as xr
 import yaml
 
 from rocking import __version__
+from rocking.study.aggregate import critical_frame
+from rocking.study.figures.captions import CAPTIONS
 from rocking.study.report import link_images
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
@@ -33,10 +36,6 @@ against a slice of the study run again."""
 
 def write_critical(store: Path, csv: Path) -> None:
     """The spectra store of a study as one row per computed answer."""
-    import xarray as xr
-
-    from rocking.study.aggregate import critical_frame
-
     with xr.open_zarr(store, consolidated=True) as ds:
         critical_frame(ds).to_csv(csv, index=False, float_format="%.10g")
 
@@ -81,8 +80,6 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
 
 def readme(manifest: dict, out: Path) -> str:
     """The gallery's README: how it was made, where each figure and table is."""
-    from rocking.study.figures.captions import CAPTIONS
-
     minutes = manifest["elapsed_seconds"] / 60.0
     lines = [
         "# The paper regenerated: Vassiliou et al. (2017) at full scale",

@@ -93,7 +93,8 @@ def point_rows(motion, R: float, tan_alpha: float, scan: str) -> tuple[dict, lis
                "I_exact": a, "I_rest": b, "relative_difference": diff,
                "reached_mismatch": bool(old.not_reached[i] != new.not_reached[i])}
         if (both and diff > DEFAULT.bisection_tol) or row["reached_mismatch"]:
-            row.update(_peaks(body, motion, min(a, b) if both else (a if b != b else b)))
+            # the lower answer, or the only one reached (NaN where not reached)
+            row.update(_peaks(body, motion, float(np.nanmin([a, b]))))
             row["damped_sides_with"] = _side(row, goal, body.alpha)
         answers.append(row)
     return cost, answers

@@ -246,15 +246,12 @@ def fig06_sensitivity(notes: Mapping) -> list[Comparison]:
 def fig07(notes: Mapping) -> list[Comparison]:
     m = notes.get("fig07_tilt_map", {}).get("measured", {})
     name = "fig07_tilt_map"
-    rising = {k.rsplit("_", 1)[1]: v for k, v in m.items() if k.startswith("fraction_rising_")}
     firsts = {k.rsplit("_", 1)[1]: v for k, v in m.items()
               if k.startswith("first_intensity_theta_above_alpha_")}
     ours = "; ".join(f"{mod}: " + ", ".join(f"{fmt(v, 3)}" for v in vals)
                      for mod, vals in firsts.items())
     trend = {mod: _rank_correlation(m.get("R"), vals) for mod, vals in firsts.items()}
     ok = all(_finite(r) and r >= 0.7 for r in trend.values()) if trend else None
-    if not trend and rising:  # notes written before the trend was measured
-        ok = all(v is not None and v >= 0.8 for v in rising.values())
     gap = m.get("mean_abs_gap_below_alpha")
     corr = "; ".join(f"{mod} {fmt(r, 2)}" for mod, r in trend.items())
     return [
