@@ -29,8 +29,8 @@ NO_STOP = -1.0  # no tilt limit (overturning at π/2 still ends a run)
 def _run(y0, t_end, omega_n, zeta, rtol, ax=None, ay=None, dt=None, body=CYL, stop=NO_STOP,
          history=True, max_steps=5_000_000, t0=0.0):
     """The damped kernel through the driver from state ``y0`` at ``t0`` (free vibration when
-    no ground motion is given). Returns the driver tuple (code, t, y, n_steps, n_rejected,
-    θmax, t(θmax), event times, event states, t_stop, final kernel state, diagnostics)."""
+    no ground motion is given). Returns the kernel's
+    :class:`~rocking.dynamics.models.KernelResult`."""
     prep = models.prepare(models.MODELS["3d-damped"], body, rtol,
                           models.rest_criterion(body, THETA_REST["3d-damped"]),
                           omega_n=omega_n, zeta=zeta, max_steps=max_steps)
@@ -204,8 +204,8 @@ def test_apparent_restitution_is_housners(omega_n, zeta):
     Measured: within 1e-4 of e = 0.942169 for all eight (ωn, ζ) of the paper.
     """
     r = _run([0.1, 0.0, 0.0, 0.0, 1e-8, 0.0], 11.0, omega_n, zeta, 1e-8)
-    assert r[0] == codes.OK
-    t, y, ev_t, ev_y = r[1], r[2], r[7], r[8]
+    assert r.code == codes.OK
+    t, y, ev_t, ev_y = r.t, r.y, r.ev_t, r.ev_y
     assert len(ev_t) == 6
     pre = _theta_dot_before(t, y[:, 3], ev_t)
     assert pre[0] == pytest.approx(-0.19, abs=2e-3)  # the paper's 0.19 rad/s
@@ -224,8 +224,8 @@ def test_energy_balance_closes_and_tightens_with_rtol(omega_n, zeta):
     residual = []
     for rtol in (1e-6, 1e-10):
         r = _run(y0, 4.0, omega_n, zeta, rtol, history=False)
-        assert r[0] == codes.OK and len(r[7]) == 2
-        dissipated, y_end = r[10][6], r[10][:6]
+        assert r.code == codes.OK and len(r.ev_t) == 2
+        dissipated, y_end = r.y_end[6], r.y_end[:6]
         # two quasi-impacts dissipate ≈ (1 − e⁴) of the kinetic energy before the first
         kin = 0.5 * CYL.R**2 * CYL.kappa_o * 0.18994**2
         assert dissipated == pytest.approx(kin * (1 - CYL.e**2) * (1 + CYL.e**2), rel=0.02)
@@ -240,13 +240,13 @@ def test_pure_wobbling_keeps_tilt_and_spring_at_rest():
     rate = float(CYL.wobbling_rate(theta0))
     period = 2 * math.pi / rate
     r = _run([theta0, 0.0, 0.0, 0.0, rate, 0.0], 3 * period, 2000.0, 5.0, 1e-10)
-    assert r[0] == codes.OK
-    y = r[2]
+    assert r.code == codes.OK
+    y = r.y
     assert np.max(np.abs(y[:, 0] - theta0)) < 1e-8 * theta0
     assert np.max(np.abs(y[:, 4] - rate)) < 1e-8 * rate
-    assert r[10][1] == pytest.approx(3 * 2 * math.pi, rel=1e-8)  # three turns
+    assert r.y_end[1] == pytest.approx(3 * 2 * math.pi, rel=1e-8)  # three turns
     np.testing.assert_allclose(cd.contact_force(y, 2000.0, 5.0), G, rtol=1e-8)
-    assert r[10][6] < 1e-15 * cd.energy(CYL, y[0], 2000.0)  # nothing dissipated
+    assert r.y_end[6] < 1e-15 * cd.energy(CYL, y[0], 2000.0)  # nothing dissipated
 
 
 def test_damped_tends_to_undamped_as_the_spring_stiffens():
@@ -261,8 +261,8 @@ def test_damped_tends_to_undamped_as_the_spring_stiffens():
     diffs = []
     for wn in (200.0, 2000.0):
         r = _run([theta0, 0.0, 0.0, 0.0, phd0, 0.0], T, wn, 5.0, 1e-11, history=False)
-        assert r[0] == codes.OK and len(r[7]) >= 1
-        y = r[10]
+        assert r.code == codes.OK and len(r.ev_t) >= 1
+        y = r.y_end
         diffs.append(np.abs(np.array([y[0], y[1], y[3], y[4]]) - th_und))
     assert np.all(diffs[1] < 1e-6 * np.array([theta0, 1.0, 1.0, phd0]))
     # the rolling angle accumulates the difference steadily (θ's depends on the phase)
@@ -273,8 +273,8 @@ def test_damped_tends_to_undamped_as_the_spring_stiffens():
 def test_free_overturning_time_matches_undamped():
     theta0 = CYL.alpha + 0.02  # beyond the tipping point: falls over without quasi-impact
     r = _run([theta0, 0.0, 0.0, 0.0, 1e-8, 0.0], 10.0, 2000.0, 5.0, 1e-10)
-    assert r[0] == codes.OVERTURNED
-    assert r[5] == math.pi / 2 and r[2][-1, 0] == pytest.approx(math.pi / 2, abs=1e-12)
+    assert r.code == codes.OVERTURNED
+    assert r.theta_max == math.pi / 2 and r.y[-1, 0] == pytest.approx(math.pi / 2, abs=1e-12)
 
     def over(t, y):
         return y[0] - math.pi / 2
@@ -282,14 +282,14 @@ def test_free_overturning_time_matches_undamped():
     over.terminal = True
     und = solve_ivp(_undamped_rhs(CYL), (0, 10), [theta0, 0, 0, 1e-8], method="DOP853",
                     rtol=1e-12, atol=1e-14, events=over)
-    assert r[9] == pytest.approx(und.t_events[0][0], rel=1e-5)
+    assert r.t_stop == pytest.approx(und.t_events[0][0], rel=1e-5)
 
 
 def test_stop_at_tilt_limit():
     r = _run([0.1, 0.0, 0.0, 0.1, 0.3, 0.0], 10.0, 2000.0, 5.0, 1e-9, stop=0.12)
-    assert r[0] == codes.STOPPED
-    assert r[2][-1, 0] == pytest.approx(0.12, rel=1e-9)
-    assert r[1][-1] == r[9] and r[5] == pytest.approx(0.12, rel=1e-9)
+    assert r.code == codes.STOPPED
+    assert r.y[-1, 0] == pytest.approx(0.12, rel=1e-9)
+    assert r.t[-1] == r.t_stop and r.theta_max == pytest.approx(0.12, rel=1e-9)
 
 
 def test_quasi_rocking_decays_to_rest():
@@ -300,8 +300,8 @@ def test_quasi_rocking_decays_to_rest():
     """
     omega_n, zeta = 2000.0, 0.5
     r = _run([0.05, 0.0, 0.0, 0.0, 1e-8, 0.0], 200.0, omega_n, zeta, 1e-8, history=False)
-    assert r[0] == codes.AT_REST
-    t_rest, ev_t, ev_y = r[9], r[7], r[8]
+    assert r.code == codes.AT_REST
+    t_rest, ev_t, ev_y = r.t_stop, r.ev_t, r.ev_y
     assert 10.0 < t_rest < 200.0 and ev_t[-1] == t_rest
     P = cd.params(CYL, omega_n, zeta)
     energy = np.array([cd.rocking_energy(np.append(y, 0.0), P) for y in ev_y])
@@ -345,10 +345,10 @@ def test_agrees_with_scipy_radau_on_random_ground_motions():
             y = sol.y[:, -1]
         r = _run(y0, dt * (len(ax) - 1), omega_n, zeta, 1e-10, ax=ax, ay=ay, dt=dt,
                  body=body, history=False, max_steps=1_000_000)
-        assert r[0] == codes.OK
+        assert r.code == codes.OK
         scale = np.array([abs(y[0]), 1.0, G / omega_n**2, body.p * y0[0],
                           abs(y[4]) + body.p, G / omega_n])
-        worst = np.maximum(worst, np.abs(r[10][:6] - y) / scale)
+        worst = np.maximum(worst, np.abs(r.y_end[:6] - y) / scale)
     assert np.all(worst < 2e-8), worst
 
 
@@ -367,19 +367,19 @@ def test_extreme_contact_parameters_give_finite_results(omega_n, zeta):
     k = int(np.argmax(np.hypot(ax, ay) > G * CYL.tan_alpha))
     y0 = [1e-7, math.atan2(-ay[k], -ax[k]), 0.0, 0.0, 0.0, 0.0]
     r = _run(y0, 4.0, omega_n, zeta, 1e-6, ax=ax, ay=ay, dt=dt, t0=k * dt)
-    assert r[0] in (codes.OK, codes.AT_REST)
-    assert np.all(np.isfinite(r[2])) and np.isfinite(r[5]) and np.all(np.isfinite(r[10]))
-    assert 1e-2 < r[5] < CYL.alpha  # rocked, did not overturn
-    assert r[1][0] == k * dt and r[1][-1] == r[9]
+    assert r.code in (codes.OK, codes.AT_REST)
+    assert np.all(np.isfinite(r.y)) and np.isfinite(r.theta_max) and np.all(np.isfinite(r.y_end))
+    assert 1e-2 < r.theta_max < CYL.alpha  # rocked, did not overturn
+    assert r.t[0] == k * dt and r.t[-1] == r.t_stop
 
 
 def test_failure_codes():
     """Bad states fail with a failure code (the public API rejects them before any work),
     and the step budget is honoured."""
-    assert _run([0.0, 0, 0, 0, 1e-8, 0], 1.0, 2000.0, 5.0, 1e-8, max_steps=1000)[0] < 0
+    assert _run([0.0, 0, 0, 0, 1e-8, 0], 1.0, 2000.0, 5.0, 1e-8, max_steps=1000).code < 0
     assert _run([0.1, np.nan, 0, 0, 0, 0], 1.0, 2000.0, 5.0, 1e-8)[0] == codes.NONFINITE
     r = _run([0.1, 0, 0, 0, 1e-8, 0], 5.0, 2000.0, 5.0, 1e-8, max_steps=50)
-    assert r[0] == codes.TOO_MANY_STEPS and r[3] + r[4] == 50 and r[9] < 5.0
+    assert r.code == codes.TOO_MANY_STEPS and r.n_steps + r.n_rejected == 50 and r.t_stop < 5.0
 
 
 def test_free_vibration_response_fields():

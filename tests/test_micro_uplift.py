@@ -67,7 +67,7 @@ def test_an_episode_ends_only_below_the_rest_energy(el_centro):
     theta_rest = analysis.default_rest_tilt("3d", body)
     runner = analysis._Runner("3d", body, 1e-8, True, 2000.0, 5.0, theta_rest)
     a = el_centro.scaled(1.01 * G * body.tan_alpha / el_centro.pga)
-    up = analysis._uplift(a.ax, a.ay, a.dt, G * body.tan_alpha,
+    up = analysis.next_uplift(a.ax, a.ay, a.dt, G * body.tan_alpha,
                           np.flatnonzero(np.hypot(a.ax, a.ay) > G * body.tan_alpha))
     k, tau, ax, ay = up
     y0, side = analysis._start_state("3d", math.atan2(-ay, -ax))

@@ -30,6 +30,20 @@ def json_default(obj: Any) -> Any:
     raise TypeError(f"value {obj!r} of type {type(obj).__name__} is not JSON-serialisable")
 
 
+def to_plain(value: Any) -> Any:
+    """Numpy scalars and arrays turned into Python numbers and lists, dict keys into strings
+    (recursively); non-finite floats are kept (unlike :func:`finite_or_none`)."""
+    if isinstance(value, dict):
+        return {str(k): to_plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return to_plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
 def finite_or_none(obj: Any) -> Any:
     """``obj`` with every non-finite float (also inside containers and numpy) as None."""
     if isinstance(obj, dict):

@@ -16,7 +16,7 @@ import pandas as pd
 _T = TypeVar("_T")
 
 
-def _best_of(fn: Callable[[], _T], repeat: int) -> tuple[float, _T]:
+def best_of(fn: Callable[[], _T], repeat: int) -> tuple[float, _T]:
     """Shortest wall time [s] of ``repeat`` calls of ``fn`` after a warm-up, and the last result."""
     out = fn()  # warm-up: compilation, caches, imports
     best = math.inf

@@ -43,7 +43,7 @@ from ..dynamics._rosenbrock import TABLEAUX
 from ..dynamics.analysis import THETA_REST
 from ..dynamics.bodies import Cylinder
 from ..motions.motion import GroundMotion
-from ._io import _best_of, write_table
+from ._io import best_of, write_table
 
 GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]
 REFERENCE_RTOL = 1e-11
@@ -232,7 +232,7 @@ def _rows(motion, body, scale, t_end, rtols, with_scipy, repeat, log):
     rows = []
     for wn, z in GRID:
         ref = _kernel("rodas4", y0, t0, t_end, motion, scale, body, wn, z, REFERENCE_RTOL)
-        th_ref = ref[5]
+        th_ref = ref.theta_max
 
         def add(method, rtol, wall, code, steps, rej, nfev, th, _wn=wn, _z=z, _ref=th_ref):
             rows.append({"omega_n": _wn, "zeta": _z, "method": method, "rtol": rtol,
@@ -244,12 +244,13 @@ def _rows(motion, body, scale, t_end, rtols, with_scipy, repeat, log):
         for name in ("rodas4", "rodas3", "ros3"):
             st = len(TABLEAUX[name].m) - int(np.sum(~TABLEAUX[name].new_f))
             for rtol in rtols:
-                wall, r = _best_of(lambda n=name, rt=rtol, w=wn, zz=z: _kernel(
+                wall, r = best_of(lambda n=name, rt=rtol, w=wn, zz=z: _kernel(
                     n, y0, t0, t_end, motion, scale, body, w, zz, rt), repeat)
-                add(name, rtol, wall, r[0], r[3], r[4], st * (r[3] + r[4]), r[5])
+                add(name, rtol, wall, r.code, r.n_steps, r.n_rejected,
+                    st * (r.n_steps + r.n_rejected), r.theta_max)
         par = cd.params(body, wn, z)
         for rtol in rtols:
-            wall, r = _best_of(lambda rt=rtol, pp=par: _dop853(
+            wall, r = best_of(lambda rt=rtol, pp=par: _dop853(
                 y0, t0, t_end, motion.ax, motion.ay, motion.dt, scale, pp, rt, 20_000_000,
                 _A8, _B8, _C8, _E5, _E3), 1)
             add("dop853-numba", rtol, wall, r[0], r[1], r[2], 12 * (r[1] + r[2]), r[3])

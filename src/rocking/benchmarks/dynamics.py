@@ -22,7 +22,7 @@ import pandas as pd
 
 from ..constants import G
 from ..dynamics import analysis
-from ..dynamics.analysis import _uplift, free_vibration, ground_response
+from ..dynamics.analysis import free_vibration, ground_response, next_uplift
 from ..dynamics.bodies import Cylinder
 from ._io import write_table
 
@@ -76,7 +76,7 @@ def _scipy_3d(body, motion, scale, method, rtol, budget):
 
     ax, ay, dt = motion.ax * scale, motion.ay * scale, motion.dt
     thr = G * body.tan_alpha
-    k, tau, a_x, a_y = _uplift(ax, ay, dt, thr, np.flatnonzero(np.hypot(ax, ay) > thr))
+    k, tau, a_x, a_y = next_uplift(ax, ay, dt, thr, np.flatnonzero(np.hypot(ax, ay) > thr))
     t0 = k * dt + tau
     tt = motion.time
     s, c = math.sin(body.alpha), math.cos(body.alpha)

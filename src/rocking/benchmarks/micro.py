@@ -30,7 +30,8 @@ from ..dynamics.bodies import Cylinder
 from ..spectra.accuracy import PRESETS
 from ..spectra.limit_states import DEFAULT_LIMIT_STATES, parse_limit_state
 from ._io import write_table
-from .spectra import ADAPTIVE, FIXED, _records, _with_synthetic, solve_point
+from .inputs import benchmark_records, with_synthetic
+from .spectra import ADAPTIVE, FIXED, solve_point
 
 DEFAULT = PRESETS["default"]
 PAIRS = {
@@ -126,10 +127,10 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m rocking.benchmarks micro")
     parser.add_argument("--quick", action="store_true", help="one motion, three sizes")
     args = parser.parse_args(argv)
-    records = _records()
+    records = benchmark_records()
     motions = []
     for record, _ in records.values():
-        motions += [record] if args.quick else _with_synthetic(record)
+        motions += [record] if args.quick else with_synthetic(record)
     if args.quick:
         motions = motions[:1]
     Rs = (0.5, 2.0, 10.0) if args.quick else R_VALUES

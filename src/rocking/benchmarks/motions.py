@@ -14,7 +14,7 @@ import argparse
 import numpy as np
 import pandas as pd
 
-from ._io import _best_of, write_table
+from ._io import best_of, write_table
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -38,31 +38,31 @@ def main(argv: list[str] | None = None) -> int:
         rotated, _ = to_principal_axes(load_record("el-centro-1940"))
         return highpass_motion(rotated, "oscillator", fc)
 
-    t, record = _best_of(process, args.repeat)
+    t, record = best_of(process, args.repeat)
     rows.append({"task": "read + sha256 + principal axes + high-pass, El Centro pair",
                  "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
 
     from ..motions.stochastic import fit_rdk, synthesize
 
     rotated, _ = to_principal_axes(load_record("el-centro-1940"))
-    t, _ = _best_of(lambda: fit_rdk(rotated, 0.0, method="counts", seed=args.seed),
+    t, _ = best_of(lambda: fit_rdk(rotated, 0.0, method="counts", seed=args.seed),
                     max(1, args.repeat - 2))
     rows.append({"task": "fit_rdk, counts (both components; zeta search, 50 sims per zeta)",
                  "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
-    t, fit = _best_of(lambda: fit_rdk(rotated, 0.0, fc_hz=fc, seed=args.seed),
+    t, fit = best_of(lambda: fit_rdk(rotated, 0.0, fc_hz=fc, seed=args.seed),
                       max(1, args.repeat - 2))
     steps = fit.major.diagnostics["spectrum_fit"]["iterations"]
     rows.append({"task": f"fit_rdk, spectrum (both components; {steps} Gauss-Newton steps, "
                          "20 sims each)", "n": 1, "seconds": t, "per_item_ms": 1e3 * t})
 
-    t, pairs = _best_of(lambda: synthesize(fit, args.n, args.seed, fc_hz=fc),
+    t, pairs = best_of(lambda: synthesize(fit, args.n, args.seed, fc_hz=fc),
                         max(1, args.repeat - 2))
     rows.append({"task": f"synthesize {args.n} pairs (time domain, oscillator high-pass)",
                  "n": args.n, "seconds": t, "per_item_ms": 1e3 * t / args.n})
 
     acc = np.vstack([m.ax for m in pairs])
     periods = np.logspace(-2, 1, args.periods)
-    t, _ = _best_of(lambda: pseudo_acceleration(acc, record.dt, periods), args.repeat)
+    t, _ = best_of(lambda: pseudo_acceleration(acc, record.dt, periods), args.repeat)
     rows.append({"task": f"{args.n} response spectra x {args.periods} periods "
                          f"({acc.shape[1]} samples)",
                  "n": args.n, "seconds": t, "per_item_ms": 1e3 * t / args.n})

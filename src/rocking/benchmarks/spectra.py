@@ -39,7 +39,6 @@ import numpy as np
 import pandas as pd
 
 from .. import __version__
-from ..constants import G
 from ..dynamics.bodies import Cylinder
 from ..motions.motion import GroundMotion
 from ..spectra.accuracy import PRESETS, Accuracy
@@ -47,6 +46,7 @@ from ..spectra.critical import MODES, make_analysis, uplift_intensity
 from ..spectra.limit_states import DEFAULT_LIMIT_STATES
 from ..spectra.search import search_critical
 from ._io import results_dir, write_table
+from .inputs import benchmark_records, with_synthetic
 
 TAN_ALPHA = 0.2
 REFERENCE = Accuracy("reference", rtol=1e-11, rtol_damped=1e-9, scan_step=0.005,
@@ -123,49 +123,6 @@ def solve_point(body: Cylinder, motion: GroundMotion, limit_states, mode: str,
                           accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]))
     return Point(res.limit_states, res.intensity, res.not_reached, res.non_monotonic,
                  res.failed, res.n_analyses, time.perf_counter() - t0, tuple(times))
-
-
-# ---------------------------------------------------------------------------------- motions
-def _records() -> dict[str, tuple[GroundMotion, str]]:
-    """El Centro and the Loma Prieta stand-in, else a labelled synthetic motion."""
-    try:
-        from ..motions.records import load_record
-
-        return {
-            "el-centro": (load_record("el-centro-1940"),
-                          "El Centro 1940 (NGA-West2 RSN 6, as recorded)"),
-            "loma-prieta": (load_record("loma-prieta-corralitos"),
-                            "Loma Prieta 1989 Corralitos (RSN 753, as recorded)"),
-        }
-    except (ImportError, OSError, ValueError) as exc:
-        print(f"records unavailable ({exc}); using a synthetic motion", flush=True)
-        return {"synthetic": (_synthetic(), "synthetic: 1–10 Hz filtered white noise, sin² "
-                                            "envelope, seed 0")}
-
-
-def _synthetic() -> GroundMotion:
-    """30 s of band-limited noise under a sin² envelope, vector PGA 0.3 g (seeded)."""
-    from scipy.signal import butter, sosfiltfilt
-
-    dt, n = 0.01, 3001
-    rng = np.random.default_rng(0)
-    sos = butter(4, (1.0, 10.0), btype="bandpass", fs=1.0 / dt, output="sos")
-    env = np.sin(np.pi * np.arange(n) / (n - 1)) ** 2
-    ax, ay = (sosfiltfilt(sos, rng.standard_normal(n)) * env for _ in range(2))
-    m = GroundMotion(ax, ay, dt, "synthetic")
-    return m.scaled(0.3 * G / m.pga)
-
-
-def _with_synthetic(record: GroundMotion) -> list[GroundMotion]:
-    """The record and one RDK pair fitted to it (seed 2017), as a study ensemble holds."""
-    from ..motions.stochastic.ensemble import synthesize
-    from ..motions.stochastic.fit import fit_rdk
-
-    try:
-        return [record, synthesize(fit_rdk(record), 1, seed=2017)[0]]
-    except ValueError as exc:  # e.g. a motion the RDK fit cannot describe
-        print(f"no synthetic pair of {record.name} ({exc})", flush=True)
-        return [record]
 
 
 # --------------------------------------------------------------------------------- reference
@@ -389,7 +346,7 @@ def _cost_rows(records, sets, quick: bool) -> list[dict]:
     Rs = (0.5, 4.0, 10.0) if quick else COST_R
     rows = []
     for ensemble, (record, _) in records.items():
-        motions = [record] if quick else _with_synthetic(record)
+        motions = [record] if quick else with_synthetic(record)
         for acc in (FIXED, PRESETS["default"], ADAPTIVE):
             for mode, mode_sets in sets.items():
                 for states in mode_sets:
@@ -471,7 +428,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="study configuration whose limit-state sets and points the cost "
                              "study uses (default config/paper.yaml)")
     args = parser.parse_args(argv)
-    records = _records()
+    records = benchmark_records()
     motion, label = next(iter(records.values()))
     # Warm-up: compile (or load cached) kernels outside the timed runs.
     for mode in ("3d", "3d-damped", "2d-x"):

@@ -73,7 +73,7 @@ def add_parser(subparsers) -> None:
 def _ground(args, body, model: str, component: str | None, motion, common: dict):
     from ..constants import G
     from ..dynamics.analysis import ground_response
-    from ..motions.source import identity
+    from ..motions.identity import identity
 
     excitation = motion if component is None else motion.component(component)
     # the pair's vector PGA normalizes the intensity in every mode, as in the spectra

@@ -78,7 +78,7 @@ def add_parser(subparsers) -> None:
 
 def rows(results, motion) -> list[dict]:
     """One dict per (R, limit state) with the columns of :data:`COLUMNS`."""
-    from ..motions.source import identity
+    from ..motions.identity import identity
 
     who = identity(motion)
     out = []
@@ -96,7 +96,7 @@ def run(args) -> int:
     import pandas as pd
 
     from .. import _json
-    from ..motions.source import identity
+    from ..motions.identity import identity
     from ..spectra.accuracy import get_accuracy
     from ..spectra.critical import critical_intensity_batch
     from ..spectra.limit_states import parse_limit_states

@@ -30,6 +30,7 @@ from scipy.integrate import DOP853 as _SCIPY_DOP853
 from scipy.integrate import RK45 as _SCIPY_RK45
 
 from ._numerics import error_scale
+from .driver import control_array
 
 DP5 = 0
 """Dormand–Prince 5(4)."""
@@ -83,15 +84,17 @@ def tableau(method: int | str) -> tuple:
 
 @functools.cache
 def control(method: int | str) -> np.ndarray:
-    """Step-size control constants of the pair (see :func:`rocking.dynamics.driver.next_step`).
+    """Step-size control constants of the pair, indexed by the ``C_*`` names of
+    :mod:`.driver` (used in :func:`rocking.dynamics.driver.integrate` and
+    :func:`rocking.dynamics.driver.growth`).
 
-    ``[largest growth factor, order of the error estimate, keep a larger proposal across a
-    step cut short by a record sample (1/0), no growth right after a rejection (1/0), the
-    step returns the derivative at its end (1/0)]``; the first two are the values of SciPy's
-    explicit Runge–Kutta classes.
+    Growth at most 10× a step, the order of the error estimate (the values of SciPy's explicit
+    Runge–Kutta classes), a larger proposal kept across a step cut short by a record sample,
+    growth allowed right after a rejection, the derivative at the step end returned (FSAL).
     """
     m = tableau(method)[1]
-    return np.array([10.0, 4.0 if m == DP5 else 7.0, 1.0, 0.0, 1.0])
+    return control_array(growth=10.0, order=4.0 if m == DP5 else 7.0, keep_proposal=True,
+                         freeze=False, end_derivative=True)
 
 
 @njit(cache=True, error_model="numpy")

@@ -35,6 +35,7 @@ import numpy as np
 from numba import njit
 
 from ._numerics import error_scale
+from .driver import control_array
 
 
 class Tableau(NamedTuple):
@@ -172,7 +173,8 @@ def control(method: str = "rodas4") -> np.ndarray:
     excites the contact mode, and reusing the proposal made the next step fail more often.
     The error estimate of an order-p method here is of order p − 1.
     """
-    return np.array([6.0, float(TABLEAUX[method].order - 1), 0.0, 1.0, 0.0])
+    return control_array(growth=6.0, order=float(TABLEAUX[method].order - 1),
+                         keep_proposal=False, freeze=True, end_derivative=False)
 
 
 def work_rows(method: str = "rodas4") -> int:

@@ -127,9 +127,11 @@ def _check_rest_tilt(rest_tilt, model: str, body) -> float:
 
 
 # ----------------------------------------------------------------------------- uplift
-def _uplift(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float, above: np.ndarray,
-            k_from: int = 0, tau_from: float = 0.0):
-    """First time at or after (k_from, tau_from) where |a| > threshold, |a| linear per interval.
+def next_uplift(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float,
+                above: np.ndarray, k_from: int = 0,
+                tau_from: float = 0.0) -> tuple[int, float, float, float] | None:
+    """First time at or after (k_from, tau_from) where |a| > threshold [m/s²], |a| linear per
+    interval of ``dt`` [s].
 
     ``above`` holds the indices of the samples where |a| > threshold (sorted). Returns
     ``(k, tau, a_x, a_y)`` (interval, time in it, acceleration there) or None.
@@ -182,12 +184,12 @@ class _Runner:
                                    method=None if self.model.implicit else METHOD)
 
     def __call__(self, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, side=1.0,
-                 until_peak=False):
+                 until_peak=False) -> models.KernelResult:
         return models.run(self.prep, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level,
                           history=self.history, until_peak=until_peak, side=side)
 
     def free(self, t0: float, y0: np.ndarray, duration: float, stop_level: float,
-             side: float = 1.0, until_peak: bool = False):
+             side: float = 1.0, until_peak: bool = False) -> models.KernelResult:
         """Unforced run from ``t0`` [s] for ``duration`` [s], record intervals of 0.1/p s."""
         chunk = min(0.1 / self.body.p, duration)
         z = np.zeros(int(math.ceil(duration / chunk)) + 2)
@@ -212,24 +214,23 @@ class _Acc:
         self.t_theta_max = math.nan
         self.extras: dict = {}
 
-    def add(self, out, skip_first: bool = False) -> None:
-        code, t, y, n_steps, n_rej, th_max, t_th_max, ev_t, ev_y, t_stop, y_end, diag = out
+    def add(self, out: models.KernelResult, skip_first: bool = False) -> None:
         if self.history:
-            i0 = 1 if (skip_first and t.size > 1) else 0
-            self.t.append(t[i0:])
-            self.y.append(y[i0:])
-        self.ev_t.append(ev_t)
-        self.ev_y.append(ev_y)
-        self.n_steps += int(n_steps)
-        self.n_rej += int(n_rej)
-        if abs(th_max) > self.theta_max:
-            self.theta_max = abs(float(th_max))
-            self.t_theta_max = float(t_th_max)
+            i0 = 1 if (skip_first and out.t.size > 1) else 0
+            self.t.append(out.t[i0:])
+            self.y.append(out.y[i0:])
+        self.ev_t.append(out.ev_t)
+        self.ev_y.append(out.ev_y)
+        self.n_steps += int(out.n_steps)
+        self.n_rej += int(out.n_rejected)
+        if abs(out.theta_max) > self.theta_max:
+            self.theta_max = abs(float(out.theta_max))
+            self.t_theta_max = float(out.t_theta_max)
         if self.model == "3d-damped":
             ex = self.extras
-            ex["dissipated"] = ex.get("dissipated", 0.0) + float(y_end[6])
-            ex["n_tension"] = ex.get("n_tension", 0) + int(diag[0])
-            ex["contact_force_min"] = min(ex.get("contact_force_min", G), float(diag[1]))
+            ex["dissipated"] = ex.get("dissipated", 0.0) + float(out.y_end[6])
+            ex["n_tension"] = ex.get("n_tension", 0) + int(out.diag[0])
+            ex["contact_force_min"] = min(ex.get("contact_force_min", G), float(out.diag[1]))
 
     def add_rest(self, t0: float, t1: float) -> None:
         """A stretch at rest (zero state) from t0 to t1."""
@@ -302,19 +303,19 @@ def _free_tail(body, acc: _Acc, runner: _Runner, y_end: np.ndarray, t_end: float
     if math.isfinite(peak) and peak <= limit and peak <= record_max and not acc.history:
         return Status.OK, ""  # nothing new can happen and no history is wanted
     out = runner.free(t_end, y_end, 400.0 / body.p, stop_level, side, until_peak=True)
-    code = int(out[0])
+    code = int(out.code)
     if code < 0:
-        return codes.status_of(code, float(out[9]))
+        return codes.status_of(code, float(out.t_stop))
     acc.add(out, skip_first=True)
     if math.isinf(peak) or peak > limit:
         if code in (codes.OVERTURNED, codes.STOPPED):
-            return codes.status_of(code, float(out[9]))
+            return codes.status_of(code, float(out.t_stop))
         acc.theta_max, acc.t_theta_max = limit, math.nan
         status = Status.OVERTURNED if stop_level <= 0.0 else Status.STOPPED_AT_LIMIT
         return status, "decided by energy after the record; the free run did not confirm it"
     if peak > record_max:
         acc.theta_max = peak
-        acc.t_theta_max = float(out[6]) if code == codes.AT_PEAK else math.nan
+        acc.t_theta_max = float(out.t_theta_max) if code == codes.AT_PEAK else math.nan
     else:
         acc.theta_max, acc.t_theta_max = record_max, record_t
     return Status.OK, ""
@@ -385,10 +386,10 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     acc.theta_max = abs(theta0)
     acc.t_theta_max = 0.0
     acc.add(out)
-    code = int(out[0])
-    status, reason = codes.status_of(code, float(out[9]))
+    code = int(out.code)
+    status, reason = codes.status_of(code, float(out.t_stop))
     if code == codes.AT_REST:
-        acc.add_rest(float(out[9]), duration)
+        acc.add_rest(float(out.t_stop), duration)
     return _response(acc, status, reason, True, 0.0, omega_n, zeta)
 
 
@@ -465,9 +466,9 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
         return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta)
-    if (out is not None and int(out[0]) == codes.OK and free_tail
+    if (out is not None and int(out.code) == codes.OK and free_tail
             and model != "3d-damped"):
-        status, reason = _free_tail(body, acc, runner, out[2][-1], motion.duration,
+        status, reason = _free_tail(body, acc, runner, out.y[-1], motion.duration,
                                     stop_level)
     return _response(acc, status, reason, True, t_first, omega_n, zeta)
 
@@ -482,7 +483,7 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
     stalls = 0
     above = np.flatnonzero(np.hypot(ax, ay) > threshold)
     while True:
-        up = _uplift(ax, ay, dt, threshold, above, k, tau)
+        up = next_uplift(ax, ay, dt, threshold, above, k, tau)
         if up is None:
             acc.add_rest(t_rest, t_end)
             return None, t_first, Status.OK, ""
@@ -494,7 +495,7 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
         y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
         out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side)
         acc.add(out)
-        code, t_stop = int(out[0]), float(out[9])
+        code, t_stop = int(out.code), float(out.t_stop)
         if code != codes.AT_REST:
             status, reason = codes.status_of(code, t_stop)
             return out, t_first, status, reason

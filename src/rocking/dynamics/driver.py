@@ -59,6 +59,37 @@ L_NOUT, L_ITHD, L_IMPACTS, L_MINIMA, L_POSITIVE, L_NDIAG = 0, 1, 2, 3, 4, 5
 L_WROWS, L_LAROWS, L_LACOLS, L_HISTORY, L_UNTIL_PEAK, L_MAXSTEPS = 6, 7, 8, 9, 10, 11
 LAYOUT_SIZE = 12
 
+# Step-size control of the stepper (float array ``ctrl`` of the run tuple, built by the
+# stepper's ``control``): largest growth factor; order q of the error estimate; keep a larger
+# proposal across a step cut short by a record sample (1/0); no growth right after a
+# rejection (1/0); the step returns the derivative at its end (1/0).
+C_GROWTH, C_ORDER, C_KEEP_PROPOSAL, C_FREEZE, C_END_DERIVATIVE = 0, 1, 2, 3, 4
+CONTROL_SIZE = 5
+
+
+def control_array(*, growth: float, order: float, keep_proposal: bool, freeze: bool,
+                  end_derivative: bool) -> np.ndarray:
+    """The ``ctrl`` array of a stepper, each value at its ``C_*`` index.
+
+    Parameters
+    ----------
+    growth : float
+        Largest step growth factor [-].
+    order : float
+        Order q of the error estimate [-] (the step factor is 0.9 err^(−1/(q+1))).
+    keep_proposal : bool
+        Keep a larger proposal across a step cut short by a record sample.
+    freeze : bool
+        No growth right after a rejected step.
+    end_derivative : bool
+        The stepper returns the derivative at the step end (else the driver evaluates it).
+    """
+    ctrl = np.empty(CONTROL_SIZE)
+    ctrl[C_GROWTH], ctrl[C_ORDER] = growth, order
+    ctrl[C_KEEP_PROPOSAL], ctrl[C_FREEZE] = float(keep_proposal), float(freeze)
+    ctrl[C_END_DERIVATIVE] = float(end_derivative)
+    return ctrl
+
 # Event kinds, in the order that breaks ties inside a step.
 _THRESHOLD, _IMPACT, _MAXIMUM, _MINIMUM = 0, 1, 2, 3
 
@@ -101,7 +132,7 @@ def last_interval(n_samples, dt, t_offset, t_end):
 
 @njit(cache=True, error_model="numpy")
 def growth(largest, q, freeze, err, rejected):
-    """Step-size factor after a step with scaled error ``err`` (see ``control`` of a stepper):
+    """Step-size factor after a step with scaled error ``err`` (the ``C_*`` controls):
     0.9 err^(−1/(q+1)) within [0.2, ``largest``], at most 1 right after a rejection if
     ``freeze``."""
     if err == 0.0:
@@ -241,9 +272,10 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
     """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
 
     ``run = (P, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
-    rest, diag)`` is built by :func:`rocking.dynamics.models.run`. Returns ``(code,
+    rest, diag)`` is built by :func:`rocking.dynamics.models.run`, which names the returned
+    tuple (:class:`rocking.dynamics.models.KernelResult`, same order): ``(code,
     t_hist, y_hist, n_steps, n_rejected, theta_max, t_theta_max, ev_t, ev_y, t_stop, y_end,
-    diag)``: a code of :mod:`.codes`, the history of output rows (the final row only without
+    diag)``, a code of :mod:`.codes`, the history of output rows (the final row only without
     history), step counts, the largest |θ| [rad] and its time [s], the events (tilt minima
     in 3D, the state before each impact in 2D), the end time [s], the final internal state
     and the model's diagnostics.
@@ -266,7 +298,7 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
     set_forcing(F, ax, ay, k, dt)
     rhs(tau, y, P, F, f0)
     h_min = 32.0 * EPS * dt
-    h = initial_step(rhs, ctrl[1], tau, y, f0, P, F, tol, dt, W[0], W[1])
+    h = initial_step(rhs, ctrl[C_ORDER], tau, y, f0, P, F, tol, dt, W[0], W[1])
     theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
     if history:
         output(y, P, row)
@@ -296,14 +328,14 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
         if fail != 0:
             n_rej += 1
             rejected = True
-            h = h_try * (min(ctrl[0], max(0.2, 0.9 * err ** (-1.0 / (ctrl[1] + 1.0))))
+            h = h_try * (min(ctrl[C_GROWTH], max(0.2, 0.9 * err ** (-1.0 / (ctrl[C_ORDER] + 1.0))))
                          if fail == codes.UNDERFLOW else 0.25)
             if not h >= h_min:  # also a NaN step size
                 code, t_stop = fail, t_offset + k * dt + tau
                 break
             continue
         n_steps += 1
-        if ctrl[4] == 0.0:  # the stepper does not provide the derivative at the step end
+        if ctrl[C_END_DERIVATIVE] == 0.0:  # the stepper does not return the end derivative
             rhs(tau + h_try, y_new, P, F, f_new)
         observe(y_new, P, diag)
         t0 = t_offset + k * dt + tau
@@ -358,8 +390,8 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
         if history:
             output(y, P, row)
             record(hist, t_offset + k * dt + tau, row)
-        h_next = h_try * growth(ctrl[0], ctrl[1], ctrl[3], err, rejected)
-        h = min(max(h_next, h) if (last and ctrl[2] != 0.0) else h_next, dt)
+        h_next = h_try * growth(ctrl[C_GROWTH], ctrl[C_ORDER], ctrl[C_FREEZE], err, rejected)
+        h = min(max(h_next, h) if (last and ctrl[C_KEEP_PROPOSAL] != 0.0) else h_next, dt)
         rejected = False
     if code == codes.OK:
         t_stop = t_offset + k_last * dt + tau_last

@@ -2,8 +2,8 @@
 
 A :class:`Model` names a model's compiled entry point, its state layout and the Python-level
 set-up of a run (parameters, error scales, kernel state); :func:`run` builds the run tuple of
-:func:`rocking.dynamics.driver.integrate` and calls the entry point. :mod:`.analysis` runs
-every kernel through here.
+:func:`rocking.dynamics.driver.integrate`, calls the entry point and names what it returns
+(:class:`KernelResult`). :mod:`.analysis` runs every kernel through here.
 """
 
 from __future__ import annotations
@@ -22,6 +22,50 @@ ZENO_RATE = 1e-6
 """Impact rate, as a fraction of p α, below which a 2D body is back at rest whatever the rest
 tolerance [-]: the accumulation point of ever shorter hops cannot be resolved in floating
 point (its energy ½κoR²(1e-6 p α)² is the rest criterion's floor in every model)."""
+
+
+class KernelResult(NamedTuple):
+    """What one kernel run returns (:func:`run`; the compiled
+    :func:`rocking.dynamics.driver.integrate` returns the same fields as a plain tuple, in
+    this order, and :func:`run` names them).
+
+    Attributes
+    ----------
+    code : int
+        Outcome, a code of :mod:`.codes` (negative: a failure).
+    t : ndarray
+        Times of the output rows [s] (only the final row without history).
+    y : ndarray
+        Output rows, one per time, in the model's ``state`` layout.
+    n_steps, n_rejected : int
+        Accepted and rejected steps.
+    theta_max : float
+        Largest |θ| of the run [rad].
+    t_theta_max : float
+        Its time [s].
+    ev_t, ev_y : ndarray
+        Events (tilt minima in 3D, the state before each impact in 2D): times [s] and output
+        rows.
+    t_stop : float
+        End time [s].
+    y_end : ndarray
+        Final internal (kernel) state.
+    diag : ndarray
+        The model's diagnostics (damped model: tension count, smallest contact force).
+    """
+
+    code: int
+    t: np.ndarray
+    y: np.ndarray
+    n_steps: int
+    n_rejected: int
+    theta_max: float
+    t_theta_max: float
+    ev_t: np.ndarray
+    ev_y: np.ndarray
+    t_stop: float
+    y_end: np.ndarray
+    diag: np.ndarray
 
 
 class Model(NamedTuple):
@@ -178,7 +222,7 @@ def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray,
 
 def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0: float,
         t_offset: float, y0: np.ndarray, t_end: float, stop_level: float, *, history: bool,
-        until_peak: bool = False, side: float = 1.0) -> tuple:
+        until_peak: bool = False, side: float = 1.0) -> KernelResult:
     """Integrate a prepared model from record interval ``k0``, local time ``tau0`` [s].
 
     Parameters
@@ -205,8 +249,8 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
 
     Returns
     -------
-    tuple
-        As :func:`rocking.dynamics.driver.integrate`.
+    KernelResult
+        The output of :func:`rocking.dynamics.driver.integrate`, named.
     """
     P = prep.P.copy()
     P[0] = 1.0 if side >= 0 else -1.0
@@ -214,6 +258,7 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
     layout = prep.layout.copy()
     layout[driver.L_HISTORY] = history
     layout[driver.L_UNTIL_PEAK] = until_peak
-    return prep.model.kernel((P, ax, ay, float(dt), int(k0), float(tau0), float(t_offset), y,
-                              float(t_end), float(stop_level), prep.tol, prep.tab, prep.ctrl,
-                              layout, prep.rest, diag0))
+    out = prep.model.kernel((P, ax, ay, float(dt), int(k0), float(tau0), float(t_offset), y,
+                             float(t_end), float(stop_level), prep.tol, prep.tab, prep.ctrl,
+                             layout, prep.rest, diag0))
+    return KernelResult(*out)

@@ -232,7 +232,7 @@ def _synthetic_pairs(
         timings["synthesize_s"] = time.perf_counter() - t2
         say(f"{n} synthetic pairs in {timings['synthesize_s']:.1f} s")
     if sim["max_duration"] is not None:
-        motions = [_cut(m, sim["max_duration"]) for m in motions]
+        motions = [cut(m, sim["max_duration"]) for m in motions]
     if n >= 2 and sim["axes"] == "principal":
         quality = ensemble_quality(motions)
     return motions, fit, quality
@@ -273,8 +273,8 @@ def quality_lines(params: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _cut(motion: GroundMotion, max_duration: float) -> GroundMotion:
-    """The first ``max_duration`` seconds of a motion."""
+def cut(motion: GroundMotion, max_duration: float) -> GroundMotion:
+    """The first ``max_duration`` [s] of a motion (the motion itself if it is not longer)."""
     keep = int(round(positive_finite("max_duration", max_duration) / motion.dt)) + 1
     if keep >= motion.npts:
         return motion

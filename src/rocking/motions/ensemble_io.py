@@ -7,7 +7,7 @@ the longest motion, ``npts`` (motion) giving each motion's own length, ``dt`` (m
 is lossless; metadata comes back as JSON does (tuples as lists, numpy scalars as numbers).
 
 Each motion's identity is also stored in plain variables over ``motion``, readable without
-parsing JSON (:func:`rocking.motions.source.identity`): ``source_record``, ``processing``
+parsing JSON (:func:`rocking.motions.identity.identity`): ``source_record``, ``processing``
 (one line: rotation, high-pass corner, padding, cut), ``rotation_deg``, ``highpass_fc_hz``,
 ``padding_s``, ``duration_s``, ``PGA`` [g], ``Ia_x``, ``Ia_y`` [m/s]. Every variable has CF
 ``units`` and ``long_name``.
@@ -27,8 +27,8 @@ import xarray as xr
 
 from .. import _json
 from ..units import attrs as _attrs
+from .identity import identity
 from .motion import GroundMotion
-from .source import identity
 
 __all__ = ["FORMAT", "IDENTITY", "ensemble_attrs", "load_ensemble", "open_netcdf",
            "save_ensemble"]
@@ -38,7 +38,7 @@ FORMAT = "rocking-ensemble-1"
 
 IDENTITY = ("source_record", "processing", "rotation_deg", "highpass_fc_hz", "padding_s",
             "duration_s", "PGA", "Ia_x", "Ia_y")
-"""Per-motion identity variables (see :func:`rocking.motions.source.identity`)."""
+"""Per-motion identity variables (see :func:`rocking.motions.identity.identity`)."""
 
 _TEXT = ("source_record", "processing")
 

@@ -183,8 +183,12 @@ _SJTE_LABEL = "RSN801 Loma Prieta, San Jose - Santa Teresa Hills (SJTE315/SJTE22
 
 
 def file_sha256(path: str | Path) -> str:
-    """Hex sha256 of a file's bytes."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    """Hex sha256 of a file's bytes, read in 1 MiB blocks (a record, an ensemble file)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
 
 
 def _unit_factor(units: str) -> float:

@@ -458,3 +458,6 @@ def search_critical(
     search.scan()
     search.bisect()
     return search.result()
+
+
+checked = _checked  # the public name (tilt_map uses it)

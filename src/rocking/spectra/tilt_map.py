@@ -17,7 +17,7 @@ from ..units import attrs
 from .accuracy import Accuracy, get_accuracy
 from .critical import make_analysis, uplift_intensity
 from .modes import MODES, check_mode
-from .search import RETRY_RTOL_FACTOR, _checked
+from .search import RETRY_RTOL_FACTOR, checked
 
 
 def tilt_map(
@@ -80,9 +80,9 @@ def tilt_map(
                 if bar is not None:
                     bar.update()
                 continue  # below uplift the body stays at rest
-            out = _checked(analyze(intensity, None, rtol))
+            out = checked(analyze(intensity, None, rtol))
             if out.status is Status.FAILED:
-                out = _checked(analyze(intensity, None, rtol * RETRY_RTOL_FACTOR))
+                out = checked(analyze(intensity, None, rtol * RETRY_RTOL_FACTOR))
             failed[i, j] = out.status is Status.FAILED
             overturned[i, j] = out.overturned
             theta = 0.5 * math.pi if out.overturned else out.theta_max

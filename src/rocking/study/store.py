@@ -43,6 +43,7 @@ import zarr
 from .. import _json
 from .._json import json_default
 from ..motions.motion import GroundMotion
+from ..motions.records import file_sha256
 from ..units import QUANTITIES
 from ..units import attrs as cf_attrs
 
@@ -283,15 +284,6 @@ def config_hash(obj: Any) -> str:
     """
     text = json.dumps(obj, sort_keys=True, separators=(",", ":"), default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def file_sha256(path: str | Path) -> str:
-    """sha256 of a file's bytes (identity of the ensemble a store was built from)."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
 
 
 def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],

@@ -33,12 +33,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
+from ..._json import to_plain
 from ..._validate import finite_array, positive_finite
 from ..counts import pmnm_cum, zero_upcrossings_cum
 from ..intensity import husid, times_from_husid
 from ..motion import GroundMotion
 from .filter import DEFAULT_FLOOR_HZ
-from .params import RDKParams, _jsonable
+from .params import RDKParams
 from .simulate import DEFAULT_FC_HZ, time_domain
 from .spectrum_fit import fit_spectrum
 
@@ -359,7 +360,7 @@ class RDKFit:
             "angle_deg": self.angle,
             "major": self.major.to_dict(),
             "minor": self.minor.to_dict(),
-            "diagnostics": _jsonable(self.diagnostics),
+            "diagnostics": to_plain(self.diagnostics),
         }
 
     @classmethod

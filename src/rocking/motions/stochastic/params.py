@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..._json import to_plain
 from ..._validate import finite, positive_finite
 from .envelope import GammaEnvelope, alphas_from_physical
 from .filter import DEFAULT_FLOOR_HZ, check_low, check_zeta, omega_f
@@ -188,7 +189,7 @@ class RDKParams:
             "alpha2": env.alpha2,
             "alpha3": env.alpha3,
             "T0": env.T0,
-            "diagnostics": _jsonable(self.diagnostics),
+            "diagnostics": to_plain(self.diagnostics),
         }
 
     @classmethod
@@ -205,16 +206,3 @@ class RDKParams:
 
 #: Keys of the extension (second process, low-frequency filter); absent or None when unused.
 _EXTENSION = ("f_mid2", "zeta_f2", "share2", "f_low", "zeta_low")
-
-
-def _jsonable(value: Any) -> Any:
-    """Numpy scalars and arrays turned into Python numbers and lists (recursively)."""
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
