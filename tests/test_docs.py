@@ -1,6 +1,9 @@
 """The documentation stands on its own: citations of docs/equations.md and docs/design.md
 resolve, nothing points outside the repository, and the library never imports Snakemake
-(docs/design.md, "Layers").
+(docs/design.md, "Layers"). The README is a short entry whose claims hold: its links resolve,
+its commands parse and install what exists, its library block prints what it shows, its
+configuration is valid, and the numbers it and the pages it links quote are those of the
+committed gallery (results/paper).
 
 A docstring or comment cites a section as ``docs/equations.md, "<heading>"`` (the heading may
 wrap over lines, also inside ``#`` comments; the file name may be in backticks) or, for
@@ -13,6 +16,7 @@ case-insensitively with whitespace collapsed.
 from __future__ import annotations
 
 import ast
+import math
 import re
 from pathlib import Path
 
@@ -163,3 +167,157 @@ def test_library_never_imports_snakemake():
             if any(n.split(".")[0] == "snakemake" for n in names):
                 offenders.append(f"{f.relative_to(ROOT)}:{node.lineno}")
     assert not offenders, "the library imports Snakemake: " + ", ".join(offenders)
+
+
+# ----------------------------------------------------------------------------- README and pages
+README = ROOT / "README.md"
+MOVED = {  # page: headings that left the README for it
+    "performance": ("The whole workflow", "Start-up of the command line", "One analysis",
+                    "Performance spectra: speed versus accuracy"),
+    "models": ("The three models", "Validation", "Limits of the models",
+               "Where this implementation departs from the printed paper",
+               "The paper regenerated"),
+    "motions": ("Records", "Synthetic ensembles share the record's elastic spectrum"),
+}
+LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
+
+
+def _fenced(markdown: str, lang: str) -> list[str]:
+    """Bodies of the fenced code blocks of one language, in order."""
+    return re.findall(rf"^```{lang}\n(.*?)^```", markdown, flags=re.S | re.M)
+
+
+def _slug(heading: str) -> str:
+    """GitHub's anchor of a heading."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def _pages() -> list[Path]:
+    return [README, ROOT / "config" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def test_readme_is_short_and_links_every_moved_page():
+    text = README.read_text(encoding="utf-8")
+    assert len(text.splitlines()) <= 200
+    for page, moved in MOVED.items():
+        assert f"](docs/{page}.md)" in text, f"README does not link docs/{page}.md"
+        found = headings((ROOT / "docs" / f"{page}.md").read_text(encoding="utf-8"))
+        missing = [h for h in moved if _normalize(h) not in found]
+        assert not missing, f"docs/{page}.md lacks {missing}"
+    for section in ("Fresh machine", "Library in five lines", "Command line", "Your own records",
+                    "Where results go and how to read them"):
+        assert _normalize(section) in headings(text)
+
+
+def test_links_resolve():
+    broken = []
+    for page in _pages():
+        for target in LINK.findall(page.read_text(encoding="utf-8")):
+            if re.match(r"[a-z]+:", target):  # http(s), mailto: not checked here
+                continue
+            path, _, anchor = target.partition("#")
+            dest = (page.parent / path).resolve() if path else page
+            if not dest.exists():
+                broken.append(f"{page.relative_to(ROOT)}: {target}")
+            elif anchor and dest.suffix == ".md":
+                slugs = {_slug(h) for h in re.findall(r"^#{1,6}\s+(.*?)\s*$",
+                                                      dest.read_text(encoding="utf-8"), re.M)}
+                if anchor not in slugs:
+                    broken.append(f"{page.relative_to(ROOT)}: {target} (no such heading)")
+    assert not broken, "broken links:\n" + "\n".join(broken)
+
+
+def test_fresh_machine_commands_install_what_exists():
+    import tomllib
+
+    text = README.read_text(encoding="utf-8")
+    venv = "python3 -m venv .venv && . .venv/bin/activate && "
+    assert f'{venv}pip install -e ".[workflow]" && snakemake --cores 2' in text
+    assert f'{venv}pip install -e ".[test]" && python -m pytest' in text
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"]
+    assert {"workflow", "test"} <= set(extras)
+    assert (ROOT / "Snakefile").is_file() and (ROOT / "config" / "config.yaml").is_file()
+    assert '-e ".[test]"' in (ROOT / ".ci" / "run").read_text()  # CI runs the same install
+
+
+def _command_lines(markdown: str) -> list[str]:
+    """``rocking ...`` command lines of the bash blocks, continuation lines joined."""
+    out = []
+    for block in _fenced(markdown, "bash"):
+        for line in block.replace("\\\n", " ").splitlines():
+            if line.strip().startswith("rocking "):
+                out.append(line.strip())
+    return out
+
+
+def test_every_command_shown_parses():
+    import shlex
+
+    from rocking.cli import build_parser
+
+    lines = [(p, c) for p in _pages() for c in _command_lines(p.read_text(encoding="utf-8"))]
+    assert len([c for p, c in lines if p == README]) >= 5
+    bad = []
+    for page, line in lines:
+        argv = shlex.split(line)[1:]
+        try:
+            build_parser([argv[0]]).parse_args(argv)
+        except SystemExit:
+            bad.append(f"{page.relative_to(ROOT)}: {line}")
+    assert not bad, "commands that do not parse:\n" + "\n".join(bad)
+
+
+def test_own_records_config_is_valid():
+    import yaml
+
+    from rocking.study.config_checks import schema_error
+
+    blocks = [yaml.safe_load(b) for b in _fenced(README.read_text(encoding="utf-8"), "yaml")]
+    mine = [b for b in blocks if any(e.get("paths") for e in b.get("ensembles", {}).values())]
+    assert mine, "the README shows no ensemble read from the user's files"
+    schema = yaml.safe_load((ROOT / "workflow/schemas/config.schema.yaml").read_text())
+    for config in mine:
+        assert schema_error(config, schema) is None
+        for study in config["studies"].values():
+            assert study["ensemble"] in config["ensembles"]
+
+
+def _gallery(study: str, table: str, **where) -> dict:
+    import csv
+
+    with open(ROOT / "results/paper" / study / f"{table}.csv", newline="") as fh:
+        rows = [r for r in csv.DictReader(fh)
+                if all(r[k] == v for k, v in where.items())]
+    assert len(rows) == 1, (table, where, len(rows))
+    return rows[0]
+
+
+def test_quoted_numbers_match_the_committed_gallery():
+    key = {"mode": "3d", "limit_state": "overturning", "tan_alpha [-]": "0.2"}
+    frag = _gallery("elcentro", "fragility", **key, **{"R [m]": "6"})
+    quoted = (f"median {float(frag['median [g tan(alpha)]']):.3f} "
+              f"(PGA {float(frag['median_pga_g [g]']):.3f} g), "
+              f"β = {float(frag['beta [-]']):.3f}, from {frag['n']} motions")
+    assert quoted in " ".join(README.read_text(encoding="utf-8").split())
+    mean = {m: _gallery("elcentro", "mean_spectra", **{**key, "mode": m, "R [m]": "10"})
+            for m in ("3d", "2d-x", "2d-y")}
+    m3 = float(mean["3d"]["mean [g tan(alpha)]"])
+    sem = float(mean["3d"]["std [g tan(alpha)]"]) / math.sqrt(int(mean["3d"]["count"]))
+    x, y = (float(mean[m]["mean [g tan(alpha)]"]) for m in ("2d-x", "2d-y"))
+    models = " ".join((ROOT / "docs/models.md").read_text(encoding="utf-8").split())
+    assert f"{m3:.2f} ± {sem:.2f} ({mean['3d']['count']} motions)" in models
+    assert f"2D-x {x:.1f} ({x / m3:.2f}×), 2D-y {y:.1f} ({y / m3:.2f}×)" in models
+
+
+def test_library_block_prints_what_is_shown(capsys):
+    text = README.read_text(encoding="utf-8")
+    code = _fenced(text, "python")[0]
+    shown = _fenced(text, "text")[0]
+    exec(compile(code, "README.md", "exec"), {})
+    assert capsys.readouterr().out == shown
+
+
+def test_readme_names_no_internal_tool():
+    text = README.read_text(encoding="utf-8").casefold()
+    assert not any(name in text for name in ("farm-" + "studio", "farm-" + "bench"))
