@@ -63,6 +63,15 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "slope": ("m-1", "1/m", "slope of the mean PGA/(g tan(alpha)) against R"),
     "intercept": ("1", "g tan(alpha)", "intercept of the mean PGA/(g tan(alpha)) at R = 0"),
     "r_squared": ("1", "-", "coefficient of determination of the line fit"),
+    # multiple-stripe fragility
+    "n_exceeding": ("1", "", "motions exceeding the limit state at the stripe"),
+    "n_motions": ("1", "", "motions analysed at the stripe"),
+    "fraction": ("1", "-", "share of the analysed motions exceeding the limit state"),
+    "median_lo": ("1", "g tan(alpha)", "lower end of the 95 % interval of the median"),
+    "median_hi": ("1", "g tan(alpha)", "upper end of the 95 % interval of the median"),
+    "beta_lo": ("1", "-", "lower end of the 95 % interval of beta"),
+    "beta_hi": ("1", "-", "upper end of the 95 % interval of beta"),
+    "reason": ("1", "", "why a fit has no finite maximum or is flagged"),
     # ground motions
     "ax": ("m s-2", "m/s2", "ground acceleration along x"),
     "ay": ("m s-2", "m/s2", "ground acceleration along y"),
