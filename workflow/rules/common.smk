@@ -88,9 +88,15 @@ def spectra_spec(study):
         "chunk_R": s["chunk_R"],
         "min_task_seconds": config["dask"]["min_task_seconds"] if s["chunk_R"] == "auto" else None,
         "accuracy": accuracy_config(),
-        "search_options": {"upper": float(config["search"]["upper"]),
+        "search_options": {"upper": search_upper(study),
                            **damped_options(plan.modes)},
     }
+
+
+def search_upper(study):
+    """Highest PGA/(g tan α) searched in a study: its own ``upper``, else ``search.upper``."""
+    own = study_config(study).get("upper")
+    return float(config["search"]["upper"] if own is None else own)
 
 
 def spectra_hash(study):
