@@ -55,14 +55,14 @@ def test_fit_matches_independent_mle(seed):
 
 def test_known_lognormal_recovered_within_its_interval():
     """Counts drawn from Φ(ln(x/θ)/β): the 95 % Wald intervals hold the truth for one draw,
-    and over 300 draws they cover it about 95 % of the time."""
+    and over 200 draws they cover it about 95 % of the time."""
     theta, beta = 3.0, 0.4
     x = stripe_intensities(20, 1.0, 10.0)
     p = stats.norm.cdf(np.log(x / theta) / beta)
     n = np.full(x.size, 40)
     rng = np.random.default_rng(2017)
     cover_m = cover_b = 0
-    draws = 300
+    draws = 200
     for i in range(draws):
         fit = fit_stripes(x, rng.binomial(n, p), n)
         assert fit.status == "ok"
@@ -73,9 +73,9 @@ def test_known_lognormal_recovered_within_its_interval():
             assert fit.median_ci[1] / fit.median_ci[0] < 1.2  # 800 analyses pin θ to ±10 %
         cover_m += in_m
         cover_b += in_b
-    # binomial(300, 0.95): 2.5 sd is ±3.2 %
-    assert 0.91 <= cover_m / draws <= 0.985
-    assert 0.91 <= cover_b / draws <= 0.985
+    # binomial(200, 0.95): 2.5 sd is ±3.9 %
+    assert 0.91 <= cover_m / draws <= 0.99
+    assert 0.91 <= cover_b / draws <= 0.99
 
 
 def test_undefined_fits_say_why():

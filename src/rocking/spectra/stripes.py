@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize, special, stats
 
 from .._progress import maybe as _progress
 from ..dynamics.bodies import Block, Cylinder
@@ -157,13 +157,20 @@ def _undefined(status: str, reason: str) -> StripeFit:
 
 
 def binomial_neg_log_likelihood(params, log_x: np.ndarray, k: np.ndarray,
-                                n: np.ndarray) -> float:
+                                n: np.ndarray) -> tuple[float, np.ndarray]:
     """−ln L of (ln θ, ln β) for ``k`` of ``n`` exceeding at intensities exp(``log_x``)
-    (binomial coefficients left out: they do not depend on the parameters)."""
+    (binomial coefficients left out: they do not depend on the parameters), and its
+    gradient."""
     log_median, log_beta = params
-    z = (log_x - log_median) / math.exp(log_beta)
-    # logcdf/logsf keep the tails finite where Φ would round to 0 or 1
-    return float(-np.sum(k * stats.norm.logcdf(z) + (n - k) * stats.norm.logsf(z)))
+    beta = math.exp(log_beta)
+    z = (log_x - log_median) / beta
+    # log Φ(z) and log Φ(−z) stay finite where Φ would round to 0 or 1
+    log_p, log_q = special.log_ndtr(z), special.log_ndtr(-z)
+    log_phi = -0.5 * z * z - 0.5 * math.log(2.0 * math.pi)
+    # ∂ ln L/∂z per stripe: k φ/Φ − (n − k) φ/(1 − Φ)
+    dz = k * np.exp(log_phi - log_p) - (n - k) * np.exp(log_phi - log_q)
+    grad = np.array([np.sum(dz) / beta, np.sum(dz * z)])  # −∂lnL/∂lnθ, −∂lnL/∂lnβ
+    return float(-np.sum(k * log_p + (n - k) * log_q)), grad
 
 
 def _check_counts(intensities, n_exceeding, n_total):
@@ -261,10 +268,13 @@ def fit_stripes(intensities, n_exceeding, n_total) -> StripeFit:
     log_x = np.log(x)
     args = (log_x, k, n)
     res = optimize.minimize(binomial_neg_log_likelihood, _start(x, k, n), args=args,
-                            method="Nelder-Mead",
-                            options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000})
-    res = optimize.minimize(binomial_neg_log_likelihood, res.x, args=args, method="BFGS",
-                            options={"gtol": 1e-10})
+                            jac=True, method="BFGS", options={"gtol": 1e-9})
+    if not res.success:
+        # BFGS may stop on precision loss near the optimum; polish from a simplex search
+        nm = optimize.minimize(lambda p: binomial_neg_log_likelihood(p, *args)[0], res.x,
+                               method="Nelder-Mead",
+                               options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000})
+        res = nm if nm.fun <= res.fun else res
     log_median, log_beta = (float(v) for v in res.x)
     beta = math.exp(log_beta)
     if not (math.isfinite(log_median) and math.isfinite(beta)) or beta > BETA_MAX:
