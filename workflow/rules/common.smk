@@ -128,6 +128,31 @@ def tilt_map_hash(study):
     return config_hash(tilt_map_spec(study))
 
 
+def has_stripes(study):
+    return study_config(study).get("stripes") is not None
+
+
+def stripes_spec(study):
+    """The result-affecting description of a study's stripes store."""
+    t = study_config(study)["stripes"]
+    return {
+        "study": study,
+        "ensemble": {"name": ensemble_of(study), **ensemble_spec(ensemble_of(study))},
+        "modes": list(t["modes"]),
+        "tan_alpha": float(t["tan_alpha"]),
+        "limit_states": list(t["limit_states"]),
+        "R": expand_grid(t["R"], f"studies.{study}.stripes.R"),
+        "intensity": expand_grid(t["intensity"], f"studies.{study}.stripes.intensity"),
+        "chunk_R": int(t["chunk_R"]),
+        "accuracy": accuracy_config(),
+        "model_options": damped_options(t["modes"]),
+    }
+
+
+def stripes_hash(study):
+    return config_hash(stripes_spec(study))
+
+
 def dask_options():
     d = config["dask"]
     return {"scheduler_address": d["scheduler_address"], "scheduler_file": d["scheduler_file"],
