@@ -91,3 +91,19 @@ def test_incomplete_store_refused(tmp_path):
         st.stripe_fits(xr.open_zarr(path, consolidated=False))
     with pytest.raises(ValueError, match="strictly increasing"):
         st.stripes_layout(["3d"], ["overturning"], ["a"], [1.0], [2.0, 1.0], 1)
+
+
+def test_figure_per_mode(filled, tmp_path):
+    from rocking.study.figures import stripe_fragility as fig
+    from rocking.study.figures._style import save
+
+    path, _ = filled
+    d = fig.data(path, None, mode="2d-x")
+    assert {p["R"] for p in d["panels"]} == {0.5, 1.0, 2.0}
+    assert len(d["panels"]) == 2 * 3 and d["mode"] == "2d-x"
+    for key, m in d["measured"].items():
+        assert m["stripe_status"] == "ok" or f"{key}: {m['stripe_status']}" in d["missing"]
+    out = save(fig.plot(d), [tmp_path / "s.png"])
+    assert out[0].stat().st_size > 10_000
+    with pytest.raises(ValueError, match="not in the stripes store"):
+        fig.data(path, None, mode="3d-damped")

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
+from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
 from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
@@ -88,11 +89,16 @@ def plot(d: dict) -> Figure:
         _curve(ax, grid, p["stripe"], "-", "stripes", color)
         _curve(ax, grid, p["first"], "--", "first exceedance", "tab:red")
         ax.set_xscale("log")
+        # plain numbers at 1, 2, 5, 10, 20: log-axis labels like 3×10⁰ collide
+        ax.xaxis.set_major_locator(FixedLocator([v for v in (1, 2, 5, 10, 20, 50)
+                                                 if x[0] / 1.5 <= v <= x[-1] * 1.5]))
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_ylim(-0.02, 1.02)
         ax.set_title(f"{limit_state_title(p['limit_state'])}, R = {p['R']:g} m", fontsize=9)
         ax.set_xlabel("PGA/(g tan α) [-]")
         ax.set_ylabel("P(exceeded) [-]")
-        ax.legend(loc="upper left", fontsize=6)
+        ax.legend(loc="best", fontsize=6)
     label = MODE_STYLE.get(d["mode"], {}).get("label", d["mode"])
     fig.suptitle(f"Stripe against first-exceedance fragility, {label} model, "
                  f"tan α = {d['tan_alpha']:g}")
