@@ -94,6 +94,7 @@ def test_undefined_fits_say_why():
     # one mixed stripe between none and all still separates: β → 0 at that stripe
     assert fit_stripes(x, [0, 4, 10, 10], n).status == "separated"
     assert "2 and 3" in fit_stripes(x, [0, 0, 10, 10], n).reason
+    assert "only the stripe at 2 " in fit_stripes(x, [0, 4, 10, 10], n).reason
     # no trend: the same share everywhere over a wide span, β beyond BETA_MAX
     flat = fit_stripes(np.geomspace(1, 20, 8), [5] * 8, [10] * 8)
     assert flat.status == "no-trend" and math.isnan(flat.median)

@@ -207,10 +207,15 @@ def _degenerate(x: np.ndarray, k: np.ndarray, n: np.ndarray) -> StripeFit | None
                           f"stripes from {x[0]:.6g}: the median lies below them")
     below = x[k < n].max()  # highest stripe with a motion not exceeding
     above = x[k > 0].min()  # lowest stripe with a motion exceeding
-    if below <= above:
+    if below < above:
         return _undefined("separated", f"the fractions step from none to all exceeding "
                           f"between {below:.6g} and {above:.6g}: the median lies there and "
                           "no spread is seen (beta -> 0); add stripes or motions there")
+    if below == above:
+        return _undefined("separated", f"only the stripe at {below:.6g} has some but not all "
+                          "motions exceeding, none below it and all above: the median lies "
+                          "near it and no spread is seen (beta -> 0); add stripes or motions "
+                          "there")
     return None
 
 
