@@ -235,3 +235,26 @@ def test_cli_default_matches_library():
 
     assert cli.DEFAULT_STRIPES == lib.DEFAULT_STRIPES
     assert (1.0, 20.0) == lib.STRIPE_RANGE
+
+
+def test_cli_stripes_csv_and_strict_json(tmp_path):
+    import json
+
+    from rocking.cli import main
+
+    args = ["stripes", "--R", "2", "--record", "el-centro-1940", "--intensities", "1.5,2.5",
+            "--limit-states", "overturning", "-q"]
+    assert main([*args, "-o", str(tmp_path / "s.csv")]) == 0
+    import pandas as pd
+
+    fits = pd.read_csv(tmp_path / "s.csv")
+    stripes = pd.read_csv(tmp_path / "s_stripes.csv")
+    assert "median [g tan(alpha)]" in fits.columns and len(stripes) == 2
+    assert main([*args, "-o", str(tmp_path / "s.json")]) == 0
+
+    def no_nan(token):
+        raise ValueError(token)
+
+    doc = json.loads((tmp_path / "s.json").read_text(), parse_constant=no_nan)
+    assert doc["intensities"] == [1.5, 2.5] and doc["units"]["median"] == "g tan(alpha)"
+    assert doc["fits"][0]["status"] != "ok" and doc["fits"][0]["median"] is None
