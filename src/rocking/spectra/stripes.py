@@ -122,7 +122,11 @@ class StripeFit:
         Dispersion β, standard deviation of ln I [-]; NaN likewise.
     median_ci, beta_ci : tuple of float
         Wald 95 % intervals from the expected (Fisher) information: θ·exp(±z·se(ln θ)) and
-        β·exp(±z·se(ln β)); NaN where the fit is undefined.
+        β·exp(±z·se(ln β)); NaN where the fit is undefined. They treat the stripes as
+        independent binomial samples, while the stripes reuse the same motions: they say
+        how well the stripes pin θ for these motions, and are 3–4× narrower than the
+        spread of θ over other sets of motions (docs/performance.md, "Multiple-stripe
+        fragility").
     log_likelihood : float
         Maximized ln L (NaN if undefined).
     status : str
