@@ -71,8 +71,9 @@ def test_netcdf_and_csv_round_trip(tmp_path):
     table = pd.read_csv(csv)
     assert list(table.columns) == ["mode", "limit_state", "tan_alpha [-]", "R [m]",
                                    "mean [g tan(alpha)]", "mean_pga_g [g]",
-                                   "std [g tan(alpha)]", "median [g tan(alpha)]", "count",
-                                   "n_not_reached", "requested"]
+                                   "std [g tan(alpha)]", "median [g tan(alpha)]",
+                                   "median_all [g tan(alpha)]", "count", "n_not_reached",
+                                   "censoring", "requested"]
     assert table["mean [g tan(alpha)]"].tolist() == [3.0, 3.0]
     assert table["count"].tolist() == [2, 1]
 
@@ -98,3 +99,52 @@ def test_cells_not_requested_are_not_computed_not_not_reached():
     # Without the mask the same NaN would be an unexplained hole: refused.
     with pytest.raises(ValueError, match="NaN"):
         ensemble_statistics(both.drop_vars("requested"))
+
+
+def test_censoring_is_marked_and_median_all_counts_every_motion(tmp_path):
+    """A store with motions not reached at the bound: each row says how many were left out
+    of mean/std/median, and median_all ranks them above every reached value (Kaplan-Meier
+    with censoring at the bound), NaN when half or more were not reached."""
+    values = [[2.0, 3.0, 1.0],
+              [4.0, np.nan, 6.0],
+              [9.0, np.nan, np.nan],
+              [5.0, np.nan, np.nan],
+              [7.0, 8.0, np.nan]]
+    stats = ensemble_statistics(spectra(values))
+    got = stats["median_all"].values.ravel()
+    # R=1: no censoring, the ordinary median; R=2: [3, 8, inf, inf, inf] -> inf -> NaN;
+    # R=3: [1, 6, inf, inf, inf] -> NaN
+    np.testing.assert_array_equal(got[0], np.median([2, 4, 9, 5, 7]))
+    assert np.isnan(got[1]) and np.isnan(got[2])
+    # the reached-only median would claim 3, 8 and 3.5 for them
+    np.testing.assert_array_equal(stats["median"].values.ravel(), [5.0, 5.5, 3.5])
+    notes = stats["censoring"].values.ravel().tolist()
+    assert notes[0] == "none"
+    assert notes[1].startswith("excluded 3 of 5: mean, std, median over the 2 reached only")
+    assert notes[1].endswith("median_all above the search bound")
+    # one of five not reached: the full-sample median is still determined
+    one = ensemble_statistics(spectra([[2.0], [4.0], [np.nan], [5.0], [7.0]]))
+    assert float(one["median_all"].values.ravel()[0]) == 5.0  # [2, 4, 5, 7, inf]
+    assert float(one["median"].values.ravel()[0]) == 4.5      # reached only: biased low
+    assert one["censoring"].values.ravel()[0].endswith("median_all over all motions")
+    every = ensemble_statistics(spectra([[np.nan], [np.nan]]))
+    assert every["censoring"].values.ravel()[0] == "all 2 not reached: no statistic"
+    nc, csv = tmp_path / "m.nc", tmp_path / "m.csv"
+    write_statistics(stats, nc, csv)
+    table = pd.read_csv(csv)
+    assert table["censoring"].tolist() == notes
+    assert table["count"].tolist() == [5, 2, 2] and table["n_not_reached"].tolist() == [0, 3, 3]
+
+
+def test_censoring_of_cells_not_requested():
+    ds = spectra([[2.0, 3.0], [4.0, np.nan]])
+    both = xr.concat([ds, ds.assign_coords(limit_state=["tilt:1/3"])], "limit_state",
+                     data_vars="all")
+    both["pga_crit"].loc[{"limit_state": "tilt:1/3"}] = np.nan
+    both["not_reached"].loc[{"limit_state": "tilt:1/3"}] = False
+    both["done"] = ds["done"]
+    both["requested"] = (("mode", "limit_state", "tan_alpha"), np.array([[[True], [False]]]))
+    stats = ensemble_statistics(both)
+    assert set(stats["censoring"].sel(limit_state="tilt:1/3").values.ravel()) == {
+        "not computed"}
+    assert np.isnan(stats["median_all"].sel(limit_state="tilt:1/3").values).all()

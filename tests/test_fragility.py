@@ -151,3 +151,17 @@ def test_linear_fit_table_per_mode_and_limit_state():
     assert table["slope"].sel(mode="3d").item() == pytest.approx(0.3, rel=1e-12)
     assert table["intercept"].sel(mode="2d-x").item() == pytest.approx(2.0, rel=1e-12)
     assert table["r_squared"].min().item() == pytest.approx(1.0, abs=1e-12)
+
+
+def test_median_at_or_above_the_search_bound_is_not_ok():
+    """A fit whose median lies at or beyond the bound extrapolates past every intensity
+    searched: the table keeps the number and says so instead of "ok"."""
+    x = _samples(24, 7).reshape(1, 1, 24, 1, 1) * np.array([1.0, 1.6])
+    bound = 1.2 * float(np.median(x[..., 0]))  # below the second column's median
+    nr = x > bound
+    table = fragility_table(_store(np.where(nr, np.nan, x), nr, upper=bound))
+    low, high = (table.isel(mode=0, limit_state=0, tan_alpha=0, R=j) for j in range(2))
+    assert float(low["median"]) < bound and str(low["status"].values) == "ok"
+    assert float(high["median"]) >= bound
+    assert str(high["status"].values) == "median-at-bound"
+    assert int(high["n_censored"]) > 12  # more than half were not reached

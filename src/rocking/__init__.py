@@ -58,6 +58,8 @@ _EXPORTS = {
     "critical_intensity_batch": "spectra.critical",
     "tilt_map": "spectra.tilt_map",
     "match_limit_state": "spectra.limit_states",
+    "stripe_fragility": "spectra.stripes",
+    "StripeFragility": "spectra.stripes",
     # study outputs
     "select": "study.select",
 }

@@ -53,16 +53,29 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "mean_pga_g": ("gravity", "g", "mean over motions of the critical PGA"),
     "count": ("1", "", "motions whose limit state was reached"),
     "n_not_reached": ("1", "", "motions left out: limit state not reached"),
+    "median_all": ("1", "g tan(alpha)", "median over all motions, those not reached counted "
+                   "above the search bound (Kaplan-Meier; NaN: above the bound)"),
+    "censoring": ("1", "", "how the statistics treat motions not reached at the search bound"),
     # fragility and line fits
     "median_pga_g": ("gravity", "g", "median critical PGA of the lognormal fragility"),
     "beta": ("1", "-", "lognormal dispersion beta (std of ln PGA)"),
     "log_likelihood": ("1", "-", "maximized log-likelihood of the lognormal fit"),
     "n": ("1", "", "motions used"),
     "n_censored": ("1", "", "motions right-censored (not reached)"),
-    "status": ("1", "", "fit status (ok, too-few-observed, no-spread, not-computed)"),
+    "status": ("1", "", "fit status (ok, median-at-bound, too-few-observed, no-spread, "
+                          "not-computed)"),
     "slope": ("m-1", "1/m", "slope of the mean PGA/(g tan(alpha)) against R"),
     "intercept": ("1", "g tan(alpha)", "intercept of the mean PGA/(g tan(alpha)) at R = 0"),
     "r_squared": ("1", "-", "coefficient of determination of the line fit"),
+    # multiple-stripe fragility
+    "n_exceeding": ("1", "", "motions exceeding the limit state at the stripe"),
+    "n_motions": ("1", "", "motions analysed at the stripe"),
+    "fraction": ("1", "-", "share of the analysed motions exceeding the limit state"),
+    "median_lo": ("1", "g tan(alpha)", "lower end of the 95 % interval of the median"),
+    "median_hi": ("1", "g tan(alpha)", "upper end of the 95 % interval of the median"),
+    "beta_lo": ("1", "-", "lower end of the 95 % interval of beta"),
+    "beta_hi": ("1", "-", "upper end of the 95 % interval of beta"),
+    "reason": ("1", "", "why a fit has no finite maximum or is flagged"),
     # ground motions
     "ax": ("m s-2", "m/s2", "ground acceleration along x"),
     "ay": ("m s-2", "m/s2", "ground acceleration along y"),

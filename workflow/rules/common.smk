@@ -88,9 +88,15 @@ def spectra_spec(study):
         "chunk_R": s["chunk_R"],
         "min_task_seconds": config["dask"]["min_task_seconds"] if s["chunk_R"] == "auto" else None,
         "accuracy": accuracy_config(),
-        "search_options": {"upper": float(config["search"]["upper"]),
+        "search_options": {"upper": search_upper(study),
                            **damped_options(plan.modes)},
     }
+
+
+def search_upper(study):
+    """Highest PGA/(g tan α) searched in a study: its own ``upper``, else ``search.upper``."""
+    own = study_config(study).get("upper")
+    return float(config["search"]["upper"] if own is None else own)
 
 
 def spectra_hash(study):
@@ -120,6 +126,31 @@ def tilt_map_spec(study):
 
 def tilt_map_hash(study):
     return config_hash(tilt_map_spec(study))
+
+
+def has_stripes(study):
+    return study_config(study).get("stripes") is not None
+
+
+def stripes_spec(study):
+    """The result-affecting description of a study's stripes store."""
+    t = study_config(study)["stripes"]
+    return {
+        "study": study,
+        "ensemble": {"name": ensemble_of(study), **ensemble_spec(ensemble_of(study))},
+        "modes": list(t["modes"]),
+        "tan_alpha": float(t["tan_alpha"]),
+        "limit_states": list(t["limit_states"]),
+        "R": expand_grid(t["R"], f"studies.{study}.stripes.R"),
+        "intensity": expand_grid(t["intensity"], f"studies.{study}.stripes.intensity"),
+        "chunk_R": int(t["chunk_R"]),
+        "accuracy": accuracy_config(),
+        "model_options": damped_options(t["modes"]),
+    }
+
+
+def stripes_hash(study):
+    return config_hash(stripes_spec(study))
 
 
 def dask_options():

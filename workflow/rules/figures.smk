@@ -202,7 +202,7 @@ rule fragility_curves:
     params:
         caption=lambda wildcards: caption("fragility_curves"),
         store=lambda wildcards: spectra_store(wildcards.study),
-        upper=float(config["search"]["upper"]),
+        upper=lambda wildcards: search_upper(wildcards.study),
     log:
         "logs/{study}/fragility_curves.log",
     script:

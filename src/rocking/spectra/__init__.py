@@ -1,6 +1,7 @@
 """Seismic performance rocking spectra: limit states, accuracy presets, the critical-intensity
 search (:mod:`.search`) bound to the dynamics (:mod:`.critical`), the Fig 7 tilt map
-(:mod:`.tilt_map`) and fragility curves (:mod:`.fragility`).
+(:mod:`.tilt_map`), fragility curves (:mod:`.fragility`) and the multiple-stripe
+fragility (:mod:`.stripes`).
 """
 
 from .._lazy import lazy_exports
@@ -17,6 +18,9 @@ _EXPORTS = {
     "critical_intensity_batch": "critical",
     "MODES": "critical",
     "tilt_map": "tilt_map",
+    "stripe_fragility": "stripes",
+    "StripeFragility": "stripes",
+    "fit_stripes": "stripes",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

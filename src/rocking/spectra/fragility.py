@@ -204,7 +204,9 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
     -------
     xarray.Dataset
         ``median`` [PGA/(g tan α)], ``median_pga_g`` [g] (= median · tan α), ``beta``,
-        ``n``, ``n_censored``, ``status`` over (mode, limit_state, tan_alpha, R).
+        ``n``, ``n_censored``, ``status`` over (mode, limit_state, tan_alpha, R); status
+        ``"median-at-bound"`` (:data:`AT_BOUND`) where the median is at or above the
+        censoring bound.
     """
     pga = store["pga_crit"].transpose("mode", "limit_state", "tan_alpha", "R", "motion")
     nr = store["not_reached"].transpose(*pga.dims).values.astype(bool)
@@ -233,7 +235,7 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
         fit = fit_lognormal(x[keep], c[keep])
         out["median"][idx], out["beta"][idx] = fit.median, fit.beta
         out["log_likelihood"][idx] = fit.log_likelihood
-        n[idx], n_cens[idx], status[idx] = fit.n, fit.n_censored, fit.status
+        n[idx], n_cens[idx], status[idx] = fit.n, fit.n_censored, _status(fit, bound)
     dims = pga.dims[:-1]
     coords = {d: _plain(pga[d].values) for d in dims}
     ds = xr.Dataset(
@@ -252,6 +254,19 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
     ds["median"].attrs["long_name"] = "median PGA/(g tan(alpha)) of the lognormal fragility"
     ds.attrs["censoring_bound"] = "none" if bound is None else bound
     return ds
+
+
+AT_BOUND = "median-at-bound"
+"""Status of a fit whose median is at or above the censoring bound: no analysis up to the
+bound saw half of the motions exceed, so the median is an extrapolation of the lognormal tail
+beyond the intensities searched (the number is kept, the status says so)."""
+
+
+def _status(fit: LognormalFit, bound: float | None) -> str:
+    """The fit's status, ``"median-at-bound"`` for an ok fit whose median is ≥ the bound."""
+    if fit.status == "ok" and bound is not None and fit.median >= bound * (1.0 - 1e-9):
+        return AT_BOUND
+    return fit.status
 
 
 def _plain(values: np.ndarray) -> np.ndarray:

@@ -2,9 +2,15 @@
 
 The paper's Figs 10–12 plot, for each size R, the mean over the ground motions of the
 critical intensity PGA/(g tan α). A motion whose search ended without reaching the limit
-state (``not_reached``) has no critical intensity, only a lower bound; it is left out of the
-statistics and counted separately (``n_not_reached``), so ``count`` says how many motions a
-statistic rests on. Cells no run of the study asked for (``requested`` false, see
+state (``not_reached``) has no critical intensity, only a lower bound (the search bound); it
+is left out of ``mean``, ``std`` and ``median`` and counted separately (``n_not_reached``), so
+``count`` says how many motions they rest on, and such a mean is biased low: it is the mean
+of the motions that happened to exceed below the bound. Two columns keep that from passing as
+the ensemble mean: ``censoring`` says in words how each cell treats the motions not reached,
+and ``median_all`` is the median over all motions with those counted above the bound — the
+Kaplan–Meier median, exact here because every censored value lies above every observed one;
+it is NaN when half or more of the motions were not reached (the median is then somewhere
+above the bound). Cells no run of the study asked for (``requested`` false, see
 :mod:`rocking.study.plan`) were never computed: their statistics are NaN with count 0, and
 ``requested`` is carried over so that a reader can tell "not computed" from "not reached".
 """
@@ -36,9 +42,11 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     -------
     xarray.Dataset
         ``mean``, ``std`` (sample, ddof = 1; NaN with fewer than 2 values), ``median``
-        [PGA/(g tan α), -], ``mean_pga_g`` (the mean as PGA [g]), ``count`` (motions used),
-        ``n_not_reached`` and ``requested`` (mode, limit_state, tan_alpha; all true for a
-        store without the mask); CF ``units`` and ``long_name`` on everything.
+        [PGA/(g tan α), -] over the motions reached, ``mean_pga_g`` (the mean as PGA [g]),
+        ``median_all`` (over all motions, :func:`median_all`), ``count`` (motions used),
+        ``n_not_reached``, ``censoring`` (:func:`censoring_notes`) and ``requested``
+        (mode, limit_state, tan_alpha; all true for a store without the mask); CF
+        ``units`` and ``long_name`` on everything.
 
     Raises
     ------
@@ -62,17 +70,20 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
         raise ValueError("pga_crit is NaN at a point whose limit state was reached")
     values = pga.where(reached)
     count = reached.sum("motion").astype(np.int32)
+    n_not_reached = (~reached & requested).sum("motion").astype(np.int32)
     out = xr.Dataset(
         {
             "mean": values.mean("motion", skipna=True),
             "std": values.std("motion", ddof=1, skipna=True).where(count >= 2),
             "median": values.median("motion", skipna=True),
+            "median_all": median_all(pga, reached, requested),
             "count": count,
-            "n_not_reached": (~reached & requested).sum("motion").astype(np.int32),
+            "n_not_reached": n_not_reached,
         }
     ).transpose(*STAT_DIMS)
     out["requested"] = requested.transpose(*(d for d in STAT_DIMS if d in requested.dims))
     out["mean_pga_g"] = out["mean"] * out["tan_alpha"]
+    out["censoring"] = censoring_notes(out)
     for name in out.variables:
         out[name].attrs = attrs(str(name))
     out["std"].attrs["ddof"] = 1
@@ -81,9 +92,50 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
+def median_all(pga: xr.DataArray, reached: xr.DataArray,
+               requested: xr.DataArray) -> xr.DataArray:
+    """Median over all motions of a requested cell, not-reached ones counted above the bound.
+
+    A not-reached motion only says that its critical intensity lies above the search bound,
+    hence above every intensity that was reached: set to +inf, it takes its true rank, and the
+    ordinary median is the Kaplan–Meier median of the right-censored sample. Where a middle
+    order statistic is one of them (half or more not reached) the median is not determined
+    below the bound: NaN [PGA/(g tan α)].
+    """
+    ranked = xr.where(reached, pga, np.inf).where(requested)
+    med = ranked.median("motion", skipna=True)
+    return med.where(np.isfinite(med))
+
+
+def censoring_notes(stats: xr.Dataset) -> xr.DataArray:
+    """Per cell, how the statistics treat motions not reached (the ``censoring`` column)."""
+    count = stats["count"].values
+    nr = stats["n_not_reached"].values
+    req = stats["requested"].broadcast_like(stats["count"]).transpose(
+        *stats["count"].dims).values.astype(bool)
+    med_all = stats["median_all"].values
+    notes = np.empty(count.shape, dtype=object)
+    for idx in np.ndindex(count.shape):
+        k, n = int(nr[idx]), int(nr[idx] + count[idx])
+        if not req[idx]:
+            notes[idx] = "not computed"
+        elif k == 0:
+            notes[idx] = "none"
+        elif k == n:
+            notes[idx] = f"all {n} not reached: no statistic"
+        else:
+            tail = ("median_all over all motions" if np.isfinite(med_all[idx])
+                    else "median_all above the search bound")
+            notes[idx] = (f"excluded {k} of {n}: mean, std, median over the {n - k} reached "
+                          f"only (biased low); {tail}")
+    return xr.DataArray(notes.astype(str), dims=stats["count"].dims,
+                        coords=stats["count"].coords)
+
+
 def to_frame(stats: xr.Dataset) -> pd.DataFrame:
     """Long table, one row per (mode, limit_state, tan_alpha, R); headers with units."""
-    cols = ["mean", "mean_pga_g", "std", "median", "count", "n_not_reached", "requested"]
+    cols = ["mean", "mean_pga_g", "std", "median", "median_all", "count", "n_not_reached",
+            "censoring", "requested"]
     cols = [c for c in cols if c in stats]
     df = stats[cols].to_dataframe().reset_index()[[*STAT_DIMS, *cols]]
     return df.rename(columns=header)

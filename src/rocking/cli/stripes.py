@@ -1,0 +1,154 @@
+"""``rocking stripes``: multiple-stripe fragility of cylinders under an ensemble of motions.
+
+At each stripe intensity every motion is analysed once; the share exceeding each limit state
+is fitted by a lognormal CDF by binomial maximum likelihood (:mod:`rocking.spectra.stripes`).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from ..spectra.accuracy import PRESETS
+from ..spectra.modes import MODES
+from . import _common
+from .spectra import _floats
+
+EXAMPLES = """\
+  rocking stripes --R 6 --ensemble results/motions/elcentro.nc --mode 3d \\
+      --limit-states overturning,tilt:1/3 -o stripes.csv
+  rocking stripes --R 2,6 --ensemble results/motions/elcentro.nc --stripes 20 --upper 10
+  rocking stripes --R 6 --record el-centro-1940 --intensities 1.5,2,3,4,6"""
+
+DEFAULT_STRIPES = 40
+"""Default number of stripes (:data:`rocking.spectra.stripes.DEFAULT_STRIPES`, checked equal
+in the tests; the library is not imported to print the help)."""
+
+SUMMARY = ("R", "limit_state", "median", "median_lo", "median_hi", "median_pga_g", "beta",
+           "beta_lo", "beta_hi", "status", "reason")
+STRIPES = ("R", "limit_state", "intensity", "pga_g", "n_exceeding", "n_motions", "fraction")
+
+
+def add_parser(subparsers) -> None:
+    """Register the ``stripes`` subcommand."""
+    p = _common.add_command(
+        subparsers, "stripes", examples=EXAMPLES,
+        help="multiple-stripe fragility: share of motions exceeding at fixed intensities",
+        description="Multiple-stripe fragility of cylinders: every motion (all motions of "
+        "--ensemble, or the one motion given) is analysed once at each stripe intensity "
+        "PGA/(g tan alpha); the share exceeding each limit state is fitted by a lognormal "
+        "CDF by binomial maximum likelihood. Prints the median (with its 95 %% interval) "
+        "and beta per R and limit state, then the stripes; NaN with a reason where the fit "
+        "has no finite maximum.",
+    )
+    p.add_argument("--R", dest="R", type=_floats, action="extend", required=True,
+                   help="cylinder semi-diagonals [m], comma-separated or repeated")
+    p.add_argument("--tan-alpha", type=float, default=0.2, help="slenderness b/h [-]")
+    p.add_argument("--mode", choices=list(MODES), default="3d",
+                   help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
+    p.add_argument("--limit-states", default="overturning,tilt:1/3",
+                   help="comma-separated: overturning, tilt:<r> (theta > r alpha); "
+                   "'default' = the seven goals of Fig 10")
+    g = p.add_argument_group("stripes (PGA/(g tan alpha))")
+    g.add_argument("--stripes", type=int, default=DEFAULT_STRIPES,
+                   help="number of stripes, geometric in (--lower, --upper]")
+    g.add_argument("--lower", type=float, default=1.0, help="start of the stripes (excluded)")
+    g.add_argument("--upper", type=float, default=20.0, help="last stripe")
+    g.add_argument("--intensities", type=_floats, default=None,
+                   help="explicit stripes, comma-separated and increasing (overrides "
+                   "--stripes/--lower/--upper)")
+    p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
+                   help="ODE tolerances preset (the scan settings do not apply)")
+    p.add_argument("--omega-n", type=float, default=None,
+                   help="contact spring frequency of mode 3d-damped [rad/s] (default: 2000)")
+    p.add_argument("--zeta", type=float, default=None,
+                   help="contact damping ratio of mode 3d-damped [-] (default: 5)")
+    _common.add_motion_source(p)
+    _common.add_processing(p)
+    p.add_argument("-o", "--out", type=Path, default=None,
+                   help="output file, .csv (the fits; the stripes go to <stem>_stripes.csv) "
+                   "or .json (both)")
+    _common.add_quiet(p)
+    p.set_defaults(func=run)
+
+
+def _motions(args):
+    """Every motion of --ensemble (or the one named by --motion), else the one record."""
+    if args.ensemble is not None and args.motion is None:
+        from ..motions.ensemble_io import load_ensemble
+
+        if any(getattr(args, k, None) is not None
+               for k in ("rotation", "fc_hz", "mw", "max_duration")) or args.highpass != "none":
+            raise ValueError("--rotation, --highpass, --fc-hz, --mw and --max-duration process "
+                             "a record; the motions of --ensemble are used as stored")
+        return load_ensemble(args.ensemble)
+    return [_common.motion_from_args(args, default_record="el-centro-1940")]
+
+
+def tables(results):
+    """(fits, stripes) as pandas tables over all R, with the columns of SUMMARY / STRIPES."""
+    import pandas as pd
+
+    fits, stripes = [], []
+    for r in results:
+        fits.append(r.summary_frame().assign(R=r.R))
+        stripes.append(r.to_frame().assign(R=r.R))
+    return (pd.concat(fits)[list(SUMMARY)].reset_index(drop=True),
+            pd.concat(stripes)[list(STRIPES)].reset_index(drop=True))
+
+
+def run(args) -> int:
+    """Analyse every stripe and motion, fit, and write; returns 0."""
+    from .. import _json
+    from ..dynamics.bodies import Cylinder
+    from ..spectra.accuracy import get_accuracy
+    from ..spectra.limit_states import parse_limit_states
+    from ..spectra.stripes import stripe_fragility, stripe_intensities
+    from ..units import header
+
+    out = args.out
+    if out is not None:
+        _common.check_output(out, (".csv", ".json"))
+    states = parse_limit_states(args.limit_states, sort=False)
+    x = (stripe_intensities(args.stripes, args.lower, args.upper) if args.intensities is None
+         else args.intensities)
+    acc = get_accuracy(args.accuracy)
+    motions = _motions(args)
+    bodies = [Cylinder(R, args.tan_alpha) for R in args.R]  # bad R fails before any analysis
+    t0 = time.perf_counter()
+    results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
+                                accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
+                                progress=not args.quiet) for b in bodies]
+    seconds = time.perf_counter() - t0
+    fits, stripes = tables(results)
+    if out is None:
+        print(f"# {len(motions)} motion(s); mode {args.mode}, tan_alpha {args.tan_alpha:g}; "
+              f"median and 95 % interval in PGA/(g tan alpha), median_pga_g in g")
+        print(fits.rename(columns=header).to_string(index=False))
+        print()
+        print(stripes.rename(columns=header).to_string(index=False))
+    elif out.suffix.lower() == ".csv":
+        out.parent.mkdir(parents=True, exist_ok=True)
+        fits.rename(columns=header).to_csv(out, index=False)
+        stripes.rename(columns=header).to_csv(out.with_name(f"{out.stem}_stripes.csv"),
+                                              index=False)
+    else:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        from ..units import QUANTITIES
+
+        doc = {"motions": [m.name for m in motions], "mode": args.mode,
+               "tan_alpha": args.tan_alpha, "limit_states": [s.name for s in states],
+               "accuracy": acc.to_dict(), "intensities": [float(v) for v in results[0]
+                                                          .intensities],
+               "seconds": seconds,
+               "units": {k: QUANTITIES[k][1] for k in (*SUMMARY, *STRIPES)
+                         if k in QUANTITIES and QUANTITIES[k][1]},
+               "fits": fits.to_dict(orient="records"),
+               "stripes": stripes.to_dict(orient="records")}
+        _json.write(out, doc, indent=1)
+    if not args.quiet:
+        n = sum(r.n_analyses for r in results)
+        print(f"{len(results)} body(ies) x {len(motions)} motion(s), {n} analyses, "
+              f"{seconds:.2f} s", file=sys.stderr)
+    return 0

@@ -1,0 +1,585 @@
+"""Multiple-stripe fragility: the share of motions exceeding a limit state at fixed intensities.
+
+The critical-intensity search (:mod:`rocking.spectra.search`) answers "the smallest intensity
+that exceeds a limit state", which in rocking depends on narrow windows of exceedance and on
+where the scan falls. Multiple-stripe analysis (Jalayer 2003; Baker 2015, "Efficient
+analytical fragility function fitting using dynamic structural analysis", Earthquake Spectra
+31:579–599) asks a question whose answer converges instead: at each of a set of intensities
+I_j (the stripes), analyse every motion of the ensemble once, count the n_j of the N_j motions
+that exceed the limit state, and fit the lognormal fragility
+
+    P(exceed | I) = Φ( ln(I/θ) / β )
+
+by binomial maximum likelihood,
+
+    ln L(θ, β) = Σ_j [ n_j ln p_j + (N_j − n_j) ln(1 − p_j) ],   p_j = Φ(ln(I_j/θ)/β).
+
+θ is the intensity at which exceedance is as likely as not; a motion that overturns at 1.9
+and survives 2.0 counts as exceeding at the first stripe and not at the second, exactly as
+observed. One analysis per (stripe, motion), run to the largest tilt goal asked (or to its
+end when overturning is asked), decides every limit state at once.
+
+Where the likelihood has no finite maximum the fit says so with NaN and a reason rather than
+a number: no motion exceeding at any stripe, every motion exceeding at every stripe, or
+fractions that step from all-below to all-above between two stripes (the data separate: β → 0
+and θ is anywhere between them). A median above the highest stripe or below the lowest one is
+an extrapolation: it is returned, flagged.
+
+Intensities are normalized, PGA/(g tan α) with the pair's vector PGA (as everywhere in
+:mod:`rocking.spectra`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+from scipy import optimize, special, stats
+
+from .._progress import maybe as _progress
+from ..dynamics.bodies import Block, Cylinder
+from ..dynamics.result import Status
+from ..motions.motion import GroundMotion
+from .accuracy import Accuracy, get_accuracy
+from .critical import make_analysis, uplift_intensity
+from .limit_states import LimitState, parse_limit_states
+from .modes import MODES, check_mode
+
+__all__ = ["DEFAULT_STRIPES", "STRIPE_RANGE", "StripeFit", "StripeFragility", "fit_stripes",
+           "stripe_fragility", "stripe_intensities"]
+
+DEFAULT_STRIPES = 40
+"""Default number of stripes, geometric over :data:`STRIPE_RANGE` (docs/performance.md,
+"Multiple-stripe fragility": the El Centro ensemble's median overturning intensity at R = 6 m
+moves by less than its own standard error beyond about this many)."""
+
+STRIPE_RANGE = (1.0, 20.0)
+"""Default span of the stripes, PGA/(g tan α) [-]: from uplift in 3D to the search's default
+bound (:data:`rocking.spectra.search.DEFAULT_UPPER`)."""
+
+RETRY_RTOL_FACTOR = 0.1
+"""A failed analysis is retried once with its rtol multiplied by this factor (as the search)."""
+
+BETA_MAX = 5.0
+"""Largest dispersion accepted from a fit [-]: beyond it the fractions show no trend with the
+intensity (the likelihood grows without bound as β → ∞)."""
+
+CONFIDENCE = 0.95
+"""Level of the Wald intervals of θ and β."""
+
+
+def stripe_intensities(n: int = DEFAULT_STRIPES, lower: float = STRIPE_RANGE[0],
+                       upper: float = STRIPE_RANGE[1]) -> np.ndarray:
+    """``n`` stripes geometric in (lower, upper], PGA/(g tan α) [-].
+
+    ``lower`` itself is left out: at the 3D uplift intensity the body stays at rest.
+    """
+    if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
+        raise ValueError(f"number of stripes must be an integer >= 1, got {n!r}")
+    lower, upper = float(lower), float(upper)
+    if not (math.isfinite(lower) and math.isfinite(upper) and 0.0 < lower < upper):
+        raise ValueError(f"stripes need 0 < lower < upper (finite), got lower={lower!r}, "
+                         f"upper={upper!r}")
+    return np.geomspace(lower, upper, int(n) + 1)[1:]
+
+
+def _check_intensities(intensities) -> np.ndarray:
+    if intensities is None:
+        return stripe_intensities()
+    if isinstance(intensities, int | np.integer) and not isinstance(intensities, bool):
+        return stripe_intensities(int(intensities))
+    x = np.asarray(intensities, dtype=float)
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError(f"intensities must be a non-empty 1-D sequence, got shape {x.shape}")
+    bad = np.flatnonzero(~np.isfinite(x) | (x <= 0.0))
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(f"intensities must be finite and > 0, got {x[i]!r} at index {i}")
+    if np.any(np.diff(x) <= 0.0):
+        i = int(np.flatnonzero(np.diff(x) <= 0.0)[0]) + 1
+        raise ValueError(f"intensities must be strictly increasing, got {x[i]!r} after "
+                         f"{x[i - 1]!r} at index {i}")
+    return x
+
+
+# --------------------------------------------------------------------------------------
+# The binomial maximum-likelihood fit
+# --------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class StripeFit:
+    """Lognormal fragility fitted to stripe counts by binomial maximum likelihood.
+
+    Attributes
+    ----------
+    median : float
+        θ [PGA/(g tan α)]; NaN where the likelihood has no finite maximum.
+    beta : float
+        Dispersion β, standard deviation of ln I [-]; NaN likewise.
+    median_ci, beta_ci : tuple of float
+        Wald 95 % intervals from the expected (Fisher) information: θ·exp(±z·se(ln θ)) and
+        β·exp(±z·se(ln β)); NaN where the fit is undefined. They treat the stripes as
+        independent binomial samples, while the stripes reuse the same motions: they say
+        how well the stripes pin θ for these motions, and are 3–4× narrower than the
+        spread of θ over other sets of motions (docs/performance.md, "Multiple-stripe
+        fragility").
+    log_likelihood : float
+        Maximized ln L (NaN if undefined).
+    status : str
+        ``"ok"``, ``"extrapolated"`` (θ outside the stripes: returned, flagged), or why no
+        fit exists: ``"none-exceeded"``, ``"all-exceeded"``, ``"separated"``, ``"no-trend"``,
+        ``"no-analyses"``.
+    reason : str
+        One sentence with the numbers behind a status other than "ok".
+    """
+
+    median: float
+    beta: float
+    median_ci: tuple[float, float]
+    beta_ci: tuple[float, float]
+    log_likelihood: float
+    status: str = "ok"
+    reason: str = ""
+
+    def probability(self, intensity) -> np.ndarray:
+        """P(exceed | I) = Φ(ln(I/θ)/β) at ``intensity`` [PGA/(g tan α)], > 0."""
+        im = np.asarray(intensity, dtype=float)
+        if np.any(~np.isfinite(im) | (im <= 0.0)):
+            raise ValueError(f"intensity must be finite and > 0, got {intensity!r}")
+        return stats.norm.cdf(np.log(im / self.median) / self.beta)
+
+
+_NAN2 = (math.nan, math.nan)
+
+
+def _undefined(status: str, reason: str) -> StripeFit:
+    return StripeFit(math.nan, math.nan, _NAN2, _NAN2, math.nan, status, reason)
+
+
+def binomial_neg_log_likelihood(params, log_x: np.ndarray, k: np.ndarray,
+                                n: np.ndarray) -> tuple[float, np.ndarray]:
+    """−ln L of (ln θ, ln β) for ``k`` of ``n`` exceeding at intensities exp(``log_x``)
+    (binomial coefficients left out: they do not depend on the parameters), and its
+    gradient."""
+    log_median, log_beta = params
+    beta = math.exp(log_beta)
+    z = (log_x - log_median) / beta
+    # log Φ(z) and log Φ(−z) stay finite where Φ would round to 0 or 1
+    log_p, log_q = special.log_ndtr(z), special.log_ndtr(-z)
+    log_phi = -0.5 * z * z - 0.5 * math.log(2.0 * math.pi)
+    # ∂ ln L/∂z per stripe: k φ/Φ − (n − k) φ/(1 − Φ)
+    dz = k * np.exp(log_phi - log_p) - (n - k) * np.exp(log_phi - log_q)
+    grad = np.array([np.sum(dz) / beta, np.sum(dz * z)])  # −∂lnL/∂lnθ, −∂lnL/∂lnβ
+    return float(-np.sum(k * log_p + (n - k) * log_q)), grad
+
+
+def _check_counts(intensities, n_exceeding, n_total):
+    x = _check_intensities(intensities)
+    k = np.asarray(n_exceeding, dtype=float).ravel()
+    n = np.asarray(n_total, dtype=float).ravel()
+    for name, a in (("n_exceeding", k), ("n_total", n)):
+        if a.shape != x.shape:
+            raise ValueError(f"{name} must have one count per stripe ({x.size}), got {a.size}")
+        if np.any(~np.isfinite(a) | (a < 0) | (a != np.round(a))):
+            i = int(np.flatnonzero(~np.isfinite(a) | (a < 0) | (a != np.round(a)))[0])
+            raise ValueError(f"{name} must be integers >= 0, got {a[i]!r} at stripe {i}")
+    if np.any(k > n):
+        i = int(np.flatnonzero(k > n)[0])
+        raise ValueError(f"n_exceeding {int(k[i])} exceeds n_total {int(n[i])} at stripe {i}")
+    return x, k, n
+
+
+def _degenerate(x: np.ndarray, k: np.ndarray, n: np.ndarray) -> StripeFit | None:
+    """The reason the likelihood has no finite maximum, or None if it has one.
+
+    The probit likelihood has a finite maximum exactly when no intensity c separates the
+    exceedances (all at I ≥ c) from the non-exceedances (all at I ≤ c).
+    """
+    used = n > 0
+    if not used.any():
+        return _undefined("no-analyses", "no stripe has an analysed motion")
+    x, k, n = x[used], k[used], n[used]
+    if not k.any():
+        return _undefined("none-exceeded", f"no motion exceeds at any of {x.size} stripes up "
+                          f"to {x[-1]:.6g}: the median lies above them")
+    if np.all(k == n):
+        return _undefined("all-exceeded", f"every motion exceeds at every one of {x.size} "
+                          f"stripes from {x[0]:.6g}: the median lies below them")
+    below = x[k < n].max()  # highest stripe with a motion not exceeding
+    above = x[k > 0].min()  # lowest stripe with a motion exceeding
+    if below < above:
+        return _undefined("separated", f"the fractions step from none to all exceeding "
+                          f"between {below:.6g} and {above:.6g}: the median lies there and "
+                          "no spread is seen (beta -> 0); add stripes or motions there")
+    if below == above:
+        return _undefined("separated", f"only the stripe at {below:.6g} has some but not all "
+                          "motions exceeding, none below it and all above: the median lies "
+                          "near it and no spread is seen (beta -> 0); add stripes or motions "
+                          "there")
+    return None
+
+
+def _start(x: np.ndarray, k: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """(ln θ, ln β) from a least-squares probit line through the mixed stripes."""
+    f = np.clip(k / np.where(n > 0, n, 1), 0.5 / np.maximum(n, 1), 1 - 0.5 / np.maximum(n, 1))
+    use = n > 0
+    z = stats.norm.ppf(f[use])
+    lx = np.log(x[use])
+    if np.ptp(lx) > 0 and lx.size >= 2:
+        slope, icpt = np.polyfit(lx, z, 1)
+        if slope > 0:
+            return np.array([-icpt / slope, math.log(min(1.0 / slope, BETA_MAX))])
+    return np.array([float(np.mean(lx)), math.log(0.5)])
+
+
+def _fisher_covariance(log_x, n, log_median, beta) -> np.ndarray:
+    """Covariance of (ln θ, ln β) from the expected information of the binomial model."""
+    z = (log_x - log_median) / beta
+    p = np.clip(stats.norm.cdf(z), 1e-300, 1 - 1e-16)
+    dens = stats.norm.pdf(z)
+    # ∂p/∂lnθ = −φ(z)/β, ∂p/∂lnβ = −φ(z)·z
+    g = np.stack([-dens / beta, -dens * z])
+    w = n / (p * (1 - p))
+    info = (g * w) @ g.T
+    try:
+        return np.linalg.inv(info)
+    except np.linalg.LinAlgError:
+        return np.full((2, 2), np.nan)
+
+
+def fit_stripes(intensities, n_exceeding, n_total) -> StripeFit:
+    """Binomial maximum-likelihood lognormal fragility of stripe counts.
+
+    Parameters
+    ----------
+    intensities : array_like
+        Stripe intensities, strictly increasing, > 0 [PGA/(g tan α)].
+    n_exceeding : array_like of int
+        Motions exceeding the limit state at each stripe.
+    n_total : array_like of int
+        Motions analysed at each stripe (a stripe with 0 is left out).
+
+    Returns
+    -------
+    StripeFit
+        NaN with a status and reason where the likelihood has no finite maximum.
+    """
+    x, k, n = _check_counts(intensities, n_exceeding, n_total)
+    bad = _degenerate(x, k, n)
+    if bad is not None:
+        return bad
+    used = n > 0
+    x, k, n = x[used], k[used], n[used]
+    log_x = np.log(x)
+    args = (log_x, k, n)
+    res = optimize.minimize(binomial_neg_log_likelihood, _start(x, k, n), args=args,
+                            jac=True, method="BFGS", options={"gtol": 1e-9})
+    if not res.success:
+        # BFGS may stop on precision loss near the optimum; polish from a simplex search
+        nm = optimize.minimize(lambda p: binomial_neg_log_likelihood(p, *args)[0], res.x,
+                               method="Nelder-Mead",
+                               options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000})
+        res = nm if nm.fun <= res.fun else res
+    log_median, log_beta = (float(v) for v in res.x)
+    beta = math.exp(log_beta)
+    if not (math.isfinite(log_median) and math.isfinite(beta)) or beta > BETA_MAX:
+        return _undefined("no-trend", f"the fractions show no trend with intensity between "
+                          f"{x[0]:.6g} and {x[-1]:.6g} (beta -> infinity)")
+    median = math.exp(log_median)
+    cov = _fisher_covariance(log_x, n, log_median, beta)
+    zq = stats.norm.ppf(0.5 + CONFIDENCE / 2)
+    se_m, se_b = (math.sqrt(v) if v >= 0 else math.nan for v in np.diag(cov))
+    status, reason = "ok", ""
+    if not x[0] <= median <= x[-1]:
+        status = "extrapolated"
+        reason = (f"median {median:.6g} lies outside the stripes {x[0]:.6g}–{x[-1]:.6g}: "
+                  "extend them")
+    return StripeFit(median, beta,
+                     (median * math.exp(-zq * se_m), median * math.exp(zq * se_m)),
+                     (beta * math.exp(-zq * se_b), beta * math.exp(zq * se_b)),
+                     -float(res.fun), status, reason)
+
+
+# --------------------------------------------------------------------------------------
+# The analyses
+# --------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class StripeFragility:
+    """Multiple-stripe fragility of one body in one mode under an ensemble of motions.
+
+    Attributes
+    ----------
+    intensities : ndarray, shape (stripes,)
+        The stripes, PGA/(g tan α) [-].
+    limit_states : tuple of str
+        Canonical names, in the order asked.
+    motions : tuple of str
+    exceeded : ndarray of bool, shape (stripes, motions, limit states)
+        Whether the analysis of each motion at each stripe exceeded each limit state (False
+        where the analysis failed).
+    failed : ndarray of bool, shape (stripes, motions)
+        The analysis failed even after a retry with a tighter rtol; left out of the counts.
+    n_exceeding : ndarray of int, shape (stripes, limit states)
+    n_motions : ndarray of int, shape (stripes,)
+        Motions analysed successfully at each stripe.
+    median, beta : Mapping[str, float]
+        θ [PGA/(g tan α)] and β [-] per limit state (NaN where undefined: see ``status``).
+    median_ci, beta_ci : Mapping[str, tuple]
+        Wald 95 % intervals.
+    status, reason : Mapping[str, str]
+        Per limit state, as :class:`StripeFit`.
+    mode, accuracy : str
+    R, tan_alpha : float
+        Body size [m] and slenderness [-].
+    n_analyses : int
+        Analyses run (retries included).
+    """
+
+    intensities: np.ndarray
+    limit_states: tuple[str, ...]
+    motions: tuple[str, ...]
+    exceeded: np.ndarray
+    failed: np.ndarray
+    fits: Mapping[str, StripeFit] = field(repr=False)
+    mode: str = "3d"
+    accuracy: str = "default"
+    R: float = math.nan
+    tan_alpha: float = math.nan
+    n_analyses: int = 0
+
+    @property
+    def n_exceeding(self) -> np.ndarray:
+        return self.exceeded.sum(axis=1).astype(np.int64)
+
+    @property
+    def n_motions(self) -> np.ndarray:
+        return (~self.failed).sum(axis=1).astype(np.int64)
+
+    @property
+    def fraction(self) -> np.ndarray:
+        """Share of the analysed motions exceeding, (stripes, limit states) [-]; NaN at a
+        stripe where every analysis failed."""
+        n = self.n_motions[:, None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(n > 0, self.n_exceeding / np.maximum(n, 1), np.nan)
+
+    def _per_state(self, attr: str) -> Mapping:
+        return MappingProxyType({k: getattr(f, attr) for k, f in self.fits.items()})
+
+    @property
+    def median(self) -> Mapping[str, float]:
+        return self._per_state("median")
+
+    @property
+    def beta(self) -> Mapping[str, float]:
+        return self._per_state("beta")
+
+    @property
+    def median_ci(self) -> Mapping[str, tuple[float, float]]:
+        return self._per_state("median_ci")
+
+    @property
+    def beta_ci(self) -> Mapping[str, tuple[float, float]]:
+        return self._per_state("beta_ci")
+
+    @property
+    def status(self) -> Mapping[str, str]:
+        return self._per_state("status")
+
+    @property
+    def reason(self) -> Mapping[str, str]:
+        return self._per_state("reason")
+
+    def __getitem__(self, limit_state: str | LimitState) -> StripeFit:
+        """The fit of one limit state (any accepted spelling)."""
+        from .limit_states import match_limit_state
+
+        return self.fits[match_limit_state(limit_state, self.limit_states)]
+
+    def to_frame(self):
+        """The stripes as a table: one row per (limit state, stripe) with ``intensity``
+        [PGA/(g tan α)], ``pga_g`` [g], ``n_exceeding``, ``n_motions``, ``fraction``."""
+        import pandas as pd
+
+        rows = []
+        frac, k, n = self.fraction, self.n_exceeding, self.n_motions
+        for j, name in enumerate(self.limit_states):
+            for i, im in enumerate(self.intensities):
+                rows.append({"limit_state": name, "intensity": float(im),
+                             "pga_g": float(im) * self.tan_alpha, "n_exceeding": int(k[i, j]),
+                             "n_motions": int(n[i]), "fraction": float(frac[i, j])})
+        return pd.DataFrame(rows)
+
+    def summary_frame(self):
+        """The fits as a table: one row per limit state with ``median`` [PGA/(g tan α)],
+        ``median_pga_g`` [g], ``beta`` [-], their 95 % intervals, ``status`` and ``reason``."""
+        import pandas as pd
+
+        rows = []
+        for name in self.limit_states:
+            f = self.fits[name]
+            rows.append({"limit_state": name, "median": f.median,
+                         "median_lo": f.median_ci[0], "median_hi": f.median_ci[1],
+                         "median_pga_g": f.median * self.tan_alpha, "beta": f.beta,
+                         "beta_lo": f.beta_ci[0], "beta_hi": f.beta_ci[1],
+                         "status": f.status, "reason": f.reason})
+        return pd.DataFrame(rows)
+
+    def __repr__(self) -> str:
+        head = (f"StripeFragility(mode={self.mode!r}, R={self.R:g} m, "
+                f"tan_alpha={self.tan_alpha:g}, {len(self.motions)} motions x "
+                f"{self.intensities.size} stripes {self.intensities[0]:.4g}-"
+                f"{self.intensities[-1]:.4g}, {self.n_analyses} analyses)")
+        rows = []
+        for name in self.limit_states:
+            f = self.fits[name]
+            note = "" if f.status == "ok" else f" [{f.status}: {f.reason}]"
+            rows.append(f"  {name}: median PGA/(g tan alpha) = {f.median:.4g} "
+                        f"(95 % {f.median_ci[0]:.4g}-{f.median_ci[1]:.4g}), "
+                        f"beta = {f.beta:.3g}{note}")
+        return "\n".join([head, *rows])
+
+
+def _check_motions(motions) -> list[GroundMotion]:
+    if isinstance(motions, GroundMotion):
+        motions = [motions]
+    motions = list(motions)
+    if not motions:
+        raise ValueError("motions must hold at least one GroundMotion, got none")
+    for i, m in enumerate(motions):
+        if not isinstance(m, GroundMotion):
+            raise ValueError(f"motions[{i}] must be a GroundMotion, got {type(m).__name__}")
+        if not m.pga > 0.0:
+            raise ValueError(f"motion {m.name!r} has zero PGA")
+    names = [m.name for m in motions]
+    dup = {n for n in names if names.count(n) > 1}
+    if dup:
+        raise ValueError(f"motion names must be unique, got {sorted(dup)} more than once")
+    return motions
+
+
+def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequence[LimitState],
+                    intensities: np.ndarray, mode: str, acc: Accuracy, *,
+                    omega_n: float | None = None, zeta: float | None = None,
+                    progress=None) -> tuple[np.ndarray, np.ndarray, int]:
+    """Analyse one motion at every stripe: (exceeded (stripes, states), failed (stripes,),
+    analyses run).
+
+    Each analysis stops once the largest tilt goal is passed (runs to its end when
+    overturning is asked); below the uplift intensity the body stays at rest and nothing
+    is run.
+    """
+    analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+                            rest_tilt=acc.rest_tilt)
+    rtol = acc.rtol_for(MODES[mode][0])
+    tau = np.array([ls.threshold(body.alpha) for ls in states])
+    stop_at = None if any(ls.is_overturning for ls in states) else float(tau.max())
+    lower = uplift_intensity(motion, mode)
+    exceeded = np.zeros((intensities.size, len(states)), dtype=bool)
+    failed = np.zeros(intensities.size, dtype=bool)
+    runs = 0
+    for i, im in enumerate(intensities):
+        if im > lower:
+            out = analyze(float(im), stop_at, rtol)
+            runs += 1
+            if out.status is Status.FAILED or not math.isfinite(out.theta_max):
+                out = analyze(float(im), stop_at, rtol * RETRY_RTOL_FACTOR)
+                runs += 1
+            if out.status is Status.FAILED or not math.isfinite(out.theta_max):
+                failed[i] = True
+            elif out.status is Status.STOPPED_AT_LIMIT:
+                exceeded[i] = True  # stopped past the largest goal: every goal is passed
+            else:
+                exceeded[i] = [ls.exceeded(out.theta_max, out.overturned, body.alpha)
+                               for ls in states]
+        if progress is not None:
+            progress.update()
+    return exceeded, failed, runs
+
+
+def stripe_fragility(
+    body: Cylinder | Block,
+    motions: GroundMotion | Sequence[GroundMotion],
+    limit_states=None,
+    *,
+    mode: str = "3d",
+    intensities=None,
+    accuracy: str | Accuracy | dict = "default",
+    omega_n: float | None = None,
+    zeta: float | None = None,
+    progress=False,
+) -> StripeFragility:
+    """Multiple-stripe fragility of a body under an ensemble of motions.
+
+    Parameters
+    ----------
+    body : Cylinder or Block
+        The rocking body (R [m], tan α [-]).
+    motions : GroundMotion or sequence of GroundMotion
+        The ensemble (unscaled; each is scaled to every stripe by its vector PGA).
+    limit_states : str, sequence or None
+        E.g. ``["overturning", "tilt:1/3"]``; None: the seven defaults.
+    mode : {"3d", "3d-damped", "2d-x", "2d-y"}
+    intensities : array_like, int or None
+        The stripes, PGA/(g tan α) [-], strictly increasing, analysed exactly as given; an
+        int: that many geometric stripes over :data:`STRIPE_RANGE`; None:
+        :data:`DEFAULT_STRIPES` of them.
+    accuracy : str, Accuracy or dict
+        Preset or tolerances; only its ODE tolerances and rest tilt matter here.
+    omega_n, zeta : float, optional
+        Contact parameters of mode "3d-damped" [rad/s], [-].
+    progress : bool or rocking._progress.Progress
+        Report analyses done, rate and time left on stderr.
+
+    Returns
+    -------
+    StripeFragility
+    """
+    check_mode(mode)
+    motions = _check_motions(motions)
+    states = parse_limit_states(limit_states, sort=False)
+    for ls in states:
+        ls.threshold(body.alpha)  # a tilt goal beyond π/2 fails here, before any analysis
+    x = _check_intensities(intensities)
+    acc = get_accuracy(accuracy)
+    bar = _progress(progress, x.size * len(motions), "stripes", unit="analysis")
+    exceeded = np.zeros((x.size, len(motions), len(states)), dtype=bool)
+    failed = np.zeros((x.size, len(motions)), dtype=bool)
+    runs = 0
+    for m, motion in enumerate(motions):
+        exceeded[:, m], failed[:, m], r = stripe_outcomes(
+            body, motion, states, x, mode, acc, omega_n=omega_n, zeta=zeta, progress=bar)
+        runs += r
+    if bar is not None and bar is not progress:
+        bar.close()
+    return from_outcomes(x, states, [m.name for m in motions], exceeded, failed, mode=mode,
+                         accuracy=acc.name, R=float(body.R), tan_alpha=float(body.tan_alpha),
+                         n_analyses=runs)
+
+
+def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, failed, *,
+                  mode: str = "3d", accuracy: str = "default", R: float = math.nan,
+                  tan_alpha: float = math.nan, n_analyses: int = 0) -> StripeFragility:
+    """A :class:`StripeFragility` (fits included) from per-analysis outcomes, e.g. read back
+    from a store: ``exceeded`` (stripes, motions, limit states), ``failed`` (stripes,
+    motions)."""
+    x = _check_intensities(intensities)
+    names = tuple(ls.name for ls in parse_limit_states(limit_states, sort=False))
+    exc = np.asarray(exceeded, dtype=bool)
+    fail = np.asarray(failed, dtype=bool)
+    want = (x.size, len(motions), len(names))
+    if exc.shape != want or fail.shape != want[:2]:
+        raise ValueError(f"exceeded must have shape {want} and failed {want[:2]}, got "
+                         f"{exc.shape} and {fail.shape}")
+    exc = exc & ~fail[:, :, None]
+    k = exc.sum(axis=1)
+    n = (~fail).sum(axis=1)
+    fits = {name: fit_stripes(x, k[:, j], n) for j, name in enumerate(names)}
+    return StripeFragility(x, names, tuple(motions), exc, fail, MappingProxyType(fits),
+                           mode, accuracy, R, tan_alpha, int(n_analyses))

@@ -1,0 +1,80 @@
+# Multiple-stripe fragility (beyond the paper): every motion of a study analysed once at each
+# stripe intensity, chunked on Dask into results/<study>/stripes.zarr (prepared and resumed
+# like the spectra store, spectra.smk; the output is the completion marker), then fitted and
+# set beside the first-exceedance fragility: stripe_fragility.csv and one figure per mode.
+
+
+def stripes_store(study):
+    return f"results/{study}/stripes.zarr"
+
+
+def stripe_targets():
+    """Tables and figures of every study that declares stripes."""
+    out = []
+    for study in config["studies"]:
+        if has_stripes(study):
+            out.append(f"results/{study}/stripe_fragility.csv")
+            out += [f"results/{study}/figures/stripe_fragility_{mode}.{ext}"
+                    for mode in study_config(study)["stripes"]["modes"]
+                    for ext in ("png", "pdf", "json")]
+    return out
+
+
+rule stripes:
+    input:
+        numba=ancient(rules.numba_cache.output[0]),
+        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
+    output:
+        done="results/{study}/stripes.done.json",
+    params:
+        store=lambda wildcards: stripes_store(wildcards.study),
+        spec=lambda wildcards: stripes_spec(wildcards.study),
+        config_hash=lambda wildcards: stripes_hash(wildcards.study),
+        dask=dask_options(),
+    threads: compute_threads()
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/{study}/stripes.log",
+    script:
+        "../scripts/compute_stripes.py"
+
+
+rule stripe_fragility:
+    input:
+        complete=rules.stripes.output.done,
+        fragility=rules.fragility_curves.output.fragility_nc,
+    output:
+        csv=report("results/{study}/stripe_fragility.csv",
+                   caption="../report/stripe_fragility.rst", category="Beyond the paper",
+                   labels={"study": "{study}", "table": "stripe fragility"}),
+    params:
+        store=lambda wildcards: stripes_store(wildcards.study),
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/{study}/stripe_fragility.log",
+    script:
+        "../scripts/stripe_fragility.py"
+
+
+rule stripe_fragility_figure:
+    input:
+        table=rules.stripe_fragility.output.csv,
+        fragility=rules.fragility_curves.output.fragility_nc,
+    output:
+        png=report("results/{study}/figures/stripe_fragility_{mode}.png",
+                   caption="../report/stripe_fragility.rst", category="Beyond the paper",
+                   labels={"study": "{study}", "figure": "stripe fragility {mode}"}),
+        pdf="results/{study}/figures/stripe_fragility_{mode}.pdf",
+        notes="results/{study}/figures/stripe_fragility_{mode}.json",
+    wildcard_constraints:
+        mode="3d|3d-damped|2d-x|2d-y",
+    params:
+        store=lambda wildcards: stripes_store(wildcards.study),
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/{study}/stripe_fragility_{mode}.log",
+    script:
+        "../scripts/stripe_fragility_figure.py"

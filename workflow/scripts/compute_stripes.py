@@ -1,0 +1,19 @@
+"""Stripes rule: prepare the study's stripes store (resume in it, or make it anew for a new
+configuration), fill it on Dask, write the completion marker (the rule's output)."""
+
+from rocking import _json
+from rocking.study import cluster, stripes
+
+
+def main(snakemake):
+    p = snakemake.params
+    with cluster.log_to(snakemake.log[0]):
+        summary = stripes.compute(
+            p.store, p.spec, p.config_hash, snakemake.input.motions,
+            n_workers=snakemake.threads, key=f"stripes-{snakemake.wildcards.study}",
+            label=f"stripes {snakemake.wildcards.study}", **p.dask)
+        _json.write(snakemake.output.done, summary)
+
+
+if __name__ == "__main__":
+    main(snakemake)

@@ -1,0 +1,19 @@
+"""Stripe against first-exceedance fragility of one mode (Snakemake script)."""
+
+from rocking.study.figures import log_to_file
+from rocking.study.figures import stripe_fragility as fig
+from rocking.study.figures._style import save, write_notes
+
+
+def main(snakemake):
+    out = snakemake.output
+    with log_to_file(snakemake.log[0]):
+        d = fig.data(snakemake.params.store, snakemake.input.fragility,
+                     mode=snakemake.wildcards.mode)
+        save(fig.plot(d), [out.png, out.pdf])
+        write_notes(out.notes, {"figure": "stripe_fragility",
+                                **{k: d[k] for k in ("measured", "missing", "mode")}})
+
+
+if __name__ == "__main__":
+    main(snakemake)
