@@ -8,14 +8,16 @@ import numpy as np
 
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.study import prepare, store
+from rocking.study.spec import StudySpec
 
 
 def _spec(upper: float) -> dict:
-    return {"study": "s", "ensemble": {"name": "test"}, "R": [0.5, 1.0, 2.0],
-            "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
-                      "limit_states": ["overturning", "tilt:1/3"]}],
-            "chunk_R": 1, "min_task_seconds": None, "accuracy": "fast",
-            "search_options": {"upper": upper}}
+    config = {"accuracy": "fast", "search": {"upper": upper},
+              "ensembles": {"test": {"record": "el-centro-1940"}},
+              "studies": {"s": {"ensemble": "test", "R": [0.5, 1.0, 2.0], "chunk_R": 1,
+                                "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
+                                          "limit_states": ["overturning", "tilt:1/3"]}]}}}
+    return StudySpec.from_config(config, "s").spectra.to_attrs()
 
 
 def test_store_is_created_resumed_and_replaced(tmp_path):

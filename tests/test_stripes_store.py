@@ -14,11 +14,16 @@ from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.stripes import stripe_fragility
 from rocking.study import store
 from rocking.study import stripes as st
+from rocking.study.spec import StudySpec
 
-SPEC = {"study": "t", "ensemble": {"name": "test"}, "modes": ["3d", "2d-x"],
-        "tan_alpha": 0.2, "limit_states": ["overturning", "tilt:1/3"], "R": [0.5, 1.0, 2.0],
-        "intensity": [1.2, 2.0, 3.5, 6.0], "chunk_R": 2, "accuracy": "default",
-        "model_options": {}}
+SPEC = StudySpec.from_config({
+    "ensembles": {"test": {"record": "el-centro-1940"}},
+    "studies": {"t": {"ensemble": "test", "R": [1.0],
+                      "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
+                                "limit_states": ["overturning"]}],
+                      "stripes": {"modes": ["3d", "2d-x"], "R": [0.5, 1.0, 2.0],
+                                  "intensity": [1.2, 2.0, 3.5, 6.0], "chunk_R": 2}}}},
+    "t").stripes
 
 
 @pytest.fixture()
@@ -45,8 +50,8 @@ def test_store_holds_the_library_answers(filled):
     fits = st.stripe_fits(ds)
     assert set(fits) == {(m, R) for m in ("3d", "2d-x") for R in (0.5, 1.0, 2.0)}
     for mode, R in [("3d", 1.0), ("2d-x", 2.0)]:
-        direct = stripe_fragility(Cylinder(R, 0.2), motions, SPEC["limit_states"], mode=mode,
-                                  intensities=SPEC["intensity"])
+        direct = stripe_fragility(Cylinder(R, 0.2), motions, list(SPEC.limit_states), mode=mode,
+                                  intensities=list(SPEC.intensity))
         got = fits[(mode, R)]
         np.testing.assert_array_equal(got.exceeded, direct.exceeded)
         assert got.n_analyses == direct.n_analyses
@@ -54,7 +59,7 @@ def test_store_holds_the_library_answers(filled):
             assert got.status[ls] == direct.status[ls]
             np.testing.assert_equal(got.median[ls], direct.median[ls])
     # the stripes' PGA in g is stored beside the intensity
-    np.testing.assert_allclose(ds["pga_g"].values, np.array(SPEC["intensity"]) * 0.2)
+    np.testing.assert_allclose(ds["pga_g"].values, np.array(SPEC.intensity) * 0.2)
 
 
 def test_table_sets_first_exceedance_beside(filled):

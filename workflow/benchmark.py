@@ -35,7 +35,7 @@ import yaml
 from rocking.benchmarks._io import write_table
 from rocking.spectra.accuracy import get_accuracy
 from rocking.study import cluster, store
-from rocking.study.plan import plan_study
+from rocking.study.spec import Damping, SpectraSpec, StudySpec
 
 REPO = Path(__file__).resolve().parents[1]
 SAMPLE_R = [0.5, 3.0, 6.0, 10.0]
@@ -94,27 +94,25 @@ def default_run(rows: list[dict], targets: list[str]) -> None:
     shutil.rmtree(workdir, ignore_errors=True)
 
 
-def _paper_plan(study: str = "elcentro"):
-    """The run plan of one study of config/paper.yaml."""
+def _paper_spec(study: str = "elcentro") -> SpectraSpec:
+    """The spectra of one study of config/paper.yaml."""
     paper = yaml.safe_load((REPO / "config/paper.yaml").read_text())
-    runs = paper["studies"][study]["runs"]
-    return plan_study(runs, f"studies.{study}.runs")
+    return StudySpec.from_config(paper, study).spectra
 
 
 def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[str],
                  name: str) -> Path:
     """A store with the paper's settings on a sub-grid at tan α = 0.2, one size R per chunk;
     each mode searches the limit states the paper's runs ask of it there."""
-    paper = yaml.safe_load((REPO / "config/paper.yaml").read_text())
-    plan = _paper_plan()
+    spec = _paper_spec()
+    plan = spec.plan
     k = plan.tan_alpha.index(0.2)
     requested = plan.requested[[plan.modes.index(m) for m in modes]][:, :, [k]]
     ensemble = workdir / "results/motions/elcentro.nc"
     layout = store.spectra_layout(modes, plan.limit_states, motions, [0.2], R, 1)
-    options = {"upper": float(paper.get("search", {}).get("upper", 20.0))}
-    if "3d-damped" in modes:
-        options.update(omega_n=2000.0, zeta=5.0)
-    attrs = {"tolerances": get_accuracy(paper["accuracy"]).to_dict(), "search_options": options,
+    options = {"upper": spec.upper,
+               **(Damping.options(spec.damping) if "3d-damped" in modes else {})}
+    attrs = {"tolerances": get_accuracy(spec.accuracy).to_dict(), "search_options": options,
              "ensemble": store.ensemble_attrs(ensemble, "elcentro")}
     path = workdir / f"{name}.zarr"
     store.create_store(path, layout, attrs, name, static={store.REQUESTED: requested})
@@ -142,11 +140,11 @@ def paper_point_cost(rows: list[dict], workdir: Path) -> None:
     paper = yaml.safe_load((REPO / "config/paper.yaml").read_text())
     total_points = 0
     total_seconds = 0.0
-    for name, study in paper["studies"].items():
-        n_motions = 1 + paper["ensembles"][study["ensemble"]]["n_synthetic"]
-        n_R = study["R"]["num"] if isinstance(study["R"], dict) else len(study["R"])
+    for name in paper["studies"]:
+        spec = _paper_spec(name)
+        n_motions = 1 + spec.ensemble.n_synthetic
         # every study is costed like El Centro's points, mode by mode
-        for mode, n in _paper_plan(name).points(n_motions, n_R).items():
+        for mode, n in spec.plan.points(n_motions, len(spec.R)).items():
             total_points += n
             total_seconds += n * float(np.mean(per_mode[mode]))
     tol = ds["tolerances"]

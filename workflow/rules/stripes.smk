@@ -4,22 +4,6 @@
 # set beside the first-exceedance fragility: stripe_fragility.csv and one figure per mode.
 
 
-def stripes_store(study):
-    return f"results/{study}/stripes.zarr"
-
-
-def stripe_targets():
-    """Tables and figures of every study that declares stripes."""
-    out = []
-    for study in config["studies"]:
-        if has_stripes(study):
-            out.append(f"results/{study}/stripe_fragility.csv")
-            out += [f"results/{study}/figures/stripe_fragility_{mode}.{ext}"
-                    for mode in study_config(study)["stripes"]["modes"]
-                    for ext in ("png", "pdf", "json")]
-    return out
-
-
 rule stripes:
     input:
         numba=ancient(rules.numba_cache.output[0]),

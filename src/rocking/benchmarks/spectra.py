@@ -310,17 +310,16 @@ def paper_goal_sets(path: str | Path) -> tuple[dict, dict[str, dict[tuple[str, s
     """
     import yaml
 
-    from ..study.plan import plan_study
+    from ..study.spec import StudySpec
 
     cfg = yaml.safe_load(Path(path).read_text())
     sets: dict[str, list[tuple[str, ...]]] = {}
     points: dict[str, dict[tuple[str, str], int]] = {}
-    for name, study in cfg["studies"].items():
-        n_motions = 1 + int(cfg["ensembles"][study["ensemble"]].get("n_synthetic", 10))
-        R = study["R"]
-        n_R = int(R["num"]) if isinstance(R, dict) else len(R)
-        runs = [{**r, "tan_alpha": _grid(r["tan_alpha"])} for r in study["runs"]]
-        plan = plan_study(runs, f"studies.{name}.runs")
+    for name in cfg["studies"]:
+        spec = StudySpec.from_config(cfg, name).spectra
+        n_motions = 1 + spec.ensemble.n_synthetic
+        n_R = len(spec.R)
+        plan = spec.plan
         counts: dict[tuple[str, str], int] = {}
         for mode in plan.modes:
             for t in plan.tan_alpha:
@@ -334,12 +333,6 @@ def paper_goal_sets(path: str | Path) -> tuple[dict, dict[str, dict[tuple[str, s
                 counts[k] = counts.get(k, 0) + n_motions * n_R
         points[name] = counts
     return sets, points
-
-
-def _grid(spec) -> list[float]:
-    if isinstance(spec, list):
-        return [float(v) for v in spec]
-    return np.linspace(float(spec["start"]), float(spec["stop"]), int(spec["num"])).tolist()
 
 
 def _cost_rows(records, sets, quick: bool) -> list[dict]:

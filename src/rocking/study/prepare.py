@@ -21,7 +21,7 @@ from typing import Any
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from . import store
-from .plan import plan_study
+from .spec import Damping, SpectraSpec, TiltMapSpec
 
 log = logging.getLogger(__name__)
 
@@ -49,7 +49,7 @@ def _prepare(path: str | Path, config_digest: str, create) -> str:
     return "created" if state == "missing" else "replaced"
 
 
-def spectra_store(path: str | Path, spec: dict[str, Any], config_digest: str,
+def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_digest: str,
                   motions: str | Path) -> str:
     """Prepare the spectra store of a study.
 
@@ -57,11 +57,11 @@ def spectra_store(path: str | Path, spec: dict[str, Any], config_digest: str,
     ----------
     path : str or Path
         ``results/<study>/spectra.zarr``.
-    spec : dict
-        The study's result-affecting description (the workflow's ``spectra_spec``): study,
-        ensemble, R grid, runs, chunk_R, min_task_seconds, accuracy, search_options.
+    spec : SpectraSpec or dict
+        The study's result-affecting description, or its ``to_attrs()`` mapping (the
+        workflow's ``spectra_spec``).
     config_digest : str
-        :func:`rocking.study.store.config_hash` of ``spec``.
+        ``spec.digest``.
     motions : str or Path
         The ensemble file.
 
@@ -71,21 +71,23 @@ def spectra_store(path: str | Path, spec: dict[str, Any], config_digest: str,
         ``"created"``, ``"resumed"`` or ``"replaced"``.
     """
 
+    s = spec if isinstance(spec, SpectraSpec) else SpectraSpec.from_attrs(spec)
+
     def create(p: Path) -> None:
-        ensemble = store.ensemble_attrs(motions, spec["ensemble"]["name"])
+        ensemble = store.ensemble_attrs(motions, s.ensemble.name)
         names = [m["name"] for m in ensemble["motions"]]
-        chunk_R = spec["chunk_R"]
+        chunk_R = s.chunk_R
         if chunk_R == "auto":
             npts = min(m["npts"] for m in ensemble["motions"])
-            chunk_R = store.auto_chunk_R(len(spec["R"]), npts, spec["min_task_seconds"])
-        plan = plan_study(spec["runs"], f"studies.{spec['study']}.runs")
+            chunk_R = store.auto_chunk_R(len(s.R), npts, s.min_task_seconds)
+        plan = s.plan
         layout = store.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
-                                      spec["R"], chunk_R)
+                                      s.R, chunk_R)
         attrs = {
-            "title": f"Seismic performance rocking spectra, study {spec['study']}",
-            "config": spec,
-            "tolerances": get_accuracy(spec["accuracy"]).to_dict(),
-            "search_options": spec["search_options"],
+            "title": f"Seismic performance rocking spectra, study {s.study}",
+            "config": s.to_attrs(),
+            "tolerances": get_accuracy(s.accuracy).to_dict(),
+            "search_options": s.search_options(),
             "rocking_version": __version__,
             "ensemble": ensemble,
             "pga_crit_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair; "
@@ -97,39 +99,40 @@ def spectra_store(path: str | Path, spec: dict[str, Any], config_digest: str,
         skipped = len(store.regions_not_requested(layout, plan.requested))
         log.info("created %s: %d chunks of %d sizes R (%d not requested by any run, marked "
                  "done), motions %s; points per mode %s", p, layout.n_regions, chunk_R, skipped,
-                 names, plan.points(len(names), len(spec["R"])))
+                 names, plan.points(len(names), len(s.R)))
 
     return _prepare(path, config_digest, create)
 
 
-def tilt_map_store(path: str | Path, spec: dict[str, Any], config_digest: str,
+def tilt_map_store(path: str | Path, spec: TiltMapSpec | dict[str, Any], config_digest: str,
                    motions: str | Path) -> str:
-    """Prepare the Fig 7 tilt-map store of a study (``spec``: the workflow's
-    ``tilt_map_spec``); returns ``"created"``, ``"resumed"`` or ``"replaced"``."""
+    """Prepare the Fig 7 tilt-map store of a study (``spec``: a :class:`TiltMapSpec` or its
+    ``to_attrs()``, the workflow's ``tilt_map_spec``); returns ``"created"``, ``"resumed"``
+    or ``"replaced"``."""
+    s = spec if isinstance(spec, TiltMapSpec) else TiltMapSpec.from_attrs(spec)
 
     def create(p: Path) -> None:
-        ensemble = store.ensemble_attrs(motions, spec["ensemble"]["name"])
+        ensemble = store.ensemble_attrs(motions, s.ensemble.name)
         names = [m["name"] for m in ensemble["motions"]]
-        motion = spec["motion"] or names[0]  # the record comes first in an ensemble
+        motion = s.motion or names[0]  # the record comes first in an ensemble
         if motion not in names:
-            raise ValueError(f"studies.{spec['study']}.tilt_map.motion={motion!r} is not a "
-                             f"motion of ensemble {spec['ensemble']['name']!r}: {names}")
-        layout = store.tilt_map_layout(spec["modes"], spec["R"], spec["intensity"],
-                                       spec["chunk_R"])
+            raise ValueError(f"studies.{s.study}.tilt_map.motion={motion!r} is not a "
+                             f"motion of ensemble {s.ensemble.name!r}: {names}")
+        layout = store.tilt_map_layout(s.modes, s.R, s.intensity, s.chunk_R)
         who = next(m for m in ensemble["motions"] if m["name"] == motion)
         attrs = {
-            "title": f"Peak tilt over size and intensity (Fig 7), study {spec['study']}",
-            "config": spec,
+            "title": f"Peak tilt over size and intensity (Fig 7), study {s.study}",
+            "config": s.to_attrs(),
             "motion": motion,
-            "tan_alpha": spec["tan_alpha"],
-            "tolerances": get_accuracy(spec["accuracy"]).to_dict(),
-            "model_options": spec["model_options"],
+            "tan_alpha": s.tan_alpha,
+            "tolerances": get_accuracy(s.accuracy).to_dict(),
+            "model_options": Damping.options(s.damping),
             "rocking_version": __version__,
             "ensemble": ensemble,
             "motion_processing": who["processing"],
             "motion_PGA_g": who["PGA"],
         }
-        pga_g = ("intensity", [i * spec["tan_alpha"] for i in spec["intensity"]])
+        pga_g = ("intensity", [i * s.tan_alpha for i in s.intensity])
         store.create_store(p, layout, attrs, config_digest, coords={"pga_g": pga_g})
         log.info("created %s: %d chunks, motion %s", p, layout.n_regions, motion)
 

@@ -26,6 +26,7 @@ from .figures import FIGURES, _load, figure_name
 from .figures._style import limit_state_title
 from .figures.captions import CAPTIONS
 from .figures.comparisons import Comparison, compare, fmt
+from .spec import decode_attrs
 
 SHOWN = 10
 """Grids with at most this many values are listed in full, longer ones as a range."""
@@ -127,14 +128,8 @@ def fit_quality_table(entries: Sequence[FigureEntry]) -> pd.DataFrame:
 
 
 def _attr(attrs: Mapping, key: str, default=None):
-    """A store attribute, decoded when it is a JSON string."""
-    raw = attrs.get(key, default)
-    if isinstance(raw, str):
-        try:
-            return json.loads(raw)
-        except json.JSONDecodeError:
-            return raw
-    return raw
+    """A store attribute, decoded when it is a JSON string (:func:`.spec.decode_attrs`)."""
+    return decode_attrs({key: attrs.get(key, default)})[key]
 
 
 def grid_text(values: Sequence[float], unit: str = "") -> str:

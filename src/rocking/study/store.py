@@ -46,6 +46,7 @@ from ..motions.motion import GroundMotion
 from ..motions.records import file_sha256
 from ..units import QUANTITIES
 from ..units import attrs as cf_attrs
+from .spec import decode_attrs
 
 SPECTRA_DIMS = ("mode", "limit_state", "motion", "tan_alpha", "R")
 """Dimensions of the spectra variables, in storage order."""
@@ -473,14 +474,8 @@ def _open_group(path: str | Path, mode: str) -> zarr.Group:
 
 
 def read_attrs(path: str | Path) -> dict[str, Any]:
-    """Store attributes, with JSON-encoded values decoded."""
-    out = {}
-    for k, v in _open_group(path, "r").attrs.items():
-        try:
-            out[k] = json.loads(v) if isinstance(v, str) else v
-        except json.JSONDecodeError:
-            out[k] = v
-    return out
+    """Store attributes, with JSON-encoded values decoded (:func:`.spec.decode_attrs`)."""
+    return decode_attrs(_open_group(path, "r").attrs)
 
 
 def check_config_hash(path: str | Path, expected: str) -> None:

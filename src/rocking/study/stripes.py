@@ -26,6 +26,7 @@ from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from . import store
 from .prepare import _prepare
+from .spec import Damping, StripesSpec
 
 log = logging.getLogger(__name__)
 
@@ -68,37 +69,37 @@ def stripes_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
     return store.Layout(coords, variables, STRIPES_TASK_DIMS, {"R": int(chunk_R)})
 
 
-def prepare_store(path: str | Path, spec: dict[str, Any], config_digest: str,
+def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_digest: str,
                   motions: str | Path) -> str:
     """Make (or keep, or replace) the stripes store of a study.
 
-    ``spec``: the workflow's ``stripes_spec`` (study, ensemble, modes, tan_alpha,
-    limit_states, R, intensity, chunk_R, accuracy, model_options). Returns ``"created"``,
-    ``"resumed"`` or ``"replaced"``.
+    ``spec``: a :class:`~rocking.study.spec.StripesSpec` or its ``to_attrs()`` (the
+    workflow's ``stripes_spec``). Returns ``"created"``, ``"resumed"`` or ``"replaced"``.
     """
     from ..spectra.limit_states import parse_limit_states
 
+    s = spec if isinstance(spec, StripesSpec) else StripesSpec.from_attrs(spec)
+
     def create(p: Path) -> None:
-        ensemble = store.ensemble_attrs(motions, spec["ensemble"]["name"])
+        ensemble = store.ensemble_attrs(motions, s.ensemble.name)
         names = [m["name"] for m in ensemble["motions"]]
-        states = [s.name for s in parse_limit_states(spec["limit_states"], sort=False)]
-        layout = stripes_layout(spec["modes"], states, names, spec["R"], spec["intensity"],
-                                spec["chunk_R"])
+        states = [ls.name for ls in parse_limit_states(list(s.limit_states), sort=False)]
+        layout = stripes_layout(s.modes, states, names, s.R, s.intensity, s.chunk_R)
         attrs = {
-            "title": f"Multiple-stripe analyses, study {spec['study']}",
-            "config": spec,
-            "tan_alpha": float(spec["tan_alpha"]),
-            "tolerances": get_accuracy(spec["accuracy"]).to_dict(),
-            "model_options": spec["model_options"],
+            "title": f"Multiple-stripe analyses, study {s.study}",
+            "config": s.to_attrs(),
+            "tan_alpha": float(s.tan_alpha),
+            "tolerances": get_accuracy(s.accuracy).to_dict(),
+            "model_options": Damping.options(s.damping),
             "rocking_version": __version__,
             "ensemble": ensemble,
             "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
         }
-        pga_g = ("intensity", [i * float(spec["tan_alpha"]) for i in spec["intensity"]])
+        pga_g = ("intensity", [i * float(s.tan_alpha) for i in s.intensity])
         store.create_store(p, layout, attrs, config_digest,
                            coords={**store.identity_coords(ensemble), "pga_g": pga_g})
         log.info("created %s: %d chunks, %d motions x %d stripes", p, layout.n_regions,
-                 len(names), len(spec["intensity"]))
+                 len(names), len(s.intensity))
 
     return _prepare(path, config_digest, create)
 

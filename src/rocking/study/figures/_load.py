@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import warnings
 from collections.abc import Iterator
@@ -12,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from ...spectra.limit_states import parse_limit_state
+from ..spec import decode_attrs
 
 
 def open_store(path: str | Path) -> xr.Dataset:
@@ -122,13 +122,9 @@ def ensemble_label(attrs: dict, default: str) -> tuple[str, bool]:
     stand-in flags may sit in it or beside it (``stand_in``). Unknown layouts fall back to
     ``default`` so a figure never fails on a label.
     """
+    attrs = decode_attrs(attrs)
     raw = attrs.get("ensemble", default)
     stand_in = attrs.get("stand_in", attrs.get("stand_ins", False))
-    if isinstance(raw, str):
-        try:
-            raw = json.loads(raw)
-        except json.JSONDecodeError:
-            pass
     if isinstance(raw, dict):
         motions = raw.get("motions") or [{}]
         # The store's ensemble record: its first motion is the record, labelled by source.
@@ -138,11 +134,8 @@ def ensemble_label(attrs: dict, default: str) -> tuple[str, bool]:
         label = ", ".join(str(x) for x in raw) or default
     else:
         label = str(raw)
-    if isinstance(stand_in, str):
-        try:
-            stand_in = json.loads(stand_in)
-        except json.JSONDecodeError:
-            stand_in = stand_in.lower() in {"true", "yes", "1"}
+    if isinstance(stand_in, str):  # not JSON (decoded above): a word
+        stand_in = stand_in.lower() in {"true", "yes", "1"}
     if isinstance(stand_in, dict | list):
         stand_in = any(bool(v) for v in (stand_in.values() if isinstance(stand_in, dict)
                                           else stand_in))

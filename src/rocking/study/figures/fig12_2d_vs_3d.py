@@ -10,7 +10,6 @@ with the paper's (whose x is E–W and y N–S before its rotation).
 
 from __future__ import annotations
 
-import json
 import textwrap
 from collections.abc import Sequence
 from pathlib import Path
@@ -19,6 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
 
@@ -100,11 +100,7 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
 
 def _count_motions(attrs: dict) -> int:
     """Number of motions listed in a store's ``ensemble`` attribute (0 if unknown)."""
-    raw = attrs.get("ensemble")
-    try:
-        raw = json.loads(raw) if isinstance(raw, str) else raw
-    except json.JSONDecodeError:
-        return 0
+    raw = decode_attrs({"ensemble": attrs.get("ensemble")})["ensemble"]
     return len(raw.get("motions", [])) if isinstance(raw, dict) else 0
 
 

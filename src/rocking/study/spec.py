@@ -1,0 +1,599 @@
+"""What a study is: its ensemble, grids, runs, accuracy, damping and search bound, typed.
+
+A workflow configuration (``config/config.yaml``, ``config/paper.yaml``; schema
+``workflow/schemas/config.schema.yaml``) is turned into a :class:`StudySpec` once, by
+:meth:`StudySpec.from_config`: the values checked (errors name the key and the value), the
+schema's defaults filled in where a configuration read without the workflow lacks them, and
+every grid expanded (:func:`expand_grid`, the one place grids are expanded). A study has up to
+three stores, each described by its own part:
+
+- :class:`SpectraSpec`: the performance spectra (``results/<study>/spectra.zarr``);
+- :class:`TiltMapSpec`: the Fig 7 tilt map (``tilt_map.zarr``), if the study has one;
+- :class:`StripesSpec`: the multiple-stripe analyses (``stripes.zarr``), if any.
+
+Each part has ``to_attrs()`` (the JSON-ready mapping a store records as its ``config``
+attribute and hashes), ``from_attrs()`` (its exact inverse) and ``digest`` (the store's
+``config_hash``). The mapping and hash are those the workflow has always written, so stores
+made before this module are resumed, not recomputed. Only settings that decide the numbers (or
+the chunking, for ``chunk_R: auto``) are in them: Dask addresses, progress intervals and worker
+time-outs are not.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .plan import StudyPlan, plan_study
+
+__all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "SpectraSpec", "StripesSpec", "StudySpec",
+           "TiltMapSpec", "decode_attrs", "expand_grid"]
+
+DEFAULTS: dict[str, Any] = {
+    "accuracy": "default",
+    "search": {"upper": 20.0},
+    "damped": {"omega_n": 2000.0, "zeta": 5.0},
+    "motions": {"max_duration": None},
+    "dask": {"min_task_seconds": 0.1},
+    "ensemble": {"paths": None, "n_synthetic": 10, "seed": 2017, "mw": None,
+                 "rotation_deg": "auto", "fit_method": "spectrum"},
+    "study": {"chunk_R": "auto", "upper": None},
+    "tilt_map": {"motion": None, "modes": ["3d", "3d-damped"], "tan_alpha": 0.2, "chunk_R": 1},
+    "stripes": {"modes": ["3d"], "tan_alpha": 0.2,
+                "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1},
+}
+"""The schema's defaults (tests/test_spec.py holds them equal), for configurations read
+without the workflow (the benchmark drivers); the workflow has filled them in already."""
+
+
+def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[float]:
+    """Values of a grid given as a list or ``{start, stop, num[, spacing]}``.
+
+    Parameters
+    ----------
+    spec : list of float or mapping
+        The values, or ``start``, ``stop``, ``num`` and optional ``spacing`` (``"linear"``,
+        default, or ``"log"``); the endpoints are included.
+    field : str
+        Configuration key, for errors (e.g. ``"studies.elcentro.R"``).
+
+    Returns
+    -------
+    list of float
+        Generated values rounded to 12 significant digits (0.5 + 3·0.95 is 3.35, not
+        3.3499999999999996).
+
+    Raises
+    ------
+    ValueError
+        Naming ``field``: a malformed grid, stop below start, values that are not finite and
+        > 0, or repeated values.
+    """
+    if isinstance(spec, (list, tuple)):
+        values = [_number(v, field) for v in spec]
+    elif isinstance(spec, Mapping):
+        missing = [k for k in ("start", "stop", "num") if k not in spec]
+        if missing:
+            raise ValueError(f"{field}={dict(spec)!r} lacks {missing}; give a list or "
+                             "{start, stop, num[, spacing]}")
+        start, stop = _number(spec["start"], f"{field}.start"), _number(spec["stop"],
+                                                                         f"{field}.stop")
+        num = spec["num"]
+        if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+            raise ValueError(f"{field}.num must be an integer >= 1, got {num!r}")
+        if stop < start:
+            raise ValueError(f"{field}: stop={stop!r} is below start={start!r}")
+        spacing = spec.get("spacing", "linear")
+        if spacing not in ("linear", "log"):
+            raise ValueError(f"{field}.spacing must be 'linear' or 'log', got {spacing!r}")
+        grid = np.geomspace(start, stop, num) if spacing == "log" else \
+            np.linspace(start, stop, num)
+        values = [float(f"{v:.12g}") for v in grid]
+    else:
+        raise ValueError(f"{field} must be a list of numbers or {{start, stop, num}}, "
+                         f"got {spec!r}")
+    if not values or any(not (math.isfinite(v) and v > 0) for v in values):
+        raise ValueError(f"{field} must hold finite numbers > 0, got {values!r}")
+    if len(set(values)) != len(values):
+        raise ValueError(f"{field}: repeated values {values!r}")
+    return values
+
+
+def decode_attrs(attrs: Mapping[str, Any]) -> dict[str, Any]:
+    """Store attributes with their JSON-text values decoded (the one decoder of them).
+
+    :func:`rocking.study.store.create_store` writes every attribute that is not a string as
+    JSON text; plain strings (a title, a version) that are not JSON are kept as they are.
+    """
+    out = {}
+    for k, v in attrs.items():
+        try:
+            out[k] = json.loads(v) if isinstance(v, str) else v
+        except json.JSONDecodeError:
+            out[k] = v
+    return out
+
+
+def _number(value: Any, field: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+        raise ValueError(f"{field} must be a number, got {value!r}")
+    return float(value)
+
+
+def _section(config: Mapping[str, Any], key: str) -> dict[str, Any]:
+    """``config[key]`` over its defaults."""
+    given = config.get(key)
+    if given is not None and not isinstance(given, Mapping):
+        raise ValueError(f"{key} must be a mapping, got {given!r}")
+    return {**DEFAULTS[key], **(given or {})}
+
+
+def _mapping(value: Any, field: str, defaults: Mapping[str, Any], required: Sequence[str],
+             ) -> dict[str, Any]:
+    """``value`` (a mapping with only the keys of ``defaults`` and ``required``) over
+    ``defaults``."""
+    if not isinstance(value, Mapping):
+        raise ValueError(f"{field} must be a mapping, got {value!r}")
+    allowed = set(defaults) | set(required)
+    unknown = sorted(set(value) - allowed)
+    if unknown:
+        raise ValueError(f"{field} has unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    missing = [k for k in required if k not in value]
+    if missing:
+        raise ValueError(f"{field} lacks {missing}")
+    return {**defaults, **value}
+
+
+def _modes(value: Any, field: str) -> tuple[str, ...]:
+    from ..spectra.critical import MODES
+
+    if not isinstance(value, (list, tuple)) or not value or any(m not in MODES for m in value):
+        raise ValueError(f"{field} must be a non-empty list of modes {list(MODES)}, "
+                         f"got {value!r}")
+    return tuple(value)
+
+
+def _positive(value: Any, field: str) -> float:
+    x = _number(value, field)
+    if not (math.isfinite(x) and x > 0):
+        raise ValueError(f"{field} must be a finite number > 0, got {value!r}")
+    return x
+
+
+def _chunk_R(value: Any, field: str, auto: bool) -> int | str:
+    if auto and value == "auto":
+        return "auto"
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ValueError(f"{field} must be an integer >= 1{' or auto' if auto else ''}, "
+                         f"got {value!r}")
+    return value
+
+
+def _accuracy(value: Any) -> str | dict[str, Any]:
+    from ..spectra.accuracy import get_accuracy
+
+    try:
+        get_accuracy(value)
+    except (ValueError, TypeError, KeyError) as exc:
+        raise ValueError(f"accuracy={value!r}: {exc}") from None
+    return dict(value) if isinstance(value, Mapping) else value
+
+
+@dataclass(frozen=True)
+class Damping:
+    """Contact spring-dashpot of the ``3d-damped`` model.
+
+    Attributes
+    ----------
+    omega_n : float
+        Spring frequency [rad/s].
+    zeta : float
+        Damping ratio [-].
+    """
+
+    omega_n: float
+    zeta: float
+
+    @classmethod
+    def from_config(cls, config: Mapping[str, Any]) -> Damping:
+        """The configuration's ``damped`` section (defaults 2000 rad/s, 5)."""
+        d = _section(config, "damped")
+        return cls(_positive(d["omega_n"], "damped.omega_n"), _positive(d["zeta"], "damped.zeta"))
+
+    def to_attrs(self) -> dict[str, float]:
+        """``{"omega_n", "zeta"}``: the keyword arguments of the damped analyses."""
+        return {"omega_n": self.omega_n, "zeta": self.zeta}
+
+    @staticmethod
+    def options(damping: Damping | None) -> dict[str, float]:
+        """Keyword arguments of the analyses: empty when no damped model runs."""
+        return {} if damping is None else damping.to_attrs()
+
+    @staticmethod
+    def of_modes(config: Mapping[str, Any], modes: Sequence[str]) -> Damping | None:
+        """The contact model, only when a damped model runs (else it cannot matter)."""
+        return Damping.from_config(config) if "3d-damped" in modes else None
+
+    @staticmethod
+    def from_options(options: Mapping[str, Any]) -> Damping | None:
+        """Inverse of :meth:`options`."""
+        return Damping(options["omega_n"], options["zeta"]) if "omega_n" in options else None
+
+
+@dataclass(frozen=True)
+class EnsembleSpec:
+    """Everything that decides the motions of an ensemble (``results/motions/<name>.nc``).
+
+    Attributes
+    ----------
+    name : str
+        Key of the ensemble in ``ensembles``.
+    record : str
+        Named record, or any name when ``paths`` are given.
+    paths : tuple of str or None
+        Two acceleration files (x, y) read instead of the package data.
+    n_synthetic : int
+        Synthetic pairs simulated with the fitted RDK model.
+    seed : int
+        Root seed of the synthetic pairs.
+    mw : float or None
+        Moment magnitude for the high-pass corner (None: known for named records).
+    rotation_deg : float or str
+        Rotation to principal axes [deg], or ``"auto"``.
+    fit_method : str
+        ``"spectrum"`` or ``"counts"``.
+    max_duration : float or None
+        Seconds kept of every motion [s] (None: whole records).
+    """
+
+    name: str
+    record: str
+    paths: tuple[str, ...] | None
+    n_synthetic: int
+    seed: int
+    mw: float | None
+    rotation_deg: float | str
+    fit_method: str
+    max_duration: float | None
+
+    @classmethod
+    def from_config(cls, config: Mapping[str, Any], name: str) -> EnsembleSpec:
+        """Ensemble ``name`` of the configuration, checked, defaults filled in."""
+        ensembles = config.get("ensembles") or {}
+        if name not in ensembles:
+            raise ValueError(f"ensemble {name!r} is not a key of ensembles {sorted(ensembles)}")
+        field = f"ensembles.{name}"
+        e = _mapping(ensembles[name], field, DEFAULTS["ensemble"], ["record"])
+        for key in ("n_synthetic", "seed"):
+            if isinstance(e[key], bool) or not isinstance(e[key], int) or e[key] < 0:
+                raise ValueError(f"{field}.{key} must be an integer >= 0, got {e[key]!r}")
+        if not isinstance(e["record"], str) or not e["record"]:
+            raise ValueError(f"{field}.record must be a name, got {e['record']!r}")
+        paths = e["paths"]
+        if paths is not None and (not isinstance(paths, (list, tuple)) or len(paths) != 2):
+            raise ValueError(f"{field}.paths must be two file names (x, y), got {paths!r}")
+        max_duration = _section(config, "motions")["max_duration"]
+        if max_duration is not None:
+            _positive(max_duration, "motions.max_duration")
+        # values keep their YAML types (30 stays an int): the store hashes their JSON
+        return cls(name, e["record"], None if paths is None else tuple(paths), e["n_synthetic"],
+                   e["seed"], e["mw"], e["rotation_deg"], e["fit_method"], max_duration)
+
+    def settings(self) -> dict[str, Any]:
+        """What the motions rule is given: every field but the name."""
+        return {k: v for k, v in self.to_attrs().items() if k != "name"}
+
+    def to_attrs(self) -> dict[str, Any]:
+        """JSON-ready mapping (recorded in and hashed into every store of the ensemble)."""
+        return {"name": self.name, "record": self.record,
+                "paths": None if self.paths is None else list(self.paths),
+                "n_synthetic": self.n_synthetic, "seed": self.seed, "mw": self.mw,
+                "rotation_deg": self.rotation_deg, "fit_method": self.fit_method,
+                "max_duration": self.max_duration}
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> EnsembleSpec:
+        """Inverse of :meth:`to_attrs`."""
+        paths = attrs["paths"]
+        return cls(attrs["name"], attrs["record"], None if paths is None else tuple(paths),
+                   attrs["n_synthetic"], attrs["seed"], attrs["mw"], attrs["rotation_deg"],
+                   attrs["fit_method"], attrs["max_duration"])
+
+
+class _Hashed:
+    """``digest``: the store's ``config_hash`` of :meth:`to_attrs`."""
+
+    def to_attrs(self) -> dict[str, Any]:  # pragma: no cover - every subclass has its own
+        raise NotImplementedError
+
+    @property
+    def digest(self) -> str:
+        """Short sha256 of the canonical JSON of :meth:`to_attrs`."""
+        from .store import config_hash
+
+        return config_hash(self.to_attrs())
+
+
+@dataclass(frozen=True, eq=False)
+class SpectraSpec(_Hashed):
+    """The result-deciding description of a study's spectra store.
+
+    Attributes
+    ----------
+    study : str
+    ensemble : EnsembleSpec
+    R : tuple of float
+        Semi-diagonals [m].
+    plan : StudyPlan
+        The runs, their union grid (modes, tan α, limit states) and requested cells.
+    chunk_R : int or "auto"
+        Sizes R per task.
+    min_task_seconds : float or None
+        Least work per task for ``chunk_R: auto`` [s] (None otherwise: it cannot matter).
+    accuracy : str or dict
+        Preset name or tolerances (:func:`rocking.spectra.accuracy.get_accuracy`).
+    upper : float
+        Highest PGA/(g tan α) searched [-].
+    damping : Damping or None
+        The contact model, when ``3d-damped`` runs.
+
+    Two specs are equal when their :meth:`to_attrs` are (run purposes are labels only).
+    """
+
+    study: str
+    ensemble: EnsembleSpec
+    R: tuple[float, ...]
+    plan: StudyPlan
+    chunk_R: int | str
+    min_task_seconds: float | None
+    accuracy: str | dict[str, Any]
+    upper: float
+    damping: Damping | None
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, SpectraSpec) and self.to_attrs() == other.to_attrs()
+
+    __hash__ = None  # mutable-looking fields (the plan's mask): not hashable
+
+    def search_options(self) -> dict[str, float]:
+        """Keyword arguments of the searches: ``upper`` and the contact model."""
+        return {"upper": self.upper, **Damping.options(self.damping)}
+
+    def to_attrs(self) -> dict[str, Any]:
+        return {
+            "study": self.study,
+            "ensemble": self.ensemble.to_attrs(),
+            "R": list(self.R),
+            **self.plan.to_dict(),
+            "tan_alpha": list(self.plan.tan_alpha),
+            "limit_states": list(self.plan.limit_states),
+            "modes": list(self.plan.modes),
+            "chunk_R": self.chunk_R,
+            "min_task_seconds": self.min_task_seconds,
+            "accuracy": self.accuracy,
+            "search_options": self.search_options(),
+        }
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> SpectraSpec:
+        """Inverse of :meth:`to_attrs` (a store's ``config`` attribute)."""
+        opts = attrs["search_options"]
+        return cls(attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]),
+                   tuple(attrs["R"]), plan_study(attrs["runs"], "runs"), attrs["chunk_R"],
+                   attrs["min_task_seconds"], attrs["accuracy"], opts["upper"],
+                   Damping.from_options(opts))
+
+
+@dataclass(frozen=True)
+class _IntensityGrid(_Hashed):
+    """Analyses of every mode and size R at given intensities (a tilt map, stripes).
+
+    Attributes
+    ----------
+    study : str
+    ensemble : EnsembleSpec
+    modes : tuple of str
+    tan_alpha : float
+        Slenderness [-].
+    R : tuple of float
+        Semi-diagonals [m].
+    intensity : tuple of float
+        PGA/(g tan α) [-].
+    chunk_R : int
+        Sizes R per task.
+    accuracy : str or dict
+    damping : Damping or None
+        When ``3d-damped`` is one of the modes.
+    """
+
+    study: str
+    ensemble: EnsembleSpec
+    modes: tuple[str, ...]
+    tan_alpha: float
+    R: tuple[float, ...]
+    intensity: tuple[float, ...]
+    chunk_R: int
+    accuracy: str | dict[str, Any]
+    damping: Damping | None
+
+    def to_attrs(self) -> dict[str, Any]:
+        return {"study": self.study, "ensemble": self.ensemble.to_attrs(),
+                "modes": list(self.modes), "tan_alpha": self.tan_alpha, "R": list(self.R),
+                "intensity": list(self.intensity), "chunk_R": self.chunk_R,
+                "accuracy": self.accuracy, "model_options": Damping.options(self.damping)}
+
+    @staticmethod
+    def _common(attrs: Mapping[str, Any]) -> tuple:
+        return (attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]), tuple(attrs["modes"]),
+                attrs["tan_alpha"], tuple(attrs["R"]), tuple(attrs["intensity"]),
+                attrs["chunk_R"], attrs["accuracy"], Damping.from_options(attrs["model_options"]))
+
+
+@dataclass(frozen=True)
+class TiltMapSpec(_IntensityGrid):
+    """The Fig 7 tilt map of a study: peak tilt over (mode, R, intensity) for one motion.
+
+    Besides the fields of every intensity grid (study, ensemble, modes, tan_alpha, R,
+    intensity, chunk_R, accuracy, damping):
+
+    Attributes
+    ----------
+    motion : str or None
+        Motion of the ensemble (None: the record, its first motion).
+    """
+
+    motion: str | None = None
+
+    def to_attrs(self) -> dict[str, Any]:
+        return {**super().to_attrs(), "motion": self.motion}
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> TiltMapSpec:
+        """Inverse of :meth:`to_attrs`."""
+        return cls(*cls._common(attrs), motion=attrs["motion"])
+
+
+@dataclass(frozen=True)
+class StripesSpec(_IntensityGrid):
+    """The multiple-stripe analyses of a study (every motion at each stripe intensity).
+
+    Besides the fields of every intensity grid (study, ensemble, modes, tan_alpha, R,
+    intensity: the stripes, chunk_R, accuracy, damping):
+
+    Attributes
+    ----------
+    limit_states : tuple of str
+        As configured (the store canonicalises them).
+    """
+
+    limit_states: tuple[str, ...] = ()
+
+    def to_attrs(self) -> dict[str, Any]:
+        return {**super().to_attrs(), "limit_states": list(self.limit_states)}
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> StripesSpec:
+        """Inverse of :meth:`to_attrs`."""
+        return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]))
+
+
+@dataclass(frozen=True)
+class StudySpec(_Hashed):
+    """A study: its spectra and, if configured, its tilt map and stripes.
+
+    Attributes
+    ----------
+    spectra : SpectraSpec
+    tilt_map : TiltMapSpec or None
+    stripes : StripesSpec or None
+    """
+
+    spectra: SpectraSpec
+    tilt_map: TiltMapSpec | None = None
+    stripes: StripesSpec | None = None
+
+    @property
+    def name(self) -> str:
+        return self.spectra.study
+
+    @property
+    def ensemble(self) -> EnsembleSpec:
+        return self.spectra.ensemble
+
+    @classmethod
+    def from_config(cls, config: Mapping[str, Any], name: str) -> StudySpec:
+        """Study ``name`` of a workflow configuration, checked, defaults filled, grids expanded.
+
+        Parameters
+        ----------
+        config : mapping
+            The configuration (validated by the workflow, or read from YAML as it is).
+        name : str
+            Key of the study in ``studies``.
+
+        Raises
+        ------
+        ValueError
+            Naming the key and the value of the first bad setting.
+        """
+        studies = config.get("studies") or {}
+        if name not in studies:
+            raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
+        field = f"studies.{name}"
+        s = _mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
+                                            "stripes": None}, ["ensemble", "R", "runs"])
+        ensemble = EnsembleSpec.from_config(config, s["ensemble"])
+        accuracy = _accuracy(config.get("accuracy", DEFAULTS["accuracy"]))
+        runs = s["runs"]
+        if isinstance(runs, (list, tuple)):
+            runs = [{**r, "tan_alpha": expand_grid(r["tan_alpha"], f"{field}.runs[{i}].tan_alpha")}
+                    if isinstance(r, Mapping) and "tan_alpha" in r else r
+                    for i, r in enumerate(runs)]
+        plan = plan_study(runs, f"{field}.runs")
+        chunk_R = _chunk_R(s["chunk_R"], f"{field}.chunk_R", auto=True)
+        min_task = _section(config, "dask")["min_task_seconds"] if chunk_R == "auto" else None
+        if min_task is not None:
+            _positive(min_task, "dask.min_task_seconds")
+        upper = s["upper"] if s["upper"] is not None else _section(config, "search")["upper"]
+        where = f"{field}.upper" if s["upper"] is not None else "search.upper"
+        if _number(upper, where) <= 1.0:
+            raise ValueError(f"{where} must be > 1 (the intensity that uplifts), got {upper!r}")
+        spectra = SpectraSpec(name, ensemble, tuple(expand_grid(s["R"], f"{field}.R")), plan,
+                              chunk_R, min_task, accuracy, float(upper),
+                              Damping.of_modes(config, plan.modes))
+        tilt_map = None if s["tilt_map"] is None else _tilt_map(
+            config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
+        stripes = None if s["stripes"] is None else _stripes(
+            config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy)
+        return cls(spectra, tilt_map, stripes)
+
+    def to_attrs(self) -> dict[str, Any]:
+        """``{"spectra", "tilt_map", "stripes"}``: each part's mapping (None when absent)."""
+        return {"spectra": self.spectra.to_attrs(),
+                "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
+                "stripes": None if self.stripes is None else self.stripes.to_attrs()}
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
+        """Inverse of :meth:`to_attrs`."""
+        t, s = attrs.get("tilt_map"), attrs.get("stripes")
+        return cls(SpectraSpec.from_attrs(attrs["spectra"]),
+                   None if t is None else TiltMapSpec.from_attrs(t),
+                   None if s is None else StripesSpec.from_attrs(s))
+
+
+def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:
+    """The settings every intensity grid has, checked; and the part's mapping."""
+    t = _mapping(t, field, DEFAULTS[part], ["R", "intensity"])
+    modes = _modes(t["modes"], f"{field}.modes")
+    return (study, ensemble, modes, _positive(t["tan_alpha"], f"{field}.tan_alpha"),
+            tuple(expand_grid(t["R"], f"{field}.R")),
+            tuple(expand_grid(t["intensity"], f"{field}.intensity")),
+            _chunk_R(t["chunk_R"], f"{field}.chunk_R", auto=False), accuracy,
+            Damping.of_modes(config, modes)), t
+
+
+def _tilt_map(config, t, field, study, ensemble, accuracy) -> TiltMapSpec:
+    common, t = _intensity_grid(config, t, field, study, ensemble, accuracy, "tilt_map")
+    if t["motion"] is not None and not isinstance(t["motion"], str):
+        raise ValueError(f"{field}.motion must be a motion name or null, got {t['motion']!r}")
+    return TiltMapSpec(*common, motion=t["motion"])
+
+
+def _stripes(config, t, field, study, ensemble, accuracy) -> StripesSpec:
+    from ..spectra.limit_states import parse_limit_states
+
+    common, t = _intensity_grid(config, t, field, study, ensemble, accuracy, "stripes")
+    states = t["limit_states"]
+    try:
+        if not isinstance(states, (list, tuple)) or not states:
+            raise ValueError("must be a non-empty list")
+        parse_limit_states(list(states))
+    except ValueError as exc:
+        raise ValueError(f"{field}.limit_states={states!r}: {exc}") from None
+    return StripesSpec(*common, limit_states=tuple(states))
