@@ -40,6 +40,7 @@ include: "workflow/rules/tilt_map.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures_common.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/risk.smk"
 include: "workflow/rules/run_config.smk"
 
 
@@ -49,4 +50,5 @@ report: "workflow/report/workflow.rst"
 rule all:
     input:
         all_targets(),
+        risk_targets(),
     default_target: True

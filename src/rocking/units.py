@@ -92,7 +92,8 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "maf": ("year-1", "1/yr", "mean annual frequency of exceeding the limit state"),
     "return_period": ("year", "yr", "return period 1/maf of exceeding the limit state"),
     "p_50yr": ("1", "-", "probability of exceeding the limit state in 50 years (Poisson)"),
-    "share_beyond_hazard": ("1", "-", "share of maf from beyond the hazard curve's last level"),
+    "share_extrapolated": ("1", "-",
+                           "share of maf resting on the hazard curve's extrapolated tail"),
 }
 """Output name → (CF units, unit in CSV headers, long_name)."""
 

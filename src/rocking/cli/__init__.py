@@ -23,6 +23,7 @@ SUBCOMMANDS: dict[str, str] = {
     "simulate": "one rocking analysis (free vibration or ground motion) -> history + summary",
     "motions": "record + synthetic RDK pairs -> ensemble file (.nc)",
     "spectra": "critical PGA/(g tan alpha) of cylinders vs R (performance spectrum)",
+    "risk": "mean annual frequency of each limit state under a hazard curve",
 }
 """Subcommand → one-line summary (shown by ``rocking --help`` without importing it)."""
 
@@ -30,6 +31,7 @@ EPILOG = """examples:
   rocking simulate --R 6 --tan-alpha 0.2 --record el-centro-1940 --pga-ratio 2 -o run
   rocking motions --record el-centro-1940 -n 10 -o results/motions/elcentro.nc
   rocking spectra --R 1,2,6 --record el-centro-1940 --mode 3d -o spectrum.csv
+  rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5
 
 `rocking COMMAND --help` lists a command's options with their defaults."""
 

@@ -13,9 +13,11 @@ Ends of the hazard curve (a table from im_1 to im_n):
   (λ = 0 beyond im_n) would count the motions stronger than im_n as never exceeding the
   limit state, and would underestimate λ_LS by up to λ(im_n) whenever the capacity sits near
   or above im_n — the case of large columns, whose overturning PGA can exceed the levels of
-  a hazard model. The share of λ_LS that comes from beyond im_n is returned by
-  :func:`annual_frequency_parts` (``beyond_last``) so a reader sees how much rests on the
-  extrapolation;
+  a hazard model. Whatever the tail's shape, the part beyond im_n lies between
+  P(LS | im_n)·λ(im_n) (all those motions just above im_n) and λ(im_n) (all exceeding);
+  what the extrapolated slope decides is the excess over the lower bound, returned by
+  :func:`annual_frequency_parts` as ``extrapolated`` so a reader sees how much of λ_LS rests
+  on it;
 - **below im_1**: the first slope is extrapolated too, for symmetry (a power law is then
   reproduced exactly); P(LS | im) is negligible there for any capacity well above im_1, and
   the share is returned as ``below_first``.
@@ -85,7 +87,9 @@ def annual_frequency_parts(median_g: float, beta: float, hazard: HazardCurve) ->
     Returns
     -------
     dict
-        ``total``, ``below_first``, ``inside``, ``beyond_last`` [1/yr].
+        ``total``, ``below_first``, ``inside``, ``beyond_last`` [1/yr], and
+        ``extrapolated``: the part of ``beyond_last`` above P(LS | im_n)·λ(im_n), which the
+        extrapolated last slope decides [1/yr].
     """
     m, b = _check(median_g, beta)
     u = _grid(m, b, hazard)
@@ -98,8 +102,10 @@ def annual_frequency_parts(median_g: float, beta: float, hazard: HazardCurve) ->
         return float(np.trapezoid(f[mask], u[mask])) if mask.sum() > 1 else 0.0
 
     below, inside, beyond = part(u <= lx0), part((u >= lx0) & (u <= lxn)), part(u >= lxn)
+    # beyond im_n: at least P(LS|im_n)·λ(im_n) for any tail; the rest is the slope's doing
+    floor = float(special.ndtr((lxn - math.log(m)) / b)) * float(hazard.annual_rate[-1])
     return {"total": below + inside + beyond, "below_first": below, "inside": inside,
-            "beyond_last": beyond}
+            "beyond_last": beyond, "extrapolated": max(beyond - floor, 0.0)}
 
 
 def mean_annual_frequency(median_g: float, beta: float, hazard: HazardCurve) -> float:

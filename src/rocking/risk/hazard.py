@@ -191,15 +191,19 @@ def parse_hazard(spec, *, base: str | Path | None = None) -> HazardCurve:
                              f"got keys {sorted(spec)}")
     elif isinstance(spec, str | Path):
         text = str(spec)
-        parts = text.split(",")
-        if len(parts) == 2 and not Path(text).exists():
-            try:
-                k0, k = float(parts[0]), float(parts[1])
-            except ValueError:
-                raise ValueError(f"hazard must be a CSV file or 'k0,k', got {text!r}") from None
-            curve = HazardCurve.from_power_law(k0, k)
+        path = _resolve(text, base)
+        if path.exists():
+            curve = HazardCurve.from_openquake_csv(path)
         else:
-            curve = HazardCurve.from_openquake_csv(_resolve(text, base))
+            parts = text.split(",")
+            try:
+                k0, k = (float(parts[0]), float(parts[1])) if len(parts) == 2 else (None, None)
+            except ValueError:
+                k0 = k = None
+            if k0 is None:
+                raise ValueError("hazard must be an existing OpenQuake hazard-curve CSV or a "
+                                 f"power law 'k0,k', got {text!r}")
+            curve = HazardCurve.from_power_law(k0, k)
     else:
         raise ValueError(f"hazard must be a file path, 'k0,k' or a mapping, got {spec!r}")
     return curve.scaled(float(factor)) if factor != 1.0 else curve

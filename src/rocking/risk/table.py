@@ -3,8 +3,8 @@
 One row per (mode, tan α, R, limit state) with a fit: the median capacity and β, the mean
 annual frequency λ_LS [1/yr] (:func:`rocking.risk.annual_frequency.mean_annual_frequency`),
 the return period 1/λ_LS [yr], the probability of at least one exceedance in 50 years
-(Poisson) and the share of λ_LS that comes from beyond the hazard curve's last level (what
-rests on extrapolating its last slope).
+(Poisson) and the share of λ_LS that rests on extrapolating the hazard curve's last slope
+(:func:`rocking.risk.annual_frequency.annual_frequency_parts`, ``extrapolated``).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ YEARS = 50.0
 """Exposure time of the probability column [yr] (``p_50yr``)."""
 
 COLUMNS = ("mode", "tan_alpha", "R", "limit_state", "median_pga_g", "beta", "maf",
-           "return_period", "p_50yr", "share_beyond_hazard")
+           "return_period", "p_50yr", "share_extrapolated")
 """Columns of :func:`risk_table` (with units in their titles, :func:`rocking.units.header`)."""
 
 
@@ -50,7 +50,7 @@ def risk_table(fragility, hazard: HazardCurve) -> pd.DataFrame:
                     "limit_state": r.limit_state, "median_pga_g": r.median_g, "beta": r.beta,
                     "maf": maf, "return_period": 1.0 / maf if maf > 0 else float("inf"),
                     "p_50yr": probability_in(maf, YEARS),
-                    "share_beyond_hazard": parts["beyond_last"] / maf if maf > 0 else 0.0})
+                    "share_extrapolated": parts["extrapolated"] / maf if maf > 0 else 0.0})
     table = pd.DataFrame(out, columns=list(COLUMNS)).rename(columns=header)
     table.attrs["skipped"] = frag.skipped_note()
     table.attrs["hazard"] = hazard.source
