@@ -346,3 +346,17 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     assert (tmp_path / "f.xml").exists() and (tmp_path / "f.p.csv").exists()
     assert main(["risk", "--fragility", str(path), "--hazard", "0.5"]) == 2
     assert "power law 'k0,k'" in capsys.readouterr().err
+
+
+def test_report_section_states_the_assumptions_and_tabulates_lambda():
+    from rocking.risk.report import risk_section_html, summary_table
+
+    t = risk_table(fragilities.read_fragilities(table(ROWS)),
+                   HazardCurve.from_openquake_csv(EXAMPLE))
+    s = summary_table(t)
+    assert list(s.columns) == ["R [m]", "overturning, 3d [1/yr]", "overturning, 2d-x [1/yr]",
+                               "tilt θ > α/3, 3d [1/yr]", "tilt θ > α/3, 2d-x [1/yr]"]
+    assert math.isnan(s.loc[s["R [m]"] == 6.0, "overturning, 2d-x [1/yr]"].item())
+    text = risk_section_html(t, hazard=str(EXAMPLE))
+    for needle in ("RotD100", "RotD50", "im_factor", "EXAMPLE", "Poisson", "extrapolated"):
+        assert needle in text
