@@ -360,3 +360,30 @@ def test_report_section_states_the_assumptions_and_tabulates_lambda():
     text = risk_section_html(t, hazard=str(EXAMPLE))
     for needle in ("RotD100", "RotD50", "im_factor", "EXAMPLE", "Poisson", "extrapolated"):
         assert needle in text
+
+
+def test_risk_figure_data_plot_and_sidecar(tmp_path):
+    import json
+
+    from rocking.study.figures import render
+    from rocking.study.figures import risk as fig
+
+    t = risk_table(fragilities.read_fragilities(table(ROWS)),
+                   HazardCurve.from_power_law(1e-4, 2.5))
+    path = tmp_path / "risk.csv"
+    t.to_csv(path, index=False)
+    d = fig.data(path)
+    over = d["panels"][0]
+    assert over["limit_state"] == "overturning"
+    assert over["curves"]["3d"]["R"].tolist() == [2.0, 6.0]
+    assert over["curves"]["2d-x"]["R"].tolist() == [2.0]  # R = 6 m has no fit
+    ratio = d["measured"]["ratio 2d-x/3d overturning R=2 m [-]"]
+    assert ratio == pytest.approx(closed_form(1e-4, 2.5, 0.41234567891234, 0.2598765432101)
+                                  / closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321),
+                                  rel=1e-3)
+    assert "3d-damped overturning at tan α = 0.2" in d["missing"]
+    axes = fig.plot(d).axes
+    assert axes[0].get_yscale() == "log"
+    render("risk", [tmp_path / "risk.png"], tmp_path / "risk.json", risk=path, hazard="x")
+    notes = json.loads((tmp_path / "risk.json").read_text())
+    assert notes["figure"] == "risk" and "3d overturning R=6 m [1/yr]" in notes["measured"]
