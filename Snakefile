@@ -40,6 +40,7 @@ include: "workflow/rules/tilt_map.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures_common.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/risk_common.smk"
 include: "workflow/rules/risk.smk"
 include: "workflow/rules/run_config.smk"
 
