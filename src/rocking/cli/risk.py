@@ -49,6 +49,8 @@ def add_parser(subparsers) -> None:
                    help="only these, comma-separated (e.g. overturning,tilt:1/3)")
     p.add_argument("-o", "--out", type=Path, default=None,
                    help="write the table to this .csv (default: print it)")
+    p.add_argument("--upper", type=float, default=20.0,
+                   help="the study's search bound PGA/(g tan alpha), for the NRML maxIML [-]")
     p.add_argument("--nrml", type=Path, default=None,
                    help="also write the OpenQuake NRML 0.5 fragility model here (.xml)")
     p.add_argument("--pelicun", type=Path, default=None,
@@ -105,7 +107,7 @@ def run(args) -> int:
     frag = _select(read_fragilities(args.fragility), args)
     table = risk_table(frag, hazard)
     if args.nrml is not None:
-        write_nrml(frag, args.nrml)
+        write_nrml(frag, args.nrml, search_upper=args.upper)
     if args.pelicun is not None:
         write_pelicun_csv(frag, args.pelicun)
     print(f"hazard: {hazard.source}")
