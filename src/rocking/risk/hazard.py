@@ -24,7 +24,7 @@ _TIME = re.compile(r"investigation_time\s*=\s*['\"]?([0-9.eE+-]+)")
 _IMT = re.compile(r"imt\s*=\s*['\"]?([A-Za-z0-9().]+)")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class HazardCurve:
     """Annual rate of exceedance of PGA at a site, tabulated at increasing levels.
 
@@ -80,9 +80,7 @@ class HazardCurve:
             Levels [g]. The log-log interpolation and extrapolation reproduce the power law
             exactly everywhere, so the levels only bound what "inside the table" means.
         """
-        for name, value in (("k0", k0), ("k", k)):
-            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        k0, k = _positive("k0", k0), _positive("k", k)
         im = POWER_LAW_IML if im_g is None else np.asarray(im_g, dtype=float)
         return cls(im, k0 * im ** (-k), source=f"power law k0={k0:g}/yr, k={k:g}")
 
@@ -159,8 +157,7 @@ class HazardCurve:
         of the geometric mean or RotD50 becomes one of the vector peak (RotD100) with the
         ratio RotD100/RotD50 as ``factor`` (docs/risk.md).
         """
-        if not (isinstance(factor, int | float) and math.isfinite(factor) and factor > 0):
-            raise ValueError(f"factor must be a finite number > 0, got {factor!r}")
+        factor = _positive("factor", factor)
         note = f", levels x{factor:g}" if factor != 1.0 else ""
         return HazardCurve(self.im_g * factor, self.annual_rate, self.imt, self.source + note)
 
@@ -207,6 +204,16 @@ def parse_hazard(spec, *, base: str | Path | None = None) -> HazardCurve:
     else:
         raise ValueError(f"hazard must be a file path, 'k0,k' or a mapping, got {spec!r}")
     return curve.scaled(float(factor)) if factor != 1.0 else curve
+
+
+def _positive(name: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        x = math.nan
+    if isinstance(value, bool) or not (math.isfinite(x) and x > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return x
 
 
 def _resolve(path, base) -> Path:
