@@ -293,6 +293,9 @@ def read_pelicun(path):
     for row in rows:
         assert row["Demand-Type"] == "Peak Ground Acceleration" and row["Demand-Unit"] == "g"
         assert row["Incomplete"] == "0" and row["Demand-Offset"] == "0"
+        # directional: pelicun would multiply a non-directional PGA by 1.2, and the vector
+        # peak is already the peak over all orientations
+        assert row["Demand-Directional"] == "1"
         ls = []
         i = 1
         while row.get(f"LS{i}-Family"):

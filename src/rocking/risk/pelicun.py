@@ -8,9 +8,14 @@ Columns (pelicun 3's damage model parameters)::
 - ``ID``: ``rocking.<mode>.tan<tan α>.R<R>m`` (``-`` of a mode written ``_``: pelicun joins
   component, location and direction with ``-`` in its sample columns).
 - ``Demand-Type`` ``Peak Ground Acceleration``, ``Demand-Unit`` ``g``, ``Demand-Offset`` 0,
-  ``Demand-Directional`` 0: the study's PGA is the vector peak of the horizontal pair, not a
-  component's, so the demand is not tied to a direction (pelicun then takes the largest of
-  the directions it is given).
+  ``Demand-Directional`` 1. The study's PGA is the vector peak of the pair, already the
+  largest peak over all orientations (RotD100). pelicun multiplies a *non*-directional demand
+  (``Demand-Directional`` 0) by its ``NonDirectionalMultipliers`` (1.2 by default, FEMA
+  P-58's step from the larger component to the peak over orientations), which would count
+  that step twice: seen running pelicun 3.10, a demand equal to a median gave P = 0.97 with
+  0 and 0.5 with 1. So the demand is marked directional, and the user gives the vector-peak
+  PGA as the demand of the component's direction (e.g. ``PGA-1-1`` with the component at
+  location 1, direction 1).
 - ``LS<i>-Family`` ``lognormal``, ``LS<i>-Theta_0`` the median capacity [g], ``LS<i>-Theta_1``
   β; limit states in increasing severity (damage state i = the i-th limit state exceeded):
   increasing tilt goal, overturning last. Components with fewer limit states leave the
@@ -64,7 +69,7 @@ def write_pelicun_csv(frag: Fragilities, path: str | Path) -> dict[str, list[str
     for (mode, tan_alpha, R), rows in frag.groups():
         cid = component_id(mode, tan_alpha, R)
         row = {"ID": cid, "Incomplete": 0, "Demand-Type": DEMAND_TYPE, "Demand-Unit": "g",
-               "Demand-Offset": 0, "Demand-Directional": 0}
+               "Demand-Offset": 0, "Demand-Directional": 1}
         for i, r in enumerate(rows.itertuples(), start=1):
             row[f"LS{i}-Family"] = "lognormal"
             row[f"LS{i}-Theta_0"] = repr(float(r.median_g))
