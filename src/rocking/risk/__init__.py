@@ -18,6 +18,7 @@ _EXPORTS = {
     "write_nrml": "nrml",
     "write_pelicun_csv": "pelicun",
     "risk_table": "table",
+    "write_risk_outputs": "exports",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
