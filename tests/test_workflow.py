@@ -283,10 +283,12 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "studies.tiny.runs[0].limit_states names one tilt goal twice"),
         (lambda c: c["studies"][STUDY].update(ensemble="nope"),
          "studies.tiny.ensemble='nope' is not a key of ensembles"),
+        (lambda c: c["studies"][STUDY].update(hazard="nosuch_hazard.csv"),
+         "studies.tiny.hazard: hazard must be an existing OpenQuake hazard-curve CSV"),
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
-         "missing-ensemble"],
+         "missing-ensemble", "missing-hazard-file"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))

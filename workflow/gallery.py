@@ -29,6 +29,8 @@ from rocking.study.figures.captions import CAPTIONS
 from rocking.study.report import link_images
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
+RISK_FILES = ("risk.csv", "fragility.nrml.xml", "fragility.pelicun.csv")
+"""Outputs of the risk rule, copied when the study has a hazard (docs/risk.md)."""
 CRITICAL = "critical.csv"
 """Every motion's answers (the spectra store as a table): what tests/test_gallery.py holds
 against a slice of the study run again."""
@@ -64,6 +66,10 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
         for name in TABLES:
             _copy(src / name, dst / name)
             copied.append(dst / name)
+        for name in RISK_FILES:
+            if (src / name).exists():
+                _copy(src / name, dst / name)
+                copied.append(dst / name)
         write_critical(src / "spectra.zarr", dst / CRITICAL)
         copied.append(dst / CRITICAL)
         page = (src / "report.html").read_text()
