@@ -416,9 +416,17 @@ def test_fig10_fig11_lines_are_the_aggregate(study):
     agg = xr.open_dataset(study["means"]).load()
     d10 = fig10_goals.data(study["means"])
     assert list(d10["curves"]) == ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]
-    for (x, y), ls in zip(_lines(fig10_goals.plot(d10).axes[0]), d10["curves"], strict=True):
-        _same(x, agg["R"])
-        _same(y, agg["mean"].sel(mode="3d", limit_state=ls, tan_alpha=0.2))
+    ax10 = fig10_goals.plot(d10).axes[0]
+    data_lines = [ln for ln in ax10.get_lines() if ln.get_marker() == "o"]
+    fit_lines = [ln for ln in ax10.get_lines() if ln.get_linestyle() == "--" and len(ln.get_xdata())]
+    assert len(data_lines) == len(fit_lines) == len(d10["curves"])
+    for ln, fit_ln, ls in zip(data_lines, fit_lines, d10["curves"], strict=True):
+        _same(ln.get_xdata(), agg["R"])
+        _same(ln.get_ydata(), agg["mean"].sel(mode="3d", limit_state=ls, tan_alpha=0.2))
+        # the drawn straight line is the fit whose R² the legend quotes
+        fit = d10["measured"][f"line|{ls}"]
+        np.testing.assert_allclose(fit_ln.get_ydata(),
+                                   fit["slope"] * agg["R"].values + fit["intercept"])
     # the synthetic means are exactly linear in R except where a cut-off motion drops out
     assert d10["measured"]["line|tilt:0.1"]["r_squared"] == pytest.approx(1.0, abs=1e-12)
     assert d10["measured"]["line|tilt:0.1"]["slope"] == pytest.approx(
@@ -451,7 +459,7 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert ("Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed"
             in d["missing"])
     fig = fig12_2d_vs_3d.plot(d)
-    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
     assert any("stand-in" in t for t in legend)
     assert any("mean of 4 motions" in t for t in legend)
     assert "2D, x (major axis) component only" in legend
@@ -460,6 +468,18 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     agg = xr.open_dataset(study["means"]).load()
     _same(_lines(fig.axes[0])[0][1], agg["mean"].sel(mode="3d", limit_state="overturning",
                                                       tan_alpha=0.2))
+    # open markers exactly where a mean leaves out motions not reached at the search bound
+    ens = d["ensembles"][0]
+    for title, curves in ens["panels"].items():
+        for mode in curves:
+            count = ens["spread"][f"{title}|{mode}|count"]
+            np.testing.assert_array_equal(fig12_2d_vs_3d.fewer_motions(ens, title, mode),
+                                          count < ens["n_motions"])
+    opened = [ln for ax in fig.axes[:2] for ln in ax.get_lines() if ln.get_mfc() == "white"]
+    n_few = sum(int(fig12_2d_vs_3d.fewer_motions(e, t, mo).sum()) for e in d["ensembles"]
+                for t, c in e["panels"].items() for mo in c)
+    assert n_few > 0 and sum(len(ln.get_xdata()) for ln in opened) == n_few
+    assert any("fewer motions than the ensemble" in t for t in legend)
 
 
 def test_partially_computed_store_builds_every_figure(partial, tmp_path):

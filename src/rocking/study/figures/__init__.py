@@ -32,7 +32,8 @@ FIGURES = (
 """Figure names in the paper's order. A name is also its module here, its Snakemake rule and
 script (``workflow/scripts/<name>.py``) and its key in :data:`.captions.CAPTIONS`."""
 
-NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid")
+NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid",
+             "colors")
 """Entries of a figure's data copied into its JSON sidecar (whichever it has)."""
 
 
