@@ -418,7 +418,8 @@ def test_fig10_fig11_lines_are_the_aggregate(study):
     assert list(d10["curves"]) == ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]
     ax10 = fig10_goals.plot(d10).axes[0]
     data_lines = [ln for ln in ax10.get_lines() if ln.get_marker() == "o"]
-    fit_lines = [ln for ln in ax10.get_lines() if ln.get_linestyle() == "--" and len(ln.get_xdata())]
+    fit_lines = [ln for ln in ax10.get_lines()
+                 if ln.get_linestyle() == "--" and len(ln.get_xdata())]
     assert len(data_lines) == len(fit_lines) == len(d10["curves"])
     for ln, fit_ln, ls in zip(data_lines, fit_lines, d10["curves"], strict=True):
         _same(ln.get_xdata(), agg["R"])

@@ -141,8 +141,9 @@ def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.
         Lists over R: ``rel_diff_means`` (d − u)/u of the means; ``paired_mean``,
         ``paired_std``, ``paired_se``, ``paired_n``: the per-motion relative differences
         (motions reaching the limit state in both models); ``se_rel_diff_means``: the standard
-        error of ``rel_diff_means`` (std of the paired differences d − u over √n, ÷ mean u); ``cov_undamped`` (std/mean among
-        motions); and ``max_abs_rel_diff_means`` with ``R_index_of_max``.
+        error of ``rel_diff_means`` (std of the paired differences d − u over √n, ÷ mean u);
+        ``cov_undamped`` (std/mean among motions); and ``max_abs_rel_diff_means`` with
+        ``R_index_of_max``.
     """
     rel = (np.asarray(mean_d) - np.asarray(mean_u)) / np.asarray(mean_u)
     per_motion = np.array([(damped[m] - undamped[m]) / undamped[m] for m in undamped])
