@@ -331,6 +331,11 @@ def test_fig06_sensitivity_rotation_leaves_theta_max_unchanged():
         np.max(np.abs(motion.ax)) / G)
     fig = fig06_theta_max_sensitivity.plot(d)
     assert "0.0838" in _texts(fig) and "22.33°" in _texts(fig)
+    # all three versions are drawn (the rotated one at scale 1), as markers without lines
+    drawn = [ln for ln in fig.axes[0].get_lines() if ln.get_label() and
+             not ln.get_label().startswith(("_", "paper"))]
+    assert any(fig06_theta_max_sensitivity.PAPER_ROTATION in ln.get_label() for ln in drawn)
+    assert all(ln.get_linestyle() == "None" for ln in drawn)
 
 
 # ---------------------------------------------------------------- Figs 7–12 from a store
