@@ -94,7 +94,8 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
     return {"name": name, "label": label, "record": record, "stand_in": stand_in,
-            "n_motions": n, "axes": _axes.from_ensemble(motions),
+            "n_motions": n, "upper": _load.search_bound(attrs),
+            "axes": _axes.from_ensemble(motions),
             "R": agg["R"].values.astype(float), "panels": panels, "spread": spread}
 
 
@@ -124,6 +125,8 @@ def at_size(ensembles: list[dict], R: float) -> dict:
                         out[f"{ens['name']}|{title}|{mode}|{stat}"] = float(
                             np.interp(R, ens["R"][ok], s[ok]))
         out[f"{ens['name']}|label"] = ens["label"]
+        out[f"{ens['name']}|n_motions"] = ens["n_motions"]
+        out[f"{ens['name']}|upper"] = ens.get("upper")
         out[f"{ens['name']}|stand_in"] = bool(ens["stand_in"])
     return out
 

@@ -7,7 +7,6 @@ whose critical intensity is at most the abscissa (not-reached motions never coun
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +50,7 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
     axes = _axes.from_ensemble(motions)
     ds = _load.open_store(store)
     record, stand_in = _load.ensemble_label(dict(ds.attrs), Path(str(store)).parent.name)
-    upper = search_bound(ds.attrs)
+    upper = _load.search_bound(ds.attrs)
     missing: list[str] = []
     if mode not in _load.labels(frag, "mode") or not _load.has_value(frag, "tan_alpha",
                                                                        tan_alpha):
@@ -96,17 +95,6 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
         panels.append({"limit_state": ls, "curves": curves})
     return {"panels": panels, "mode": mode, "tan_alpha": tan_alpha, "missing": missing,
             "axes": axes, "record": record, "stand_in": stand_in, "upper": upper}
-
-
-def search_bound(attrs) -> float | None:
-    """Highest intensity PGA/(g tan α) the search tried, from a store's ``search_options``."""
-    raw = attrs.get("search_options")
-    try:
-        opts = json.loads(raw) if isinstance(raw, str) else (raw or {})
-    except json.JSONDecodeError:
-        return None
-    upper = opts.get("upper") if isinstance(opts, dict) else None
-    return float(upper) if isinstance(upper, int | float) else None
 
 
 @styled
