@@ -23,6 +23,7 @@ from rocking.motions.principal import rotate
 from rocking.study import figures
 from rocking.study.figures import (
     _axes,
+    _style,
     fig03_wobbling_period,
     fig04_free_vibration,
     fig06_el_centro,
@@ -649,3 +650,69 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
+
+
+# ---------------------------------------------------------------- one look across figures
+
+
+def test_figs_8_and_9_share_one_colour_per_motion(study, tmp_path):
+    """The sidecars of Figs 8 and 9 give every motion the same colour and label: record
+    black, synthetic 1–10 in ten further distinct colours."""
+    names = fs.MOTIONS
+    record = _pulse_pair(duration=4.0, name=names[0])
+    motions = [record] + [GroundMotion(f * record.ax, f * record.ay, record.dt, n,
+                                       {"fit_method": "spectrum"})
+                          for f, n in zip((0.8, 1.1, 1.3), names[1:], strict=True)]
+    render("fig08_motions", [tmp_path / "f8.png"], tmp_path / "f8.json", motions=motions,
+           periods=np.array([0.1, 1.0]))
+    render("fig09_spectra", [tmp_path / "f9.png"], tmp_path / "f9.json", store=study["store"],
+           means=study["means"])
+    c8 = json.loads((tmp_path / "f8.json").read_text())["colors"]
+    c9 = json.loads((tmp_path / "f9.json").read_text())["colors"]
+    assert c8 == c9
+    assert [c8[n]["label"] for n in names] == ["record", "synthetic 1", "synthetic 2",
+                                               "synthetic 3"]
+    # eleven motions (the paper's ensemble) get eleven distinct colours
+    eleven = _style.motion_styles([f"m{i}" for i in range(11)])
+    assert len({s["color"] for s in eleven.values()}) == 11
+    # the traces are drawn in those colours, and Fig 9's legend uses the same labels
+    fig9 = fig09_spectra.plot(fig09_spectra.data(study["store"], study["means"]))
+    legend = [t.get_text() for t in fig9.axes[0].get_legend().get_texts()]
+    assert {"record", "synthetic 1", "synthetic 3"} <= set(legend)
+
+
+def test_fig08_time_axis_ends_with_the_motion():
+    """Zero padding after the motion does not stretch the time axis."""
+    dt = 0.01
+    t = np.arange(0.0, 30.0, dt)
+    a = np.where(t < 12.0, np.sin(2 * np.pi * t) * np.sin(np.pi * t / 12.0), 0.0)
+    padded = GroundMotion(a, 0.5 * a, dt, "record", {})
+    end = fig08_motions.motion_end(t, a, 0.5 * a)
+    assert 11.0 < end <= 12.0
+    fig = fig08_motions.plot(fig08_motions.data([padded], periods=np.array([0.5, 1.0])))
+    assert fig.axes[0].get_xlim()[1] == pytest.approx(15.0)  # 12 s rounded up to 5 s
+
+
+def test_fig10_says_when_two_goals_coincide(tmp_path):
+    """θ > α and overturning with identical statistics: said in the sidecar and the figure,
+    and the flat-then-rise shape measured."""
+    R = np.array([1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0])
+    flat_rise = np.where(R <= 3.0, 1.1, 1.1 + 0.5 * (R - 3.0))
+    states = ["tilt:0.5", "tilt:1", "overturning"]
+    mean = np.stack([0.8 * flat_rise, flat_rise, flat_rise])[None, :, None, :]
+    agg = xr.Dataset(
+        {"mean": (("mode", "limit_state", "tan_alpha", "R"), mean),
+         "median": (("mode", "limit_state", "tan_alpha", "R"), mean),
+         "std": (("mode", "limit_state", "tan_alpha", "R"), 0.1 * mean),
+         "count": (("mode", "limit_state", "tan_alpha", "R"), np.full(mean.shape, 11.0))},
+        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R})
+    path = tmp_path / "means.nc"
+    agg.to_netcdf(path)
+    d = fig10_goals.data(path)
+    assert d["measured"]["coincide"] == [{"goals": ["tilt:1", "overturning"], "n_R": 7,
+                                          "n_motions": 11}]
+    line = d["measured"]["line|overturning"]
+    assert line["flat_to_R"] == 3.0 and line["flat_level"] == pytest.approx(1.1)
+    assert line["end_value"] == pytest.approx(4.6)
+    assert line["residual_signs"].startswith("+") and "−" in line["residual_signs"]
+    assert "coincide" in _texts(fig10_goals.plot(d))
