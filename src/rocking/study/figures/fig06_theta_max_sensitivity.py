@@ -170,7 +170,7 @@ def measurements(scales: np.ndarray, theta: dict, pga_g: dict) -> dict:
 def plot(d: dict) -> Figure:
     """One panel: θmax against scale factor, colour = record version, line style = model;
     overturned runs (θmax = π/2) are drawn as triangles on the upper edge."""
-    fig, ax = new_figure(7.5, 4.8)
+    fig, ax = new_figure(7.5, 5.8)
     s = d["scales"]
     every = np.concatenate([v for models in d["theta_max"].values() for v in models.values()])
     standing = every[every < 0.5 * np.pi * 0.999]
@@ -206,7 +206,9 @@ def plot(d: dict) -> Figure:
     ax.set_ylabel("Peak tilt θmax [rad]")
     ax.set_xlim(float(s[0]), float(s[-1]))
     ax.set_ylim(0.0, top)
-    ax.legend(loc="upper left", fontsize=6)
+    # below the axes: inside, the legend would hide points (θmax is scattered everywhere)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2,
+               fontsize=6.5)
     notes = ["▲: θmax above the axis (overturned). Filled markers undamped, open damped."]
     check = d["measured"].get("rotation_check")
     if check:
