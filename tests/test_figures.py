@@ -252,7 +252,7 @@ def test_fig04_plot_draws_every_run_and_names_the_pairs(fig04_data):
     ys = [np.asarray(ln.get_ydata(), float) for ln in drawn]
     for key in ("theta", "theta_dot", "phi", "phi_dot", "y"):
         assert any(y.shape == run[key].shape and np.array_equal(y, run[key]) for y in ys), key
-    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
     assert legend[0] == "undamped" and len(legend) == 9
     assert "ωn = 200, ζ = 0.05" in legend and "ωn = 2000, ζ = 50" in legend
 
@@ -466,7 +466,7 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert ("Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed"
             in d["missing"])
     fig = fig12_2d_vs_3d.plot(d)
-    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
     assert any("stand-in" in t for t in legend)
     assert any("mean of 4 motions" in t for t in legend)
     assert "2D, x (major axis) component only" in legend

@@ -204,3 +204,21 @@ def pga_g_axis(ax, tan_alpha: float, which: str = "y"):
     sec.set_ylabel(f"PGA [g] (tan α = {t:g})") if which == "y" else sec.set_xlabel(
         f"PGA [g] (tan α = {t:g})")
     return sec
+
+
+def with_legend_row(width: float, height: float, ncols: int = 1,
+                    legend_share: float = 0.2) -> tuple[Figure, list, object]:
+    """A figure with ``ncols`` panels in one row and, below them, an empty row that holds
+    the legend (an outside legend and a :func:`footnote` would share the bottom edge).
+
+    Returns
+    -------
+    (Figure, list of Axes, Axes)
+        The figure, its panels and the (axis-less) legend row.
+    """
+    fig = Figure(figsize=(width, height), layout="constrained")
+    grid = fig.add_gridspec(2, ncols, height_ratios=(1.0, legend_share))
+    axes = [fig.add_subplot(grid[0, i]) for i in range(ncols)]
+    row = fig.add_subplot(grid[1, :])
+    row.axis("off")
+    return fig, axes, row

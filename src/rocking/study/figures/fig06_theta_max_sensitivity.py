@@ -20,7 +20,7 @@ from ...constants import G
 from ...dynamics.bodies import Cylinder
 from ...motions.motion import GroundMotion
 from . import _axes
-from ._style import footnote, new_figure, styled
+from ._style import footnote, styled, with_legend_row
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -170,7 +170,7 @@ def measurements(scales: np.ndarray, theta: dict, pga_g: dict) -> dict:
 def plot(d: dict) -> Figure:
     """One panel: θmax against scale factor, colour = record version, line style = model;
     overturned runs (θmax = π/2) are drawn as triangles on the upper edge."""
-    fig, ax = new_figure(7.5, 5.8)
+    fig, (ax,), legend_row = with_legend_row(7.5, 6.0, legend_share=0.28)
     s = d["scales"]
     every = np.concatenate([v for models in d["theta_max"].values() for v in models.values()])
     standing = every[every < 0.5 * np.pi * 0.999]
@@ -207,7 +207,7 @@ def plot(d: dict) -> Figure:
     ax.set_xlim(float(s[0]), float(s[-1]))
     ax.set_ylim(0.0, top)
     # below the axes: inside, the legend would hide points (θmax is scattered everywhere)
-    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2,
+    legend_row.legend(*ax.get_legend_handles_labels(), loc="center", ncols=2,
                fontsize=6.5)
     notes = ["▲: θmax above the axis (overturned). Filled markers undamped, open damped."]
     check = d["measured"].get("rotation_check")

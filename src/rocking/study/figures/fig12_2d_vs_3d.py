@@ -20,7 +20,14 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from . import _axes, _load
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, pga_g_axis, styled
+from ._style import (
+    MODE_STYLE,
+    footnote,
+    limit_state_title,
+    pga_g_axis,
+    styled,
+    with_legend_row,
+)
 
 TAN_ALPHA = 0.2
 MODES = ("3d", "2d-x", "2d-y")
@@ -153,7 +160,7 @@ def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
     titles = ("overturning", "excessive tilt")
-    fig, axes = new_figure(10.0, 5.8, ncols=2)
+    fig, axes, legend_row = with_legend_row(10.0, 6.4, ncols=2, legend_share=0.22)
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
     for k, ens in enumerate(d["ensembles"]):
@@ -188,8 +195,8 @@ def plot(d: dict) -> Figure:
         ax.set_ylim(0.0, ax.get_ylim()[1])  # the data's own top: the legend sits below
         pga_g_axis(ax, d["tan_alpha"])
     if handles:
-        # One legend for both panels, below them: colours are ensembles, styles are modes.
-        fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=7)
+        # One legend for both panels, in a row below them: colours are ensembles, styles are modes.
+        legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7)
     title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
     if d["missing"]:
         title += "\nreduced run: not everything the paper shows was computed (note below)"
