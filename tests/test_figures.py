@@ -413,6 +413,9 @@ def test_damping_effect_of_a_known_ratio(study):
     # spread among motions: std/mean of the factors 1, 0.8, 1.25, 1.1
     f = np.array([1.0, 0.8, 1.25, 1.1])
     np.testing.assert_allclose(eff["cov_undamped"], np.std(f, ddof=1) / np.mean(f), rtol=1e-9)
+    # d − u = 0.05 u: the standard error of the difference of the means is 0.05 · CoV / √n
+    np.testing.assert_allclose(eff["se_rel_diff_means"],
+                               0.05 * np.std(f, ddof=1) / np.mean(f) / 2.0, rtol=1e-9)
     assert d["measured"]["max_rel_diff_damped_tilt:0.3333"] == pytest.approx(0.05, rel=1e-9)
     bottom = fig09_spectra.plot(d).axes[3]
     _same(_lines(bottom)[-1][1], 100 * np.asarray(eff["rel_diff_means"]))

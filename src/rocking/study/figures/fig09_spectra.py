@@ -238,9 +238,11 @@ def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
         return
     for motion, rel in eff["per_motion"].items():
         ax.plot(d["R"], 100 * np.asarray(rel, float), ".", color=colors[motion], ms=4)
-    pm, se = np.asarray(eff["paired_mean"], float), np.asarray(eff["paired_se"], float)
-    ax.fill_between(d["R"], 100 * (pm - 2 * se), 100 * (pm + 2 * se), color="0.8",
-                    label="mean of per-motion differences ± 2 SE")
+    # the band the verdict uses: the difference of the means ± 2 of its standard errors
+    rel = np.asarray(eff["rel_diff_means"], float)
+    se = np.asarray(eff.get("se_rel_diff_means") or eff["paired_se"], float)
+    ax.fill_between(d["R_mean"], 100 * (rel - 2 * se), 100 * (rel + 2 * se), color="0.8",
+                    label="± 2 standard errors of the difference of the means")
     ax.plot(d["R_mean"], 100 * np.asarray(eff["rel_diff_means"], float), color="black", lw=2.0,
             label="difference of the means")
     ax.legend(loc="best", fontsize=6.5)

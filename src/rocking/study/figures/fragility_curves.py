@@ -115,7 +115,9 @@ def plot(d: dict) -> Figure:
         ax.set_xlabel("PGA/(g tan α) [-]")
         ax.set_ylabel("P(limit state exceeded) [-]")
         ax.set_ylim(-0.02, 1.02)
-        ax.set_xlim(0.0, d["upper"] if d.get("upper") else None)
+        # to the drawn intensities, which stop at the search bound: nothing is known beyond
+        ax.set_xlim(0.0, max((float(c["im"][-1]) for c in panel["curves"].values()),
+                             default=d.get("upper") or 1.0))
         pga_g_axis(ax, d["tan_alpha"], which="x")
         ax.legend(handles=[Line2D([], [], color="0.3", label="lognormal MLE fit"),
                            Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
@@ -128,9 +130,10 @@ def plot(d: dict) -> Figure:
         axes[0].text(0.5, 0.5, "; ".join(d["missing"]), ha="center", transform=axes[0].transAxes)
     record = d.get("record", "")
     who = f"{record}{' (stand-in)' if d.get('stand_in') and 'stand-in' not in record else ''}"
-    title = (f"Fragility curves, {who} ensemble, "
+    bound = f"; search bound {d['upper']:g}" if d.get("upper") else ""
+    title = (f"Fragility curves, {who} ensemble\n"
              f"{MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
-             f"tan α = {d['tan_alpha']:g}; medians {MEDIAN_SYMBOL} and dispersions β in the "
-             "report's table")
+             f"tan α = {d['tan_alpha']:g}{bound}; medians {MEDIAN_SYMBOL} and dispersions β "
+             "in the report's table")
     _suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
     return fig
