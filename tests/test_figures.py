@@ -719,3 +719,21 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
     assert line["end_value"] == pytest.approx(4.6)
     assert line["residual_signs"].startswith("+") and "−" in line["residual_signs"]
     assert "coincide" in _texts(fig10_goals.plot(d))
+
+
+def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study, tmp_path):
+    from rocking.spectra import fragility
+    from rocking.study.figures import _load, fragility_curves
+
+    table = fragility.fragility_table(_load.open_store(study["store"]), upper=fs.UPPER)
+    table.to_netcdf(tmp_path / "f.nc")
+    d = fragility_curves.data(tmp_path / "f.nc", study["store"])
+    assert d["upper"] == fs.UPPER
+    fig = fragility_curves.plot(d)
+    text = _texts(fig)
+    assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
+    panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
+    assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
+    # one colour bar for R instead of a legend entry per size
+    assert any(ax.get_ylabel() == "cylinder size R [m]" for ax in fig.axes)
+    assert all(len(ax.get_legend().get_texts()) == 2 for ax in panels)
