@@ -737,3 +737,29 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     # one colour bar for R instead of a legend entry per size
     assert any(ax.get_ylabel() == "cylinder size R [m]" for ax in fig.axes)
     assert all(len(ax.get_legend().get_texts()) == 2 for ax in panels)
+
+
+def test_fig09_marks_unresolved_points_when_the_store_flags_them(study, tmp_path):
+    """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is drawn
+    as an open circle on the curve; a store without the flag draws none."""
+    from rocking.study.figures import _load
+
+    ds = _load.open_store(study["store"])
+    flag = xr.zeros_like(ds["not_reached"], dtype=bool)
+    flag.loc[{"mode": "3d", "motion": fs.MOTIONS[2], "tan_alpha": 0.2}] = True
+    ds = ds.assign(unresolved=flag & ~ds["not_reached"].astype(bool))
+    path = tmp_path / "flagged.zarr"
+    ds.to_zarr(path, mode="w", consolidated=False)
+    d = fig09_spectra.data(path, study["means"])
+    panel = d["panels"][0]
+    assert list(panel["unresolved"]["3d"]) == [fs.MOTIONS[2]]
+    fig = fig09_spectra.plot(d)
+    rings = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"
+             and ln.get_mfc() == "none" and len(ln.get_xdata())]
+    assert len(rings) == 1
+    np.testing.assert_array_equal(rings[0].get_ydata(),
+                                  panel["curves"]["3d"][fs.MOTIONS[2]][
+                                      panel["unresolved"]["3d"][fs.MOTIONS[2]]])
+    assert "unresolved: may lie lower" in _texts(fig)
+    plain = fig09_spectra.data(study["store"], study["means"])
+    assert all(not p["unresolved"] for p in plain["panels"])
