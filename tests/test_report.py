@@ -364,3 +364,24 @@ def test_link_images_replaces_every_embedded_png_and_nothing_else():
     assert "src='figures/fig03_wobbling_period.png'" in out
     assert "src='figures/fig09_spectra.png'" in out
     assert out.count("<figcaption>") == 2 and out.startswith("<p>x</p>")
+
+
+def test_fig10_verdicts_say_the_bend_and_the_coinciding_goals():
+    """Flat-then-rise stated with numbers; θ > α = overturning said once with its physics;
+    no claim about other motions without evidence."""
+    line = {"slope": 0.40, "intercept": 0.26, "r_squared": 0.93, "n": 20, "flat_to_R": 3.0,
+            "flat_level": 1.1, "end_R": 10.0, "end_value": 5.4,
+            "residual_signs": "++++" + "−" * 12 + "++++"}
+    notes = {"fig10_goals": {"measured": {
+        "n_goals": 2, "n_paper_goals": 7, "absent_goals": [],
+        "line|tilt:1": line, "line|overturning": line,
+        "coincide": [{"goals": ["tilt:1", "overturning"], "n_R": 20, "n_motions": 11}]}}}
+    rows = cmp.fig10(notes)
+    assert len(rows) == 2  # the coinciding goal is not judged twice
+    same, over = rows
+    assert same.verdict == cmp.NOT_IN_PAPER and "all 20 sizes (11 motions each)" in same.ours
+    assert "centre of mass" in same.reason and "sin(α − θ)" in same.reason
+    assert over.verdict == cmp.DIFFERS
+    assert "within 10 % of 1.10 up to R = 3 m, then up to 5.40 at R = 10 m" in over.reason
+    assert "a bend" in over.reason
+    assert not any("not the paper's" in r.verdict_text for r in rows)

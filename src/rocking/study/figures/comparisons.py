@@ -462,13 +462,22 @@ def fig10(notes: Mapping) -> list[Comparison]:
 
 
 def _bend_reason(fit: Mapping) -> str:
-    """Why a mean spectrum is not a straight line, in numbers (flat stretch, then rise)."""
+    """Why a mean spectrum is not a straight line, in numbers: flat throughout (a low R² of
+    a small variation), or flat, then rising (a bend)."""
     if "flat_to_R" not in fit:
         return "the mean spectrum bends in R (R² below the tolerance)"
+    signs = fit.get("residual_signs", "")
+    runs = 1 + sum(a != b for a, b in zip(signs, signs[1:], strict=False)) if signs else 0
+    pattern = (f"residuals from the line by R: {signs} "
+               + ("(a bend: few long runs of one sign, not scatter)" if runs <= 3
+                  else f"({runs} runs of one sign)"))
+    if fit["flat_to_R"] >= fit["end_R"]:
+        return (f"the mean spectrum is nearly flat, within 10 % of {fit['flat_level']:.2f} at "
+                f"every R (up to {fit['end_value']:.2f} at R = {fit['end_R']:g} m): the line "
+                f"explains little of so small a variation; {pattern}")
     return (f"the mean spectrum is not straight but flat, then rising: within 10 % of "
             f"{fit['flat_level']:.2f} up to R = {fit['flat_to_R']:g} m, then up to "
-            f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m; residuals from the line by R: "
-            f"{fit.get('residual_signs', '')} (a bend, not scatter)")
+            f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m; {pattern}")
 
 
 def fig11(notes: Mapping) -> list[Comparison]:
