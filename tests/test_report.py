@@ -385,3 +385,15 @@ def test_fig10_verdicts_say_the_bend_and_the_coinciding_goals():
     assert "within 10 % of 1.10 up to R = 3 m, then up to 5.40 at R = 10 m" in over.reason
     assert "a bend" in over.reason
     assert not any("not the paper's" in r.verdict_text for r in rows)
+
+
+def test_links_to_the_derivations_follow_the_page(tmp_path):
+    """A copy of the report in another folder (the gallery) still reaches docs/equations.md."""
+    page = "<td>" + report.link_docs("see docs/equations.md#eq-27-the-angle-of-turn here",
+                                     report.docs_href(tmp_path / "a")) + "</td>"
+    assert "href='" in page and "#eq-27-the-angle-of-turn'" in page
+    deeper = tmp_path / "b" / "c"
+    moved = report.relink_docs(page, deeper)
+    href = moved.split("href='")[1].split("#")[0]
+    assert (deeper / href).resolve() == (report.DOCS / "equations.md").resolve()
+    assert (report.DOCS / "equations.md").is_file()
