@@ -252,7 +252,7 @@ def test_fig04_plot_draws_every_run_and_names_the_pairs(fig04_data):
     ys = [np.asarray(ln.get_ydata(), float) for ln in drawn]
     for key in ("theta", "theta_dot", "phi", "phi_dot", "y"):
         assert any(y.shape == run[key].shape and np.array_equal(y, run[key]) for y in ys), key
-    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
     assert legend[0] == "undamped" and len(legend) == 9
     assert "ωn = 200, ζ = 0.05" in legend and "ωn = 2000, ζ = 50" in legend
 
