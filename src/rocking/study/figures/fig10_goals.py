@@ -160,9 +160,17 @@ def plot(d: dict) -> Figure:
     ax.set_ylim(bottom=0.0)
     pga_g_axis(ax, d["tan_alpha"])
     ax.legend(loc="upper left", title="performance goal (line fit R²)", fontsize=7)
-    for k, c in enumerate(same):
-        ax.text(0.98, 0.03 + 0.06 * k, "\n".join(textwrap.wrap(coincide_text(c), 48)),
-                transform=ax.transAxes, ha="right", va="bottom", fontsize=7,
+    notes = [coincide_text(c) for c in same]
+    top = list(d["curves"])[-1] if d["curves"] else None
+    fit = d["measured"].get(f"line|{top}", {}) if top else {}
+    if fit.get("flat_to_R") is not None and fit["flat_to_R"] < fit["end_R"]:
+        # the shape the R² only hints at, for the most severe goal
+        notes.append(f"{limit_state_title(top)}: flat near {fit['flat_level']:.2f} up to "
+                     f"R = {fit['flat_to_R']:g} m, then rising to {fit['end_value']:.2f} at "
+                     f"R = {fit['end_R']:g} m (residuals {fit['residual_signs']})")
+    if notes:
+        ax.text(0.98, 0.03, "\n".join(w for n in notes for w in textwrap.wrap(n, 52)),
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=6.5,
                 bbox={"facecolor": "white", "alpha": 0.85, "lw": 0})
     title = (f"Mean spectra per performance goal, {MODE_STYLE[d['mode']]['label']} model, "
              f"tan α = {d['tan_alpha']:g} (Fig 10)")
