@@ -428,7 +428,8 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "")
     if entry.name == "fig09_spectra":
         table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
                          for title, df in damping_tables(entry.notes))
-    anchor = f" id='{entry.name}'" if entry.name != entry.stem else ""
+    # the verdict table links #<figure name>: the first image of a figure carries it
+    anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption{anchor}>"
             f"{link_docs(CAPTIONS[entry.name], docs)}{lines}</figcaption>{table}</figure>")
