@@ -26,7 +26,7 @@ import yaml
 from rocking import __version__
 from rocking.study.aggregate import critical_frame
 from rocking.study.figures.captions import CAPTIONS
-from rocking.study.report import link_images
+from rocking.study.report import link_images, relink_docs
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 RISK_FILES = ("risk.csv", "fragility.nrml.xml", "fragility.pelicun.csv")
@@ -77,6 +77,7 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
         page = link_images(page, lambda stem, d=dst: (
             f"figures/{stem}.png" if (d / "figures" / f"{stem}.png").exists()
             else f"../figures/{stem}.png"))
+        page = relink_docs(page, dst)  # the derivations cited, from the page's new folder
         (dst / "report.html").write_text(page)
         copied.append(dst / "report.html")
     (out / "config.yaml").write_text((results / "config.yaml").read_text())

@@ -36,7 +36,8 @@ EXTRA_FIGURES = ("risk",)
 """Figures the workflow makes beyond those of the report (same name = module = rule = script
 convention; the caption is the module's ``CAPTION``): ``risk``, :mod:`rocking.risk`."""
 
-NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid")
+NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid",
+             "colors")
 """Entries of a figure's data copied into its JSON sidecar (whichever it has)."""
 
 

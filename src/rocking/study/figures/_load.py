@@ -183,3 +183,14 @@ def modes_per_tan_alpha(ds: xr.Dataset) -> dict[float, list[str]]:
         row = anywhere.sel(tan_alpha=t)
         out[float(t)] = [m for m, ok in zip(labels(ds, "mode"), row.values, strict=True) if ok]
     return out
+
+
+def search_bound(attrs: dict) -> float | None:
+    """Highest intensity PGA/(g tan α) the search tried, from a store's ``search_options``."""
+    raw = attrs.get("search_options")
+    try:
+        opts = json.loads(raw) if isinstance(raw, str) else (raw or {})
+    except json.JSONDecodeError:
+        return None
+    upper = opts.get("upper") if isinstance(opts, dict) else None
+    return float(upper) if isinstance(upper, int | float) else None
