@@ -22,7 +22,7 @@ rule risk:
     params:
         caption=RISK_CAPTION,
         hazard=lambda wildcards: hazard_param(wildcards.study),
-        upper=float(config["search"]["upper"]),
+        upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
     log:
         "logs/{study}/risk.log",

@@ -90,7 +90,8 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
     parts += [f"<p>{html.escape(s)}</p>" for s in assumptions(hazard)]
     if figure is not None and Path(figure).exists():
         data = base64.b64encode(Path(figure).read_bytes()).decode()
-        parts.append(f"<figure id='risk-figure'><img src='data:image/png;base64,{data}'>"
+        # the same markup as the report's other figures, so a gallery links it instead
+        parts.append(f"<figure id='risk'><img alt='risk' src='data:image/png;base64,{data}'>"
                      "</figure>")
     table = summary_table(risk)
     if table.empty:

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..risk.report import risk_section_html
 from .figures import FIGURES, _load, figure_name
 from .figures._style import limit_state_title
 from .figures.captions import CAPTIONS
@@ -451,7 +452,8 @@ def link_images(page: str, href: Callable[[str], str]) -> str:
 
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
-          notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = ()) -> Path:
+          notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
+          risk: str | Path | None = None, hazard: str = "") -> Path:
     """Write the HTML report.
 
     Parameters
@@ -468,6 +470,11 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         Extra paragraphs (e.g. stand-in records of this run).
     run : sequence of (str, str)
         Rows of the "what was run" section (:func:`what_was_run`).
+    risk : path, optional
+        ``results/<study>/risk.csv`` (:mod:`rocking.risk`): adds the risk section, with the
+        figure ``figures/risk.png`` beside it when it exists.
+    hazard : str
+        Where the study's hazard curve came from (quoted in the risk section).
 
     Returns
     -------
@@ -503,6 +510,9 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
                      "and, in brackets, dispersion β; \"k&gt;\" = k motions right-censored at "
                      "the search bound; points without a fit left out</h2>")
         parts.append(_table_html(fragility_pivot(fragility)))
+    if risk is not None:
+        parts.append(risk_section_html(risk, hazard=hazard,
+                                       figure=Path(risk).parent / "figures" / "risk.png"))
     parts.append("</body></html>")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
