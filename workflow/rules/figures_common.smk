@@ -83,6 +83,8 @@ def report_inputs(study):
             **({"risk": rules.risk.output.table.format(study=study),
                 "risk_png": rules.risk.output.png.format(study=study)}
                if hazard_spec(study) is not None else {}),
+            **({"stripes": rules.stripe_fragility.output.csv.format(study=study)}
+               if has_stripes(study) else {}),
             **report_run_files(study)}
 
 

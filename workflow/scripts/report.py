@@ -35,7 +35,8 @@ def main(snakemake):
               title=f"rocking: study {snakemake.params.study} "
                     f"(ensemble {snakemake.params.ensemble})",
               figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run,
-              risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""))
+              risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
+              stripes=inp.get("stripes"))
 
 
 if __name__ == "__main__":

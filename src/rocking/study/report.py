@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ..risk.report import risk_section_html
+from ..units import read_table
 from .figures import FIGURES, _load, figure_name
 from .figures._style import limit_state_title
 from .figures.captions import CAPTIONS
@@ -453,7 +454,8 @@ def link_images(page: str, href: Callable[[str], str]) -> str:
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
-          risk: str | Path | None = None, hazard: str = "") -> Path:
+          risk: str | Path | None = None, hazard: str = "",
+          stripes: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     Parameters
@@ -475,6 +477,9 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         figure ``figures/risk.png`` beside it when it exists.
     hazard : str
         Where the study's hazard curve came from (quoted in the risk section).
+    stripes : path, optional
+        ``results/<study>/stripe_fragility.csv``: adds the section that sets the
+        multiple-stripe fragility beside the first-exceedance one (:func:`stripes_section`).
 
     Returns
     -------
@@ -510,6 +515,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
                      "and, in brackets, dispersion β; \"k&gt;\" = k motions right-censored at "
                      "the search bound; points without a fit left out</h2>")
         parts.append(_table_html(fragility_pivot(fragility)))
+    if stripes is not None:
+        parts += stripes_section(stripes)
     if risk is not None:
         parts.append(risk_section_html(risk, hazard=hazard,
                                        figure=Path(risk).parent / "figures" / "risk.png"))
@@ -518,6 +525,51 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
     return out
+
+
+def stripes_section(path: str | Path) -> list[str]:
+    """HTML of the report's stripe-fragility section: what each answer means, then one row
+    per (mode, limit state, tan α, R) with both medians and their ratio."""
+    df = read_table(path)
+    ok = df[np.isfinite(df["ratio"].to_numpy(dtype=float))]
+    parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": first "
+             "exceedance and multiple-stripe fragility</h2>",
+             "<p>The paper's answer, and Figs 9–12's, is the <em>first exceedance</em>: per "
+             "motion, the smallest PGA/(g tan α) found to exceed the limit state, then the "
+             "lognormal fit over motions. Rocking near a limit state is chaotic in the "
+             "intensity: a motion exceeds it in narrow windows and the body survives stronger "
+             "scalings of the same motion, so the first exceedance is where exceedance "
+             "<em>starts</em>, not where it becomes likely. The <em>multiple-stripe</em> "
+             "fragility analyses every motion once at each of a fixed set of intensities and "
+             "fits the share exceeding by binomial maximum likelihood: its median is the "
+             "intensity at which half the motions exceed (95 % interval in brackets). It "
+             "converges as stripes are added; the first exceedance depends on where a scan "
+             "falls among the windows (docs/performance.md).</p>"]
+    if ok.empty:
+        parts.append("<p>No (mode, limit state, R) has both fits in this run.</p>")
+        return parts
+    ratio = ok["ratio"].to_numpy(dtype=float)
+    parts.append(f"<p>Over the {len(ok)} cells with both fits, the stripe median is "
+                 f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the first-exceedance median "
+                 f"(median ratio {np.median(ratio):.2f}): a column designed with the first "
+                 "exceedance is designed for the onset of exceedance, with the stripe median "
+                 "as its 50 % point.</p>")
+    rows = pd.DataFrame({
+        "mode": df["mode"], "limit state": df["limit_state"].map(limit_state_title),
+        "tan α": df["tan_alpha"], "R [m]": df["R"],
+        "stripe median [PGA/(g tan α)]": [
+            f"{m:.3g} ({lo:.3g}–{hi:.3g})" if np.isfinite(m) else f"— ({st})"
+            for m, lo, hi, st in zip(df["median"], df["median_lo"], df["median_hi"],
+                                     df["status"], strict=True)],
+        "stripe β": df["beta"].map(lambda b: f"{b:.2f}" if np.isfinite(b) else "—"),
+        "first-exceedance median": df["first_median"].map(
+            lambda m: f"{m:.3g}" if np.isfinite(m) else "—"),
+        "ratio": df["ratio"].map(lambda r: f"{r:.2f}" if np.isfinite(r) else "—"),
+        "motions × stripes": [f"{n} × {k}" for n, k in zip(df["n_motions"], df["stripes"],
+                                                           strict=True)],
+    })
+    parts.append(_table_html(rows))
+    return parts
 
 
 def fragility_pivot(path: str | Path) -> pd.DataFrame:
