@@ -386,7 +386,11 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                scheduler_file: str | None = None, progress_interval: float = 10.0,
                key: str = "region", worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
                label: str | None = None) -> dict[str, Any]:
-    """Compute every region of a store not yet done, on Dask, then consolidate it.
+    """Verify the finished regions of a store, compute the others on Dask, consolidate it.
+
+    Every finished region is re-read first (:func:`rocking.study.store.verify_store`):
+    damaged ones (checksum mismatch, truncated or missing chunk, inconsistent values) are
+    computed again, so ``snakemake --forcerun spectra`` repairs a damaged store.
 
     Parameters
     ----------
@@ -426,10 +430,12 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
     store.check_config_hash(path, config_digest)
     store.check_ensemble(path, motions)
     layout = store.open_layout(path)
+    # every run re-reads what earlier runs finished: damaged chunks become pending again
+    damaged = store.verify_store(path, layout, say=log.warning)
     pending = store.costliest_first(layout, store.pending_regions(path, layout))
     n = layout.n_regions
-    log.info("store %s: %d chunks, %d already done, %d to compute", path, n, n - len(pending),
-             len(pending))
+    log.info("store %s: %d chunks, %d already done and verified, %d damaged, %d to compute",
+             path, n, n - len(pending), len(damaged), len(pending))
     target = resolve_target(scheduler_address, scheduler_file)
     reports: list[dict] = []
     if pending:
@@ -453,6 +459,7 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         "cluster": target.kind,
         "chunks": n,
         "done_before": n - len(pending),
+        "damaged": len(damaged),
         "computed": len(reports),
         "points_computed": int(sum(r["points"] for r in reports)),
         "chunk_seconds": {"min": seconds[0], "median": seconds[len(seconds) // 2],
