@@ -169,3 +169,41 @@ def test_motions_json_is_strict(tmp_path):
                  "-o", str(tmp_path / "m.nc")]) == 0
     params = strict_json(tmp_path / "m.json")
     assert params["n_synthetic"] == 1
+
+
+def _pair_files(d):
+    """Two AT2 files with azimuths 180 (given first) and 270: 270 is 180 + 90."""
+    out = []
+    for az, values in ((180, [0.1, -0.2, 0.05, 0.0]), (270, [0.3, 0.1, 0.0, 0.0])):
+        p = d / f"site_{az}.AT2"
+        body = "\n".join(f"  {v:.7E}" for v in values)
+        p.write_text("PEER NGA STRONG MOTION DATABASE RECORD\n"
+                     f"Somewhere, 1/1/2000, Station, {az}\n"
+                     "ACCELERATION TIME SERIES IN UNITS OF G\n"
+                     f"NPTS=   {len(values)}, DT=   .0100 SEC,\n{body}\n")
+        out.append(p)
+    return out
+
+
+def test_files_are_taken_in_the_order_given(tmp_path, capsys):
+    import warnings
+
+    from rocking.cli import _common, build_parser
+    from rocking.constants import G
+
+    first, second = _pair_files(tmp_path)
+    argv = ["simulate", "--R", "1", "--tan-alpha", "0.2", "--mode", "2d-x", "--files",
+            str(first), str(second), "-o", str(tmp_path / "run")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no swap, so no warning
+        motion = _common.motion_from_args(build_parser(["simulate"]).parse_args(argv))
+    np.testing.assert_allclose(motion.ax, np.array([0.1, -0.2, 0.05, 0.0]) * G)
+    assert motion.metadata["x_azimuth"] == 180.0
+    # reordering only on request, and then said
+    args = build_parser(["simulate"]).parse_args([*argv, "--order-by-azimuth"])
+    with pytest.warns(UserWarning, match=r"x = \S*site_270.AT2 \(azimuth 270°\).*swapped"):
+        motion = _common.motion_from_args(args)
+    np.testing.assert_allclose(motion.ax, np.array([0.3, 0.1, 0.0, 0.0]) * G)
+    sub = build_parser(["spectra"])._subparsers._group_actions[0].choices["spectra"]
+    assert "in the order given" in sub.format_help() and "--order-by-azimuth" in \
+        sub.format_help()

@@ -56,7 +56,11 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
     g.add_argument("--record", metavar="NAME",
                    help=f"named record ({RECORD_NAMES}); with --files, read from those files")
     g.add_argument("--files", nargs="+", metavar="FILE",
-                   help="acceleration files, x then y (PEER AT2 or text, in g)")
+                   help="acceleration files, x then y, in the order given (PEER AT2 or "
+                   "text, in g)")
+    g.add_argument("--order-by-azimuth", action="store_true",
+                   help="with two --files: make x the file whose header azimuth is the "
+                   "other's + 90° (the swap is printed)")
     if ensemble:
         g.add_argument("--ensemble", type=Path, metavar="FILE",
                        help="ensemble file (.nc) written by `rocking motions` or the workflow")
@@ -103,7 +107,8 @@ def motion_from_args(args: argparse.Namespace, default_record: str | None = None
                                  or highpass != "none"):
         raise ValueError("--rotation, --highpass, --fc-hz, --mw and --max-duration process a "
                          "record; a motion of --ensemble is used as stored")
-    motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None))
+    motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None),
+                         order_by_azimuth=getattr(args, "order_by_azimuth", False))
     if ensemble is None and (any(v is not None for v in processing.values())
                              or highpass != "none"):
         motion = process_motion(motion, highpass=highpass, **processing)

@@ -73,7 +73,8 @@ def run(args) -> int:
         raise ValueError("--rotation none: the ensemble's record is always on principal axes "
                          "(its fit needs them); give 'auto' or the forced offset [deg]")
     record = args.record if (args.record or args.files) else "el-centro-1940"
-    motion = load_motion(record, args.files, name=args.name)
+    motion = load_motion(record, args.files, name=args.name,
+                         order_by_azimuth=args.order_by_azimuth)
     say(f"read {motion.name} ({motion.npts} samples, dt {motion.dt} s, vector PGA "
         f"{motion.pga_g:.4f} g){' [stand-in]' if motion.metadata.get('stand_in') else ''}")
     build = build_ensemble(
