@@ -207,3 +207,42 @@ def test_files_are_taken_in_the_order_given(tmp_path, capsys):
     sub = build_parser(["spectra"])._subparsers._group_actions[0].choices["spectra"]
     assert "in the order given" in sub.format_help() and "--order-by-azimuth" in \
         sub.format_help()
+
+
+@pytest.mark.parametrize("where", ["directory", "read-only", "under a file"])
+def test_unwritable_spectra_output_fails_before_any_analysis(where, tmp_path, capsys,
+                                                             monkeypatch):
+    import rocking.spectra.critical as critical
+
+    def no_analysis(*a, **k):
+        raise AssertionError("an analysis ran before the output was checked")
+
+    monkeypatch.setattr(critical, "critical_intensity_batch", no_analysis)
+    (tmp_path / "out.csv").mkdir()
+    (tmp_path / "blocker").write_text("x")
+    out = {"directory": tmp_path / "out.csv",
+           "read-only": "/proc/rocking-test/s.csv",  # not writable, even by root
+           "under a file": tmp_path / "blocker" / "s.csv"}[where]
+    code = main(["spectra", "--R", "1", "-q", "--accuracy", "fast", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert str(out) in err[0] or str(Path(out).parent) in err[0]
+
+
+def test_full_disk_names_the_file_and_leaves_no_partial_output(tmp_path, capsys, monkeypatch):
+    import errno
+
+    import pandas as pd
+
+    def full_disk(self, path, *a, **k):
+        Path(path).write_text("R [m],pga")  # a few bytes went out, then the disk was full
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(pd.DataFrame, "to_csv", full_disk)
+    out = tmp_path / "s.csv"
+    code = main(["spectra", "--R", "1", "-q", "--accuracy", "fast", "--limit-states",
+                 "tilt:1", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert str(out) in err[0] and "No space left on device" in err[0]
+    assert list(tmp_path.iterdir()) == []  # neither the output nor a temporary file

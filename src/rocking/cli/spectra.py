@@ -122,10 +122,9 @@ def run(args) -> int:
               f"{args.tan_alpha:g}")
         print(table[cols].rename(columns=header).to_string(index=False))
     elif out.suffix.lower() == ".csv":
-        out.parent.mkdir(parents=True, exist_ok=True)
-        table.rename(columns=header).to_csv(out, index=False)
+        with _common.replacing(out) as tmp:
+            table.rename(columns=header).to_csv(tmp, index=False)
     else:
-        out.parent.mkdir(parents=True, exist_ok=True)
         doc = {
             "motion": {"name": motion.name, **identity(motion), "dt": motion.dt,
                        "npts": motion.npts, "metadata": motion.metadata},
@@ -139,7 +138,8 @@ def run(args) -> int:
             # a not-reached intensity (NaN) is written as null: strict JSON
             "results": table.to_dict(orient="records"),
         }
-        _json.write(out, doc, indent=1)
+        with _common.replacing(out) as tmp:
+            _json.write(tmp, doc, indent=1)
     if not args.quiet:
         n = sum(r.n_analyses for r in results)
         print(f"{len(results)} spectrum point(s), {n} analyses, {seconds:.2f} s",
