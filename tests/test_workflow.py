@@ -283,10 +283,21 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "studies.tiny.runs[0].limit_states names one tilt goal twice"),
         (lambda c: c["studies"][STUDY].update(ensemble="nope"),
          "studies.tiny.ensemble='nope' is not a key of ensembles"),
+        (lambda c: c["studies"][STUDY].update(R=[float("nan")]),
+         "studies.tiny.R[0]=nan: must be a finite number"),
+        (lambda c: c["studies"][STUDY]["tilt_map"].update(intensity=[1.0, float("inf")]),
+         "studies.tiny.tilt_map.intensity[1]=inf: must be a finite number"),
+        (lambda c: c["studies"][STUDY]["tilt_map"].update(motion="el-centro"),
+         "studies.tiny.tilt_map.motion='el-centro' is not a motion of the ensemble"),
+        (lambda c: c["motions"].update(max_duration=0.01),
+         "motions.max_duration=0.01 s keeps fewer than two samples of ensembles.tiny"),
+        (lambda c: c["studies"][STUDY].update(R={"start": 1, "stop": 2, "num": 100_000_000}),
+         "studies.tiny.R: 100000000 values exceed the bound"),
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
-         "missing-ensemble"],
+         "missing-ensemble", "nan-grid", "inf-grid", "tilt-map-motion", "max-duration",
+         "huge-grid"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))
@@ -299,6 +310,18 @@ def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     assert message in text
     assert len(text.splitlines()) < 15  # the message, not the schema
     assert not (tmp_path / "results").exists()
+
+
+def test_dry_run_takes_config_numbers_given_as_text(tmp_path):
+    """``--config dask='{..., progress_interval: 2}'`` hands the values over as strings."""
+    out = snakemake(tmp_path, "-n", *TARGETS, "--config",
+                    "dask={scheduler_address: null, progress_interval: 2, worker_timeout: 5}",
+                    configfile=write_config(tmp_path), check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    bad = snakemake(tmp_path, "-n", *TARGETS, "--config", "dask={progress_interval: soon}",
+                    configfile=write_config(tmp_path), check=False)
+    assert bad.returncode != 0
+    assert "config key dask.progress_interval='soon'" in bad.stdout + bad.stderr
 
 
 def _no_nan(text):
