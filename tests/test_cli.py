@@ -246,3 +246,26 @@ def test_full_disk_names_the_file_and_leaves_no_partial_output(tmp_path, capsys,
     assert code == 2 and len(err) == 1
     assert str(out) in err[0] and "No space left on device" in err[0]
     assert list(tmp_path.iterdir()) == []  # neither the output nor a temporary file
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--R", "2,2"], "--R repeats [2.0]"),
+        (["--R", "2", "--R", "1,2"], "--R repeats [2.0]"),
+        (["--R", ""], "--R: give at least one size R [m], got none"),
+        (["--R", "nan"], "--R must hold finite sizes > 0"),
+        (["--R", "1", "--upper", "1"], "--upper must be a finite number > 1"),
+        (["--R", "1", "--upper", "0.5"], "--upper must be a finite number > 1"),
+    ],
+)
+def test_spectra_rejects_bad_lists_and_bounds_before_work(argv, message, capsys, monkeypatch):
+    import rocking.spectra.critical as critical
+
+    def no_analysis(*a, **k):
+        raise AssertionError("an analysis ran")
+
+    monkeypatch.setattr(critical, "critical_intensity_batch", no_analysis)
+    assert main(["spectra", "-q", *argv]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0], err
