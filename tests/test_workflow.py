@@ -246,6 +246,36 @@ def test_killed_run_resumes_without_redoing_chunks(reference, tmp_path):
     assert store_bytes(tmp_path / SPECTRA) == store_bytes(reference / SPECTRA)
 
 
+def _chunk_files(store: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(store)): p.read_bytes() for p in sorted(store.rglob("*"))
+            if p.is_file() and "c" in p.relative_to(store).parts}
+
+
+def test_forcerun_spectra_repairs_damaged_chunks_to_identical_bytes(reference, tmp_path):
+    """A flipped bit, a truncated chunk and a damaged done flag: `--forcerun spectra`
+    re-reads every chunk, recomputes exactly the damaged ones, ends with the same bytes."""
+    work = tmp_path / "work"
+    shutil.copytree(reference, work, symlinks=True)
+    store = work / SPECTRA
+    chunks = sorted(p for p in (store / "pga_crit" / "c").rglob("*") if p.is_file())
+    flipped = bytearray(chunks[0].read_bytes())
+    flipped[len(flipped) // 2] ^= 0x04
+    chunks[0].write_bytes(bytes(flipped))
+    chunks[1].write_bytes(chunks[1].read_bytes()[:-7])
+    done = sorted(p for p in (store / "done" / "c").rglob("*") if p.is_file())
+    done[-1].write_bytes(done[-1].read_bytes()[:3])
+    config = write_config(work)
+    snakemake(work, *TARGETS, "--forcerun", "spectra", configfile=config)
+    summary = json.loads((work / f"results/{STUDY}/spectra.done.json").read_text())
+    assert summary["damaged"] == 3 and summary["computed"] == 3
+    assert _chunk_files(store) == _chunk_files(reference / SPECTRA)
+    assert store_bytes(store) == store_bytes(reference / SPECTRA)
+    log = (work / f"logs/{STUDY}/spectra.log").read_text()
+    assert log.count("damaged, ") == 3 and "unreadable" in log
+    assert (work / f"results/{STUDY}/mean_spectra.csv").read_text() == \
+        (reference / f"results/{STUDY}/mean_spectra.csv").read_text()
+
+
 @pytest.mark.parametrize("config", ["config/config.yaml", "config/paper.yaml"])
 def test_lint_is_clean(config, tmp_path):
     lint = snakemake(tmp_path, "--lint", configfile=REPO / config, check=False)
