@@ -328,9 +328,10 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     reports: list[dict] = []
     pending = set(futures)
     watch = _WorkerWatch(client, worker_timeout, n)
+    poll = min(max(interval, 0.1), 1.0)  # seconds between looks at the cluster
     while pending:
         try:
-            done, pending = wait(pending, timeout=min(interval, 1.0), return_when="FIRST_COMPLETED")
+            done, pending = wait(pending, timeout=poll, return_when="FIRST_COMPLETED")
         except TimeoutError:
             done = set()
         for future in done:
@@ -346,7 +347,7 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
         if pending:
             watch.check(now, len(pending), futures)
         # a heartbeat at every interval, also when no chunk finished: a stalled run is seen
-        if now - last >= interval or not pending:
+        if (now - last >= interval and (done or interval > 0)) or not pending:
             log.info("%d/%d chunks done, %.1f s elapsed, %d workers", len(reports), n,
                      now - t0, watch.workers)
             if progress is not None:
