@@ -269,3 +269,11 @@ def test_spectra_rejects_bad_lists_and_bounds_before_work(argv, message, capsys,
     assert main(["spectra", "-q", *argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
+
+
+def test_motions_refuses_an_ensemble_too_large_for_memory_before_work(tmp_path, capsys):
+    code = main(["motions", "-n", "1000000000", "-q", "-o", str(tmp_path / "m.nc")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "--n-synthetic=1000000000: building the ensemble needs about" in err[0]
+    assert not (tmp_path / "m.nc").exists()

@@ -21,7 +21,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["check_config", "coerce_strings", "schema_error", "validate_config"]
+__all__ = ["check_config", "check_ensemble_size", "coerce_strings", "schema_error", "validate_config"]
 
 MAX_GRID_VALUES = 10_000
 """Most values of one grid (R, tan α, intensity)."""
@@ -137,7 +137,8 @@ def check_config(config: Mapping[str, Any]) -> None:
             raise ValueError(f"motions.max_duration={max_duration!r} s keeps fewer than two "
                              f"samples of ensembles.{name} (dt {motion.dt:g} s); give at "
                              f"least {2 * motion.dt:g} s or null")
-        _check_ensemble_size(f"ensembles.{name}", spec.get("n_synthetic", 10), motion.npts)
+        check_ensemble_size(f"ensembles.{name}.n_synthetic", spec.get("n_synthetic", 10),
+                            motion.npts)
     for study, s in config["studies"].items():
         if s["ensemble"] not in config["ensembles"]:
             raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "
@@ -287,14 +288,30 @@ def _check_study_size(key: str, s: Mapping[str, Any], n_motions: int) -> None:
                              f"{MAX_TILT_MAP_POINTS} (MAX_TILT_MAP_POINTS); use coarser grids")
 
 
-def _check_ensemble_size(key: str, n_synthetic: int, npts: int) -> None:
+def check_ensemble_size(field: str, n_synthetic: int, npts: int) -> None:
+    """Refuse an ensemble whose estimated memory exceeds a share of this machine's.
+
+    Parameters
+    ----------
+    field : str
+        Name of the setting in the message (``ensembles.<name>.n_synthetic``, ``-n``).
+    n_synthetic : int
+        Synthetic pairs.
+    npts : int
+        Samples of the record.
+
+    Raises
+    ------
+    ValueError
+        With the estimate [GB] and the machine's memory [GB].
+    """
     import psutil
 
     need = ENSEMBLE_COPIES * (int(n_synthetic) + 1) * npts * 8
     have = psutil.virtual_memory().total
     if need > ENSEMBLE_MEMORY_FRACTION * have:
         raise ValueError(
-            f"{key}.n_synthetic={n_synthetic}: building the ensemble needs about "
+            f"{field}={n_synthetic}: building the ensemble needs about "
             f"{need / 1e9:.1f} GB ({ENSEMBLE_COPIES} arrays of {npts} samples per pair), more "
             f"than {ENSEMBLE_MEMORY_FRACTION:.0%} of this machine's {have / 1e9:.1f} GB; "
             f"give fewer synthetic pairs")
