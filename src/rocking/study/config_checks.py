@@ -21,7 +21,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["check_config", "check_ensemble_size", "coerce_strings", "schema_error", "validate_config"]
+__all__ = ["check_config", "check_ensemble_size", "coerce_strings", "schema_error",
+           "validate_config"]
 
 MAX_GRID_VALUES = 10_000
 """Most values of one grid (R, tan α, intensity)."""
