@@ -137,6 +137,14 @@ def test_numbers_given_as_strings_are_taken_as_numbers():
     bad = _cfg(lambda c: c.update(dask={"progress_interval": "soon"}))
     coerce_strings(bad, SCHEMA)
     assert schema_error(bad, SCHEMA).startswith("config key dask.progress_interval='soon'")
+    # a grid's count written 1e8 (YAML 1.1 reads it as text) is the number it spells
+    grid = _cfg(lambda c: c["studies"]["elcentro"].update(R={"start": 1, "stop": 2,
+                                                             "num": "1e8"}))
+    coerce_strings(grid, SCHEMA)
+    assert grid["studies"]["elcentro"]["R"]["num"] == 1e8
+    grid["ensembles"]["elcentro"].setdefault("paths", None)
+    with pytest.raises(ValueError, match="R: 100000000 values exceed the bound"):
+        check_config(grid)
     # a string the schema wants stays a string
     named = _cfg(lambda c: c["ensembles"]["elcentro"].update(record="1940"))
     coerce_strings(named, SCHEMA)

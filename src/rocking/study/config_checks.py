@@ -198,9 +198,13 @@ def coerce_strings(config: dict[str, Any], schema: Mapping[str, Any]) -> None:
 
     validator = jsonschema.validators.validator_for(schema)(schema)
 
-    def errors_at(path) -> bool:
-        return any(tuple(e.absolute_path)[:len(path)] == path
-                   for e in validator.iter_errors(config))
+    def related(path) -> int:
+        # errors at the leaf, below it, or at a key above it (a oneOf reports at the grid)
+        n = 0
+        for e in validator.iter_errors(config):
+            where = tuple(e.absolute_path)
+            n += where[:len(path)] == path or path[:len(where)] == where
+        return n
 
     for path, text in list(_string_leaves(config, ())):
         value = _spelled(text)
@@ -209,11 +213,13 @@ def coerce_strings(config: dict[str, Any], schema: Mapping[str, Any]) -> None:
         parent = config
         for part in path[:-1]:
             parent = parent[part]
-        was_wrong = errors_at(path)
-        if not was_wrong and not (value is None and text.strip() in ("null", "~")):
+        before = related(path)
+        is_null = value is None and text.strip() in ("null", "~")
+        if before == 0 and not is_null:
             continue
         parent[path[-1]] = value
-        if errors_at(path):
+        after = related(path)
+        if after > before or (after == before and not is_null):
             parent[path[-1]] = text
 
 
