@@ -164,3 +164,16 @@ def test_cluster_without_workers_mid_run_fails_within_the_timeout_with_heartbeat
     beats = [r.getMessage() for r in caplog.records if "chunks done" in r.getMessage()]
     assert len(beats) >= 3 and all(b.startswith("0/3 chunks done") for b in beats)
     assert sum("stalled: 0/3 points done" in x for x in lines) >= 3
+
+
+def test_heartbeat_speaks_while_a_long_step_runs():
+    import time
+
+    said = []
+    with cluster.heartbeat(said.append, 0.2, "building e") as stage:
+        stage[0] = "synthesis"
+        time.sleep(0.9)
+    n = len(said)
+    time.sleep(0.4)
+    assert n >= 3 and len(said) == n  # lines while it ran, none after
+    assert said[0].startswith("building e: still working (synthesis), elapsed 0 s")

@@ -385,6 +385,36 @@ class _WorkerWatch:
 
 
 @contextlib.contextmanager
+def heartbeat(say: Callable[[str], None], interval: float, what: str) -> Iterator[list]:
+    """Say ``"<what>: still working (<stage>), elapsed <s> s"`` every ``interval`` seconds
+    while the block runs (a long step without progress of its own, e.g. an ensemble's
+    synthesis, is told from a stalled one).
+
+    Yields a one-element list: the block puts the current stage in it (``stage[0] = ...``).
+    ``interval`` <= 0 says nothing.
+    """
+    import threading
+
+    stage = ["starting"]
+    stop = threading.Event()
+    t0 = time.monotonic()
+
+    def beat() -> None:
+        while not stop.wait(interval):
+            say(f"{what}: still working ({stage[0]}), elapsed {time.monotonic() - t0:.0f} s")
+
+    thread = threading.Thread(target=beat, daemon=True) if interval > 0 else None
+    if thread is not None:
+        thread.start()
+    try:
+        yield stage
+    finally:
+        stop.set()
+        if thread is not None:
+            thread.join()
+
+
+@contextlib.contextmanager
 def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
     """Send this process's and its children's output (stdout, stderr, logging) to ``path``.
 
