@@ -630,8 +630,37 @@ def _chunk_file(path: Path, array: zarr.Array, sel: tuple[slice, ...]) -> Path:
     return path / array.path / array.metadata.encode_chunk_key(coords)
 
 
+class _Reader:
+    """Reads a store's arrays for verification: each whole at once (zarr decodes the
+    chunks concurrently), a region at a time only for an array with a damaged chunk."""
+
+    def __init__(self, path: Path, group: zarr.Group, names: Sequence[str]) -> None:
+        self.path = path
+        self.arrays = {name: group[name] for name in names}  # each opened once
+        self.whole: dict[str, np.ndarray | None] = {}
+        self.files: dict[str, set[Path]] = {}
+        for name, array in self.arrays.items():
+            try:
+                self.whole[name] = np.asarray(array[...])
+            except Exception:  # some chunk is damaged: read it region by region
+                self.whole[name] = None
+            folder = path / array.path
+            self.files[name] = {p for p in folder.rglob("*") if p.is_file()}
+
+    def read(self, name: str, sel: tuple[slice, ...]) -> np.ndarray:
+        whole = self.whole[name]
+        return whole[sel] if whole is not None else np.asarray(self.arrays[name][sel])
+
+    def chunk_file(self, name: str, sel: tuple[slice, ...]) -> Path:
+        return _chunk_file(self.path, self.arrays[name], sel)
+
+    def exists(self, name: str, sel: tuple[slice, ...]) -> bool:
+        return self.chunk_file(name, sel) in self.files[name]
+
+
 def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
-                    requested: np.ndarray, checksums: bool) -> str | None:
+                    requested: np.ndarray, checksums: bool,
+                    reader: _Reader | None = None) -> str | None:
     """What is wrong with the stored results of a done region, or None.
 
     Every chunk of the region is read (its checksum checked); with checksums, each must
@@ -643,15 +672,16 @@ def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
     if "limit_state" in layout.coords and "mode" in region and "tan_alpha" in region:
         wanted = requested[region["mode"], :, region["tan_alpha"]]  # (mode, ls, tan α)
         asked = bool(wanted.any())
+    reader = reader or _Reader(path, group, list(layout.variables))
     values = {}
     for name, var in layout.variables.items():
         sel = layout.selection(var.dims, region)
-        if checksums and asked and not _chunk_file(path, group[name], sel).is_file():
-            return f"{name}: chunk file {_chunk_file(path, group[name], sel)} is missing"
+        if checksums and asked and not reader.exists(name, sel):
+            return f"{name}: chunk file {reader.chunk_file(name, sel)} is missing"
         try:
-            values[name] = np.asarray(group[name][sel])
+            values[name] = reader.read(name, sel)
         except Exception as exc:  # checksum mismatch, truncation, decompression error
-            return f"{name}: chunk {_chunk_file(path, group[name], sel)} is unreadable " \
+            return f"{name}: chunk {reader.chunk_file(name, sel)} is unreadable " \
                    f"({type(exc).__name__}: {exc})"
     if "pga_crit" in values:
         p = values["pga_crit"]  # (mode, limit_state, motion, tan_alpha, R)
@@ -715,17 +745,19 @@ def verify_store(path: str | Path, layout: Layout | None = None,
             f"flipped bit cannot be detected, only values that contradict each other; "
             f"delete the store to rebuild it with checksums")
     group = _open_group(path, "r+" if repair else "r")
+    reader = _Reader(path, group, [DONE, *layout.variables])
     damaged = []
     for index in range(layout.n_regions):
         sel = layout.selection(layout.task_dims, layout.region(index))
         try:
-            done = bool(np.all(group[DONE][sel]))
+            done = bool(np.all(reader.read(DONE, sel)))
         except Exception as exc:
-            problem = f"done flag {_chunk_file(path, group[DONE], sel)} is unreadable ({exc})"
+            problem = f"done flag {reader.chunk_file(DONE, sel)} is unreadable ({exc})"
         else:
             if not done:
                 continue
-            problem = _region_problem(path, group, layout, index, requested, checksums)
+            problem = _region_problem(path, group, layout, index, requested, checksums,
+                                      reader)
         if problem is not None:
             say(f"store {path}: chunk {index} damaged, {problem}"
                 + ("; recomputing it" if repair else ""))
