@@ -41,6 +41,8 @@ include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/figures_common.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/stripes.smk"
+include: "workflow/rules/risk_common.smk"
+include: "workflow/rules/risk.smk"
 include: "workflow/rules/run_config.smk"
 
 
@@ -51,4 +53,5 @@ rule all:
     input:
         all_targets(),
         stripe_targets(),
+        risk_targets(),
     default_target: True

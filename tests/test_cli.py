@@ -169,3 +169,111 @@ def test_motions_json_is_strict(tmp_path):
                  "-o", str(tmp_path / "m.nc")]) == 0
     params = strict_json(tmp_path / "m.json")
     assert params["n_synthetic"] == 1
+
+
+def _pair_files(d):
+    """Two AT2 files with azimuths 180 (given first) and 270: 270 is 180 + 90."""
+    out = []
+    for az, values in ((180, [0.1, -0.2, 0.05, 0.0]), (270, [0.3, 0.1, 0.0, 0.0])):
+        p = d / f"site_{az}.AT2"
+        body = "\n".join(f"  {v:.7E}" for v in values)
+        p.write_text("PEER NGA STRONG MOTION DATABASE RECORD\n"
+                     f"Somewhere, 1/1/2000, Station, {az}\n"
+                     "ACCELERATION TIME SERIES IN UNITS OF G\n"
+                     f"NPTS=   {len(values)}, DT=   .0100 SEC,\n{body}\n")
+        out.append(p)
+    return out
+
+
+def test_files_are_taken_in_the_order_given(tmp_path, capsys):
+    import warnings
+
+    from rocking.cli import _common, build_parser
+    from rocking.constants import G
+
+    first, second = _pair_files(tmp_path)
+    argv = ["simulate", "--R", "1", "--tan-alpha", "0.2", "--mode", "2d-x", "--files",
+            str(first), str(second), "-o", str(tmp_path / "run")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no swap, so no warning
+        motion = _common.motion_from_args(build_parser(["simulate"]).parse_args(argv))
+    np.testing.assert_allclose(motion.ax, np.array([0.1, -0.2, 0.05, 0.0]) * G)
+    assert motion.metadata["x_azimuth"] == 180.0
+    # reordering only on request, and then said
+    args = build_parser(["simulate"]).parse_args([*argv, "--order-by-azimuth"])
+    with pytest.warns(UserWarning, match=r"x = \S*site_270.AT2 \(azimuth 270°\).*swapped"):
+        motion = _common.motion_from_args(args)
+    np.testing.assert_allclose(motion.ax, np.array([0.3, 0.1, 0.0, 0.0]) * G)
+    sub = build_parser(["spectra"])._subparsers._group_actions[0].choices["spectra"]
+    assert "in the order given" in sub.format_help() and "--order-by-azimuth" in \
+        sub.format_help()
+
+
+@pytest.mark.parametrize("where", ["directory", "read-only", "under a file"])
+def test_unwritable_spectra_output_fails_before_any_analysis(where, tmp_path, capsys,
+                                                             monkeypatch):
+    import rocking.spectra.critical as critical
+
+    def no_analysis(*a, **k):
+        raise AssertionError("an analysis ran before the output was checked")
+
+    monkeypatch.setattr(critical, "critical_intensity_batch", no_analysis)
+    (tmp_path / "out.csv").mkdir()
+    (tmp_path / "blocker").write_text("x")
+    out = {"directory": tmp_path / "out.csv",
+           "read-only": "/proc/rocking-test/s.csv",  # not writable, even by root
+           "under a file": tmp_path / "blocker" / "s.csv"}[where]
+    code = main(["spectra", "--R", "1", "-q", "--accuracy", "fast", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert str(out) in err[0] or str(Path(out).parent) in err[0]
+
+
+def test_full_disk_names_the_file_and_leaves_no_partial_output(tmp_path, capsys, monkeypatch):
+    import errno
+
+    import pandas as pd
+
+    def full_disk(self, path, *a, **k):
+        Path(path).write_text("R [m],pga")  # a few bytes went out, then the disk was full
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(pd.DataFrame, "to_csv", full_disk)
+    out = tmp_path / "s.csv"
+    code = main(["spectra", "--R", "1", "-q", "--accuracy", "fast", "--limit-states",
+                 "tilt:1", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert str(out) in err[0] and "No space left on device" in err[0]
+    assert list(tmp_path.iterdir()) == []  # neither the output nor a temporary file
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--R", "2,2"], "--R repeats [2.0]"),
+        (["--R", "2", "--R", "1,2"], "--R repeats [2.0]"),
+        (["--R", ""], "--R: give at least one size R [m], got none"),
+        (["--R", "nan"], "--R must hold finite sizes > 0"),
+        (["--R", "1", "--upper", "1"], "--upper must be a finite number > 1"),
+        (["--R", "1", "--upper", "0.5"], "--upper must be a finite number > 1"),
+    ],
+)
+def test_spectra_rejects_bad_lists_and_bounds_before_work(argv, message, capsys, monkeypatch):
+    import rocking.spectra.critical as critical
+
+    def no_analysis(*a, **k):
+        raise AssertionError("an analysis ran")
+
+    monkeypatch.setattr(critical, "critical_intensity_batch", no_analysis)
+    assert main(["spectra", "-q", *argv]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0], err
+
+
+def test_motions_refuses_an_ensemble_too_large_for_memory_before_work(tmp_path, capsys):
+    code = main(["motions", "-n", "1000000000", "-q", "-o", str(tmp_path / "m.nc")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "--n-synthetic=1000000000: building the ensemble needs about" in err[0]
+    assert not (tmp_path / "m.nc").exists()

@@ -123,3 +123,57 @@ def test_scheduler_without_workers_is_reported_then_given_up(caplog):
                 pass
     assert "with 0 workers" in said[0] and "dashboard:" in said[0]
     assert "has no workers: waiting up to 1 s" in said[1]
+
+
+def _slow_point(index):
+    import time
+
+    time.sleep(0.2)
+    return {"index": index, "points": 1, "seconds": 0.2}
+
+
+def test_cluster_without_workers_mid_run_fails_within_the_timeout_with_heartbeats(caplog):
+    """An external scheduler whose workers are gone: heartbeat lines at every interval though
+    no chunk finishes, then one error line once worker_timeout has passed."""
+    import time
+
+    from distributed import Client, LocalCluster
+
+    from rocking._progress import Progress
+
+    caplog.set_level(logging.INFO, logger="rocking.study.cluster")
+    with LocalCluster(n_workers=0, scheduler_port=0, dashboard_address=":0",
+                      processes=False) as empty, Client(empty.scheduler_address) as client:
+        lines = []
+
+        class Stream:
+            def write(self, text):
+                lines.append(text)
+
+            def flush(self):
+                pass
+
+        t0 = time.monotonic()
+        with pytest.raises(RuntimeError, match=r"^no Dask worker on scheduler \S+ for \d+ s "
+                           r"\(dask.worker_timeout 2 s\) with 3 of 3 chunks left"), \
+                Progress(3, "stalled", stream=Stream(), interval=0.5) as bar:
+            cluster.run_regions(client, _slow_point, [0, 1, 2], interval=0.5,
+                                worker_timeout=2.0, progress=bar)
+        elapsed = time.monotonic() - t0
+    assert 2.0 < elapsed < 2.0 + 3.0
+    beats = [r.getMessage() for r in caplog.records if "chunks done" in r.getMessage()]
+    assert len(beats) >= 3 and all(b.startswith("0/3 chunks done") for b in beats)
+    assert sum("stalled: 0/3 points done" in x for x in lines) >= 3
+
+
+def test_heartbeat_speaks_while_a_long_step_runs():
+    import time
+
+    said = []
+    with cluster.heartbeat(said.append, 0.2, "building e") as stage:
+        stage[0] = "synthesis"
+        time.sleep(0.9)
+    n = len(said)
+    time.sleep(0.4)
+    assert n >= 3 and len(said) == n  # lines while it ran, none after
+    assert said[0].startswith("building e: still working (synthesis), elapsed 0 s")

@@ -68,3 +68,84 @@ def test_cross_field_errors_name_key_and_value(change, message):
     with pytest.raises(ValueError) as err:
         check_config(cfg)
     assert message in str(err.value)
+
+
+def _at2(path, values, dt=".0100"):
+    body = "\n".join(f"  {v}" for v in values)
+    path.write_text("PEER NGA STRONG MOTION DATABASE RECORD\nSite, 1/1/2000, Station, 90\n"
+                    f"ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=   {len(values)}, "
+                    f"DT=   {dt} SEC,\n{body}\n")
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda c, d: c["studies"]["elcentro"].update(R=[float("nan")]),
+         "config key studies.elcentro.R[0]=nan: must be a finite number"),
+        (lambda c, d: c["studies"]["elcentro"].update(R=[1.0, float("inf")]),
+         "config key studies.elcentro.R[1]=inf: must be a finite number"),
+        (lambda c, d: c["studies"]["elcentro"]["tilt_map"].update(motion="nope"),
+         "studies.elcentro.tilt_map.motion='nope' is not a motion of the ensemble"),
+        (lambda c, d: c.setdefault("motions", {}).update(max_duration=0.015),
+         "motions.max_duration=0.015 s keeps fewer than two samples of ensembles.elcentro"),
+        (lambda c, d: c["ensembles"]["elcentro"].update(
+            record="site", paths=[_at2(d / "x.AT2", [0.1, "NaN", 0.2]),
+                                  _at2(d / "y.AT2", [0.1, 0.2, 0.3])]),
+         "line 6"),
+        (lambda c, d: c["ensembles"]["elcentro"].update(
+            record="site", paths=[_at2(d / "x.AT2", [0.1, 0.2, 0.3]),
+                                  _at2(d / "y.AT2", [0.1, 0.2, 0.3], dt=".0200")]),
+         "different dt"),
+        (lambda c, d: c["ensembles"]["elcentro"].update(
+            record="site", paths=[_at2(d / "x.AT2", [0.1, 0.2, 0.3]),
+                                  _at2(d / "y.AT2", [0.0, 0.0, 0.0])]),
+         "paths[1]=" ),
+        (lambda c, d: c["studies"]["elcentro"].update(R={"start": 1, "stop": 2,
+                                                         "num": 100_000_000}),
+         "studies.elcentro.R: 100000000 values exceed the bound of 10000"),
+        (lambda c, d: c["ensembles"]["elcentro"].update(n_synthetic=10**9),
+         "ensembles.elcentro.n_synthetic=1000000000: building the ensemble needs about"),
+    ],
+    ids=["nan-grid", "inf-grid", "tilt-map-motion", "max-duration", "record-nan",
+         "record-dt", "record-zeros", "huge-grid", "huge-ensemble"],
+)
+def test_what_a_real_run_rejects_is_rejected_before_work(change, message, tmp_path):
+    import time
+
+    cfg = _cfg(lambda c: None)
+    if "tilt_map" not in cfg["studies"]["elcentro"]:
+        cfg["studies"]["elcentro"]["tilt_map"] = {"R": [1.0], "intensity": [1.0]}
+    change(cfg, tmp_path)
+    cfg["ensembles"]["elcentro"].setdefault("paths", None)
+    t0 = time.monotonic()
+    with pytest.raises(ValueError) as err:
+        check_config(cfg)
+    assert message in str(err.value) and "\n" not in str(err.value)
+    assert time.monotonic() - t0 < 5.0  # estimated, never expanded
+
+
+def test_numbers_given_as_strings_are_taken_as_numbers():
+    from rocking.study.config_checks import coerce_strings
+
+    cfg = _cfg(lambda c: c.update(dask={"scheduler_address": "null", "progress_interval": "2",
+                                        "worker_timeout": "1e2"}))
+    coerce_strings(cfg, SCHEMA)
+    assert cfg["dask"] == {"scheduler_address": None, "progress_interval": 2,
+                           "worker_timeout": 100.0}
+    assert schema_error(cfg, SCHEMA) is None
+    bad = _cfg(lambda c: c.update(dask={"progress_interval": "soon"}))
+    coerce_strings(bad, SCHEMA)
+    assert schema_error(bad, SCHEMA).startswith("config key dask.progress_interval='soon'")
+    # a grid's count written 1e8 (YAML 1.1 reads it as text) is the number it spells
+    grid = _cfg(lambda c: c["studies"]["elcentro"].update(R={"start": 1, "stop": 2,
+                                                             "num": "1e8"}))
+    coerce_strings(grid, SCHEMA)
+    assert grid["studies"]["elcentro"]["R"]["num"] == 1e8
+    grid["ensembles"]["elcentro"].setdefault("paths", None)
+    with pytest.raises(ValueError, match="R: 100000000 values exceed the bound"):
+        check_config(grid)
+    # a string the schema wants stays a string
+    named = _cfg(lambda c: c["ensembles"]["elcentro"].update(record="1940"))
+    coerce_strings(named, SCHEMA)
+    assert named["ensembles"]["elcentro"]["record"] == "1940"

@@ -23,6 +23,7 @@ from rocking.motions.principal import rotate
 from rocking.study import figures
 from rocking.study.figures import (
     _axes,
+    _style,
     fig03_wobbling_period,
     fig04_free_vibration,
     fig06_el_centro,
@@ -332,6 +333,11 @@ def test_fig06_sensitivity_rotation_leaves_theta_max_unchanged():
         np.max(np.abs(motion.ax)) / G)
     fig = fig06_theta_max_sensitivity.plot(d)
     assert "0.0838" in _texts(fig) and "22.33°" in _texts(fig)
+    # all three versions are drawn (the rotated one at scale 1), as markers without lines
+    drawn = [ln for ln in fig.axes[0].get_lines() if ln.get_label() and
+             not ln.get_label().startswith(("_", "paper"))]
+    assert any(fig06_theta_max_sensitivity.PAPER_ROTATION in ln.get_label() for ln in drawn)
+    assert all(ln.get_linestyle() == "None" for ln in drawn)
 
 
 # ---------------------------------------------------------------- Figs 7–12 from a store
@@ -408,6 +414,9 @@ def test_damping_effect_of_a_known_ratio(study):
     # spread among motions: std/mean of the factors 1, 0.8, 1.25, 1.1
     f = np.array([1.0, 0.8, 1.25, 1.1])
     np.testing.assert_allclose(eff["cov_undamped"], np.std(f, ddof=1) / np.mean(f), rtol=1e-9)
+    # d − u = 0.05 u: the standard error of the difference of the means is 0.05 · CoV / √n
+    np.testing.assert_allclose(eff["se_rel_diff_means"],
+                               0.05 * np.std(f, ddof=1) / np.mean(f) / 2.0, rtol=1e-9)
     assert d["measured"]["max_rel_diff_damped_tilt:0.3333"] == pytest.approx(0.05, rel=1e-9)
     bottom = fig09_spectra.plot(d).axes[3]
     _same(_lines(bottom)[-1][1], 100 * np.asarray(eff["rel_diff_means"]))
@@ -417,9 +426,18 @@ def test_fig10_fig11_lines_are_the_aggregate(study):
     agg = xr.open_dataset(study["means"]).load()
     d10 = fig10_goals.data(study["means"])
     assert list(d10["curves"]) == ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]
-    for (x, y), ls in zip(_lines(fig10_goals.plot(d10).axes[0]), d10["curves"], strict=True):
-        _same(x, agg["R"])
-        _same(y, agg["mean"].sel(mode="3d", limit_state=ls, tan_alpha=0.2))
+    ax10 = fig10_goals.plot(d10).axes[0]
+    data_lines = [ln for ln in ax10.get_lines() if ln.get_marker() == "o"]
+    fit_lines = [ln for ln in ax10.get_lines()
+                 if ln.get_linestyle() == "--" and len(ln.get_xdata())]
+    assert len(data_lines) == len(fit_lines) == len(d10["curves"])
+    for ln, fit_ln, ls in zip(data_lines, fit_lines, d10["curves"], strict=True):
+        _same(ln.get_xdata(), agg["R"])
+        _same(ln.get_ydata(), agg["mean"].sel(mode="3d", limit_state=ls, tan_alpha=0.2))
+        # the drawn straight line is the fit whose R² the legend quotes
+        fit = d10["measured"][f"line|{ls}"]
+        np.testing.assert_allclose(fit_ln.get_ydata(),
+                                   fit["slope"] * agg["R"].values + fit["intercept"])
     # the synthetic means are exactly linear in R except where a cut-off motion drops out
     assert d10["measured"]["line|tilt:0.1"]["r_squared"] == pytest.approx(1.0, abs=1e-12)
     assert d10["measured"]["line|tilt:0.1"]["slope"] == pytest.approx(
@@ -452,7 +470,7 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert ("Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed"
             in d["missing"])
     fig = fig12_2d_vs_3d.plot(d)
-    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
     assert any("stand-in" in t for t in legend)
     assert any("mean of 4 motions" in t for t in legend)
     assert "2D, x (major axis) component only" in legend
@@ -461,6 +479,18 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     agg = xr.open_dataset(study["means"]).load()
     _same(_lines(fig.axes[0])[0][1], agg["mean"].sel(mode="3d", limit_state="overturning",
                                                       tan_alpha=0.2))
+    # open markers exactly where a mean leaves out motions not reached at the search bound
+    ens = d["ensembles"][0]
+    for title, curves in ens["panels"].items():
+        for mode in curves:
+            count = ens["spread"][f"{title}|{mode}|count"]
+            np.testing.assert_array_equal(fig12_2d_vs_3d.fewer_motions(ens, title, mode),
+                                          count < ens["n_motions"])
+    opened = [ln for ax in fig.axes[:2] for ln in ax.get_lines() if ln.get_mfc() == "white"]
+    n_few = sum(int(fig12_2d_vs_3d.fewer_motions(e, t, mo).sum()) for e in d["ensembles"]
+                for t, c in e["panels"].items() for mo in c)
+    assert n_few > 0 and sum(len(ln.get_xdata()) for ln in opened) == n_few
+    assert any("fewer motions than the ensemble" in t for t in legend)
 
 
 def test_partially_computed_store_builds_every_figure(partial, tmp_path):
@@ -624,3 +654,113 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
+
+
+# ---------------------------------------------------------------- one look across figures
+
+
+def test_figs_8_and_9_share_one_colour_per_motion(study, tmp_path):
+    """The sidecars of Figs 8 and 9 give every motion the same colour and label: record
+    black, synthetic 1–10 in ten further distinct colours."""
+    names = fs.MOTIONS
+    record = _pulse_pair(duration=4.0, name=names[0])
+    motions = [record] + [GroundMotion(f * record.ax, f * record.ay, record.dt, n,
+                                       {"fit_method": "spectrum"})
+                          for f, n in zip((0.8, 1.1, 1.3), names[1:], strict=True)]
+    render("fig08_motions", [tmp_path / "f8.png"], tmp_path / "f8.json", motions=motions,
+           periods=np.array([0.1, 1.0]))
+    render("fig09_spectra", [tmp_path / "f9.png"], tmp_path / "f9.json", store=study["store"],
+           means=study["means"])
+    c8 = json.loads((tmp_path / "f8.json").read_text())["colors"]
+    c9 = json.loads((tmp_path / "f9.json").read_text())["colors"]
+    assert c8 == c9
+    assert [c8[n]["label"] for n in names] == ["record", "synthetic 1", "synthetic 2",
+                                               "synthetic 3"]
+    # eleven motions (the paper's ensemble) get eleven distinct colours
+    eleven = _style.motion_styles([f"m{i}" for i in range(11)])
+    assert len({s["color"] for s in eleven.values()}) == 11
+    # the traces are drawn in those colours, and Fig 9's legend uses the same labels
+    fig9 = fig09_spectra.plot(fig09_spectra.data(study["store"], study["means"]))
+    legend = [t.get_text() for t in fig9.axes[0].get_legend().get_texts()]
+    assert {"record", "synthetic 1", "synthetic 3"} <= set(legend)
+
+
+def test_fig08_time_axis_ends_with_the_motion():
+    """Zero padding after the motion does not stretch the time axis."""
+    dt = 0.01
+    t = np.arange(0.0, 30.0, dt)
+    a = np.where(t < 12.0, np.sin(2 * np.pi * t) * np.sin(np.pi * t / 12.0), 0.0)
+    padded = GroundMotion(a, 0.5 * a, dt, "record", {})
+    end = fig08_motions.motion_end(t, a, 0.5 * a)
+    assert 11.0 < end <= 12.0
+    fig = fig08_motions.plot(fig08_motions.data([padded], periods=np.array([0.5, 1.0])))
+    assert fig.axes[0].get_xlim()[1] == pytest.approx(15.0)  # 12 s rounded up to 5 s
+
+
+def test_fig10_says_when_two_goals_coincide(tmp_path):
+    """θ > α and overturning with identical statistics: said in the sidecar and the figure,
+    and the flat-then-rise shape measured."""
+    R = np.array([1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0])
+    flat_rise = np.where(R <= 3.0, 1.1, 1.1 + 0.5 * (R - 3.0))
+    states = ["tilt:0.5", "tilt:1", "overturning"]
+    mean = np.stack([0.8 * flat_rise, flat_rise, flat_rise])[None, :, None, :]
+    agg = xr.Dataset(
+        {"mean": (("mode", "limit_state", "tan_alpha", "R"), mean),
+         "median": (("mode", "limit_state", "tan_alpha", "R"), mean),
+         "std": (("mode", "limit_state", "tan_alpha", "R"), 0.1 * mean),
+         "count": (("mode", "limit_state", "tan_alpha", "R"), np.full(mean.shape, 11.0))},
+        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R})
+    path = tmp_path / "means.nc"
+    agg.to_netcdf(path)
+    d = fig10_goals.data(path)
+    assert d["measured"]["coincide"] == [{"goals": ["tilt:1", "overturning"], "n_R": 7,
+                                          "n_motions": 11}]
+    line = d["measured"]["line|overturning"]
+    assert line["flat_to_R"] == 3.0 and line["flat_level"] == pytest.approx(1.1)
+    assert line["end_value"] == pytest.approx(4.6)
+    assert line["residual_signs"].startswith("+") and "−" in line["residual_signs"]
+    assert "coincide" in _texts(fig10_goals.plot(d))
+
+
+def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study, tmp_path):
+    from rocking.spectra import fragility
+    from rocking.study.figures import _load, fragility_curves
+
+    table = fragility.fragility_table(_load.open_store(study["store"]), upper=fs.UPPER)
+    table.to_netcdf(tmp_path / "f.nc")
+    d = fragility_curves.data(tmp_path / "f.nc", study["store"])
+    assert d["upper"] == fs.UPPER
+    fig = fragility_curves.plot(d)
+    text = _texts(fig)
+    assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
+    panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
+    assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
+    # one colour bar for R instead of a legend entry per size
+    assert any(ax.get_ylabel() == "cylinder size R [m]" for ax in fig.axes)
+    assert all(len(ax.get_legend().get_texts()) == 2 for ax in panels)
+
+
+def test_fig09_marks_unresolved_points_when_the_store_flags_them(study, tmp_path):
+    """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is drawn
+    as an open circle on the curve; a store without the flag draws none."""
+    from rocking.study.figures import _load
+
+    ds = _load.open_store(study["store"])
+    flag = xr.zeros_like(ds["not_reached"], dtype=bool)
+    flag.loc[{"mode": "3d", "motion": fs.MOTIONS[2], "tan_alpha": 0.2}] = True
+    ds = ds.assign(unresolved=flag & ~ds["not_reached"].astype(bool))
+    path = tmp_path / "flagged.zarr"
+    ds.to_zarr(path, mode="w", consolidated=False)
+    d = fig09_spectra.data(path, study["means"])
+    panel = d["panels"][0]
+    assert list(panel["unresolved"]["3d"]) == [fs.MOTIONS[2]]
+    fig = fig09_spectra.plot(d)
+    rings = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"
+             and ln.get_mfc() == "none" and len(ln.get_xdata())]
+    assert len(rings) == 1
+    np.testing.assert_array_equal(rings[0].get_ydata(),
+                                  panel["curves"]["3d"][fs.MOTIONS[2]][
+                                      panel["unresolved"]["3d"][fs.MOTIONS[2]]])
+    assert "unresolved: may lie lower" in _texts(fig)
+    plain = fig09_spectra.data(study["store"], study["means"])
+    assert all(not p["unresolved"] for p in plain["panels"])

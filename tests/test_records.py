@@ -108,13 +108,17 @@ def test_el_centro_named_record_equals_its_files() -> None:
     assert 0.2808 - 1e-4 <= m.pga_g <= math.hypot(0.2808, 0.2107)
 
 
-def test_load_record_with_user_paths_in_either_order(tmp_path: Path) -> None:
+def test_load_record_with_user_paths_reordered_only_on_request(tmp_path: Path) -> None:
     # Copies under PEER's own file names, as a user downloads them.
     a = tmp_path / "RSN6_IMPVALL.I_I-ELC180.AT2"
     b = tmp_path / "RSN6_IMPVALL.I_I-ELC270.AT2"
     a.write_bytes(package_record(ELC180).read_bytes())
     b.write_bytes(package_record(ELC270).read_bytes())
-    m1 = load_record("el-centro-1940", paths=[a, b])
+    # (y, x) as given: kept, so the known record's hashes say the order is wrong
+    with pytest.raises(ValueError, match=r"given as \(y, x\): give x first"):
+        load_record("el-centro-1940", paths=[a, b])
+    with pytest.warns(UserWarning, match="ELC270.AT2 \\(azimuth 270°\\).*swapped"):
+        m1 = load_record("el-centro-1940", paths=[a, b], order_by_azimuth=True)
     m2 = load_record("el-centro-1940", paths=[b, a])
     ref = load_record("el-centro-1940")
     for m in (m1, m2):
@@ -147,7 +151,7 @@ def test_loma_prieta_stand_in_is_labelled() -> None:
         load_record("loma-prieta-sjte")
 
 
-def test_user_supplied_sjte_orders_by_azimuth(tmp_path: Path) -> None:
+def test_user_supplied_files_keep_their_order_unless_asked(tmp_path: Path) -> None:
     # Fake RSN 801 files (headers like NGA-West2) check the 315 -> x, 225 -> y convention.
     def write(az: int, values: list[float]) -> Path:
         p = tmp_path / f"RSN801_LOMAP_SJTE{az}.AT2"
@@ -162,7 +166,11 @@ def test_user_supplied_sjte_orders_by_azimuth(tmp_path: Path) -> None:
 
     p225 = write(225, [0.1, -0.2, 0.05])
     p315 = write(315, [0.3, 0.1])
-    m = loma_prieta_pair([p225, p315])
+    kept = load_record("user-pair", [p225, p315])  # the user's order: x = the 225 file
+    assert (kept.metadata["x_azimuth"], kept.metadata["y_azimuth"]) == (225.0, 315.0)
+    np.testing.assert_allclose(kept.ax, np.array([0.1, -0.2, 0.05]) * G, rtol=1e-15)
+    with pytest.warns(UserWarning, match="order_by_azimuth: x = .*SJTE315"):
+        m = loma_prieta_pair([p225, p315], order_by_azimuth=True)
     assert m.metadata["stand_in"] is False
     assert (m.metadata["x_azimuth"], m.metadata["y_azimuth"]) == (315.0, 225.0)
     np.testing.assert_allclose(m.ax, np.array([0.3, 0.1, 0.0]) * G, rtol=1e-15)

@@ -3,11 +3,13 @@ statements against this run's numbers with verdicts that follow from the numbers
 
 from __future__ import annotations
 
-import html
 import json
 import math
+from pathlib import Path
 
 import figures_synthetic as fs
+import numpy as np
+import pandas as pd
 import pytest
 
 from rocking.spectra import fragility
@@ -104,8 +106,12 @@ def test_report_shows_every_figure_with_its_caption(outputs):
     text = outputs["html"].read_text()
     assert text.count("<figure") == len(outputs["pngs"]) == 11
     assert text.count("data:image/png;base64,") == 11
+    docs = report.docs_href(outputs["html"].parent)
     for name, caption in CAPTIONS.items():
-        assert html.escape(caption) in text, name
+        assert report.link_docs(caption, docs) in text, name
+    # the derivations cited are links that reach docs/equations.md
+    assert f"<a class='doc' href='{docs}#eq-24-the-wobbling-period'>" in text
+    assert (outputs["html"].parent / docs).resolve().is_file()
     # figures in the paper's order
     positions = [text.index(f"id='{n}") for n in CAPTIONS]
     assert positions == sorted(positions)
@@ -141,7 +147,11 @@ def test_fig09_damping_is_quantified_per_R(outputs):
     # the synthetic damped spectra are 5 % above the undamped ones for every motion
     assert tilt["R [m]"].tolist() == fs.R
     assert tilt["Δ of the means [%]"].tolist() == pytest.approx([5.0] * len(fs.R))
-    assert tilt["± 2 SE [%]"].tolist() == pytest.approx([0.0] * len(fs.R), abs=1e-9)
+    # d − u = 0.05 u scatters with the motion factors f: SE of Δ = 0.05 · std(f)/mean(f)/√n
+    f = np.array([1.0, 0.8, 1.25, 1.1])
+    se = 0.05 * np.std(f, ddof=1) / np.mean(f) / np.sqrt(f.size)
+    assert tilt["± 2 SE of Δ [%]"].tolist() == pytest.approx([200 * se] * len(fs.R), abs=6e-3)
+    assert set(tilt["essentially identical"]) == {"yes"}
     assert "spread among motions, std/mean undamped [%]" in outputs["html"].read_text()
 
 
@@ -181,8 +191,10 @@ def test_verdicts_follow_from_the_numbers(outputs):
     # Eq 27: ours is 2π minus the printed value: differs, and says so with the number
     eq27 = find("fig04_free_vibration", "Eq (27)")
     assert eq27.verdict == cmp.DIFFERS and f"{2 * math.pi - 3.1881:.4g}" in eq27.reason
-    # the mixed case's pairs are 0.01 rad apart (> 2 % of θ0): differs
-    assert find("fig04_free_vibration", "mixed (§3").verdict == cmp.DIFFERS
+    # the mixed case's pairs are 0.01 rad apart (> 2 % of θ0): differs, one row for 3 cases
+    pairs = find("fig04_free_vibration", "Damped responses for")
+    assert pairs.verdict == cmp.DIFFERS and "mixed 0.01 rad" in pairs.ours
+    assert "quasi-rocking 0.0007 rad" in pairs.ours
     # Fig 6: 0.048 against 0.0838; the paper's value inside the as-recorded band only
     peak = find("fig06_el_centro", "undamped, R = 6 m")
     assert peak.verdict == cmp.DIFFERS and "inside the range of as recorded" in peak.reason
@@ -204,6 +216,108 @@ def test_verdicts_follow_from_the_numbers(outputs):
     assert find("fig12_2d_vs_3d", "Loma Prieta, overturning").verdict == cmp.NOT_COMPUTED
     assert find("fig08_motions", "Rotation").verdict == cmp.DIFFERS
     assert find("fragility_curves", "fragility").verdict == cmp.NOT_IN_PAPER
+
+
+def test_fig09_judges_the_difference_of_means_against_its_standard_error():
+    """A large difference that the scatter explains is "identical"; a small systematic one
+    too; a large one beyond 2 SE is not, and the reason names where."""
+    eff = {"rel_diff_means": [0.012, 0.13, 0.002, 0.30], "se_rel_diff_means": [0.001, 0.10,
+                                                                                0.01, 0.05],
+           "paired_mean": [0.012, 0.17, 0.0, 0.3], "paired_se": [0.001, 0.1, 0.01, 0.05],
+           "paired_n": [11, 11, 11, 11], "cov_undamped": [0.05, 0.25, 0.1, 0.3],
+           "max_abs_rel_diff_means": 0.30, "R_index_of_max": 3}
+    j = cmp.damping_judgement(eff)
+    assert j["ok"] == [True, True, True, False]
+    assert j["noise"] == [1] and j["small_systematic"] == [0] and j["failed"] == [3]
+    row = cmp.fig09({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
+                                                    "damping|overturning": eff}}})[0]
+    assert row.verdict == cmp.DIFFERS and "R = 10 m" in row.reason and "R = 8" not in row.reason
+    eff.update(rel_diff_means=[0.012, 0.13, 0.002, 0.04], max_abs_rel_diff_means=0.13,
+               R_index_of_max=1)
+    row = cmp.fig09({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
+                                                    "damping|overturning": eff}}})[0]
+    assert row.verdict == cmp.REPRODUCED
+    assert "at R = 1 m Δ exceeds 5 % but lies within 2 SE" in row.reason
+    assert "at R = 0.5 m a small systematic Δ" in row.reason
+
+
+RECORDS = {"elcentro": ("El Centro", "el-centro", "RSN 6", "22.33"),
+           "lomaprieta": ("Loma Prieta", "loma-prieta", "Corralitos", "RSN 753")}
+
+
+def _two_ensembles() -> dict:
+    """Notes of Figs 8 and 12 for an El Centro and a Loma Prieta ensemble, the latter with
+    motions not reached at the search bound at R = 10 m."""
+    m12 = {"R": 10.0}
+    for ens, label, censored in (("elcentro", "El Centro 1940: mean of 11 motions", 0),
+                                 ("lomaprieta", "Loma Prieta 1989 (stand-in: Corralitos RSN "
+                                                "753): mean of 11 motions", 4)):
+        m12[f"{ens}|label"], m12[f"{ens}|n_motions"] = label, 11
+        m12[f"{ens}|stand_in"], m12[f"{ens}|upper"] = ens == "lomaprieta", 20.0
+        for title, base in (("overturning", 4.7), ("excessive tilt", 1.9)):
+            # censored means of Loma Prieta overturning: 2D hardly above 3D (the paper run)
+            factors = (1.07, 1.13) if censored and title == "overturning" else (2.4, 1.8)
+            for mode, f in (("3d", 1.0), ("2d-x", factors[0]), ("2d-y", factors[1])):
+                short = censored if title == "overturning" else 0
+                short += 3 if short and mode != "3d" else 0
+                m12[f"{ens}|{title}|{mode}"] = base * f * (3 if censored else 1)
+                m12[f"{ens}|{title}|{mode}|count"] = 11 - short
+                m12[f"{ens}|{title}|{mode}|n_not_reached"] = short
+    return {"fig12_2d_vs_3d": {"measured": m12},
+            "fig08_motions_elcentro": {"measured": {"record": "el-centro-1940",
+                                                    "principal_offset_deg": 19.54,
+                                                    "n_motions": 11}},
+            "fig08_motions_lomaprieta": {"measured": {"record": "loma-prieta-corralitos",
+                                                      "principal_offset_deg": 9.37,
+                                                      "n_motions": 11}}}
+
+
+def test_no_verdict_names_another_studys_record():
+    rows = cmp.compare(_two_ensembles(), ["fig08_motions", "fig12_2d_vs_3d"])
+    about = {"elcentro": 0, "lomaprieta": 0}
+    for r in rows:
+        text = f"{r.statement} | {r.paper} | {r.ours} | {r.verdict_text}"
+        mine = [e for e, names in RECORDS.items()
+                if e in r.statement or names[0] in r.statement]
+        if len(mine) != 1:
+            continue
+        about[mine[0]] += 1
+        other = next(e for e in RECORDS if e != mine[0])
+        for name in RECORDS[other]:
+            assert name not in text, (name, text)
+    assert about["elcentro"] >= 5 and about["lomaprieta"] >= 5
+    # Loma Prieta: no paper angle to compare with; tilt rows judged; censored overturning said
+    loma = [r for r in rows if "lomaprieta" in r.statement or "Loma Prieta" in r.statement]
+    assert any(r.verdict == cmp.NOT_IN_PAPER and "9.37" in r.ours for r in loma)
+    tilt = [r for r in loma if "excessive tilt" in r.statement]
+    assert len(tilt) == 2 and all(r.verdict == cmp.REPRODUCED for r in tilt)
+    over = [r for r in loma if "overturning" in r.statement]
+    assert all("not reached at the search bound PGA/(g tan α) = 20" in r.reason for r in over)
+    assert "means over 7 (3D) and 4 (2D) of 11 motions" in over[0].ours
+    # ten pairs as in the paper: no padding row "10 = 10"
+    assert not any("Synthetic pairs" in r.statement for r in rows)
+
+
+def test_report_on_the_paper_run_is_small():
+    """The report built from the committed paper gallery (its figures, sidecars and tables),
+    with images linked as the gallery does, stays under 150 KB and keeps the numbers."""
+    root = Path(__file__).resolve().parents[1] / "results" / "paper"
+    study = root / "elcentro"
+    pngs = sorted([*root.glob("figures/*.png"), *study.glob("figures/*.png")])
+    assert len(pngs) >= 11, "the committed paper gallery is incomplete"
+    out = Path(report.build(Path("/tmp") / f"paper_report_{id(root)}.html", title="paper",
+                            figures=pngs, linear_fit=study / "linear_fit.csv",
+                            fragility=study / "fragility.csv"))
+    page = report.link_images(out.read_text(), lambda stem: f"figures/{stem}.png")
+    out.unlink()
+    assert len(page.encode()) < 150 * 1024
+    # the numbers that matter are still there: every computed fragility median, every fit
+    frag = report.fragility_pivot(study / "fragility.csv")
+    computed = int((~frag.iloc[:, 3:].isna()).to_numpy().sum())
+    table = pd.read_csv(study / "fragility.csv")
+    assert computed == int(table.iloc[:, 4].notna().sum())
+    assert ">not-computed<" not in page  # the empty fragility points are left out
+    assert page.count("<a href='#verdicts'>") == len({report.figure_name(p) for p in pngs})
 
 
 def test_missing_figures_are_said_not_invented(outputs):
@@ -250,3 +364,36 @@ def test_link_images_replaces_every_embedded_png_and_nothing_else():
     assert "src='figures/fig03_wobbling_period.png'" in out
     assert "src='figures/fig09_spectra.png'" in out
     assert out.count("<figcaption>") == 2 and out.startswith("<p>x</p>")
+
+
+def test_fig10_verdicts_say_the_bend_and_the_coinciding_goals():
+    """Flat-then-rise stated with numbers; θ > α = overturning said once with its physics;
+    no claim about other motions without evidence."""
+    line = {"slope": 0.40, "intercept": 0.26, "r_squared": 0.93, "n": 20, "flat_to_R": 3.0,
+            "flat_level": 1.1, "end_R": 10.0, "end_value": 5.4,
+            "residual_signs": "++++" + "−" * 12 + "++++"}
+    notes = {"fig10_goals": {"measured": {
+        "n_goals": 2, "n_paper_goals": 7, "absent_goals": [],
+        "line|tilt:1": line, "line|overturning": line,
+        "coincide": [{"goals": ["tilt:1", "overturning"], "n_R": 20, "n_motions": 11}]}}}
+    rows = cmp.fig10(notes)
+    assert len(rows) == 2  # the coinciding goal is not judged twice
+    same, over = rows
+    assert same.verdict == cmp.NOT_IN_PAPER and "all 20 sizes (11 motions each)" in same.ours
+    assert "centre of mass" in same.reason and "sin(α − θ)" in same.reason
+    assert over.verdict == cmp.DIFFERS
+    assert "within 10 % of 1.10 up to R = 3 m, then up to 5.40 at R = 10 m" in over.reason
+    assert "a bend" in over.reason
+    assert not any("not the paper's" in r.verdict_text for r in rows)
+
+
+def test_links_to_the_derivations_follow_the_page(tmp_path):
+    """A copy of the report in another folder (the gallery) still reaches docs/equations.md."""
+    page = "<td>" + report.link_docs("see docs/equations.md#eq-27-the-angle-of-turn here",
+                                     report.docs_href(tmp_path / "a")) + "</td>"
+    assert "href='" in page and "#eq-27-the-angle-of-turn'" in page
+    deeper = tmp_path / "b" / "c"
+    moved = report.relink_docs(page, deeper)
+    href = moved.split("href='")[1].split("#")[0]
+    assert (deeper / href).resolve() == (report.DOCS / "equations.md").resolve()
+    assert (report.DOCS / "equations.md").is_file()

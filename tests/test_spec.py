@@ -89,7 +89,8 @@ def _small() -> dict:
                                         "limit_states": ["overturning"], "purpose": "a"}],
                               "tilt_map": {"R": [1.0, 2.0], "intensity": [1.0, 2.0]},
                               "stripes": {"modes": ["3d", "3d-damped"], "R": [1.0],
-                                          "intensity": [1.5, 3.0]}}}}
+                                          "intensity": [1.5, 3.0]},
+                              "hazard": {"k0": 1e-4, "k": 3.0}}}}
 
 
 def test_defaults_are_the_schemas():
@@ -208,6 +209,14 @@ def test_digest_ignores_purposes_and_an_unused_contact_model():
     assert _digests(other) == _digests(undamped)
 
 
+def test_hazard_decides_no_store():
+    spec = StudySpec.from_config(_small(), "s")
+    assert spec.hazard == {"k0": 1e-4, "k": 3.0}
+    other = _changed("studies.s.hazard", "curve.csv")
+    assert _digests(other) == _digests(_small())
+    assert StudySpec.from_config(other, "s").digest != spec.digest
+
+
 def test_upper_and_search_bound():
     assert StudySpec.from_config(_small(), "s").spectra.upper == 20.0
     own = _changed("studies.s.upper", 60)
@@ -228,6 +237,7 @@ def test_upper_and_search_bound():
     ("studies.s.tilt_map.modes", ["4d"], "studies.s.tilt_map.modes must be"),
     ("studies.s.stripes.limit_states", ["tilt:"], "studies.s.stripes.limit_states="),
     ("studies.s.stripes.intensity", "many", "studies.s.stripes.intensity must be a list"),
+    ("studies.s.hazard", 3, "studies.s.hazard must be a file name or a mapping, got 3"),
 ])
 def test_bad_settings_name_the_key_and_value(path, value, message):
     with pytest.raises(ValueError) as err:

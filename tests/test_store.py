@@ -243,3 +243,98 @@ def test_costliest_regions_are_scheduled_first():
     # 3d before 2d at equal sizes; large bodies (more analyses per search) first
     assert described == [("3d", [8.0, 9.0]), ("2d-x", [8.0, 9.0]), ("3d", [1.0, 2.0]),
                          ("2d-x", [1.0, 2.0])]
+
+
+# --------------------------------------------------------------------------------------------
+# Integrity: checksums and the verification pass
+# --------------------------------------------------------------------------------------------
+
+def _chunk_bytes(path):
+    """Every chunk file of a store, by relative path (metadata left out)."""
+    return {str(p.relative_to(path)): p.read_bytes() for p in sorted(path.rglob("*"))
+            if p.is_file() and "/c/" in f"/{p.relative_to(path)}"}
+
+
+def _flip_bit(p):
+    data = bytearray(p.read_bytes())
+    data[len(data) // 2] ^= 0x10
+    p.write_bytes(bytes(data))
+
+
+def _truncate(p):
+    p.write_bytes(p.read_bytes()[: len(p.read_bytes()) // 2])
+
+
+DAMAGES = {
+    "bit flip": ("pga_crit", _flip_bit),
+    "truncation": ("pga_crit", _truncate),
+    "deleted chunk": ("pga_crit_g", lambda p: p.unlink()),
+    "deleted flag chunk": ("not_reached", lambda p: p.unlink()),
+    "damaged done mask": ("done", _truncate),
+}
+
+
+@pytest.mark.parametrize("damage", sorted(DAMAGES))
+def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensemble, damage):
+    full, hurt = tmp_path / "full.zarr", tmp_path / "hurt.zarr"
+    layout = make_spectra_store(full, ensemble)
+    make_spectra_store(hurt, ensemble)
+    for p in (full, hurt):
+        fill(p, ensemble, range(layout.n_regions))
+        store.finalize(p)
+    assert store.has_checksums(hurt)
+    name, hurt_it = DAMAGES[damage]
+    # region 2 is (3d, m0, 0.1, R = 9): overturning not reached there, so its not_reached
+    # chunk holds a True a deleted file would silently turn to False
+    region = layout.region(2)
+    group = zarr.open_group(hurt, mode="r")
+    dims = store.SPECTRA_TASK_DIMS if name == "done" else store.SPECTRA_DIMS
+    chunk = store._chunk_file(hurt, group[name], layout.selection(dims, region))
+    hurt_it(chunk)
+    said = []
+    assert store.verify_store(hurt, say=said.append) == [2]
+    assert "chunk 2 damaged" in said[0] and str(hurt) in said[0]
+    assert store.pending_regions(hurt) == [2]
+    fill(hurt, ensemble, [2])
+    store.finalize(hurt)
+    assert store.verify_store(hurt) == []
+    assert _chunk_bytes(hurt) == _chunk_bytes(full)
+    assert _bits(hurt) == _bits(full)
+
+
+def test_verification_finds_pga_crit_g_inconsistent_with_pga_crit(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble)
+    fill(path, ensemble, range(layout.n_regions))
+    group = zarr.open_group(path, mode="r+")
+    sel = layout.selection(store.SPECTRA_DIMS, layout.region(5))
+    group["pga_crit_g"][sel] = group["pga_crit_g"][sel] * 1.01  # a valid chunk, wrong values
+    said = []
+    assert store.verify_store(path, say=said.append) == [5]
+    assert "pga_crit_g differs from pga_crit" in said[0]
+
+
+def test_unreadable_done_mask_names_the_store_and_the_remedy(tmp_path, ensemble):
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble)
+    fill(path, ensemble, range(layout.n_regions))
+    group = zarr.open_group(path, mode="r")
+    _truncate(store._chunk_file(path, group["done"],
+                                layout.selection(store.SPECTRA_TASK_DIMS, layout.region(0))))
+    with pytest.raises(ValueError, match=r"s\.zarr.*done mask is unreadable.*--forcerun"):
+        store.done_mask(path)
+
+
+def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, ensemble,
+                                                                      monkeypatch):
+    path = tmp_path / "old.zarr"
+    monkeypatch.setattr(store, "chunk_codecs", lambda: [zarr.codecs.ZstdCodec(level=0)])
+    layout = make_spectra_store(path, ensemble)
+    fill(path, ensemble, range(layout.n_regions))
+    assert not store.has_checksums(path)
+    group = zarr.open_group(path, mode="r+")
+    sel = layout.selection(store.SPECTRA_DIMS, layout.region(3))
+    group["pga_crit"][sel] = np.nan  # what a damaged old chunk decodes to, unflagged
+    said = []
+    assert store.verify_store(path, say=said.append) == [3]
+    assert "without chunk checksums" in said[0] and "rebuild" in said[0]

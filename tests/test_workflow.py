@@ -246,6 +246,36 @@ def test_killed_run_resumes_without_redoing_chunks(reference, tmp_path):
     assert store_bytes(tmp_path / SPECTRA) == store_bytes(reference / SPECTRA)
 
 
+def _chunk_files(store: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(store)): p.read_bytes() for p in sorted(store.rglob("*"))
+            if p.is_file() and "c" in p.relative_to(store).parts}
+
+
+def test_forcerun_spectra_repairs_damaged_chunks_to_identical_bytes(reference, tmp_path):
+    """A flipped bit, a truncated chunk and a damaged done flag: `--forcerun spectra`
+    re-reads every chunk, recomputes exactly the damaged ones, ends with the same bytes."""
+    work = tmp_path / "work"
+    shutil.copytree(reference, work, symlinks=True)
+    store = work / SPECTRA
+    chunks = sorted(p for p in (store / "pga_crit" / "c").rglob("*") if p.is_file())
+    flipped = bytearray(chunks[0].read_bytes())
+    flipped[len(flipped) // 2] ^= 0x04
+    chunks[0].write_bytes(bytes(flipped))
+    chunks[1].write_bytes(chunks[1].read_bytes()[:-7])
+    done = sorted(p for p in (store / "done" / "c").rglob("*") if p.is_file())
+    done[-1].write_bytes(done[-1].read_bytes()[:3])
+    config = write_config(work)
+    snakemake(work, *TARGETS, "--forcerun", "spectra", configfile=config)
+    summary = json.loads((work / f"results/{STUDY}/spectra.done.json").read_text())
+    assert summary["damaged"] == 3 and summary["computed"] == 3
+    assert _chunk_files(store) == _chunk_files(reference / SPECTRA)
+    assert store_bytes(store) == store_bytes(reference / SPECTRA)
+    log = (work / f"logs/{STUDY}/spectra.log").read_text()
+    assert len(re.findall(r"chunk \d+ damaged, ", log)) == 3 and "unreadable" in log
+    assert (work / f"results/{STUDY}/mean_spectra.csv").read_text() == \
+        (reference / f"results/{STUDY}/mean_spectra.csv").read_text()
+
+
 @pytest.mark.parametrize("config", ["config/config.yaml", "config/paper.yaml"])
 def test_lint_is_clean(config, tmp_path):
     lint = snakemake(tmp_path, "--lint", configfile=REPO / config, check=False)
@@ -283,10 +313,23 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "studies.tiny.runs[0].limit_states names one tilt goal twice"),
         (lambda c: c["studies"][STUDY].update(ensemble="nope"),
          "studies.tiny.ensemble='nope' is not a key of ensembles"),
+        (lambda c: c["studies"][STUDY].update(hazard="nosuch_hazard.csv"),
+         "studies.tiny.hazard: hazard must be an existing OpenQuake hazard-curve CSV"),
+        (lambda c: c["studies"][STUDY].update(R=[float("nan")]),
+         "studies.tiny.R[0]=nan: must be a finite number"),
+        (lambda c: c["studies"][STUDY]["tilt_map"].update(intensity=[1.0, float("inf")]),
+         "studies.tiny.tilt_map.intensity[1]=inf: must be a finite number"),
+        (lambda c: c["studies"][STUDY]["tilt_map"].update(motion="el-centro"),
+         "studies.tiny.tilt_map.motion='el-centro' is not a motion of the ensemble"),
+        (lambda c: c["motions"].update(max_duration=0.01),
+         "motions.max_duration=0.01 s keeps fewer than two samples of ensembles.tiny"),
+        (lambda c: c["studies"][STUDY].update(R={"start": 1, "stop": 2, "num": 100_000_000}),
+         "studies.tiny.R: 100000000 values exceed the bound"),
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
-         "missing-ensemble"],
+         "missing-ensemble", "missing-hazard-file", "nan-grid", "inf-grid", "tilt-map-motion",
+         "max-duration", "huge-grid"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))
@@ -299,6 +342,18 @@ def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     assert message in text
     assert len(text.splitlines()) < 15  # the message, not the schema
     assert not (tmp_path / "results").exists()
+
+
+def test_dry_run_takes_config_numbers_given_as_text(tmp_path):
+    """``--config dask='{..., progress_interval: 2}'`` hands the values over as strings."""
+    out = snakemake(tmp_path, "-n", *TARGETS, "--config",
+                    "dask={scheduler_address: null, progress_interval: 2, worker_timeout: 5}",
+                    configfile=write_config(tmp_path), check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    bad = snakemake(tmp_path, "-n", *TARGETS, "--config", "dask={progress_interval: soon}",
+                    configfile=write_config(tmp_path), check=False)
+    assert bad.returncode != 0
+    assert "config key dask.progress_interval='soon'" in bad.stdout + bad.stderr
 
 
 def _no_nan(text):

@@ -26,9 +26,13 @@ import yaml
 from rocking import __version__
 from rocking.study.aggregate import critical_frame
 from rocking.study.figures.captions import CAPTIONS
-from rocking.study.report import link_images
+from rocking.study.report import link_images, relink_docs
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
+OPTIONAL_FILES = ("stripe_fragility.csv", "risk.csv", "fragility.nrml.xml",
+                  "fragility.pelicun.csv")
+"""Outputs of the stripes and risk rules, copied when the study has stripes or a hazard
+(docs/performance.md, docs/risk.md)."""
 CRITICAL = "critical.csv"
 """Every motion's answers (the spectra store as a table): what tests/test_gallery.py holds
 against a slice of the study run again."""
@@ -64,6 +68,10 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
         for name in TABLES:
             _copy(src / name, dst / name)
             copied.append(dst / name)
+        for name in OPTIONAL_FILES:
+            if (src / name).exists():
+                _copy(src / name, dst / name)
+                copied.append(dst / name)
         write_critical(src / "spectra.zarr", dst / CRITICAL)
         copied.append(dst / CRITICAL)
         page = (src / "report.html").read_text()
@@ -71,6 +79,7 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
         page = link_images(page, lambda stem, d=dst: (
             f"figures/{stem}.png" if (d / "figures" / f"{stem}.png").exists()
             else f"../figures/{stem}.png"))
+        page = relink_docs(page, dst)  # the derivations cited, from the page's new folder
         (dst / "report.html").write_text(page)
         copied.append(dst / "report.html")
     (out / "config.yaml").write_text((results / "config.yaml").read_text())
@@ -125,6 +134,12 @@ def readme(manifest: dict, out: Path) -> str:
         "motions per (mode, limit state, tan α, R).",
         "- `<study>/fragility.csv`, `<study>/linear_fit.csv`: lognormal fragility curves and "
         "the linear fits of the mean spectra in R.",
+        "- `<study>/stripe_fragility.csv`: the multiple-stripe fragility (share of motions "
+        "exceeding at fixed intensities, binomial lognormal fit) beside the first-exceedance "
+        "fit, with their ratio.",
+        "- `<study>/fragility.nrml.xml`, `<study>/fragility.pelicun.csv`, `<study>/risk.csv`: "
+        "the fragilities as OpenQuake and pelicun read them, and the mean annual frequency of "
+        "each limit state under the example hazard curve (docs/risk.md).",
         "- `motions/*.json`: the fitted ensemble parameters and fit quality; `figures/*.json`: "
         "the numbers behind each figure.",
         "",

@@ -8,8 +8,9 @@ Subpackages, from the bottom up: :mod:`rocking.motions` (records, principal axes
 stochastic ensembles), :mod:`rocking.dynamics` (bodies, models, analyses; it takes a
 :class:`GroundMotion`),
 :mod:`rocking.spectra` (limit states, critical-intensity search, fragility) and
-:mod:`rocking.study` (zarr store, Dask cluster, aggregates, figures, report). The names below
-are the public API; each is imported on first use.
+:mod:`rocking.study` (zarr store, Dask cluster, aggregates, figures, report), and
+:mod:`rocking.risk` (hazard curves, mean annual frequency, NRML and pelicun exports). The
+names below are the public API; each is imported on first use.
 """
 
 from ._lazy import lazy_exports
@@ -62,6 +63,9 @@ _EXPORTS = {
     "StripeFragility": "spectra.stripes",
     # study outputs
     "select": "study.select",
+    # risk: hazard curves and mean annual frequencies
+    "HazardCurve": "risk.hazard",
+    "mean_annual_frequency": "risk.annual_frequency",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -101,6 +101,12 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "w": ("m", "m", "contact-spring displacement"),
     "w_dot": ("m s-1", "m/s", "contact-spring velocity"),
     "contact_force": ("N kg-1", "N/kg", "normal contact force per unit mass of the body"),
+    # risk (rocking.risk): a fragility under a site's hazard curve
+    "maf": ("year-1", "1/yr", "mean annual frequency of exceeding the limit state"),
+    "return_period": ("year", "yr", "return period 1/maf of exceeding the limit state"),
+    "p_50yr": ("1", "-", "probability of exceeding the limit state in 50 years (Poisson)"),
+    "share_extrapolated": ("1", "-",
+                           "share of maf resting on the hazard curve's extrapolated tail"),
 }
 """Output name → (CF units, unit in CSV headers, long_name)."""
 

@@ -221,6 +221,7 @@ rule report:
         ensemble=lambda wildcards: ensemble_of(wildcards.study),
         stores=lambda wildcards: report_stores(wildcards.study)["stores"],
         tilt_maps=lambda wildcards: report_stores(wildcards.study)["tilt_maps"],
+        hazard=lambda wildcards: hazard_file(wildcards.study) or hazard_spec(wildcards.study),
     log:
         "logs/{study}/report.log",
     script:

@@ -80,6 +80,11 @@ def report_inputs(study):
     return {"figures": report_figures(study),
             "linear_fit": rules.fragility_curves.output.linear_csv.format(study=study),
             "fragility": rules.fragility_curves.output.fragility_csv.format(study=study),
+            **({"risk": rules.risk.output.table.format(study=study),
+                "risk_png": rules.risk.output.png.format(study=study)}
+               if hazard_spec(study) is not None else {}),
+            **({"stripes": rules.stripe_fragility.output.csv.format(study=study)}
+               if has_stripes(study) else {}),
             **report_run_files(study)}
 
 

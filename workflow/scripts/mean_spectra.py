@@ -4,11 +4,18 @@ import xarray as xr
 
 from rocking.study.aggregate import ensemble_statistics, write_statistics
 from rocking.study.cluster import log_to
+from rocking.study.store import REPAIR, verify_store
 
 
 def main(snakemake):
+    store = snakemake.params.store
     with log_to(snakemake.log[0]):
-        with xr.open_zarr(snakemake.params.store, consolidated=True) as ds:
+        # a damaged chunk is named with the remedy, never aggregated into other numbers
+        damaged = verify_store(store, say=print, repair=False)
+        if damaged:
+            raise ValueError(f"store {store!r}: {len(damaged)} damaged chunks {damaged}; "
+                             f"{REPAIR}")
+        with xr.open_zarr(store, consolidated=True) as ds:
             stats = ensemble_statistics(ds)
         write_statistics(stats, snakemake.output.nc, snakemake.output.csv)
         print(f"wrote {snakemake.output.nc} and {snakemake.output.csv}: "

@@ -11,7 +11,7 @@ import logging
 from rocking import _json
 from rocking.motions.build import ENSEMBLE_ATTRS, build_ensemble, quality_lines, read_motion
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study.cluster import log_to, terminal
+from rocking.study.cluster import heartbeat, log_to, terminal
 
 
 def main(snakemake):
@@ -24,12 +24,20 @@ def main(snakemake):
         log.info("%s", message)
         print(f"motions {name}: {message}", file=terminal(), flush=True)
 
-    with log_to(snakemake.log[0]):
+    # a line every progress interval between stages: the fit and the synthesis of many
+    # pairs have no progress of their own
+    interval = float(snakemake.config["dask"]["progress_interval"])
+    with log_to(snakemake.log[0]), heartbeat(say, interval, f"building {name}") as stage:
         motion = read_motion(spec["record"], spec["paths"])
+
+        def said(message):
+            stage[0] = f"after: {message}"
+            say(message)
+
         build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
                                rotation=spec["rotation_deg"], mw=spec["mw"],
                                max_duration=spec["max_duration"],
-                               fit_method=spec["fit_method"], compare=True, progress=say)
+                               fit_method=spec["fit_method"], compare=True, progress=said)
         params = build.parameters()
         params["ensemble"] = snakemake.wildcards.ensemble
         attrs = {"ensemble": snakemake.wildcards.ensemble,

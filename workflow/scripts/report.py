@@ -34,7 +34,9 @@ def main(snakemake):
         build(snakemake.output[0],
               title=f"rocking: study {snakemake.params.study} "
                     f"(ensemble {snakemake.params.ensemble})",
-              figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run)
+              figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run,
+              risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
+              stripes=inp.get("stripes"))
 
 
 if __name__ == "__main__":

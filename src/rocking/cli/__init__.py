@@ -24,6 +24,7 @@ SUBCOMMANDS: dict[str, str] = {
     "motions": "record + synthetic RDK pairs -> ensemble file (.nc)",
     "spectra": "critical PGA/(g tan alpha) of cylinders vs R (performance spectrum)",
     "stripes": "multiple-stripe fragility: share of motions exceeding at fixed intensities",
+    "risk": "mean annual frequency of each limit state under a hazard curve",
 }
 """Subcommand → one-line summary (shown by ``rocking --help`` without importing it)."""
 
@@ -32,6 +33,7 @@ EPILOG = """examples:
   rocking motions --record el-centro-1940 -n 10 -o results/motions/elcentro.nc
   rocking spectra --R 1,2,6 --record el-centro-1940 --mode 3d -o spectrum.csv
   rocking stripes --R 6 --ensemble results/motions/elcentro.nc --stripes 40
+  rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5
 
 `rocking COMMAND --help` lists a command's options with their defaults."""
 

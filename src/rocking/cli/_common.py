@@ -11,6 +11,10 @@ happens before a command runs.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 HIGHPASS_CHOICES = ("none", "oscillator", "butterworth")
@@ -56,7 +60,11 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
     g.add_argument("--record", metavar="NAME",
                    help=f"named record ({RECORD_NAMES}); with --files, read from those files")
     g.add_argument("--files", nargs="+", metavar="FILE",
-                   help="acceleration files, x then y (PEER AT2 or text, in g)")
+                   help="acceleration files, x then y, in the order given (PEER AT2 or "
+                   "text, in g)")
+    g.add_argument("--order-by-azimuth", action="store_true",
+                   help="with two --files: make x the file whose header azimuth is the "
+                   "other's + 90° (the swap is printed)")
     if ensemble:
         g.add_argument("--ensemble", type=Path, metavar="FILE",
                        help="ensemble file (.nc) written by `rocking motions` or the workflow")
@@ -103,15 +111,62 @@ def motion_from_args(args: argparse.Namespace, default_record: str | None = None
                                  or highpass != "none"):
         raise ValueError("--rotation, --highpass, --fc-hz, --mw and --max-duration process a "
                          "record; a motion of --ensemble is used as stored")
-    motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None))
+    motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None),
+                         order_by_azimuth=getattr(args, "order_by_azimuth", False))
     if ensemble is None and (any(v is not None for v in processing.values())
                              or highpass != "none"):
         motion = process_motion(motion, highpass=highpass, **processing)
     return motion
 
 
-def check_output(path: Path, suffixes: tuple[str, ...]) -> Path:
-    """``path`` if its suffix is one of ``suffixes``, else a ValueError naming it."""
+def check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") -> Path:
+    """``path`` if its suffix is one of ``suffixes`` and it can be written, else a ValueError
+    naming it (checked before any work: a long run never fails at its last step)."""
     if path.suffix.lower() not in suffixes:
-        raise ValueError(f"--out must end in {' or '.join(suffixes)}, got {str(path)!r}")
+        raise ValueError(f"{option} must end in {' or '.join(suffixes)}, got {str(path)!r}")
+    if path.is_dir():
+        raise ValueError(f"{option} {str(path)!r} is a directory; give a file name")
+    writable_folder(path.parent, option)
     return path
+
+
+def writable_folder(folder: Path, option: str = "--out") -> Path:
+    """Make ``folder`` if needed and prove it writable by creating and removing a file in it.
+
+    Raises
+    ------
+    ValueError
+        Naming the option, the folder and the reason (read-only, not a folder, ...).
+    """
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=".rocking-probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise ValueError(f"{option}: cannot write in {str(folder)!r}: "
+                         f"{exc.strerror or exc}") from None
+    return folder
+
+
+@contextlib.contextmanager
+def replacing(path: Path) -> Iterator[Path]:
+    """A temporary file next to ``path``, renamed onto it when the block succeeds.
+
+    A failed write (a full disk) removes the temporary file and leaves ``path`` as it was:
+    never a partial output. The ``OSError`` raised names ``path``.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        if isinstance(exc, OSError):
+            raise OSError(exc.errno, f"{exc.strerror or exc}; nothing written",
+                          str(path)) from exc
+        raise

@@ -69,11 +69,17 @@ def run(args) -> int:
             print(f"rocking motions: {message}", file=sys.stderr, flush=True)
 
     _common.check_output(args.out, (".nc",))
+    if args.params_out is not None:
+        _common.check_output(args.params_out, (".json",), "--params-out")
     if args.rotation is None:
         raise ValueError("--rotation none: the ensemble's record is always on principal axes "
                          "(its fit needs them); give 'auto' or the forced offset [deg]")
     record = args.record if (args.record or args.files) else "el-centro-1940"
-    motion = load_motion(record, args.files, name=args.name)
+    motion = load_motion(record, args.files, name=args.name,
+                         order_by_azimuth=args.order_by_azimuth)
+    from ..study.config_checks import check_ensemble_size
+
+    check_ensemble_size("--n-synthetic", args.n_synthetic, motion.npts)
     say(f"read {motion.name} ({motion.npts} samples, dt {motion.dt} s, vector PGA "
         f"{motion.pga_g:.4f} g){' [stand-in]' if motion.metadata.get('stand_in') else ''}")
     build = build_ensemble(
@@ -85,12 +91,13 @@ def run(args) -> int:
     params = build.parameters()
     print("\n".join(quality_lines(params)))
     attrs = {k: params[k] for k in ENSEMBLE_ATTRS}
-    save_ensemble(args.out, build.motions, attrs=attrs)
+    with _common.replacing(args.out) as tmp:
+        save_ensemble(tmp, build.motions, attrs=attrs)
     if build.comparison:
-        save_ensemble(comparison_path(args.out), build.comparison,
-                      attrs={**attrs, **params["comparison"]})
+        with _common.replacing(comparison_path(args.out)) as tmp:
+            save_ensemble(tmp, build.comparison, attrs={**attrs, **params["comparison"]})
     params_out = args.params_out or args.out.with_suffix(".json")
-    params_out.parent.mkdir(parents=True, exist_ok=True)
-    _json.write(params_out, params, sort_keys=True)
+    with _common.replacing(params_out) as tmp:
+        _json.write(tmp, params, sort_keys=True)
     say(f"wrote {len(build.motions)} motions to {args.out} and parameters to {params_out}")
     return 0

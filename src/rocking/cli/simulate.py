@@ -109,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out must be a folder, {str(out)!r} is a file")
+    _common.writable_folder(out)
     if motion is not None:
         res, meta = _ground(args, body, model, component, motion, common)
     else:
@@ -118,19 +119,20 @@ def run(args: argparse.Namespace) -> int:
         res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
                              model=model, **common)
         meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0, "duration": args.duration}
-    out.mkdir(parents=True, exist_ok=True)
     cols = HISTORY_COLUMNS[model]
     # numpy, not pandas: the table is plain numbers and pandas costs half a second to load
-    np.savetxt(out / "history.csv", np.column_stack([getattr(res, c) for c in cols]),
-               delimiter=",", fmt="%.17g", header=",".join(header(c) for c in cols),
-               comments="")
+    with _common.replacing(out / "history.csv") as tmp:
+        np.savetxt(tmp, np.column_stack([getattr(res, c) for c in cols]),
+                   delimiter=",", fmt="%.17g", header=",".join(header(c) for c in cols),
+                   comments="")
     summary = {**res.summary(), "mode": args.mode, "R": body.R, "tan_alpha": body.tan_alpha,
                "body": args.body, **meta}
     if model == "2d":  # the 2D model has impacts, not quasi-impacts
         summary["n_impacts"] = summary.pop("n_quasi_impacts")
     summary["units"] = {k: u for k, u in SUMMARY_UNITS.items() if k in summary} | {
         c: QUANTITIES[c][1] for c in cols}
-    _json.write(out / "summary.json", summary)
+    with _common.replacing(out / "summary.json") as tmp:
+        _json.write(tmp, summary)
     if summary.get("restitution_clipped"):  # stdout stays one JSON document
         print(f"rocking simulate: note: {summary['restitution_note']}", file=sys.stderr)
     print(_json.dumps(summary))

@@ -91,6 +91,25 @@ def rows(results, motion) -> list[dict]:
     return out
 
 
+def _check_numbers(args) -> None:
+    """``--R`` non-empty, without repeats, finite and > 0; ``--upper`` > 1 (as the
+    workflow's ``search.upper``): refused before any work, naming the option."""
+    import math
+
+    R = list(args.R)
+    if not R:
+        raise ValueError("--R: give at least one size R [m], got none")
+    bad = [r for r in R if not (math.isfinite(r) and r > 0)]
+    if bad:
+        raise ValueError(f"--R must hold finite sizes > 0 [m], got {bad}")
+    repeated = sorted({r for r in R if R.count(r) > 1})
+    if repeated:
+        raise ValueError(f"--R repeats {repeated}: each size is computed once, give it once")
+    if not (math.isfinite(args.upper) and args.upper > 1):
+        raise ValueError(f"--upper must be a finite number > 1 (the search starts at "
+                         f"PGA/(g tan alpha) = 1), got {args.upper!r}")
+
+
 def run(args) -> int:
     """Compute the spectrum and write it; returns 0."""
     import pandas as pd
@@ -102,6 +121,7 @@ def run(args) -> int:
     from ..spectra.limit_states import parse_limit_states
     from ..units import QUANTITIES, header
 
+    _check_numbers(args)
     out = args.out
     if out is not None:
         _common.check_output(out, (".csv", ".json"))
@@ -122,10 +142,9 @@ def run(args) -> int:
               f"{args.tan_alpha:g}")
         print(table[cols].rename(columns=header).to_string(index=False))
     elif out.suffix.lower() == ".csv":
-        out.parent.mkdir(parents=True, exist_ok=True)
-        table.rename(columns=header).to_csv(out, index=False)
+        with _common.replacing(out) as tmp:
+            table.rename(columns=header).to_csv(tmp, index=False)
     else:
-        out.parent.mkdir(parents=True, exist_ok=True)
         doc = {
             "motion": {"name": motion.name, **identity(motion), "dt": motion.dt,
                        "npts": motion.npts, "metadata": motion.metadata},
@@ -139,7 +158,8 @@ def run(args) -> int:
             # a not-reached intensity (NaN) is written as null: strict JSON
             "results": table.to_dict(orient="records"),
         }
-        _json.write(out, doc, indent=1)
+        with _common.replacing(out) as tmp:
+            _json.write(tmp, doc, indent=1)
     if not args.quiet:
         n = sum(r.n_analyses for r in results)
         print(f"{len(results)} spectrum point(s), {n} analyses, {seconds:.2f} s",

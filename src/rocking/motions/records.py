@@ -31,6 +31,7 @@ import hashlib
 import importlib.util
 import math
 import re
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -598,7 +599,9 @@ def _package_file(source: RecordSource, file: str) -> Path:
 
 
 def _order_by_azimuth(paths: Sequence[str | Path]) -> list[Path]:
-    """Put the component whose azimuth is the other's + 90° first (x), if the headers say."""
+    """Put the component whose azimuth is the other's + 90° first (x), if the headers say.
+
+    Only on request (``order_by_azimuth=True``); a swap is announced with a warning."""
     p = [Path(x) for x in paths]
     az = []
     for q in p:
@@ -608,11 +611,14 @@ def _order_by_azimuth(paths: Sequence[str | Path]) -> list[Path]:
             az.append(None)
     if all(isinstance(a, float) for a in az):
         if math.isclose((az[1] - az[0]) % 360.0, 90.0):
+            warnings.warn(f"order_by_azimuth: x = {p[1]} (azimuth {az[1]:g}°), y = {p[0]} "
+                          f"(azimuth {az[0]:g}°): the files were swapped", stacklevel=3)
             return [p[1], p[0]]
     return p
 
 
-def load_record(name: str, paths: Sequence[str | Path] | None = None) -> GroundMotion:
+def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
+                order_by_azimuth: bool = False) -> GroundMotion:
     """Load a named two-component record as a :class:`~rocking.motions.motion.GroundMotion`.
 
     Parameters
@@ -621,9 +627,12 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None) -> GroundM
         ``"el-centro-1940"``, ``"loma-prieta-corralitos"`` or ``"loma-prieta-sjte"`` (see
         :data:`RECORDS`); any other name needs ``paths``.
     paths : sequence of two paths, optional
-        Files to read instead of the package data. For a known record the files must have the
-        expected sha256. The component whose header azimuth is the other's + 90° becomes x
-        (SJTE: 315 → x, 225 → y); if the headers do not say, the given order (x, y) is kept.
+        Files to read instead of the package data, x then y, in the order given. For a known
+        record the files must have the expected sha256 (in that order).
+    order_by_azimuth : bool
+        Make x the component whose header azimuth is the other's + 90° (SJTE: 315 → x,
+        225 → y), with a warning naming the swap; if the headers do not say, the given order
+        is kept. Off by default: files are never reordered behind the user's back.
 
     Returns
     -------
@@ -642,7 +651,7 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None) -> GroundM
     if paths is not None:
         if isinstance(paths, (str, Path)) or len(paths) != 2:
             raise ValueError(f"paths must be two files (x, y), got {paths!r}")
-        files = _order_by_azimuth(paths)
+        files = _order_by_azimuth(paths) if order_by_azimuth else [Path(q) for q in paths]
         origin = "user files"
     elif source is None:
         raise ValueError(f"unknown record name {name!r}; known: {sorted(RECORDS)} (or give paths)")
@@ -660,8 +669,10 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None) -> GroundM
         for rec, expected in zip(recs, source.sha256, strict=True):
             got = rec.meta["sha256"]
             if got != expected:
+                swapped = [r.meta["sha256"] for r in recs[::-1]] == list(source.sha256)
                 raise ValueError(
                     f"sha256 mismatch for {rec.meta['path']}: expected {expected}, got {got}"
+                    + ("; the files are given as (y, x): give x first" if swapped else "")
                 )
         verified = True
     motion = _pair_from_records(recs[0], recs[1], name)
@@ -677,14 +688,17 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None) -> GroundM
     return GroundMotion(motion.ax, motion.ay, motion.dt, name, meta)
 
 
-def loma_prieta_pair(paths: Sequence[str | Path] | None = None) -> GroundMotion:
+def loma_prieta_pair(paths: Sequence[str | Path] | None = None, *,
+                     order_by_azimuth: bool = False) -> GroundMotion:
     """The paper's second record, RSN 801 (SJTE), or the labelled Corralitos stand-in.
 
     Parameters
     ----------
     paths : sequence of two paths, optional
-        ``RSN801_LOMAP_SJTE315.AT2`` and ``RSN801_LOMAP_SJTE225.AT2`` (any order when the
-        headers state the azimuths).
+        ``RSN801_LOMAP_SJTE315.AT2`` (x) and ``RSN801_LOMAP_SJTE225.AT2`` (y), in this
+        order unless ``order_by_azimuth``.
+    order_by_azimuth : bool
+        See :func:`load_record`.
 
     Returns
     -------
@@ -694,7 +708,7 @@ def loma_prieta_pair(paths: Sequence[str | Path] | None = None) -> GroundMotion:
         ``label`` that says so; the motion is named ``"loma-prieta-corralitos"``.
     """
     if paths is not None:
-        motion = load_record("loma-prieta-sjte", paths)
+        motion = load_record("loma-prieta-sjte", paths, order_by_azimuth=order_by_azimuth)
         meta = {**motion.metadata, "label": "Loma Prieta 1989, San Jose - Santa Teresa Hills"}
         return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta)
     motion = load_record("loma-prieta-corralitos")

@@ -27,7 +27,8 @@ __all__ = ["describe_processing", "identity", "load_motion", "process_motion"]
 
 
 def load_motion(record: str | None = None, files=None, ensemble: str | Path | None = None,
-                motion: str | None = None, *, name: str | None = None) -> GroundMotion:
+                motion: str | None = None, *, name: str | None = None,
+                order_by_azimuth: bool = False) -> GroundMotion:
     """A ground motion from a named record, acceleration files or an ensemble file.
 
     Parameters
@@ -44,6 +45,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         Name of the motion in ``ensemble``; default its first motion (the record).
     name : str, optional
         Name of a motion read from ``files`` without ``record`` (default: the file stems).
+    order_by_azimuth : bool
+        Reorder two files by their header azimuths (x = the other's + 90°), with a warning;
+        default: the order given (:func:`rocking.motions.records.load_record`).
 
     Returns
     -------
@@ -73,9 +77,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         return loma_prieta_pair() if record == "loma-prieta-sjte" else load_record(record)
     if len(files) == 2:
         if record == "loma-prieta-sjte":
-            return loma_prieta_pair(files)
+            return loma_prieta_pair(files, order_by_azimuth=order_by_azimuth)
         stems = "+".join(Path(f).stem for f in files)
-        return load_record(record or name or stems, files)
+        return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth)
     if len(files) == 1 and record is None:
         from .records import read_record
 

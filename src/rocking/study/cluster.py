@@ -9,8 +9,10 @@ on a free port. A run can instead join a cluster that is already running, named 
 Progress is reported in points (one spectrum point: a search for all limit states; one tilt
 map point: one analysis) done / total, with the rate and the time left, in the rule's log and
 on the terminal Snakemake runs in (a live bar there when it is a TTY), with the Dask
-dashboard address once at the start. A joined cluster without workers is waited for
-``worker_timeout`` seconds, then the run stops with an error that says so.
+dashboard address once at the start, and a line at every ``progress_interval`` even when no
+point finished (a stalled run is told from a slow one). A cluster without workers, at the
+start or later (the only worker died), is waited for ``worker_timeout`` seconds, then the
+run stops with one line that says so; finished chunks stay in the store.
 
 Compilation is paid once per machine: the kernels are numba functions cached on disk
 (``cache=True``), so :func:`warm_numba_cache` run once before any worker starts (the
@@ -32,7 +34,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from distributed import Client, LocalCluster, as_completed
+from distributed import Client, LocalCluster, wait
 
 from .._progress import Progress
 
@@ -269,7 +271,8 @@ def worker_pids(client: Client) -> dict[str, int]:
 def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
                 args: Sequence[Any] = (), kwargs: Mapping[str, Any] | None = None, *,
                 key: str = "region", interval: float = 10.0,
-                retries: int = 2, progress: Progress | None = None) -> list[dict]:
+                retries: int = 2, progress: Progress | None = None,
+                worker_timeout: float = DEFAULT_WORKER_TIMEOUT) -> list[dict]:
     """Run ``fn(*args, index, **kwargs)`` for every region index on the cluster.
 
     Tasks are independent and idempotent (each writes whole chunks, then its done flag),
@@ -287,12 +290,16 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     key : str
         Prefix of the task keys (shown on the dashboard).
     interval : float
-        Seconds between progress lines [s]; the last line is always written.
+        Seconds between progress lines [s], written whether or not a chunk finished (a
+        heartbeat: a stalled run is told from a slow one); the last line is always written.
     retries : int
         Extra attempts of a task that raised (not counting worker losses, which the
         scheduler reschedules on its own).
     progress : Progress, optional
         Advanced by each task's ``points`` as it finishes (None: only the log's chunk lines).
+    worker_timeout : float
+        Seconds the cluster may have no worker at all while chunks are left [s]; then the
+        run stops (finished chunks stay in the store).
 
     Returns
     -------
@@ -302,7 +309,8 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     Raises
     ------
     RuntimeError
-        Naming the region, when a task fails after its retries.
+        Naming the region, when a task fails after its retries; or, in one line, when the
+        cluster had no worker for longer than ``worker_timeout``.
     """
     kwargs = dict(kwargs or {})
     n = len(indices)
@@ -318,21 +326,92 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     log.info("submitted %d chunks", n)
     t0 = last = time.monotonic()
     reports: list[dict] = []
-    for future in as_completed(futures):
-        index = futures[future]
+    pending = set(futures)
+    watch = _WorkerWatch(client, worker_timeout, n)
+    poll = min(max(interval, 0.1), 1.0)  # seconds between looks at the cluster
+    while pending:
         try:
-            reports.append(future.result())
-        except Exception as exc:
-            for f in futures:
-                f.cancel()
-            raise RuntimeError(f"chunk {key}-{index} failed: {exc}") from exc
-        if progress is not None:
-            progress.update(int(reports[-1].get("points", 1)))
+            done, pending = wait(pending, timeout=poll, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            done = set()
+        for future in done:
+            try:
+                reports.append(future.result())
+            except Exception as exc:
+                for f in futures:
+                    f.cancel()
+                raise RuntimeError(f"chunk {key}-{futures[future]} failed: {exc}") from exc
+            if progress is not None:
+                progress.update(int(reports[-1].get("points", 1)))
         now = time.monotonic()
-        if now - last >= interval or len(reports) == n:
-            log.info("%d/%d chunks done, %.1f s elapsed", len(reports), n, now - t0)
+        if pending:
+            watch.check(now, len(pending), futures)
+        # a heartbeat at every interval, also when no chunk finished: a stalled run is seen
+        if (now - last >= interval and (done or interval > 0)) or not pending:
+            log.info("%d/%d chunks done, %.1f s elapsed, %d workers", len(reports), n,
+                     now - t0, watch.workers)
+            if progress is not None:
+                progress.update(0)
             last = now
     return reports
+
+
+class _WorkerWatch:
+    """Counts the cluster's workers; raises when there were none for too long."""
+
+    def __init__(self, client: Client, timeout: float, n: int) -> None:
+        self.client, self.timeout, self.n = client, float(timeout), n
+        self.workers = -1
+        self._none_since: float | None = None
+
+    def check(self, now: float, left: int, futures: Mapping) -> None:
+        self.workers = len(self.client.nthreads())
+        if self.workers:
+            self._none_since = None
+            return
+        if self._none_since is None:
+            self._none_since = now
+            log.warning("the Dask cluster has no workers; %d of %d chunks left, waiting up to "
+                        "%g s (dask.worker_timeout)", left, self.n, self.timeout)
+        elif now - self._none_since > self.timeout:
+            for f in futures:
+                f.cancel()
+            address = self.client.scheduler.address
+            raise RuntimeError(
+                f"no Dask worker on scheduler {address} for {now - self._none_since:.0f} s "
+                f"(dask.worker_timeout {self.timeout:g} s) with {left} of {self.n} chunks left; "
+                f"start workers (`dask worker {address} --nthreads 1`) and run again, "
+                f"finished chunks are kept")
+
+
+@contextlib.contextmanager
+def heartbeat(say: Callable[[str], None], interval: float, what: str) -> Iterator[list]:
+    """Say ``"<what>: still working (<stage>), elapsed <s> s"`` every ``interval`` seconds
+    while the block runs (a long step without progress of its own, e.g. an ensemble's
+    synthesis, is told from a stalled one).
+
+    Yields a one-element list: the block puts the current stage in it (``stage[0] = ...``).
+    ``interval`` <= 0 says nothing.
+    """
+    import threading
+
+    stage = ["starting"]
+    stop = threading.Event()
+    t0 = time.monotonic()
+
+    def beat() -> None:
+        while not stop.wait(interval):
+            say(f"{what}: still working ({stage[0]}), elapsed {time.monotonic() - t0:.0f} s")
+
+    thread = threading.Thread(target=beat, daemon=True) if interval > 0 else None
+    if thread is not None:
+        thread.start()
+    try:
+        yield stage
+    finally:
+        stop.set()
+        if thread is not None:
+            thread.join()
 
 
 @contextlib.contextmanager
@@ -386,7 +465,11 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                scheduler_file: str | None = None, progress_interval: float = 10.0,
                key: str = "region", worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
                label: str | None = None) -> dict[str, Any]:
-    """Compute every region of a store not yet done, on Dask, then consolidate it.
+    """Verify the finished regions of a store, compute the others on Dask, consolidate it.
+
+    Every finished region is re-read first (:func:`rocking.study.store.verify_store`):
+    damaged ones (checksum mismatch, truncated or missing chunk, inconsistent values) are
+    computed again, so ``snakemake --forcerun spectra`` repairs a damaged store.
 
     Parameters
     ----------
@@ -408,7 +491,8 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
     key : str
         Task-key prefix.
     worker_timeout : float
-        Seconds to wait for a first worker of a joined cluster without any [s].
+        Seconds to wait for a first worker of a joined cluster without any, and the longest
+        time the cluster may have no worker during the run [s].
     label : str, optional
         Name of the computation in progress lines (default ``key``).
 
@@ -426,10 +510,12 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
     store.check_config_hash(path, config_digest)
     store.check_ensemble(path, motions)
     layout = store.open_layout(path)
+    # every run re-reads what earlier runs finished: damaged chunks become pending again
+    damaged = store.verify_store(path, layout, say=log.warning)
     pending = store.costliest_first(layout, store.pending_regions(path, layout))
     n = layout.n_regions
-    log.info("store %s: %d chunks, %d already done, %d to compute", path, n, n - len(pending),
-             len(pending))
+    log.info("store %s: %d chunks, %d already done and verified, %d damaged, %d to compute",
+             path, n, n - len(pending), len(damaged), len(pending))
     target = resolve_target(scheduler_address, scheduler_file)
     reports: list[dict] = []
     if pending:
@@ -444,7 +530,8 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                 reports = run_regions(client, fn, pending, (str(path),),
                                       {"motions": str(motions)},
                                       key=f"{key}-{config_digest}",
-                                      interval=progress_interval, progress=bar)
+                                      interval=progress_interval, progress=bar,
+                                      worker_timeout=worker_timeout)
     store.finalize(path)
     seconds = sorted(r["seconds"] for r in reports)
     summary = {
@@ -453,6 +540,7 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         "cluster": target.kind,
         "chunks": n,
         "done_before": n - len(pending),
+        "damaged": len(damaged),
         "computed": len(reports),
         "points_computed": int(sum(r["points"] for r in reports)),
         "chunk_seconds": {"min": seconds[0], "median": seconds[len(seconds) // 2],

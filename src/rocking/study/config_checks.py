@@ -2,8 +2,16 @@
 
 Two layers: the JSON schema (``workflow/schemas/config.schema.yaml``), reported as one short
 line naming the key first (jsonschema's own message prints the whole schema), and the
-cross-field checks a schema cannot express: record names and files, and tilt goals that
-exist for every slenderness of a study. Every message names the key and the value.
+cross-field checks a schema cannot express: record names and files (read as the real run
+reads them: header, dt of both components, NaN, all zeros), ``motions.max_duration`` against
+their time step, ``tilt_map.motion`` against the ensemble's motions, finite numbers, tilt
+goals that exist for every slenderness of a study, and bounds on the size of grids, studies
+and ensembles, estimated before anything is expanded. Every message names the key and the
+value.
+
+Values given on the command line (``snakemake --config dask='{progress_interval: 2}'``)
+reach the configuration as strings; :func:`coerce_strings` turns a string into the number,
+boolean or null it spells wherever the schema wants one.
 """
 
 from __future__ import annotations
@@ -13,7 +21,26 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["check_config", "schema_error", "validate_config"]
+__all__ = ["check_config", "check_ensemble_size", "coerce_strings", "schema_error",
+           "validate_config"]
+
+MAX_GRID_VALUES = 10_000
+"""Most values of one grid (R, tan α, intensity)."""
+
+MAX_STUDY_POINTS = 1_000_000
+"""Most spectrum points (mode × tan α × motion × R) of one study: at a tenth of a second
+each at the very least, more would run for days."""
+
+MAX_TILT_MAP_POINTS = 1_000_000
+"""Most analyses (mode × R × intensity) of one tilt map."""
+
+ENSEMBLE_COPIES = 6
+"""Arrays of one synthetic pair held at once while an ensemble is built (2 components, the
+simulation and its high-passed copy, the comparison ensemble): the memory estimate is this
+many times (n_synthetic + 1) × npts × 8 bytes."""
+
+ENSEMBLE_MEMORY_FRACTION = 0.5
+"""Largest share of this machine's memory an ensemble may be estimated to need."""
 
 
 def _where(path) -> str:
@@ -80,6 +107,8 @@ def validate_config(config: dict[str, Any], schema_path: str | Path,
     import yaml
 
     schema = yaml.safe_load(Path(schema_path).read_text())
+    coerce_strings(config, schema)
+    _check_finite(config)
     message = schema_error(config, schema)
     if message is not None:
         raise ValueError(message)
@@ -97,19 +126,38 @@ def check_config(config: Mapping[str, Any]) -> None:
         An unknown record name without files, a record file that does not exist, a study
         naming an unknown ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
     """
+    _check_finite(config)
+    max_duration = (config.get("motions") or {}).get("max_duration")
+    npts = {}
     for name, spec in config["ensembles"].items():
-        _check_record(f"ensembles.{name}", spec)
+        motion = _check_record(f"ensembles.{name}", spec)
+        if motion is None:
+            continue
+        npts[name] = motion.npts
+        if max_duration is not None and max_duration < 2 * motion.dt:
+            raise ValueError(f"motions.max_duration={max_duration!r} s keeps fewer than two "
+                             f"samples of ensembles.{name} (dt {motion.dt:g} s); give at "
+                             f"least {2 * motion.dt:g} s or null")
+        check_ensemble_size(f"ensembles.{name}.n_synthetic", spec.get("n_synthetic", 10),
+                            motion.npts)
     for study, s in config["studies"].items():
         if s["ensemble"] not in config["ensembles"]:
             raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "
                              f"ensembles {sorted(config['ensembles'])}")
+        ens = config["ensembles"][s["ensemble"]]
+        _check_study_size(f"studies.{study}", s, int(ens.get("n_synthetic", 10)) + 1)
         for i, run in enumerate(s["runs"]):
             _check_tilt_goals(f"studies.{study}.runs[{i}]", run["limit_states"],
                               _grid(run["tan_alpha"]))
+        if s.get("tilt_map") is not None:
+            _check_tilt_map_motion(f"studies.{study}.tilt_map", s["tilt_map"].get("motion"),
+                                   ens)
 
 
-def _check_record(key: str, spec: Mapping[str, Any]) -> None:
-    from ..motions.records import RECORDS
+def _check_record(key: str, spec: Mapping[str, Any]):
+    """The record an ensemble is built from, read as the motions rule reads it (header, dt
+    of both files, every value), or None for the SJTE stand-in's files not given."""
+    from ..motions.records import RECORDS, load_record
 
     record, paths = spec["record"], spec.get("paths")
     if not paths:
@@ -117,13 +165,182 @@ def _check_record(key: str, spec: Mapping[str, Any]) -> None:
             raise ValueError(f"{key}.record={record!r} is not a known record "
                              f"({', '.join(sorted(RECORDS))}); give its two acceleration "
                              f"files in {key}.paths")
-        return
+        if RECORDS[record].files is None:
+            record = "loma-prieta-corralitos"  # the labelled stand-in the rule reads
+        return load_record(record)
     for i, p in enumerate(paths):
         path = Path(p).expanduser()
         if not path.exists():
             raise ValueError(f"{key}.paths[{i}]={str(p)!r} does not exist")
         if not path.is_file():
             raise ValueError(f"{key}.paths[{i}]={str(p)!r} is not a file")
+    try:
+        motion = load_record(record, [Path(p).expanduser() for p in paths])
+    except (ValueError, OSError) as exc:
+        raise ValueError(f"{key}.paths={list(paths)!r}: {exc}") from None
+    for i, comp in enumerate((motion.ax, motion.ay)):
+        if not comp.any():
+            raise ValueError(f"{key}.paths[{i}]={str(paths[i])!r} holds only zeros: no "
+                             f"ground motion to fit or to analyse")
+    return motion
+
+
+def coerce_strings(config: dict[str, Any], schema: Mapping[str, Any]) -> None:
+    """Turn strings that spell a number, boolean or null into it where the schema wants one.
+
+    ``snakemake --config dask='{progress_interval: 2}'`` hands nested values over as
+    strings (``'2'``, ``'null'``). A string leaf is replaced (in place) when the schema
+    reports no error at its key with the converted value and did with the string (or the
+    string is the YAML null ``null``/``~``); anything else is left for the schema to
+    reject, naming the key and the value.
+    """
+    import jsonschema
+
+    validator = jsonschema.validators.validator_for(schema)(schema)
+
+    def related(path) -> int:
+        # errors at the leaf, below it, or at a key above it (a oneOf reports at the grid)
+        n = 0
+        for e in validator.iter_errors(config):
+            where = tuple(e.absolute_path)
+            n += where[:len(path)] == path or path[:len(where)] == where
+        return n
+
+    for path, text in list(_string_leaves(config, ())):
+        value = _spelled(text)
+        if value is _NOT:
+            continue
+        parent = config
+        for part in path[:-1]:
+            parent = parent[part]
+        before = related(path)
+        is_null = value is None and text.strip() in ("null", "~")
+        if before == 0 and not is_null:
+            continue
+        parent[path[-1]] = value
+        after = related(path)
+        if after > before or (after == before and not is_null):
+            parent[path[-1]] = text
+
+
+_NOT = object()
+
+
+def _spelled(text: str):
+    """The number, boolean or None a string spells, or ``_NOT``."""
+    t = text.strip()
+    if t in ("null", "~", "None"):
+        return None
+    if t.lower() in ("true", "false"):
+        return t.lower() == "true"
+    for kind in (int, float):
+        try:
+            return kind(t)
+        except ValueError:
+            pass
+    return _NOT
+
+
+def _string_leaves(node, path):
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _string_leaves(v, (*path, k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _string_leaves(v, (*path, i))
+    elif isinstance(node, str):
+        yield path, node
+
+
+def _check_finite(node, path=()) -> None:
+    """Every number of the configuration is finite (NaN or inf would pass ``> 0``)."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            _check_finite(v, (*path, k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            _check_finite(v, (*path, i))
+    elif isinstance(node, float) and not math.isfinite(node):
+        raise ValueError(f"config key {_where(path)}={node!r}: must be a finite number")
+
+
+def _grid_size(key: str, spec) -> int:
+    """Values of a grid, from its description (never expanded here)."""
+    n = len(spec) if isinstance(spec, list) else int(spec["num"])
+    if n > MAX_GRID_VALUES:
+        raise ValueError(f"{key}: {n} values exceed the bound of {MAX_GRID_VALUES} per grid "
+                         f"(rocking.study.config_checks.MAX_GRID_VALUES); give fewer")
+    return n
+
+
+def _check_study_size(key: str, s: Mapping[str, Any], n_motions: int) -> None:
+    n_R = _grid_size(f"{key}.R", s["R"])
+    modes, tan = set(), 0
+    for i, run in enumerate(s["runs"]):
+        modes |= set(run["modes"])
+        tan += _grid_size(f"{key}.runs[{i}].tan_alpha", run["tan_alpha"])
+    points = len(modes) * tan * n_motions * n_R
+    if points > MAX_STUDY_POINTS:
+        raise ValueError(
+            f"{key}: {points} spectrum points (up to {len(modes)} modes x {tan} tan_alpha x "
+            f"{n_motions} motions x {n_R} R) exceed the bound of {MAX_STUDY_POINTS} "
+            f"(MAX_STUDY_POINTS; at >= 0.1 s a point that is > {points * 0.1 / 86400:.0f} "
+            f"CPU-days); use coarser grids or fewer motions")
+    t = s.get("tilt_map")
+    if t is not None:
+        n = (len(t.get("modes", ["3d", "3d-damped"])) * _grid_size(f"{key}.tilt_map.R", t["R"])
+             * _grid_size(f"{key}.tilt_map.intensity", t["intensity"]))
+        if n > MAX_TILT_MAP_POINTS:
+            raise ValueError(f"{key}.tilt_map: {n} analyses exceed the bound of "
+                             f"{MAX_TILT_MAP_POINTS} (MAX_TILT_MAP_POINTS); use coarser grids")
+
+
+def check_ensemble_size(field: str, n_synthetic: int, npts: int) -> None:
+    """Refuse an ensemble whose estimated memory exceeds a share of this machine's.
+
+    Parameters
+    ----------
+    field : str
+        Name of the setting in the message (``ensembles.<name>.n_synthetic``, ``-n``).
+    n_synthetic : int
+        Synthetic pairs.
+    npts : int
+        Samples of the record.
+
+    Raises
+    ------
+    ValueError
+        With the estimate [GB] and the machine's memory [GB].
+    """
+    import psutil
+
+    need = ENSEMBLE_COPIES * (int(n_synthetic) + 1) * npts * 8
+    have = psutil.virtual_memory().total
+    if need > ENSEMBLE_MEMORY_FRACTION * have:
+        raise ValueError(
+            f"{field}={n_synthetic}: building the ensemble needs about "
+            f"{need / 1e9:.1f} GB ({ENSEMBLE_COPIES} arrays of {npts} samples per pair), more "
+            f"than {ENSEMBLE_MEMORY_FRACTION:.0%} of this machine's {have / 1e9:.1f} GB; "
+            f"give fewer synthetic pairs")
+
+
+def _check_tilt_map_motion(key: str, motion: str | None, ens: Mapping[str, Any]) -> None:
+    """``tilt_map.motion`` is a motion the ensemble will hold: its record (first) or one of
+    its synthetic pairs ``<record>-rdk-NNN``."""
+    if motion is None:
+        return
+    from ..motions.records import RECORDS
+
+    record = ens["record"]
+    if not ens.get("paths") and record in RECORDS and RECORDS[record].files is None:
+        record = "loma-prieta-corralitos"  # the stand-in's name
+    n = int(ens.get("n_synthetic", 10))
+    names = [record] + [f"{record}-rdk-{r:03d}" for r in range(n)]
+    if motion not in names:
+        shown = names if n <= 3 else [*names[:3], "...", names[-1]]
+        raise ValueError(f"{key}.motion={motion!r} is not a motion of the ensemble "
+                         f"(its record {record!r} or {record}-rdk-000 ... -{n - 1:03d}): "
+                         f"{shown}")
 
 
 def _grid(spec) -> list[float]:

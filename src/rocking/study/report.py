@@ -14,6 +14,7 @@ import base64
 import html
 import json
 import math
+import os
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -22,10 +23,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..risk.report import risk_section_html
+from ..units import read_table
 from .figures import FIGURES, _load, figure_name
 from .figures._style import limit_state_title
 from .figures.captions import CAPTIONS
-from .figures.comparisons import Comparison, compare, fmt
+from .figures.comparisons import Comparison, compare, damping_judgement, fmt
 from .spec import decode_attrs
 
 SHOWN = 10
@@ -322,18 +325,58 @@ td.not-computed{background:#eeeeee} td.not-reproducible{background:#f8dddd}
 
 def _table_html(df: pd.DataFrame) -> str:
     return df.to_html(index=False, escape=True, border=0, na_rep="—",
-                      float_format=lambda v: f"{v:.5g}")
+                      float_format=lambda v: f"{v:.4g}")
 
 
-def _verdict_html(rows: Sequence[Comparison], with_figure: bool) -> str:
-    """A comparison table whose verdict cells are shaded by verdict."""
+_DOC = re.compile(r"docs/equations\.md(#[a-z0-9-]+)?")
+DOCS = Path(__file__).resolve().parents[3] / "docs"
+"""The repository's docs folder (the derivations the verdicts cite)."""
+
+
+def docs_href(folder: str | Path) -> str:
+    """Link from a page in ``folder`` to ``docs/equations.md`` of this repository (relative
+    when the page lies inside the repository, else the absolute file path)."""
+    target = DOCS / "equations.md"
+    try:
+        return Path(os.path.relpath(target, Path(folder).resolve())).as_posix()
+    except ValueError:  # another drive
+        return target.as_uri()
+
+
+def link_docs(text: str, href: str) -> str:
+    """Escape ``text`` for HTML and turn every ``docs/equations.md#anchor`` into a link."""
+    out, last = [], 0
+    for m in _DOC.finditer(text):
+        out.append(html.escape(text[last:m.start()]))
+        out.append(f"<a class='doc' href='{html.escape(href + (m[1] or ''), quote=True)}'>"
+                   f"{html.escape(m[0])}</a>")
+        last = m.end()
+    out.append(html.escape(text[last:]))
+    return "".join(out)
+
+
+_DOC_LINK = re.compile(r"<a class='doc' href='[^'#]*(?P<anchor>#[^']*)?'>")
+
+
+def relink_docs(page: str, folder: str | Path) -> str:
+    """The report with its links to docs/equations.md made relative to ``folder`` (for a copy
+    of the page placed elsewhere, as the committed gallery does)."""
+    href = docs_href(folder)
+    return _DOC_LINK.sub(lambda m: f"<a class='doc' href='{href}{m['anchor'] or ''}'>", page)
+
+
+def _verdict_html(rows: Sequence[Comparison], with_figure: bool, docs: str = "") -> str:
+    """A comparison table whose verdict cells are shaded by verdict; the figure cell links
+    to the figure, citations of docs/equations.md link to the derivation (``docs``)."""
     df = comparison_table(rows, with_figure=with_figure)
     head = "".join(f"<th>{html.escape(c)}</th>" for c in df.columns)
     body = []
     for c, values in zip(rows, df.itertuples(index=False), strict=True):
         cls = c.verdict.replace("not computed in this run", "not-computed").replace(" ", "-")
-        cells = [f"<td>{html.escape(str(v))}</td>" for v in values[:-1]]
-        cells.append(f"<td class='{cls}'>{html.escape(str(values[-1]))}</td>")
+        cells = [f"<td>{link_docs(str(v), docs)}</td>" for v in values[:-1]]
+        if with_figure:
+            cells[0] = f"<td><a href='#{html.escape(c.figure)}'>{html.escape(c.figure)}</a></td>"
+        cells.append(f"<td class='{cls}'>{link_docs(str(values[-1]), docs)}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
@@ -346,32 +389,47 @@ def damping_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
     for key, eff in m.items():
         if not key.startswith("damping|") or not R:
             continue
+        se = eff.get("se_rel_diff_means") or eff["paired_se"]
+        judged = damping_judgement(eff)
         df = pd.DataFrame({
             "R [m]": R,
-            "Δ of the means [%]": 100 * np.asarray(eff["rel_diff_means"], float),
-            "per-motion Δ, mean [%]": 100 * np.asarray(eff["paired_mean"], float),
-            "± 2 SE [%]": 200 * np.asarray(eff["paired_se"], float),
+            "Δ of the means [%]": np.round(100 * np.asarray(eff["rel_diff_means"], float), 2),
+            "± 2 SE of Δ [%]": np.round(200 * np.asarray(se, float), 2),
+            "per-motion Δ, mean [%]": np.round(100 * np.asarray(eff["paired_mean"], float), 2),
             "motions": eff["paired_n"],
-            "spread among motions, std/mean undamped [%]": 100 * np.asarray(
-                eff["cov_undamped"], float),
+            "spread among motions, std/mean undamped [%]": np.round(100 * np.asarray(
+                eff["cov_undamped"], float), 1),
+            "essentially identical": ["yes" if ok else "no" for ok in judged["ok"]],
         })
         out.append((f"Damped − undamped, {limit_state_title(key.split('|', 1)[1])}: "
-                    "relative difference of the ensemble means, and of each motion's pair of "
-                    "spectra (mean ± 2 standard errors), against the spread among motions", df))
+                    "relative difference of the ensemble means with two standard errors "
+                    "(std of the paired differences / √n), the mean of the per-motion "
+                    "differences, and the spread among motions; identical = |Δ| ≤ 5 % or "
+                    "within 2 SE", df))
     return out
 
 
-def _figure_html(entry: FigureEntry, rows: Sequence[Comparison]) -> str:
+def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "") -> str:
+    """A figure with its caption and evidence; its verdicts stay in the verdict table (one
+    line here counts them and links there)."""
     img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
     lines = "".join(f"<br><span class='measured'>{html.escape(s)}</span>"
                     for s in measured_lines(entry))
-    table = _verdict_html(rows, with_figure=False) if rows else ""
+    table = ""
+    if rows:
+        counts = {}
+        for c in rows:
+            counts[c.verdict] = counts.get(c.verdict, 0) + 1
+        table = ("<p><a href='#verdicts'>Verdicts</a>: "
+                 + ", ".join(f"{n} {v}" for v, n in counts.items()) + ".</p>")
     if entry.name == "fig09_spectra":
         table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
                          for title, df in damping_tables(entry.notes))
+    # the verdict table links #<figure name>: the first image of a figure carries it
+    anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
-            f"src='data:image/png;base64,{img}'><figcaption>"
-            f"{html.escape(CAPTIONS[entry.name])}{lines}</figcaption>{table}</figure>")
+            f"src='data:image/png;base64,{img}'><figcaption{anchor}>"
+            f"{link_docs(CAPTIONS[entry.name], docs)}{lines}</figcaption>{table}</figure>")
 
 
 _EMBEDDED = re.compile(r"<figure id='(?P<stem>[^']+)'><img alt='(?P=stem)' "
@@ -390,7 +448,9 @@ def link_images(page: str, href: Callable[[str], str]) -> str:
 
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
-          notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = ()) -> Path:
+          notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
+          risk: str | Path | None = None, hazard: str = "",
+          stripes: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     Parameters
@@ -407,6 +467,14 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         Extra paragraphs (e.g. stand-in records of this run).
     run : sequence of (str, str)
         Rows of the "what was run" section (:func:`what_was_run`).
+    risk : path, optional
+        ``results/<study>/risk.csv`` (:mod:`rocking.risk`): adds the risk section, with the
+        figure ``figures/risk.png`` beside it when it exists.
+    hazard : str
+        Where the study's hazard curve came from (quoted in the risk section).
+    stripes : path, optional
+        ``results/<study>/stripe_fragility.csv``: adds the section that sets the
+        multiple-stripe fragility beside the first-exceedance one (:func:`stripes_section`).
 
     Returns
     -------
@@ -421,10 +489,11 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts.append("<h2 id='what-was-run'>What was run</h2>")
     parts.append(_table_html(pd.DataFrame(list(run), columns=["item", "value"])) if run
                  else "<p>Not recorded.</p>")
+    docs = docs_href(Path(out).parent)
     parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
-    parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True))
+    parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
     parts.append("<h2>Figures</h2>")
-    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [])
+    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs)
               for i, e in enumerate(entries)]
     quality = fit_quality_table(entries)
     if not quality.empty:
@@ -435,16 +504,104 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     if linear_fit is not None:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")
-        parts.append(_table_html(pd.read_csv(linear_fit)))
+        parts.append(_table_html(linear_fit_rows(linear_fit)))
     if fragility is not None:
-        parts.append("<h2>Lognormal fragility parameters (median in PGA/(g tan α) and in g, "
-                     "dispersion β)</h2>")
-        parts.append(_table_html(pd.read_csv(fragility)))
+        parts.append("<h2>Lognormal fragility parameters: median PGA/(g tan α) (× tan α for g) "
+                     "and, in brackets, dispersion β; \"k&gt;\" = k motions right-censored at "
+                     "the search bound; points without a fit left out</h2>")
+        parts.append(_table_html(fragility_pivot(fragility)))
+    if stripes is not None:
+        parts += stripes_section(stripes)
+    if risk is not None:
+        parts.append(risk_section_html(risk, hazard=hazard,
+                                       figure=Path(risk).parent / "figures" / "risk.png"))
     parts.append("</body></html>")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
     return out
+
+
+def stripes_section(path: str | Path) -> list[str]:
+    """HTML of the report's stripe-fragility section: what each answer means, then one row
+    per (mode, limit state, tan α, R) with both medians and their ratio."""
+    df = read_table(path)
+    ok = df[np.isfinite(df["ratio"].to_numpy(dtype=float))]
+    parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": first "
+             "exceedance and multiple-stripe fragility</h2>",
+             "<p>The paper's answer, and Figs 9–12's, is the <em>first exceedance</em>: per "
+             "motion, the smallest PGA/(g tan α) found to exceed the limit state, then the "
+             "lognormal fit over motions. Rocking near a limit state is chaotic in the "
+             "intensity: a motion exceeds it in narrow windows and the body survives stronger "
+             "scalings of the same motion, so the first exceedance is where exceedance "
+             "<em>starts</em>, not where it becomes likely. The <em>multiple-stripe</em> "
+             "fragility analyses every motion once at each of a fixed set of intensities and "
+             "fits the share exceeding by binomial maximum likelihood: its median is the "
+             "intensity at which half the motions exceed (95 % interval in brackets). It "
+             "converges as stripes are added; the first exceedance depends on where a scan "
+             "falls among the windows (docs/performance.md).</p>"]
+    if ok.empty:
+        parts.append("<p>No (mode, limit state, R) has both fits in this run.</p>")
+        return parts
+    ratio = ok["ratio"].to_numpy(dtype=float)
+    parts.append(f"<p>Over the {len(ok)} cells with both fits, the stripe median is "
+                 f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the first-exceedance median "
+                 f"(median ratio {np.median(ratio):.2f}): a column designed with the first "
+                 "exceedance is designed for the onset of exceedance, with the stripe median "
+                 "as its 50 % point.</p>")
+    rows = pd.DataFrame({
+        "mode": df["mode"], "limit state": df["limit_state"].map(limit_state_title),
+        "tan α": df["tan_alpha"], "R [m]": df["R"],
+        "stripe median [PGA/(g tan α)]": [
+            f"{m:.3g} ({lo:.3g}–{hi:.3g})" if np.isfinite(m) else f"— ({st})"
+            for m, lo, hi, st in zip(df["median"], df["median_lo"], df["median_hi"],
+                                     df["status"], strict=True)],
+        "stripe β": df["beta"].map(lambda b: f"{b:.2f}" if np.isfinite(b) else "—"),
+        "first-exceedance median": df["first_median"].map(
+            lambda m: f"{m:.3g}" if np.isfinite(m) else "—"),
+        "ratio": df["ratio"].map(lambda r: f"{r:.2f}" if np.isfinite(r) else "—"),
+        "motions × stripes": [f"{n} × {k}" for n, k in zip(df["n_motions"], df["stripes"],
+                                                           strict=True)],
+    })
+    parts.append(_table_html(rows))
+    return parts
+
+
+def fragility_pivot(path: str | Path) -> pd.DataFrame:
+    """The fragility table as one row per (mode, limit state, tan α) and one column per R.
+
+    Each cell is ``"median (β)"`` with the median in PGA/(g tan α) (× tan α for g) and, when
+    motions were right-censored at the search bound, ``"+k>"`` for the k of them. Points not
+    computed (no fit) are left out: a reader wants the fits, not the empty grid.
+    """
+    df = pd.read_csv(path)
+    med = next(c for c in df.columns if c.startswith("median [") or c == "median")
+    ta = next(c for c in df.columns if c.startswith("tan_alpha"))
+    r = next(c for c in df.columns if c.startswith("R"))
+    df = df[np.isfinite(pd.to_numeric(df[med], errors="coerce"))]
+    if df.empty:
+        return pd.DataFrame()
+    beta = next(c for c in df.columns if c.startswith("beta"))
+    cens = "n_censored" if "n_censored" in df.columns else None
+
+    def cell(row) -> str:
+        text = f"{row[med]:.3g} ({row[beta]:.2f})"
+        if cens and row[cens] > 0:
+            text += f" {int(row[cens])}>"
+        return text
+
+    df = df.assign(cell=df.apply(cell, axis=1))
+    out = df.pivot_table(index=["mode", "limit_state", ta], columns=r, values="cell",
+                         aggfunc="first", sort=False)
+    out.columns = [f"R = {c:g}" for c in out.columns]
+    return out.reset_index().rename(columns={"limit_state": "limit state", ta: "tan α"})
+
+
+def linear_fit_rows(path: str | Path) -> pd.DataFrame:
+    """Linear fits of the mean spectra that were computed (rows without a fit dropped)."""
+    df = pd.read_csv(path)
+    n = next((c for c in df.columns if c == "n"), None)
+    return df[df[n] > 0] if n is not None else df
 
 
 def _first(entries: Sequence[FigureEntry], entry: FigureEntry) -> int:

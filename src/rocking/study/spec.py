@@ -491,11 +491,16 @@ class StudySpec(_Hashed):
     spectra : SpectraSpec
     tilt_map : TiltMapSpec or None
     stripes : StripesSpec or None
+    hazard : str, dict or None
+        The site's hazard as configured (``studies.<name>.hazard``: a hazard-curve file,
+        ``{file, site, im_factor}`` or ``{k0, k, im_factor}``; read by
+        :func:`rocking.risk.parse_hazard`), None without risk outputs. It decides no store.
     """
 
     spectra: SpectraSpec
     tilt_map: TiltMapSpec | None = None
     stripes: StripesSpec | None = None
+    hazard: str | dict[str, Any] | None = None
 
     @property
     def name(self) -> str:
@@ -526,7 +531,8 @@ class StudySpec(_Hashed):
             raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
         field = f"studies.{name}"
         s = _mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
-                                            "stripes": None}, ["ensemble", "R", "runs"])
+                                            "stripes": None, "hazard": None},
+                     ["ensemble", "R", "runs"])
         ensemble = EnsembleSpec.from_config(config, s["ensemble"])
         accuracy = _accuracy(config.get("accuracy", DEFAULTS["accuracy"]))
         runs = s["runs"]
@@ -550,13 +556,19 @@ class StudySpec(_Hashed):
             config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
         stripes = None if s["stripes"] is None else _stripes(
             config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy)
-        return cls(spectra, tilt_map, stripes)
+        hazard = s["hazard"]
+        if hazard is not None and not isinstance(hazard, (str, Mapping)):
+            raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
+        return cls(spectra, tilt_map, stripes,
+                   dict(hazard) if isinstance(hazard, Mapping) else hazard)
 
     def to_attrs(self) -> dict[str, Any]:
-        """``{"spectra", "tilt_map", "stripes"}``: each part's mapping (None when absent)."""
+        """``{"spectra", "tilt_map", "stripes", "hazard"}``: each part's mapping (None when
+        absent)."""
         return {"spectra": self.spectra.to_attrs(),
                 "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
-                "stripes": None if self.stripes is None else self.stripes.to_attrs()}
+                "stripes": None if self.stripes is None else self.stripes.to_attrs(),
+                "hazard": self.hazard}
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
@@ -564,7 +576,7 @@ class StudySpec(_Hashed):
         t, s = attrs.get("tilt_map"), attrs.get("stripes")
         return cls(SpectraSpec.from_attrs(attrs["spectra"]),
                    None if t is None else TiltMapSpec.from_attrs(t),
-                   None if s is None else StripesSpec.from_attrs(s))
+                   None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"))
 
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:

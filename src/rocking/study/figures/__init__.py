@@ -32,14 +32,20 @@ FIGURES = (
 """Figure names in the paper's order. A name is also its module here, its Snakemake rule and
 script (``workflow/scripts/<name>.py``) and its key in :data:`.captions.CAPTIONS`."""
 
-NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid")
+EXTRA_FIGURES = ("risk",)
+"""Figures the workflow makes beyond those of the report (same name = module = rule = script
+convention; the caption is the module's ``CAPTION``): ``risk``, :mod:`rocking.risk`."""
+
+NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid",
+             "colors")
 """Entries of a figure's data copied into its JSON sidecar (whichever it has)."""
 
 
 def module(name: str):
-    """The module of figure ``name`` (one of :data:`FIGURES`)."""
-    if name not in FIGURES:
-        raise ValueError(f"figure must be one of {list(FIGURES)}, got {name!r}")
+    """The module of figure ``name`` (one of :data:`FIGURES` or :data:`EXTRA_FIGURES`)."""
+    if name not in FIGURES + EXTRA_FIGURES:
+        raise ValueError(f"figure must be one of {list(FIGURES + EXTRA_FIGURES)}, "
+                         f"got {name!r}")
     return importlib.import_module(f".{name}", __name__)
 
 
@@ -86,5 +92,5 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     return d
 
 
-__all__ = ["FIGURES", "NOTE_KEYS", "figure_name", "log_to_file", "module", "open_means",
-           "open_store", "render"]
+__all__ = ["EXTRA_FIGURES", "FIGURES", "NOTE_KEYS", "figure_name", "log_to_file", "module",
+           "open_means", "open_store", "render"]

@@ -176,3 +176,10 @@ def modes_per_tan_alpha(ds: xr.Dataset) -> dict[float, list[str]]:
         row = anywhere.sel(tan_alpha=t)
         out[float(t)] = [m for m, ok in zip(labels(ds, "mode"), row.values, strict=True) if ok]
     return out
+
+
+def search_bound(attrs: dict) -> float | None:
+    """Highest intensity PGA/(g tan α) the search tried, from a store's ``search_options``."""
+    opts = decode_attrs({"search_options": attrs.get("search_options")})["search_options"]
+    upper = opts.get("upper") if isinstance(opts, dict) else None
+    return float(upper) if isinstance(upper, int | float) else None

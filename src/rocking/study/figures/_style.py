@@ -161,3 +161,64 @@ def _missing_and_axes_note(fig: Figure, d: dict, intensity: str = "; PGA = vecto
     footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
                    if d["missing"] else "",
                    f"Motions on their principal axes: {d['axes']['text']}{intensity}"])
+
+
+RECORD_COLOR = "black"
+SYNTHETIC_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
+                    "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")
+"""The record's colour and those of synthetic motions 1–10 (tab10): 11 distinct colours."""
+
+
+def motion_label(index: int) -> str:
+    """Reader's name of the ``index``-th motion of an ensemble (the record first)."""
+    return "record" if index == 0 else f"synthetic {index}"
+
+
+def motion_styles(names: Sequence[str]) -> dict[str, dict[str, str]]:
+    """One colour and label per motion, the same in every figure (Figs 8 and 9).
+
+    ``names`` are the ensemble's motions in its order, the record first. Up to 10 synthetic
+    motions get distinct colours; beyond that the cycle repeats (said by the caller's legend).
+
+    Returns
+    -------
+    dict
+        name → {``label``: "record" / "synthetic i", ``color``: hex colour}.
+    """
+    return {n: {"label": motion_label(i),
+                "color": RECORD_COLOR if i == 0 else SYNTHETIC_COLORS[(i - 1) % 10]}
+            for i, n in enumerate(names)}
+
+
+def pga_g_axis(ax, tan_alpha: float, which: str = "y"):
+    """A secondary axis in PGA [g] beside an axis in PGA/(g tan α) [-] (one slenderness).
+
+    PGA [g] = tan α · PGA/(g tan α), so the secondary axis is a linear rescaling.
+    """
+    if not (tan_alpha > 0):
+        raise ValueError(f"tan_alpha must be > 0, got {tan_alpha!r}")
+    t = float(tan_alpha)
+    funcs = (lambda v: v * t, lambda v: v / t)
+    sec = (ax.secondary_yaxis("right", functions=funcs) if which == "y"
+           else ax.secondary_xaxis("top", functions=funcs))
+    sec.set_ylabel(f"PGA [g] (tan α = {t:g})") if which == "y" else sec.set_xlabel(
+        f"PGA [g] (tan α = {t:g})")
+    return sec
+
+
+def with_legend_row(width: float, height: float, ncols: int = 1,
+                    legend_share: float = 0.2) -> tuple[Figure, list, object]:
+    """A figure with ``ncols`` panels in one row and, below them, an empty row that holds
+    the legend (an outside legend and a :func:`footnote` would share the bottom edge).
+
+    Returns
+    -------
+    (Figure, list of Axes, Axes)
+        The figure, its panels and the (axis-less) legend row.
+    """
+    fig = Figure(figsize=(width, height), layout="constrained")
+    grid = fig.add_gridspec(2, ncols, height_ratios=(1.0, legend_share))
+    axes = [fig.add_subplot(grid[0, i]) for i in range(ncols)]
+    row = fig.add_subplot(grid[1, :])
+    row.axis("off")
+    return fig, axes, row

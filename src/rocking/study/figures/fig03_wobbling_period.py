@@ -136,6 +136,6 @@ def _zoom(ax, d: dict) -> None:
     inset.set_ylim(lo - 0.02 * (hi - lo), hi + 0.02 * (hi - lo))
     inset.tick_params(labelsize=6)
     a, b = m["slender_pair"]
-    inset.set_title(f"tan α = {a:g} vs {b:g}: ≤ {100 * m['max_rel_gap_slender_pair']:.1f} % apart",
+    inset.set_title(f"tan α = {a:g} vs {b:g}: ≤ {100 * m['max_rel_gap_slender_pair']:.2f} % apart",
                     fontsize=6.5)
     ax.indicate_inset_zoom(inset, edgecolor="0.4")

@@ -20,7 +20,7 @@ from ...constants import G
 from ...dynamics.bodies import Cylinder
 from ...motions.motion import GroundMotion
 from . import _axes
-from ._style import footnote, new_figure, styled
+from ._style import footnote, styled, with_legend_row
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -127,15 +127,18 @@ def data(record: GroundMotion | None = None, *,
     for v, m in versions.items():  # component peaks: the numbers record tables quote
         measured[f"component_pga_g|{v}"] = [float(np.max(np.abs(m.ax))) / G,
                                             float(np.max(np.abs(m.ay))) / G]
+    rotated_theta = {}
     if rotated is not None and STUDY in versions:
         # Axisymmetry: the paper's rotation gives the study version's θmax (to the tolerance).
+        rotated_theta = {m: ground_response(body, rotated, model=m, history=False,
+                                            **model_kw).theta_max for m in models}
         measured["rotation_check"] = {m: abs(
-            ground_response(body, rotated, model=m, history=False, **model_kw).theta_max
-            - ground_response(body, versions[STUDY], model=m, history=False,
-                              **model_kw).theta_max) for m in models}
+            rotated_theta[m] - ground_response(body, versions[STUDY], model=m, history=False,
+                                               **model_kw).theta_max) for m in models}
     return {
         "scales": scales,
         "theta_max": theta,
+        "rotated_theta_max": rotated_theta,
         "pga_g": {v: m.pga_g for v, m in versions.items()},
         "axes": {v: _axes.describe(m.metadata)["text"] for v, m in versions.items()},
         "body": {"R": R, "tan_alpha": tan_alpha},
@@ -167,7 +170,7 @@ def measurements(scales: np.ndarray, theta: dict, pga_g: dict) -> dict:
 def plot(d: dict) -> Figure:
     """One panel: θmax against scale factor, colour = record version, line style = model;
     overturned runs (θmax = π/2) are drawn as triangles on the upper edge."""
-    fig, ax = new_figure(7.5, 4.8)
+    fig, (ax,), legend_row = with_legend_row(7.5, 6.0, legend_share=0.28)
     s = d["scales"]
     every = np.concatenate([v for models in d["theta_max"].values() for v in models.values()])
     standing = every[every < 0.5 * np.pi * 0.999]
@@ -177,12 +180,21 @@ def plot(d: dict) -> Figure:
         for model, values in models.items():
             style = MODEL_STYLE.get(model, {})
             kind = "damped" if model == "3d-damped" else "undamped"
-            ax.plot(s, np.where(values < top, values, np.nan), color=color, lw=1.1, ms=2.5,
-                    **style, label=f"{kind}, {version}, PGA {d['pga_g'][version]:.3f} g")
+            # markers only: θmax is chaotic in the scale, a line between points would
+            # suggest values in between that no run computed
+            ax.plot(s, np.where(values < top, values, np.nan), color=color, ls="none",
+                    marker=style.get("marker", "o"), ms=3.5 if kind == "undamped" else 3.0,
+                    mfc=color if kind == "undamped" else "none",
+                    label=f"{kind}, {version}, PGA {d['pga_g'][version]:.3f} g")
             over = values >= top
             if over.any():  # an empty unclipped line would stretch the layout to (0, 0)
                 ax.plot(s[over], np.full(over.sum(), 0.985 * top), "^", color=color, ms=6,
                         clip_on=False)
+    for model, value in d.get("rotated_theta_max", {}).items():
+        kind = "damped" if model == "3d-damped" else "undamped"
+        ax.plot([1.0], [value], ls="none", marker="+" if kind == "undamped" else "x", ms=11,
+                mew=1.6, color="tab:orange", zorder=5,
+                label=f"{kind}, {PAPER_ROTATION} (scale 1 only): {value:.4f} rad")
     for model, value in PAPER_THETA_MAX.items():
         kind = "damped" if model == "3d-damped" else "undamped"
         ax.axhline(value, color="tab:red", lw=1.2, ls=MODEL_STYLE[model]["ls"],
@@ -194,8 +206,10 @@ def plot(d: dict) -> Figure:
     ax.set_ylabel("Peak tilt θmax [rad]")
     ax.set_xlim(float(s[0]), float(s[-1]))
     ax.set_ylim(0.0, top)
-    ax.legend(loc="upper left", fontsize=6.5)
-    notes = ["▲: θmax above the axis (overturned)"]
+    # below the axes: inside, the legend would hide points (θmax is scattered everywhere)
+    legend_row.legend(*ax.get_legend_handles_labels(), loc="center", ncols=2,
+               fontsize=6.5)
+    notes = ["▲: θmax above the axis (overturned). Filled markers undamped, open damped."]
     check = d["measured"].get("rotation_check")
     if check:
         notes.append("rotating the pair by the paper's 22.33° changes θmax by "

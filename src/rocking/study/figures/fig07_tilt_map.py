@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib import colormaps
-from matplotlib.colors import BoundaryNorm
+from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 
 from . import _axes, _load
-from ._style import MODE_STYLE, footnote, new_figure, styled
+from ._style import footnote, new_figure, pga_g_axis, styled
 
 VARIABLE = "theta_max_over_alpha"
 MODEL_ORDER = ("3d", "3d-damped")
@@ -24,6 +24,16 @@ LEVELS = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
 """Contour levels of θmax/α [-]; above 1 the cylinder has passed its static stability limit."""
 TOP = 1.2
 """Upper edge of the top colour class (θmax > α) [-]."""
+TOP_COLOR = "#e8e8e8"
+"""The class θmax > α (incl. overturning): a pale grey, so the area it covers does
+not outshine the classes below α, where the paper's contours are."""
+TITLES = {"3d": "Undamped 3D model", "3d-damped": "Damped 3D model"}
+
+
+def class_colors() -> ListedColormap:
+    """Viridis for the classes of θmax/α below 1, pale grey for the top class (> 1)."""
+    below = colormaps["viridis"](np.linspace(0.0, 1.0, len(LEVELS) - 1))
+    return ListedColormap([*below, TOP_COLOR])
 
 
 def data(path: str | Path, motions: str | Path | None = None) -> dict:
@@ -100,27 +110,29 @@ def plot(d: dict) -> Figure:
         # NaN (not computed) stays blank; overturned values (θ = π/2) fall in the top class.
         zm = np.ma.masked_invalid(z)
         if min(z.shape) >= 2:
-            mappable = ax.contourf(d["R"], d["intensity"], zm, levels=levels, cmap="viridis",
-                                   extend="neither")
-            ax.contour(d["R"], d["intensity"], zm, levels=[1.0], colors="white",
+            mappable = ax.contourf(d["R"], d["intensity"], zm, levels=levels,
+                                   cmap=class_colors(), extend="neither")
+            ax.contour(d["R"], d["intensity"], zm, levels=[1.0], colors="black",
                        linewidths=1.2)
         else:  # one size or one intensity: no contour exists, colour the points
-            norm = BoundaryNorm(levels, colormaps["viridis"].N)
+            norm = BoundaryNorm(levels, len(levels) - 1)
             mappable = ax.scatter(RR.ravel(), II.ravel(), c=zm.ravel(), marker="s", s=90,
-                                  cmap="viridis", norm=norm)
-        ax.plot(RR.ravel(), II.ravel(), ".", color="white", ms=1.2, alpha=0.6)  # the grid
+                                  cmap=class_colors(), norm=norm)
+        ax.plot(RR.ravel(), II.ravel(), ".", color="0.45", ms=1.2, alpha=0.6)  # the grid
         ax.grid(False)  # grid lines would read as contours
-        ax.set_title(MODE_STYLE.get(model, {}).get("label", model) + " model")
+        ax.set_title(TITLES.get(model, f"{model} model"))
         ax.set_xlabel("R [m]")
     if not models:
         axes[0].text(0.5, 0.5, "no tilt map computed", ha="center", transform=axes[0].transAxes)
     axes[0].set_ylabel("PGA/(g tan α) [-]")
-    if mappable is not None:
-        cbar = fig.colorbar(mappable, ax=list(axes), ticks=[*LEVELS, TOP])
-        cbar.ax.set_yticklabels([f"{v:g}" for v in LEVELS] + ["> 1"])
-        cbar.set_label("θmax/α [-] (top class: θmax > α, incl. overturning)")
-    R, inten = d["R"], d["intensity"]
     tan_alpha = d["attrs"].get("tan_alpha", "0.2")
+    if models:
+        pga_g_axis(axes[-1], float(tan_alpha))
+    if mappable is not None:
+        cbar = fig.colorbar(mappable, ax=list(axes), ticks=[*LEVELS, TOP], pad=0.08)
+        cbar.ax.set_yticklabels([f"{v:g}" for v in LEVELS] + ["> 1"])
+        cbar.set_label("θmax/α [-] (grey top class: θmax > α, incl. overturning)")
+    R, inten = d["R"], d["intensity"]
     footnote(fig, [
         f"Grid (dots): {R.size} sizes R = {R.min():g}–{R.max():g} m × {inten.size} intensities "
         f"PGA/(g tan α) = {inten.min():g}–{inten.max():g}; contours interpolate linearly "
@@ -128,5 +140,5 @@ def plot(d: dict) -> Figure:
         f"Record on its principal axes: {d['axes']['text']}; PGA = max √(ügx² + ügy²) (vector).",
     ])
     fig.suptitle(f"Normalized peak tilt, scaled El Centro 1940 record, tan α = {tan_alpha} "
-                 "(Fig 7); white line θmax = α")
+                 "(Fig 7); black line θmax = α")
     return fig

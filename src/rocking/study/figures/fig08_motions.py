@@ -21,7 +21,7 @@ from ...constants import G
 from ...motions.motion import GroundMotion
 from ...motions.response_spectrum import pseudo_acceleration
 from ...motions.stochastic import quality
-from ._style import styled
+from ._style import motion_styles, styled
 
 DAMPING = quality.DAMPING
 PERIODS = np.geomspace(0.05, 5.0, 100)
@@ -134,23 +134,41 @@ def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | N
     record = {"x_azimuth": first.get("x_azimuth"), "y_azimuth": first.get("y_azimuth"),
               "label": first.get("label", motions[0].name)}
     return {"motions": out, "groups": groups, "periods": periods, "damping": DAMPING,
-            "record": record, "measured": measured, "missing": missing}
+            "record": record, "measured": measured, "missing": missing,
+            "colors": motion_styles([m["name"] for m in out])}
 
 
-def _traces(fig: Figure, grid, motions: list[dict]) -> None:
+QUIET = 0.01
+"""A trace has ended when it stays below this share of its peak [-]."""
+
+
+def motion_end(t: np.ndarray, *traces: np.ndarray) -> float:
+    """Time after which every trace stays below :data:`QUIET` of its peak [s] (drops the
+    zero padding that makes a record look longer than its motion)."""
+    end = float(t[0])
+    for a in traces:
+        a = np.abs(np.asarray(a, float))
+        loud = np.flatnonzero(a > QUIET * a.max()) if a.size and a.max() > 0 else []
+        if len(loud):
+            end = max(end, float(t[min(loud[-1] + 1, t.size - 1)]))
+    return end
+
+
+def _traces(fig: Figure, grid, motions: list[dict], colors: dict) -> None:
     n = len(motions)
     peak = max(float(np.max(np.abs(np.r_[m["ax"], m["ay"]]))) for m in motions)
-    t_end = max(float(m["t"][-1]) for m in motions)
+    # to the end of the longest motion, rounded up to 5 s
+    t_end = 5.0 * np.ceil(max(motion_end(m["t"], m["ax"], m["ay"]) for m in motions) / 5.0)
     first_x = None
     for i, m in enumerate(motions):
-        color = "black" if i == 0 else f"C{(i - 1) % 10}"
+        color = colors[m["name"]]["color"]
         ax_x = fig.add_subplot(grid[i, 0], sharex=first_x, sharey=first_x)
         ax_y = fig.add_subplot(grid[i, 1], sharex=first_x, sharey=first_x)
         first_x = first_x or ax_x
         ax_x.plot(m["t"], m["ax"], color=color, lw=0.5)
         ax_y.plot(m["t"], m["ay"], color=color, lw=0.5)
-        label = m["name"] + (" (stand-in)" if m["stand_in"] else "")
-        ax_x.set_ylabel(label, rotation=0, ha="right", va="center", fontsize=7)
+        label = colors[m["name"]]["label"] + (" (stand-in)" if m["stand_in"] else "")
+        ax_x.set_ylabel(label, rotation=0, ha="right", va="center", fontsize=7, color=color)
         for ax in (ax_x, ax_y):
             ax.set_ylim(-1.1 * peak, 1.1 * peak)
             ax.set_xlim(0.0, t_end)
@@ -188,7 +206,6 @@ def _spectrum_panel(ax, d: dict, group: dict, key: str, in_use: bool) -> None:
         text += f"\nrecord inside 5–95 %: {100 * q[key]['inside_5_95']:.0f} % of 0.1–4 s"
         ax.text(0.02, 0.03, text, transform=ax.transAxes, fontsize=6.5, va="bottom",
                 bbox={"facecolor": "white", "alpha": 0.8, "lw": 0})
-    ax.legend(loc="upper right", fontsize=6)
     method = METHOD_TITLES.get(group["method"], group["method"])
     ax.set_title(f"{method}{' (this ensemble)' if in_use else ' (comparison)'}", fontsize=8)
 
@@ -203,7 +220,7 @@ def plot(d: dict) -> Figure:
     fig = Figure(figsize=(7.0 + 3.6 * len(groups), max(0.6 * n + 1.8, 6.5)),
                  layout="constrained")
     outer = fig.add_gridspec(1, 2, width_ratios=(2.0, 1.8 * len(groups)))
-    _traces(fig, outer[0].subgridspec(n, 2), motions)
+    _traces(fig, outer[0].subgridspec(n, 2), motions, d["colors"])
     right = outer[1].subgridspec(2, len(groups))
     rec = d["record"]
     for row, (key, _, name) in enumerate(COMPONENTS):
@@ -218,6 +235,8 @@ def plot(d: dict) -> Figure:
                             f"{'?' if az is None else f'{az:.1f}°'} ({bearing(az)})",
                             (0.0, 1.13), xycoords="axes fraction", fontsize=8.5,
                             fontweight="bold", annotation_clip=False)
+    # one legend below the spectra: inside a panel it covers the curves somewhere
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower right", ncols=4, fontsize=7)
     fig.suptitle(f"Ground motions of the ensemble (Fig 8): {rec['label']} and its synthetic "
                  "RDK pairs")
     return fig

@@ -17,7 +17,14 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from . import _axes, _load
-from ._style import _suptitle_and_notes, limit_state_title, new_figure, styled
+from ._style import (
+    _suptitle_and_notes,
+    limit_state_title,
+    motion_styles,
+    new_figure,
+    pga_g_axis,
+    styled,
+)
 
 TAN_ALPHA = 0.2
 MODES = ("3d", "3d-damped")
@@ -74,6 +81,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
         "motions": motion_names,
         "panels": panels,
         "tan_alpha": tan_alpha,
+        "colors": motion_styles(motion_names),
         "axes": _axes.from_ensemble(motions),
         "missing": sorted(set(missing)),
     }
@@ -83,6 +91,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
            tan_alpha: float) -> dict:
     """Curves per motion and means per mode of one limit state."""
     curves: dict[str, dict[str, np.ndarray]] = {}
+    unresolved: dict[str, dict[str, np.ndarray]] = {}
     mean: dict[str, np.ndarray] = {}
     for mode in modes:
         if mode not in _load.labels(ds, "mode"):
@@ -96,6 +105,9 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
             continue
         curves[mode] = {m: np.where(reached[i], vals[i], np.nan)
                         for i, m in enumerate(motion_names)}
+        if "unresolved" in sel:  # critical intensities that narrow windows may undercut
+            flag = sel["unresolved"].transpose("motion", "R").values.astype(bool) & reached
+            unresolved[mode] = {m: flag[i] for i, m in enumerate(motion_names) if flag[i].any()}
         m = _load.mean_curve(agg, mode, ls)
         if m is None:
             missing.append(f"mean of mode {mode} not aggregated")
@@ -106,7 +118,8 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
     if {"3d", "3d-damped"} <= set(curves) and {"3d", "3d-damped"} <= set(mean):
         effect = damping_effect(curves["3d"], curves["3d-damped"], mean["3d"],
                                 mean["3d-damped"], std)
-    return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect}
+    return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
+            "unresolved": unresolved}
 
 
 def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.ndarray,
@@ -127,8 +140,10 @@ def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.
     dict
         Lists over R: ``rel_diff_means`` (d − u)/u of the means; ``paired_mean``,
         ``paired_std``, ``paired_se``, ``paired_n``: the per-motion relative differences
-        (motions reaching the limit state in both models); ``cov_undamped`` (std/mean among
-        motions); and ``max_abs_rel_diff_means`` with ``R_index_of_max``.
+        (motions reaching the limit state in both models); ``se_rel_diff_means``: the standard
+        error of ``rel_diff_means`` (std of the paired differences d − u over √n, ÷ mean u);
+        ``cov_undamped`` (std/mean among motions); and ``max_abs_rel_diff_means`` with
+        ``R_index_of_max``.
     """
     rel = (np.asarray(mean_d) - np.asarray(mean_u)) / np.asarray(mean_u)
     per_motion = np.array([(damped[m] - undamped[m]) / undamped[m] for m in undamped])
@@ -140,12 +155,20 @@ def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.
     pm = np.where(n > 0, pm, np.nan)
     ps = np.where(n > 1, ps, np.nan)
     se = np.where(n > 1, se, np.nan)
+    # the difference of the means against its standard error: the paired differences d − u
+    # scatter among motions, and their mean over n motions has SE = std/√n (relative to mean u)
+    diff = np.array([damped[m] - undamped[m] for m in undamped])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        se_means = (np.nanstd(diff, axis=0, ddof=1) / np.sqrt(n) / np.abs(np.asarray(mean_u))
+                    if diff.shape[0] > 1 else np.full(rel.shape, np.nan))
+    se_means = np.where(n > 1, se_means, np.nan)
     cov = (np.asarray(std_u) / np.asarray(mean_u)) if std_u is not None else np.full_like(rel,
                                                                                           np.nan)
     finite = np.isfinite(rel)
     k = int(np.nanargmax(np.abs(np.where(finite, rel, np.nan)))) if finite.any() else -1
     return {
         "rel_diff_means": rel.tolist(),
+        "se_rel_diff_means": np.asarray(se_means, float).tolist(),
         "paired_mean": pm.tolist(),
         "paired_std": ps.tolist(),
         "paired_se": se.tolist(),
@@ -164,7 +187,7 @@ def plot(d: dict) -> Figure:
     ncols = max(len(panels), 1)
     fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
                            height_ratios=(2.2, 1.0))
-    colors = {m: f"C{i % 10}" for i, m in enumerate(d["motions"])}
+    colors = {m: st["color"] for m, st in d["colors"].items()}
     for col, panel in enumerate(panels):
         _spectra_panel(axes[0][col], d, panel, colors)
         _difference_panel(axes[1][col], d, panel, colors)
@@ -185,11 +208,22 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
     for mode, y in panel["means"].items():
         ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
                 label=f"mean, {'damped' if mode == '3d-damped' else 'undamped'}")
+    flagged = False
+    for mode, flags in panel.get("unresolved", {}).items():
+        for motion, f in flags.items():
+            y = panel["curves"][mode][motion]
+            ax.plot(d["R"][f], y[f], "o", mfc="none", mec=colors[motion], ms=6, mew=1.0)
+            flagged = True
     ax.set_title(limit_state_title(panel["limit_state"]))
     ax.set_ylabel("PGA/(g tan α) [-]")
     ax.set_xlim(left=0.0)
     ax.set_ylim(bottom=0.0)
-    handles = [Line2D([], [], color=colors[m], lw=0.8, label=m) for m in d["motions"]]
+    pga_g_axis(ax, d["tan_alpha"])
+    handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"])
+               for m in d["motions"]]
+    if flagged:
+        handles.append(Line2D([], [], ls="", marker="o", mfc="none", mec="0.3", ms=6,
+                              label="unresolved: may lie lower"))
     ax.legend(handles=ax.get_legend_handles_labels()[0] + handles, loc="upper left",
               ncols=2 if len(handles) > 6 else 1, fontsize=6.5)
 
@@ -204,9 +238,11 @@ def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
         return
     for motion, rel in eff["per_motion"].items():
         ax.plot(d["R"], 100 * np.asarray(rel, float), ".", color=colors[motion], ms=4)
-    pm, se = np.asarray(eff["paired_mean"], float), np.asarray(eff["paired_se"], float)
-    ax.fill_between(d["R"], 100 * (pm - 2 * se), 100 * (pm + 2 * se), color="0.8",
-                    label="mean of per-motion differences ± 2 SE")
+    # the band the verdict uses: the difference of the means ± 2 of its standard errors
+    rel = np.asarray(eff["rel_diff_means"], float)
+    se = np.asarray(eff.get("se_rel_diff_means") or eff["paired_se"], float)
+    ax.fill_between(d["R_mean"], 100 * (rel - 2 * se), 100 * (rel + 2 * se), color="0.8",
+                    label="± 2 standard errors of the difference of the means")
     ax.plot(d["R_mean"], 100 * np.asarray(eff["rel_diff_means"], float), color="black", lw=2.0,
             label="difference of the means")
     ax.legend(loc="best", fontsize=6.5)

@@ -7,9 +7,9 @@ Every curve gets a least-squares line in R (the paper: "almost straight lines").
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
-import matplotlib as mpl
 import numpy as np
 from matplotlib.figure import Figure
 
@@ -22,6 +22,7 @@ from ._style import (
     limit_state_sort_key,
     limit_state_title,
     new_figure,
+    pga_g_axis,
     styled,
 )
 
@@ -29,6 +30,10 @@ TAN_ALPHA = 0.2
 MODE = "3d"
 PAPER_GOALS = DEFAULT_LIMIT_STATES
 """The seven performance goals of the paper's Fig 10."""
+GOAL_COLORS = ("#9ecae1", "#e6ab02", "#2ca02c", "#1f77b4", "#9467bd", "#d62728", "black")
+"""Distinct colours from the mildest goal to overturning (qualitative: neighbours differ)."""
+FLAT_TOL = 0.10
+"""A mean spectrum is "flat" while it stays within this share of its smallest-R value [-]."""
 
 
 def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
@@ -58,21 +63,94 @@ def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
     for ls, y in curves.items():
         fit = fit_line(R, y)
         measured[f"line|{ls}"] = {"slope": fit.slope, "intercept": fit.intercept,
-                                  "r_squared": fit.r_squared, "n": fit.n}
+                                  "r_squared": fit.r_squared, "n": fit.n,
+                                  **shape(R, y, fit.slope, fit.intercept)}
+    same = coinciding(agg, mode, list(curves)) if curves else []
+    if same:
+        measured["coincide"] = same
     return {"R": R, "curves": curves, "tan_alpha": tan_alpha, "mode": mode,
             "missing": missing, "measured": measured, "axes": _axes.from_ensemble(motions)}
+
+
+def shape(R: np.ndarray, y: np.ndarray, slope: float, intercept: float) -> dict:
+    """How a mean spectrum departs from its line: flat stretch, end value, residual signs.
+
+    Returns
+    -------
+    dict
+        ``flat_to_R`` [m]: the largest R up to which y stays within :data:`FLAT_TOL` of its
+        value at the smallest R; ``flat_level`` [-]: that value; ``end_R`` [m] and
+        ``end_value`` [-]: the last finite point; ``residual_signs``: "+"/"−" of y − line
+        per R (the pattern ``++−−−++`` is a bend, not scatter).
+    """
+    ok = np.isfinite(y)
+    if ok.sum() < 2:
+        return {}
+    r, v = R[ok], y[ok]
+    within = np.abs(v / v[0] - 1.0) <= FLAT_TOL
+    last = int(np.argmin(within)) - 1 if not within.all() else v.size - 1
+    res = v - (slope * r + intercept)
+    return {"flat_to_R": float(r[max(last, 0)]), "flat_level": float(v[0]),
+            "end_R": float(r[-1]), "end_value": float(v[-1]),
+            "residual_signs": "".join("+" if e >= 0 else "−" for e in res)}
+
+
+def coinciding(agg, mode: str, states: list[str]) -> list[dict]:
+    """Pairs of goals whose ensemble statistics are identical at every R.
+
+    θ > α and overturning coincide when every motion that tilts past α at the smallest such
+    intensity also overturns there: then mean, median, std and count agree at every R.
+
+    Returns
+    -------
+    list of dict
+        {``goals``: [a, b], ``n_R``: sizes compared, ``n_motions``: motions per size (the
+        largest count)}.
+    """
+    stats = [s for s in ("mean", "median", "std", "count") if s in agg]
+    out = []
+    ordered = sorted(states, key=limit_state_sort_key)
+    for a, b in zip(ordered, ordered[1:], strict=False):
+        va = [_load.mean_curve(agg, mode, a, s) for s in stats]
+        vb = [_load.mean_curve(agg, mode, b, s) for s in stats]
+        if any(x is None for x in va + vb):
+            continue
+        if all(np.array_equal(x, y, equal_nan=True) for x, y in zip(va, vb, strict=True)):
+            count = (_load.mean_curve(agg, mode, a, "count") if "count" in agg else None)
+            out.append({"goals": [a, b], "n_R": int(np.isfinite(va[0]).sum()),
+                        "n_motions": int(np.nanmax(count)) if count is not None else None})
+    return out
+
+
+def coincide_text(c: dict) -> str:
+    """``"Tilt θ > α and Overturning coincide at all 20 R (11 motions each)"``."""
+    a, b = (limit_state_title(g) for g in c["goals"])
+    each = f" ({c['n_motions']} motions each)" if c.get("n_motions") else ""
+    return (f"{a} and {b.lower()} coincide: identical mean, median and spread at all "
+            f"{c['n_R']} sizes{each}")
 
 
 @styled
 def plot(d: dict) -> Figure:
     """One panel, one line per goal, coloured from mild tilt (light) to overturning (dark)."""
-    fig, ax = new_figure(6.0, 5.0)
+    fig, ax = new_figure(6.4, 5.4)
     n = len(d["curves"])
-    cmap = mpl.colormaps["viridis_r"]
+    same = d["measured"].get("coincide", [])
+    hidden = {c["goals"][0]: c["goals"][1] for c in same}  # drawn under its twin
     for i, (ls, y) in enumerate(d["curves"].items()):
-        r2 = d["measured"].get(f"line|{ls}", {}).get("r_squared", np.nan)
-        ax.plot(d["R"], y, color=cmap(0.15 + 0.85 * i / max(n - 1, 1)), lw=1.6, marker="o",
-                ms=3, label=f"{limit_state_title(ls)} (line fit R² = {r2:.3f})")
+        fit = d["measured"].get(f"line|{ls}", {})
+        r2 = fit.get("r_squared", np.nan)
+        color = GOAL_COLORS[i % len(GOAL_COLORS)] if n <= len(GOAL_COLORS) else f"C{i % 10}"
+        label = f"{limit_state_title(ls)} (R² = {r2:.3f})"
+        if ls in hidden:
+            label += f" = {limit_state_title(hidden[ls]).lower()}"
+        ax.plot(d["R"], y, color=color, lw=1.6, marker="o", ms=3, label=label,
+                ls="-" if ls not in hidden else (0, (1, 1)), zorder=3 if ls in hidden else 2)
+        if np.isfinite(fit.get("slope", np.nan)):
+            # the least-squares line whose R² the legend quotes
+            ax.plot(d["R"], fit["slope"] * d["R"] + fit["intercept"], color=color, lw=0.8,
+                    ls="--", alpha=0.8)
+    ax.plot([], [], color="0.4", lw=0.8, ls="--", label="least-squares line of each goal")
     if not n:
         ax.text(0.5, 0.5, "; ".join(d["missing"]) or "no data", ha="center",
                 transform=ax.transAxes)
@@ -80,7 +158,20 @@ def plot(d: dict) -> Figure:
     ax.set_ylabel("mean PGA/(g tan α) [-]")
     ax.set_xlim(left=0.0)
     ax.set_ylim(bottom=0.0)
-    ax.legend(loc="upper left", title="performance goal", fontsize=7)
+    pga_g_axis(ax, d["tan_alpha"])
+    ax.legend(loc="upper left", title="performance goal (line fit R²)", fontsize=7)
+    notes = [coincide_text(c) for c in same]
+    top = list(d["curves"])[-1] if d["curves"] else None
+    fit = d["measured"].get(f"line|{top}", {}) if top else {}
+    if fit.get("flat_to_R") is not None and fit["flat_to_R"] < fit["end_R"]:
+        # the shape the R² only hints at, for the most severe goal
+        notes.append(f"{limit_state_title(top)}: flat near {fit['flat_level']:.2f} up to "
+                     f"R = {fit['flat_to_R']:g} m, then rising to {fit['end_value']:.2f} at "
+                     f"R = {fit['end_R']:g} m (residuals {fit['residual_signs']})")
+    if notes:
+        ax.text(0.98, 0.03, "\n".join(w for n in notes for w in textwrap.wrap(n, 52)),
+                transform=ax.transAxes, ha="right", va="bottom", fontsize=6.5,
+                bbox={"facecolor": "white", "alpha": 0.85, "lw": 0})
     title = (f"Mean spectra per performance goal, {MODE_STYLE[d['mode']]['label']} model, "
              f"tan α = {d['tan_alpha']:g} (Fig 10)")
     m = d["measured"]

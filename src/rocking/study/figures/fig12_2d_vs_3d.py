@@ -20,7 +20,14 @@ from matplotlib.lines import Line2D
 
 from ..spec import decode_attrs
 from . import _axes, _load
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+from ._style import (
+    MODE_STYLE,
+    footnote,
+    limit_state_title,
+    pga_g_axis,
+    styled,
+    with_legend_row,
+)
 
 TAN_ALPHA = 0.2
 MODES = ("3d", "2d-x", "2d-y")
@@ -89,12 +96,13 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                 missing.append(f"{record}: mode {mode} not computed")
                 continue
             panels[title][mode] = y
-            for stat in ("std", "count"):
-                if stat in agg:
+            for stat in ("std", "count", "n_not_reached", "censoring"):
+                if stat in agg and np.issubdtype(agg[stat].dtype, np.number):
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
     return {"name": name, "label": label, "record": record, "stand_in": stand_in,
-            "n_motions": n, "axes": _axes.from_ensemble(motions),
+            "n_motions": n, "upper": _load.search_bound(attrs),
+            "axes": _axes.from_ensemble(motions),
             "R": agg["R"].values.astype(float), "panels": panels, "spread": spread}
 
 
@@ -114,22 +122,43 @@ def at_size(ensembles: list[dict], R: float) -> dict:
                 inside = ok.any() and ens["R"][ok].min() <= R <= ens["R"][ok].max()
                 value = float(np.interp(R, ens["R"][ok], y[ok])) if inside else float("nan")
                 out[f"{ens['name']}|{title}|{mode}"] = value
-                for stat in ("std", "count"):
+                for stat in ("std", "count", "n_not_reached"):
                     s = ens.get("spread", {}).get(f"{title}|{mode}|{stat}")
                     if s is not None and inside:
                         out[f"{ens['name']}|{title}|{mode}|{stat}"] = float(
                             np.interp(R, ens["R"][ok], s[ok]))
         out[f"{ens['name']}|label"] = ens["label"]
+        out[f"{ens['name']}|n_motions"] = ens["n_motions"]
+        out[f"{ens['name']}|upper"] = ens.get("upper")
         out[f"{ens['name']}|stand_in"] = bool(ens["stand_in"])
     return out
+
+
+def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
+    """Sizes R where the mean of (``title``, ``mode``) covers fewer motions than the ensemble.
+
+    Uses the aggregate's ``censoring`` column when there is one, else ``n_not_reached`` > 0,
+    else ``count`` below the ensemble's number of motions.
+    """
+    spread = ens.get("spread", {})
+    y = ens["panels"].get(title, {}).get(mode)
+    shape = np.shape(y) if y is not None else np.shape(ens["R"])
+    for key, test in (("censoring", lambda v: np.nan_to_num(v) > 0),
+                      ("n_not_reached", lambda v: np.nan_to_num(v) > 0),
+                      ("count", lambda v: np.isfinite(v) & (v < ens["n_motions"]))):
+        v = spread.get(f"{title}|{mode}|{key}")
+        if v is not None:
+            return np.asarray(test(np.asarray(v, float)), bool)
+    return np.zeros(shape, bool)
 
 
 @styled
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
     titles = ("overturning", "excessive tilt")
-    fig, axes = new_figure(10.0, 5.8, ncols=2)
+    fig, axes, legend_row = with_legend_row(10.0, 6.4, ncols=2, legend_share=0.22)
     handles, modes_seen, notes = [], [], []
+    partial = False  # any mean over fewer motions than the ensemble
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
@@ -142,21 +171,28 @@ def plot(d: dict) -> Figure:
             for mode, y in ens["panels"].get(title, {}).items():
                 ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.6,
                         marker="o", ms=3, label=f"{label}: {MODE_LABELS.get(mode, mode)}")
+                few = fewer_motions(ens, title, mode)
+                if few.any():  # the mean leaves out motions not reached at the search bound
+                    partial = True
+                    ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.2)
                 if mode not in modes_seen:
                     modes_seen.append(mode)
     handles += [Line2D([], [], color="gray", lw=1.6, ls=MODE_STYLE[m]["linestyle"],
                        label=MODE_LABELS.get(m, m)) for m in modes_seen]
+    if partial:
+        handles.append(Line2D([], [], ls="", marker="o", ms=7, mfc="white", mec="gray",
+                              label="open marker: mean over fewer motions than the ensemble\n"
+                                    "(the others not reached at the search bound)"))
     for ax, title in zip(axes, titles, strict=True):
         ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3"))
         ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
         ax.set_xlim(left=0.0)
-        # headroom above the curves for the legend (one line per ensemble and mode)
-        ax.set_ylim(0.0, ax.get_ylim()[1] * (1.12 + 0.07 * len(handles)))
+        ax.set_ylim(0.0, ax.get_ylim()[1])  # the data's own top: the legend sits below
+        pga_g_axis(ax, d["tan_alpha"])
     if handles:
-        # One legend for both panels, where the curves leave room (small R, high intensity):
-        # colours are ensembles, line styles are modes.
-        axes[0].legend(handles=handles, loc="upper left", fontsize=7)
+        # One legend for both panels, in a row below them: colours are ensembles, styles are modes.
+        legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7)
     title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
     if d["missing"]:
         title += "\nreduced run: not everything the paper shows was computed (note below)"

@@ -12,11 +12,24 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from matplotlib import colormaps
+from matplotlib.cm import ScalarMappable
+from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from scipy import stats
 
 from . import _axes, _load
-from ._style import MODE_STYLE, _suptitle_and_notes, limit_state_title, new_figure, styled
+from ._style import (
+    MODE_STYLE,
+    _suptitle_and_notes,
+    limit_state_title,
+    new_figure,
+    pga_g_axis,
+    styled,
+)
+
+MEDIAN_SYMBOL = "IM₅₀"
+"""Symbol of the fitted median intensity (θ is the tilt everywhere else)."""
 
 TAN_ALPHA = 0.2
 MODE = "3d"
@@ -36,10 +49,13 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
         frag = _load.canonical(f.load())
     axes = _axes.from_ensemble(motions)
     ds = _load.open_store(store)
+    record, stand_in = _load.ensemble_label(dict(ds.attrs), Path(str(store)).parent.name)
+    upper = _load.search_bound(ds.attrs)
     missing: list[str] = []
     if mode not in _load.labels(frag, "mode") or not _load.has_value(frag, "tan_alpha",
                                                                        tan_alpha):
         return {"panels": [], "mode": mode, "tan_alpha": tan_alpha, "axes": axes,
+                "record": record, "stand_in": stand_in, "upper": upper,
                 "missing": [f"mode {mode} at tan α = {tan_alpha:g} not computed"]}
     frag = _load.select_value(frag, "tan_alpha", tan_alpha).sel(mode=mode)
     ds = _load.select_value(ds, "tan_alpha", tan_alpha).sel(mode=mode)
@@ -70,42 +86,54 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
         top = float(np.max(x_all, initial=1.0))
         medians = [c["median"] for c in curves.values()]
         im_max = 1.25 * max(top, min(max(medians, default=top), 3.0 * top))
+        if upper is not None:  # nothing is known beyond the search bound
+            im_max = min(im_max, upper)
         im = np.linspace(im_max / n, im_max, n)
         for c in curves.values():
             c["im"] = im
             c["p"] = stats.norm.cdf(np.log(im / c["median"]) / c["beta"])
         panels.append({"limit_state": ls, "curves": curves})
     return {"panels": panels, "mode": mode, "tan_alpha": tan_alpha, "missing": missing,
-            "axes": axes}
+            "axes": axes, "record": record, "stand_in": stand_in, "upper": upper}
 
 
 @styled
 def plot(d: dict) -> Figure:
-    """Two panels, one colour per R; fitted lognormal lines and empirical markers."""
+    """Two panels; colour = size R on a colour bar; fitted lognormal lines, empirical markers."""
     panels = d["panels"]
-    n_max = max((len(p["curves"]) for p in panels), default=0)
-    fig, axes = new_figure(12.0, max(4.4, 1.2 + 0.17 * n_max), ncols=max(len(panels), 1),
-                           squeeze=False)
+    fig, axes = new_figure(11.0, 4.8, ncols=max(len(panels), 1), squeeze=False)
     axes = axes[0]
+    sizes = sorted({R for p in panels for R in p["curves"]}) or [0.0, 1.0]
+    norm = Normalize(min(sizes), max(sizes) if max(sizes) > min(sizes) else min(sizes) + 1.0)
+    cmap = colormaps["viridis"]
     for ax, panel in zip(axes, panels, strict=False):
-        n = len(panel["curves"])
-        # one colour per R along a sequential map: 20 sizes must not repeat a colour
-        colors = colormaps["viridis"](np.linspace(0.0, 0.9, max(n, 1)))
-        for i, (R, c) in enumerate(panel["curves"].items()):
-            color = colors[i]
-            ax.plot(c["im"], c["p"], color=color,
-                    label=f"R = {R:g} m: θ̂ = {c['median']:.3g}, β = {c['beta']:.2f}")
+        for R, c in panel["curves"].items():
+            color = cmap(norm(R))
+            ax.plot(c["im"], c["p"], color=color)
             ax.plot(c["x_obs"], c["p_obs"], "o", color=color, ms=3.5, mfc="none")
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("PGA/(g tan α) [-]")
         ax.set_ylabel("P(limit state exceeded) [-]")
         ax.set_ylim(-0.02, 1.02)
-        ax.set_xlim(left=0.0)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
-                  title="lognormal MLE (lines),\nensemble (o)")
-    if not panels:
+        # to the drawn intensities, which stop at the search bound: nothing is known beyond
+        ax.set_xlim(0.0, max((float(c["im"][-1]) for c in panel["curves"].values()),
+                             default=d.get("upper") or 1.0))
+        pga_g_axis(ax, d["tan_alpha"], which="x")
+        ax.legend(handles=[Line2D([], [], color="0.3", label="lognormal MLE fit"),
+                           Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
+                                  label="ensemble: share of motions ≤ x")],
+                  loc="lower right", fontsize=7)
+    if panels:
+        cbar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=list(axes))
+        cbar.set_label("cylinder size R [m]")
+    else:
         axes[0].text(0.5, 0.5, "; ".join(d["missing"]), ha="center", transform=axes[0].transAxes)
-    title = (f"Fragility curves, {MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
-             f"tan α = {d['tan_alpha']:g}")
+    record = d.get("record", "")
+    who = f"{record}{' (stand-in)' if d.get('stand_in') and 'stand-in' not in record else ''}"
+    bound = f"; search bound {d['upper']:g}" if d.get("upper") else ""
+    title = (f"Fragility curves, {who} ensemble\n"
+             f"{MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
+             f"tan α = {d['tan_alpha']:g}{bound}; medians {MEDIAN_SYMBOL} and dispersions β "
+             "in the report's table")
     _suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
     return fig

@@ -1,0 +1,122 @@
+"""``rocking risk``: mean annual frequency of each limit state of a study under a hazard curve.
+
+Reads a study's ``fragility.csv`` (the lognormal fits of the performance spectra) and a hazard
+curve (an OpenQuake hazard-curve CSV of PGA, or a power law ``k0,k``), and prints or writes
+the risk table: per mode, tan α, R and limit state the mean annual frequency [1/yr], return
+period [yr] and probability of exceedance in 50 years (:func:`rocking.risk.risk_table`).
+Optionally writes the OpenQuake NRML and pelicun exports of the same fragilities.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import _common
+
+EXAMPLES = """\
+  rocking risk --fragility results/paper/elcentro/fragility.csv \\
+      --hazard config/hazard/example_hazard_curve.csv
+  rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5 --mode 3d \\
+      --limit-states overturning -o risk.csv
+  rocking risk --fragility results/elcentro/fragility.csv --hazard hazard_curve-mean-PGA.csv \\
+      --site 3 --im-factor 1.1 --nrml fragility.nrml.xml --pelicun fragility.pelicun.csv"""
+
+SHOWN = ("mode", "tan_alpha [-]", "R [m]", "limit_state", "median_pga_g [g]", "beta [-]",
+         "maf [1/yr]", "return_period [yr]", "p_50yr [-]")
+"""Columns printed on the terminal (a file gets every column of the table)."""
+
+
+def add_parser(subparsers) -> None:
+    """Register the ``risk`` subcommand."""
+    p = _common.add_command(
+        subparsers, "risk", examples=EXAMPLES,
+        help="mean annual frequency of each limit state under a hazard curve",
+        description="From fragility to risk: integrate each lognormal fragility of a study's "
+        "fragility.csv against a hazard curve of PGA [g]. PGA is the pair's vector peak "
+        "(RotD100); a hazard of the geometric mean or RotD50 needs --im-factor (docs/risk.md).",
+    )
+    p.add_argument("--fragility", type=Path, required=True,
+                   help="a study's fragility table (results/<study>/fragility.csv or .nc)")
+    p.add_argument("--hazard", required=True,
+                   help="OpenQuake hazard-curve CSV of PGA, or a power law 'k0,k' "
+                   "(annual rate k0 PGA^-k, PGA in g)")
+    p.add_argument("--site", type=int, default=0, help="row of the hazard CSV")
+    p.add_argument("--im-factor", type=float, default=1.0,
+                   help="study PGA / hazard PGA (e.g. RotD100/RotD50)")
+    p.add_argument("--mode", default=None, help="only this mode (3d, 3d-damped, 2d-x, 2d-y)")
+    p.add_argument("--tan-alpha", type=float, default=None, help="only this slenderness")
+    p.add_argument("--limit-states", default=None,
+                   help="only these, comma-separated (e.g. overturning,tilt:1/3)")
+    p.add_argument("-o", "--out", type=Path, default=None,
+                   help="write the table to this .csv (default: print it)")
+    p.add_argument("--upper", type=float, default=20.0,
+                   help="the study's search bound PGA/(g tan alpha), for the NRML maxIML [-]")
+    p.add_argument("--nrml", type=Path, default=None,
+                   help="also write the OpenQuake NRML 0.5 fragility model here (.xml)")
+    p.add_argument("--pelicun", type=Path, default=None,
+                   help="also write the pelicun damage model CSV here (.csv)")
+    p.set_defaults(func=run)
+
+
+def _hazard(args):
+    from ..risk.hazard import HazardCurve, parse_hazard
+
+    if Path(args.hazard).exists():
+        curve = HazardCurve.from_openquake_csv(args.hazard, site=args.site)
+    else:
+        curve = parse_hazard(args.hazard)
+    return curve.scaled(args.im_factor) if args.im_factor != 1.0 else curve
+
+
+def _select(frag, args):
+    from ..risk.fragilities import Fragilities
+    from ..spectra.limit_states import parse_limit_states
+
+    rows = frag.rows
+    if args.mode is not None:
+        if args.mode not in set(rows["mode"]):
+            raise ValueError(f"--mode {args.mode!r} is not in the table (has "
+                             f"{sorted(set(rows['mode']))})")
+        rows = rows[rows["mode"] == args.mode]
+    if args.tan_alpha is not None:
+        rows = rows[(rows["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
+        if rows.empty:
+            raise ValueError(f"--tan-alpha {args.tan_alpha:g} is not in the table")
+    if args.limit_states is not None:
+        names = [ls.name for ls in parse_limit_states(args.limit_states, sort=False)]
+        rows = rows[rows["limit_state"].isin(names)]
+        if rows.empty:
+            raise ValueError(f"--limit-states {args.limit_states!r}: none in the table")
+    return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed)
+
+
+def run(args) -> int:
+    """Print or write the risk table (and the exports when asked); returns 0."""
+    import pandas as pd
+
+    from ..risk.fragilities import read_fragilities
+    from ..risk.nrml import write_nrml
+    from ..risk.pelicun import write_pelicun_csv
+    from ..risk.table import risk_table
+
+    if args.out is not None:
+        _common.check_output(args.out, (".csv",))
+    if not args.fragility.exists():
+        raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
+    hazard = _hazard(args)
+    frag = _select(read_fragilities(args.fragility), args)
+    table = risk_table(frag, hazard)
+    if args.nrml is not None:
+        write_nrml(frag, args.nrml, search_upper=args.upper)
+    if args.pelicun is not None:
+        write_pelicun_csv(frag, args.pelicun)
+    print(f"hazard: {hazard.source}")
+    if frag.skipped_note():
+        print(frag.skipped_note())
+    if args.out is not None:
+        table.to_csv(args.out, index=False, float_format="%.6g")
+        print(f"{len(table)} rows -> {args.out}")
+        return 0
+    with pd.option_context("display.max_rows", None, "display.width", 200):
+        print(table[list(SHOWN)].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    return 0

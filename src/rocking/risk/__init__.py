@@ -1,0 +1,25 @@
+"""From fragility to risk: hazard curves, mean annual frequencies, exports to risk tools.
+
+:mod:`.hazard` (:class:`HazardCurve`), :mod:`.annual_frequency` (λ_LS of a lognormal
+fragility under a hazard curve), :mod:`.fragilities` (the study's fragility table as records),
+:mod:`.nrml` (OpenQuake NRML 0.5 fragility model), :mod:`.pelicun` (pelicun / FEMA P-58 damage
+model CSV), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report).
+"""
+
+from .._lazy import lazy_exports
+
+_EXPORTS = {
+    "HazardCurve": "hazard",
+    "parse_hazard": "hazard",
+    "mean_annual_frequency": "annual_frequency",
+    "annual_frequency_parts": "annual_frequency",
+    "probability_in": "annual_frequency",
+    "read_fragilities": "fragilities",
+    "write_nrml": "nrml",
+    "write_pelicun_csv": "pelicun",
+    "risk_table": "table",
+    "write_risk_outputs": "exports",
+}
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+__all__ = list(_EXPORTS)

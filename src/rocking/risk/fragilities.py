@@ -1,0 +1,170 @@
+"""The study's fragility table as the rows the exports and the risk table need.
+
+Reads what :func:`rocking.spectra.fragility.fragility_table` computes (the Dataset, its flat
+:func:`~rocking.spectra.fragility.to_frame` table, or ``results/<study>/fragility.csv`` /
+``.nc``) and keeps, per (mode, tan α, R, limit state), the median PGA capacity in g and β.
+Rows without a fit (median or β NaN: too few motions reached the limit state, or no spread)
+are set aside in :attr:`Fragilities.skipped` with their status, never silently dropped; cells
+the study never asked for (status ``not-computed``) are not part of it and are only counted.
+Limit states are ordered by increasing severity: increasing tilt goal, overturning last.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..spectra.limit_states import parse_limit_state
+from ..units import strip_units
+
+KEYS = ("mode", "tan_alpha", "R", "limit_state")
+"""Columns that identify a fragility."""
+
+COLUMNS = (*KEYS, "median_g", "beta", "status")
+"""Columns of :attr:`Fragilities.rows` and :attr:`Fragilities.skipped`."""
+
+NOT_COMPUTED = "not-computed"
+
+
+@dataclass(frozen=True)
+class Fragilities:
+    """Lognormal fragilities with a fit, and those without.
+
+    Attributes
+    ----------
+    rows : pandas.DataFrame
+        :data:`COLUMNS`; ``median_g`` the median PGA capacity [g], ``beta`` [-]; sorted by
+        mode, tan α, R and increasing severity of the limit state.
+    skipped : pandas.DataFrame
+        Requested (mode, tan α, R, limit state) without a fit, with the reason (``status``).
+    n_not_computed : int
+        Cells of the table the study did not ask for.
+    """
+
+    rows: pd.DataFrame
+    skipped: pd.DataFrame
+    n_not_computed: int = 0
+
+    def limit_states(self) -> list[str]:
+        """Limit states with at least one fit, in increasing severity."""
+        return sort_limit_states(self.rows["limit_state"].unique())
+
+    def groups(self):
+        """``((mode, tan_alpha, R), rows)`` per body and mode, rows in increasing severity."""
+        return self.rows.groupby(["mode", "tan_alpha", "R"], sort=False)
+
+    def skipped_note(self) -> str:
+        """One line naming what has no fit (empty if nothing)."""
+        if self.skipped.empty:
+            return ""
+        items = [f"{r.mode} tan α={r.tan_alpha:g} R={r.R:g} m {r.limit_state} ({r.status})"
+                 for r in self.skipped.itertuples()]
+        return f"{len(items)} fragilities without a fit, skipped: " + "; ".join(items)
+
+
+def severity(limit_state: str) -> float:
+    """Sort key: the tilt goal r of ``tilt:<r>``, infinity for overturning."""
+    return parse_limit_state(limit_state).ratio
+
+
+def sort_limit_states(names) -> list[str]:
+    """Canonical names in increasing severity."""
+    return sorted({parse_limit_state(n).name for n in names}, key=severity)
+
+
+def _plain_columns(frame: pd.DataFrame) -> pd.DataFrame:
+    # "tan_alpha [-]" → "tan_alpha", "median_pga_g [g]" → "median_pga_g"
+    return frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
+
+
+def _as_frame(source) -> pd.DataFrame:
+    if isinstance(source, pd.DataFrame):
+        return source
+    if isinstance(source, str | Path):
+        path = Path(source)
+        if path.suffix == ".csv":
+            return pd.read_csv(path)
+        if path.suffix == ".nc":
+            import xarray as xr
+
+            with xr.open_dataset(path) as ds:
+                return ds.load().to_dataframe().reset_index()
+        raise ValueError(f"fragility table must be a .csv or .nc file, got {str(path)!r}")
+    if hasattr(source, "to_dataframe"):  # the xarray Dataset of fragility_table
+        return source.to_dataframe().reset_index()
+    raise ValueError(f"fragility table must be a path, DataFrame or Dataset, got "
+                     f"{type(source).__name__}")
+
+
+def read_fragilities(source) -> Fragilities:
+    """The fitted lognormal fragilities of a study's fragility table.
+
+    Parameters
+    ----------
+    source : path, pandas.DataFrame or xarray.Dataset
+        ``results/<study>/fragility.csv`` or ``.nc``, or the table itself; needs ``mode``,
+        ``limit_state``, ``tan_alpha``, ``R``, ``median_pga_g`` [g] and ``beta`` (column
+        titles with or without their units).
+
+    Returns
+    -------
+    Fragilities
+    """
+    frame = _plain_columns(_as_frame(source))
+    need = {"mode", "limit_state", "tan_alpha", "R", "median_pga_g", "beta"}
+    missing = sorted(need - set(frame.columns))
+    if missing:
+        raise ValueError(f"fragility table lacks the columns {missing} (has "
+                         f"{sorted(map(str, frame.columns))})")
+    status = (frame["status"].astype(str) if "status" in frame.columns
+              else pd.Series("", index=frame.index))
+    out = pd.DataFrame({
+        "mode": frame["mode"].astype(str),
+        "tan_alpha": frame["tan_alpha"].astype(float),
+        "R": frame["R"].astype(float),
+        "limit_state": [parse_limit_state(str(s)).name for s in frame["limit_state"]],
+        "median_g": frame["median_pga_g"].astype(float),
+        "beta": frame["beta"].astype(float),
+        "status": status.values,
+    })
+    fitted = np.isfinite(out["median_g"]) & np.isfinite(out["beta"])
+    bad = fitted & ((out["median_g"] <= 0) | (out["beta"] <= 0))
+    if bad.any():
+        r = out[bad].iloc[0]
+        raise ValueError(f"median_pga_g and beta must be > 0, got {r.median_g!r}, {r.beta!r} "
+                         f"at {r['mode']} tan_alpha={r.tan_alpha:g} R={r.R:g} {r.limit_state}")
+    not_computed = ~fitted & (out["status"] == NOT_COMPUTED)
+    rows = _sorted(out[fitted])
+    rows["status"] = rows["status"].replace("", "ok")
+    skipped = _sorted(out[~fitted & ~not_computed])
+    skipped["status"] = skipped["status"].replace("", "no fit")
+    return Fragilities(rows, skipped, int(not_computed.sum()))
+
+
+def _sorted(frame: pd.DataFrame) -> pd.DataFrame:
+    key = frame.assign(_sev=[severity(s) for s in frame["limit_state"]])
+    return (key.sort_values(["mode", "tan_alpha", "R", "_sev"], kind="stable")
+            .drop(columns="_sev").reset_index(drop=True))
+
+
+def lognormal_moments(median: float, beta: float) -> tuple[float, float]:
+    """Arithmetic mean and standard deviation of a lognormal variable [same unit as median].
+
+    mean = median·exp(β²/2), stddev = mean·√(exp(β²) − 1): the parameters OpenQuake's
+    continuous fragility functions take (``mean``, ``stddev``), not the median and β.
+    """
+    mean = median * math.exp(0.5 * beta * beta)
+    return mean, mean * math.sqrt(math.expm1(beta * beta))
+
+
+def median_beta(mean: float, stddev: float) -> tuple[float, float]:
+    """Inverse of :func:`lognormal_moments`: β = √ln(1 + (σ/μ)²), median = μ²/√(σ² + μ²)."""
+    return mean * mean / math.hypot(stddev, mean), math.sqrt(math.log1p((stddev / mean) ** 2))
+
+
+__all__ = ["COLUMNS", "KEYS", "Fragilities", "lognormal_moments", "median_beta",
+           "read_fragilities", "severity", "sort_limit_states"]

@@ -1,0 +1,108 @@
+"""The risk section of a study's HTML report: assumptions, then λ of the main limit states.
+
+:func:`risk_section_html` returns the section as an HTML fragment (``<h2>`` … tables) for
+:func:`rocking.study.report.build` to append; :func:`assumptions` its statements as text.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from pathlib import Path
+
+import pandas as pd
+
+from ..spectra.limit_states import parse_limit_state
+from ..units import strip_units
+
+LIMIT_STATES = ("overturning", "tilt:1/3")
+MODES = ("3d", "3d-damped", "2d-x", "2d-y")
+TAN_ALPHA = 0.2
+
+
+def assumptions(hazard: str = "") -> list[str]:
+    """The statements a reader needs to use the numbers (one paragraph each)."""
+    source = "Hazard: " + (hazard or "the study's hazard curve") + "."
+    if "example_hazard_curve" in hazard:
+        source += (" This curve is an EXAMPLE shipped with the repository, not a site's "
+                   "hazard: PGA 0.25 g at 475 years and 0.50 g at 2475 years, plausible for "
+                   "rock or stiff soil in a moderate-to-high seismicity region "
+                   "(config/hazard/README.md).")
+    return [
+        source,
+        "Intensity measure: PGA in g is the vector peak of the horizontal pair, "
+        "max √(ax² + ay²), which equals RotD100 (the largest peak over all horizontal "
+        "directions) in every mode, 2D included. Hazard models give the geometric mean or "
+        "RotD50 of the two components, smaller than RotD100 by a factor f of about 1.1 for "
+        "PGA. No factor is applied unless the study sets hazard.im_factor = f; without it "
+        "the hazard of the study's PGA is underestimated and λ is too low by about f^k "
+        "(≈ 1.2–1.35 for hazard slopes k ≈ 2–3).",
+        "Integration: λ_LS = ∫ P(LS | PGA) |dλ(PGA)| with the lognormal fragility (median, β) "
+        "of the study's motions; the hazard is interpolated log-log between its levels and "
+        "its first and last log-log slopes are extrapolated beyond them (share_extrapolated "
+        "in risk.csv: the part of λ that rests on the last slope). Exceedances are Poisson: "
+        "P(50 years) = 1 − exp(−50 λ).",
+        "Fragility: record-to-record variability of the study's ensemble only (one record and "
+        "its synthetic pairs); no modelling or hazard uncertainty.",
+    ]
+
+
+def _frame(risk) -> pd.DataFrame:
+    frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
+    frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
+    frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
+    return frame
+
+
+def summary_table(risk, *, tan_alpha: float = TAN_ALPHA) -> pd.DataFrame:
+    """λ [1/yr] of overturning and excessive tilt per R (rows) and mode (columns)."""
+    frame = _frame(risk)
+    keep = ((frame["tan_alpha"] - tan_alpha).abs() < 1e-9) & frame["limit_state"].isin(
+        LIMIT_STATES)
+    frame = frame[keep]
+    if frame.empty:
+        return pd.DataFrame()
+    label = {"overturning": "overturning", "tilt:1/3": "tilt θ > α/3"}
+    frame = frame.assign(column=[f"{label[ls]}, {m} [1/yr]"
+                                 for ls, m in zip(frame["limit_state"], frame["mode"],
+                                                  strict=True)])
+    table = frame.pivot_table(index="R", columns="column", values="maf", sort=False)
+    order = [f"{label[ls]}, {m} [1/yr]" for ls in LIMIT_STATES for m in MODES]
+    table = table[[c for c in order if c in table.columns]]
+    table = table.reset_index().rename(columns={"R": "R [m]"})
+    table.columns.name = None
+    return table
+
+
+def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = None) -> str:
+    """The report's risk section as an HTML fragment.
+
+    Parameters
+    ----------
+    risk : path or DataFrame
+        ``results/<study>/risk.csv``.
+    hazard : str
+        Where the hazard curve came from (shown in the assumptions).
+    figure : path, optional
+        ``results/<study>/figures/risk.png``, embedded when given.
+    """
+    parts = ["<h2 id='risk'>From fragility to risk: mean annual frequency of exceedance</h2>"]
+    parts += [f"<p>{html.escape(s)}</p>" for s in assumptions(hazard)]
+    if figure is not None and Path(figure).exists():
+        data = base64.b64encode(Path(figure).read_bytes()).decode()
+        # the same markup as the report's other figures, so a gallery links it instead
+        parts.append(f"<figure id='risk'><img alt='risk' src='data:image/png;base64,{data}'>"
+                     "</figure>")
+    table = summary_table(risk)
+    if table.empty:
+        parts.append(f"<p>No overturning or excessive-tilt fragility at tan α = {TAN_ALPHA:g} "
+                     "in this run.</p>")
+    else:
+        parts.append(f"<p>Mean annual frequency λ [1/yr] at tan α = {TAN_ALPHA:g} (return "
+                     "period 1/λ; every mode, slenderness and limit state in risk.csv).</p>")
+        parts.append(table.to_html(index=False, escape=True, border=0, na_rep="—",
+                                   float_format=lambda v: f"{v:.3g}"))
+    return "\n".join(parts)
+
+
+__all__ = ["assumptions", "risk_section_html", "summary_table"]

@@ -1,0 +1,114 @@
+"""Risk (beyond the paper): mean annual frequency of overturning and excessive tilt against R.
+
+Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.table.risk_table`): for each mode at
+one slenderness, the mean annual frequency λ_LS [1/yr] of each size R under the study's
+hazard curve, on a log scale, one panel per limit state. The right axis gives the return
+period 1/λ_LS; the notes give λ_LS at R = 2, 6, 10 m per mode and the ratio of 2D to 3D.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from ...spectra.limit_states import parse_limit_state
+from ...units import strip_units
+from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+
+CAPTION = (
+    "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
+    "tilt (θ > α/3) against the size R, per analysis mode, from the lognormal fragilities "
+    "integrated against the study's hazard curve (λ_LS = ∫ P(LS | PGA) |dλ(PGA)|; hazard "
+    "log-log interpolated, last slope extrapolated). Right axis: return period. PGA is the "
+    "vector peak of the pair; the hazard curve's PGA definition is taken as the same unless "
+    "an im_factor is configured (docs/risk.md)."
+)
+"""Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
+
+TAN_ALPHA = 0.2
+LIMIT_STATES = ("overturning", "tilt:1/3")
+R_NOTES = (2.0, 6.0, 10.0)
+
+
+def _frame(risk: str | Path | pd.DataFrame) -> pd.DataFrame:
+    frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
+    frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
+    frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
+    return frame
+
+
+def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float = TAN_ALPHA,
+         hazard: str = "") -> dict:
+    """λ_LS against R per mode for overturning and excessive tilt at ``tan_alpha``.
+
+    Returns
+    -------
+    dict
+        ``panels``: [{``limit_state``, ``curves``: {mode: {``R``, ``maf``}}}],
+        ``measured``: {"<mode> <limit state> R=<R> m": λ [1/yr], "ratio 2d-x/3d ...": [-]},
+        ``missing``, ``tan_alpha``, ``hazard``.
+    """
+    frame = _frame(risk)
+    frame = frame[np.isclose(frame["tan_alpha"].astype(float), tan_alpha)]
+    missing: list[str] = []
+    panels, measured = [], {}
+    for ls in LIMIT_STATES:
+        rows = frame[frame["limit_state"] == ls]
+        curves = {}
+        for mode in MODE_STYLE:
+            sel = rows[rows["mode"] == mode].sort_values("R")
+            if sel.empty:
+                missing.append(f"{mode} {ls} at tan α = {tan_alpha:g}")
+                continue
+            curves[mode] = {"R": sel["R"].to_numpy(float), "maf": sel["maf"].to_numpy(float)}
+            for R in R_NOTES:
+                hit = sel[np.isclose(sel["R"], R)]
+                if not hit.empty:
+                    measured[f"{mode} {ls} R={R:g} m [1/yr]"] = float(hit["maf"].iloc[0])
+        for two in ("2d-x", "2d-y"):
+            for R in R_NOTES:
+                a = measured.get(f"{two} {ls} R={R:g} m [1/yr]")
+                b = measured.get(f"3d {ls} R={R:g} m [1/yr]")
+                if a is not None and b:
+                    measured[f"ratio {two}/3d {ls} R={R:g} m [-]"] = a / b
+        panels.append({"limit_state": ls, "curves": curves})
+    return {"panels": panels, "measured": measured, "missing": missing,
+            "tan_alpha": tan_alpha, "hazard": hazard}
+
+
+@styled
+def plot(d: dict) -> Figure:
+    """One log-scale panel per limit state, one line per mode; return period on the right."""
+    fig, axes = new_figure(11.0, 4.6, ncols=len(d["panels"]) or 1, squeeze=False)
+    axes = axes[0]
+    for ax, panel in zip(axes, d["panels"], strict=False):
+        for mode, c in panel["curves"].items():
+            style = MODE_STYLE[mode]
+            ok = c["maf"] > 0
+            ax.semilogy(c["R"][ok], c["maf"][ok], marker="o", ms=3.5, color=style["color"],
+                        linestyle=style["linestyle"], label=style["label"])
+        ax.set_title(limit_state_title(panel["limit_state"]))
+        ax.set_xlabel("R [m]")
+        ax.set_ylabel("mean annual frequency λ [1/yr]")
+        ax.grid(True, which="both", alpha=0.3)
+        if panel["curves"]:
+            ax.legend(fontsize=8)
+            right = ax.secondary_yaxis("right", functions=(_inverse, _inverse))
+            right.set_ylabel("return period [yr]")
+    title = f"Mean annual frequency of exceedance, tan α = {d['tan_alpha']:g}"
+    if d.get("hazard"):
+        title += f"\nhazard: {d['hazard']}"
+    fig.suptitle(title, fontsize=10)
+    if d["missing"]:
+        fig.text(0.01, 0.01, "Not in this run: " + "; ".join(d["missing"]) + ".", fontsize=7)
+    return fig
+
+
+def _inverse(x):
+    # return period ↔ annual frequency; guard the axis' own zero
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore"):
+        return np.where(x > 0, 1.0 / np.where(x > 0, x, 1.0), np.inf)

@@ -1,0 +1,392 @@
+"""From fragility to risk: hazard curves, mean annual frequency against the closed form, and the
+NRML / pelicun exports read back by independent readers written to the tools' documented
+formats.
+
+pelicun is not installed here: `pip install pelicun` (3.10) pins pandas < 3 and scipy 1.15,
+which would downgrade the project's pandas 3 and scipy 1.17; OpenQuake's engine does not
+install from the package index on a plain machine (it builds GDAL). The readers below follow
+the formats as both tools document and read them (docs/risk.md).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+
+import rocking
+from rocking.cli import main
+from rocking.risk import fragilities, nrml, pelicun
+from rocking.risk.annual_frequency import annual_frequency_parts, probability_in
+from rocking.risk.hazard import HazardCurve, parse_hazard
+from rocking.risk.table import risk_table
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = Path(__file__).parent / "data"
+OQ_TEST = DATA / "hazard_curve-mean-PGA_test.csv"
+EXAMPLE = ROOT / "config/hazard/example_hazard_curve.csv"
+NS = {"n": "http://openquake.org/xmlns/nrml/0.5"}
+
+
+def closed_form(k0, k, median, beta):
+    """λ_LS of a lognormal fragility under λ = k0·im^−k (Cornell et al. 2002)."""
+    return k0 * median ** (-k) * math.exp(0.5 * k * k * beta * beta)
+
+
+def table(rows) -> pd.DataFrame:
+    """A fragility table as `to_frame` writes it (titles with units)."""
+    cols = ["mode", "limit_state", "tan_alpha [-]", "R [m]", "median_pga_g [g]", "beta [-]",
+            "status"]
+    return pd.DataFrame(rows, columns=cols)
+
+
+# Medians and betas with all their digits: the round trips must keep them to 1e-9.
+ROWS = [
+    ("3d", "overturning", 0.2, 2.0, 0.31234567891234, 0.21987654321, "ok"),
+    ("3d", "tilt:1/3", 0.2, 2.0, 0.25111111111111, 0.1234567890123, "ok"),
+    ("3d", "tilt:0.1", 0.2, 2.0, 0.20987654321987, 0.0876543210987, "ok"),
+    ("3d", "overturning", 0.2, 6.0, 0.65432109876543, 0.3312345678901, "ok"),
+    ("3d", "tilt:1/3", 0.2, 6.0, 0.33333333333333, 0.1455555555555, "ok"),
+    ("3d", "tilt:0.1", 0.2, 6.0, 0.22222222222222, 0.0922222222222, "ok"),
+    ("2d-x", "overturning", 0.2, 2.0, 0.41234567891234, 0.2598765432101, "ok"),
+    ("2d-x", "tilt:1/3", 0.2, 2.0, 0.29876543219876, 0.1111111111111, "ok"),
+    ("2d-x", "overturning", 0.2, 6.0, float("nan"), float("nan"), "too-few-observed"),
+    ("2d-x", "tilt:1/3", 0.2, 6.0, 0.38765432198765, 0.1777777777777, "ok"),
+    ("3d", "overturning", 0.1, 2.0, float("nan"), float("nan"), "not-computed"),
+]
+
+
+# ------------------------------------------------------------------ hazard and integration
+
+
+@pytest.mark.parametrize("k0, k, median, beta", [
+    (1e-4, 2.5, 0.5, 0.4), (1e-3, 3.0, 1.5, 0.6), (5e-4, 1.5, 0.1, 0.05),
+    (2e-4, 2.0, 8.0, 0.8), (1e-4, 4.0, 0.3, 0.3),
+])
+def test_mean_annual_frequency_matches_the_power_law_closed_form(k0, k, median, beta):
+    h = HazardCurve.from_power_law(k0, k)
+    assert rocking.mean_annual_frequency(median, beta, h) == pytest.approx(
+        closed_form(k0, k, median, beta), rel=1e-3)
+
+
+def test_ends_of_the_curve_are_extrapolated_with_their_slopes():
+    # A power law tabulated only on 0.1–0.4 g: a capacity far beyond the last level is still
+    # integrated exactly (the last slope continues); truncating at 0.4 g would give ~0.
+    k0, k = 2e-4, 2.7
+    short = HazardCurve.from_power_law(k0, k, im_g=[0.1, 0.2, 0.4])
+    parts = annual_frequency_parts(2.0, 0.3, short)
+    assert parts["total"] == pytest.approx(closed_form(k0, k, 2.0, 0.3), rel=1e-3)
+    assert parts["extrapolated"] / parts["total"] > 0.999
+    # a capacity well inside the table: the motions beyond 0.4 g all exceed it, whatever the
+    # tail (beyond_last = λ(0.4 g)), and nothing rests on the extrapolated slope
+    inside = annual_frequency_parts(0.2, 0.1, short)
+    assert inside["beyond_last"] == pytest.approx(k0 * 0.4 ** -k, rel=1e-3)
+    assert (inside["below_first"] + inside["extrapolated"]) / inside["total"] < 1e-4
+    assert inside["total"] == pytest.approx(closed_form(k0, k, 0.2, 0.1), rel=1e-3)
+
+
+def test_on_a_curved_hazard_it_is_the_expected_rate_at_the_capacity():
+    # Independent check off the closed form: Monte Carlo of capacities C ~ LN(θ, β),
+    # λ_LS = E[λ(C)] (integration by parts of ∫ P(LS|im)|dλ|).
+    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    rng = np.random.default_rng(1)
+    c = 0.4 * np.exp(0.3 * rng.standard_normal(400_000))
+    mc = float(np.mean(h.rate(c)))
+    assert rocking.mean_annual_frequency(0.4, 0.3, h) == pytest.approx(mc, rel=5e-3)
+
+
+def test_openquake_csv_gives_annual_rates_per_site():
+    h = HazardCurve.from_openquake_csv(OQ_TEST)
+    assert h.im_g.tolist() == [0.05, 0.1, 0.2, 0.4, 0.8]
+    assert h.annual_rate == pytest.approx([2e-2, 5e-3, 1e-3, 1.5e-4, 1.2e-5], rel=1e-9)
+    site1 = HazardCurve.from_openquake_csv(OQ_TEST, site=1)
+    assert site1.annual_rate == pytest.approx(0.5 * h.annual_rate, rel=1e-9)
+    assert "site 1" in site1.source
+    # between levels: log-log interpolation, e.g. halfway in log between 0.1 and 0.2 g
+    assert h.rate(math.sqrt(0.02)) == pytest.approx(math.sqrt(5e-3 * 1e-3), rel=1e-12)
+
+
+def test_example_hazard_curve_is_what_its_readme_says():
+    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    # 10 % in 50 years (475 yr) at 0.25 g, 2 % in 50 years (2475 yr) at 0.5 g
+    assert h.rate(0.25) == pytest.approx(1 / 475, rel=1e-4)
+    assert h.rate(0.5) == pytest.approx(1 / 2475, rel=1e-3)
+    # power-law-like: log-log slope grows from ~1.4 at 0.05 g to ~3.3 at 2 g
+    assert 1.2 < h.slope(0.05) < 1.6 and 3.0 < h.slope(1.9) < 3.5
+    assert np.all(np.diff(h.slope(h.im_g[:-1])) > 0)
+
+
+@pytest.mark.parametrize("text, match", [
+    ("#,,,,,\"investigation_time=1.0, imt='SA(0.3)'\"\nlon,lat,poe-0.1\n0,0,0.1\n", "imt"),
+    ("lon,lat,poe-0.1\n0,0,0.1\n", "investigation_time"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.0,0.1\n",
+     "poe must be in"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.2\n",
+     "must not increase"),
+])
+def test_bad_openquake_files_are_refused_with_the_reason(tmp_path, text, match):
+    path = tmp_path / "h.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=match):
+        HazardCurve.from_openquake_csv(path)
+
+
+def test_a_site_beyond_the_file_is_refused():
+    with pytest.raises(ValueError, match=r"site must be in 0\.\.1"):
+        HazardCurve.from_openquake_csv(OQ_TEST, site=2)
+
+
+def test_parse_hazard_forms_and_im_factor():
+    a = parse_hazard("1e-4,2.5")
+    b = parse_hazard({"k0": 1e-4, "k": 2.5})
+    assert a.annual_rate == pytest.approx(b.annual_rate)
+    f = parse_hazard({"file": str(OQ_TEST), "site": 1, "im_factor": 1.1})
+    assert f.im_g == pytest.approx(1.1 * np.array([0.05, 0.1, 0.2, 0.4, 0.8]))
+    # scaling the hazard's PGA by f multiplies a power law's λ_LS by f^k
+    lam1 = rocking.mean_annual_frequency(0.5, 0.3, b)
+    lam2 = rocking.mean_annual_frequency(0.5, 0.3, b.scaled(1.1))
+    assert lam2 / lam1 == pytest.approx(1.1 ** 2.5, rel=1e-3)
+    with pytest.raises(ValueError, match="power law 'k0,k'"):
+        parse_hazard("1e-4")
+    with pytest.raises(ValueError, match="k0"):
+        parse_hazard({"k0": -1, "k": 2})
+    with pytest.raises(ValueError, match="keys"):
+        parse_hazard({"k0": 1e-4})
+
+
+def test_poisson_probability_and_bad_fragility_input():
+    assert probability_in(1 / 475, 50) == pytest.approx(0.1, abs=2e-3)
+    with pytest.raises(ValueError, match="beta"):
+        rocking.mean_annual_frequency(0.5, 0.0, HazardCurve.from_power_law(1e-4, 2))
+    with pytest.raises(ValueError, match="median_g"):
+        rocking.mean_annual_frequency(float("nan"), 0.3, HazardCurve.from_power_law(1e-4, 2))
+
+
+# ------------------------------------------------------------------ the fragility table
+
+
+def test_fragility_rows_in_severity_order_and_skipped_rows_named():
+    frag = fragilities.read_fragilities(table(ROWS))
+    assert len(frag.rows) == 9 and frag.n_not_computed == 1
+    assert frag.skipped[["mode", "R", "limit_state", "status"]].values.tolist() == [
+        ["2d-x", 6.0, "overturning", "too-few-observed"]]
+    assert "2d-x tan α=0.2 R=6 m overturning (too-few-observed)" in frag.skipped_note()
+    body = frag.rows[(frag.rows["mode"] == "3d") & (frag.rows["R"] == 2.0)]
+    assert body["limit_state"].tolist() == ["tilt:0.1", "tilt:1/3", "overturning"]
+    with pytest.raises(ValueError, match="lacks the columns"):
+        fragilities.read_fragilities(table(ROWS).drop(columns="beta [-]"))
+
+
+def test_risk_table_columns_units_and_values():
+    frag = fragilities.read_fragilities(table(ROWS))
+    h = HazardCurve.from_power_law(1e-4, 2.5)
+    t = risk_table(frag, h)
+    assert list(t.columns) == ["mode", "tan_alpha [-]", "R [m]", "limit_state",
+                               "median_pga_g [g]", "beta [-]", "maf [1/yr]",
+                               "return_period [yr]", "p_50yr [-]", "share_extrapolated [-]"]
+    for r in t.itertuples(index=False):
+        lam = closed_form(1e-4, 2.5, r[4], r[5])
+        assert r[6] == pytest.approx(lam, rel=1e-3)
+        assert r[7] == pytest.approx(1 / r[6]) and r[8] == pytest.approx(1 - math.exp(-50 * r[6]))
+    assert "too-few-observed" in t.attrs["skipped"]
+
+
+# ------------------------------------------------------------------ NRML 0.5
+
+
+def read_nrml(path):
+    """Independent reader of an NRML 0.5 continuous fragility model (OpenQuake's documented
+    schema): element order checked, mean/stddev turned into median and β as OpenQuake does
+    (σ = √ln(1 + (stddev/mean)²), median = mean²/√(stddev² + mean²))."""
+    root = ET.parse(path).getroot()
+    assert root.tag == "{http://openquake.org/xmlns/nrml/0.5}nrml"
+    (model,) = list(root)
+    assert model.tag.endswith("fragilityModel")
+    assert {"id", "assetCategory", "lossCategory"} <= set(model.attrib)
+    kids = list(model)
+    assert [k.tag.split("}")[1] for k in kids[:2]] == ["description", "limitStates"]
+    states = kids[1].text.split()
+    out = {}
+    for func in kids[2:]:
+        assert func.tag.endswith("fragilityFunction")
+        assert func.get("format") == "continuous" and func.get("shape") == "logncdf"
+        imls, *params = list(func)
+        assert imls.tag.endswith("imls") and imls.get("imt") == "PGA"
+        assert [p.get("ls") for p in params] == states  # one per limit state, in order
+        lims = {k: float(imls.get(k)) for k in ("minIML", "maxIML", "noDamageLimit")}
+        for p in params:
+            mean, std = float(p.get("mean")), float(p.get("stddev"))
+            sigma = math.sqrt(math.log(1.0 + (std / mean) ** 2))
+            median = mean ** 2 / math.sqrt(std ** 2 + mean ** 2)
+            out[(func.get("id"), p.get("ls"))] = (median, sigma, lims)
+    return states, out
+
+
+def openquake_poe(iml, median, sigma, lims):
+    """PoE as OpenQuake's continuous function evaluates it: clip to [minIML, maxIML], zero at
+    or below noDamageLimit."""
+    x = np.clip(np.asarray(iml, float), lims["minIML"], lims["maxIML"])
+    poe = stats.norm.cdf(np.log(x / median) / sigma)
+    return np.where(np.asarray(iml) <= lims["noDamageLimit"], 0.0, poe)
+
+
+def test_nrml_round_trip_of_median_and_beta(tmp_path):
+    frag = fragilities.read_fragilities(table(ROWS))
+    exp = nrml.write_nrml(frag, tmp_path / "f.xml", search_upper=20.0)
+    states, got = read_nrml(tmp_path / "f.xml")
+    assert states == ["tilt_1over3", "overturning"]  # common to every (mode, tan α)
+    assert exp.left_out == ["2d-x/tan0.2/R6m (no fit for overturning)"]
+    assert exp.functions == ["2d-x/tan0.2/R2m", "3d/tan0.2/R2m", "3d/tan0.2/R6m"]
+    n = 0
+    for r in frag.rows.itertuples():
+        key = (nrml.taxonomy(r.mode, r.tan_alpha, r.R), nrml.nrml_limit_state(r.limit_state))
+        if key not in got:
+            continue
+        median, sigma, lims = got[key]
+        assert median == pytest.approx(r.median_g, rel=1e-9)
+        assert sigma == pytest.approx(r.beta, rel=1e-9)
+        # maxIML at or above the search bound in g: no probability is capped in the range
+        assert lims["maxIML"] >= 20.0 * r.tan_alpha
+        x = np.geomspace(1.01 * lims["minIML"], 20.0 * r.tan_alpha, 50)
+        assert openquake_poe(x, median, sigma, lims) == pytest.approx(
+            stats.norm.cdf(np.log(x / r.median_g) / r.beta), abs=1e-9)
+        n += 1
+    assert n == 6
+
+
+def test_a_median_written_as_mean_fails_the_round_trip(tmp_path, monkeypatch):
+    # The mistake OpenQuake's convention invites: writing median and β·median as mean and
+    # stddev. The reader then sees a smaller median (mean²/√(σ²+μ²) < μ) and the check fails.
+    frag = fragilities.read_fragilities(table(ROWS))
+    monkeypatch.setattr(nrml, "lognormal_moments", lambda m, b: (m, m * b))
+    nrml.write_nrml(frag, tmp_path / "wrong.xml")
+    _, got = read_nrml(tmp_path / "wrong.xml")
+    r = frag.rows.iloc[0]
+    median, sigma, _ = got[(nrml.taxonomy(r["mode"], r.tan_alpha, r.R),
+                            nrml.nrml_limit_state(r.limit_state))]
+    assert abs(median / r.median_g - 1.0) > 1e-3
+    with pytest.raises(AssertionError):
+        assert median == pytest.approx(r.median_g, rel=1e-9)
+
+
+def test_lognormal_moments_invert():
+    mean, std = fragilities.lognormal_moments(0.4, 0.3)
+    assert mean == pytest.approx(0.4 * math.exp(0.045))
+    assert std == pytest.approx(mean * math.sqrt(math.exp(0.09) - 1))
+    assert fragilities.median_beta(mean, std) == pytest.approx((0.4, 0.3), rel=1e-12)
+
+
+# ------------------------------------------------------------------ pelicun
+
+
+def read_pelicun(path):
+    """Independent reader of pelicun's damage model CSV (documented columns)."""
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    out = {}
+    for row in rows:
+        assert row["Demand-Type"] == "Peak Ground Acceleration" and row["Demand-Unit"] == "g"
+        assert row["Incomplete"] == "0" and row["Demand-Offset"] == "0"
+        # directional: pelicun would multiply a non-directional PGA by 1.2, and the vector
+        # peak is already the peak over all orientations
+        assert row["Demand-Directional"] == "1"
+        ls = []
+        i = 1
+        while row.get(f"LS{i}-Family"):
+            assert row[f"LS{i}-Family"] == "lognormal"
+            ls.append((float(row[f"LS{i}-Theta_0"]), float(row[f"LS{i}-Theta_1"])))
+            i += 1
+        assert all(not row.get(f"LS{j}-Family") for j in range(i, 20))  # no gaps
+        out[row["ID"]] = ls
+    return out
+
+
+def test_pelicun_round_trip_and_limit_states_in_increasing_severity(tmp_path):
+    frag = fragilities.read_fragilities(table(ROWS))
+    comps = pelicun.write_pelicun_csv(frag, tmp_path / "f.csv")
+    header = (tmp_path / "f.csv").read_text().splitlines()[0].split(",")
+    assert header == pelicun.columns(3)
+    assert header[:10] == ["ID", "Incomplete", "Demand-Type", "Demand-Unit", "Demand-Offset",
+                           "Demand-Directional", "LS1-Family", "LS1-Theta_0", "LS1-Theta_1",
+                           "LS1-DamageStateWeights"]
+    got = read_pelicun(tmp_path / "f.csv")
+    cid = pelicun.component_id("3d", 0.2, 2.0)
+    assert cid == "rocking.3d.tan0.2.R2m"
+    assert comps[cid] == ["tilt:0.1", "tilt:1/3", "overturning"]  # overturning last
+    for (mode, ta, R), rows in frag.groups():
+        pairs = got[pelicun.component_id(mode, ta, R)]
+        assert len(pairs) == len(rows)
+        for (m, b), r in zip(pairs, rows.itertuples(), strict=True):
+            assert m == pytest.approx(r.median_g, rel=1e-9)
+            assert b == pytest.approx(r.beta, rel=1e-9)
+    # damage state i = limit state i exceeded: medians increase with severity here
+    assert [m for m, _ in got[cid]] == sorted(m for m, _ in got[cid])
+
+
+# ------------------------------------------------------------------ front ends
+
+
+def test_lazy_exports_and_cli(tmp_path, capsys):
+    assert rocking.HazardCurve is HazardCurve
+    path = tmp_path / "fragility.csv"
+    table(ROWS).to_csv(path, index=False)
+    assert main(["risk", "--fragility", str(path), "--hazard", "1e-4,2.5", "--mode", "3d",
+                 "--limit-states", "overturning"]) == 0
+    out = capsys.readouterr().out
+    assert "maf [1/yr]" in out and "return_period [yr]" in out and "p_50yr [-]" in out
+    lam = closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321)
+    assert f"{lam:.4g}" in out
+    assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "-o",
+                 str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
+                 "--pelicun", str(tmp_path / "f.p.csv")]) == 0
+    assert len(pd.read_csv(tmp_path / "r.csv")) == 9
+    assert (tmp_path / "f.xml").exists() and (tmp_path / "f.p.csv").exists()
+    assert main(["risk", "--fragility", str(path), "--hazard", "0.5"]) == 2
+    assert "power law 'k0,k'" in capsys.readouterr().err
+
+
+def test_report_section_states_the_assumptions_and_tabulates_lambda():
+    from rocking.risk.report import risk_section_html, summary_table
+
+    t = risk_table(fragilities.read_fragilities(table(ROWS)),
+                   HazardCurve.from_openquake_csv(EXAMPLE))
+    s = summary_table(t)
+    assert list(s.columns) == ["R [m]", "overturning, 3d [1/yr]", "overturning, 2d-x [1/yr]",
+                               "tilt θ > α/3, 3d [1/yr]", "tilt θ > α/3, 2d-x [1/yr]"]
+    assert math.isnan(s.loc[s["R [m]"] == 6.0, "overturning, 2d-x [1/yr]"].item())
+    text = risk_section_html(t, hazard=str(EXAMPLE))
+    for needle in ("RotD100", "RotD50", "im_factor", "EXAMPLE", "Poisson", "extrapolated"):
+        assert needle in text
+
+
+def test_risk_figure_data_plot_and_sidecar(tmp_path):
+    import json
+
+    from rocking.study.figures import render
+    from rocking.study.figures import risk as fig
+
+    t = risk_table(fragilities.read_fragilities(table(ROWS)),
+                   HazardCurve.from_power_law(1e-4, 2.5))
+    path = tmp_path / "risk.csv"
+    t.to_csv(path, index=False)
+    d = fig.data(path)
+    over = d["panels"][0]
+    assert over["limit_state"] == "overturning"
+    assert over["curves"]["3d"]["R"].tolist() == [2.0, 6.0]
+    assert over["curves"]["2d-x"]["R"].tolist() == [2.0]  # R = 6 m has no fit
+    ratio = d["measured"]["ratio 2d-x/3d overturning R=2 m [-]"]
+    assert ratio == pytest.approx(closed_form(1e-4, 2.5, 0.41234567891234, 0.2598765432101)
+                                  / closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321),
+                                  rel=1e-3)
+    assert "3d-damped overturning at tan α = 0.2" in d["missing"]
+    axes = fig.plot(d).axes
+    assert axes[0].get_yscale() == "log"
+    render("risk", [tmp_path / "risk.png"], tmp_path / "risk.json", risk=path, hazard="x")
+    notes = json.loads((tmp_path / "risk.json").read_text())
+    assert notes["figure"] == "risk" and "3d overturning R=6 m [1/yr]" in notes["measured"]

@@ -1,0 +1,59 @@
+# From fragility to risk: paths and helpers of the risk rule (risk.smk). Pure functions of
+# `config`; the hazard of every study is parsed once here, so a bad file or power law stops
+# even a dry run with one line naming studies.<study>.hazard.
+
+from pathlib import Path
+
+from rocking.risk.hazard import parse_hazard
+
+
+def hazard_spec(study):
+    """The study's `hazard:` entry, or None."""
+    return study_spec(study).hazard
+
+
+def hazard_file(study):
+    """The hazard CSV of a study (relative to the working directory, else to the
+    repository, as config/config.yaml is found), or None for a power law or no hazard."""
+    spec = hazard_spec(study)
+    name = spec.get("file") if isinstance(spec, dict) else spec
+    if name is None or ("," in str(name) and not Path(name).exists()):
+        return None
+    for base in (Path("."), Path(workflow.basedir)):
+        if (base / name).exists():
+            return str(base / name)
+    return str(name)
+
+
+def hazard_param(study):
+    """The hazard entry with its file resolved (what rocking.risk.parse_hazard reads)."""
+    spec, path = hazard_spec(study), hazard_file(study)
+    if path is None:
+        return spec
+    return {**spec, "file": path} if isinstance(spec, dict) else path
+
+
+def risk_studies():
+    return [s for s in config["studies"] if hazard_spec(s) is not None]
+
+
+def risk_targets():
+    """Exports, risk table and figure of every study with a hazard."""
+    out = []
+    for s in risk_studies():
+        out += [f"results/{s}/fragility.nrml.xml", f"results/{s}/fragility.pelicun.csv",
+                f"results/{s}/risk.csv"]
+        out += figure_files(f"results/{s}/figures/risk")
+    return out
+
+
+def _check_hazards():
+    """Every hazard parses before any job runs; the error names the key."""
+    for s in risk_studies():
+        try:
+            parse_hazard(hazard_param(s))
+        except (ValueError, OSError) as exc:
+            raise ValueError(f"studies.{s}.hazard: {exc}") from None
+
+
+_check_hazards()

@@ -1,0 +1,22 @@
+"""Risk of a study (Snakemake script): NRML and pelicun exports, risk table, risk figure."""
+
+import json
+
+from rocking.risk.exports import write_risk_outputs
+from rocking.risk.hazard import parse_hazard
+from rocking.study.figures import log_to_file, render
+
+
+def main(snakemake):
+    out, params = snakemake.output, snakemake.params
+    with log_to_file(snakemake.log[0]):
+        hazard = parse_hazard(params.hazard)
+        summary = write_risk_outputs(snakemake.input.fragility, hazard, nrml=out.nrml,
+                                     pelicun=out.pelicun, table=out.table,
+                                     search_upper=float(params.upper), study=params.study)
+        print(json.dumps(summary, indent=1, ensure_ascii=False))
+        render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source)
+
+
+if __name__ == "__main__":
+    main(snakemake)
