@@ -19,7 +19,7 @@ import pytest
 import xarray as xr
 
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study import cluster, store
+from rocking.study import cluster, logs, store, tasks
 
 # the workers cannot import the tests folder: send the stand-ins' code along
 cloudpickle.register_pickle_by_value(standin)
@@ -48,10 +48,10 @@ def _spectra_store(tmp_path, name="s.zarr", digest="d1"):
     ensemble = tmp_path / "motions.nc"
     if not ensemble.exists():
         save_ensemble(ensemble, standin.motions())
-    layout = store.spectra_layout(["3d", "2d-y"], ["overturning", "tilt:0.5"], ["m0", "m1"],
+    layout = tasks.spectra_layout(["3d", "2d-y"], ["overturning", "tilt:0.5"], ["m0", "m1"],
                                   [0.2], [1.0, 2.0, 3.0, 9.0], 2)
     attrs = {"tolerances": {"name": "fast"}, "search_options": {},
-             "ensemble": store.ensemble_attrs(ensemble, "test")}
+             "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     store.create_store(tmp_path / name, layout, attrs, digest)
     return tmp_path / name, ensemble, layout
 
@@ -65,8 +65,8 @@ def test_store_filled_by_worker_processes_equals_serial_fill(tmp_path, caplog):
     path, ensemble, layout = _spectra_store(tmp_path)
     serial, _, _ = _spectra_store(tmp_path, "serial.zarr")
     for i in range(layout.n_regions):
-        store.fill_spectra_region(serial, i, ensemble, batch=standin.batch)
-    fn = partial(store.fill_spectra_region, batch=standin.batch)
+        tasks.fill_spectra_region(serial, i, ensemble, batch=standin.batch)
+    fn = partial(tasks.fill_spectra_region, batch=standin.batch)
     with caplog.at_level(logging.INFO, logger="rocking.study.cluster"):
         summary = cluster.fill_store(path, fn, ensemble, config_digest="d1", n_workers=2,
                                      progress_interval=0.0, scheduler_address=None)
@@ -90,7 +90,7 @@ def test_store_filled_by_worker_processes_equals_serial_fill(tmp_path, caplog):
 
 def test_failing_chunk_is_reported_by_name(tmp_path):
     path, ensemble, layout = _spectra_store(tmp_path)
-    fn = partial(store.fill_spectra_region, batch=standin.failing_batch)
+    fn = partial(tasks.fill_spectra_region, batch=standin.failing_batch)
     with cluster.dask_client(cluster.Target("local"), 1) as client:
         with pytest.raises(RuntimeError, match=r"chunk spectra-0 failed: stand-in failure"):
             cluster.run_regions(client, fn, [0], (str(path),), {"motions": str(ensemble)},
@@ -101,7 +101,7 @@ def test_failing_chunk_is_reported_by_name(tmp_path):
 
 def test_log_to_captures_this_and_child_processes(tmp_path):
     log = tmp_path / "logs" / "rule.log"
-    with cluster.log_to(log):
+    with logs.log_to(log):
         print("from the parent", flush=True)
         logging.getLogger("rocking.study.cluster").info("a log record")
         subprocess.run([sys.executable, "-c", "import sys; sys.stderr.write('from a child\\n')"],
@@ -170,7 +170,7 @@ def test_heartbeat_speaks_while_a_long_step_runs():
     import time
 
     said = []
-    with cluster.heartbeat(said.append, 0.2, "building e") as stage:
+    with logs.heartbeat(said.append, 0.2, "building e") as stage:
         stage[0] = "synthesis"
         time.sleep(0.9)
     n = len(said)

@@ -15,7 +15,7 @@ import xarray as xr
 
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.study import store
+from rocking.study import store, tasks
 from rocking.study.aggregate import ensemble_statistics
 from rocking.study.plan import plan_study
 
@@ -102,10 +102,10 @@ def planned_store(tmp_path):
     save_ensemble(ensemble, standin.motions())
     plan = plan_study(RUNS)
     names = [m.name for m in standin.motions()]
-    layout = store.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
+    layout = tasks.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
                                   [1.0, 9.0], 1)
     attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0},
-             "ensemble": store.ensemble_attrs(ensemble, "test")}
+             "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     path = tmp_path / "s.zarr"
     store.create_store(path, layout, attrs, "h", static={store.REQUESTED: plan.requested})
     return path, ensemble, plan, layout
@@ -125,7 +125,7 @@ def test_store_computes_only_requested_cells(planned_store):
     assert len(skipped) == 2 * 2 * 2 * 2 and sorted(pending + skipped) == \
         list(range(layout.n_regions))
     for i in pending:
-        store.fill_spectra_region(path, i, ensemble, batch=recording_batch)
+        tasks.fill_spectra_region(path, i, ensemble, batch=recording_batch)
     # each search is handed only the limit states requested for its mode and tan α
     for mode, tan_alpha, states in asked:
         assert states == plan.limit_states_of(mode, tan_alpha)
@@ -167,13 +167,13 @@ def test_planned_store_resumes_to_identical_bytes(planned_store, tmp_path):
              if k not in ("layout", "config_hash")}
     store.create_store(other, layout, attrs, "h", static={store.REQUESTED: plan.requested})
     for i in store.pending_regions(path):
-        store.fill_spectra_region(path, i, ensemble, batch=standin.batch)
+        tasks.fill_spectra_region(path, i, ensemble, batch=standin.batch)
     pending = store.pending_regions(other)
     for i in pending[::2]:  # a run killed after every other task, then resumed
-        store.fill_spectra_region(other, i, ensemble, batch=standin.batch)
+        tasks.fill_spectra_region(other, i, ensemble, batch=standin.batch)
     assert store.pending_regions(other) == pending[1::2]
     for i in store.pending_regions(other):
-        store.fill_spectra_region(other, i, ensemble, batch=standin.batch)
+        tasks.fill_spectra_region(other, i, ensemble, batch=standin.batch)
 
     def bits(p):
         ds = xr.open_zarr(p, consolidated=False)

@@ -7,7 +7,7 @@ import _store_standins as standin
 import numpy as np
 
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study import prepare, store
+from rocking.study import prepare, store, tasks
 from rocking.study.spec import StudySpec
 
 
@@ -28,7 +28,7 @@ def test_store_is_created_resumed_and_replaced(tmp_path):
     digest = store.config_hash(spec)
     assert prepare.spectra_store(path, spec, digest, motions) == "created"
     layout = store.open_layout(path)
-    store.fill_spectra_region(path, 0, motions, batch=standin.batch)
+    tasks.fill_spectra_region(path, 0, motions, batch=standin.batch)
     before = store.done_mask(path).copy()
     assert before.sum() == 1
     # the same configuration (a killed run started again): the finished chunk is kept

@@ -17,7 +17,8 @@ import zarr
 
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.study import store
+from rocking.study import integrity, store, tasks
+from rocking.study.layout import region_coords
 
 MODES = ["3d", "2d-x"]
 LIMIT_STATES = [s.name for s in parse_limit_states(["overturning", "tilt:1/3", "tilt:0.5"])]
@@ -34,16 +35,16 @@ def ensemble(tmp_path):
 
 def make_spectra_store(path, ensemble, chunk_R=2, digest="h0"):
     names = [m.name for m in standin.motions()]
-    layout = store.spectra_layout(MODES, LIMIT_STATES, names, TAN_ALPHA, R_VALUES, chunk_R)
+    layout = tasks.spectra_layout(MODES, LIMIT_STATES, names, TAN_ALPHA, R_VALUES, chunk_R)
     attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0},
-             "ensemble": store.ensemble_attrs(ensemble, "test"), "config": {"x": 1}}
+             "ensemble": tasks.ensemble_attrs(ensemble, "test"), "config": {"x": 1}}
     store.create_store(path, layout, attrs, digest)
     return layout
 
 
 def fill(path, ensemble, indices, batch=standin.batch):
     for i in indices:
-        store.fill_spectra_region(path, i, ensemble, batch=batch)
+        tasks.fill_spectra_region(path, i, ensemble, batch=batch)
 
 
 def test_regions_tile_the_grid_and_match_the_chunks(tmp_path, ensemble):
@@ -70,7 +71,7 @@ def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
     fill(path, ensemble, range(layout.n_regions))
     store.finalize(path)
     ds = xr.open_zarr(path, consolidated=True)
-    assert list(ds["pga_crit"].dims) == list(store.SPECTRA_DIMS)
+    assert list(ds["pga_crit"].dims) == list(tasks.SPECTRA_DIMS)
     assert bool(ds["done"].all())
     by_name = {m.name: m for m in standin.motions()}
     states = parse_limit_states(LIMIT_STATES)
@@ -113,7 +114,7 @@ def test_interrupted_fill_resumes_to_identical_bytes(tmp_path, ensemble):
     fill(cut, ensemble, range(0, layout.n_regions, 3))
     region = layout.region(1)
     group = zarr.open_group(cut, mode="r+")
-    group["pga_crit"][layout.selection(store.SPECTRA_DIMS, region)] = -1.0
+    group["pga_crit"][layout.selection(tasks.SPECTRA_DIMS, region)] = -1.0
     pending = store.pending_regions(cut)
     assert pending == [i for i in range(layout.n_regions) if i % 3]
     fill(cut, ensemble, pending)
@@ -141,7 +142,7 @@ def test_failed_task_leaves_region_pending(tmp_path, ensemble):
     path = tmp_path / "s.zarr"
     layout = make_spectra_store(path, ensemble, chunk_R=1)
     failing = [i for i in range(layout.n_regions)
-               if list(store.region_coords(layout, i)["R"]) == [2.0]]
+               if list(region_coords(layout, i)["R"]) == [2.0]]
     with pytest.raises(ValueError, match="R=2.0"):
         fill(path, ensemble, failing[:1], batch=standin.failing_batch)
     assert failing[0] in store.pending_regions(path)
@@ -177,9 +178,9 @@ def test_other_configuration_or_ensemble_is_refused(tmp_path, ensemble):
         store.check_config_hash(path, "bbbb")
     other = tmp_path / "other.nc"
     save_ensemble(other, standin.motions(npts=150))
-    store.check_ensemble(path, ensemble)
+    tasks.check_ensemble(path, ensemble)
     with pytest.raises(ValueError, match="other.nc.*rebuild the store"):
-        store.check_ensemble(path, other)
+        tasks.check_ensemble(path, other)
 
 
 def test_config_hash_is_canonical():
@@ -204,30 +205,30 @@ def test_bad_layouts_name_the_field(kwargs, message):
     args = {"modes": ["3d"], "limit_states": ["overturning"], "motions": ["a"],
             "tan_alpha": [0.2], "R": [1.0], "chunk_R": 1, **kwargs}
     with pytest.raises(ValueError, match=message):
-        store.spectra_layout(**args)
+        tasks.spectra_layout(**args)
 
 
 def test_auto_chunk_sizes_tasks_for_the_target_work():
-    point = store.ANALYSES_PER_POINT * 5000 * store.SECONDS_PER_SAMPLE  # one search [s]
-    assert store.auto_chunk_R(20, 5000, 0.5 * point) == 1
-    assert store.auto_chunk_R(20, 5000, 4.5 * point) == 5
-    assert store.auto_chunk_R(3, 5000, 100 * point) == 3  # never more than the grid
+    point = tasks.ANALYSES_PER_POINT * 5000 * tasks.SECONDS_PER_SAMPLE  # one search [s]
+    assert tasks.auto_chunk_R(20, 5000, 0.5 * point) == 1
+    assert tasks.auto_chunk_R(20, 5000, 4.5 * point) == 5
+    assert tasks.auto_chunk_R(3, 5000, 100 * point) == 3  # never more than the grid
 
 
 def test_tilt_map_store_matches_direct_evaluation(tmp_path, ensemble):
     path = tmp_path / "t.zarr"
     models, R, intensity = ["3d", "3d-damped"], [1.0, 2.0, 3.0], [0.5, 1.5, 2.5, 3.5]
-    layout = store.tilt_map_layout(models, R, intensity, chunk_R=2)
+    layout = tasks.tilt_map_layout(models, R, intensity, chunk_R=2)
     attrs = {"motion": "m0", "tan_alpha": 0.2, "tolerances": {"name": "fast"},
-             "model_options": {}, "ensemble": store.ensemble_attrs(ensemble, "test")}
+             "model_options": {}, "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     store.create_store(path, layout, attrs, "t0")
     assert layout.n_regions == 4
-    fill_one = partial(store.fill_tilt_map_region, tilt_map=standin.tilt_map)
+    fill_one = partial(tasks.fill_tilt_map_region, tilt_map=standin.tilt_map)
     for i in store.pending_regions(path):
         fill_one(path, i, ensemble)
     store.finalize(path)
     ds = xr.open_zarr(path, consolidated=True)
-    assert ds["theta_max_over_alpha"].dims == store.TILT_MAP_DIMS
+    assert ds["theta_max_over_alpha"].dims == tasks.TILT_MAP_DIMS
     want = np.array([[[standin.expected_theta(r, i, m, 0.2) for i in intensity] for r in R]
                      for m in models])
     np.testing.assert_array_equal(ds["theta_max_over_alpha"].values, want)
@@ -235,11 +236,11 @@ def test_tilt_map_store_matches_direct_evaluation(tmp_path, ensemble):
 
 
 def test_costliest_regions_are_scheduled_first():
-    layout = store.spectra_layout(["2d-x", "3d"], ["overturning"], ["a"], [0.2],
+    layout = tasks.spectra_layout(["2d-x", "3d"], ["overturning"], ["a"], [0.2],
                                   [1.0, 2.0, 8.0, 9.0], 2)
-    order = store.costliest_first(layout, range(layout.n_regions))
-    described = [(str(store.region_coords(layout, i)["mode"][0]),
-                  list(store.region_coords(layout, i)["R"])) for i in order]
+    order = tasks.costliest_first(layout, range(layout.n_regions))
+    described = [(str(region_coords(layout, i)["mode"][0]),
+                  list(region_coords(layout, i)["R"])) for i in order]
     # 3d before 2d at equal sizes; large bodies (more analyses per search) first
     assert described == [("3d", [8.0, 9.0]), ("2d-x", [8.0, 9.0]), ("3d", [1.0, 2.0]),
                          ("2d-x", [1.0, 2.0])]
@@ -282,22 +283,22 @@ def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensem
     for p in (full, hurt):
         fill(p, ensemble, range(layout.n_regions))
         store.finalize(p)
-    assert store.has_checksums(hurt)
+    assert integrity.has_checksums(hurt)
     name, hurt_it = DAMAGES[damage]
     # region 2 is (3d, m0, 0.1, R = 9): overturning not reached there, so its not_reached
     # chunk holds a True a deleted file would silently turn to False
     region = layout.region(2)
     group = zarr.open_group(hurt, mode="r")
-    dims = store.SPECTRA_TASK_DIMS if name == "done" else store.SPECTRA_DIMS
-    chunk = store._chunk_file(hurt, group[name], layout.selection(dims, region))
+    dims = tasks.SPECTRA_TASK_DIMS if name == "done" else tasks.SPECTRA_DIMS
+    chunk = integrity.chunk_file(hurt, group[name], layout.selection(dims, region))
     hurt_it(chunk)
     said = []
-    assert store.verify_store(hurt, say=said.append) == [2]
+    assert integrity.verify_store(hurt, say=said.append) == [2]
     assert "chunk 2 damaged" in said[0] and str(hurt) in said[0]
     assert store.pending_regions(hurt) == [2]
     fill(hurt, ensemble, [2])
     store.finalize(hurt)
-    assert store.verify_store(hurt) == []
+    assert integrity.verify_store(hurt) == []
     assert _chunk_bytes(hurt) == _chunk_bytes(full)
     assert _bits(hurt) == _bits(full)
 
@@ -307,10 +308,10 @@ def test_verification_finds_pga_crit_g_inconsistent_with_pga_crit(tmp_path, ense
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
     group = zarr.open_group(path, mode="r+")
-    sel = layout.selection(store.SPECTRA_DIMS, layout.region(5))
+    sel = layout.selection(tasks.SPECTRA_DIMS, layout.region(5))
     group["pga_crit_g"][sel] = group["pga_crit_g"][sel] * 1.01  # a valid chunk, wrong values
     said = []
-    assert store.verify_store(path, say=said.append) == [5]
+    assert integrity.verify_store(path, say=said.append) == [5]
     assert "pga_crit_g differs from pga_crit" in said[0]
 
 
@@ -319,8 +320,8 @@ def test_unreadable_done_mask_names_the_store_and_the_remedy(tmp_path, ensemble)
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
     group = zarr.open_group(path, mode="r")
-    _truncate(store._chunk_file(path, group["done"],
-                                layout.selection(store.SPECTRA_TASK_DIMS, layout.region(0))))
+    _truncate(integrity.chunk_file(path, group["done"],
+                                layout.selection(tasks.SPECTRA_TASK_DIMS, layout.region(0))))
     with pytest.raises(ValueError, match=r"s\.zarr.*done mask is unreadable.*--forcerun"):
         store.done_mask(path)
 
@@ -331,10 +332,10 @@ def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, 
     monkeypatch.setattr(store, "chunk_codecs", lambda: [zarr.codecs.ZstdCodec(level=0)])
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
-    assert not store.has_checksums(path)
+    assert not integrity.has_checksums(path)
     group = zarr.open_group(path, mode="r+")
-    sel = layout.selection(store.SPECTRA_DIMS, layout.region(3))
+    sel = layout.selection(tasks.SPECTRA_DIMS, layout.region(3))
     group["pga_crit"][sel] = np.nan  # what a damaged old chunk decodes to, unflagged
     said = []
-    assert store.verify_store(path, say=said.append) == [3]
+    assert integrity.verify_store(path, say=said.append) == [3]
     assert "without chunk checksums" in said[0] and "rebuild" in said[0]

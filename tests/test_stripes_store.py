@@ -14,6 +14,7 @@ from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.stripes import stripe_fragility
 from rocking.study import store
 from rocking.study import stripes as st
+from rocking.study.layout import region_coords
 from rocking.study.spec import StudySpec
 
 SPEC = StudySpec.from_config({
@@ -36,7 +37,7 @@ def filled(tmp_path):
     assert layout.n_regions == 2 * 3 * 2  # modes x motions x ceil(3 R / 2)
     for i in store.pending_regions(path, layout):
         rep = st.fill_stripes_region(path, i, ens)
-        assert rep["points"] == len(store.region_coords(layout, i)["R"]) * 4
+        assert rep["points"] == len(region_coords(layout, i)["R"]) * 4
     store.finalize(path)
     assert st.prepare_store(path, SPEC, "h1", ens) == "resumed"
     return path, ens

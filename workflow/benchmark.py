@@ -34,7 +34,8 @@ import yaml
 
 from rocking.benchmarks._io import write_table
 from rocking.spectra.accuracy import get_accuracy
-from rocking.study import cluster, store
+from rocking.study import cluster, store, tasks
+from rocking.study.layout import region_coords
 from rocking.study.spec import Damping, SpectraSpec, StudySpec
 
 REPO = Path(__file__).resolve().parents[1]
@@ -109,11 +110,11 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
     k = plan.tan_alpha.index(0.2)
     requested = plan.requested[[plan.modes.index(m) for m in modes]][:, :, [k]]
     ensemble = workdir / "results/motions/elcentro.nc"
-    layout = store.spectra_layout(modes, plan.limit_states, motions, [0.2], R, 1)
+    layout = tasks.spectra_layout(modes, plan.limit_states, motions, [0.2], R, 1)
     options = {"upper": spec.upper,
                **(Damping.options(spec.damping) if "3d-damped" in modes else {})}
     attrs = {"tolerances": get_accuracy(spec.accuracy).to_dict(), "search_options": options,
-             "ensemble": store.ensemble_attrs(ensemble, "elcentro")}
+             "ensemble": tasks.ensemble_attrs(ensemble, "elcentro")}
     path = workdir / f"{name}.zarr"
     store.create_store(path, layout, attrs, name, static={store.REQUESTED: requested})
     return path
@@ -121,15 +122,15 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
 
 def paper_point_cost(rows: list[dict], workdir: Path) -> None:
     ensemble = workdir / "results/motions/elcentro.nc"
-    names = [m["name"] for m in store.ensemble_attrs(ensemble, "elcentro")["motions"]]
+    names = [m["name"] for m in tasks.ensemble_attrs(ensemble, "elcentro")["motions"]]
     modes = ["3d", "3d-damped", "2d-x", "2d-y"]
     path = _paper_store(workdir, modes, SAMPLE_R, names[:2], "paper-sample")
     layout = store.open_layout(path)
     per_mode: dict[str, list[float]] = {m: [] for m in modes}
     analyses: dict[str, list[int]] = {m: [] for m in modes}
     for i in range(layout.n_regions):
-        rep = store.fill_spectra_region(path, i, ensemble)
-        mode = str(store.region_coords(layout, i)["mode"][0])
+        rep = tasks.fill_spectra_region(path, i, ensemble)
+        mode = str(region_coords(layout, i)["mode"][0])
         per_mode[mode].append(rep["seconds"] / rep["points"])
     ds = store.read_attrs(path)
     import xarray as xr
@@ -163,7 +164,7 @@ def paper_point_cost(rows: list[dict], workdir: Path) -> None:
 
 def speedup(rows: list[dict], workdir: Path) -> None:
     ensemble = workdir / "results/motions/elcentro.nc"
-    names = [m["name"] for m in store.ensemble_attrs(ensemble, "elcentro")["motions"]]
+    names = [m["name"] for m in tasks.ensemble_attrs(ensemble, "elcentro")["motions"]]
     walls = {}
     for n_workers in (1, 2):
         path = _paper_store(workdir, ["3d", "2d-x"], SPEEDUP_R, names[:1], f"speedup-{n_workers}")
@@ -171,8 +172,8 @@ def speedup(rows: list[dict], workdir: Path) -> None:
         t0 = time.perf_counter()
         with cluster.dask_client(cluster.Target("local"), n_workers) as client:
             t1 = time.perf_counter()
-            order = store.costliest_first(layout, range(layout.n_regions))
-            cluster.run_regions(client, store.fill_spectra_region, order,
+            order = tasks.costliest_first(layout, range(layout.n_regions))
+            cluster.run_regions(client, tasks.fill_spectra_region, order,
                                 (str(path),), {"motions": str(ensemble)}, interval=1e9)
             t2 = time.perf_counter()
         walls[n_workers] = (t2 - t1, time.perf_counter() - t0)

@@ -2,12 +2,12 @@
 configuration), fill it on Dask, write the completion marker (the rule's output)."""
 
 from rocking import _json
-from rocking.study import cluster, stripes
+from rocking.study import logs, stripes
 
 
 def main(snakemake):
     p = snakemake.params
-    with cluster.log_to(snakemake.log[0]):
+    with logs.log_to(snakemake.log[0]):
         summary = stripes.compute(
             p.store, p.spec, p.config_hash, snakemake.input.motions,
             n_workers=snakemake.threads, key=f"stripes-{snakemake.wildcards.study}",

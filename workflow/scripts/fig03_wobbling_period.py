@@ -1,11 +1,12 @@
 """Fig 3 (Snakemake script): wobbling period versus tilt, closed forms only."""
 
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         render("fig03_wobbling_period", [out.png, out.pdf], out.notes)
 
 

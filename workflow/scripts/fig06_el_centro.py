@@ -1,12 +1,13 @@
 """Fig 6 (Snakemake script): El Centro response, the ensemble's first motion (the record)."""
 
 from rocking.motions.ensemble_io import load_ensemble
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         record = load_ensemble(snakemake.input.motions)[0]
         render("fig06_el_centro", [out.png, out.pdf], out.notes, motion=record,
                sensitivity=snakemake.input.sensitivity, **snakemake.params.model_options)

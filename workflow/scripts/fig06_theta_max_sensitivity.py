@@ -2,12 +2,13 @@
 El Centro record, read as recorded and processed like the ensemble."""
 
 from rocking.motions.build import read_motion
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         spec = snakemake.params.spec
         render("fig06_theta_max_sensitivity", [out.png, out.pdf], out.notes,
                record=read_motion(spec["record"], spec["paths"]), mw=spec["mw"],

@@ -1,11 +1,12 @@
 """Fig 7 (Snakemake script): θmax/α contours from results/<study>/tilt_map.zarr."""
 
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         render("fig07_tilt_map", [out.png, out.pdf], out.notes, path=snakemake.params.store,
                motions=snakemake.input.motions)
 

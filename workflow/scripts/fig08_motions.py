@@ -2,12 +2,13 @@
 pairs of the other identification method beside it."""
 
 from rocking.motions.ensemble_io import load_ensemble
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         render("fig08_motions", [out.png, out.pdf], out.notes,
                motions=load_ensemble(snakemake.input.motions),
                comparison=load_ensemble(snakemake.input.comparison))

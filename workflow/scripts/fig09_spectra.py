@@ -1,11 +1,12 @@
 """Fig 9 (Snakemake script): per-motion performance spectra, their means, damped − undamped."""
 
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         render("fig09_spectra", [out.png, out.pdf], out.notes, store=snakemake.params.store,
                means=snakemake.input.means, motions=snakemake.input.motions)
 

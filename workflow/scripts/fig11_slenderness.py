@@ -1,11 +1,12 @@
 """Fig 11 (Snakemake script): mean spectra for tan α = 0.1, 0.2, 0.3."""
 
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         render("fig11_slenderness", [out.png, out.pdf], out.notes, means=snakemake.input.means,
                motions=snakemake.input.motions)
 

@@ -1,12 +1,13 @@
 """Fragility curves (Snakemake script): lognormal MLE per point, line fits of the mean spectra."""
 
 from rocking.spectra import fragility
-from rocking.study.figures import log_to_file, open_means, open_store, render
+from rocking.study.figures import open_means, open_store, render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         table = fragility.fragility_table(open_store(snakemake.params.store),
                                           upper=float(snakemake.params.upper))
         table.to_netcdf(out.fragility_nc)

@@ -3,8 +3,9 @@
 import xarray as xr
 
 from rocking.study.aggregate import ensemble_statistics, write_statistics
-from rocking.study.cluster import log_to
-from rocking.study.store import REPAIR, verify_store
+from rocking.study.integrity import verify_store
+from rocking.study.logs import log_to
+from rocking.study.store import REPAIR
 
 
 def main(snakemake):

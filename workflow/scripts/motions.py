@@ -11,7 +11,7 @@ import logging
 from rocking import _json
 from rocking.motions.build import ENSEMBLE_ATTRS, build_ensemble, quality_lines, read_motion
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study.cluster import heartbeat, log_to, terminal
+from rocking.study.logs import heartbeat, log_to, terminal
 
 
 def main(snakemake):

@@ -5,7 +5,8 @@ import time
 
 import numba
 
-from rocking.study.cluster import log_to, warm_numba_cache
+from rocking.study.logs import log_to
+from rocking.study.warmup import warm_numba_cache
 
 
 def main(snakemake):

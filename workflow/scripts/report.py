@@ -5,7 +5,7 @@ import json
 from datetime import datetime
 from pathlib import Path
 
-from rocking.study.figures import log_to_file
+from rocking.study.logs import log_to
 from rocking.study.report import build, what_was_run
 
 
@@ -25,7 +25,7 @@ def main(snakemake):
     inp = snakemake.input
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
     sens = [f for f in inp.figures if str(f).endswith("fig06_theta_max_sensitivity.json")]
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         run = what_was_run(stores=list(snakemake.params.stores),
                            tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),

@@ -4,12 +4,13 @@ import json
 
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import parse_hazard
-from rocking.study.figures import log_to_file, render
+from rocking.study.figures import render
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         hazard = parse_hazard(params.hazard)
         summary = write_risk_outputs(snakemake.input.fragility, hazard, nrml=out.nrml,
                                      pelicun=out.pelicun, table=out.table,

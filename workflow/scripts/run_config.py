@@ -2,7 +2,7 @@
 
 import yaml
 
-from rocking.study.cluster import log_to
+from rocking.study.logs import log_to
 
 
 def main(snakemake):

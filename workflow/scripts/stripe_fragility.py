@@ -3,13 +3,13 @@ state, R) of the stripes store beside the first-exceedance fit of the spectra.""
 
 import xarray as xr
 
-from rocking.study.figures import log_to_file
+from rocking.study.logs import log_to
 from rocking.study.stripes import stripe_table
 from rocking.units import header
 
 
 def main(snakemake):
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         with xr.open_dataset(snakemake.input.fragility) as f:
             first = f.load()
         table = stripe_table(xr.open_zarr(snakemake.params.store, consolidated=True), first)

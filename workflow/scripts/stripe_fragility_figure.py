@@ -1,13 +1,13 @@
 """Stripe against first-exceedance fragility of one mode (Snakemake script)."""
 
-from rocking.study.figures import log_to_file
 from rocking.study.figures import stripe_fragility as fig
 from rocking.study.figures._style import save, write_notes
+from rocking.study.logs import log_to
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to_file(snakemake.log[0]):
+    with log_to(snakemake.log[0]):
         d = fig.data(snakemake.params.store, snakemake.input.fragility,
                      mode=snakemake.wildcards.mode)
         save(fig.plot(d), [out.png, out.pdf])

@@ -7,7 +7,7 @@ each worker compute one spectrum point per mode, as every worker of a study even
 (El Centro, R = 2 m, tan α = 0.2, overturning and θ > α/3, "default" accuracy):
 
 - ``before``: the workers start at once, so each compiles the kernels it meets itself;
-- ``after``: :func:`rocking.study.cluster.warm_numba_cache` runs first in the client process
+- ``after``: :func:`rocking.study.warmup.warm_numba_cache` runs first in the client process
   (the workflow's ``numba_cache`` step), the workers then load the kernels from the cache;
 - ``warm``: ``after`` again on the cache the previous scenario filled (every later rule or
   run on the machine).
@@ -56,7 +56,7 @@ def scenario(warm: bool) -> dict:
     """Run one scenario in this process; seconds since its start per mode."""
     from distributed import Client, LocalCluster
 
-    from rocking.study.cluster import warm_numba_cache
+    from rocking.study.warmup import warm_numba_cache
 
     t0 = time.time()
     warm_seconds = 0.0

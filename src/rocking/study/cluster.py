@@ -14,10 +14,8 @@ point finished (a stalled run is told from a slow one). A cluster without worker
 start or later (the only worker died), is waited for ``worker_timeout`` seconds, then the
 run stops with one line that says so; finished chunks stay in the store.
 
-Compilation is paid once per machine: the kernels are numba functions cached on disk
-(``cache=True``), so :func:`warm_numba_cache` run once before any worker starts (the
-workflow's first step) compiles them, and every later process, worker or rule loads them
-from the cache instead of compiling its own copy.
+Compilation is paid once per machine (:mod:`rocking.study.warmup`); a rule's output goes to
+its log (:mod:`rocking.study.logs`), progress also to the terminal.
 """
 
 from __future__ import annotations
@@ -25,9 +23,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
-import sys
 import time
-import traceback
 import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
@@ -37,18 +33,12 @@ from typing import Any
 from distributed import Client, LocalCluster, wait
 
 from .._progress import Progress
+from .logs import terminal
 
 log = logging.getLogger("rocking.study.cluster")
 
 DEFAULT_WORKER_TIMEOUT = 60.0
 """Seconds to wait for a first worker of a joined cluster that has none [s]."""
-
-_terminal: list = []  # the stream the user sees while output is sent to a log (log_to)
-
-
-def terminal():
-    """The user's terminal (stderr before :func:`log_to` redirected it), else stderr."""
-    return _terminal[-1] if _terminal else sys.stderr
 
 ENV_ADDRESS = "DASK_SCHEDULER_ADDRESS"
 """Environment variable naming an existing scheduler (``tcp://host:port``)."""
@@ -191,78 +181,6 @@ def _wait_for_a_worker(client: Client, address: str, timeout: float, say) -> Non
     say(f"a worker joined scheduler {address}")
 
 
-WARM_R = 1.0
-"""Size of the warm-up cylinder [m] (tan α 0.2): small enough to rock, tail and overturn
-under :func:`_warm_motion` within a few analyses."""
-
-
-def _warm_motion():
-    """2 s of two half-sine pulses at 100 Hz: a cheap motion under which a search meets
-    rest, rocking, the free tail after the record and overturning."""
-    import numpy as np
-
-    from ..motions.motion import GroundMotion
-
-    t = np.arange(201) * 0.01
-    pulse = np.where(t < 1.0, np.sin(np.pi * t), 0.0)
-    return GroundMotion(3.0 * pulse, 2.0 * np.roll(pulse, 50), 0.01, "warm-up")
-
-
-def _warm_mode(mode: str) -> float:
-    """One cheap search of ``mode`` (compiles or loads its kernels); seconds it took [s]."""
-    from ..dynamics.bodies import Cylinder
-    from ..spectra.critical import critical_intensity
-
-    t0 = time.perf_counter()
-    critical_intensity(Cylinder(WARM_R, 0.2), _warm_motion(), ["tilt:0.5", "overturning"],
-                       mode, accuracy="fast", upper=8.0)
-    return time.perf_counter() - t0
-
-
-def warm_numba_cache(modes: Sequence[str] | None = None, processes: int = 1) -> dict[str, float]:
-    """Compile the kernels of ``modes``, or load them from numba's cache.
-
-    One critical-intensity search per mode on a 2 s motion runs every kernel a study's
-    tasks call (the search's summary-only analyses, stop at a tilt, free tail, overturning).
-    Compiled code is written to numba's on-disk cache, so processes started afterwards on
-    this machine (Dask workers, other rules) load it in about a second instead of compiling
-    for 10–20 s each, and each kernel is compiled once instead of once per process.
-
-    Parameters
-    ----------
-    modes : sequence of str, optional
-        Modes of :data:`rocking.spectra.critical.MODES` (default all).
-    processes : int
-        Compile the dynamics models (3d, 3d-damped, 2d) in up to this many fresh processes
-        at once (1: one after the other in this process). The models share few kernels, so
-        on an empty cache the wall time falls from their sum towards the slowest one.
-
-    Returns
-    -------
-    dict
-        Seconds per mode [s]: compilation on an empty cache, loading on a warm one.
-    """
-    from ..spectra.critical import MODES
-
-    modes = list(dict.fromkeys(MODES if modes is None else modes))
-    if processes < 1:
-        raise ValueError(f"processes must be >= 1, got {processes!r}")
-    # one representative mode per dynamics model first (2d-x and 2d-y share a kernel)
-    first = list({MODES[m][0]: m for m in reversed(modes)}.values())[::-1]
-    seconds: dict[str, float] = {}
-    if processes > 1 and len(first) > 1:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        ctx = multiprocessing.get_context("spawn")  # fresh interpreters, nothing inherited
-        with ProcessPoolExecutor(min(processes, len(first)), mp_context=ctx) as pool:
-            seconds.update(zip(first, pool.map(_warm_mode, first), strict=True))
-    for mode in modes:  # in this process too: loads what the others compiled
-        seconds[mode] = seconds.get(mode, 0.0) + _warm_mode(mode)
-        log.info("numba kernels of mode %s ready in %.2f s", mode, seconds[mode])
-    return seconds
-
-
 def worker_pids(client: Client) -> dict[str, int]:
     """Process id of every worker (written to the log: a stuck worker can be found)."""
     return client.run(os.getpid)
@@ -282,7 +200,7 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
     ----------
     client : distributed.Client
     fn : callable
-        Importable task body, e.g. :func:`rocking.study.store.fill_spectra_region`.
+        Importable task body, e.g. :func:`rocking.study.tasks.fill_spectra_region`.
     indices : sequence of int
         Regions to compute, in order of priority (first = started first).
     args, kwargs
@@ -384,82 +302,6 @@ class _WorkerWatch:
                 f"finished chunks are kept")
 
 
-@contextlib.contextmanager
-def heartbeat(say: Callable[[str], None], interval: float, what: str) -> Iterator[list]:
-    """Say ``"<what>: still working (<stage>), elapsed <s> s"`` every ``interval`` seconds
-    while the block runs (a long step without progress of its own, e.g. an ensemble's
-    synthesis, is told from a stalled one).
-
-    Yields a one-element list: the block puts the current stage in it (``stage[0] = ...``).
-    ``interval`` <= 0 says nothing.
-    """
-    import threading
-
-    stage = ["starting"]
-    stop = threading.Event()
-    t0 = time.monotonic()
-
-    def beat() -> None:
-        while not stop.wait(interval):
-            say(f"{what}: still working ({stage[0]}), elapsed {time.monotonic() - t0:.0f} s")
-
-    thread = threading.Thread(target=beat, daemon=True) if interval > 0 else None
-    if thread is not None:
-        thread.start()
-    try:
-        yield stage
-    finally:
-        stop.set()
-        if thread is not None:
-            thread.join()
-
-
-@contextlib.contextmanager
-def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
-    """Send this process's and its children's output (stdout, stderr, logging) to ``path``.
-
-    Both the Python streams and the file descriptors 1 and 2 are redirected, so worker
-    processes started inside the block (a LocalCluster) write there too. The terminal stays
-    reachable through :func:`terminal` (progress goes there as well as to the log). An
-    exception leaving the block is written to the log with its traceback, then re-raised:
-    the log Snakemake points to says what went wrong.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved_fds = os.dup(1), os.dup(2)
-    saved_streams = sys.stdout, sys.stderr
-    fh = open(path, "a", buffering=1)  # noqa: SIM115 - closed in finally
-    os.dup2(fh.fileno(), 1)
-    os.dup2(fh.fileno(), 2)
-    sys.stdout = sys.stderr = fh
-    handler = logging.StreamHandler(fh)
-    handler.setFormatter(logging.Formatter("%(asctime)s %(name)s %(levelname)s %(message)s"))
-    root = logging.getLogger()
-    old_level = root.level
-    root.addHandler(handler)
-    root.setLevel(level)
-    _terminal.append(os.fdopen(os.dup(saved_fds[1]), "w", buffering=1))
-    try:
-        yield
-    except BaseException as exc:
-        fh.write("".join(traceback.format_exception(exc)))
-        fh.write(f"error: {type(exc).__name__}: {exc}\n")
-        raise
-    finally:
-        _terminal.pop().close()
-        fh.flush()
-        root.removeHandler(handler)
-        root.setLevel(old_level)
-        sys.stdout, sys.stderr = saved_streams
-        os.dup2(saved_fds[0], 1)
-        os.dup2(saved_fds[1], 2)
-        os.close(saved_fds[0])
-        os.close(saved_fds[1])
-        fh.close()
-
-
 def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *,
                config_digest: str, n_workers: int = 1, scheduler_address: str | None = None,
                scheduler_file: str | None = None, progress_interval: float = 10.0,
@@ -467,7 +309,7 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                label: str | None = None) -> dict[str, Any]:
     """Verify the finished regions of a store, compute the others on Dask, consolidate it.
 
-    Every finished region is re-read first (:func:`rocking.study.store.verify_store`):
+    Every finished region is re-read first (:func:`rocking.study.integrity.verify_store`):
     damaged ones (checksum mismatch, truncated or missing chunk, inconsistent values) are
     computed again, so ``snakemake --forcerun spectra`` repairs a damaged store.
 
@@ -477,7 +319,7 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         A store made by :func:`rocking.study.store.create_store`.
     fn : callable
         Task body ``fn(path, index, motions=...)``, e.g.
-        :func:`rocking.study.store.fill_spectra_region`.
+        :func:`rocking.study.tasks.fill_spectra_region`.
     motions : str or Path
         Ensemble file of the store.
     config_digest : str
@@ -502,24 +344,25 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         Summary: regions in total, already done before this run, computed now, per-chunk
         compute seconds (min, median, max), wall seconds, where it ran.
     """
-    from . import store
+    from . import integrity, store, tasks
+    from .layout import region_points
 
     t0 = time.perf_counter()
     # absolute paths: workers of an external cluster may run in another directory
     path, motions = Path(path).resolve(), Path(motions).resolve()
     store.check_config_hash(path, config_digest)
-    store.check_ensemble(path, motions)
+    tasks.check_ensemble(path, motions)
     layout = store.open_layout(path)
     # every run re-reads what earlier runs finished: damaged chunks become pending again
-    damaged = store.verify_store(path, layout, say=log.warning)
-    pending = store.costliest_first(layout, store.pending_regions(path, layout))
+    damaged = integrity.verify_store(path, layout, say=log.warning)
+    pending = tasks.costliest_first(layout, store.pending_regions(path, layout))
     n = layout.n_regions
     log.info("store %s: %d chunks, %d already done and verified, %d damaged, %d to compute",
              path, n, n - len(pending), len(damaged), len(pending))
     target = resolve_target(scheduler_address, scheduler_file)
     reports: list[dict] = []
     if pending:
-        total = sum(store.region_points(layout, i) for i in pending)
+        total = sum(region_points(layout, i) for i in pending)
         with Progress(total, label or key, stream=terminal(), log=log,
                       interval=progress_interval) as bar:
             bar.message(f"{label or key}: {total} points in {len(pending)} chunks to compute "

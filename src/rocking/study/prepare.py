@@ -20,7 +20,7 @@ from typing import Any
 
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
-from . import store
+from . import store, tasks
 from .spec import Damping, SpectraSpec, TiltMapSpec
 
 log = logging.getLogger(__name__)
@@ -74,14 +74,14 @@ def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_d
     s = spec if isinstance(spec, SpectraSpec) else SpectraSpec.from_attrs(spec)
 
     def create(p: Path) -> None:
-        ensemble = store.ensemble_attrs(motions, s.ensemble.name)
+        ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
         names = [m["name"] for m in ensemble["motions"]]
         chunk_R = s.chunk_R
         if chunk_R == "auto":
             npts = min(m["npts"] for m in ensemble["motions"])
-            chunk_R = store.auto_chunk_R(len(s.R), npts, s.min_task_seconds)
+            chunk_R = tasks.auto_chunk_R(len(s.R), npts, s.min_task_seconds)
         plan = s.plan
-        layout = store.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
+        layout = tasks.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
                                       s.R, chunk_R)
         attrs = {
             "title": f"Seismic performance rocking spectra, study {s.study}",
@@ -94,7 +94,7 @@ def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_d
                                    "pga_crit_g = pga_crit * tan_alpha is the same PGA in g",
         }
         store.create_store(p, layout, attrs, config_digest,
-                           coords=store.identity_coords(ensemble),
+                           coords=tasks.identity_coords(ensemble),
                            static={store.REQUESTED: plan.requested})
         skipped = len(store.regions_not_requested(layout, plan.requested))
         log.info("created %s: %d chunks of %d sizes R (%d not requested by any run, marked "
@@ -112,13 +112,13 @@ def tilt_map_store(path: str | Path, spec: TiltMapSpec | dict[str, Any], config_
     s = spec if isinstance(spec, TiltMapSpec) else TiltMapSpec.from_attrs(spec)
 
     def create(p: Path) -> None:
-        ensemble = store.ensemble_attrs(motions, s.ensemble.name)
+        ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
         names = [m["name"] for m in ensemble["motions"]]
         motion = s.motion or names[0]  # the record comes first in an ensemble
         if motion not in names:
             raise ValueError(f"studies.{s.study}.tilt_map.motion={motion!r} is not a "
                              f"motion of ensemble {s.ensemble.name!r}: {names}")
-        layout = store.tilt_map_layout(s.modes, s.R, s.intensity, s.chunk_R)
+        layout = tasks.tilt_map_layout(s.modes, s.R, s.intensity, s.chunk_R)
         who = next(m for m in ensemble["motions"] if m["name"] == motion)
         attrs = {
             "title": f"Peak tilt over size and intensity (Fig 7), study {s.study}",
@@ -156,6 +156,6 @@ def compute(kind: str, path: str | Path, spec: dict[str, Any], config_digest: st
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     state = KINDS[kind](path, spec, config_digest, motions)
-    fill = store.fill_spectra_region if kind == "spectra" else store.fill_tilt_map_region
+    fill = tasks.fill_spectra_region if kind == "spectra" else tasks.fill_tilt_map_region
     summary = cluster.fill_store(path, fill, motions, config_digest=config_digest, **fill_kw)
     return {**summary, "store_state": state}

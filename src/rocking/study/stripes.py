@@ -24,7 +24,8 @@ import xarray as xr
 
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
-from . import store
+from . import store, tasks
+from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .prepare import _prepare
 from .spec import Damping, StripesSpec
 
@@ -38,7 +39,7 @@ STRIPES_TASK_DIMS = ("mode", "motion", "R")
 
 
 def stripes_layout(modes: Sequence[str], limit_states: Sequence[str], motions: Sequence[str],
-                   R: Sequence[float], intensity: Sequence[float], chunk_R: int) -> store.Layout:
+                   R: Sequence[float], intensity: Sequence[float], chunk_R: int) -> Layout:
     """Layout of a stripes store.
 
     Parameters
@@ -55,18 +56,18 @@ def stripes_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
     if x.ndim != 1 or np.any(np.diff(x) <= 0):
         raise ValueError(f"stripe intensities must be strictly increasing, got {intensity!r}")
     coords = {
-        "mode": store._labels("mode", modes),
-        "limit_state": store._labels("limit_state", limit_states),
-        "motion": store._labels("motion", motions),
-        "R": store._values("R", R),
-        "intensity": store._values("intensity", intensity),
+        "mode": label_coord("mode", modes),
+        "limit_state": label_coord("limit_state", limit_states),
+        "motion": label_coord("motion", motions),
+        "R": value_coord("R", R),
+        "intensity": value_coord("intensity", intensity),
     }
     variables = {
-        "exceeded": store.Variable(STRIPES_DIMS, "bool", False),
-        "failed": store.Variable(("mode", "motion", "R", "intensity"), "bool", False),
-        "n_analyses": store.Variable(STRIPES_TASK_DIMS, "int32", 0),
+        "exceeded": Variable(STRIPES_DIMS, "bool", False),
+        "failed": Variable(("mode", "motion", "R", "intensity"), "bool", False),
+        "n_analyses": Variable(STRIPES_TASK_DIMS, "int32", 0),
     }
-    return store.Layout(coords, variables, STRIPES_TASK_DIMS, {"R": int(chunk_R)})
+    return Layout(coords, variables, STRIPES_TASK_DIMS, {"R": int(chunk_R)})
 
 
 def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_digest: str,
@@ -81,7 +82,7 @@ def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_d
     s = spec if isinstance(spec, StripesSpec) else StripesSpec.from_attrs(spec)
 
     def create(p: Path) -> None:
-        ensemble = store.ensemble_attrs(motions, s.ensemble.name)
+        ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
         names = [m["name"] for m in ensemble["motions"]]
         states = [ls.name for ls in parse_limit_states(list(s.limit_states), sort=False)]
         layout = stripes_layout(s.modes, states, names, s.R, s.intensity, s.chunk_R)
@@ -97,14 +98,14 @@ def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_d
         }
         pga_g = ("intensity", [i * float(s.tan_alpha) for i in s.intensity])
         store.create_store(p, layout, attrs, config_digest,
-                           coords={**store.identity_coords(ensemble), "pga_g": pga_g})
+                           coords={**tasks.identity_coords(ensemble), "pga_g": pga_g})
         log.info("created %s: %d chunks, %d motions x %d stripes", p, layout.n_regions,
                  len(names), len(s.intensity))
 
     return _prepare(path, config_digest, create)
 
 
-def fill_stripes_region(path: str | Path, index: int, motions: store.MotionSource,
+def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSource,
                         ) -> dict[str, float]:
     """Analyse one motion at every stripe for the sizes R of region ``index``; write them.
 
@@ -117,9 +118,9 @@ def fill_stripes_region(path: str | Path, index: int, motions: store.MotionSourc
     t0 = time.perf_counter()
     layout = store.open_layout(path)
     attrs = store.read_attrs(path)
-    rc = store.region_coords(layout, index)
+    rc = region_coords(layout, index)
     (mode,), (name,) = rc["mode"], rc["motion"]
-    motion = store._motion(motions, name)
+    motion = tasks.motion_named(motions, name)
     states = parse_limit_states([str(s) for s in layout.coords["limit_state"]], sort=False)
     x = np.asarray(layout.coords["intensity"], dtype=float)
     acc = get_accuracy(attrs["tolerances"])

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ._load import open_means, open_store
-from ._log import log_to_file
 from ._style import save, write_notes
 
 FIGURES = (
@@ -92,5 +91,5 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     return d
 
 
-__all__ = ["EXTRA_FIGURES", "FIGURES", "NOTE_KEYS", "figure_name", "log_to_file", "module",
+__all__ = ["EXTRA_FIGURES", "FIGURES", "NOTE_KEYS", "figure_name", "module",
            "open_means", "open_store", "render"]

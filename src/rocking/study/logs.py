@@ -1,0 +1,100 @@
+"""A job's output sent to its log file: stdout, stderr, logging, and worker processes too.
+
+One redirector for every workflow script (compute, figure and report jobs):
+:func:`log_to`. The terminal stays reachable (:func:`terminal`) for progress;
+:func:`heartbeat` says a long step is still working.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import sys
+import time
+import traceback
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+_terminal: list = []  # the stream the user sees while output is sent to a log (log_to)
+
+
+def terminal():
+    """The user's terminal (stderr before :func:`log_to` redirected it), else stderr."""
+    return _terminal[-1] if _terminal else sys.stderr
+
+
+@contextlib.contextmanager
+def heartbeat(say: Callable[[str], None], interval: float, what: str) -> Iterator[list]:
+    """Say ``"<what>: still working (<stage>), elapsed <s> s"`` every ``interval`` seconds
+    while the block runs (a long step without progress of its own, e.g. an ensemble's
+    synthesis, is told from a stalled one).
+
+    Yields a one-element list: the block puts the current stage in it (``stage[0] = ...``).
+    ``interval`` <= 0 says nothing.
+    """
+    import threading
+
+    stage = ["starting"]
+    stop = threading.Event()
+    t0 = time.monotonic()
+
+    def beat() -> None:
+        while not stop.wait(interval):
+            say(f"{what}: still working ({stage[0]}), elapsed {time.monotonic() - t0:.0f} s")
+
+    thread = threading.Thread(target=beat, daemon=True) if interval > 0 else None
+    if thread is not None:
+        thread.start()
+    try:
+        yield stage
+    finally:
+        stop.set()
+        if thread is not None:
+            thread.join()
+
+
+@contextlib.contextmanager
+def log_to(path: str | Path, level: int = logging.INFO) -> Iterator[None]:
+    """Send this process's and its children's output (stdout, stderr, logging) to ``path``.
+
+    Both the Python streams and the file descriptors 1 and 2 are redirected, so worker
+    processes started inside the block (a LocalCluster) write there too. The terminal stays
+    reachable through :func:`terminal` (progress goes there as well as to the log). An
+    exception leaving the block is written to the log with its traceback, then re-raised:
+    the log Snakemake points to says what went wrong.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved_fds = os.dup(1), os.dup(2)
+    saved_streams = sys.stdout, sys.stderr
+    fh = open(path, "a", buffering=1)  # noqa: SIM115 - closed in finally
+    os.dup2(fh.fileno(), 1)
+    os.dup2(fh.fileno(), 2)
+    sys.stdout = sys.stderr = fh
+    handler = logging.StreamHandler(fh)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(name)s %(levelname)s %(message)s"))
+    root = logging.getLogger()
+    old_level = root.level
+    root.addHandler(handler)
+    root.setLevel(level)
+    _terminal.append(os.fdopen(os.dup(saved_fds[1]), "w", buffering=1))
+    try:
+        yield
+    except BaseException as exc:
+        fh.write("".join(traceback.format_exception(exc)))
+        fh.write(f"error: {type(exc).__name__}: {exc}\n")
+        raise
+    finally:
+        _terminal.pop().close()
+        fh.flush()
+        root.removeHandler(handler)
+        root.setLevel(old_level)
+        sys.stdout, sys.stderr = saved_streams
+        os.dup2(saved_fds[0], 1)
+        os.dup2(saved_fds[1], 2)
+        os.close(saved_fds[0])
+        os.close(saved_fds[1])
+        fh.close()
