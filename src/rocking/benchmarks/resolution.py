@@ -613,7 +613,8 @@ def summary(res: pd.DataFrame) -> str:
     n_win = int(res["windows_below_1pct"].sum())
     n_ans = int((res["windows_below_1pct"] > 0).sum())
     lines += ["", f"Windows the 1 % grid stepped over, seen on the finest grid: "
-              f"{n_win} in {n_ans} answers; width (between the neighbouring non-exceeding points) median "
+              f"{n_win} in {n_ans} answers; width (between the neighbouring non-exceeding "
+              f"points) median "
               f"{w.median():.3f} %, 10th–90th percentile {w.quantile(0.1):.3f}–"
               f"{w.quantile(0.9):.3f} %."]
     return "\n".join(lines)
