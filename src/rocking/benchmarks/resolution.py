@@ -69,7 +69,7 @@ STEP: dict[str, float] = {"1%": 0.01, "0.5%": 0.005, "0.2%": 0.002, "0.1%": 0.00
 UPPER = 20.0
 """Highest normalized intensity analysed (the study's search bound) [-]."""
 
-MAX_TRACE = 12000
+MAX_TRACE = 5000
 """Safety net: analyses per point; a point that needs more is marked truncated."""
 
 BASE = PRESETS["default"]
