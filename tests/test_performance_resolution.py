@@ -67,12 +67,13 @@ def test_monotone_response_is_not_flagged():
         assert not res.not_reached.any()
 
 
-def test_window_warning_needs_a_close_peak_that_falls_back():
-    assert window_warning(np.array([0.1, 0.6, 0.3, 0.4]), 0.5)  # peak 0.6 fell back
-    assert not window_warning(np.array([0.1, 0.4, 0.3, 0.45]), 0.5)  # peak below 0.5
-    assert not window_warning(np.array([0.1, 0.5, 0.7, 0.9]), 0.5)  # rising to the goal
-    assert not window_warning(np.array([0.9]), 0.5)  # one point: nothing to compare
-    assert not window_warning(np.array([]), 0.5)
+def test_window_warning_needs_a_close_peak_or_a_spike_that_falls_back():
+    assert window_warning(np.array([0.1, 0.6, 0.3, 0.4]), 0.5, 3.0)  # close peak fell back
+    assert not window_warning(np.array([0.1, 0.4, 0.3, 0.45]), 0.5, 3.0)  # peak far, mild
+    assert window_warning(np.array([1e-4, 0.02, 1e-3, 0.3]), 0.5, 3.0)  # far, but a spike
+    assert not window_warning(np.array([0.1, 0.5, 0.7, 0.9]), 0.5, 3.0)  # rising to the goal
+    assert not window_warning(np.array([0.9]), 0.5, 3.0)  # one point: nothing to compare
+    assert not window_warning(np.array([]), 0.5, 3.0)
 
 
 def hidden_window_response(I):

@@ -123,8 +123,8 @@ class CriticalResult:
         exceedance there may have been missed.
     unresolved : ndarray of bool
         Windows of exceedance narrower than the scan step may lie below this answer: below
-        its first exceeding scan point the peak tilt came close to the goal and fell back
-        (:func:`window_warning`). A finer scan may answer lower.
+        its first exceeding scan point the peak tilt came close to the goal and fell back,
+        or spiked (:func:`window_warning`). A finer scan may answer lower.
     n_analyses : int
         Analyses run (retries included), shared by all limit states.
     lower, upper : float
@@ -287,16 +287,23 @@ class _Knowledge:
 
 UNRESOLVED_CLOSENESS = 0.5
 """Closeness θmax/goal of a peak of the scanned response at and above which
-:func:`window_warning` fires [-] (chosen on the resolution benchmark, docs/performance.md)."""
+:func:`window_warning` fires when the next scan point falls back [-] (chosen on the
+resolution benchmark, docs/performance.md)."""
+
+UNRESOLVED_DROP = 3.0
+"""Fall of the peak tilt between neighbouring scan points (θ_j/θ_{j+1}) at and above which
+:func:`window_warning` fires whatever the closeness to the goal [-] (same benchmark)."""
 
 
-def window_warning(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENESS) -> bool:
+def window_warning(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENESS,
+                   drop: float = UNRESOLVED_DROP) -> bool:
     """Whether windows of exceedance narrower than the scan step may hide among scan points.
 
-    Near a goal, the peak tilt jumps with the intensity and exceeds the goal in windows
-    0.05–0.3 % wide; a scan sees their shoulders: the response comes close to the goal at
-    one point and falls back at the next. A response growing monotonically up to the first
-    exceedance shows no such peak.
+    Near a goal the peak tilt jumps with the intensity and exceeds the goal in windows
+    0.02–0.2 % wide; a scan sees their shoulders: the response comes close to the goal at
+    one point and falls back at the next, or it spikes (θmax falls by a factor ``drop`` or
+    more at the next point), the mark of the sensitive regime where such windows open. A
+    response growing monotonically up to its first exceedance shows neither.
 
     Parameters
     ----------
@@ -305,17 +312,22 @@ def window_warning(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENES
         [-] (the goal of overturning and of tilts above α is α: nothing beyond α is reached
         without passing it).
     threshold : float
-        Closeness of a peak that counts [-].
+        Closeness of a peak that counts whatever the fall [-].
+    drop : float
+        Fall θ_j/θ_{j+1} that counts whatever the closeness [-].
 
     Returns
     -------
     bool
-        A scan point other than the last reached ``threshold`` and the next one fell back.
+        Some scan point but the last is followed by a lower one, and it was within
+        ``threshold`` of the goal or the next is ``drop`` times lower.
     """
     r = np.asarray(closeness, dtype=float)
     if r.size < 2:
         return False
-    return bool(np.any((r[:-1] >= threshold) & (r[1:] < r[:-1])))
+    here, after = r[:-1], r[1:]
+    fell = after < here
+    return bool(np.any(fell & ((here >= threshold) | (here >= drop * after))))
 
 
 def _classify(
