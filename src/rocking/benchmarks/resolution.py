@@ -366,8 +366,7 @@ ADAPTIVE = PRESETS["default"].with_(name="adaptive 0.5–5 %, κ = 60", scan="ad
 
 def search_configs() -> list[Accuracy]:
     """The configurations run as real searches on every point."""
-    return [PRESETS["default"], SEEK, PRECISE_SCAN, SEEK_CHEAP, PRESETS["fast"],
-            PRESETS["precise"], ADAPTIVE]
+    return [PRESETS["default"], SEEK, PRECISE_SCAN, PRESETS["fast"], PRESETS["precise"]]
 
 
 def run_search(motion: GroundMotion, mode: str, R: float, tan_alpha: float, acc: Accuracy,
@@ -401,8 +400,8 @@ def _search_worker(key: tuple, digest: str) -> str:
         for goals in (GOALS_2, DEFAULT_LIMIT_STATES):
             if (acc.name, len(goals)) in have:
                 continue
-            if len(goals) == 7 and acc.name not in ("default", SEEK.name, PRECISE_SCAN.name):
-                continue  # seven goals: only the default and its two rivals
+            if len(goals) == 7 and acc.name not in ("default", "precise"):
+                continue  # seven goals: only the default and the precise preset
             done.append(run_search(_MOTIONS[m], mode, R, t, acc, goals))
             path.write_text(json.dumps(done))
     return f"  searches {m} {mode} R={R:g} tan={t:g}: {len(done)} runs"
@@ -537,8 +536,11 @@ def accuracy_rows(keys, runs: list[list[dict]], res: pd.DataFrame) -> list[dict]
     ``unresolved`` flag's precision/recall, analyses and CPU seconds per point."""
     ref = {(r.motion, r.mode, r.R, r.tan_alpha, r.limit_state): r for r in res.itertuples()}
     acc: dict[tuple[str, int], dict] = {}
+    wanted = {a.name for a in search_configs()}
     for key, point_runs in zip(keys, runs, strict=True):
         for run in point_runs:
+            if run["config"] not in wanted:
+                continue
             d = acc.setdefault((run["config"], run["goals"]), {
                 "err": [], "analyses": [], "cpu": [], "flag": [], "truth": [],
                 "by_mode": {}})
