@@ -180,3 +180,14 @@ def test_store_without_unresolved_stays_readable(tmp_path):
         frame = critical_frame(ds)
     assert not any(c.startswith("unresolved") for c in frame.columns)
     assert frame["pga_crit [g tan(alpha)]"].notna().any()
+
+
+def test_unresolved_is_a_column_of_the_cli_and_of_critical_csv():
+    from rocking.cli.spectra import COLUMNS
+    from rocking.study.aggregate import CRITICAL_COLUMNS
+    from rocking.units import header
+
+    assert "unresolved" in COLUMNS and "unresolved" in CRITICAL_COLUMNS
+    assert "unresolved" in store.spectra_layout(["3d"], ["overturning"], ["m"], [0.2], [1.0],
+                                                1).variables
+    assert header("unresolved") == "unresolved"  # a flag: no unit
