@@ -519,7 +519,10 @@ def flag_rows(trs: list[Trace], res: pd.DataFrame) -> list[dict]:
                 continue
             cases.append((r.ratio_1pct > 1.01 + 1e-9, closeness_on_grid(tr, k, 100, one)))
     rows = []
-    rules = {"peak that fell back (window_warning)": lambda c, x: window_warning(c, x),
+    rules = {"close peak or spike that fell back (window_warning, drop 3)":
+             lambda c, x: window_warning(c, x, 3.0),
+             "close peak that fell back (no spike)":
+             lambda c, x: window_warning(c, x, math.inf),
              "max closeness below the bracket": lambda c, x: c.size > 1 and c[:-1].max() >= x,
              "max closeness incl. the bracket": lambda c, x: c.size > 0 and c.max() >= x}
     truth = np.array([t for t, _ in cases], dtype=bool)
