@@ -372,6 +372,10 @@ def search_configs() -> list[Accuracy]:
             PRESETS["precise"]]
 
 
+SEVEN_GOAL_CONFIGS = ("default", "precise", SEEK_CHEAP.name)
+"""Configurations also searched with the seven goals (the others with two only)."""
+
+
 def run_search(motion: GroundMotion, mode: str, R: float, tan_alpha: float, acc: Accuracy,
                goals) -> dict:
     """One real search (as :func:`rocking.spectra.critical.critical_intensity` runs it),
@@ -403,8 +407,8 @@ def _search_worker(key: tuple, digest: str) -> str:
         for goals in (GOALS_2, DEFAULT_LIMIT_STATES):
             if (acc.name, len(goals)) in have:
                 continue
-            if len(goals) == 7 and acc.name not in ("default", "precise", SEEK_CHEAP.name):
-                continue  # seven goals: the default, the precise preset, the cheap seek
+            if len(goals) == 7 and acc.name not in SEVEN_GOAL_CONFIGS:
+                continue
             done.append(run_search(_MOTIONS[m], mode, R, t, acc, goals))
             path.write_text(json.dumps(done))
     return f"  searches {m} {mode} R={R:g} tan={t:g}: {len(done)} runs"
@@ -545,7 +549,8 @@ def accuracy_rows(keys, runs: list[list[dict]], res: pd.DataFrame) -> list[dict]
     wanted = {a.name for a in search_configs()}
     for key, point_runs in zip(keys, runs, strict=True):
         for run in point_runs:
-            if run["config"] not in wanted:
+            if run["config"] not in wanted or (run["goals"] == 7
+                                               and run["config"] not in SEVEN_GOAL_CONFIGS):
                 continue
             d = acc.setdefault((run["config"], run["goals"]), {
                 "err": [], "analyses": [], "cpu": [], "flag": [], "truth": [],
