@@ -54,6 +54,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "mean_pga_g": ("gravity", "g", "mean over motions of the critical PGA"),
     "count": ("1", "", "motions whose limit state was reached"),
     "n_not_reached": ("1", "", "motions left out: limit state not reached"),
+    "n_unresolved": ("1", "", "motions whose answer a finer scan may move lower (unresolved)"),
     "median_all": ("1", "g tan(alpha)", "median over all motions, those not reached counted "
                    "above the search bound (Kaplan-Meier; NaN: above the bound)"),
     "censoring": ("1", "", "how the statistics treat motions not reached at the search bound"),
