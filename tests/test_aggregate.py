@@ -148,3 +148,20 @@ def test_censoring_of_cells_not_requested():
     assert set(stats["censoring"].sel(limit_state="tilt:1/3").values.ravel()) == {
         "not computed"}
     assert np.isnan(stats["median_all"].sel(limit_state="tilt:1/3").values).all()
+
+
+def test_unresolved_answers_are_counted_among_reached_ones_only(tmp_path):
+    values = [[2.0, 3.0, 4.0],
+              [4.0, np.nan, 5.0],
+              [9.0, np.nan, 6.0]]
+    ds = spectra(values)
+    flag = np.array([[True, False, False],
+                     [True, True, False],     # the not-reached flag must not count
+                     [False, True, True]])[None, None, :, None, :]
+    ds["unresolved"] = (ds["pga_crit"].dims, flag)
+    stats = ensemble_statistics(ds)
+    np.testing.assert_array_equal(stats["n_unresolved"].values.ravel(), [2, 0, 1])
+    write_statistics(stats, tmp_path / "s.nc", tmp_path / "s.csv")
+    assert "n_unresolved" in pd.read_csv(tmp_path / "s.csv").columns
+    # a store written before the flag existed has no such column, and no error
+    assert "n_unresolved" not in ensemble_statistics(spectra(values))

@@ -157,7 +157,7 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
     good = {"pga_crit": np.ones(shape), "pga_crit_g": np.full(shape, 0.2),
             "not_reached": np.zeros(shape, bool),
             "non_monotonic": np.zeros(shape, bool), "failed": np.zeros(shape, bool),
-            "n_analyses": np.ones(shape, np.int32)}
+            "unresolved": np.zeros(shape, bool), "n_analyses": np.ones(shape, np.int32)}
     with pytest.raises(ValueError, match="unexplained NaN"):
         store.write_region(path, layout, 0, {**good, "pga_crit": np.full(shape, np.nan)})
     with pytest.raises(ValueError, match=r"pga_crit has shape \(1, 3\)"):

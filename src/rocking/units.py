@@ -35,6 +35,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "not_reached": ("1", "", "limit state not exceeded up to the search bound"),
     "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
     "failed": ("1", "", "an analysis failed even after a retry"),
+    "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer"),
     "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
     "done": ("1", "", "chunk computed and written"),
     "requested": ("1", "", "some run of the study asks for this cell (false: not computed)"),
@@ -53,6 +54,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "mean_pga_g": ("gravity", "g", "mean over motions of the critical PGA"),
     "count": ("1", "", "motions whose limit state was reached"),
     "n_not_reached": ("1", "", "motions left out: limit state not reached"),
+    "n_unresolved": ("1", "", "motions whose answer a finer scan may move lower (unresolved)"),
     "median_all": ("1", "g tan(alpha)", "median over all motions, those not reached counted "
                    "above the search bound (Kaplan-Meier; NaN: above the bound)"),
     "censoring": ("1", "", "how the statistics treat motions not reached at the search bound"),

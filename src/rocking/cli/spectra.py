@@ -28,7 +28,7 @@ UPPER_DEFAULT = 20.0
 checked equal in the tests; the search module is not imported to print the help)."""
 
 COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "pga_crit", "pga_crit_g",
-           "not_reached", "non_monotonic", "failed", "n_analyses", "bracket_lo",
+           "not_reached", "non_monotonic", "failed", "unresolved", "n_analyses", "bracket_lo",
            "bracket_hi", "lower", "upper", "accuracy", "source_record", "processing")
 """Columns of the CSV (titles with units) and keys of the JSON results."""
 
@@ -137,7 +137,7 @@ def run(args) -> int:
     table = pd.DataFrame(rows(results, motion), columns=list(COLUMNS))
     if out is None:
         cols = ["R", "limit_state", "pga_crit", "pga_crit_g", "not_reached", "non_monotonic",
-                "failed", "n_analyses"]
+                "failed", "unresolved", "n_analyses"]
         print(f"# {identity(motion)['processing']}; mode {args.mode}, tan_alpha "
               f"{args.tan_alpha:g}")
         print(table[cols].rename(columns=header).to_string(index=False))

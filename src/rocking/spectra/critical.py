@@ -143,7 +143,7 @@ def critical_intensity(
 
 
 _PER_LIMIT_STATE = ("intensity", "bracket_lo", "bracket_hi", "not_reached", "non_monotonic",
-                    "failed")
+                    "failed", "unresolved")
 
 
 def _in_order(res: CriticalResult, names: list[str]) -> CriticalResult:

@@ -121,6 +121,10 @@ class CriticalResult:
     failed : ndarray of bool
         An analysis below the answer failed even after a retry with a tighter rtol, so an
         exceedance there may have been missed.
+    unresolved : ndarray of bool
+        Windows of exceedance narrower than the scan step may lie below this answer: below
+        its first exceeding scan point the peak tilt came close to the goal and fell back,
+        or spiked (:func:`window_warning`). A finer scan may answer lower.
     n_analyses : int
         Analyses run (retries included), shared by all limit states.
     lower, upper : float
@@ -145,10 +149,16 @@ class CriticalResult:
     upper: float
     accuracy: Accuracy
     evaluations: tuple[Evaluation, ...] = ()
+    unresolved: np.ndarray | None = None
     mode: str = ""
     motion: str = ""
     R: float = float("nan")
     tan_alpha: float = float("nan")
+
+    def __post_init__(self) -> None:
+        if self.unresolved is None:  # a result built without the flag: nothing was seen
+            object.__setattr__(self, "unresolved",
+                               np.zeros(len(self.limit_states), dtype=bool))
 
     @property
     def pga_g(self) -> np.ndarray:
@@ -161,7 +171,7 @@ class CriticalResult:
                 f"{self.n_analyses} analyses)")
         rows = []
         for k, name in enumerate(self.limit_states):
-            flags = [f for f in ("not_reached", "non_monotonic", "failed")
+            flags = [f for f in ("not_reached", "non_monotonic", "failed", "unresolved")
                      if bool(getattr(self, f)[k])]
             rows.append(f"  {name}: PGA/(g tan alpha) = {float(self.intensity[k]):.6g}, "
                         f"PGA = {float(self.pga_g[k]):.6g} g"
@@ -200,6 +210,7 @@ class CriticalResult:
                     "not_reached": bool(self.not_reached[k]),
                     "non_monotonic": bool(self.non_monotonic[k]),
                     "failed": bool(self.failed[k]),
+                    "unresolved": bool(self.unresolved[k]),
                     "n_analyses": int(self.n_analyses),
                     "lower": float(self.lower),
                     "upper": float(self.upper),
@@ -227,12 +238,15 @@ class _Knowledge:
     intensities: list[float] = field(default_factory=list)
     known: list[np.ndarray] = field(default_factory=list)
     exceeded: list[np.ndarray] = field(default_factory=list)
+    theta: list[float] = field(default_factory=list)
     failed_at: list[float] = field(default_factory=list)
 
-    def add(self, intensity: float, known: np.ndarray, exceeded: np.ndarray) -> None:
+    def add(self, intensity: float, known: np.ndarray, exceeded: np.ndarray,
+            theta: float) -> None:
         self.intensities.append(intensity)
         self.known.append(known)
         self.exceeded.append(exceeded)
+        self.theta.append(theta)
 
     def brackets(self) -> tuple[np.ndarray, np.ndarray]:
         """(lo, hi) per limit state: hi = smallest exceeding I seen (NaN if none), lo = the
@@ -269,6 +283,51 @@ class _Knowledge:
         open_above = np.isnan(hi) & (intensity > lo)
         inside = (lo < intensity) & (intensity < hi)
         return open_above | inside
+
+
+UNRESOLVED_CLOSENESS = 0.5
+"""Closeness θmax/goal of a peak of the scanned response at and above which
+:func:`window_warning` fires when the next scan point falls back [-] (chosen on the
+resolution benchmark, docs/performance.md)."""
+
+UNRESOLVED_DROP = 3.0
+"""Fall of the peak tilt between neighbouring scan points (θ_j/θ_{j+1}) at and above which
+:func:`window_warning` fires whatever the closeness to the goal [-] (same benchmark)."""
+
+
+def window_warning(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENESS,
+                   drop: float = UNRESOLVED_DROP) -> bool:
+    """Whether windows of exceedance narrower than the scan step may hide among scan points.
+
+    Near a goal the peak tilt jumps with the intensity and exceeds the goal in windows
+    0.02–0.2 % wide; a scan sees their shoulders: the response comes close to the goal at
+    one point and falls back at the next, or it spikes (θmax falls by a factor ``drop`` or
+    more at the next point), the mark of the sensitive regime where such windows open. A
+    response growing monotonically up to its first exceedance shows neither.
+
+    Parameters
+    ----------
+    closeness : ndarray
+        θmax/goal at the scan points below the first exceeding one, by increasing intensity
+        [-] (the goal of overturning and of tilts above α is α: nothing beyond α is reached
+        without passing it).
+    threshold : float
+        Closeness of a peak that counts whatever the fall [-].
+    drop : float
+        Fall θ_j/θ_{j+1} that counts whatever the closeness [-].
+
+    Returns
+    -------
+    bool
+        Some scan point but the last is followed by a lower one, and it was within
+        ``threshold`` of the goal or the next is ``drop`` times lower.
+    """
+    r = np.asarray(closeness, dtype=float)
+    if r.size < 2:
+        return False
+    here, after = r[:-1], r[1:]
+    fell = after < here
+    return bool(np.any(fell & ((here >= threshold) | (here >= drop * after))))
 
 
 def _classify(
@@ -313,6 +372,7 @@ class _Search:
         self.evaluations: list[Evaluation] = []
         self.stuck = np.zeros(len(states), dtype=bool)  # a failure blocks the bracket
         self.resolved = np.zeros(len(states), dtype=bool)  # bracket at float resolution
+        self.scan_rows = 0  # the first scan_rows analyses known are the scan's
 
     def _call(self, intensity: float, stop_at: float | None, rtol: float) -> Outcome:
         if len(self.evaluations) >= MAX_ANALYSES:
@@ -342,8 +402,9 @@ class _Search:
             self.know.failed_at.append(intensity)
             return math.nan
         known, exceeded = _classify(out, self.states, self.tau, self.alpha, stop_at)
-        self.know.add(intensity, known, exceeded)
-        return math.pi / 2 if out.overturned else float(out.theta_max)
+        theta = math.pi / 2 if out.overturned else float(out.theta_max)
+        self.know.add(intensity, known, exceeded, theta)
+        return theta
 
     def _next_scan_point(self, previous: float, j: int, theta: float) -> float:
         """Scan point after ``previous`` (the j-th), given the peak tilt ``theta`` reached
@@ -355,6 +416,8 @@ class _Search:
         # overturning) is reached without first passing α, where the restoring moment of
         # the body's weight vanishes, so closeness to α is what warns of them.
         goal = min(float(np.min(self.tau[np.isnan(hi)])), self.alpha)
+        if self.acc.scan == "seek":
+            return previous * (1.0 + self.acc.seek_step(theta, goal))
         return previous * (1.0 + self.acc.adaptive_step(theta, goal))
 
     def scan(self) -> None:
@@ -388,6 +451,25 @@ class _Search:
                 # Cannot learn anything here: stop refining every bracket around this point.
                 self.stuck |= (lo < mid) & (mid < hi)
 
+    def unresolved(self) -> np.ndarray:
+        """:func:`window_warning` of each limit state on the scan's analyses below its first
+        exceeding scan point (all of them where it was not reached)."""
+        n = self.scan_rows
+        out = np.zeros(self.tau.size, dtype=bool)
+        if n == 0:
+            return out
+        intens = np.asarray(self.know.intensities[:n])
+        known = np.asarray(self.know.known[:n])
+        exc = np.asarray(self.know.exceeded[:n])
+        theta = np.asarray(self.know.theta[:n])
+        order = np.argsort(intens, kind="stable")
+        for k in range(self.tau.size):
+            hit = known[:, k] & exc[:, k]
+            first = np.min(intens[hit]) if hit.any() else np.inf
+            below = [i for i in order if intens[i] < first and known[i, k]]
+            out[k] = window_warning(theta[below] / min(self.tau[k], self.alpha))
+        return out
+
     def result(self) -> CriticalResult:
         lo, hi = self.know.brackets()
         not_reached = np.isnan(hi)
@@ -404,6 +486,7 @@ class _Search:
             not_reached=not_reached,
             non_monotonic=self.know.non_monotonic(),
             failed=failed,
+            unresolved=self.unresolved(),
             n_analyses=len(self.evaluations),
             lower=float(self.lower),
             upper=float(self.upper),
@@ -456,6 +539,7 @@ def search_critical(
     rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
     search = _Search(analyze, states, alpha, lower, upper, acc, rtol)
     search.scan()
+    search.scan_rows = len(search.know.intensities)
     search.bisect()
     return search.result()
 

@@ -84,6 +84,11 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     out["requested"] = requested.transpose(*(d for d in STAT_DIMS if d in requested.dims))
     out["mean_pga_g"] = out["mean"] * out["tan_alpha"]
     out["censoring"] = censoring_notes(out)
+    if "unresolved" in ds:
+        # answers a finer scan may move lower (rocking.spectra.search): the share says how far
+        # to trust a mean that rests on them (docs/performance.md, resolution)
+        flag = ds["unresolved"].load().astype(bool) & reached
+        out["n_unresolved"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
     for name in out.variables:
         out[name].attrs = attrs(str(name))
     out["std"].attrs["ddof"] = 1
@@ -135,14 +140,14 @@ def censoring_notes(stats: xr.Dataset) -> xr.DataArray:
 def to_frame(stats: xr.Dataset) -> pd.DataFrame:
     """Long table, one row per (mode, limit_state, tan_alpha, R); headers with units."""
     cols = ["mean", "mean_pga_g", "std", "median", "median_all", "count", "n_not_reached",
-            "censoring", "requested"]
+            "n_unresolved", "censoring", "requested"]
     cols = [c for c in cols if c in stats]
     df = stats[cols].to_dataframe().reset_index()[[*STAT_DIMS, *cols]]
     return df.rename(columns=header)
 
 
 CRITICAL_COLUMNS = ("pga_crit", "pga_crit_g", "not_reached", "non_monotonic", "failed",
-                    "n_analyses")
+                    "unresolved", "n_analyses")
 """Per-motion results of a spectra store, as :func:`critical_frame` lists them."""
 
 

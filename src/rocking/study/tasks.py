@@ -74,6 +74,7 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
         "not_reached": Variable(SPECTRA_DIMS, "bool", False),
         "non_monotonic": Variable(SPECTRA_DIMS, "bool", False),
         "failed": Variable(SPECTRA_DIMS, "bool", False),
+        "unresolved": Variable(SPECTRA_DIMS, "bool", False),
         "n_analyses": Variable(SPECTRA_DIMS, "int32", 0),
     }
     # fill True: a store made without a study plan computes every cell
@@ -302,7 +303,8 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
         _unrequested_values(len(limit_states), len(tasks))
     flat["pga_crit_g"] = flat["pga_crit"] * float(tan_alpha)  # PGA [g] = I·tan α
     # (limit_state, R) -> (mode=1, limit_state, motion=1, tan_alpha=1, R)
-    values = {k: v[None, :, None, None, :] for k, v in flat.items()}
+    # a store made before a variable existed (e.g. ``unresolved``) keeps its own variables
+    values = {k: v[None, :, None, None, :] for k, v in flat.items() if k in layout.variables}
     # NaN is an answer where the limit state was not reached, or where nobody asked
     nan_ok = values["not_reached"] | ~wanted[None, :, None, None, None]
     write_region(path, layout, index, values,
@@ -325,6 +327,7 @@ def _unrequested_values(n_ls: int, n: int) -> dict[str, np.ndarray]:
         "not_reached": np.zeros((n_ls, n), dtype=bool),
         "non_monotonic": np.zeros((n_ls, n), dtype=bool),
         "failed": np.zeros((n_ls, n), dtype=bool),
+        "unresolved": np.zeros((n_ls, n), dtype=bool),
         "n_analyses": np.zeros((n_ls, n), dtype=np.int32),
     }
 
@@ -338,8 +341,8 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
     results : sequence of CriticalResult
         One per point, as returned by :func:`rocking.spectra.critical.critical_intensity_batch`:
         ``limit_states`` (names), arrays ``intensity`` (PGA/(g tan α) [-], NaN where not
-        reached), ``not_reached``, ``non_monotonic``, ``failed`` and the count
-        ``n_analyses``.
+        reached), ``not_reached``, ``non_monotonic``, ``failed``, ``unresolved`` (false
+        where a result has none) and the count ``n_analyses``.
     limit_states : sequence of str
         Order of the first axis (canonical names, as in the store).
     computed : sequence of str, optional
@@ -367,6 +370,8 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
             out["not_reached"][i, j] = res.not_reached[k]
             out["non_monotonic"][i, j] = res.non_monotonic[k]
             out["failed"][i, j] = res.failed[k]
+            unresolved = getattr(res, "unresolved", None)
+            out["unresolved"][i, j] = False if unresolved is None else unresolved[k]
             out["n_analyses"][i, j] = res.n_analyses
     bad = np.isnan(out["pga_crit"]) & ~out["not_reached"]
     bad &= np.isin(np.asarray(limit_states, dtype=object), list(computed))[:, None]
