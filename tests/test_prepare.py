@@ -8,7 +8,7 @@ import numpy as np
 
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.study import prepare, store, tasks
-from rocking.study.spec import StudySpec
+from rocking.study.spec import StudySpec, config_hash
 
 
 def _spec(upper: float) -> dict:
@@ -25,7 +25,7 @@ def test_store_is_created_resumed_and_replaced(tmp_path):
     save_ensemble(motions, standin.motions())
     path = tmp_path / "spectra.zarr"
     spec = _spec(20.0)
-    digest = store.config_hash(spec)
+    digest = config_hash(spec)
     assert prepare.spectra_store(path, spec, digest, motions) == "created"
     layout = store.open_layout(path)
     tasks.fill_spectra_region(path, 0, motions, batch=standin.batch)
@@ -37,9 +37,9 @@ def test_store_is_created_resumed_and_replaced(tmp_path):
     assert store.pending_regions(path, layout) == list(range(1, layout.n_regions))
     # another configuration: a fresh store, nothing done, the new hash recorded
     other = _spec(10.0)
-    assert prepare.spectra_store(path, other, store.config_hash(other), motions) == "replaced"
+    assert prepare.spectra_store(path, other, config_hash(other), motions) == "replaced"
     assert not store.done_mask(path).any()
-    assert store.read_attrs(path)["config_hash"] == store.config_hash(other)
+    assert store.read_attrs(path)["config_hash"] == config_hash(other)
 
 
 def test_a_directory_that_is_not_a_store_is_replaced(tmp_path):
@@ -49,5 +49,5 @@ def test_a_directory_that_is_not_a_store_is_replaced(tmp_path):
     path.mkdir()
     (path / "junk").write_text("not zarr")
     spec = _spec(20.0)
-    assert prepare.spectra_store(path, spec, store.config_hash(spec), motions) == "replaced"
+    assert prepare.spectra_store(path, spec, config_hash(spec), motions) == "replaced"
     assert not (path / "junk").exists()

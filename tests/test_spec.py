@@ -20,10 +20,10 @@ from rocking.study.spec import (
     StripesSpec,
     StudySpec,
     TiltMapSpec,
+    config_hash,
     decode_attrs,
     expand_grid,
 )
-from rocking.study.store import config_hash
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = ["config/config.yaml", "config/paper.yaml"]

@@ -21,6 +21,7 @@ time-outs are not.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from collections.abc import Mapping, Sequence
@@ -29,10 +30,11 @@ from typing import Any
 
 import numpy as np
 
+from .._json import json_default
 from .plan import StudyPlan, plan_study
 
 __all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "SpectraSpec", "StripesSpec", "StudySpec",
-           "TiltMapSpec", "decode_attrs", "expand_grid"]
+           "TiltMapSpec", "config_hash", "decode_attrs", "expand_grid"]
 
 DEFAULTS: dict[str, Any] = {
     "accuracy": "default",
@@ -102,6 +104,15 @@ def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[f
     if len(set(values)) != len(values):
         raise ValueError(f"{field}: repeated values {values!r}")
     return values
+
+
+def config_hash(obj: Any) -> str:
+    """Short sha256 of the canonical JSON of ``obj`` (sorted keys, no blanks).
+
+    Used as the identity of the result-affecting configuration of a store.
+    """
+    text = json.dumps(obj, sort_keys=True, separators=(",", ":"), default=json_default)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def decode_attrs(attrs: Mapping[str, Any]) -> dict[str, Any]:
@@ -314,8 +325,6 @@ class _Hashed:
     @property
     def digest(self) -> str:
         """Short sha256 of the canonical JSON of :meth:`to_attrs`."""
-        from .store import config_hash
-
         return config_hash(self.to_attrs())
 
 

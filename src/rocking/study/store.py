@@ -25,7 +25,6 @@ study's stores hold and how a worker fills a region: :mod:`rocking.study.tasks`.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import shutil
 import warnings
@@ -39,7 +38,6 @@ import xarray as xr
 import zarr
 
 from .. import _json
-from .._json import json_default
 from ..units import QUANTITIES
 from ..units import attrs as cf_attrs
 from .layout import Layout, Variable
@@ -57,15 +55,6 @@ REQUESTED_DIMS = ("mode", "limit_state", "tan_alpha")
 # Snakemake marks a finished directory output with a ".snakemake_timestamp" file; zarr notes
 # it is not part of the hierarchy whenever it lists a store's members. It is harmless.
 warnings.filterwarnings("ignore", message=r"Object at \.snakemake_timestamp is not recognized")
-
-
-def config_hash(obj: Any) -> str:
-    """Short sha256 of the canonical JSON of ``obj`` (sorted keys, no blanks).
-
-    Used as the identity of the result-affecting configuration of a store.
-    """
-    text = json.dumps(obj, sort_keys=True, separators=(",", ":"), default=json_default)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
@@ -89,7 +78,8 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         Attributes; values that are not strings are stored as JSON text (``config``,
         ``tolerances``, ``ensemble``...), readable with ``json.loads``.
     config_digest : str
-        :func:`config_hash` of the result-affecting configuration.
+        :func:`rocking.study.spec.config_hash` of the result-affecting configuration (the
+        ``digest`` of a :class:`~rocking.study.spec.SpectraSpec` or its kin).
     coords : dict, optional
         Auxiliary coordinates ``{name: (dim, values)}``, e.g. each motion's source record
         and processing (:func:`identity_coords`).
