@@ -113,3 +113,24 @@ def test_figure_per_mode(filled, tmp_path):
     assert out[0].stat().st_size > 10_000
     with pytest.raises(ValueError, match="not in the stripes store"):
         fig.data(path, None, mode="3d-damped")
+
+
+def test_verification_reads_a_stripes_store_and_finds_a_damaged_chunk(filled):
+    # a stripes store has no (mode, limit_state, tan_alpha) mask: the verification pass that
+    # every run starts with must still read it (it once failed on the missing tan_alpha)
+    from rocking.study import integrity
+
+    path, _ = filled
+    said = []
+    assert integrity.verify_store(path, say=said.append) == []
+    assert said == []
+    layout = store.open_layout(path)
+    group = store.open_group(path, "r")
+    name = next(iter(layout.variables))
+    var = layout.variables[name]
+    chunk = integrity.chunk_file(path, group[name], layout.selection(var.dims, layout.region(0)))
+    data = bytearray(chunk.read_bytes())
+    data[len(data) // 2] ^= 0x10
+    chunk.write_bytes(bytes(data))
+    assert integrity.verify_store(path, say=said.append) == [0]
+    assert "chunk 0 damaged" in said[0]

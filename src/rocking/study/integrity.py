@@ -19,7 +19,7 @@ from .layout import Layout
 from .store import (
     CHECKSUM_CODEC,
     DONE,
-    REQUESTED,
+    REQUESTED_DIMS,
     every_chunk,
     open_group,
     open_layout,
@@ -70,7 +70,7 @@ class _Reader:
 
 
 def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
-                    requested: np.ndarray, checksums: bool,
+                    requested: np.ndarray | None, checksums: bool,
                     reader: _Reader | None = None) -> str | None:
     """What is wrong with the stored results of a done region, or None.
 
@@ -80,7 +80,7 @@ def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
     """
     region = layout.region(index)
     asked = True
-    if "limit_state" in layout.coords and "mode" in region and "tan_alpha" in region:
+    if requested is not None and "mode" in region and "tan_alpha" in region:
         wanted = requested[region["mode"], :, region["tan_alpha"]]  # (mode, ls, tan α)
         asked = bool(wanted.any())
     reader = reader or _Reader(path, group, list(layout.variables))
@@ -94,7 +94,7 @@ def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
         except Exception as exc:  # checksum mismatch, truncation, decompression error
             return f"{name}: chunk {reader.chunk_file(name, sel)} is unreadable " \
                    f"({type(exc).__name__}: {exc})"
-    if "pga_crit" in values:
+    if "pga_crit" in values and requested is not None:
         p = values["pga_crit"]  # (mode, limit_state, motion, tan_alpha, R)
         ta = layout.coords["tan_alpha"][region["tan_alpha"]][None, None, None, :, None]
         if not np.array_equal(p * ta, values["pga_crit_g"], equal_nan=True):
@@ -145,8 +145,10 @@ def verify_store(path: str | Path, layout: Layout | None = None,
     say = say or (lambda text: warnings.warn(text, stacklevel=2))
     try:
         layout = open_layout(path) if layout is None else layout
-        requested = read_requested(path, layout) if REQUESTED in layout.static or \
-            "limit_state" in layout.coords else np.ones((1, 1, 1), dtype=bool)
+        # the mask (mode, limit_state, tan_alpha) belongs to spectra stores; a stripes store
+        # (one tan α, no such dimension) or a tilt map has none and asks for every cell
+        spectra_like = all(d in layout.coords for d in REQUESTED_DIMS)
+        requested = read_requested(path, layout) if spectra_like else None
         checksums = has_checksums(path)
     except Exception as exc:
         raise ValueError(f"store {str(path)!r}: metadata or coordinates are unreadable "
