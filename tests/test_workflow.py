@@ -32,6 +32,8 @@ from rocking.spectra.critical import critical_intensity
 from rocking.spectra.tilt_map import tilt_map
 from rocking.units import read_table
 
+from conftest import ELC180, ELC270, package_record
+
 pytestmark = pytest.mark.slow
 
 REPO = Path(__file__).resolve().parents[1]
@@ -325,11 +327,14 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "motions.max_duration=0.01 s keeps fewer than two samples of ensembles.tiny"),
         (lambda c: c["studies"][STUDY].update(R={"start": 1, "stop": 2, "num": 100_000_000}),
          "studies.tiny.R: 100000000 values exceed the bound"),
+        (lambda c: c["ensembles"]["tiny"].update(
+            record="my-pair", paths=[str(package_record(ELC180)), str(package_record(ELC270))]),
+         "ensembles.tiny.mw is needed: record 'my-pair' is not in the catalogue"),
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
          "missing-ensemble", "missing-hazard-file", "nan-grid", "inf-grid", "tilt-map-motion",
-         "max-duration", "huge-grid"],
+         "max-duration", "huge-grid", "user-record-without-mw"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))
