@@ -25,14 +25,13 @@ import pandas as pd
 import pytest
 import xarray as xr
 import yaml
+from conftest import ELC180, ELC270, package_record
 
 from rocking.dynamics.bodies import Cylinder
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.tilt_map import tilt_map
 from rocking.units import read_table
-
-from conftest import ELC180, ELC270, package_record
 
 pytestmark = pytest.mark.slow
 
