@@ -277,3 +277,25 @@ def test_motions_refuses_an_ensemble_too_large_for_memory_before_work(tmp_path, 
     assert code == 2 and len(err) == 1
     assert "--n-synthetic=1000000000: building the ensemble needs about" in err[0]
     assert not (tmp_path / "m.nc").exists()
+
+
+@pytest.mark.parametrize(
+    ("extra", "said", "not_said"),
+    [
+        (["--files", "{x}"], "use --mode 2d-x", "model="),
+        (["--files", "{x}", "{x}", "--highpass", "oscillator"],
+         "--mw (or --fc-hz) is needed for the high-pass", "fc_hz"),
+        (["--files", "{x}", "{x}", "--highpass", "butterworth", "--fc-hz", "1000"],
+         "--fc-hz=1000.0 must be below the Nyquist frequency", "fc_hz"),
+    ],
+    ids=["one-component", "highpass-without-mw", "corner-above-nyquist"],
+)
+def test_library_errors_are_told_in_the_command_line_s_words(extra, said, not_said, capsys,
+                                                              tmp_path):
+    from conftest import ELC180, package_record
+
+    argv = ["simulate", "--R", "2", "--tan-alpha", "0.2", "-o", str(tmp_path / "run"),
+            *[a.format(x=package_record(ELC180)) for a in extra]]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert said in err and not_said not in err and len(err.splitlines()) == 1, err

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Iterable, Sequence
 
@@ -55,14 +56,31 @@ def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentPars
     return parser
 
 
+CLI_NAMES = ("mw", "fc_hz", "pga_ratio", "scale", "max_duration", "stop_at", "rtol", "theta0",
+             "phi_dot0", "omega_n", "zeta", "duration", "tan_alpha", "rotation", "highpass")
+"""Library parameters that are a command-line option of the same name (``fc_hz`` is
+``--fc-hz``): a library message naming one is shown with the option's spelling."""
+
+_PARAMETER = re.compile(rf"(?<![\w.-])({'|'.join(CLI_NAMES)})(?=[=)]| \(or )")
+_MODEL_2D = re.compile(r"model='2d' \(the 2D model under the ([xy]) component\)")
+
+
+def cli_spelling(message: str) -> str:
+    """A library message in the command line's words: ``mw (or fc_hz)`` becomes
+    ``--mw (or --fc-hz)``, ``model='2d'`` under the x component ``--mode 2d-x``."""
+    message = _MODEL_2D.sub(r"--mode 2d-\1", message)
+    return _PARAMETER.sub(lambda m: "--" + m.group(1).replace("_", "-"), message)
+
+
 def error_message(exc: BaseException) -> str:
-    """One line for a user error: the file and the problem for OS errors."""
+    """One line for a user error: the file and the problem for OS errors, library
+    parameters spelled as the options that set them."""
     if isinstance(exc, OSError) and exc.filename is not None:
         reason = exc.strerror or type(exc).__name__
         return f"{exc.filename}: {reason}"
     if isinstance(exc, KeyError) and exc.args:
-        return str(exc.args[0])
-    return str(exc)
+        return cli_spelling(str(exc.args[0]))
+    return cli_spelling(str(exc))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
