@@ -299,3 +299,30 @@ def test_library_errors_are_told_in_the_command_line_s_words(extra, said, not_sa
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert said in err and not_said not in err and len(err.splitlines()) == 1, err
+
+
+def test_one_column_files_take_their_time_step_from_dt(tmp_path, capsys):
+    """``--dt`` gives one-column text files the time step a two-column file carries itself:
+    the same samples either way give the same answer."""
+    dt = 0.01
+    t = np.arange(400) * dt
+    ax, ay = 0.3 * np.sin(2 * np.pi * 1.5 * t), 0.2 * np.cos(2 * np.pi * 1.1 * t)  # [g]
+    for name, acc in (("x", ax), ("y", ay)):
+        np.savetxt(tmp_path / f"{name}1.txt", acc)
+        np.savetxt(tmp_path / f"{name}2.txt", np.column_stack([t, acc]))
+    common = ["simulate", "--R", "1", "--tan-alpha", "0.2", "-q"]
+    assert main([*common, "--files", str(tmp_path / "x1.txt"), str(tmp_path / "y1.txt"),
+                 "--dt", str(dt), "-o", str(tmp_path / "one")]) == 0
+    assert main([*common, "--files", str(tmp_path / "x2.txt"), str(tmp_path / "y2.txt"),
+                 "-o", str(tmp_path / "two")]) == 0
+    one, two = (strict_json(tmp_path / f"{k}/summary.json") for k in ("one", "two"))
+    assert one["theta_max"] > 0 and one["theta_max"] == two["theta_max"]
+    capsys.readouterr()
+    # without it: one line naming the option; a --dt the file contradicts is refused
+    assert main([*common, "--files", str(tmp_path / "x1.txt"), "--mode", "2d-x",
+                 "-o", str(tmp_path / "none")]) == 2
+    err = capsys.readouterr().err
+    assert "--dt (the time step [s]) is required for the one-column file" in err, err
+    assert main([*common, "--files", str(tmp_path / "x2.txt"), "--mode", "2d-x", "--dt",
+                 "0.02", "-o", str(tmp_path / "bad")]) == 2
+    assert "--dt=0.02 disagrees with the time column" in capsys.readouterr().err

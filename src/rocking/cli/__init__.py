@@ -56,12 +56,12 @@ def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentPars
     return parser
 
 
-CLI_NAMES = ("mw", "fc_hz", "pga_ratio", "scale", "max_duration", "stop_at", "rtol", "theta0",
+CLI_NAMES = ("dt", "mw", "fc_hz", "pga_ratio", "scale", "max_duration", "stop_at", "rtol", "theta0",
              "phi_dot0", "omega_n", "zeta", "duration", "tan_alpha", "rotation", "highpass")
 """Library parameters that are a command-line option of the same name (``fc_hz`` is
 ``--fc-hz``): a library message naming one is shown with the option's spelling."""
 
-_PARAMETER = re.compile(rf"(?<![\w.-])({'|'.join(CLI_NAMES)})(?=[=)]| \(or )")
+_PARAMETER = re.compile(rf"(?<![\w.-])({'|'.join(CLI_NAMES)})(?=[=)]| \()")
 _MODEL_2D = re.compile(r"model='2d' \(the 2D model under the ([xy]) component\)")
 
 
