@@ -326,3 +326,45 @@ def test_one_column_files_take_their_time_step_from_dt(tmp_path, capsys):
     assert main([*common, "--files", str(tmp_path / "x2.txt"), "--mode", "2d-x", "--dt",
                  "0.02", "-o", str(tmp_path / "bad")]) == 2
     assert "--dt=0.02 disagrees with the time column" in capsys.readouterr().err
+
+
+def test_ctrl_c_mid_search_is_one_line_exit_130_and_no_output(tmp_path):
+    """SIGINT while the spectra search runs (inside a numba kernel or not): one line, no
+    traceback, exit code 130, no output file."""
+    import signal
+
+    out = tmp_path / "s.csv"
+    many_R = ",".join(f"{0.3 + 0.25 * i:g}" for i in range(80))
+    # Ctrl-C as a terminal sends it (a process started in the background may ignore SIGINT)
+    code = ("import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+            "from rocking.cli import main; sys.exit(main(sys.argv[1:]))")
+    proc = subprocess.Popen([sys.executable, "-c", code, "spectra", "--R", many_R,
+                             "--record", "el-centro-1940", "-o", str(out)],
+                            stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in proc.stderr:  # wait for the search itself, not the imports
+        lines.append(line)
+        if "points done" in line:
+            break
+    proc.send_signal(signal.SIGINT)
+    lines += proc.stderr.readlines()
+    assert proc.wait(timeout=60) == 130, "".join(lines)
+    text = "".join(lines)
+    assert "Traceback" not in text, text
+    assert lines[-1].startswith("rocking spectra: interrupted; partial results are discarded")
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
+def test_an_error_caused_by_ctrl_c_is_reported_as_the_interrupt(monkeypatch, capsys):
+    """numba re-raises a KeyboardInterrupt from a compiled kernel as SystemError."""
+    from rocking.cli import spectra
+
+    def run(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("CPUDispatcher returned a result with an exception set") from exc
+
+    monkeypatch.setattr(spectra, "run", run)
+    assert main(["spectra", "--R", "1"]) == 130
+    assert capsys.readouterr().err.startswith("rocking spectra: interrupted;")
