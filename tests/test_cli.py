@@ -154,8 +154,8 @@ def test_spectra_csv_json_order_units_and_both_intensities(tmp_path):
     assert main([*common, "-o", str(tmp_path / "s.csv")]) == 0
     table = pd.read_csv(tmp_path / "s.csv")
     assert list(table["limit_state"][:2]) == ["overturning", "tilt:1/3"]  # order asked
-    np.testing.assert_allclose(table["pga_crit_g [g]"],
-                               table["pga_crit [g tan(alpha)]"] * 0.2, rtol=1e-15)
+    np.testing.assert_allclose(table["pga_crit_g [g]"],  # both to 10 digits in the CSV
+                               table["pga_crit [g tan(alpha)]"] * 0.2, rtol=1e-9)
     assert {"R [m]", "tan_alpha [-]", "source_record", "processing"} <= set(table.columns)
     assert main([*common, "--upper", "1.05", "-o", str(tmp_path / "s.json")]) == 0
     doc = strict_json(tmp_path / "s.json")  # not reached up to 1.05: null, never NaN
@@ -368,3 +368,27 @@ def test_an_error_caused_by_ctrl_c_is_reported_as_the_interrupt(monkeypatch, cap
     monkeypatch.setattr(spectra, "run", run)
     assert main(["spectra", "--R", "1"]) == 130
     assert capsys.readouterr().err.startswith("rocking spectra: interrupted;")
+
+
+def test_csv_floats_have_ten_digits_and_the_json_every_bit(tmp_path):
+    """No ``0.20812080200000002`` in a CSV: 10 significant digits; the JSON keeps the double."""
+    import re
+
+    ens = _short_ensemble(tmp_path / "e.nc")
+    common = ["spectra", "--R", "1", "--tan-alpha", "0.15", "--ensemble", str(ens),
+              "--accuracy", "fast", "--limit-states", "overturning,tilt:1/3", "-q"]
+    assert main([*common, "-o", str(tmp_path / "s.csv")]) == 0
+    assert main([*common, "-o", str(tmp_path / "s.json")]) == 0
+    text = (tmp_path / "s.csv").read_text()
+    numbers = re.findall(r"(?<![\w.])\d+\.\d+(?:e[-+]\d+)?", text)
+    assert numbers
+    digits = [len(re.sub(r"e.*", "", n).replace(".", "").lstrip("0")) for n in numbers]
+    assert max(digits) <= 10, [n for n, d in zip(numbers, digits, strict=True) if d > 10]
+    table = pd.read_csv(tmp_path / "s.csv")
+    exact = pd.DataFrame(strict_json(tmp_path / "s.json")["results"])
+    for col in ("pga_crit", "pga_crit_g"):
+        csv_col = table[next(c for c in table.columns if c.split(" [")[0] == col)]
+        np.testing.assert_allclose(csv_col, exact[col], rtol=5e-10)
+    # the doubles behind the table do carry more digits: the rounding is what is tested
+    assert any(len(repr(float(v)).replace(".", "").lstrip("0")) > 10
+               for v in exact["pga_crit_g"].dropna())

@@ -105,7 +105,7 @@ def run(args) -> int:
     from ..spectra.accuracy import get_accuracy
     from ..spectra.limit_states import parse_limit_states
     from ..spectra.stripes import stripe_fragility, stripe_intensities
-    from ..units import header
+    from ..units import CSV_FLOAT_FORMAT, header
 
     out = args.out
     if out is not None:
@@ -131,9 +131,11 @@ def run(args) -> int:
     elif out.suffix.lower() == ".csv":
         out.parent.mkdir(parents=True, exist_ok=True)
         with _common.replacing(out) as tmp:
-            fits.rename(columns=header).to_csv(tmp, index=False)
+            fits.rename(columns=header).to_csv(tmp, index=False,
+                                               float_format=CSV_FLOAT_FORMAT)
         with _common.replacing(out.with_name(f"{out.stem}_stripes.csv")) as tmp:
-            stripes.rename(columns=header).to_csv(tmp, index=False)
+            stripes.rename(columns=header).to_csv(tmp, index=False,
+                                                  float_format=CSV_FLOAT_FORMAT)
     else:
         out.parent.mkdir(parents=True, exist_ok=True)
         from ..units import QUANTITIES
