@@ -360,6 +360,22 @@ def test_dry_run_takes_config_numbers_given_as_text(tmp_path):
     assert "config key dask.progress_interval='soon'" in bad.stdout + bad.stderr
 
 
+def test_dask_settings_never_rerun_a_rule(reference, tmp_path):
+    """A new progress interval, worker timeout or cluster cannot change a number: after a
+    finished run the dry run plans nothing; a result-affecting change still plans spectra."""
+    cfg = json.loads(json.dumps(TINY))
+    cfg["dask"].update(progress_interval=7, worker_timeout=5,
+                       scheduler_file=str(tmp_path / "scheduler.json"))
+    path = tmp_path / "dask.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    dry = snakemake(reference, "-n", *TARGETS, configfile=path)
+    assert "Nothing to be done" in dry.stdout + dry.stderr, dry.stdout[-3000:]
+    cfg["accuracy"] = "default"
+    path.write_text(yaml.safe_dump(cfg))
+    dry = snakemake(reference, "-n", *TARGETS, configfile=path)
+    assert re.search(r"^spectra\s+1$", dry.stdout, re.MULTILINE), dry.stdout[-3000:]
+
+
 def _no_nan(text):
     raise ValueError(f"non-standard JSON constant {text}")
 
