@@ -149,3 +149,16 @@ def test_numbers_given_as_strings_are_taken_as_numbers():
     named = _cfg(lambda c: c["ensembles"]["elcentro"].update(record="1940"))
     coerce_strings(named, SCHEMA)
     assert named["ensembles"]["elcentro"]["record"] == "1940"
+
+
+def test_user_record_needs_mw_and_passes_with_it():
+    """A record the catalogue does not know has no magnitude for the high-pass corner."""
+    from conftest import ELC180, ELC270, package_record
+
+    cfg = _cfg(lambda c: None)
+    cfg["ensembles"]["elcentro"].update(
+        record="my-pair", paths=[str(package_record(ELC180)), str(package_record(ELC270))])
+    with pytest.raises(ValueError, match=r"^ensembles\.elcentro\.mw is needed"):
+        check_config(cfg)
+    cfg["ensembles"]["elcentro"]["mw"] = 6.9
+    check_config(cfg)

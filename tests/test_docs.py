@@ -241,6 +241,29 @@ def test_fresh_machine_commands_install_what_exists():
     assert '-e ".[test]"' in (ROOT / ".ci" / "run").read_text()  # CI runs the same install
 
 
+def test_workflow_extra_can_write_the_report():
+    """``snakemake --report`` needs what snakemake's own ``reports`` extra lists (pygments)."""
+    import tomllib
+    from importlib.metadata import requires
+
+    from packaging.requirements import Requirement
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"]
+    for extra in ("workflow", "test"):
+        reqs = [Requirement(r) for r in extras[extra]]
+        names = {r.name.lower() for r in reqs}
+        snakemake_extras = {e for r in reqs if r.name == "snakemake" for e in r.extras}
+        needed = [Requirement(r) for r in requires("snakemake") or []]
+        needed = [r for r in needed if r.marker and r.marker.evaluate({"extra": "reports"})
+                  and not r.marker.evaluate({"extra": ""})]
+        assert needed, "snakemake no longer lists a 'reports' extra: recheck what it needs"
+        missing = [r.name for r in needed
+                   if r.name.lower() not in names and "reports" not in snakemake_extras]
+        assert not missing, f"extra {extra!r} lacks {missing} for snakemake --report"
+        assert "pygments" in names  # named even if a snakemake version drops the extra
+
+
 def _command_lines(markdown: str) -> list[str]:
     """``rocking ...`` command lines of the bash blocks, continuation lines joined."""
     out = []

@@ -194,7 +194,7 @@ def test_plain_text_one_and_two_columns(tmp_path: Path) -> None:
     acc, dt, meta = read_record(one, dt=0.02)
     np.testing.assert_allclose(acc, np.array([0.1, -0.2, 0.3]) * G, rtol=1e-15)
     assert dt == 0.02 and meta["format"] == "text-1col"
-    with pytest.raises(ValueError, match="dt is required"):
+    with pytest.raises(ValueError, match=r"dt \(the time step \[s\]\) is required"):
         read_text(one)
     two = tmp_path / "acc.csv"
     two.write_text("0.000, 1.0\n0.005, 2.0\n0.010, 3.0\n")

@@ -87,13 +87,6 @@ def stripes_hash(study):
     return study_spec(study).stripes.digest
 
 
-def dask_options():
-    d = config["dask"]
-    return {"scheduler_address": d["scheduler_address"], "scheduler_file": d["scheduler_file"],
-            "progress_interval": float(d["progress_interval"]),
-            "worker_timeout": float(d["worker_timeout"])}
-
-
 def compute_threads():
     """Worker processes of an embedded LocalCluster: all cores given to snakemake (--cores)."""
     try:

@@ -34,7 +34,8 @@ rule spectra:
         # makes a fresh store instead of adding results of another configuration
         spec=lambda wildcards: spectra_spec(wildcards.study),
         config_hash=lambda wildcards: spectra_hash(wildcards.study),
-        dask=dask_options(),
+        # no dask options here: they cannot change a number, and a changed param reruns the
+        # rule; the script reads them from the config (rocking.study.cluster.dask_options)
     threads: compute_threads()
     conda:
         "../envs/rocking.yaml"

@@ -14,7 +14,6 @@ rule stripes:
         store=lambda wildcards: stripes_store(wildcards.study),
         spec=lambda wildcards: stripes_spec(wildcards.study),
         config_hash=lambda wildcards: stripes_hash(wildcards.study),
-        dask=dask_options(),
     threads: compute_threads()
     conda:
         "../envs/rocking.yaml"

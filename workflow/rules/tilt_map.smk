@@ -14,7 +14,6 @@ rule tilt_map:
         store=lambda wildcards: tilt_map_store(wildcards.study),
         spec=lambda wildcards: tilt_map_spec(wildcards.study),
         config_hash=lambda wildcards: tilt_map_hash(wildcards.study),
-        dask=dask_options(),
     threads: compute_threads()
     conda:
         "../envs/rocking.yaml"

@@ -3,6 +3,7 @@ new configuration), fill it on Dask, write the completion marker (the rule's out
 
 from rocking import _json
 from rocking.study import logs, prepare
+from rocking.study.cluster import dask_options
 
 
 def main(snakemake):
@@ -11,7 +12,8 @@ def main(snakemake):
         summary = prepare.compute(
             p.kind, p.store, p.spec, p.config_hash, snakemake.input.motions,
             n_workers=snakemake.threads, key=f"{p.kind}-{snakemake.wildcards.study}",
-            label=f"{p.kind.replace('_', ' ')} {snakemake.wildcards.study}", **p.dask)
+            label=f"{p.kind.replace('_', ' ')} {snakemake.wildcards.study}",
+            **dask_options(snakemake.config))
         _json.write(snakemake.output.done, summary)
 
 

@@ -3,6 +3,7 @@ configuration), fill it on Dask, write the completion marker (the rule's output)
 
 from rocking import _json
 from rocking.study import logs, stripes
+from rocking.study.cluster import dask_options
 
 
 def main(snakemake):
@@ -11,7 +12,7 @@ def main(snakemake):
         summary = stripes.compute(
             p.store, p.spec, p.config_hash, snakemake.input.motions,
             n_workers=snakemake.threads, key=f"stripes-{snakemake.wildcards.study}",
-            label=f"stripes {snakemake.wildcards.study}", **p.dask)
+            label=f"stripes {snakemake.wildcards.study}", **dask_options(snakemake.config))
         _json.write(snakemake.output.done, summary)
 
 

@@ -13,6 +13,8 @@ from typing import TypeVar
 
 import pandas as pd
 
+from ..units import CSV_FLOAT_FORMAT
+
 _T = TypeVar("_T")
 
 
@@ -38,7 +40,7 @@ def write_table(name: str, df: pd.DataFrame, title: str, notes: str = "") -> Pat
     """Write ``<name>.csv`` and ``<name>.md`` under :func:`results_dir`; return the CSV path."""
     out = results_dir()
     csv = out / f"{name}.csv"
-    df.to_csv(csv, index=False)
+    df.to_csv(csv, index=False, float_format=CSV_FLOAT_FORMAT)
     cpu = platform.processor() or platform.machine()
     machine = f"{cpu}, {os.cpu_count()} cores, Python {platform.python_version()}"
     md = [f"# {title}", "", f"Machine: {machine}", ""]

@@ -6,14 +6,15 @@ only inside ``run``. Only the subcommand being run (or asked for help) is import
 ``rocking --help`` loads neither numpy nor the dynamics engine.
 
 Every user error (a missing or unreadable file, a bad value, an unwritable output) ends the
-command with one line ``rocking <command>: error: ...`` on stderr and exit code 2; a
-traceback means a bug.
+command with one line ``rocking <command>: error: ...`` on stderr and exit code 2; Ctrl-C
+with one line and exit code 130; a traceback means a bug.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Iterable, Sequence
 
@@ -55,28 +56,67 @@ def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentPars
     return parser
 
 
+CLI_NAMES = ("dt", "mw", "fc_hz", "pga_ratio", "scale", "max_duration", "stop_at", "rtol", "theta0",
+             "phi_dot0", "omega_n", "zeta", "duration", "tan_alpha", "rotation", "highpass")
+"""Library parameters that are a command-line option of the same name (``fc_hz`` is
+``--fc-hz``): a library message naming one is shown with the option's spelling."""
+
+_PARAMETER = re.compile(rf"(?<![\w.-])({'|'.join(CLI_NAMES)})(?=[=)]| \()")
+_MODEL_2D = re.compile(r"model='2d' \(the 2D model under the ([xy]) component\)")
+
+
+def cli_spelling(message: str) -> str:
+    """A library message in the command line's words: ``mw (or fc_hz)`` becomes
+    ``--mw (or --fc-hz)``, ``model='2d'`` under the x component ``--mode 2d-x``."""
+    message = _MODEL_2D.sub(r"--mode 2d-\1", message)
+    return _PARAMETER.sub(lambda m: "--" + m.group(1).replace("_", "-"), message)
+
+
 def error_message(exc: BaseException) -> str:
-    """One line for a user error: the file and the problem for OS errors."""
+    """One line for a user error: the file and the problem for OS errors, library
+    parameters spelled as the options that set them."""
     if isinstance(exc, OSError) and exc.filename is not None:
         reason = exc.strerror or type(exc).__name__
         return f"{exc.filename}: {reason}"
     if isinstance(exc, KeyError) and exc.args:
-        return str(exc.args[0])
-    return str(exc)
+        return cli_spelling(str(exc.args[0]))
+    return cli_spelling(str(exc))
+
+
+INTERRUPTED = ("interrupted; partial results are discarded (a command writes its outputs "
+               "only once its work is done)")
+"""What Ctrl-C prints (exit code 130): the commands write their outputs after the work,
+through :func:`rocking.cli._common.replacing`, so nothing half-written is left."""
+
+
+def interrupted(exc: BaseException) -> bool:
+    """True for Ctrl-C: a KeyboardInterrupt, or an error it caused on its way up (numba's
+    dispatcher turns one raised inside a compiled kernel into a chain of SystemError)."""
+    seen: set[int] = set()
+    node: BaseException | None = exc
+    while node is not None and id(node) not in seen:
+        if isinstance(node, KeyboardInterrupt):
+            return True
+        seen.add(id(node))
+        node = node.__cause__ or node.__context__
+    return False
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0 ok, 1 failed analysis, 2 user error)."""
+    """Run the command line; returns the exit code (0 ok, 1 failed analysis, 2 user error,
+    130 interrupted)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     command = next((a for a in argv if a in SUBCOMMANDS), None)
     parser = build_parser([] if command is None else [command])
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except KeyboardInterrupt:
-        print(f"rocking {args.command}: interrupted", file=sys.stderr)
-        return 130
-    except (ValueError, OSError, KeyError) as exc:
+    except (KeyboardInterrupt, Exception) as exc:
+        if interrupted(exc):
+            print(f"rocking {args.command}: {INTERRUPTED}", file=sys.stderr)
+            return 130
+        if not isinstance(exc, (ValueError, OSError, KeyError)):
+            raise
         # Bad input is reported as one line naming the field or file; tracebacks are for bugs.
         print(f"rocking {args.command}: error: {error_message(exc)}", file=sys.stderr)
         return 2

@@ -62,6 +62,9 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
     g.add_argument("--files", nargs="+", metavar="FILE",
                    help="acceleration files, x then y, in the order given (PEER AT2 or "
                    "text, in g)")
+    g.add_argument("--dt", type=float, metavar="SECONDS",
+                   help="time step [s] of one-column text --files (AT2 headers and "
+                   "two-column files give their own)")
     g.add_argument("--order-by-azimuth", action="store_true",
                    help="with two --files: make x the file whose header azimuth is the "
                    "other's + 90° (the swap is printed)")
@@ -111,8 +114,11 @@ def motion_from_args(args: argparse.Namespace, default_record: str | None = None
                                  or highpass != "none"):
         raise ValueError("--rotation, --highpass, --fc-hz, --mw and --max-duration process a "
                          "record; a motion of --ensemble is used as stored")
+    if ensemble is not None and args.dt is not None:
+        raise ValueError("--dt is the time step of one-column --files; a motion of "
+                         "--ensemble has its own")
     motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None),
-                         order_by_azimuth=getattr(args, "order_by_azimuth", False))
+                         order_by_azimuth=getattr(args, "order_by_azimuth", False), dt=args.dt)
     if ensemble is None and (any(v is not None for v in processing.values())
                              or highpass != "none"):
         motion = process_motion(motion, highpass=highpass, **processing)

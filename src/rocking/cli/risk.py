@@ -114,7 +114,8 @@ def run(args) -> int:
     if frag.skipped_note():
         print(frag.skipped_note())
     if args.out is not None:
-        table.to_csv(args.out, index=False, float_format="%.6g")
+        with _common.replacing(args.out) as tmp:
+            table.to_csv(tmp, index=False, float_format="%.6g")
         print(f"{len(table)} rows -> {args.out}")
         return 0
     with pd.option_context("display.max_rows", None, "display.width", 200):

@@ -119,7 +119,7 @@ def run(args) -> int:
     from ..spectra.accuracy import get_accuracy
     from ..spectra.critical import critical_intensity_batch
     from ..spectra.limit_states import parse_limit_states
-    from ..units import QUANTITIES, header
+    from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
     _check_numbers(args)
     out = args.out
@@ -143,7 +143,8 @@ def run(args) -> int:
         print(table[cols].rename(columns=header).to_string(index=False))
     elif out.suffix.lower() == ".csv":
         with _common.replacing(out) as tmp:
-            table.rename(columns=header).to_csv(tmp, index=False)
+            table.rename(columns=header).to_csv(tmp, index=False,
+                                                float_format=CSV_FLOAT_FORMAT)
     else:
         doc = {
             "motion": {"name": motion.name, **identity(motion), "dt": motion.dt,

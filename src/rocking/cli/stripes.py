@@ -105,7 +105,7 @@ def run(args) -> int:
     from ..spectra.accuracy import get_accuracy
     from ..spectra.limit_states import parse_limit_states
     from ..spectra.stripes import stripe_fragility, stripe_intensities
-    from ..units import header
+    from ..units import CSV_FLOAT_FORMAT, header
 
     out = args.out
     if out is not None:
@@ -130,9 +130,12 @@ def run(args) -> int:
         print(stripes.rename(columns=header).to_string(index=False))
     elif out.suffix.lower() == ".csv":
         out.parent.mkdir(parents=True, exist_ok=True)
-        fits.rename(columns=header).to_csv(out, index=False)
-        stripes.rename(columns=header).to_csv(out.with_name(f"{out.stem}_stripes.csv"),
-                                              index=False)
+        with _common.replacing(out) as tmp:
+            fits.rename(columns=header).to_csv(tmp, index=False,
+                                               float_format=CSV_FLOAT_FORMAT)
+        with _common.replacing(out.with_name(f"{out.stem}_stripes.csv")) as tmp:
+            stripes.rename(columns=header).to_csv(tmp, index=False,
+                                                  float_format=CSV_FLOAT_FORMAT)
     else:
         out.parent.mkdir(parents=True, exist_ok=True)
         from ..units import QUANTITIES
@@ -146,7 +149,8 @@ def run(args) -> int:
                          if k in QUANTITIES and QUANTITIES[k][1]},
                "fits": fits.to_dict(orient="records"),
                "stripes": stripes.to_dict(orient="records")}
-        _json.write(out, doc, indent=1)
+        with _common.replacing(out) as tmp:
+            _json.write(tmp, doc, indent=1)
     if not args.quiet:
         n = sum(r.n_analyses for r in results)
         print(f"{len(results)} body(ies) x {len(motions)} motion(s), {n} analyses, "

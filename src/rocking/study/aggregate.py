@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..units import attrs, header
+from ..units import CSV_FLOAT_FORMAT, attrs, header
 
 STAT_DIMS = ("mode", "limit_state", "tan_alpha", "R")
 """Dimensions of the aggregated spectra."""
@@ -176,4 +176,4 @@ def write_statistics(stats: xr.Dataset, nc_path: str | Path, csv_path: str | Pat
         nc = nc.assign_coords({dim: (dim, np.array([str(v) for v in nc[dim].values],
                                                     dtype=object), nc[dim].attrs)})
     nc.to_netcdf(nc_path)
-    to_frame(nc).to_csv(csv_path, index=False, float_format="%.10g")
+    to_frame(nc).to_csv(csv_path, index=False, float_format=CSV_FLOAT_FORMAT)

@@ -44,6 +44,21 @@ ENV_ADDRESS = "DASK_SCHEDULER_ADDRESS"
 """Environment variable naming an existing scheduler (``tcp://host:port``)."""
 
 
+def dask_options(config: Mapping[str, Any]) -> dict[str, Any]:
+    """The keyword arguments of :func:`fill_store` set by a workflow configuration's ``dask``
+    section (``scheduler_address``, ``scheduler_file``, ``progress_interval`` [s],
+    ``worker_timeout`` [s]).
+
+    None of them can change a number of a store, so the compute rules read them from the
+    configuration inside their script, never as rule ``params``: Snakemake reruns a rule
+    whose params changed, and a new progress interval must not recompute a study.
+    """
+    d = config["dask"]
+    return {"scheduler_address": d["scheduler_address"], "scheduler_file": d["scheduler_file"],
+            "progress_interval": float(d["progress_interval"]),
+            "worker_timeout": float(d["worker_timeout"])}
+
+
 @dataclass(frozen=True)
 class Target:
     """Where the tasks run.

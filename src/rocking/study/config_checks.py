@@ -123,8 +123,9 @@ def check_config(config: Mapping[str, Any]) -> None:
     Raises
     ------
     ValueError
-        An unknown record name without files, a record file that does not exist, a study
-        naming an unknown ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
+        An unknown record name without files, a record file that does not exist, a record
+        of unknown magnitude without ``mw``, a study naming an unknown ensemble, or a tilt
+        goal r·α ≥ π/2 for a slenderness of its run.
     """
     _check_finite(config)
     max_duration = (config.get("motions") or {}).get("max_duration")
@@ -134,6 +135,7 @@ def check_config(config: Mapping[str, Any]) -> None:
         if motion is None:
             continue
         npts[name] = motion.npts
+        _check_magnitude(f"ensembles.{name}", spec, motion)
         if max_duration is not None and max_duration < 2 * motion.dt:
             raise ValueError(f"motions.max_duration={max_duration!r} s keeps fewer than two "
                              f"samples of ensembles.{name} (dt {motion.dt:g} s); give at "
@@ -183,6 +185,15 @@ def _check_record(key: str, spec: Mapping[str, Any]):
             raise ValueError(f"{key}.paths[{i}]={str(paths[i])!r} holds only zeros: no "
                              f"ground motion to fit or to analyse")
     return motion
+
+
+def _check_magnitude(key: str, spec: Mapping[str, Any], motion) -> None:
+    """The motions rule high-passes every record at the Brune corner of its magnitude: a
+    record the catalogue does not know needs ``mw`` (else rule ``motions`` fails mid-run)."""
+    if spec.get("mw") is None and motion.metadata.get("mw") is None:
+        raise ValueError(f"{key}.mw is needed: record {spec['record']!r} is not in the "
+                         f"catalogue, so the moment magnitude that sets the corner of its "
+                         f"oscillator high-pass (Brune corner) is unknown; give {key}.mw")
 
 
 def coerce_strings(config: dict[str, Any], schema: Mapping[str, Any]) -> None:
