@@ -42,6 +42,27 @@ def add_command(subparsers, name: str, *, help: str, description: str,
                                  epilog="examples:\n" + examples, formatter_class=Formatter)
 
 
+def floats(text: str) -> list[float]:
+    """Comma-separated numbers (``"0.5,1,2"``): the type of list options such as ``--R``."""
+    try:
+        return [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") \
+            from None
+
+
+def add_cylinders(p: argparse.ArgumentParser) -> None:
+    """``--R``, ``--tan-alpha`` and ``--mode``: the cylinders and the model of a command that
+    runs many sizes (``spectra``, ``stripes``)."""
+    from ..spectra.modes import MODES
+
+    p.add_argument("--R", dest="R", type=floats, action="extend", required=True,
+                   help="cylinder semi-diagonals [m], comma-separated or repeated")
+    p.add_argument("--tan-alpha", type=float, default=0.2, help="slenderness b/h [-]")
+    p.add_argument("--mode", choices=list(MODES), default="3d",
+                   help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
+
+
 def rotation(text: str) -> float | str | None:
     """``--rotation``: 'none', 'auto' or degrees."""
     key = text.strip().lower()

@@ -7,13 +7,11 @@ store's ``pga_crit`` bit for bit (README, "Reproduce a number from the study").
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from pathlib import Path
 
 from ..spectra.accuracy import PRESETS
-from ..spectra.modes import MODES
 from . import _common
 
 EXAMPLES = """\
@@ -33,15 +31,6 @@ COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "pga_crit", "pga_c
 """Columns of the CSV (titles with units) and keys of the JSON results."""
 
 
-def _floats(text: str) -> list[float]:
-    """Comma-separated numbers (``"0.5,1,2"``)."""
-    try:
-        return [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") \
-            from None
-
-
 def add_parser(subparsers) -> None:
     """Register the ``spectra`` subcommand."""
     p = _common.add_command(
@@ -51,11 +40,7 @@ def add_parser(subparsers) -> None:
         "R, the smallest intensity exceeding each limit state, as PGA/(g tan alpha) "
         "(pga_crit) and as PGA in g (pga_crit_g). PGA is the pair's vector PGA in every mode.",
     )
-    p.add_argument("--R", dest="R", type=_floats, action="extend", required=True,
-                   help="cylinder semi-diagonals [m], comma-separated or repeated")
-    p.add_argument("--tan-alpha", type=float, default=0.2, help="slenderness b/h [-]")
-    p.add_argument("--mode", choices=list(MODES), default="3d",
-                   help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
+    _common.add_cylinders(p)
     p.add_argument("--limit-states", default="default",
                    help="comma-separated, in the order wanted: overturning, tilt:<r> "
                    "(theta > r alpha, e.g. tilt:1/3); 'default' = tilt:0.1,0.2,1/3,0.5,0.75,1 "

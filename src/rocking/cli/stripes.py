@@ -11,9 +11,7 @@ import time
 from pathlib import Path
 
 from ..spectra.accuracy import PRESETS
-from ..spectra.modes import MODES
 from . import _common
-from .spectra import _floats
 
 EXAMPLES = """\
   rocking stripes --R 6 --ensemble results/motions/elcentro.nc --mode 3d \\
@@ -42,11 +40,7 @@ def add_parser(subparsers) -> None:
         "and beta per R and limit state, then the stripes; NaN with a reason where the fit "
         "has no finite maximum.",
     )
-    p.add_argument("--R", dest="R", type=_floats, action="extend", required=True,
-                   help="cylinder semi-diagonals [m], comma-separated or repeated")
-    p.add_argument("--tan-alpha", type=float, default=0.2, help="slenderness b/h [-]")
-    p.add_argument("--mode", choices=list(MODES), default="3d",
-                   help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
+    _common.add_cylinders(p)
     p.add_argument("--limit-states", default="overturning,tilt:1/3",
                    help="comma-separated: overturning, tilt:<r> (theta > r alpha); "
                    "'default' = the seven goals of Fig 10")
@@ -55,7 +49,7 @@ def add_parser(subparsers) -> None:
                    help="number of stripes, geometric in (--lower, --upper]")
     g.add_argument("--lower", type=float, default=1.0, help="start of the stripes (excluded)")
     g.add_argument("--upper", type=float, default=20.0, help="last stripe")
-    g.add_argument("--intensities", type=_floats, default=None,
+    g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
