@@ -140,7 +140,7 @@ def test_failed_analysis_is_never_silent():
 
 # ------------------------------------------------------------------------- El Centro
 def test_el_centro_3d_and_2d_converge():
-    from rocking.motions.records import load_record
+    from rocking.motions.catalogue import load_record
 
     m = load_record("el-centro-1940")
     body = Cylinder(6.0, 0.2)

@@ -14,8 +14,8 @@ import pandas as pd
 import pytest
 
 from rocking.cli import SUBCOMMANDS, build_parser, main
+from rocking.motions.catalogue import load_record
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.motions.records import load_record
 
 
 def _no_nan(text):

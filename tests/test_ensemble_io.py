@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rocking.motions.catalogue import load_record
 from rocking.motions.ensemble_io import ensemble_attrs, load_ensemble, save_ensemble
 from rocking.motions.motion import GroundMotion
 from rocking.motions.principal import to_principal_axes
-from rocking.motions.records import load_record
 
 
 def _motions() -> list[GroundMotion]:

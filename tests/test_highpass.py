@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy import integrate, signal
 
+from rocking.motions.catalogue import load_record
 from rocking.motions.highpass import (
     brune_corner,
     butterworth_acausal,
@@ -19,7 +20,6 @@ from rocking.motions.highpass import (
 )
 from rocking.motions.motion import GroundMotion
 from rocking.motions.principal import to_principal_axes
-from rocking.motions.records import load_record
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from rocking.dynamics import analysis, bodies, codes, models
 
 @pytest.fixture(scope="module")
 def el_centro():
-    from rocking.motions.records import load_record
+    from rocking.motions.catalogue import load_record
 
     return load_record("el-centro-1940")
 

@@ -10,10 +10,10 @@ import pytest
 
 from rocking.cli import main
 from rocking.motions.build import build_ensemble, read_motion
+from rocking.motions.catalogue import load_record
 from rocking.motions.ensemble_io import ensemble_attrs, load_ensemble
 from rocking.motions.highpass import brune_corner, highpass_motion, residuals
 from rocking.motions.principal import correlation, to_principal_axes
-from rocking.motions.records import load_record
 
 
 def test_cli_writes_record_then_pairs(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:

@@ -211,7 +211,7 @@ def _cylinder_reference(R, t, a):
 
 @pytest.fixture(scope="module")
 def el_centro():
-    from rocking.motions.records import load_record
+    from rocking.motions.catalogue import load_record
 
     return load_record("el-centro-1940")
 

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from rocking.motions.catalogue import load_record
 from rocking.motions.motion import GroundMotion
 from rocking.motions.principal import (
     arias_tensor,
@@ -16,7 +17,6 @@ from rocking.motions.principal import (
     rotate_components,
     to_principal_axes,
 )
-from rocking.motions.records import load_record
 
 PAPER_ANGLE_DEG = 22.33
 

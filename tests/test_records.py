@@ -11,12 +11,11 @@ import pytest
 from conftest import CLS000, CLS090, DATA, ELC180, ELC270, package_record
 
 from rocking.constants import G
-from rocking.motions.records import RECORDS as NAMED
-from rocking.motions.records import (
+from rocking.motions.catalogue import RECORDS as NAMED
+from rocking.motions.catalogue import load_record, loma_prieta_pair
+from rocking.motions.readers import (
     RecordFormatError,
     file_sha256,
-    load_record,
-    loma_prieta_pair,
     read_at2,
     read_pair,
     read_record,

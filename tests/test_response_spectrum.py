@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
+from rocking.motions.catalogue import load_record
 from rocking.motions.motion import GroundMotion
-from rocking.motions.records import load_record
 from rocking.motions.response_spectrum import (
     foh_coefficients,
     nigam_jennings_coefficients,

@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 
 from rocking import fit_rdk, synthesize
+from rocking.motions.catalogue import load_record
 from rocking.motions.counts import pmnm_cum, zero_upcrossings_cum
 from rocking.motions.highpass import brune_corner
 from rocking.motions.intensity import arias, husid, times_from_husid
 from rocking.motions.principal import to_principal_axes
-from rocking.motions.records import load_record
 
 N_ENSEMBLE = 100
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import rocking
+from rocking.motions.catalogue import load_record
 from rocking.motions.principal import rotate
-from rocking.motions.records import load_record
 
 
 @pytest.fixture(scope="module")

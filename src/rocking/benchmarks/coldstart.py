@@ -43,7 +43,7 @@ LIMIT_STATES = ("overturning", "tilt:1/3")
 def _point(mode: str) -> tuple[float, float]:
     """One spectrum point of ``mode`` (a Dask task): (start, end) of the search [epoch s]."""
     from rocking.dynamics.bodies import Cylinder
-    from rocking.motions.records import load_record
+    from rocking.motions.catalogue import load_record
     from rocking.spectra.critical import critical_intensity
 
     motion = load_record("el-centro-1940")

@@ -53,7 +53,7 @@ NO_STOP = -1.0
 def _el_centro() -> tuple[GroundMotion, str]:
     """The paper's record, or a labelled synthetic stand-in if the reader is unavailable."""
     try:
-        from ..motions.records import load_record
+        from ..motions.catalogue import load_record
 
         return load_record("el-centro-1940"), "El Centro 1940 (RSN 6, 270/180)"
     except (ImportError, ValueError, OSError):

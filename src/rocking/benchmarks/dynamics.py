@@ -31,7 +31,7 @@ REF_RTOL = 1e-13
 
 
 def _cases():
-    from ..motions.records import load_record
+    from ..motions.catalogue import load_record
 
     elc = load_record("el-centro-1940")
     cases = []
@@ -116,7 +116,7 @@ def _scipy_3d(body, motion, scale, method, rtol, budget):
 
 def _fresh_process_time() -> tuple[float, float]:
     code = (
-        "import time; t=time.perf_counter(); import rocking; from rocking.motions.records import "
+        "import time; t=time.perf_counter(); import rocking; from rocking.motions.catalogue import "
         "load_record; m=load_record('el-centro-1940'); t1=time.perf_counter(); "
         "b=rocking.Cylinder(6.0,0.2); "
         "rocking.ground_response(b,m,scale=2*rocking.G*0.2/m.pga,history=False); "

@@ -12,7 +12,7 @@ from ..motions.motion import GroundMotion
 def benchmark_records() -> dict[str, tuple[GroundMotion, str]]:
     """El Centro and the Loma Prieta stand-in, else a labelled synthetic motion."""
     try:
-        from ..motions.records import load_record
+        from ..motions.catalogue import load_record
 
         return {
             "el-centro": (load_record("el-centro-1940"),

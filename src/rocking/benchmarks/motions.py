@@ -26,9 +26,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=2017)
     args = p.parse_args(argv)
 
+    from ..motions.catalogue import load_record
     from ..motions.highpass import brune_corner, highpass_motion
     from ..motions.principal import to_principal_axes
-    from ..motions.records import load_record
     from ..motions.response_spectrum import pseudo_acceleration
 
     rows = []

@@ -106,7 +106,7 @@ def study_motions() -> dict[str, GroundMotion]:
     """The study's processed El Centro record and two of its synthetic pairs, and the
     processed Corralitos record (:func:`rocking.motions.build.build_ensemble`)."""
     from ..motions.build import build_ensemble
-    from ..motions.records import load_record
+    from ..motions.catalogue import load_record
 
     ec = build_ensemble(load_record("el-centro-1940"), 2, 2017).motions
     corr = build_ensemble(load_record("loma-prieta-corralitos"), 0, 1989).motions[0]

@@ -45,7 +45,7 @@ N_DRAWS = 40
 
 def _ensemble(n: int):
     from ..motions.build import build_ensemble
-    from ..motions.records import load_record
+    from ..motions.catalogue import load_record
 
     return build_ensemble(load_record("el-centro-1940"), n, seed=2017).motions
 

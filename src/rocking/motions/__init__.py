@@ -6,10 +6,10 @@ from .._lazy import lazy_exports
 
 _EXPORTS = {
     "GroundMotion": "motion",
-    "load_record": "records",
-    "read_record": "records",
-    "read_pair": "records",
-    "loma_prieta_pair": "records",
+    "load_record": "catalogue",
+    "read_record": "readers",
+    "read_pair": "readers",
+    "loma_prieta_pair": "catalogue",
     "to_principal_axes": "principal",
     "principal_angle": "principal",
     "rotate": "principal",

@@ -23,10 +23,10 @@ from pathlib import Path
 from typing import Any
 
 from .._validate import positive_finite
+from .catalogue import load_record, loma_prieta_pair
 from .highpass import brune_corner, highpass_motion
 from .motion import GroundMotion
 from .principal import to_principal_axes
-from .records import load_record, loma_prieta_pair
 from .stochastic import fit_rdk, synthesize
 from .stochastic.quality import ensemble_quality, format_quality
 
@@ -74,7 +74,7 @@ def read_motion(
     """The recorded pair: a named record, or two files (x, y).
 
     ``"loma-prieta-sjte"`` without ``paths`` gives the labelled Corralitos stand-in
-    (:func:`rocking.motions.records.loma_prieta_pair`).
+    (:func:`rocking.motions.catalogue.loma_prieta_pair`).
     """
     if record == "loma-prieta-sjte":
         return loma_prieta_pair(paths)

@@ -34,7 +34,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     Parameters
     ----------
     record : str, optional
-        Named record (:data:`rocking.motions.records.RECORDS`); with ``files``, the files
+        Named record (:data:`rocking.motions.catalogue.RECORDS`); with ``files``, the files
         of that record.
     files : sequence of one or two paths, optional
         Acceleration files, x then y (AT2 or text, in g). One file gives a motion with only
@@ -47,7 +47,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         Name of a motion read from ``files`` without ``record`` (default: the file stems).
     order_by_azimuth : bool
         Reorder two files by their header azimuths (x = the other's + 90°), with a warning;
-        default: the order given (:func:`rocking.motions.records.load_record`).
+        default: the order given (:func:`rocking.motions.catalogue.load_record`).
     dt : float, optional
         Time step [s] of one-column text ``files`` (AT2 and two-column files carry their
         own; given, it must agree with it).
@@ -70,7 +70,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         return _from_ensemble(Path(ensemble), motion)
     if motion is not None:
         raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
-    from .records import load_record, loma_prieta_pair
+    from .catalogue import load_record, loma_prieta_pair
 
     files = list(files or [])
     if not files:
@@ -85,7 +85,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth,
                            dt=dt)
     if len(files) == 1 and record is None:
-        from .records import read_record
+        from .readers import read_record
 
         rec = read_record(files[0], dt=dt)
         return GroundMotion(rec.acc, None, rec.dt, name or Path(files[0]).stem,

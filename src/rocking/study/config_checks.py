@@ -159,7 +159,7 @@ def check_config(config: Mapping[str, Any]) -> None:
 def _check_record(key: str, spec: Mapping[str, Any]):
     """The record an ensemble is built from, read as the motions rule reads it (header, dt
     of both files, every value), or None for the SJTE stand-in's files not given."""
-    from ..motions.records import RECORDS, load_record
+    from ..motions.catalogue import RECORDS, load_record
 
     record, paths = spec["record"], spec.get("paths")
     if not paths:
@@ -340,7 +340,7 @@ def _check_tilt_map_motion(key: str, motion: str | None, ens: Mapping[str, Any])
     its synthetic pairs ``<record>-rdk-NNN``."""
     if motion is None:
         return
-    from ..motions.records import RECORDS
+    from ..motions.catalogue import RECORDS
 
     record = ens["record"]
     if not ens.get("paths") and record in RECORDS and RECORDS[record].files is None:

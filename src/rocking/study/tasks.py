@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from ..motions.motion import GroundMotion
-from ..motions.records import file_sha256
+from ..motions.readers import file_sha256
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .store import REQUESTED, REQUESTED_DIMS, open_layout, read_attrs, read_requested, write_region
 
