@@ -287,8 +287,11 @@ def test_motions_refuses_an_ensemble_too_large_for_memory_before_work(tmp_path, 
          "--mw (or --fc-hz) is needed for the high-pass", "fc_hz"),
         (["--files", "{x}", "{x}", "--highpass", "butterworth", "--fc-hz", "1000"],
          "--fc-hz=1000.0 must be below the Nyquist frequency", "fc_hz"),
+        (["--files", "{x}", "{x}", "--highpass", "oscillator", "--fc-hz", "1000"],
+         "--fc-hz=1000.0 must be below the Nyquist frequency", "fc_hz"),
     ],
-    ids=["one-component", "highpass-without-mw", "corner-above-nyquist"],
+    ids=["one-component", "highpass-without-mw", "corner-above-nyquist",
+         "oscillator-corner-above-nyquist"],
 )
 def test_library_errors_are_told_in_the_command_line_s_words(extra, said, not_said, capsys,
                                                               tmp_path):
