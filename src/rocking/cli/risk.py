@@ -87,7 +87,8 @@ def _select(frag, args):
         rows = rows[rows["limit_state"].isin(names)]
         if rows.empty:
             raise ValueError(f"--limit-states {args.limit_states!r}: none in the table")
-    return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed)
+    return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed,
+                       frag.kind)
 
 
 def run(args) -> int:
