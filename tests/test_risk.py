@@ -341,9 +341,12 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     assert main(["risk", "--fragility", str(path), "--hazard", "1e-4,2.5", "--mode", "3d",
                  "--limit-states", "overturning"]) == 0
     out = capsys.readouterr().out
-    assert "maf [1/yr]" in out and "return_period [yr]" in out and "p_50yr [-]" in out
+    assert "λ [1/yr]" in out and "return period [yr]" in out and "P(50 yr) [-]" in out
+    assert "first-exceedance fragility" in out
     lam = closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321)
     assert f"{lam:.4g}" in out
+    # the median in g and as PGA/(g tan α)
+    assert "0.3123" in out and f"{0.31234567891234 / 0.2:.4g}" in out
     assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "-o",
                  str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
                  "--pelicun", str(tmp_path / "f.p.csv")]) == 0
