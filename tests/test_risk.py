@@ -585,3 +585,24 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
         lam[("stripes", 6.0, "overturning")] / lam[("first_exceedance", 6.0, "overturning")])
     labels = [t.get_text() for t in fig.plot(d).axes[0].get_legend().get_texts()]
     assert "3D, stripes" in labels and "3D, first exceedance" in labels
+
+
+def test_docs_quote_the_two_mafs_of_the_committed_gallery():
+    """docs/risk.md's stripe / first-exceedance numbers are those of results/paper/elcentro
+    under the example hazard (recomputed here from the two committed fragility tables)."""
+    from rocking.risk.report import comparison_table
+    from rocking.risk.table import risk_tables
+
+    gallery = ROOT / "results/paper/elcentro"
+    risk = risk_tables([gallery / "fragility.csv", gallery / "stripe_fragility.csv"],
+                       HazardCurve.from_openquake_csv(EXAMPLE))
+    both = comparison_table(risk).set_index(["mode", "tan α [-]", "R [m]", "limit state"])
+    text = " ".join((ROOT / "docs/risk.md").read_text(encoding="utf-8").split())
+    for ls, quoted in (("overturning", ("0.87×", "0.51×", "0.36×")),
+                       ("tilt:1/3", ("0.98×", "0.77×", "0.54×"))):
+        for R, q in zip((2.0, 6.0, 10.0), quoted, strict=True):
+            ratio = both.loc[("3d", 0.2, R, ls), "stripes / first [-]"]
+            assert f"{ratio:.2f}×" == q and q in text, (ls, R, ratio)
+    over6 = both.loc[("3d", 0.2, 6.0, "overturning")]
+    assert f"{over6['λ stripes [1/yr]'] * 1e4:.2f}·10⁻⁴ against " \
+           f"{over6['λ first exceedance [1/yr]'] * 1e4:.2f}·10⁻⁴" in text
