@@ -525,3 +525,20 @@ def test_risk_json_carries_the_table_and_the_fragility_it_integrates(tmp_path, c
     text = capsys.readouterr().out
     assert "fragility  " in text and "first-exceedance fragility" in text
     assert f"2 rows (every column) written: {tmp_path / 'r.csv'}" in text
+
+
+def test_docs_cli_page_shows_what_its_commands_print(tmp_path, capsys, monkeypatch):
+    """docs/cli.md's example commands print exactly the text shown under them."""
+    import re
+    import shlex
+
+    page = (Path(__file__).resolve().parents[1] / "docs/cli.md").read_text(encoding="utf-8")
+    commands = re.findall(r"^```bash\n(.*?)^```", page, flags=re.S | re.M)
+    shown = re.findall(r"^```text\n(.*?)^```", page, flags=re.S | re.M)
+    assert len(commands) == len(shown) == 2
+    monkeypatch.chdir(tmp_path)  # simulate writes run/ here
+    for command, text in zip(commands, shown, strict=True):
+        argv = shlex.split(command.replace("\\\n", " "))
+        assert argv[0] == "rocking"
+        assert main(argv[1:]) == 0
+        assert capsys.readouterr().out == text, command

@@ -34,9 +34,10 @@ EPILOG = """examples:
   rocking motions --record el-centro-1940 -n 10 -o results/motions/elcentro.nc
   rocking spectra --R 1,2,6 --record el-centro-1940 --mode 3d -o spectrum.csv
   rocking stripes --R 6 --ensemble results/motions/elcentro.nc --stripes 40
-  rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5
+  rocking risk --fragility results/elcentro/stripe_fragility.csv --hazard 1e-4,2.5 --json
 
-`rocking COMMAND --help` lists a command's options with their defaults."""
+Commands print labelled text with units (and the motion's processing); --json prints JSON
+for scripts. `rocking COMMAND --help` lists a command's options with their defaults."""
 
 
 def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:

@@ -1,4 +1,6 @@
-"""``rocking spectra``: one seismic performance rocking spectrum to CSV or JSON.
+"""``rocking spectra``: one seismic performance rocking spectrum, printed as a labelled table
+(PGA/(g tan α) and PGA [g], flags, the motion's processing) or as JSON (``--json``), and
+written to CSV or JSON (``-o``).
 
 The numbers are those of the workflow's stores when asked the same thing: the same motion
 (``--ensemble FILE --motion NAME``), mode, limit states, accuracy and search bound give the

@@ -2,6 +2,8 @@
 
 At each stripe intensity every motion is analysed once; the share exceeding each limit state
 is fitted by a lognormal CDF by binomial maximum likelihood (:mod:`rocking.spectra.stripes`).
+Printed as labelled tables (medians as PGA/(g tan α) and PGA [g] with their intervals, the
+motions' processing, each stripe's count) or as JSON (``--json``); ``-o`` writes CSV or JSON.
 """
 
 from __future__ import annotations
