@@ -475,7 +475,9 @@ def test_spectra_prints_a_labelled_table_and_json_on_request(tmp_path, capsys):
         crit, crit_g = (float(v) for v in row.split()[2:4])
         assert crit == pytest.approx(r["pga_crit"], rel=1e-5)
         assert crit_g == pytest.approx(r["pga_crit"] * 0.15, rel=1e-5)
-    assert "processing  rotation: none (recorded axes); high-pass: none" in text
+    # a motion of an ensemble file is used as stored: no options to suggest
+    assert "processing  rotation: none (recorded axes); high-pass: none (as stored in the " \
+        "ensemble file)" in text and "--rotation auto" not in text
     assert "tan α = 0.15 (α = 0.1489 rad" in text and f"written: {tmp_path / 's.json'}" in text
     # --json prints the document the file holds (the time it took aside)
     assert main([*common, "--json"]) == 0

@@ -73,9 +73,14 @@ def _highpass_kind(motion) -> str:
     return str(motion.metadata.get("highpass", {}).get("kind", "high-pass"))
 
 
-def processing(motion) -> str:
-    """Rotation and high-pass of a motion in words, e.g. ``rotation: principal axes (major
-    axis turned −70.46°); high-pass: oscillator, corner 0.0954 Hz``."""
+def processing(motion, stored: bool = False) -> str:
+    """Rotation and high-pass of a motion in words, e.g. ``rotation: principal axes (turned
+    −70.46°); high-pass: oscillator, corner fc = 0.09465 Hz``.
+
+    An unprocessed record read from a name or files gets the options that give the
+    workflow's processing; a motion ``stored`` in an ensemble file is used as it is, so it
+    gets none (its processing is the ensemble's).
+    """
     from ..motions.identity import identity
 
     who = identity(motion)
@@ -89,7 +94,9 @@ def processing(motion) -> str:
     highpass = (f"{_highpass_kind(motion)}, corner fc = {fc:.4g} Hz" if math.isfinite(fc)
                 else "none")
     text = f"rotation: {rotation}; high-pass: {highpass}"
-    if who["kind"] == "record" and not math.isfinite(rot) and not math.isfinite(fc):
+    if stored:
+        text += " (as stored in the ensemble file)"
+    elif who["kind"] == "record" and not math.isfinite(rot) and not math.isfinite(fc):
         text += f" (as given; the workflow's ensembles use {WORKFLOW_PROCESSING})"
     return text
 

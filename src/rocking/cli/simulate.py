@@ -142,7 +142,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(_json.dumps(summary))
     else:
-        words = _human.processing(motion) if motion is not None else ""
+        words = (_human.processing(motion, stored=args.ensemble is not None)
+                 if motion is not None else "")
         print(human(summary, body.alpha, out, words))
     return 0 if res.ok else 1
 

@@ -96,7 +96,7 @@ def human(table, motion, args, accuracy: str) -> str:
     ta = args.tan_alpha
     head = _human.block([
         ("motion", table["processing"].iloc[0] if len(table) else motion.name),
-        ("processing", _human.processing(motion)),
+        ("processing", _human.processing(motion, stored=args.ensemble is not None)),
         ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
         ("search", f"accuracy {accuracy}, from uplift up to PGA/(g tan α) = "
                    f"{args.upper:g} (PGA {args.upper * ta:.4g} g)"),

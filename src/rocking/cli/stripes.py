@@ -97,10 +97,11 @@ def tables(results):
 
 def _motions_line(motions, args) -> tuple[str, str]:
     """(motion, processing) lines: the one motion, or the ensemble's count and its record."""
+    stored = args.ensemble is not None
     if len(motions) == 1:
-        return _identity_line(motions[0]), _human.processing(motions[0])
+        return _identity_line(motions[0]), _human.processing(motions[0], stored)
     names = ", ".join(m.name for m in motions[:3]) + (", …" if len(motions) > 3 else "")
-    kinds = {_human.processing(m) for m in motions}
+    kinds = {_human.processing(m, stored) for m in motions}
     return (f"{len(motions)} motions of {args.ensemble} ({names})",
             "; ".join(sorted(kinds)) if len(kinds) <= 2
             else f"{len(kinds)} different processings (see --json)")
