@@ -606,3 +606,26 @@ def test_docs_quote_the_two_mafs_of_the_committed_gallery():
     over6 = both.loc[("3d", 0.2, 6.0, "overturning")]
     assert f"{over6['λ stripes [1/yr]'] * 1e4:.2f}·10⁻⁴ against " \
            f"{over6['λ first exceedance [1/yr]'] * 1e4:.2f}·10⁻⁴" in text
+
+
+@pytest.mark.slow
+def test_workflow_plans_the_stripe_exports_and_feeds_the_stripes_to_risk(tmp_path):
+    """Dry run of the default configuration (a study with stripes and a hazard): the risk
+    rule reads stripe_fragility.csv, and the stripe exports are planned under their names."""
+    import re
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"),
+                          "--directory", str(tmp_path), "--configfile",
+                          str(ROOT / "config/config.yaml"), "-n", "--cores", "1"],
+                         capture_output=True, text=True, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr[-3000:]
+    jobs = out.stdout
+    assert re.search(r"^stripe_risk_exports\s+1$", jobs, re.MULTILINE)
+    block = jobs[jobs.index("rule risk:"):]
+    inputs = block.splitlines()[1]
+    assert "results/elcentro/stripe_fragility.csv" in inputs and "fragility.csv" in inputs
+    exports = jobs[jobs.index("rule stripe_risk_exports:"):]
+    assert "results/elcentro/stripe_fragility.nrml.xml" in exports
+    assert "results/elcentro/stripe_fragility.pelicun.csv" in exports
