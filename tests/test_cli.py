@@ -544,3 +544,17 @@ def test_docs_cli_page_shows_what_its_commands_print(tmp_path, capsys, monkeypat
         assert argv[0] == "rocking"
         assert main(argv[1:]) == 0
         assert capsys.readouterr().out == text, command
+
+
+def test_a_reader_closing_stdout_ends_the_command_quietly():
+    """``rocking risk --json | head -1``: no error line, no traceback, exit code 141."""
+    root = Path(__file__).resolve().parents[1]
+    proc = subprocess.Popen([sys.executable, "-m", "rocking.cli", "risk", "--fragility",
+                             str(root / "results/paper/elcentro/fragility.csv"), "--hazard",
+                             "1e-4,2.5", "--json"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    assert proc.stdout.readline() == "{\n"
+    proc.stdout.close()  # the rest (~100 kB) no longer fits the pipe: the writer hits EPIPE
+    err = proc.stderr.read()
+    assert proc.wait(timeout=60) == 141, err
+    assert err == ""
