@@ -30,7 +30,7 @@ CAPTION = (
     "an im_factor is configured (docs/risk.md). Where the study has stripes, open squares: "
     "the same integral with the multiple-stripe fragility (the probability of exceeding at "
     "the intensity, the one the integral asks for); filled circles: the first-exceedance "
-    "fragility (an upper bound: a motion that exceeds at any lower intensity counts)."
+    "fragility (larger: it also counts motions that exceed at a lower intensity only)."
 )
 """Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
 
