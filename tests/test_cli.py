@@ -114,7 +114,7 @@ def test_unwritable_output_is_one_line_without_traceback(tmp_path):
 def test_simulate_outputs_have_units_and_strict_json(tmp_path, capsys):
     # a body too wide to uplift: t_uplift is "never" (NaN inside), null in the JSON
     assert main(["simulate", "--R", "1", "--tan-alpha", "1e6", "--record", "el-centro-1940",
-                 "-o", str(tmp_path / "wide")]) == 0
+                 "-o", str(tmp_path / "wide"), "--json"]) == 0
     summary = strict_json(tmp_path / "wide/summary.json")
     assert summary["t_uplift"] is None and summary["uplifted"] is False
     assert json.loads(capsys.readouterr().out, parse_constant=_no_nan)["t_uplift"] is None
@@ -287,8 +287,11 @@ def test_motions_refuses_an_ensemble_too_large_for_memory_before_work(tmp_path, 
          "--mw (or --fc-hz) is needed for the high-pass", "fc_hz"),
         (["--files", "{x}", "{x}", "--highpass", "butterworth", "--fc-hz", "1000"],
          "--fc-hz=1000.0 must be below the Nyquist frequency", "fc_hz"),
+        (["--files", "{x}", "{x}", "--highpass", "oscillator", "--fc-hz", "1000"],
+         "--fc-hz=1000.0 must be below the Nyquist frequency", "fc_hz"),
     ],
-    ids=["one-component", "highpass-without-mw", "corner-above-nyquist"],
+    ids=["one-component", "highpass-without-mw", "corner-above-nyquist",
+         "oscillator-corner-above-nyquist"],
 )
 def test_library_errors_are_told_in_the_command_line_s_words(extra, said, not_said, capsys,
                                                               tmp_path):
@@ -392,3 +395,166 @@ def test_csv_floats_have_ten_digits_and_the_json_every_bit(tmp_path):
     # the doubles behind the table do carry more digits: the rounding is what is tested
     assert any(len(repr(float(v)).replace(".", "").lstrip("0")) > 10
                for v in exact["pga_crit_g"].dropna())
+
+
+# ------------------------------------------------------------- what the commands print
+
+
+def _numbers(text: str, label: str) -> list[float]:
+    """The numbers on the line starting with ``label`` of a labelled block."""
+    import re
+
+    line = next(x for x in text.splitlines() if x.startswith(label))
+    return [float(v) for v in re.findall(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?", line[len(label):])]
+
+
+def test_simulate_prints_labelled_lines_and_json_on_request(tmp_path, capsys):
+    """By default labelled lines: θmax in rad and as θmax/α, the intensity as PGA in g and as
+    PGA/(g tan α), the processing; ``--json`` prints summary.json's content on one line."""
+    ens = _short_ensemble(tmp_path / "e.nc")
+    argv = ["simulate", "--R", "1", "--tan-alpha", "0.2", "--ensemble", str(ens),
+            "--pga-ratio", "2", "-q"]
+    assert main([*argv, "-o", str(tmp_path / "a")]) == 0
+    text = capsys.readouterr().out
+    summary = strict_json(tmp_path / "a/summary.json")
+    alpha = math.atan(0.2)
+    theta, share, t_peak = _numbers(text, "peak tilt")[:3]
+    assert theta == pytest.approx(summary["theta_max"], rel=1e-3)
+    assert share == pytest.approx(summary["theta_max"] / alpha, rel=1e-3)
+    assert t_peak == pytest.approx(summary["t_theta_max"], rel=1e-3)
+    assert "θmax =" in text and " α at t = " in text
+    pga_g, ratio = _numbers(text, "intensity")[:2]
+    assert pga_g == pytest.approx(0.4) and ratio == pytest.approx(2.0)
+    assert "PGA = 0.4 g = 2 g tan α" in text
+    for label in ("body", "mode", "motion", "processing", "outcome", "uplift", "written"):
+        assert any(x.startswith(label) for x in text.splitlines()), label
+    assert "rotation: none (recorded axes); high-pass: none" in text
+    with pytest.raises(json.JSONDecodeError):
+        json.loads(text)
+    # --json: the one JSON line it always printed, equal to the file
+    assert main([*argv, "-o", str(tmp_path / "b"), "--json"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("\n") == 1
+    assert json.loads(out, parse_constant=_no_nan) == strict_json(tmp_path / "b/summary.json")
+
+
+def test_simulate_prints_the_processing_it_applied(tmp_path, capsys):
+    """Asked the workflow's processing, the answer says so: principal axes and the
+    oscillator high-pass with its corner (and the same in the JSON's processing line)."""
+    argv = ["simulate", "--R", "1", "--tan-alpha", "0.2", "--record", "el-centro-1940",
+            "--rotation", "auto", "--highpass", "oscillator", "--max-duration", "4",
+            "--pga-ratio", "0.5", "-q"]  # below uplift: no rocking, quick
+    assert main([*argv, "-o", str(tmp_path / "a")]) == 0
+    text = capsys.readouterr().out
+    line = next(x for x in text.splitlines() if x.startswith("processing"))
+    assert "rotation: principal axes (turned -70.46°)" in line
+    fc = _numbers(line.split("corner fc =")[1], "")[0]
+    from rocking.motions.highpass import brune_corner
+
+    assert fc == pytest.approx(brune_corner(6.95), rel=1e-3)  # the record's Mw
+    assert "high-pass: oscillator" in line and "workflow" not in line
+    assert "ok: did not uplift" in text and "uplift         never" in text
+    assert main([*argv, "-o", str(tmp_path / "b"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert "rotated -70.46 deg to principal axes" in summary["processing"]
+    assert "high-passed (oscillator" in summary["processing"]
+
+
+def test_spectra_prints_a_labelled_table_and_json_on_request(tmp_path, capsys):
+    ens = _short_ensemble(tmp_path / "e.nc")
+    common = ["spectra", "--R", "1,2", "--ensemble", str(ens), "--accuracy", "fast",
+              "--limit-states", "overturning,tilt:1/3", "-q", "--tan-alpha", "0.15"]
+    assert main([*common, "-o", str(tmp_path / "s.json")]) == 0
+    text = capsys.readouterr().out
+    doc = strict_json(tmp_path / "s.json")
+    header = next(x for x in text.splitlines() if x.startswith("R [m]"))
+    assert "PGA/(g tan α) [-]" in header and "PGA [g]" in header and "flags" in header
+    for r in doc["results"]:
+        row = next(x for x in text.splitlines()
+                   if x.split()[:2] == [f"{r['R']:g}", r["limit_state"]])
+        crit, crit_g = (float(v) for v in row.split()[2:4])
+        assert crit == pytest.approx(r["pga_crit"], rel=1e-5)
+        assert crit_g == pytest.approx(r["pga_crit"] * 0.15, rel=1e-5)
+    # a motion of an ensemble file is used as stored: no options to suggest
+    assert "processing  rotation: none (recorded axes); high-pass: none (as stored in the " \
+        "ensemble file)" in text and "--rotation auto" not in text
+    assert "tan α = 0.15 (α = 0.1489 rad" in text and f"written: {tmp_path / 's.json'}" in text
+    # --json prints the document the file holds (the time it took aside)
+    assert main([*common, "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out, parse_constant=_no_nan)
+    assert printed.keys() == doc.keys()
+    assert {k: v for k, v in printed.items() if k != "seconds"} == \
+        {k: v for k, v in doc.items() if k != "seconds"}
+    # a not-reached limit state reads as beyond the bound, not as a number
+    assert main([*common, "--upper", "1.05"]) == 0
+    text = capsys.readouterr().out
+    assert "> 1.05" in text and "not reached: no exceedance up to the search bound" in text
+
+
+def test_stripes_json_is_the_file_s_document_with_the_processing(tmp_path, capsys):
+    ens = _short_ensemble(tmp_path / "e.nc")
+    common = ["stripes", "--R", "1", "--ensemble", str(ens), "--intensities", "1.5,3",
+              "--limit-states", "overturning", "-q"]
+    assert main([*common, "-o", str(tmp_path / "s.json")]) == 0
+    text = capsys.readouterr().out
+    assert "median PGA/(g tan α) [-]" in text and "exceeding" in text and "1 of 1" in text
+    assert "processing" in text and "stripes     2 intensities" in text
+    assert main([*common, "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out, parse_constant=_no_nan)
+    doc = strict_json(tmp_path / "s.json")
+    assert {k: v for k, v in printed.items() if k != "seconds"} == \
+        {k: v for k, v in doc.items() if k != "seconds"}
+    assert printed["processing"] == {"elc-8s": doc["processing"]["elc-8s"]}
+
+
+def test_risk_json_carries_the_table_and_the_fragility_it_integrates(tmp_path, capsys):
+    rows = [("3d", "overturning", 0.2, 2.0, 0.4, 0.3, "ok"),
+            ("3d", "tilt:1/3", 0.2, 2.0, 0.25, 0.2, "ok")]
+    path = tmp_path / "fragility.csv"
+    pd.DataFrame(rows, columns=["mode", "limit_state", "tan_alpha [-]", "R [m]",
+                                "median_pga_g [g]", "beta [-]", "status"]).to_csv(path,
+                                                                                 index=False)
+    argv = ["risk", "--fragility", str(path), "--hazard", "1e-4,2.5"]
+    assert main([*argv, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out, parse_constant=_no_nan)
+    assert doc["fragility"] == "first_exceedance" and doc["units"]["maf"] == "1/yr"
+    lam = {r["limit_state"]: r["maf"] for r in doc["rows"]}
+    # λ of a power law: k0 θ^-k exp(k² β² / 2) (Cornell et al. 2002)
+    assert lam["overturning"] == pytest.approx(1e-4 * 0.4 ** -2.5 * math.exp(3.125 * 0.09),
+                                               rel=1e-3)
+    assert [r["limit_state"] for r in doc["rows"]] == ["tilt:1/3", "overturning"]
+    assert main([*argv, "-o", str(tmp_path / "r.csv")]) == 0
+    text = capsys.readouterr().out
+    assert "fragility  " in text and "first-exceedance fragility" in text
+    assert f"2 rows (every column) written: {tmp_path / 'r.csv'}" in text
+
+
+def test_docs_cli_page_shows_what_its_commands_print(tmp_path, capsys, monkeypatch):
+    """docs/cli.md's example commands print exactly the text shown under them."""
+    import re
+    import shlex
+
+    page = (Path(__file__).resolve().parents[1] / "docs/cli.md").read_text(encoding="utf-8")
+    commands = re.findall(r"^```bash\n(.*?)^```", page, flags=re.S | re.M)
+    shown = re.findall(r"^```text\n(.*?)^```", page, flags=re.S | re.M)
+    assert len(commands) == len(shown) == 2
+    monkeypatch.chdir(tmp_path)  # simulate writes run/ here
+    for command, text in zip(commands, shown, strict=True):
+        argv = shlex.split(command.replace("\\\n", " "))
+        assert argv[0] == "rocking"
+        assert main(argv[1:]) == 0
+        assert capsys.readouterr().out == text, command
+
+
+def test_a_reader_closing_stdout_ends_the_command_quietly():
+    """``rocking risk --json | head -1``: no error line, no traceback, exit code 141."""
+    root = Path(__file__).resolve().parents[1]
+    proc = subprocess.Popen([sys.executable, "-m", "rocking.cli", "risk", "--fragility",
+                             str(root / "results/paper/elcentro/fragility.csv"), "--hazard",
+                             "1e-4,2.5", "--json"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    assert proc.stdout.readline() == "{\n"
+    proc.stdout.close()  # the rest (~100 kB) no longer fits the pipe: the writer hits EPIPE
+    err = proc.stderr.read()
+    assert proc.wait(timeout=60) == 141, err
+    assert err == ""

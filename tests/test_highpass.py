@@ -203,3 +203,17 @@ def test_bad_input() -> None:
         highpass_motion(motion, "chebyshev", 0.2)
     with pytest.raises(ValueError, match="fc_hz"):
         highpass_motion(motion, "oscillator")
+
+
+@pytest.mark.parametrize("kind", ["oscillator", "butterworth"])
+def test_corner_at_or_above_nyquist_is_refused_naming_the_value(kind: str) -> None:
+    """dt = 0.01 s: Nyquist 50 Hz. A corner there or above cannot high-pass anything the
+    samples hold; both kinds refuse it with the field and its value, before filtering."""
+    motion = GroundMotion(np.sin(np.arange(200) * 0.3), np.cos(np.arange(200) * 0.2), 0.01)
+    for fc in (50.0, 80.0):
+        with pytest.raises(ValueError, match=rf"fc_hz={fc!r} must be below the Nyquist "
+                                             r"frequency 50 Hz \(time step 0.01 s\)"):
+            highpass_motion(motion, kind, fc)
+    # just below Nyquist still filters (the check is not a blanket refusal)
+    out = highpass_motion(motion, kind, 49.0)
+    assert np.all(np.isfinite(out.ax)) and out.npts >= motion.npts

@@ -187,13 +187,15 @@ def test_risk_table_columns_units_and_values():
     frag = fragilities.read_fragilities(table(ROWS))
     h = HazardCurve.from_power_law(1e-4, 2.5)
     t = risk_table(frag, h)
-    assert list(t.columns) == ["mode", "tan_alpha [-]", "R [m]", "limit_state",
+    assert list(t.columns) == ["fragility", "mode", "tan_alpha [-]", "R [m]", "limit_state",
                                "median_pga_g [g]", "beta [-]", "maf [1/yr]",
-                               "return_period [yr]", "p_50yr [-]", "share_extrapolated [-]"]
+                               "return_period [yr]", "p_50yr [-]", "share_extrapolated [-]",
+                               "status"]
+    assert set(t["fragility"]) == {"first_exceedance"}
     for r in t.itertuples(index=False):
-        lam = closed_form(1e-4, 2.5, r[4], r[5])
-        assert r[6] == pytest.approx(lam, rel=1e-3)
-        assert r[7] == pytest.approx(1 / r[6]) and r[8] == pytest.approx(1 - math.exp(-50 * r[6]))
+        lam = closed_form(1e-4, 2.5, r[5], r[6])
+        assert r[7] == pytest.approx(lam, rel=1e-3)
+        assert r[8] == pytest.approx(1 / r[7]) and r[9] == pytest.approx(1 - math.exp(-50 * r[7]))
     assert "too-few-observed" in t.attrs["skipped"]
 
 
@@ -317,7 +319,7 @@ def test_pelicun_round_trip_and_limit_states_in_increasing_severity(tmp_path):
                            "LS1-DamageStateWeights"]
     got = read_pelicun(tmp_path / "f.csv")
     cid = pelicun.component_id("3d", 0.2, 2.0)
-    assert cid == "rocking.3d.tan0.2.R2m"
+    assert cid == "rocking.3d.tan0.2.R2m.first_exceedance"
     assert comps[cid] == ["tilt:0.1", "tilt:1/3", "overturning"]  # overturning last
     for (mode, ta, R), rows in frag.groups():
         pairs = got[pelicun.component_id(mode, ta, R)]
@@ -339,9 +341,12 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     assert main(["risk", "--fragility", str(path), "--hazard", "1e-4,2.5", "--mode", "3d",
                  "--limit-states", "overturning"]) == 0
     out = capsys.readouterr().out
-    assert "maf [1/yr]" in out and "return_period [yr]" in out and "p_50yr [-]" in out
+    assert "λ [1/yr]" in out and "return period [yr]" in out and "P(50 yr) [-]" in out
+    assert "first-exceedance fragility" in out
     lam = closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321)
     assert f"{lam:.4g}" in out
+    # the median in g and as PGA/(g tan α)
+    assert "0.3123" in out and f"{0.31234567891234 / 0.2:.4g}" in out
     assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "-o",
                  str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
                  "--pelicun", str(tmp_path / "f.p.csv")]) == 0
@@ -390,3 +395,237 @@ def test_risk_figure_data_plot_and_sidecar(tmp_path):
     render("risk", [tmp_path / "risk.png"], tmp_path / "risk.json", risk=path, hazard="x")
     notes = json.loads((tmp_path / "risk.json").read_text())
     assert notes["figure"] == "risk" and "3d overturning R=6 m [1/yr]" in notes["measured"]
+
+
+# ------------------------------------------------------------------ the stripe fragility
+
+
+def stripe_store(tan_alpha=0.2, seed=7):
+    """A stripes store as the workflow writes it (one mode, two sizes, two limit states):
+    each motion exceeds a limit state at and above its own capacity, capacities drawn from
+    known lognormals, so the stripe fits are finite and different from the first-exceedance
+    rows of ROWS."""
+    import xarray as xr
+
+    x = np.geomspace(1.1, 15.0, 12)
+    motions = [f"m{i}" for i in range(30)]
+    states = ["overturning", "tilt:1/3"]
+    Rs = [2.0, 6.0]
+    rng = np.random.default_rng(seed)
+    exc = np.zeros((1, len(states), len(motions), len(Rs), x.size), bool)
+    for j, (theta, beta) in enumerate(((3.0, 0.4), (1.8, 0.3))):
+        for k, R in enumerate(Rs):
+            caps = theta * (R / 2.0) ** 0.5 * np.exp(beta * rng.standard_normal(len(motions)))
+            exc[0, j, :, k, :] = x[None, :] >= caps[:, None]
+    failed = np.zeros((1, len(motions), len(Rs), x.size), bool)
+    return xr.Dataset(
+        {"exceeded": (STRIPE_DIMS, exc),
+         "failed": (("mode", "motion", "R", "intensity"), failed),
+         "n_analyses": (("mode", "motion", "R"), np.full((1, len(motions), len(Rs)), x.size)),
+         "done": (("chunk",), np.ones(1, bool))},
+        coords={"mode": ["3d"], "limit_state": states, "motion": motions, "R": Rs,
+                "intensity": x},
+        attrs={"tan_alpha": tan_alpha})
+
+
+STRIPE_DIMS = ("mode", "limit_state", "motion", "R", "intensity")
+
+
+@pytest.fixture()
+def stripe_csv(tmp_path):
+    """stripe_fragility.csv as the workflow's rule writes it (rocking.study.stripes)."""
+    from rocking.study.stripes import STRIPES_DIMS, stripe_table
+    from rocking.units import header
+
+    assert STRIPES_DIMS == STRIPE_DIMS  # the layout this stand-in store follows
+    path = tmp_path / "stripe_fragility.csv"
+    stripe_table(stripe_store()).rename(columns=header).to_csv(path, index=False,
+                                                                float_format="%.10g")
+    return path
+
+
+def analytic_hazard(im):
+    """The example curve's formula: λ = (1/475)·exp(−2.2 L − 0.262 L²), L = ln(PGA/0.25 g),
+    and |dλ/d im| [1/yr per g]."""
+    L = np.log(np.asarray(im, float) / 0.25)
+    lam = np.exp(-2.2 * L - 0.262 * L * L) / 475.0
+    return lam, lam * (2.2 + 0.524 * L) / np.asarray(im, float)
+
+
+def independent_maf(median_g, beta):
+    """λ_LS = ∫ Φ(ln(im/θ)/β) |dλ/d im| d im by adaptive quadrature over the analytic curve
+    (no log-log table, no grid: another integrator on another representation)."""
+    from scipy import integrate
+
+    def f(u):  # im = e^u: Φ · |dλ/d im| · im
+        im = math.exp(u)
+        return stats.norm.cdf((u - math.log(median_g)) / beta) * analytic_hazard(im)[1] * im
+
+    lo, hi = math.log(0.005), math.log(1e3)
+    centre = math.log(median_g)
+    val, _ = integrate.quad(f, lo, hi, points=[centre - 3 * beta, centre, centre + 3 * beta],
+                            limit=400, epsabs=0.0, epsrel=1e-10)
+    return val
+
+
+def test_stripe_maf_matches_an_independent_numerical_integration(stripe_csv):
+    # the hazard as a site gives it: a table (300 levels, 0.005–20 g) of the analytic curve
+    # (it is non-increasing above 0.0037 g, where its log-log slope 2.2 + 0.524 L is > 0)
+    im = np.geomspace(0.005, 20.0, 300)
+    h = HazardCurve(im, analytic_hazard(im)[0], source="analytic example curve")
+    frag = fragilities.read_fragilities(stripe_csv)
+    assert frag.kind == "stripes" and len(frag.rows) == 4  # told by its columns
+    t = risk_table(frag, h)
+    assert set(t["fragility"]) == {"stripes"}
+    for r in t.itertuples(index=False):
+        assert r[7] == pytest.approx(independent_maf(r[5], r[6]), rel=1e-3)
+    # the medians are the binomial fits of the stripes (PGA in g = median · tan α)
+    table_ = pd.read_csv(stripe_csv)
+    keys = zip(t["R [m]"], t["limit_state"], strict=True)
+    got = dict(zip(keys, t["median_pga_g [g]"], strict=True))
+    for row in table_.itertuples(index=False):
+        assert got[(row[3], row[1])] == pytest.approx(row[4] * 0.2, rel=1e-9)
+
+
+def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_path):
+    from rocking.risk.exports import write_risk_outputs
+
+    first = tmp_path / "fragility.csv"
+    table(ROWS).to_csv(first, index=False)
+    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    summary = write_risk_outputs(first, h, nrml=tmp_path / "f.xml", pelicun=tmp_path / "f.csv",
+                                 table=tmp_path / "risk.csv", search_upper=20.0,
+                                 study="mine", stripes=stripe_csv)
+    risk = pd.read_csv(tmp_path / "risk.csv")
+    assert summary["risk_fragilities"] == ["first_exceedance", "stripes"]
+    assert risk["fragility"].value_counts().to_dict() == {"first_exceedance": 9, "stripes": 4}
+    # each row's λ is that of its own fragility
+    stripe_rows = risk[risk["fragility"] == "stripes"]
+    for r in stripe_rows.itertuples(index=False):
+        assert r[7] == pytest.approx(rocking.mean_annual_frequency(r[5], r[6], h), rel=1e-5)
+    with pytest.raises(ValueError, match="one table per kind"):
+        from rocking.risk.table import risk_tables
+
+        risk_tables([stripe_csv, stripe_csv], h)
+
+
+def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path):
+    import re
+
+    from rocking.risk.exports import write_fragility_exports
+
+    first = tmp_path / "fragility.csv"
+    table(ROWS).to_csv(first, index=False)
+    out = {}
+    for name, src in (("first", first), ("stripes", stripe_csv)):
+        out[name] = write_fragility_exports(src, nrml=tmp_path / f"{name}.xml",
+                                            pelicun=tmp_path / f"{name}.csv",
+                                            search_upper=20.0, study="elcentro")
+    assert out["stripes"]["fragility"] == "stripes"
+    # NRML: model id and description name the fragility; the id is one OpenQuake reads
+    ids = {}
+    for name in out:
+        model = ET.parse(tmp_path / f"{name}.xml").getroot()[0]
+        ids[name] = model.get("id")
+        assert re.fullmatch(r"[A-Za-z0-9_-]{1,60}", ids[name])  # OpenQuake's simple_id
+        desc = model.find("n:description", NS).text
+        assert desc.startswith({"first": "First-exceedance fragility",
+                                "stripes": "Multiple-stripe fragility"}[name])
+    assert ids == {"first": "elcentro-first-exceedance", "stripes": "elcentro-stripes"}
+    states, got = read_nrml(tmp_path / "stripes.xml")
+    assert states == ["tilt_1over3", "overturning"]
+    frag = fragilities.read_fragilities(stripe_csv)
+    for r in frag.rows.itertuples():
+        median, sigma, lims = got[(nrml.taxonomy(r.mode, r.tan_alpha, r.R),
+                                   nrml.nrml_limit_state(r.limit_state))]
+        assert median == pytest.approx(r.median_g, rel=1e-9)
+        assert sigma == pytest.approx(r.beta, rel=1e-9)
+        assert lims["maxIML"] >= r.median_g * math.exp(4 * r.beta)
+    # pelicun: ids say the fragility, so both files can be loaded together without clashes
+    p_first, p_stripes = (read_pelicun(tmp_path / f"{n}.csv") for n in ("first", "stripes"))
+    assert all(i.endswith(".first_exceedance") for i in p_first)
+    assert sorted(p_stripes) == ["rocking.3d.tan0.2.R2m.stripes", "rocking.3d.tan0.2.R6m.stripes"]
+    assert not set(p_first) & set(p_stripes)
+    for (mode, ta, R), rows in frag.groups():
+        pairs = p_stripes[pelicun.component_id(mode, ta, R, "stripes")]
+        assert [m for m, _ in pairs] == pytest.approx(rows["median_g"].tolist(), rel=1e-9)
+        assert [b for _, b in pairs] == pytest.approx(rows["beta"].tolist(), rel=1e-9)
+    with pytest.raises(ValueError, match="model_id must be"):
+        nrml.write_nrml(frag, tmp_path / "x.xml", model_id="my study")  # OpenQuake refuses it
+
+
+def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
+    from rocking.risk.report import WHICH_TO_USE, comparison_table, risk_section_html
+    from rocking.risk.table import risk_tables
+    from rocking.study.figures import risk as fig
+
+    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    risk = risk_tables([table(ROWS), stripe_csv], h)
+    both = comparison_table(risk)
+    assert len(both) == 4  # 3d, tan α 0.2, R 2 and 6 m, two limit states: in both tables
+    lam = {(r["fragility"], r["R [m]"], r["limit_state"]): r["maf [1/yr]"]
+           for _, r in risk.iterrows() if r["mode"] == "3d"}
+    for _, r in both.iterrows():
+        key = (r["R [m]"], r["limit state"])
+        assert r["λ first exceedance [1/yr]"] == lam[("first_exceedance", *key)]
+        assert r["λ stripes [1/yr]"] == lam[("stripes", *key)]
+        assert r["stripes / first [-]"] == pytest.approx(lam[("stripes", *key)]
+                                                         / lam[("first_exceedance", *key)])
+    text = risk_section_html(risk, hazard=str(EXAMPLE))
+    assert "Which λ to use: the stripe one" in text and WHICH_TO_USE[:40] in text
+    ratio = both["stripes / first [-]"]
+    assert f"{ratio.min():.2g}–{ratio.max():.2g} times" in text
+    # without stripe rows: no comparison, the first-exceedance table as before
+    assert comparison_table(risk_table(table(ROWS), h)).empty
+    assert "Which λ" not in risk_section_html(risk_table(table(ROWS), h))
+    d = fig.data(risk)
+    over = d["panels"][0]
+    assert list(over["stripes"]) == ["3d"] and over["stripes"]["3d"]["R"].tolist() == [2.0, 6.0]
+    assert d["measured"]["ratio stripes/first 3d overturning R=6 m [-]"] == pytest.approx(
+        lam[("stripes", 6.0, "overturning")] / lam[("first_exceedance", 6.0, "overturning")])
+    labels = [t.get_text() for t in fig.plot(d).axes[0].get_legend().get_texts()]
+    assert "3D, stripes" in labels and "3D, first exceedance" in labels
+
+
+def test_docs_quote_the_two_mafs_of_the_committed_gallery():
+    """docs/risk.md's stripe / first-exceedance numbers are those of results/paper/elcentro
+    under the example hazard (recomputed here from the two committed fragility tables)."""
+    from rocking.risk.report import comparison_table
+    from rocking.risk.table import risk_tables
+
+    gallery = ROOT / "results/paper/elcentro"
+    risk = risk_tables([gallery / "fragility.csv", gallery / "stripe_fragility.csv"],
+                       HazardCurve.from_openquake_csv(EXAMPLE))
+    both = comparison_table(risk).set_index(["mode", "tan α [-]", "R [m]", "limit state"])
+    text = " ".join((ROOT / "docs/risk.md").read_text(encoding="utf-8").split())
+    for ls, quoted in (("overturning", ("0.87×", "0.51×", "0.36×")),
+                       ("tilt:1/3", ("0.98×", "0.77×", "0.54×"))):
+        for R, q in zip((2.0, 6.0, 10.0), quoted, strict=True):
+            ratio = both.loc[("3d", 0.2, R, ls), "stripes / first [-]"]
+            assert f"{ratio:.2f}×" == q and q in text, (ls, R, ratio)
+    over6 = both.loc[("3d", 0.2, 6.0, "overturning")]
+    assert f"{over6['λ stripes [1/yr]'] * 1e4:.2f}·10⁻⁴ against " \
+           f"{over6['λ first exceedance [1/yr]'] * 1e4:.2f}·10⁻⁴" in text
+
+
+@pytest.mark.slow
+def test_workflow_plans_the_stripe_exports_and_feeds_the_stripes_to_risk(tmp_path):
+    """Dry run of the default configuration (a study with stripes and a hazard): the risk
+    rule reads stripe_fragility.csv, and the stripe exports are planned under their names."""
+    import re
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-s", str(ROOT / "Snakefile"),
+                          "--directory", str(tmp_path), "--configfile",
+                          str(ROOT / "config/config.yaml"), "-n", "--cores", "1"],
+                         capture_output=True, text=True, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr[-3000:]
+    jobs = out.stdout
+    assert re.search(r"^stripe_risk_exports\s+1$", jobs, re.MULTILINE)
+    block = jobs[jobs.index("rule risk:"):]
+    inputs = block.splitlines()[1]
+    assert "results/elcentro/stripe_fragility.csv" in inputs and "fragility.csv" in inputs
+    exports = jobs[jobs.index("rule stripe_risk_exports:"):]
+    assert "results/elcentro/stripe_fragility.nrml.xml" in exports
+    assert "results/elcentro/stripe_fragility.pelicun.csv" in exports

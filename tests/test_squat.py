@@ -181,7 +181,7 @@ def _no_nan(name):
 def test_cli_squat_block_does_not_bounce(tmp_path, capsys):
     out = tmp_path / "sq"
     assert main(["simulate", "--R", "1", "--tan-alpha", "2", "--mode", "2d-x", "--body",
-                 "block", "--theta0", "0.5", "--duration", "5", "--out", str(out)]) == 0
+                 "block", "--theta0", "0.5", "--duration", "5", "--out", str(out), "--json"]) == 0
     cap = capsys.readouterr()
     printed = json.loads(cap.out, parse_constant=_no_nan)  # stdout stays one JSON document
     summary = json.loads((out / "summary.json").read_text(), parse_constant=_no_nan)
@@ -203,7 +203,7 @@ def test_cli_squat_block_does_not_bounce(tmp_path, capsys):
 def test_cli_slender_body_has_no_note(tmp_path, capsys):
     assert main(["simulate", "--R", "1", "--tan-alpha", "0.2", "--mode", "2d-x", "--body",
                  "block", "--theta0", "0.1", "--duration", "1", "--out",
-                 str(tmp_path / "s")]) == 0
+                 str(tmp_path / "s"), "--json"]) == 0
     cap = capsys.readouterr()
     assert cap.err == ""
     assert json.loads(cap.out)["restitution_clipped"] is False

@@ -217,7 +217,7 @@ def test_cli_stripes_table_with_units(capsys):
                  "1.5,2.5,4", "--limit-states", "overturning,tilt:1/3", "-q"])
     out = capsys.readouterr().out
     assert code == 0
-    assert "median [g tan(alpha)]" in out and "beta [-]" in out
+    assert "median PGA/(g tan α) [-]" in out and "median PGA [g]" in out and "β [-]" in out
     assert "fraction [-]" in out and "separated" in out
 
 

@@ -1,8 +1,10 @@
 # From fragility to risk (rocking.risk): for each study with a `hazard:` in its
 # configuration, the OpenQuake NRML 0.5 and pelicun exports of its fragility table, the risk
 # table (mean annual frequency, return period, probability in 50 years per mode, tan α, R and
-# limit state) and the risk figure. Studies without `hazard:` get none of these. Helpers in
-# risk_common.smk.
+# limit state) and the risk figure. A study that also declares `stripes:` gets the same
+# exports of its stripe fragility (stripe_fragility.nrml.xml / .pelicun.csv), and its stripe
+# rows in risk.csv (column `fragility`), set beside the first-exceedance ones in the figure
+# and the report. Studies without `hazard:` get none of these. Helpers in risk_common.smk.
 
 from rocking.study.figures.risk import CAPTION as RISK_CAPTION
 
@@ -13,6 +15,7 @@ rule risk:
     input:
         fragility=rules.fragility_curves.output.fragility_csv,
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
+        stripes=lambda wildcards: stripe_fragility_csv(wildcards.study),
     output:
         nrml="results/{study}/fragility.nrml.xml",
         pelicun="results/{study}/fragility.pelicun.csv",
@@ -28,3 +31,20 @@ rule risk:
         "logs/{study}/risk.log",
     script:
         "../scripts/risk.py"
+
+
+rule stripe_risk_exports:
+    conda:
+        "../envs/rocking.yaml"
+    input:
+        stripes=rules.stripe_fragility.output.csv,
+    output:
+        nrml="results/{study}/stripe_fragility.nrml.xml",
+        pelicun="results/{study}/stripe_fragility.pelicun.csv",
+    params:
+        upper=lambda wildcards: search_upper(wildcards.study),
+        study=lambda wildcards: wildcards.study,
+    log:
+        "logs/{study}/stripe_risk_exports.log",
+    script:
+        "../scripts/stripe_risk_exports.py"

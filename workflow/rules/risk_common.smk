@@ -37,13 +37,23 @@ def risk_studies():
     return [s for s in config["studies"] if hazard_spec(s) is not None]
 
 
+def stripe_fragility_csv(study):
+    """The stripe fragility table the risk rule adds to risk.csv ([] without stripes)."""
+    return [rules.stripe_fragility.output.csv.format(study=study)] if has_stripes(study) else []
+
+
 def risk_targets():
-    """Exports, risk table and figure of every study with a hazard."""
+    """Exports, risk table and figure of every study with a hazard (and the stripe
+    fragility's exports where the study declares stripes)."""
     out = []
     for s in risk_studies():
-        out += [f"results/{s}/fragility.nrml.xml", f"results/{s}/fragility.pelicun.csv",
-                f"results/{s}/risk.csv"]
+        out += [rules.risk.output.nrml.format(study=s),
+                rules.risk.output.pelicun.format(study=s),
+                rules.risk.output.table.format(study=s)]
         out += figure_files(f"results/{s}/figures/risk")
+        if has_stripes(s):
+            out += [rules.stripe_risk_exports.output.nrml.format(study=s),
+                    rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import re
 import sys
 from collections.abc import Iterable, Sequence
@@ -34,9 +35,10 @@ EPILOG = """examples:
   rocking motions --record el-centro-1940 -n 10 -o results/motions/elcentro.nc
   rocking spectra --R 1,2,6 --record el-centro-1940 --mode 3d -o spectrum.csv
   rocking stripes --R 6 --ensemble results/motions/elcentro.nc --stripes 40
-  rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5
+  rocking risk --fragility results/elcentro/stripe_fragility.csv --hazard 1e-4,2.5 --json
 
-`rocking COMMAND --help` lists a command's options with their defaults."""
+Commands print labelled text with units (and the motion's processing); --json prints JSON
+for scripts. `rocking COMMAND --help` lists a command's options with their defaults."""
 
 
 def build_parser(commands: Iterable[str] | None = None) -> argparse.ArgumentParser:
@@ -102,15 +104,24 @@ def interrupted(exc: BaseException) -> bool:
     return False
 
 
+BROKEN_PIPE = 141
+"""Exit code when stdout's reader closed the pipe (128 + SIGPIPE, what a shell reports)."""
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 1 failed analysis, 2 user error,
-    130 interrupted)."""
+    130 interrupted, 141 stdout closed by its reader)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     command = next((a for a in argv if a in SUBCOMMANDS), None)
     parser = build_parser([] if command is None else [command])
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)
+    except BrokenPipeError:
+        # the reader of stdout went away (`rocking spectra --json | head`): stop quietly, as
+        # Unix tools do, with stdout pointed at /dev/null so that the exit flush is silent too
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return BROKEN_PIPE
     except (KeyboardInterrupt, Exception) as exc:
         if interrupted(exc):
             print(f"rocking {args.command}: {INTERRUPTED}", file=sys.stderr)

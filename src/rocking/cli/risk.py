@@ -1,9 +1,11 @@
 """``rocking risk``: mean annual frequency of each limit state of a study under a hazard curve.
 
-Reads a study's ``fragility.csv`` (the lognormal fits of the performance spectra) and a hazard
-curve (an OpenQuake hazard-curve CSV of PGA, or a power law ``k0,k``), and prints or writes
-the risk table: per mode, tan α, R and limit state the mean annual frequency [1/yr], return
-period [yr] and probability of exceedance in 50 years (:func:`rocking.risk.risk_table`).
+Reads a study's ``fragility.csv`` (the lognormal fits of the performance spectra) or
+``stripe_fragility.csv`` (the multiple-stripe fits; which one is told by its columns) and a
+hazard curve (an OpenQuake hazard-curve CSV of PGA, or a power law ``k0,k``), and prints or
+writes the risk table: per mode, tan α, R and limit state the mean annual frequency [1/yr],
+return period [yr] and probability of exceedance in 50 years (:func:`rocking.risk.risk_table`),
+with the median capacity in g and as PGA/(g tan α). ``--json`` prints the table as JSON.
 Optionally writes the OpenQuake NRML and pelicun exports of the same fragilities.
 """
 
@@ -11,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import _common
+from . import _common, _human
 
 EXAMPLES = """\
   rocking risk --fragility results/paper/elcentro/fragility.csv \\
@@ -21,9 +23,10 @@ EXAMPLES = """\
   rocking risk --fragility results/elcentro/fragility.csv --hazard hazard_curve-mean-PGA.csv \\
       --site 3 --im-factor 1.1 --nrml fragility.nrml.xml --pelicun fragility.pelicun.csv"""
 
-SHOWN = ("mode", "tan_alpha [-]", "R [m]", "limit_state", "median_pga_g [g]", "beta [-]",
-         "maf [1/yr]", "return_period [yr]", "p_50yr [-]")
-"""Columns printed on the terminal (a file gets every column of the table)."""
+HEADER = ("mode", "tan α [-]", "R [m]", "limit state", "median PGA [g]",
+          "median PGA/(g tan α) [-]", "β [-]", "λ [1/yr]", "return period [yr]",
+          "P(50 yr) [-]", "fit")
+"""Columns printed on the terminal (a file or ``--json`` gets every column of the table)."""
 
 
 def add_parser(subparsers) -> None:
@@ -36,7 +39,8 @@ def add_parser(subparsers) -> None:
         "(RotD100); a hazard of the geometric mean or RotD50 needs --im-factor (docs/risk.md).",
     )
     p.add_argument("--fragility", type=Path, required=True,
-                   help="a study's fragility table (results/<study>/fragility.csv or .nc)")
+                   help="a study's fragility table: results/<study>/fragility.csv or .nc "
+                   "(first exceedance), or stripe_fragility.csv (multiple stripes)")
     p.add_argument("--hazard", required=True,
                    help="OpenQuake hazard-curve CSV of PGA, or a power law 'k0,k' "
                    "(annual rate k0 PGA^-k, PGA in g)")
@@ -55,6 +59,7 @@ def add_parser(subparsers) -> None:
                    help="also write the OpenQuake NRML 0.5 fragility model here (.xml)")
     p.add_argument("--pelicun", type=Path, default=None,
                    help="also write the pelicun damage model CSV here (.csv)")
+    _human.add_json(p, "the table (with the hazard and the fragility it integrates)")
     p.set_defaults(func=run)
 
 
@@ -87,13 +92,12 @@ def _select(frag, args):
         rows = rows[rows["limit_state"].isin(names)]
         if rows.empty:
             raise ValueError(f"--limit-states {args.limit_states!r}: none in the table")
-    return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed)
+    return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed,
+                       frag.kind)
 
 
 def run(args) -> int:
     """Print or write the risk table (and the exports when asked); returns 0."""
-    import pandas as pd
-
     from ..risk.fragilities import read_fragilities
     from ..risk.nrml import write_nrml
     from ..risk.pelicun import write_pelicun_csv
@@ -110,14 +114,40 @@ def run(args) -> int:
         write_nrml(frag, args.nrml, search_upper=args.upper)
     if args.pelicun is not None:
         write_pelicun_csv(frag, args.pelicun)
-    print(f"hazard: {hazard.source}")
-    if frag.skipped_note():
-        print(frag.skipped_note())
     if args.out is not None:
         with _common.replacing(args.out) as tmp:
             table.to_csv(tmp, index=False, float_format="%.6g")
-        print(f"{len(table)} rows -> {args.out}")
+    if args.json:
+        from .. import _json
+        from ..units import strip_units
+
+        plain = table.rename(columns={c: strip_units(c) for c in table.columns})
+        print(_json.dumps({"hazard": hazard.source, "fragility": frag.kind,
+                           "skipped": frag.skipped_note(),
+                           "units": {strip_units(c): c.split(" [", 1)[1].rstrip("]")
+                                     for c in table.columns if " [" in c},
+                           "rows": plain.to_dict(orient="records")}, indent=1))
         return 0
-    with pd.option_context("display.max_rows", None, "display.width", 200):
-        print(table[list(SHOWN)].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    print(human(table, frag, hazard, args))
     return 0
+
+
+def human(table, frag, hazard, args) -> str:
+    """The risk table for people: the hazard, which fragility, then one row per fit."""
+    from ..risk.fragilities import KINDS
+
+    head = _human.block([("hazard", hazard.source),
+                         ("fragility", f"{args.fragility}: {KINDS[frag.kind]}")])
+    rows = []
+    for r in table.itertuples(index=False):
+        _, mode, ta, R, ls, median_g, beta, maf, period, p50, _, status = r
+        rows.append([mode, _human.num(ta), _human.num(R), ls, _human.num(median_g),
+                     _human.num(median_g / ta), _human.num(beta, 3), _human.num(maf, 4),
+                     _human.num(period, 4), _human.num(p50, 3), status])
+    lines = [head]
+    if frag.skipped_note():
+        lines.append(frag.skipped_note())
+    lines += ["", _human.table(HEADER, rows, left=(0, 3, 10))]
+    if args.out is not None:
+        lines.append(f"{len(table)} rows (every column) written: {args.out}")
+    return "\n".join(lines)

@@ -1,8 +1,10 @@
 """``rocking simulate``: one free-vibration or ground-motion analysis → history CSV + summary.
 
 ``--out DIR`` receives ``history.csv`` (column titles with units; the 2D model writes only
-t, theta, theta_dot) and ``summary.json`` (strict JSON, with a ``units`` map); the summary
-is also printed on stdout. Exit code 1 when the analysis failed. A squat body whose
+t, theta, theta_dot) and ``summary.json`` (strict JSON, with a ``units`` map). stdout gets
+the summary in labelled lines (θmax in rad and as θmax/α, the intensity as PGA in g and
+PGA/(g tan α), the motion's processing), or with ``--json`` the summary as one line of JSON.
+Exit code 1 when the analysis failed. A squat body whose
 restitution formula is negative (2D modes) gets a one-line note on stderr and
 ``restitution_clipped``/``restitution_note`` in the summary.
 """
@@ -10,11 +12,12 @@ restitution formula is negative (2D modes) gets a one-line note on stderr and
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
 from ..spectra.modes import MODES
-from . import _common
+from . import _common, _human
 
 EXAMPLES = """\
   rocking simulate --R 6 --tan-alpha 0.2 --theta0 0.1 --phi-dot0 1e-8 --duration 20 -o run
@@ -66,6 +69,7 @@ def add_parser(subparsers) -> None:
     amp.add_argument("--pga-ratio", type=float, default=None,
                      help="scale so that the pair's vector PGA/(g tan alpha) equals this [-]")
     p.add_argument("-o", "--out", type=Path, required=True, help="output folder")
+    _human.add_json(p, "the summary (summary.json, on one line)")
     _common.add_quiet(p)
     p.set_defaults(func=run)
 
@@ -135,8 +139,51 @@ def run(args: argparse.Namespace) -> int:
         _json.write(tmp, summary)
     if summary.get("restitution_clipped"):  # stdout stays one JSON document
         print(f"rocking simulate: note: {summary['restitution_note']}", file=sys.stderr)
-    print(_json.dumps(summary))
+    if args.json:
+        print(_json.dumps(summary))
+    else:
+        words = (_human.processing(motion, stored=args.ensemble is not None)
+                 if motion is not None else "")
+        print(human(summary, body.alpha, out, words))
     return 0 if res.ok else 1
+
+
+def _outcome(s: dict) -> str:
+    if s["status"] != "ok":
+        return f"{s['status']}: {s.get('reason') or 'see summary.json'}"
+    if s.get("overturned"):
+        return "ok: overturned"
+    return "ok: rocked, did not overturn" if s.get("uplifted") else "ok: did not uplift"
+
+
+def human(s: dict, alpha: float, out: Path, processing: str = "") -> str:
+    """The summary in labelled lines: body, motion and ``processing`` (in words, or the free
+    vibration), intensity, outcome, peak tilt in rad and as θmax/α, uplift, impacts, files."""
+    rows = [("body", _human.body_line(s["body"], s["R"], s["tan_alpha"])),
+            ("mode", s["mode"])]
+    if "motion" in s:
+        rows += [("motion", s["processing"]),
+                 ("processing", processing),
+                 ("intensity", f"{_human.intensity(s['pga_ratio'], s['tan_alpha'])} "
+                               f"(the motion × {_human.num(s['scale'])})")]
+    else:
+        rows += [("free vibration", f"from θ0 = {_human.tilt(s['theta0'], alpha)}, spin "
+                                    f"{_human.num(s['phi_dot0'])} rad/s, "
+                                    f"{_human.num(s['duration'])} s")]
+    rows += [("outcome", _outcome(s)),
+             ("peak tilt", f"θmax = {_human.tilt(s['theta_max'], alpha)} at t = "
+                           f"{_human.num(s['t_theta_max'])} s")]
+    rows.append(("uplift", "never" if s.get("t_uplift") is None
+                 or not math.isfinite(s["t_uplift"]) else f"at t = {_human.num(s['t_uplift'])} s"))
+    impacts = s.get("n_impacts", s.get("n_quasi_impacts"))
+    if impacts is not None:
+        rows.append(("impacts" if "n_impacts" in s else "quasi-impacts", str(impacts)))
+    if "dissipated" in s:
+        rows.append(("dissipated", f"{_human.num(s['dissipated'])} J/kg (contact dashpot)"))
+    if "contact_force_min" in s:
+        rows.append(("min contact force", f"{_human.num(s['contact_force_min'])} N/kg"))
+    rows.append(("written", f"{out / 'history.csv'}, {out / 'summary.json'}"))
+    return _human.block(rows)
 
 
 SUMMARY_UNITS = {

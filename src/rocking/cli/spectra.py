@@ -1,4 +1,6 @@
-"""``rocking spectra``: one seismic performance rocking spectrum to CSV or JSON.
+"""``rocking spectra``: one seismic performance rocking spectrum, printed as a labelled table
+(PGA/(g tan α) and PGA [g], flags, the motion's processing) or as JSON (``--json``), and
+written to CSV or JSON (``-o``).
 
 The numbers are those of the workflow's stores when asked the same thing: the same motion
 (``--ensemble FILE --motion NAME``), mode, limit states, accuracy and search bound give the
@@ -12,7 +14,7 @@ import time
 from pathlib import Path
 
 from ..spectra.accuracy import PRESETS
-from . import _common
+from . import _common, _human
 
 EXAMPLES = """\
   rocking spectra --R 0.5,1,2,5,10 --record el-centro-1940 --mode 3d -o spectrum.csv
@@ -56,7 +58,8 @@ def add_parser(subparsers) -> None:
     _common.add_motion_source(p)
     _common.add_processing(p)
     p.add_argument("-o", "--out", type=Path, default=None,
-                   help="output file, .csv or .json (default: a table on stdout)")
+                   help="also write the results to this .csv or .json file")
+    _human.add_json(p, "the results (the document --out x.json writes)")
     _common.add_quiet(p)
     p.set_defaults(func=run)
 
@@ -74,6 +77,46 @@ def rows(results, motion) -> list[dict]:
             rec.update(source_record=who["source_record"], processing=who["processing"])
             out.append({k: rec[k] for k in COLUMNS})
     return out
+
+
+FLAG_NOTES = {
+    "not_reached": "not reached: no exceedance up to the search bound",
+    "non_monotonic": "non_monotonic: exceeded at one intensity, not at a higher one",
+    "unresolved": "unresolved: the response came close to the goal below the answer; a "
+                  "window of exceedance narrower than the scan step may lie there "
+                  "(docs/performance.md)",
+    "failed": "failed: an analysis failed (the answer is not usable)",
+}
+"""One line per flag, printed under the table when the flag appears."""
+
+
+def human(table, motion, args, accuracy: str) -> str:
+    """The spectrum for people: motion, processing, cylinders, then one row per (R, limit
+    state) with the critical intensity as PGA/(g tan α) and as PGA [g], and the flags."""
+    ta = args.tan_alpha
+    head = _human.block([
+        ("motion", table["processing"].iloc[0] if len(table) else motion.name),
+        ("processing", _human.processing(motion, stored=args.ensemble is not None)),
+        ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
+        ("search", f"accuracy {accuracy}, from uplift up to PGA/(g tan α) = "
+                   f"{args.upper:g} (PGA {args.upper * ta:.4g} g)"),
+    ])
+    body, seen = [], []
+    for r in table.itertuples(index=False):
+        flags = [f for f in FLAG_NOTES if bool(getattr(r, f))]
+        seen += [f for f in flags if f not in seen]
+        if r.not_reached:
+            crit, crit_g = f"> {args.upper:g}", f"> {args.upper * ta:.4g}"
+        else:
+            crit, crit_g = _human.num(r.pga_crit, 6), _human.num(r.pga_crit_g, 6)
+        body.append([_human.num(r.R), r.limit_state, crit, crit_g,
+                     ", ".join(flags) or "—", str(r.n_analyses)])
+    text = head + "\n\n" + _human.table(
+        ["R [m]", "limit state", "PGA/(g tan α) [-]", "PGA [g]", "flags", "analyses"], body,
+        left=(1, 4))
+    if seen:
+        text += "\n" + "\n".join(f"  {FLAG_NOTES[f]}" for f in seen)
+    return text
 
 
 def _check_numbers(args) -> None:
@@ -120,32 +163,32 @@ def run(args) -> int:
                                        progress=not args.quiet)
     seconds = time.perf_counter() - t0
     table = pd.DataFrame(rows(results, motion), columns=list(COLUMNS))
-    if out is None:
-        cols = ["R", "limit_state", "pga_crit", "pga_crit_g", "not_reached", "non_monotonic",
-                "failed", "unresolved", "n_analyses"]
-        print(f"# {identity(motion)['processing']}; mode {args.mode}, tan_alpha "
-              f"{args.tan_alpha:g}")
-        print(table[cols].rename(columns=header).to_string(index=False))
-    elif out.suffix.lower() == ".csv":
+    doc = {
+        "motion": {"name": motion.name, **identity(motion), "dt": motion.dt,
+                   "npts": motion.npts, "metadata": motion.metadata},
+        "mode": args.mode,
+        "tan_alpha": args.tan_alpha,
+        "limit_states": [s.name for s in states],
+        "accuracy": acc.to_dict(),
+        "upper": args.upper,
+        "seconds": seconds,
+        "units": {k: QUANTITIES[k][1] for k in COLUMNS if QUANTITIES[k][1]},
+        # a not-reached intensity (NaN) is written as null: strict JSON
+        "results": table.to_dict(orient="records"),
+    }
+    if out is not None and out.suffix.lower() == ".csv":
         with _common.replacing(out) as tmp:
             table.rename(columns=header).to_csv(tmp, index=False,
                                                 float_format=CSV_FLOAT_FORMAT)
-    else:
-        doc = {
-            "motion": {"name": motion.name, **identity(motion), "dt": motion.dt,
-                       "npts": motion.npts, "metadata": motion.metadata},
-            "mode": args.mode,
-            "tan_alpha": args.tan_alpha,
-            "limit_states": [s.name for s in states],
-            "accuracy": acc.to_dict(),
-            "upper": args.upper,
-            "seconds": seconds,
-            "units": {k: QUANTITIES[k][1] for k in COLUMNS if QUANTITIES[k][1]},
-            # a not-reached intensity (NaN) is written as null: strict JSON
-            "results": table.to_dict(orient="records"),
-        }
+    elif out is not None:
         with _common.replacing(out) as tmp:
             _json.write(tmp, doc, indent=1)
+    if args.json:
+        print(_json.dumps(doc, indent=1))
+    else:
+        print(human(table, motion, args, acc.name))
+        if out is not None:
+            print(f"written: {out}")
     if not args.quiet:
         n = sum(r.n_analyses for r in results)
         print(f"{len(results)} spectrum point(s), {n} analyses, {seconds:.2f} s",

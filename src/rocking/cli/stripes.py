@@ -2,6 +2,8 @@
 
 At each stripe intensity every motion is analysed once; the share exceeding each limit state
 is fitted by a lognormal CDF by binomial maximum likelihood (:mod:`rocking.spectra.stripes`).
+Printed as labelled tables (medians as PGA/(g tan α) and PGA [g] with their intervals, the
+motions' processing, each stripe's count) or as JSON (``--json``); ``-o`` writes CSV or JSON.
 """
 
 from __future__ import annotations
@@ -11,7 +13,7 @@ import time
 from pathlib import Path
 
 from ..spectra.accuracy import PRESETS
-from . import _common
+from . import _common, _human
 
 EXAMPLES = """\
   rocking stripes --R 6 --ensemble results/motions/elcentro.nc --mode 3d \\
@@ -61,8 +63,9 @@ def add_parser(subparsers) -> None:
     _common.add_motion_source(p)
     _common.add_processing(p)
     p.add_argument("-o", "--out", type=Path, default=None,
-                   help="output file, .csv (the fits; the stripes go to <stem>_stripes.csv) "
-                   "or .json (both)")
+                   help="also write the results to this .csv (the fits; the stripes go to "
+                   "<stem>_stripes.csv) or .json (both)")
+    _human.add_json(p, "the fits and stripes (the document --out x.json writes)")
     _common.add_quiet(p)
     p.set_defaults(func=run)
 
@@ -92,14 +95,66 @@ def tables(results):
             pd.concat(stripes)[list(STRIPES)].reset_index(drop=True))
 
 
+def _motions_line(motions, args) -> tuple[str, str]:
+    """(motion, processing) lines: the one motion, or the ensemble's count and its record."""
+    stored = args.ensemble is not None
+    if len(motions) == 1:
+        return _identity_line(motions[0]), _human.processing(motions[0], stored)
+    names = ", ".join(m.name for m in motions[:3]) + (", …" if len(motions) > 3 else "")
+    kinds = {_human.processing(m, stored) for m in motions}
+    return (f"{len(motions)} motions of {args.ensemble} ({names})",
+            "; ".join(sorted(kinds)) if len(kinds) <= 2
+            else f"{len(kinds)} different processings (see --json)")
+
+
+def _identity_line(motion) -> str:
+    from ..motions.identity import identity
+
+    return identity(motion)["processing"]
+
+
+def human(fits, stripes, motions, args, accuracy: str, x) -> str:
+    """The fits and the stripes for people: medians as PGA/(g tan α) and PGA [g] with their
+    95 % intervals, β, status; then each stripe's count of motions exceeding."""
+    ta = args.tan_alpha
+    motion_line, processing_line = _motions_line(motions, args)
+    head = _human.block([
+        ("motion" if len(motions) == 1 else "motions", motion_line),
+        ("processing", processing_line),
+        ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
+        ("stripes", f"{len(x)} intensities PGA/(g tan α) = {_human.num(x[0])}–"
+                    f"{_human.num(x[-1])} (PGA {_human.num(x[0] * ta)}–{_human.num(x[-1] * ta)}"
+                    f" g); accuracy {accuracy}"),
+    ])
+    rows, notes = [], []
+    for r in fits.itertuples(index=False):
+        rows.append([_human.num(r.R), r.limit_state, _human.num(r.median),
+                     _human.interval(r.median_lo, r.median_hi),
+                     _human.num(r.median_pga_g), _human.num(r.beta),
+                     _human.interval(r.beta_lo, r.beta_hi), r.status])
+        if r.status != "ok":
+            notes.append(f"  R = {_human.num(r.R)} m, {r.limit_state}: {r.status}: {r.reason}")
+    fit_table = _human.table(["R [m]", "limit state", "median PGA/(g tan α) [-]", "95 %",
+                              "median PGA [g]", "β [-]", "95 %", "status"], rows,
+                             left=(1, 7))
+    srows = [[_human.num(r.R), r.limit_state, _human.num(r.intensity), _human.num(r.pga_g),
+              f"{r.n_exceeding} of {r.n_motions}", _human.num(r.fraction, 3)]
+             for r in stripes.itertuples(index=False)]
+    stripe_table = _human.table(["R [m]", "limit state", "PGA/(g tan α) [-]", "PGA [g]",
+                                 "exceeding", "fraction [-]"], srows, left=(1,))
+    return "\n".join([head, "", "lognormal fit (binomial maximum likelihood) per R and limit "
+                       "state:", fit_table, *notes, "", "stripes:", stripe_table])
+
+
 def run(args) -> int:
     """Analyse every stripe and motion, fit, and write; returns 0."""
     from .. import _json
     from ..dynamics.bodies import Cylinder
+    from ..motions.identity import identity
     from ..spectra.accuracy import get_accuracy
     from ..spectra.limit_states import parse_limit_states
     from ..spectra.stripes import stripe_fragility, stripe_intensities
-    from ..units import CSV_FLOAT_FORMAT, header
+    from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
     out = args.out
     if out is not None:
@@ -116,35 +171,37 @@ def run(args) -> int:
                                 progress=not args.quiet) for b in bodies]
     seconds = time.perf_counter() - t0
     fits, stripes = tables(results)
-    if out is None:
-        print(f"# {len(motions)} motion(s); mode {args.mode}, tan_alpha {args.tan_alpha:g}; "
-              f"median and 95 % interval in PGA/(g tan alpha), median_pga_g in g")
-        print(fits.rename(columns=header).to_string(index=False))
-        print()
-        print(stripes.rename(columns=header).to_string(index=False))
-    elif out.suffix.lower() == ".csv":
+    doc = {"motions": [m.name for m in motions], "mode": args.mode,
+           "tan_alpha": args.tan_alpha, "limit_states": [s.name for s in states],
+           "accuracy": acc.to_dict(), "intensities": [float(v) for v in results[0]
+                                                      .intensities],
+           "seconds": seconds,
+           "units": {k: QUANTITIES[k][1] for k in (*SUMMARY, *STRIPES)
+                     if k in QUANTITIES and QUANTITIES[k][1]},
+           "fits": fits.to_dict(orient="records"),
+           "stripes": stripes.to_dict(orient="records"),
+           # what was done to each motion (the command line's and the workflow's defaults
+           # differ: docs/cli.md)
+           "processing": {m.name: identity(m)["processing"] for m in motions}}
+    if out is not None:
         out.parent.mkdir(parents=True, exist_ok=True)
+    if out is not None and out.suffix.lower() == ".csv":
         with _common.replacing(out) as tmp:
             fits.rename(columns=header).to_csv(tmp, index=False,
                                                float_format=CSV_FLOAT_FORMAT)
         with _common.replacing(out.with_name(f"{out.stem}_stripes.csv")) as tmp:
             stripes.rename(columns=header).to_csv(tmp, index=False,
                                                   float_format=CSV_FLOAT_FORMAT)
-    else:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        from ..units import QUANTITIES
-
-        doc = {"motions": [m.name for m in motions], "mode": args.mode,
-               "tan_alpha": args.tan_alpha, "limit_states": [s.name for s in states],
-               "accuracy": acc.to_dict(), "intensities": [float(v) for v in results[0]
-                                                          .intensities],
-               "seconds": seconds,
-               "units": {k: QUANTITIES[k][1] for k in (*SUMMARY, *STRIPES)
-                         if k in QUANTITIES and QUANTITIES[k][1]},
-               "fits": fits.to_dict(orient="records"),
-               "stripes": stripes.to_dict(orient="records")}
+    elif out is not None:
         with _common.replacing(out) as tmp:
             _json.write(tmp, doc, indent=1)
+    if args.json:
+        print(_json.dumps(doc, indent=1))
+    else:
+        print(human(fits, stripes, motions, args, acc.name, results[0].intensities))
+        if out is not None:
+            print(f"written: {out}" + (f", {out.with_name(f'{out.stem}_stripes.csv')}"
+                                       if out.suffix.lower() == ".csv" else ""))
     if not args.quiet:
         n = sum(r.n_analyses for r in results)
         print(f"{len(results)} body(ies) x {len(motions)} motion(s), {n} analyses, "

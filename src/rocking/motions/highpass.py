@@ -114,6 +114,21 @@ def _as_signal(name: str, a) -> np.ndarray:
     return x
 
 
+def _below_nyquist(fc_hz: float, dt: float) -> float:
+    """``fc_hz`` if it lies below the Nyquist frequency 1/(2 dt), else a ValueError naming it.
+
+    At or above Nyquist no sampled frequency lies below the corner: the filter would
+    remove (Butterworth) or reshape (oscillator) the whole record while looking like a
+    high-pass, so the corner is refused for both kinds, before any filtering.
+    """
+    fc = positive_finite("fc_hz", fc_hz)
+    nyquist = 0.5 / dt
+    if fc >= nyquist:
+        raise ValueError(f"fc_hz={fc_hz!r} must be below the Nyquist frequency {nyquist:g} Hz "
+                         f"(time step {dt:g} s)")
+    return fc
+
+
 def _pad_seconds(pad: float | None, default: float) -> float:
     """Zero padding [s]: ``pad``, or the filter's ``default`` when None; finite and >= 0."""
     pad_s = default if pad is None else float(pad)
@@ -158,7 +173,7 @@ def oscillator(a, dt: float, fc_hz: float, pad: float | None = None) -> np.ndarr
     dt : float
         Time step [s].
     fc_hz : float
-        Corner frequency f_c = ω_c/2π [Hz].
+        Corner frequency f_c = ω_c/2π [Hz], below the Nyquist frequency 1/(2 dt).
     pad : float, optional
         Zero padding appended before filtering [s]; default 25/ω_c (residual velocity and
         displacement relative to PGV/PGD below 1e-8). 0 disables it.
@@ -171,7 +186,7 @@ def oscillator(a, dt: float, fc_hz: float, pad: float | None = None) -> np.ndarr
     """
     x = _as_signal("a", a)
     step = positive_finite("dt", dt)
-    wc = 2.0 * math.pi * positive_finite("fc_hz", fc_hz)
+    wc = 2.0 * math.pi * _below_nyquist(fc_hz, step)
     pad_s = _pad_seconds(pad, oscillator_pad(fc_hz))
     npad = int(round(pad_s / step))
     u = np.concatenate([x, np.zeros(x.shape[:-1] + (npad,))], axis=-1)
@@ -219,11 +234,9 @@ def butterworth_acausal(
     """
     x = _as_signal("a", a)
     step = positive_finite("dt", dt)
-    fc = positive_finite("fc_hz", fc_hz)
+    fc = _below_nyquist(fc_hz, step)
     if int(order) != order or order < 1:
         raise ValueError(f"order must be a positive integer, got {order!r}")
-    if fc >= 0.5 / step:
-        raise ValueError(f"fc_hz={fc_hz!r} must be below the Nyquist frequency {0.5 / step} Hz")
     pad_s = _pad_seconds(pad, butterworth_pad(fc, int(order)))
     half = int(round(0.5 * pad_s / step))
     widths = [(0, 0)] * (x.ndim - 1) + [(half, half)]

@@ -18,6 +18,8 @@ _EXPORTS = {
     "write_nrml": "nrml",
     "write_pelicun_csv": "pelicun",
     "risk_table": "table",
+    "risk_tables": "table",
+    "write_fragility_exports": "exports",
     "write_risk_outputs": "exports",
 }
 

@@ -1,23 +1,75 @@
 """A study's risk outputs in one call: NRML, pelicun CSV and the risk table.
 
-What the workflow's ``risk`` rule runs (``workflow/scripts/risk.py``) and what a user runs on
-a finished study's ``fragility.csv``.
+What the workflow's ``risk`` and ``stripe_risk_exports`` rules run
+(``workflow/scripts/risk.py``) and what a user runs on a finished study's ``fragility.csv``
+and ``stripe_fragility.csv``. Each export says which fragility it carries
+(:data:`rocking.risk.fragilities.KINDS`): the NRML model id and description, the pelicun
+component ids, the risk table's ``fragility`` column.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from .fragilities import read_fragilities
+from .fragilities import Fragilities, read_fragilities
 from .hazard import HazardCurve
-from .nrml import write_nrml
+from .nrml import nrml_model_id, write_nrml
 from .pelicun import write_pelicun_csv
-from .table import risk_table
+from .table import risk_tables
+
+
+def _read(fragility) -> Fragilities:
+    return fragility if isinstance(fragility, Fragilities) else read_fragilities(fragility)
+
+
+def _fitted(fragility) -> Fragilities:
+    frag = _read(fragility)
+    if frag.rows.empty:
+        raise ValueError(f"the {frag.kind} fragility table has no fitted row (every median "
+                         "is NaN)")
+    return frag
+
+
+def write_fragility_exports(fragility, *, nrml: str | Path, pelicun: str | Path,
+                            search_upper: float | None = None, study: str = "") -> dict:
+    """Write the NRML and pelicun exports of one fragility table (either kind).
+
+    Parameters
+    ----------
+    fragility : Fragilities, path, DataFrame or Dataset
+        ``results/<study>/fragility.csv`` or ``stripe_fragility.csv`` (the kind is read from
+        its columns).
+    nrml, pelicun : path
+        Output files.
+    search_upper : float, optional
+        The study's search bound PGA/(g tan α) [-] (sets the NRML maxIML).
+    study : str
+        Study name: the NRML model id is ``<study>-<kind>`` and the description names it.
+
+    Returns
+    -------
+    dict
+        The kind, the NRML model id, limit states and functions (written, left out), the
+        pelicun component count and the fragilities without a fit, for the rule's log. A
+        table without any fit (a stripe fit can be undefined everywhere in a small study)
+        gives a model without functions and a CSV without components, the log saying why.
+    """
+    frag = _read(fragility)
+    desc = f"Study {study}." if study else ""
+    model_id = nrml_model_id(study or "rocking", frag.kind)
+    exp = write_nrml(frag, nrml, search_upper=search_upper, model_id=model_id,
+                     description=desc)
+    comps = write_pelicun_csv(frag, pelicun)
+    return {"fragility": frag.kind, "fitted": len(frag.rows), "skipped": frag.skipped_note(),
+            "not_computed": frag.n_not_computed, "nrml_model_id": model_id,
+            "nrml_limit_states": exp.limit_states, "nrml_functions": len(exp.functions),
+            "nrml_left_out": exp.left_out, "pelicun_components": len(comps)}
 
 
 def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
                        pelicun: str | Path, table: str | Path,
-                       search_upper: float | None = None, study: str = "") -> dict:
+                       search_upper: float | None = None, study: str = "",
+                       stripes=None) -> dict:
     """Write ``fragility.nrml.xml``, ``fragility.pelicun.csv`` and ``risk.csv`` of a study.
 
     Parameters
@@ -27,11 +79,15 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
     hazard : HazardCurve
         The site's hazard curve.
     nrml, pelicun, table : path
-        Output files.
+        Output files (the exports of ``fragility``; the risk table of both fragilities).
     search_upper : float, optional
         The study's search bound PGA/(g tan α) [-] (sets the NRML maxIML).
     study : str
-        Study name, for the NRML description.
+        Study name, for the NRML model id and description.
+    stripes : path, DataFrame or Dataset, optional
+        The study's stripe fragility (``stripe_fragility.csv``): its mean annual frequencies
+        join the table, rows marked ``fragility = stripes`` (its exports:
+        :func:`write_fragility_exports`).
 
     Returns
     -------
@@ -39,20 +95,16 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
         What was written: counts, the NRML limit states, the functions left out of the NRML
         and the fragilities without a fit (``skipped``), for the rule's log.
     """
-    frag = read_fragilities(fragility)
-    if frag.rows.empty:
-        raise ValueError("the fragility table has no fitted row (every median is NaN)")
-    desc = f"Study {study}: lognormal fragilities of the critical PGA." if study else ""
-    exp = write_nrml(frag, nrml, search_upper=search_upper, model_id=study or "rocking",
-                     description=desc)
-    comps = write_pelicun_csv(frag, pelicun)
-    risk = risk_table(frag, hazard)
+    first = _fitted(fragility)
+    summary = write_fragility_exports(first, nrml=nrml, pelicun=pelicun,
+                                      search_upper=search_upper, study=study)
+    tables = [first]
+    if stripes is not None:
+        tables.append(_read(stripes))  # without any fit it adds no row, only its note
+    risk = risk_tables(tables, hazard)
     risk.to_csv(table, index=False, float_format="%.6g")
-    return {"fitted": len(frag.rows), "skipped": frag.skipped_note(),
-            "not_computed": frag.n_not_computed, "nrml_limit_states": exp.limit_states,
-            "nrml_functions": len(exp.functions), "nrml_left_out": exp.left_out,
-            "pelicun_components": len(comps), "risk_rows": len(risk),
-            "hazard": hazard.source}
+    return {**summary, "risk_rows": len(risk), "risk_fragilities": [f.kind for f in tables],
+            "risk_skipped": risk.attrs["skipped"], "hazard": hazard.source}
 
 
-__all__ = ["write_risk_outputs"]
+__all__ = ["write_fragility_exports", "write_risk_outputs"]

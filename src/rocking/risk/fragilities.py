@@ -7,6 +7,13 @@ Rows without a fit (median or β NaN: too few motions reached the limit state, o
 are set aside in :attr:`Fragilities.skipped` with their status, never silently dropped; cells
 the study never asked for (status ``not-computed``) are not part of it and are only counted.
 Limit states are ordered by increasing severity: increasing tilt goal, overturning last.
+
+Two fragilities of a study are read the same way, and :attr:`Fragilities.kind` says which:
+``first_exceedance`` (``fragility.csv``: a lognormal fitted to each motion's smallest
+exceeding intensity) and ``stripes`` (``stripe_fragility.csv`` of
+:func:`rocking.study.stripes.stripe_table`: a lognormal fitted by binomial maximum likelihood
+to the share of motions exceeding at fixed intensities). The exports and the risk table carry
+the kind in their ids and a column (:data:`KINDS`).
 """
 
 from __future__ import annotations
@@ -29,6 +36,23 @@ COLUMNS = (*KEYS, "median_g", "beta", "status")
 
 NOT_COMPUTED = "not-computed"
 
+FIRST_EXCEEDANCE = "first_exceedance"
+STRIPES = "stripes"
+KINDS = {
+    FIRST_EXCEEDANCE: "first-exceedance fragility: lognormal fitted to each motion's smallest "
+                      "intensity exceeding the limit state (motions not reached censored at "
+                      "the search bound)",
+    STRIPES: "multiple-stripe fragility: lognormal fitted by binomial maximum likelihood to "
+             "the share of motions exceeding the limit state at fixed intensities",
+}
+"""Which fragility a table holds → one line saying what it is (descriptions of the exports)."""
+
+
+def fragility_kind(frame: pd.DataFrame) -> str:
+    """:data:`STRIPES` for a stripe table (it has a ``stripes`` column, the number of stripe
+    intensities), else :data:`FIRST_EXCEEDANCE`."""
+    return STRIPES if "stripes" in _plain_columns(frame).columns else FIRST_EXCEEDANCE
+
 
 @dataclass(frozen=True)
 class Fragilities:
@@ -43,11 +67,18 @@ class Fragilities:
         Requested (mode, tan α, R, limit state) without a fit, with the reason (``status``).
     n_not_computed : int
         Cells of the table the study did not ask for.
+    kind : str
+        Which fragility: ``"first_exceedance"`` or ``"stripes"`` (:data:`KINDS`).
     """
 
     rows: pd.DataFrame
     skipped: pd.DataFrame
     n_not_computed: int = 0
+    kind: str = FIRST_EXCEEDANCE
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"kind must be one of {sorted(KINDS)}, got {self.kind!r}")
 
     def limit_states(self) -> list[str]:
         """Limit states with at least one fit, in increasing severity."""
@@ -100,21 +131,28 @@ def _as_frame(source) -> pd.DataFrame:
                      f"{type(source).__name__}")
 
 
-def read_fragilities(source) -> Fragilities:
+def read_fragilities(source, kind: str | None = None) -> Fragilities:
     """The fitted lognormal fragilities of a study's fragility table.
 
     Parameters
     ----------
     source : path, pandas.DataFrame or xarray.Dataset
-        ``results/<study>/fragility.csv`` or ``.nc``, or the table itself; needs ``mode``,
-        ``limit_state``, ``tan_alpha``, ``R``, ``median_pga_g`` [g] and ``beta`` (column
-        titles with or without their units).
+        ``results/<study>/fragility.csv`` or ``.nc``, ``stripe_fragility.csv``, or the table
+        itself; needs ``mode``, ``limit_state``, ``tan_alpha``, ``R``, ``median_pga_g`` [g]
+        and ``beta`` (column titles with or without their units).
+    kind : {"first_exceedance", "stripes"}, optional
+        Which fragility the table holds; default: told by its columns
+        (:func:`fragility_kind`).
 
     Returns
     -------
     Fragilities
     """
     frame = _plain_columns(_as_frame(source))
+    if kind is None:
+        kind = fragility_kind(frame)
+    elif kind not in KINDS:
+        raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     need = {"mode", "limit_state", "tan_alpha", "R", "median_pga_g", "beta"}
     missing = sorted(need - set(frame.columns))
     if missing:
@@ -142,7 +180,7 @@ def read_fragilities(source) -> Fragilities:
     rows["status"] = rows["status"].replace("", "ok")
     skipped = _sorted(out[~fitted & ~not_computed])
     skipped["status"] = skipped["status"].replace("", "no fit")
-    return Fragilities(rows, skipped, int(not_computed.sum()))
+    return Fragilities(rows, skipped, int(not_computed.sum()), kind)
 
 
 def _sorted(frame: pd.DataFrame) -> pd.DataFrame:
@@ -166,5 +204,6 @@ def median_beta(mean: float, stddev: float) -> tuple[float, float]:
     return mean * mean / math.hypot(stddev, mean), math.sqrt(math.log1p((stddev / mean) ** 2))
 
 
-__all__ = ["COLUMNS", "KEYS", "Fragilities", "lognormal_moments", "median_beta",
-           "read_fragilities", "severity", "sort_limit_states"]
+__all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "STRIPES", "Fragilities",
+           "fragility_kind", "lognormal_moments", "median_beta", "read_fragilities", "severity",
+           "sort_limit_states"]

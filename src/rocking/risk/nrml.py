@@ -21,6 +21,11 @@ Layout (element order matters to OpenQuake's reader)::
 - The model has one list of limit states for all functions: the limit states every exported
   (mode, tan α) of the table has (in increasing severity), unless given. A function lacking a
   fit for one of them is left out and named in :attr:`NrmlExport.left_out`.
+- Which fragility the file carries (:attr:`Fragilities.kind`) is said by the model id,
+  ``<study>-first-exceedance`` or ``<study>-stripes`` (:func:`nrml_model_id`; OpenQuake
+  takes only letters, digits, ``_`` and ``-`` there, at most 60 characters), and by the first
+  sentence of the description. The taxonomy ids are the same in both files: an exposure
+  model serves either fragility model (one per calculation, ``fragility_file``).
 - ``imls``: OpenQuake raises IMLs below ``minIML`` to it and clips those above ``maxIML`` to it
   before evaluating the CDF, and returns 0 at or below ``noDamageLimit``. ``minIML`` and
   ``noDamageLimit`` are the uplift PGA g·tan α (below it a rigid body on rigid ground does not
@@ -32,6 +37,7 @@ Layout (element order matters to OpenQuake's reader)::
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,11 +45,35 @@ from pathlib import Path
 import pandas as pd
 
 from ..spectra.limit_states import parse_limit_state
-from .fragilities import Fragilities, lognormal_moments, sort_limit_states
+from .fragilities import KINDS, Fragilities, lognormal_moments, sort_limit_states
 
 NAMESPACE = "http://openquake.org/xmlns/nrml/0.5"
 MAX_IML_SIGMAS = 4.0
 """maxIML is at least θ·exp(4β) of every limit state: Φ(4) = 0.99997."""
+
+
+MODEL_ID = re.compile(r"^[A-Za-z0-9_-]{1,60}$")
+"""What OpenQuake's reader accepts as a ``fragilityModel`` id (its ``simple_id``)."""
+
+
+def nrml_model_id(study: str, kind: str) -> str:
+    """``fragilityModel`` id naming the study and the fragility, e.g. ``elcentro-stripes``.
+
+    Raises
+    ------
+    ValueError
+        If the id is not one OpenQuake reads (letters, digits, ``_``, ``-``; ≤ 60 characters).
+    """
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
+    return _checked_id(f"{study}-{kind.replace('_', '-')}")
+
+
+def _checked_id(model_id: str) -> str:
+    if not MODEL_ID.match(model_id):
+        raise ValueError(f"model_id must be 1-60 letters, digits, '_' or '-' (OpenQuake's "
+                         f"fragilityModel id), got {model_id!r}")
+    return model_id
 
 
 def taxonomy(mode: str, tan_alpha: float, R: float) -> str:
@@ -87,7 +117,7 @@ def _common_limit_states(frag: Fragilities) -> list[str]:
 
 
 def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | None = None,
-               limit_states: list[str] | None = None, model_id: str = "rocking",
+               limit_states: list[str] | None = None, model_id: str | None = None,
                description: str = "") -> NrmlExport:
     """Write the fragilities as an OpenQuake NRML 0.5 continuous fragility model.
 
@@ -101,8 +131,11 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
         The study's search bound, PGA/(g tan α) [-]; sets maxIML (module docstring).
     limit_states : list of str, optional
         Limit states of the model (default: those of every (mode, tan α) of the table).
-    model_id, description : str
-        ``fragilityModel`` id and its description (the limit-state names are appended).
+    model_id : str, optional
+        ``fragilityModel`` id; default :func:`nrml_model_id` of ``"rocking"`` and the kind.
+    description : str
+        Text of the description, after the sentence naming the fragility (the limit-state
+        names are appended).
 
     Returns
     -------
@@ -110,6 +143,8 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
     """
     if search_upper is not None and not (math.isfinite(search_upper) and search_upper > 0):
         raise ValueError(f"search_upper must be finite and > 0, got {search_upper!r}")
+    model_id = (nrml_model_id("rocking", frag.kind) if model_id is None
+                else _checked_id(model_id))
     states = sort_limit_states(limit_states) if limit_states else _common_limit_states(frag)
     if not states:
         raise ValueError("no limit state common to every mode and tan_alpha of the table; "
@@ -119,7 +154,8 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
     model = ET.SubElement(root, _q("fragilityModel"), id=model_id, assetCategory="buildings",
                           lossCategory="structural")
     mapping = ", ".join(f"{nrml_limit_state(s)} = {s}" for s in states)
-    text = (f"{description} " if description else "") + (
+    kind = KINDS[frag.kind]
+    text = f"{kind[0].upper()}{kind[1:]}. " + (f"{description} " if description else "") + (
         "Free-standing rocking bodies (rocking package); IMT PGA in g = vector peak of the "
         f"horizontal pair; lognormal capacity, mean/stddev arithmetic. Limit states: {mapping}.")
     ET.SubElement(model, _q("description")).text = text
@@ -162,4 +198,5 @@ def _num(x: float) -> str:
     return repr(float(x))
 
 
-__all__ = ["NAMESPACE", "NrmlExport", "nrml_limit_state", "taxonomy", "write_nrml"]
+__all__ = ["MODEL_ID", "NAMESPACE", "NrmlExport", "nrml_limit_state", "nrml_model_id",
+           "taxonomy", "write_nrml"]

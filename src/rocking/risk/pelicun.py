@@ -5,8 +5,12 @@ Columns (pelicun 3's damage model parameters)::
     ID, Incomplete, Demand-Type, Demand-Unit, Demand-Offset, Demand-Directional,
     LS1-Family, LS1-Theta_0, LS1-Theta_1, LS1-DamageStateWeights, LS2-..., ...
 
-- ``ID``: ``rocking.<mode>.tan<tan α>.R<R>m`` (``-`` of a mode written ``_``: pelicun joins
-  component, location and direction with ``-`` in its sample columns).
+- ``ID``: ``rocking.<mode>.tan<tan α>.R<R>m.<kind>`` (``-`` of a mode written ``_``: pelicun
+  joins component, location and direction with ``-`` in its sample columns), ``<kind>``
+  ``first_exceedance`` or ``stripes``: which fragility the file carries
+  (:attr:`Fragilities.kind`). The CSV has no description column, so the id says it; and
+  pelicun reads a list of files into one damage model, so the two fragilities of one body
+  must not share an id.
 - ``Demand-Type`` ``Peak Ground Acceleration``, ``Demand-Unit`` ``g``, ``Demand-Offset`` 0,
   ``Demand-Directional`` 1. The study's PGA is the vector peak of the pair, already the
   largest peak over all orientations (RotD100). pelicun multiplies a *non*-directional demand
@@ -30,7 +34,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from .fragilities import Fragilities
+from .fragilities import FIRST_EXCEEDANCE, KINDS, Fragilities
 
 BASE_COLUMNS = ("ID", "Incomplete", "Demand-Type", "Demand-Unit", "Demand-Offset",
                 "Demand-Directional")
@@ -38,9 +42,13 @@ LS_FIELDS = ("Family", "Theta_0", "Theta_1", "DamageStateWeights")
 DEMAND_TYPE = "Peak Ground Acceleration"
 
 
-def component_id(mode: str, tan_alpha: float, R: float) -> str:
-    """pelicun component id of one body and mode, e.g. ``rocking.3d.tan0.2.R6m``."""
-    return f"rocking.{mode.replace('-', '_')}.tan{tan_alpha:g}.R{R:g}m"
+def component_id(mode: str, tan_alpha: float, R: float,
+                 kind: str = FIRST_EXCEEDANCE) -> str:
+    """pelicun component id of one body, mode and fragility, e.g.
+    ``rocking.3d.tan0.2.R6m.stripes``."""
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
+    return f"rocking.{mode.replace('-', '_')}.tan{tan_alpha:g}.R{R:g}m.{kind}"
 
 
 def columns(n_limit_states: int) -> list[str]:
@@ -67,7 +75,7 @@ def write_pelicun_csv(frag: Fragilities, path: str | Path) -> dict[str, list[str
     comps: dict[str, list[str]] = {}
     lines = []
     for (mode, tan_alpha, R), rows in frag.groups():
-        cid = component_id(mode, tan_alpha, R)
+        cid = component_id(mode, tan_alpha, R, frag.kind)
         row = {"ID": cid, "Incomplete": 0, "Demand-Type": DEMAND_TYPE, "Demand-Unit": "g",
                "Demand-Offset": 0, "Demand-Directional": 1}
         for i, r in enumerate(rows.itertuples(), start=1):

@@ -14,6 +14,7 @@ import pandas as pd
 
 from ..spectra.limit_states import parse_limit_state
 from ..units import strip_units
+from .fragilities import FIRST_EXCEEDANCE, STRIPES
 
 LIMIT_STATES = ("overturning", "tilt:1/3")
 MODES = ("3d", "3d-damped", "2d-x", "2d-y")
@@ -51,12 +52,54 @@ def _frame(risk) -> pd.DataFrame:
     frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
     frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
     frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
+    if "fragility" not in frame.columns:  # a risk.csv written before the stripe rows
+        frame["fragility"] = FIRST_EXCEEDANCE
     return frame
 
 
-def summary_table(risk, *, tan_alpha: float = TAN_ALPHA) -> pd.DataFrame:
-    """λ [1/yr] of overturning and excessive tilt per R (rows) and mode (columns)."""
+WHICH_TO_USE = (
+    "Which λ to use: the stripe one. The integral asks for P(LS | PGA), the probability that "
+    "a motion scaled to that PGA exceeds the limit state, which is what the stripes measure "
+    "at fixed intensities (an answer that converges as stripes and motions are added). The "
+    "first-exceedance fragility is the probability that a motion exceeds at that PGA or at "
+    "some lower one: rocking is not monotonic in the intensity, so it also counts motions "
+    "that exceed at a lower PGA and survive at this one, and its λ is larger. It is an upper "
+    "bound in principle but not a guaranteed one (the scan that finds first exceedances can "
+    "step over narrow windows of exceedance, which moves them up); quote it only as a "
+    "screening value.")
+"""The report's sentence on which of the two mean annual frequencies to use."""
+
+
+def comparison_table(risk) -> pd.DataFrame:
+    """λ [1/yr] of the first-exceedance and of the stripe fragility side by side.
+
+    One row per (mode, tan α, R, limit state) that has both, in the table's order, with
+    their ratio (stripes / first exceedance) and the stripe fit's status; empty when the
+    table has no stripe rows.
+    """
     frame = _frame(risk)
+    keys = ["mode", "tan_alpha", "R", "limit_state"]
+    first = frame[frame["fragility"] == FIRST_EXCEEDANCE]
+    stripes = frame[frame["fragility"] == STRIPES]
+    if stripes.empty:
+        return pd.DataFrame()
+    both = stripes[[*keys, "maf", "status"]].merge(first[[*keys, "maf"]], on=keys,
+                                                    suffixes=("_stripes", "_first"))
+    return pd.DataFrame({
+        "mode": both["mode"], "tan α [-]": both["tan_alpha"], "R [m]": both["R"],
+        "limit state": both["limit_state"],
+        "λ first exceedance [1/yr]": both["maf_first"],
+        "λ stripes [1/yr]": both["maf_stripes"],
+        "stripes / first [-]": both["maf_stripes"] / both["maf_first"],
+        "stripe fit": both["status"],
+    })
+
+
+def summary_table(risk, *, tan_alpha: float = TAN_ALPHA) -> pd.DataFrame:
+    """λ [1/yr] of overturning and excessive tilt per R (rows) and mode (columns), from the
+    first-exceedance fragility (the stripe rows: :func:`comparison_table`)."""
+    frame = _frame(risk)
+    frame = frame[frame["fragility"] == FIRST_EXCEEDANCE]
     keep = ((frame["tan_alpha"] - tan_alpha).abs() < 1e-9) & frame["limit_state"].isin(
         LIMIT_STATES)
     frame = frame[keep]
@@ -102,7 +145,32 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
                      "period 1/λ; every mode, slenderness and limit state in risk.csv).</p>")
         parts.append(table.to_html(index=False, escape=True, border=0, na_rep="—",
                                    float_format=lambda v: f"{v:.3g}"))
+    parts += _comparison_html(risk)
     return "\n".join(parts)
 
 
-__all__ = ["assumptions", "risk_section_html", "summary_table"]
+def _comparison_html(risk) -> list[str]:
+    """The two λ side by side with a sentence of numbers and which to use (none without
+    stripe rows)."""
+    both = comparison_table(risk)
+    if both.empty:
+        return []
+    ratio = both["stripes / first [-]"]
+    worst = both.loc[ratio.idxmin()]
+    text = (f"The same integral with the multiple-stripe fragility, beside the first-exceedance "
+            f"one ({len(both)} cells with both): the stripe λ is {ratio.min():.2g}–"
+            f"{ratio.max():.2g} times the first-exceedance λ (smallest at {worst['mode']}, "
+            f"R = {worst['R [m]']:g} m, {worst['limit state']}: "
+            f"{worst['λ stripes [1/yr]']:.3g} against {worst['λ first exceedance [1/yr]']:.3g} "
+            f"per year). ")
+    odd = both[both["stripe fit"] != "ok"]
+    if not odd.empty:
+        text += (f"{len(odd)} stripe fit(s) are not 'ok' (e.g. 'extrapolated': the median lies "
+                 "outside the stripes); their λ rests on the fitted lognormal's tail. ")
+    return [f"<p>{html.escape(text + WHICH_TO_USE)}</p>",
+            both.to_html(index=False, escape=True, border=0, na_rep="—",
+                         float_format=lambda v: f"{v:.3g}")]
+
+
+__all__ = ["WHICH_TO_USE", "assumptions", "comparison_table", "risk_section_html",
+           "summary_table"]

@@ -4,6 +4,9 @@ Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.table.risk_table`): for 
 one slenderness, the mean annual frequency λ_LS [1/yr] of each size R under the study's
 hazard curve, on a log scale, one panel per limit state. The right axis gives the return
 period 1/λ_LS; the notes give λ_LS at R = 2, 6, 10 m per mode and the ratio of 2D to 3D.
+Where the table also holds the multiple-stripe fragility's rows (``fragility`` column
+``stripes``), they are drawn beside the first-exceedance ones (open squares, dotted), and the
+notes give their λ_LS and the ratio stripes / first exceedance.
 """
 
 from __future__ import annotations
@@ -24,7 +27,10 @@ CAPTION = (
     "integrated against the study's hazard curve (λ_LS = ∫ P(LS | PGA) |dλ(PGA)|; hazard "
     "log-log interpolated, last slope extrapolated). Right axis: return period. PGA is the "
     "vector peak of the pair; the hazard curve's PGA definition is taken as the same unless "
-    "an im_factor is configured (docs/risk.md)."
+    "an im_factor is configured (docs/risk.md). Where the study has stripes, open squares: "
+    "the same integral with the multiple-stripe fragility (the probability of exceeding at "
+    "the intensity, the one the integral asks for); filled circles: the first-exceedance "
+    "fragility (larger: it also counts motions that exceed at a lower intensity only)."
 )
 """Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
 
@@ -33,11 +39,38 @@ LIMIT_STATES = ("overturning", "tilt:1/3")
 R_NOTES = (2.0, 6.0, 10.0)
 
 
+FIRST, STRIPES = "first_exceedance", "stripes"
+"""Values of risk.csv's ``fragility`` column (:data:`rocking.risk.fragilities.KINDS`)."""
+
+
 def _frame(risk: str | Path | pd.DataFrame) -> pd.DataFrame:
     frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
     frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
     frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
+    if "fragility" not in frame.columns:  # a risk.csv written before the stripe rows
+        frame["fragility"] = FIRST
     return frame
+
+
+def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
+    """λ_LS against R per mode from the stripe rows of one limit state; their notes and the
+    ratio stripes / first exceedance at R = 2, 6, 10 m go into ``measured``."""
+    curves = {}
+    for mode in MODE_STYLE:
+        sel = rows[rows["mode"] == mode].sort_values("R")
+        if sel.empty:
+            continue
+        curves[mode] = {"R": sel["R"].to_numpy(float), "maf": sel["maf"].to_numpy(float)}
+        for R in R_NOTES:
+            hit = sel[np.isclose(sel["R"], R)]
+            if hit.empty:
+                continue
+            lam = float(hit["maf"].iloc[0])
+            measured[f"stripes {mode} {ls} R={R:g} m [1/yr]"] = lam
+            first = measured.get(f"{mode} {ls} R={R:g} m [1/yr]")
+            if first:
+                measured[f"ratio stripes/first {mode} {ls} R={R:g} m [-]"] = lam / first
+    return curves
 
 
 def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float = TAN_ALPHA,
@@ -47,12 +80,15 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float = TAN_ALPHA,
     Returns
     -------
     dict
-        ``panels``: [{``limit_state``, ``curves``: {mode: {``R``, ``maf``}}}],
+        ``panels``: [{``limit_state``, ``curves``: {mode: {``R``, ``maf``}}, ``stripes``:
+        the same from the stripe fragility (empty without it)}],
         ``measured``: {"<mode> <limit state> R=<R> m": λ [1/yr], "ratio 2d-x/3d ...": [-]},
         ``missing``, ``tan_alpha``, ``hazard``.
     """
     frame = _frame(risk)
     frame = frame[np.isclose(frame["tan_alpha"].astype(float), tan_alpha)]
+    stripes = frame[frame["fragility"] == STRIPES]
+    frame = frame[frame["fragility"] == FIRST]
     missing: list[str] = []
     panels, measured = [], {}
     for ls in LIMIT_STATES:
@@ -74,7 +110,8 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float = TAN_ALPHA,
                 b = measured.get(f"3d {ls} R={R:g} m [1/yr]")
                 if a is not None and b:
                     measured[f"ratio {two}/3d {ls} R={R:g} m [-]"] = a / b
-        panels.append({"limit_state": ls, "curves": curves})
+        stripe = _stripe_curves(stripes[stripes["limit_state"] == ls], ls, measured)
+        panels.append({"limit_state": ls, "curves": curves, "stripes": stripe})
     return {"panels": panels, "measured": measured, "missing": missing,
             "tan_alpha": tan_alpha, "hazard": hazard}
 
@@ -88,8 +125,14 @@ def plot(d: dict) -> Figure:
         for mode, c in panel["curves"].items():
             style = MODE_STYLE[mode]
             ok = c["maf"] > 0
+            label = style["label"] + (", first exceedance" if panel.get("stripes") else "")
             ax.semilogy(c["R"][ok], c["maf"][ok], marker="o", ms=3.5, color=style["color"],
-                        linestyle=style["linestyle"], label=style["label"])
+                        linestyle=style["linestyle"], label=label)
+        for mode, c in panel.get("stripes", {}).items():
+            style = MODE_STYLE[mode]
+            ok = c["maf"] > 0
+            ax.semilogy(c["R"][ok], c["maf"][ok], marker="s", ms=4.5, mfc="none",
+                        color=style["color"], linestyle=":", label=f"{style['label']}, stripes")
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("R [m]")
         ax.set_ylabel("mean annual frequency λ [1/yr]")
