@@ -18,7 +18,7 @@ def figure_files(stem):
 def el_centro_ensemble():
     """First ensemble built on the El Centro record (Fig 6 uses its first motion), or None."""
     for name, spec in config["ensembles"].items():
-        if spec["record"] == "el-centro-1940":
+        if spec.get("record") == "el-centro-1940":  # a suite has records, not record
             return name
     return None
 
