@@ -1,0 +1,244 @@
+"""Record suites: the spec, the processing keys, the intensity measures, the suite's ensemble
+file and the per-record table, checked against independent computations."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import shutil
+
+import numpy as np
+import pytest
+from conftest import ELC180, ELC270, package_record
+
+from rocking.constants import G
+from rocking.motions.build import HIGHPASS_KINDS, build_ensemble, build_suite, cut
+from rocking.motions.catalogue import load_record
+from rocking.motions.measures import (
+    intensity_measure,
+    parse_measure,
+    peak_vector_velocity,
+    vector_sa,
+)
+from rocking.motions.motion import GroundMotion
+from rocking.motions.principal import rotate
+from rocking.motions.response_spectrum import pseudo_acceleration
+from rocking.study import spec as spec_module
+from rocking.study.config_checks import check_config
+from rocking.study.spec import EnsembleSpec, RecordSpec, StudySpec
+
+
+def _suite_config() -> dict:
+    return {"ensembles": {"s": {"n_synthetic": 0, "highpass": "butterworth", "fc_hz": 0.1,
+                                "records": [
+                                    {"record": "el-centro-1940", "n_synthetic": 2},
+                                    {"record": "san-fernando-pacoima-dam-1971",
+                                     "highpass": "none", "rotation_deg": "none"},
+                                    {"record": "loma-prieta-corralitos", "fc_hz": None,
+                                     "highpass": "oscillator", "seed": 5}]}},
+            "studies": {"st": {"ensemble": "s", "R": [1.0], "intensity_measures":
+                               ["pga", "pgv", "sa:0.5"],
+                               "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
+                                         "limit_states": ["overturning"]}]}}}
+
+
+# --- spec ---------------------------------------------------------------------------------
+
+def test_suite_records_take_the_ensembles_settings_unless_they_set_their_own():
+    ens = EnsembleSpec.from_config(_suite_config(), "s")
+    assert ens.is_suite and [r.record for r in ens.records] == [
+        "el-centro-1940", "san-fernando-pacoima-dam-1971", "loma-prieta-corralitos"]
+    elc, sfe, lpc = ens.records
+    assert (elc.n_synthetic, elc.highpass, elc.fc_hz, elc.rotation_deg) == \
+        (2, "butterworth", 0.1, "auto")
+    assert (sfe.n_synthetic, sfe.highpass, sfe.rotation_deg) == (0, "none", "none")
+    assert (lpc.highpass, lpc.fc_hz, lpc.seed) == ("oscillator", None, 5)
+    back = EnsembleSpec.from_attrs(json.loads(json.dumps(ens.to_attrs())))
+    assert back == ens and back.records == ens.records
+    study = StudySpec.from_config(_suite_config(), "st")
+    assert study.intensity_measures == ("pga", "pgv", "sa:0.5")
+    assert StudySpec.from_attrs(json.loads(json.dumps(study.to_attrs()))) == study
+
+
+def test_one_record_is_a_suite_of_one():
+    cfg = {"ensembles": {"e": {"record": "el-centro-1940", "highpass": "butterworth",
+                               "fc_hz": 0.2}}}
+    ens = EnsembleSpec.from_config(cfg, "e")
+    assert not ens.is_suite and ens.records == (RecordSpec(
+        "el-centro-1940", None, "g", None, 10, 2017, None, "auto", "butterworth", 0.2),)
+    assert "records" not in ens.to_attrs()
+
+
+@pytest.mark.parametrize("path, value", [
+    ("highpass", "none"), ("fc_hz", 0.3), ("records.1.highpass", "oscillator"),
+    ("records.2.fc_hz", 0.5), ("records.0.n_synthetic", 3), ("records.2.rotation_deg", 10.0),
+])
+def test_every_processing_setting_changes_the_stores_hash(path, value):
+    before = StudySpec.from_config(_suite_config(), "st").spectra.digest
+    cfg = _suite_config()
+    node = cfg["ensembles"]["s"]
+    *keys, last = path.split(".")
+    for k in keys:
+        node = node[int(k)] if k.isdigit() else node[k]
+    node[last] = value
+    assert StudySpec.from_config(cfg, "st").spectra.digest != before
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda e: e.update(record="el-centro-1940"), "ensembles.s needs record (one record) or "
+                                                  "records (a suite), not both"),
+    (lambda e: e.pop("records"), "not neither"),
+    (lambda e: e["records"][1].update(highpass="bessel"),
+     "ensembles.s.records[1].highpass must be one of"),
+    (lambda e: e["records"][0].update(rotation_deg=60), "ensembles.s.records[0].rotation_deg "
+                                                        "must be auto, none or a number"),
+    (lambda e: e["records"][0].update(rotation_deg="none"),
+     "ensembles.s.records[0].rotation_deg=none with n_synthetic=2"),
+    (lambda e: e["records"][2].update(record="el-centro-1940"),
+     "ensembles.s.records: repeated record names ['el-centro-1940']"),
+    (lambda e: e["records"][2].update(fc_hz=-1.0),
+     "ensembles.s.records[2].fc_hz must be a finite number > 0, got -1.0"),
+    (lambda e: e["records"][2].update(colour="red"),
+     "ensembles.s.records[2] has unknown key(s) ['colour']"),
+])
+def test_bad_suite_settings_name_the_key_and_value(change, message):
+    cfg = _suite_config()
+    change(cfg["ensembles"]["s"])
+    with pytest.raises(ValueError) as err:
+        EnsembleSpec.from_config(cfg, "s")
+    assert message in str(err.value)
+
+
+@pytest.mark.parametrize("value, message", [
+    (["pga", "sa:x"], "studies.st.intensity_measures[1]='sa:x'"),
+    (["pgd"], "an intensity measure is pga, pgv or 'sa:<T in s>'"),
+    ([], "must be a non-empty list"),
+])
+def test_bad_intensity_measures_are_named(value, message):
+    cfg = _suite_config()
+    cfg["studies"]["st"]["intensity_measures"] = value
+    with pytest.raises(ValueError, match=message.replace("[", r"\[").replace("(", r"\(")):
+        StudySpec.from_config(cfg, "st")
+
+
+def test_highpass_kinds_are_the_builders():
+    assert spec_module.HIGHPASS_KINDS == HIGHPASS_KINDS
+
+
+def _user_pair(tmp_path):
+    paths = []
+    for f in (ELC270, ELC180):
+        p = tmp_path / f"my_{f}"
+        shutil.copy(package_record(f), p)
+        paths.append(str(p))
+    return paths
+
+
+def test_mw_is_checked_only_where_the_highpass_needs_it(tmp_path):
+    from snakemake.utils import validate
+
+    from rocking.study.config_checks import validate_config
+
+    schema = spec_module.__file__.replace("src/rocking/study/spec.py",
+                                          "workflow/schemas/config.schema.yaml")
+    cfg = _suite_config()
+    # the ensemble's fc_hz is every record's default: this one asks for the Brune corner
+    cfg["ensembles"]["s"]["records"].append({"record": "my-pair", "paths": _user_pair(tmp_path),
+                                            "highpass": "oscillator", "fc_hz": None})
+    with pytest.raises(ValueError) as err:
+        validate_config(copy.deepcopy(cfg), schema, validate)
+    assert "ensembles.s.records[3].mw is needed: record 'my-pair' is not in the catalogue" \
+        in str(err.value)
+    for fix in ({"mw": 6.5}, {"fc_hz": 0.1}, {"highpass": "none"}):
+        ok = copy.deepcopy(cfg)
+        ok["ensembles"]["s"]["records"][3].update(fix)
+        validate_config(ok, schema, validate)
+        check_config(ok)
+
+
+# --- intensity measures -------------------------------------------------------------------
+
+def test_parse_measure():
+    assert parse_measure("pga") == ("pga", None) and parse_measure("SA:0.5") == ("sa", 0.5)
+    for bad in ("sa:0", "sa:-1", "pgd", 3):
+        with pytest.raises(ValueError):
+            parse_measure(bad)
+
+
+def test_pgv_of_a_sine_is_its_closed_form():
+    # a = A sin(wt) from rest: v = (A/w)(1 - cos wt), peak 2A/w at half periods
+    A, f, dt = 3.0, 2.0, 1e-4
+    t = np.arange(0.0, 2.0 + dt / 2, dt)
+    a = A * np.sin(2 * np.pi * f * t)
+    w = 2 * np.pi * f
+    assert peak_vector_velocity(GroundMotion(a, None, dt, "x")) == \
+        pytest.approx(2 * A / w, rel=1e-6)
+    # both components equal: the vector is sqrt(2) times longer
+    assert peak_vector_velocity(GroundMotion(a, a, dt, "xy")) == \
+        pytest.approx(math.sqrt(2) * 2 * A / w, rel=1e-6)
+
+
+def test_vector_sa_is_the_largest_sa_over_every_direction():
+    m = cut(load_record("el-centro-1940"), 12.0)
+    for T in (0.3, 1.0):
+        directions = np.linspace(0.0, 180.0, 721)[:-1]
+        per_angle = [pseudo_acceleration(rotate(m, th).ax, m.dt, [T])[0] / G
+                     for th in directions]
+        got = vector_sa(m, T)
+        assert got >= max(per_angle) * (1 - 1e-12)
+        assert got == pytest.approx(max(per_angle), rel=1e-5)  # 0.25 deg grid
+
+
+def test_every_measure_is_linear_in_the_scale():
+    m = cut(load_record("loma-prieta-corralitos"), 8.0)
+    for name in ("pga", "pgv", "sa:0.5"):
+        assert intensity_measure(m.scaled(2.5), name) == \
+            pytest.approx(2.5 * intensity_measure(m, name), rel=1e-12)
+
+
+# --- building a suite ---------------------------------------------------------------------
+
+def test_suite_file_order_and_per_record_processing():
+    settings = {"n_synthetic": 0, "seed": 1, "mw": None, "rotation_deg": "auto",
+                "highpass": "oscillator", "fc_hz": None}
+    elc, sfe = load_record("el-centro-1940"), load_record("san-fernando-pacoima-dam-1971")
+    build = build_suite([(elc, {**settings, "n_synthetic": 1}),
+                         (sfe, {**settings, "rotation_deg": "none", "highpass": "butterworth",
+                                "fc_hz": 0.2})], max_duration=5.0)
+    names = [m.name for m in build.motions]
+    assert names == ["el-centro-1940", "san-fernando-pacoima-dam-1971",
+                     "el-centro-1940-rdk-000"]
+    # each record exactly as one record's ensemble with its own settings
+    alone = build_ensemble(elc, 1, 1, max_duration=5.0).motions
+    np.testing.assert_array_equal(build.motions[0].ax, alone[0].ax)
+    np.testing.assert_array_equal(build.motions[2].ay, alone[1].ay)
+    own = build_ensemble(sfe, 0, 1, rotation="none", highpass="butterworth", fc_hz=0.2,
+                         max_duration=5.0).motions[0]
+    np.testing.assert_array_equal(build.motions[1].ax, own.ax)
+    assert build.motions[1].metadata["recorded_pga_g"] == sfe.pga_g
+    assert [p["record"] for p in build.info["records"]] == [elc.name, sfe.name]
+    with pytest.raises(ValueError, match="repeated"):
+        build_suite([(elc, settings), (elc, settings)])
+
+
+def test_rotation_none_keeps_the_recorded_axes_and_a_cut_keeps_the_record():
+    sfe = load_record("san-fernando-pacoima-dam-1971")
+    kept = build_ensemble(sfe, 0, 0, rotation="none", highpass="none", max_duration=3.0)
+    n = kept.motions[0].npts
+    np.testing.assert_array_equal(kept.motions[0].ax, sfe.ax[:n])
+    np.testing.assert_array_equal(kept.motions[0].ay, sfe.ay[:n])
+    with pytest.raises(ValueError, match="rotation='none' with n=2"):
+        build_ensemble(sfe, 2, 0, rotation="none")
+    # an acausal filter pads the front with zeros: a cut counts from the record's start
+    bw = build_ensemble(sfe, 0, 0, rotation="none", highpass="butterworth", fc_hz=0.2,
+                        max_duration=3.0).motions[0]
+    whole = build_ensemble(sfe, 0, 0, rotation="none", highpass="butterworth",
+                           fc_hz=0.2).motions[0]
+    front = next(s["pad_front"] for s in whole.metadata["processing"]
+                 if s["step"] == "highpass")
+    assert front > 0 and bw.npts == front + 301  # 3 s at 0.01 s, both ends
+    np.testing.assert_array_equal(bw.ax, whole.ax[:bw.npts])
+    # a 0.2 Hz high-pass hardly moves the acceleration peak of the first 3 s
+    assert np.max(np.abs(bw.ax[front:])) == pytest.approx(np.max(np.abs(sfe.ax[:301])),
+                                                          rel=0.1)
