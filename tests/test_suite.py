@@ -242,3 +242,118 @@ def test_rotation_none_keeps_the_recorded_axes_and_a_cut_keeps_the_record():
     # a 0.2 Hz high-pass hardly moves the acceleration peak of the first 3 s
     assert np.max(np.abs(bw.ax[front:])) == pytest.approx(np.max(np.abs(sfe.ax[:301])),
                                                           rel=0.1)
+
+
+# --- through Snakemake, Dask and zarr -----------------------------------------------------
+
+SUITE = {
+    "accuracy": "fast",
+    "motions": {"max_duration": 3.0},
+    "ensembles": {"three": {"n_synthetic": 0, "records": [
+        {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7},
+        {"record": "san-fernando-pacoima-dam-1971", "highpass": "butterworth", "fc_hz": 0.2},
+        {"record": "northridge-05-sylmar-1994", "rotation_deg": "none", "highpass": "none"},
+    ]}},
+    "studies": {"three": {"ensemble": "three", "R": [1.0, 3.0], "chunk_R": 1,
+                          "intensity_measures": ["pga", "pgv", "sa:0.5"],
+                          "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
+                                    "limit_states": ["overturning", "tilt:1/3"]}]}},
+    "dask": {"progress_interval": 0},
+}
+RECORDS = [r["record"] for r in SUITE["ensembles"]["three"]["records"]]
+
+
+def _write(tmp_path, cfg) -> object:
+    import yaml
+
+    path = tmp_path / "suite.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+@pytest.mark.slow
+def test_suite_dry_run_names_a_missing_mw(tmp_path):
+    from test_workflow import snakemake
+
+    cfg = copy.deepcopy(SUITE)
+    cfg["ensembles"]["three"]["records"].append({"record": "my-pair",
+                                                 "paths": _user_pair(tmp_path)})
+    out = snakemake(tmp_path, "-n", "results/three/records.csv",
+                    configfile=_write(tmp_path, cfg), check=False)
+    text = out.stdout + out.stderr
+    assert out.returncode != 0
+    assert "ensembles.three.records[3].mw is needed: record 'my-pair' is not in the " \
+           "catalogue" in text
+    assert len(text.splitlines()) < 15 and not (tmp_path / "results").exists()
+
+
+@pytest.mark.slow
+def test_suite_study_through_snakemake_matches_the_library(tmp_path):
+    """Three shipped records, each processed its own way (one with a synthetic pair), run
+    on Dask into zarr; records.csv against critical_intensity on the same motions."""
+    import xarray as xr
+    from test_workflow import snakemake
+
+    from rocking.dynamics.bodies import Cylinder
+    from rocking.motions.ensemble_io import load_ensemble
+    from rocking.spectra.critical import critical_intensity
+    from rocking.units import read_table
+
+    snakemake(tmp_path, "results/three/records.csv", configfile=_write(tmp_path, SUITE))
+    motions = {m.name: m for m in load_ensemble(tmp_path / "results/motions/three.nc")}
+    assert list(motions) == [*RECORDS, "el-centro-1940-rdk-000"]  # records first
+    # each record processed as configured
+    sfe, nr = motions["san-fernando-pacoima-dam-1971"], motions["northridge-05-sylmar-1994"]
+    assert sfe.metadata["highpass"] == {"kind": "butterworth", "fc_hz": 0.2, "order": 4}
+    raw = load_record("northridge-05-sylmar-1994")
+    np.testing.assert_array_equal(nr.ax, raw.ax[:nr.npts])  # recorded axes, no filter
+    store = xr.open_zarr(tmp_path / "results/three/spectra.zarr", consolidated=True)
+    attrs = {k: json.loads(v) if isinstance(v, str) and v[:1] in "{[" else v
+             for k, v in store.attrs.items()}
+    table = read_table(tmp_path / "results/three/records.csv")
+    assert sorted(set(table["motion"])) == sorted(RECORDS)  # recorded motions only
+    assert len(table) == 3 * 2 * 2  # records x limit states x R
+    states = ["overturning", "tilt:1/3"]
+    for name in RECORDS:
+        m = motions[name]
+        for R in (1.0, 3.0):
+            want = critical_intensity(Cylinder(R, 0.2), m, states, "3d",
+                                      accuracy=attrs["tolerances"], **attrs["search_options"])
+            for k, ls in enumerate(states):
+                row = table[(table.motion == name) & (table.R == R) & (table.limit_state == ls)]
+                assert len(row) == 1
+                row = row.iloc[0]
+                assert row.pga_recorded_g == pytest.approx(load_record(name).pga_g, rel=1e-9)
+                assert row.pga_g == pytest.approx(m.pga_g, rel=1e-9)
+                assert row.not_reached == bool(want.not_reached[k])
+                assert row.unresolved == bool(want.unresolved[k])
+                if want.not_reached[k]:
+                    assert math.isnan(row.pga_crit) and row.survives_as_recorded
+                    continue
+                assert row.pga_crit == pytest.approx(want.intensity[k], rel=1e-9)
+                assert row.pga_crit_g == pytest.approx(want.pga_g[k], rel=1e-9)
+                scale = want.pga_g[k] / m.pga_g
+                assert row.scale_factor == pytest.approx(scale, rel=1e-9)
+                assert row.survives_as_recorded == (scale > 1.0)
+                assert row.pgv_crit == pytest.approx(scale * peak_vector_velocity(m),
+                                                     rel=1e-9)
+                assert row["sa_0.5s_crit"] == pytest.approx(scale * vector_sa(m, 0.5),
+                                                            rel=1e-9)
+    # the suite's fragility: records and the synthetic pair apart; closed form without
+    # censoring: median exp(mean ln x), beta std(ln x)
+    frag = read_table(tmp_path / "results/three/suite_fragility.csv")
+    assert set(frag["motions"]) == {"records", "synthetic"}
+    checked = 0
+    for ls in states:
+        for R in (1.0, 3.0):
+            cell = table[(table.R == R) & (table.limit_state == ls)]
+            fit = frag[(frag.motions == "records") & (frag.R == R) & (frag.limit_state == ls)
+                       & (frag.measure == "pga")].iloc[0]
+            if cell.not_reached.any() or cell.failed.any():
+                continue
+            x = np.log(cell.pga_crit_g.to_numpy())
+            assert fit["n"] == 3 and fit["status"] == "ok"
+            assert fit["median"] == pytest.approx(math.exp(x.mean()), rel=1e-8)
+            assert fit["beta"] == pytest.approx(x.std(), rel=1e-8)
+            checked += 1
+    assert checked >= 2
