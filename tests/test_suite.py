@@ -302,6 +302,11 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     snakemake(tmp_path, "results/three/records.csv", configfile=_write(tmp_path, SUITE))
     motions = {m.name: m for m in load_ensemble(tmp_path / "results/motions/three.nc")}
     assert list(motions) == [*RECORDS, "el-centro-1940-rdk-000"]  # records first
+    from rocking.motions.ensemble_io import open_netcdf
+
+    with open_netcdf(tmp_path / "results/motions/three.nc") as ds:  # which record, what kind
+        assert list(ds["source_record"].values) == [*RECORDS, "el-centro-1940"]
+        assert list(ds["kind"].values) == ["record"] * 3 + ["synthetic"]
     # each record processed as configured
     sfe, nr = motions["san-fernando-pacoima-dam-1971"], motions["northridge-05-sylmar-1994"]
     assert sfe.metadata["highpass"] == {"kind": "butterworth", "fc_hz": 0.2, "order": 4}
