@@ -61,6 +61,14 @@ def test_suite_records_take_the_ensembles_settings_unless_they_set_their_own():
     assert StudySpec.from_attrs(json.loads(json.dumps(study.to_attrs()))) == study
 
 
+def test_attributes_of_stores_made_before_the_processing_keys_still_read():
+    cfg = {"ensembles": {"e": {"record": "el-centro-1940"}}}
+    ens = EnsembleSpec.from_config(cfg, "e")
+    old = {k: v for k, v in ens.to_attrs().items()
+           if k not in ("units", "dt", "highpass", "fc_hz")}
+    assert EnsembleSpec.from_attrs(old) == ens
+
+
 def test_one_record_is_a_suite_of_one():
     cfg = {"ensembles": {"e": {"record": "el-centro-1940", "highpass": "butterworth",
                                "fc_hz": 0.2}}}
@@ -99,6 +107,8 @@ def test_every_processing_setting_changes_the_stores_hash(path, value):
      "ensembles.s.records: repeated record names ['el-centro-1940']"),
     (lambda e: e["records"][2].update(fc_hz=-1.0),
      "ensembles.s.records[2].fc_hz must be a finite number > 0, got -1.0"),
+    (lambda e: e.update(paths=["x.AT2", "y.AT2"]),
+     "ensembles.s.paths=['x.AT2', 'y.AT2'] with records: give each record its own paths"),
     (lambda e: e["records"][2].update(colour="red"),
      "ensembles.s.records[2] has unknown key(s) ['colour']"),
 ])

@@ -413,6 +413,9 @@ class EnsembleSpec:
             _positive(max_duration, "motions.max_duration")
         suite = None
         if e["records"] is not None:
+            if e["paths"] is not None:
+                raise ValueError(f"{field}.paths={e['paths']!r} with records: give each "
+                                 f"record its own paths ({field}.records[i].paths)")
             suite = _suite(e, field)
             one = {k: e[k] for k in RECORD_KEYS}
         else:
@@ -444,13 +447,14 @@ class EnsembleSpec:
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> EnsembleSpec:
-        """Inverse of :meth:`to_attrs`."""
+        """Inverse of :meth:`to_attrs`; attributes written before the processing keys
+        existed read as what was done then (g, the oscillator at the Brune corner)."""
         paths = attrs["paths"]
         suite = attrs.get("records")
         return cls(attrs["name"], attrs["record"], None if paths is None else tuple(paths),
                    attrs["n_synthetic"], attrs["seed"], attrs["mw"], attrs["rotation_deg"],
-                   attrs["fit_method"], attrs["max_duration"], attrs["units"], attrs["dt"],
-                   attrs["highpass"], attrs["fc_hz"],
+                   attrs["fit_method"], attrs["max_duration"], attrs.get("units", "g"),
+                   attrs.get("dt"), attrs.get("highpass", "oscillator"), attrs.get("fc_hz"),
                    None if suite is None else tuple(RecordSpec.from_attrs(r) for r in suite))
 
 
