@@ -54,6 +54,7 @@ def test_suite_records_take_the_ensembles_settings_unless_they_set_their_own():
         (2, "butterworth", 0.1, "auto")
     assert (sfe.n_synthetic, sfe.highpass, sfe.rotation_deg) == (0, "none", "none")
     assert (lpc.highpass, lpc.fc_hz, lpc.seed) == ("oscillator", None, 5)
+    assert ens.n_motions == 3 + 2
     back = EnsembleSpec.from_attrs(json.loads(json.dumps(ens.to_attrs())))
     assert back == ens and back.records == ens.records
     study = StudySpec.from_config(_suite_config(), "st")

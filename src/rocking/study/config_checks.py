@@ -135,7 +135,7 @@ def check_config(config: Mapping[str, Any]) -> None:
     n_motions = {}
     for name in config["ensembles"]:
         ens = EnsembleSpec.from_config(config, name)
-        n_motions[name] = sum(r.n_synthetic + 1 for r in ens.records)
+        n_motions[name] = ens.n_motions
         for key, rec in _record_keys(f"ensembles.{name}", ens):
             motion = _check_record(key, rec)
             if motion is None:

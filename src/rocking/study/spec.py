@@ -392,6 +392,11 @@ class EnsembleSpec:
     def is_suite(self) -> bool:
         return self.suite is not None
 
+    @property
+    def n_motions(self) -> int:
+        """Motions of the ensemble file: every record and its synthetic pairs."""
+        return sum(r.n_synthetic + 1 for r in self.records)
+
     @classmethod
     def from_config(cls, config: Mapping[str, Any], name: str) -> EnsembleSpec:
         """Ensemble ``name`` of the configuration, checked, defaults filled in."""
