@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -70,56 +69,62 @@ def motion_measures(motion: GroundMotion, measures: Sequence[str]) -> dict[str, 
     return {measure_column(m)[0]: intensity_measure(motion, m) for m in measures}
 
 
-def _motion_rows(store, motions: Sequence[GroundMotion],
-                 measures: Sequence[str]) -> list[dict[str, Any]]:
-    """One row per motion and requested (mode, tan α, limit state, R) of the store."""
+_FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
+_ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
+          "pga_recorded_g", "pga_g"]
+
+
+def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]):
+    """One row per motion and requested (mode, tan α, limit state, R) of the store, in the
+    store's order (motions as in the ensemble file)."""
+    import pandas as pd
+
     by_name = {m.name: m for m in motions}
     stored = [str(v) for v in store["motion"].values]
     missing = [n for n in stored if n not in by_name]
     if missing:
         raise ValueError(f"motions {missing} of the store are not in the ensemble file given")
-    requested = store["requested"] if "requested" in store else None
     ims = [m for m in measures if parse_measure(m)[0] != "pga"]
-    rows = []
+    per_motion = []
     for name in stored:
-        motion = by_name[name]
-        who = identity(motion)
-        pga = motion.pga_g
-        own = motion_measures(motion, ims)
-        point = store.sel(motion=name).load()
-        for mode in point["mode"].values:
-            for tan in point["tan_alpha"].values:
-                for ls in point["limit_state"].values:
-                    if requested is not None and not bool(requested.sel(
-                            mode=mode, tan_alpha=tan, limit_state=ls)):
-                        continue
-                    cell = point.sel(mode=mode, tan_alpha=tan, limit_state=ls)
-                    for k, R in enumerate(cell["R"].values):
-                        rows.append(_row(name, who, motion, pga, own, str(mode), float(tan),
-                                         str(ls), float(R), cell.isel(R=k)))
-    return rows
-
-
-def _row(name, who, motion, pga, own, mode, tan, ls, R, cell) -> dict[str, Any]:
-    crit, crit_g = float(cell["pga_crit"]), float(cell["pga_crit_g"])
-    not_reached = bool(cell["not_reached"])
-    scale = crit_g / pga if math.isfinite(crit_g) else math.nan
-    row = {
-        "motion": name, "kind": who["kind"], "source_record": who["source_record"],
-        "mode": mode, "tan_alpha": tan, "limit_state": ls, "R": R,
-        "pga_recorded_g": motion.metadata.get("recorded_pga_g", math.nan),
-        "pga_g": pga, **own,
-        "pga_crit": crit, "pga_crit_g": crit_g, "scale_factor": scale,
-        "survives_as_recorded": bool(not_reached or scale > 1.0),
-        "not_reached": not_reached,
-        "unresolved": bool(cell["unresolved"]),
-        "non_monotonic": bool(cell["non_monotonic"]),
-        "failed": bool(cell["failed"]),
-    }
-    for im, value in own.items():
-        row[f"{im}_crit"] = scale * value
-    row["processing"] = who["processing"]
-    return row
+        motion, who = by_name[name], identity(by_name[name])
+        per_motion.append({"motion": name, "kind": who["kind"],
+                           "source_record": who["source_record"],
+                           "pga_recorded_g": motion.metadata.get("recorded_pga_g", math.nan),
+                           "pga_g": motion.pga_g, **motion_measures(motion, ims),
+                           "processing": who["processing"]})
+    info = pd.DataFrame(per_motion)
+    # one conversion of the whole store (no per-cell selection: a paper study has 10^5 rows)
+    cells = store[["pga_crit", "pga_crit_g", *_FLAGS]].reset_coords(drop=True)
+    table = cells.to_dataframe().reset_index()
+    if "requested" in store:
+        asked = store["requested"].reset_coords(drop=True).to_dataframe().reset_index()
+        table = table.merge(asked, on=["mode", "limit_state", "tan_alpha"], how="left")
+        table = table[table["requested"].astype(bool)].drop(columns=["requested"])
+    for column in ("motion", "mode", "limit_state"):
+        table[column] = table[column].astype(str)
+    table = table.merge(info, on="motion", how="left", sort=False)
+    # the store's order: motions as in the ensemble file, limit states by severity
+    labels = {"motion": stored, "mode": [str(v) for v in store["mode"].values],
+              "limit_state": [str(v) for v in store["limit_state"].values]}
+    for column, order in labels.items():
+        table[column] = pd.Categorical(table[column], categories=order, ordered=True)
+    table = table.sort_values(["motion", "mode", "tan_alpha", "limit_state", "R"],
+                              kind="stable").reset_index(drop=True)
+    for column in labels:
+        table[column] = table[column].astype(str)
+    for flag in _FLAGS:
+        table[flag] = table[flag].astype(bool)
+    scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
+    table["scale_factor"] = scale
+    table["survives_as_recorded"] = table["not_reached"] | (scale > 1.0)
+    for m in ims:
+        column = measure_column(m)[0]
+        table[measure_column(m, critical=True)[0]] = scale * table[column]
+    head = [*_ORDER, *(measure_column(m)[0] for m in ims), "pga_crit", "pga_crit_g",
+            "scale_factor", "survives_as_recorded", *_FLAGS,
+            *(measure_column(m, critical=True)[0] for m in ims), "processing"]
+    return table[head]
 
 
 def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str] = ("pga",),
@@ -145,10 +150,8 @@ def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]
         :data:`RECORD_COLUMNS`, ``kind``, ``source_record``, each measure of the motion and
         its critical value (``pgv``, ``pgv_crit`` [m/s]; ``sa_1s``, ``sa_1s_crit`` [g]).
     """
-    import pandas as pd
-
-    rows = [r for r in _motion_rows(store, motions, measures) if r["kind"] in kinds]
-    return pd.DataFrame(rows)
+    table = _motion_table(store, motions, measures)
+    return table[table["kind"].isin(list(kinds))].reset_index(drop=True)
 
 
 def suite_fragility(table, measures: Sequence[str], upper: float | None):
