@@ -415,3 +415,88 @@ def test_records_page_processing_numbers_hold():
         res = rocking.critical_intensity(cyl, rocking.process_motion(raw, **kw),
                                          ["overturning"], mode="3d")
         assert round(float(res.pga_g[0]), 2) == want, kw
+
+
+# --- the per-record table on a hand-made store --------------------------------------------
+
+def _store_of(motions, crit_g, not_reached, requested):
+    """A spectra store's variables over (mode, limit_state, motion, tan_alpha, R)."""
+    import xarray as xr
+
+    dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
+    crit_g = np.asarray(crit_g, dtype=float).reshape(1, 2, len(motions), 1, 1)
+    nr = np.asarray(not_reached, dtype=bool).reshape(crit_g.shape)
+    zeros = np.zeros(crit_g.shape, dtype=bool)
+    return xr.Dataset(
+        {"pga_crit": (dims, crit_g / 0.2), "pga_crit_g": (dims, crit_g),
+         "not_reached": (dims, nr), "unresolved": (dims, zeros),
+         "non_monotonic": (dims, zeros), "failed": (dims, zeros),
+         "requested": (("mode", "limit_state", "tan_alpha"),
+                       np.asarray(requested, dtype=bool).reshape(1, 2, 1))},
+        coords={"mode": ["3d"], "limit_state": ["tilt:1/3", "overturning"],
+                "motion": [m.name for m in motions], "tan_alpha": [0.2], "R": [2.0]})
+
+
+def _motions():
+    """Three records (the third Corralitos at 0.8 of its scale), one synthetic pair."""
+    a = cut(load_record("el-centro-1940"), 6.0)
+    b = cut(load_record("loma-prieta-corralitos"), 6.0)
+    b8 = GroundMotion(0.8 * b.ax, 0.8 * b.ay, b.dt, "lpc-0.8", {})
+    c = GroundMotion(b.ax, b.ay, b.dt, "lpc-rdk-000",
+                     {"generator": "rdk", "record": b.name, "realization": 0, "seed": 1})
+    return [a, b, b8, c]
+
+
+def test_record_table_scale_factor_survival_and_requested_cells():
+    from rocking.study.records import record_table
+
+    motions = _motions()
+    a, b, b8, _ = motions
+    # a: exceeds tilt:1/3 at 0.5 g, overturning not reached; b: 0.3 g and 0.4 g
+    store = _store_of(motions, [[0.5, 0.3, 0.3, 0.3], [np.nan, 0.4, 0.4, 0.4]],
+                      [[False] * 4, [True, False, False, False]], [True, True])
+    t = record_table(store, motions, ["pga", "pgv"])
+    assert list(t["motion"]) == [a.name, a.name, b.name, b.name, b8.name, b8.name]
+    assert list(t["limit_state"]) == ["tilt:1/3", "overturning"] * 3  # store order
+    row = t.iloc[0]
+    assert row["scale_factor"] == pytest.approx(0.5 / a.pga_g, rel=1e-12)
+    assert row["survives_as_recorded"] == (0.5 > a.pga_g)
+    assert row["pgv_crit"] == pytest.approx(0.5 / a.pga_g * peak_vector_velocity(a),
+                                            rel=1e-12)
+    lost = t.iloc[1]
+    assert lost["not_reached"] and lost["survives_as_recorded"]
+    assert math.isnan(lost["scale_factor"])
+    assert t.iloc[2]["survives_as_recorded"] == (0.3 > b.pga_g)
+    # a limit state no run asked for is not a row
+    only = record_table(_store_of(motions, np.full((2, 4), 0.5), np.zeros(8), [False, True]),
+                        motions, ["pga"])
+    assert set(only["limit_state"]) == {"overturning"} and len(only) == 3
+
+
+def test_suite_fragility_censors_at_the_bound_in_every_measure():
+    from rocking.spectra.fragility import fit_lognormal
+    from rocking.study.records import record_table, suite_fragility
+
+    motions = _motions()
+    a, b, b8, _ = motions
+    store = _store_of(motions, [[0.5, 0.3, 0.3, 0.35], [np.nan, 0.4, 0.6, 0.45]],
+                      [[False] * 4, [True, False, False, False]], [True, True])
+    table = record_table(store, motions, ["pgv"], kinds=("record", "synthetic"))
+    frag = suite_fragility(table, ["pga", "pgv"], upper=20.0)
+    assert set(frag["motions"]) == {"records", "synthetic"}
+    over = frag[(frag.motions == "records") & (frag.limit_state == "overturning")]
+    # a is censored at its record scaled to PGA = 20 g tan(alpha) = 4 g
+    want = fit_lognormal([0.4, 0.6, 4.0], [False, False, True])
+    got = over[over.measure == "pga"].iloc[0]
+    assert got["n_censored"] == 1 and got["median"] == pytest.approx(want.median, rel=1e-12)
+    pgv = [0.4 / b.pga_g * peak_vector_velocity(b), 0.6 / b8.pga_g * peak_vector_velocity(b8),
+           4.0 / a.pga_g * peak_vector_velocity(a)]
+    # Corralitos and its 0.8 copy have one PGV/PGA ratio: the same critical PGVs as PGAs
+    assert pgv[1] / pgv[0] == pytest.approx(0.6 / 0.4, rel=1e-12)
+    want = fit_lognormal(pgv, [False, False, True])
+    got = over[over.measure == "pgv"].iloc[0]
+    assert got["median"] == pytest.approx(want.median, rel=1e-12)
+    assert got["beta"] == pytest.approx(want.beta, rel=1e-12) and got["unit"] == "m/s"
+    # one synthetic motion: no fit, said so
+    syn = frag[frag.motions == "synthetic"]
+    assert set(syn["status"]) == {"too-few-observed"} and set(syn["n"]) == {1}
