@@ -150,14 +150,13 @@ def check_config(config: Mapping[str, Any]) -> None:
         if s["ensemble"] not in config["ensembles"]:
             raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "
                              f"ensembles {sorted(config['ensembles'])}")
-        ens = config["ensembles"][s["ensemble"]]
         _check_study_size(f"studies.{study}", s, n_motions[s["ensemble"]])
         for i, run in enumerate(s["runs"]):
             _check_tilt_goals(f"studies.{study}.runs[{i}]", run["limit_states"],
                               _grid(run["tan_alpha"]))
         if s.get("tilt_map") is not None:
             _check_tilt_map_motion(f"studies.{study}.tilt_map", s["tilt_map"].get("motion"),
-                                   EnsembleSpec.from_config(config, s["ensemble"]), ens)
+                                   EnsembleSpec.from_config(config, s["ensemble"]))
 
 
 def _record_keys(key: str, ens):
@@ -352,7 +351,7 @@ def check_ensemble_size(field: str, n_synthetic: int, npts: int) -> None:
             f"give fewer synthetic pairs")
 
 
-def _check_tilt_map_motion(key: str, motion: str | None, spec, ens: Mapping[str, Any]) -> None:
+def _check_tilt_map_motion(key: str, motion: str | None, spec) -> None:
     """``tilt_map.motion`` is a motion the ensemble will hold: a record or one of its
     synthetic pairs ``<record>-rdk-NNN``."""
     if motion is None:
