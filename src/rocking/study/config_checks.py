@@ -123,45 +123,56 @@ def check_config(config: Mapping[str, Any]) -> None:
     Raises
     ------
     ValueError
-        An unknown record name without files, a record file that does not exist, a record
-        of unknown magnitude without ``mw``, a study naming an unknown ensemble, or a tilt
-        goal r·α ≥ π/2 for a slenderness of its run.
+        An ensemble with both or neither of ``record`` and ``records``, an unknown record
+        name without files, a record file that does not exist, a high-pass at the Brune
+        corner of a record of unknown magnitude without ``mw``, a study naming an unknown
+        ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
     """
     _check_finite(config)
+    from .spec import EnsembleSpec
+
     max_duration = (config.get("motions") or {}).get("max_duration")
-    npts = {}
-    for name, spec in config["ensembles"].items():
-        motion = _check_record(f"ensembles.{name}", spec)
-        if motion is None:
-            continue
-        npts[name] = motion.npts
-        _check_magnitude(f"ensembles.{name}", spec, motion)
-        if max_duration is not None and max_duration < 2 * motion.dt:
-            raise ValueError(f"motions.max_duration={max_duration!r} s keeps fewer than two "
-                             f"samples of ensembles.{name} (dt {motion.dt:g} s); give at "
-                             f"least {2 * motion.dt:g} s or null")
-        check_ensemble_size(f"ensembles.{name}.n_synthetic", spec.get("n_synthetic", 10),
-                            motion.npts)
+    n_motions = {}
+    for name in config["ensembles"]:
+        ens = EnsembleSpec.from_config(config, name)
+        n_motions[name] = ens.n_motions
+        for key, rec in _record_keys(f"ensembles.{name}", ens):
+            motion = _check_record(key, rec)
+            if motion is None:
+                continue
+            _check_magnitude(key, rec, motion)
+            if max_duration is not None and max_duration < 2 * motion.dt:
+                raise ValueError(f"motions.max_duration={max_duration!r} s keeps fewer than "
+                                 f"two samples of {key} (dt {motion.dt:g} s); give at least "
+                                 f"{2 * motion.dt:g} s or null")
+            check_ensemble_size(f"{key}.n_synthetic", rec.n_synthetic, motion.npts)
     for study, s in config["studies"].items():
         if s["ensemble"] not in config["ensembles"]:
             raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "
                              f"ensembles {sorted(config['ensembles'])}")
-        ens = config["ensembles"][s["ensemble"]]
-        _check_study_size(f"studies.{study}", s, int(ens.get("n_synthetic", 10)) + 1)
+        _check_study_size(f"studies.{study}", s, n_motions[s["ensemble"]])
         for i, run in enumerate(s["runs"]):
             _check_tilt_goals(f"studies.{study}.runs[{i}]", run["limit_states"],
                               _grid(run["tan_alpha"]))
         if s.get("tilt_map") is not None:
             _check_tilt_map_motion(f"studies.{study}.tilt_map", s["tilt_map"].get("motion"),
-                                   ens)
+                                   EnsembleSpec.from_config(config, s["ensemble"]))
 
 
-def _check_record(key: str, spec: Mapping[str, Any]):
-    """The record an ensemble is built from, read as the motions rule reads it (header, dt
-    of both files, every value), or None for the SJTE stand-in's files not given."""
+def _record_keys(key: str, ens):
+    """(configuration key, RecordSpec) of every record of an ensemble: the ensemble's own
+    key for one record, ``<key>.records[i]`` in a suite."""
+    if not ens.is_suite:
+        return [(key, ens.records[0])]
+    return [(f"{key}.records[{i}]", r) for i, r in enumerate(ens.records)]
+
+
+def _check_record(key: str, rec):
+    """The record of ``rec`` (a :class:`rocking.study.spec.RecordSpec`), read as the motions
+    rule reads it (header, dt of both files, every value), or the SJTE stand-in."""
     from ..motions.catalogue import RECORDS, load_record
 
-    record, paths = spec["record"], spec.get("paths")
+    record, paths = rec.record, rec.paths
     if not paths:
         if record not in RECORDS:
             raise ValueError(f"{key}.record={record!r} is not a known record "
@@ -177,7 +188,8 @@ def _check_record(key: str, spec: Mapping[str, Any]):
         if not path.is_file():
             raise ValueError(f"{key}.paths[{i}]={str(p)!r} is not a file")
     try:
-        motion = load_record(record, [Path(p).expanduser() for p in paths])
+        motion = load_record(record, [Path(p).expanduser() for p in paths], dt=rec.dt,
+                             units=rec.units)
     except (ValueError, OSError) as exc:
         raise ValueError(f"{key}.paths={list(paths)!r}: {exc}") from None
     for i, comp in enumerate((motion.ax, motion.ay)):
@@ -187,13 +199,17 @@ def _check_record(key: str, spec: Mapping[str, Any]):
     return motion
 
 
-def _check_magnitude(key: str, spec: Mapping[str, Any], motion) -> None:
-    """The motions rule high-passes every record at the Brune corner of its magnitude: a
-    record the catalogue does not know needs ``mw`` (else rule ``motions`` fails mid-run)."""
-    if spec.get("mw") is None and motion.metadata.get("mw") is None:
-        raise ValueError(f"{key}.mw is needed: record {spec['record']!r} is not in the "
+def _check_magnitude(key: str, rec, motion) -> None:
+    """A high-pass without ``fc_hz`` has its corner at the Brune corner of the event's
+    magnitude: a record the catalogue does not know needs ``mw`` (else rule ``motions``
+    fails mid-run)."""
+    if rec.highpass == "none" or rec.fc_hz is not None:
+        return
+    if rec.mw is None and motion.metadata.get("mw") is None:
+        raise ValueError(f"{key}.mw is needed: record {rec.record!r} is not in the "
                          f"catalogue, so the moment magnitude that sets the corner of its "
-                         f"oscillator high-pass (Brune corner) is unknown; give {key}.mw")
+                         f"{rec.highpass} high-pass (Brune corner) is unknown; give {key}.mw, "
+                         f"or {key}.fc_hz [Hz], or {key}.highpass: none")
 
 
 def coerce_strings(config: dict[str, Any], schema: Mapping[str, Any]) -> None:
@@ -335,23 +351,24 @@ def check_ensemble_size(field: str, n_synthetic: int, npts: int) -> None:
             f"give fewer synthetic pairs")
 
 
-def _check_tilt_map_motion(key: str, motion: str | None, ens: Mapping[str, Any]) -> None:
-    """``tilt_map.motion`` is a motion the ensemble will hold: its record (first) or one of
-    its synthetic pairs ``<record>-rdk-NNN``."""
+def _check_tilt_map_motion(key: str, motion: str | None, spec) -> None:
+    """``tilt_map.motion`` is a motion the ensemble will hold: a record or one of its
+    synthetic pairs ``<record>-rdk-NNN``."""
     if motion is None:
         return
     from ..motions.catalogue import RECORDS
 
-    record = ens["record"]
-    if not ens.get("paths") and record in RECORDS and RECORDS[record].files is None:
-        record = "loma-prieta-corralitos"  # the stand-in's name
-    n = int(ens.get("n_synthetic", 10))
-    names = [record] + [f"{record}-rdk-{r:03d}" for r in range(n)]
+    names = []
+    for rec in spec.records:
+        record = rec.record
+        if not rec.paths and record in RECORDS and RECORDS[record].files is None:
+            record = "loma-prieta-corralitos"  # the stand-in's name
+        n = rec.n_synthetic
+        names += [record] + [f"{record}-rdk-{r:03d}" for r in range(n)]
     if motion not in names:
-        shown = names if n <= 3 else [*names[:3], "...", names[-1]]
+        shown = names if len(names) <= 4 else [*names[:3], "...", names[-1]]
         raise ValueError(f"{key}.motion={motion!r} is not a motion of the ensemble "
-                         f"(its record {record!r} or {record}-rdk-000 ... -{n - 1:03d}): "
-                         f"{shown}")
+                         f"(a record, or <record>-rdk-000 ... its synthetic pairs): {shown}")
 
 
 def _grid(spec) -> list[float]:

@@ -33,8 +33,8 @@ import numpy as np
 from .._json import json_default
 from .plan import StudyPlan, plan_study
 
-__all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "SpectraSpec", "StripesSpec", "StudySpec",
-           "TiltMapSpec", "config_hash", "decode_attrs", "expand_grid"]
+__all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "RecordSpec", "SpectraSpec", "StripesSpec",
+           "StudySpec", "TiltMapSpec", "config_hash", "decode_attrs", "expand_grid"]
 
 DEFAULTS: dict[str, Any] = {
     "accuracy": "default",
@@ -42,9 +42,10 @@ DEFAULTS: dict[str, Any] = {
     "damped": {"omega_n": 2000.0, "zeta": 5.0},
     "motions": {"max_duration": None},
     "dask": {"min_task_seconds": 0.1},
-    "ensemble": {"paths": None, "n_synthetic": 10, "seed": 2017, "mw": None,
-                 "rotation_deg": "auto", "fit_method": "spectrum"},
-    "study": {"chunk_R": "auto", "upper": None},
+    "ensemble": {"paths": None, "units": "g", "dt": None, "n_synthetic": 10, "seed": 2017,
+                 "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
+                 "fit_method": "spectrum"},
+    "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"]},
     "tilt_map": {"motion": None, "modes": ["3d", "3d-damped"], "tan_alpha": 0.2, "chunk_R": 1},
     "stripes": {"modes": ["3d"], "tan_alpha": 0.2,
                 "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1},
@@ -236,34 +237,136 @@ class Damping:
         return Damping(options["omega_n"], options["zeta"]) if "omega_n" in options else None
 
 
+RECORD_KEYS = ("paths", "units", "dt", "n_synthetic", "seed", "mw", "rotation_deg", "highpass",
+               "fc_hz")
+"""Keys a record of a suite may set for itself; each defaults to the ensemble's value."""
+
+HIGHPASS_KINDS = ("oscillator", "butterworth", "none")
+"""High-pass filters (:data:`rocking.motions.build.HIGHPASS_KINDS`, kept equal by a test;
+not imported: this module must not load the motion packages)."""
+
+
+@dataclass(frozen=True)
+class RecordSpec:
+    """One recorded pair of an ensemble and its processing.
+
+    Attributes
+    ----------
+    record : str
+        Named record (:data:`rocking.motions.catalogue.RECORDS`), or any name with ``paths``;
+        the name of its motion in the ensemble file.
+    paths : tuple of str or None
+        Two acceleration files (x, y) read instead of the package data.
+    units : str
+        Units of the values in ``paths`` (AT2 files say g) [-].
+    dt : float or None
+        Time step of one-column text files [s].
+    n_synthetic : int
+        Synthetic RDK pairs simulated for this record.
+    seed : int
+        Root seed of its synthetic pairs.
+    mw : float or None
+        Moment magnitude for the Brune corner (None: the catalogue's).
+    rotation_deg : float or str
+        Rotation to principal axes [deg], ``"auto"``, or ``"none"`` (recorded axes).
+    highpass : str
+        ``"oscillator"``, ``"butterworth"`` or ``"none"``.
+    fc_hz : float or None
+        Corner of the high-pass [Hz] (None: the Brune corner of ``mw``).
+    """
+
+    record: str
+    paths: tuple[str, ...] | None
+    units: str
+    dt: float | None
+    n_synthetic: int
+    seed: int
+    mw: float | None
+    rotation_deg: float | str
+    highpass: str
+    fc_hz: float | None
+
+    @classmethod
+    def from_mapping(cls, given: Mapping[str, Any], field: str,
+                     defaults: Mapping[str, Any]) -> RecordSpec:
+        """A record's settings over ``defaults`` (the ensemble's), checked; errors name
+        ``field``."""
+        r = _mapping(given, field, {k: defaults[k] for k in RECORD_KEYS}, ["record"])
+        for key in ("n_synthetic", "seed"):
+            if isinstance(r[key], bool) or not isinstance(r[key], int) or r[key] < 0:
+                raise ValueError(f"{field}.{key} must be an integer >= 0, got {r[key]!r}")
+        if not isinstance(r["record"], str) or not r["record"]:
+            raise ValueError(f"{field}.record must be a name, got {r['record']!r}")
+        paths = r["paths"]
+        if paths is not None and (not isinstance(paths, (list, tuple)) or len(paths) != 2
+                                  or not all(isinstance(q, str) and q for q in paths)):
+            raise ValueError(f"{field}.paths must be two file names (x, y), got {paths!r}")
+        if r["highpass"] not in HIGHPASS_KINDS:
+            raise ValueError(f"{field}.highpass must be one of {list(HIGHPASS_KINDS)}, got "
+                             f"{r['highpass']!r}")
+        for key in ("mw", "fc_hz", "dt"):
+            if r[key] is not None:
+                _positive(r[key], f"{field}.{key}")
+        rotation = r["rotation_deg"]
+        if rotation not in ("auto", "none"):
+            if not math.isfinite(_number(rotation, f"{field}.rotation_deg")) or \
+                    abs(rotation) > 45.0:
+                raise ValueError(f"{field}.rotation_deg must be auto, none or a number of "
+                                 f"degrees in [-45, 45], got {rotation!r}")
+        if rotation == "none" and r["n_synthetic"] > 0:
+            raise ValueError(f"{field}.rotation_deg=none with n_synthetic={r['n_synthetic']}: "
+                             "synthetic pairs are fitted on the record's principal axes; give "
+                             "rotation_deg auto (or a number), or n_synthetic 0")
+        # values keep their YAML types (30 stays an int): the store hashes their JSON
+        return cls(r["record"], None if paths is None else tuple(paths), r["units"], r["dt"],
+                   r["n_synthetic"], r["seed"], r["mw"], rotation, r["highpass"], r["fc_hz"])
+
+    def to_attrs(self) -> dict[str, Any]:
+        """JSON-ready mapping of every field."""
+        return {"record": self.record,
+                "paths": None if self.paths is None else list(self.paths),
+                "units": self.units, "dt": self.dt, "n_synthetic": self.n_synthetic,
+                "seed": self.seed, "mw": self.mw, "rotation_deg": self.rotation_deg,
+                "highpass": self.highpass, "fc_hz": self.fc_hz}
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> RecordSpec:
+        """Inverse of :meth:`to_attrs`."""
+        paths = attrs["paths"]
+        return cls(attrs["record"], None if paths is None else tuple(paths),
+                   *(attrs[k] for k in RECORD_KEYS[1:]))
+
+
 @dataclass(frozen=True)
 class EnsembleSpec:
     """Everything that decides the motions of an ensemble (``results/motions/<name>.nc``).
+
+    An ensemble is one record (``record``) or a suite of records (``records``), each with
+    its own processing and synthetic pairs. Its file holds the processed records first, in
+    the order given, then each record's synthetic pairs; the per-motion ``source_record`` and
+    ``kind`` of the file say which record each motion comes from and whether it was
+    recorded. A suite is an ensemble so that everything downstream (the store's ``motion``
+    dimension, the aggregates, the tables) serves it unchanged.
 
     Attributes
     ----------
     name : str
         Key of the ensemble in ``ensembles``.
-    record : str
-        Named record, or any name when ``paths`` are given.
-    paths : tuple of str or None
-        Two acceleration files (x, y) read instead of the package data.
-    n_synthetic : int
-        Synthetic pairs simulated with the fitted RDK model.
-    seed : int
-        Root seed of the synthetic pairs.
-    mw : float or None
-        Moment magnitude for the high-pass corner (None: known for named records).
-    rotation_deg : float or str
-        Rotation to principal axes [deg], or ``"auto"``.
+    record : str or None
+        The one record (None for a suite).
+    paths, units, dt, n_synthetic, seed, mw, rotation_deg, highpass, fc_hz
+        The one record's settings, and the default of every record of a suite
+        (:class:`RecordSpec`).
     fit_method : str
         ``"spectrum"`` or ``"counts"``.
     max_duration : float or None
         Seconds kept of every motion [s] (None: whole records).
+    suite : tuple of RecordSpec or None
+        The records of a suite (``ensembles.<name>.records``); None for one record.
     """
 
     name: str
-    record: str
+    record: str | None
     paths: tuple[str, ...] | None
     n_synthetic: int
     seed: int
@@ -271,6 +374,28 @@ class EnsembleSpec:
     rotation_deg: float | str
     fit_method: str
     max_duration: float | None
+    units: str = "g"
+    dt: float | None = None
+    highpass: str = "oscillator"
+    fc_hz: float | None = None
+    suite: tuple[RecordSpec, ...] | None = None
+
+    @property
+    def records(self) -> tuple[RecordSpec, ...]:
+        """Every record of the ensemble with its own processing (one unless a suite)."""
+        if self.suite is not None:
+            return self.suite
+        return (RecordSpec(self.record, self.paths, self.units, self.dt, self.n_synthetic,
+                           self.seed, self.mw, self.rotation_deg, self.highpass, self.fc_hz),)
+
+    @property
+    def is_suite(self) -> bool:
+        return self.suite is not None
+
+    @property
+    def n_motions(self) -> int:
+        """Motions of the ensemble file: every record and its synthetic pairs."""
+        return sum(r.n_synthetic + 1 for r in self.records)
 
     @classmethod
     def from_config(cls, config: Mapping[str, Any], name: str) -> EnsembleSpec:
@@ -279,41 +404,80 @@ class EnsembleSpec:
         if name not in ensembles:
             raise ValueError(f"ensemble {name!r} is not a key of ensembles {sorted(ensembles)}")
         field = f"ensembles.{name}"
-        e = _mapping(ensembles[name], field, DEFAULTS["ensemble"], ["record"])
-        for key in ("n_synthetic", "seed"):
-            if isinstance(e[key], bool) or not isinstance(e[key], int) or e[key] < 0:
-                raise ValueError(f"{field}.{key} must be an integer >= 0, got {e[key]!r}")
-        if not isinstance(e["record"], str) or not e["record"]:
-            raise ValueError(f"{field}.record must be a name, got {e['record']!r}")
-        paths = e["paths"]
-        if paths is not None and (not isinstance(paths, (list, tuple)) or len(paths) != 2):
-            raise ValueError(f"{field}.paths must be two file names (x, y), got {paths!r}")
+        e = _mapping(ensembles[name], field, {**DEFAULTS["ensemble"], "record": None,
+                                              "records": None}, [])
+        if (e["record"] is None) == (e["records"] is None):
+            raise ValueError(f"{field} needs record (one record) or records (a suite), "
+                             f"not {'both' if e['record'] is not None else 'neither'}")
+        if not isinstance(e["fit_method"], str) or e["fit_method"] not in ("spectrum",
+                                                                           "counts"):
+            raise ValueError(f"{field}.fit_method must be spectrum or counts, got "
+                             f"{e['fit_method']!r}")
         max_duration = _section(config, "motions")["max_duration"]
         if max_duration is not None:
             _positive(max_duration, "motions.max_duration")
-        # values keep their YAML types (30 stays an int): the store hashes their JSON
-        return cls(name, e["record"], None if paths is None else tuple(paths), e["n_synthetic"],
-                   e["seed"], e["mw"], e["rotation_deg"], e["fit_method"], max_duration)
+        suite = None
+        if e["records"] is not None:
+            if e["paths"] is not None:
+                raise ValueError(f"{field}.paths={e['paths']!r} with records: give each "
+                                 f"record its own paths ({field}.records[i].paths)")
+            suite = _suite(e, field)
+            one = {k: e[k] for k in RECORD_KEYS}
+        else:
+            one = RecordSpec.from_mapping({k: e[k] for k in ("record", *RECORD_KEYS)}, field,
+                                          e).to_attrs()
+            one["paths"] = None if one["paths"] is None else tuple(one["paths"])
+        return cls(name, e["record"], None if one["paths"] is None else tuple(one["paths"]),
+                   one["n_synthetic"], one["seed"], one["mw"], one["rotation_deg"],
+                   e["fit_method"], max_duration, one["units"], one["dt"], one["highpass"],
+                   one["fc_hz"], suite)
 
     def settings(self) -> dict[str, Any]:
         """What the motions rule is given: every field but the name."""
         return {k: v for k, v in self.to_attrs().items() if k != "name"}
 
     def to_attrs(self) -> dict[str, Any]:
-        """JSON-ready mapping (recorded in and hashed into every store of the ensemble)."""
-        return {"name": self.name, "record": self.record,
-                "paths": None if self.paths is None else list(self.paths),
-                "n_synthetic": self.n_synthetic, "seed": self.seed, "mw": self.mw,
-                "rotation_deg": self.rotation_deg, "fit_method": self.fit_method,
-                "max_duration": self.max_duration}
+        """JSON-ready mapping (recorded in and hashed into every store of the ensemble);
+        a suite adds ``records`` (each record's :meth:`RecordSpec.to_attrs`)."""
+        out = {"name": self.name, "record": self.record,
+               "paths": None if self.paths is None else list(self.paths),
+               "units": self.units, "dt": self.dt,
+               "n_synthetic": self.n_synthetic, "seed": self.seed, "mw": self.mw,
+               "rotation_deg": self.rotation_deg, "highpass": self.highpass,
+               "fc_hz": self.fc_hz, "fit_method": self.fit_method,
+               "max_duration": self.max_duration}
+        if self.suite is not None:
+            out["records"] = [r.to_attrs() for r in self.suite]
+        return out
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> EnsembleSpec:
-        """Inverse of :meth:`to_attrs`."""
+        """Inverse of :meth:`to_attrs`; attributes written before the processing keys
+        existed read as what was done then (g, the oscillator at the Brune corner)."""
         paths = attrs["paths"]
+        suite = attrs.get("records")
         return cls(attrs["name"], attrs["record"], None if paths is None else tuple(paths),
                    attrs["n_synthetic"], attrs["seed"], attrs["mw"], attrs["rotation_deg"],
-                   attrs["fit_method"], attrs["max_duration"])
+                   attrs["fit_method"], attrs["max_duration"], attrs.get("units", "g"),
+                   attrs.get("dt"), attrs.get("highpass", "oscillator"), attrs.get("fc_hz"),
+                   None if suite is None else tuple(RecordSpec.from_attrs(r) for r in suite))
+
+
+def _suite(e: Mapping[str, Any], field: str) -> tuple[RecordSpec, ...]:
+    """The records of a suite, each over the ensemble's settings; names unique."""
+    given = e["records"]
+    if not isinstance(given, (list, tuple)) or not given:
+        raise ValueError(f"{field}.records must be a non-empty list of records, got {given!r}")
+    suite = tuple(RecordSpec.from_mapping(r, f"{field}.records[{i}]", e)
+                  for i, r in enumerate(given))
+    # the paper's SJTE record without its files is read as the Corralitos stand-in
+    names = ["loma-prieta-corralitos" if r.record == "loma-prieta-sjte" and r.paths is None
+             else r.record for r in suite]
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise ValueError(f"{field}.records: repeated record names {repeated}; every record "
+                         "names its motion, give each a distinct record name")
+    return suite
 
 
 class _Hashed:
@@ -504,12 +668,17 @@ class StudySpec(_Hashed):
         The site's hazard as configured (``studies.<name>.hazard``: a hazard-curve file,
         ``{file, site, im_factor}`` or ``{k0, k, im_factor}``; read by
         :func:`rocking.risk.parse_hazard`), None without risk outputs. It decides no store.
+    intensity_measures : tuple of str
+        What the per-record table and the suite's fragility give beside the critical PGA
+        (``studies.<name>.intensity_measures``): ``"pga"``, ``"pgv"``, ``"sa:<T>"`` (5 %
+        damped pseudo-acceleration at period T [s]). It decides no store.
     """
 
     spectra: SpectraSpec
     tilt_map: TiltMapSpec | None = None
     stripes: StripesSpec | None = None
     hazard: str | dict[str, Any] | None = None
+    intensity_measures: tuple[str, ...] = ("pga", "pgv")
 
     @property
     def name(self) -> str:
@@ -569,15 +738,16 @@ class StudySpec(_Hashed):
         if hazard is not None and not isinstance(hazard, (str, Mapping)):
             raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
         return cls(spectra, tilt_map, stripes,
-                   dict(hazard) if isinstance(hazard, Mapping) else hazard)
+                   dict(hazard) if isinstance(hazard, Mapping) else hazard,
+                   _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures"))
 
     def to_attrs(self) -> dict[str, Any]:
-        """``{"spectra", "tilt_map", "stripes", "hazard"}``: each part's mapping (None when
-        absent)."""
+        """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures"}``: each
+        part's mapping (None when absent)."""
         return {"spectra": self.spectra.to_attrs(),
                 "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
                 "stripes": None if self.stripes is None else self.stripes.to_attrs(),
-                "hazard": self.hazard}
+                "hazard": self.hazard, "intensity_measures": list(self.intensity_measures)}
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
@@ -585,7 +755,29 @@ class StudySpec(_Hashed):
         t, s = attrs.get("tilt_map"), attrs.get("stripes")
         return cls(SpectraSpec.from_attrs(attrs["spectra"]),
                    None if t is None else TiltMapSpec.from_attrs(t),
-                   None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"))
+                   None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"),
+                   tuple(attrs.get("intensity_measures", DEFAULTS["study"]
+                                   ["intensity_measures"])))
+
+
+def _intensity_measures(value: Any, field: str) -> tuple[str, ...]:
+    """The study's intensity measures, checked by
+    :func:`rocking.motions.measures.parse_measure`."""
+    from ..motions.measures import parse_measure
+
+    if not isinstance(value, (list, tuple)) or not value:
+        raise ValueError(f"{field} must be a non-empty list such as [pga, pgv, 'sa:1.0'], "
+                         f"got {value!r}")
+    out = []
+    for i, im in enumerate(value):
+        try:
+            parse_measure(im)
+        except ValueError as exc:
+            raise ValueError(f"{field}[{i}]={im!r}: {exc}") from None
+        out.append(im)
+    if len(set(out)) != len(out):
+        raise ValueError(f"{field}: repeated measures {out!r}")
+    return tuple(out)
 
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:

@@ -1,0 +1,269 @@
+"""Per-record answers of a study and the fragility over a suite of records.
+
+For every recorded motion of a study (``kind == "record"`` in its ensemble file) and every
+requested (mode, tan α, limit state, R) of its spectra store, :func:`record_table` gives what
+an engineer asks of one record: its PGA as recorded and as processed, its PGV and Sa(T), the
+critical PGA/(g tan α) and PGA [g], the factor the processed record must be scaled by to
+exceed the limit state, and whether it survives as recorded.
+
+The critical intensity is searched on the scale of the record, and every intensity measure
+of a scaled record is that scale times the record's measure (:mod:`rocking.motions.measures`),
+so the critical PGV or Sa(T) is exactly the critical scale factor times the record's PGV or
+Sa(T) — although the rocking response itself is not linear in the scale.
+:func:`suite_fragility` fits a lognormal fragility
+(:func:`rocking.spectra.fragility.fit_lognormal`, right-censored at the search bound where a
+motion never exceeded the limit state) in each measure, over the recorded motions and,
+separately, over the synthetic pairs.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ..motions.identity import identity
+from ..motions.measures import MEASURE_UNITS, intensity_measure, parse_measure
+from ..motions.motion import GroundMotion
+
+__all__ = ["RECORD_COLUMNS", "measure_column", "motion_measures", "record_table",
+           "suite_fragility", "write_record_tables"]
+
+RECORD_COLUMNS = {
+    "motion": ("", "the recorded motion (ensemble file, spectra store)"),
+    "mode": ("", "analysis mode"),
+    "tan_alpha": ("-", "slenderness b/h"),
+    "limit_state": ("", "limit state"),
+    "R": ("m", "semi-diagonal"),
+    "pga_recorded_g": ("g", "vector PGA of the record as recorded (before any processing)"),
+    "pga_g": ("g", "vector PGA of the record as processed (the motion that was scaled)"),
+    "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): smallest exceeding intensity"),
+    "pga_crit_g": ("g", "critical PGA"),
+    "scale_factor": ("-", "critical PGA / processed record PGA: the factor to exceed"),
+    "survives_as_recorded": ("", "limit state not exceeded by the processed record at scale "
+                                 "1 (scale factor > 1, or not reached)"),
+    "not_reached": ("", "not exceeded up to the search bound"),
+    "unresolved": ("", "the response came close to the goal below the answer"),
+    "non_monotonic": ("", "exceeded at one intensity and not at a higher one"),
+    "failed": ("", "an analysis failed"),
+    "processing": ("", "source record and processing, in order"),
+}
+"""Columns of ``records.csv`` always present: name → (unit, meaning)."""
+
+
+def measure_column(measure: str, critical: bool = False) -> tuple[str, str]:
+    """Column name and unit of a measure (``"pga"`` → ``("pga_g", "g")``, ``"pgv"`` →
+    ``("pgv", "m/s")``; ``"sa:1.0"`` → ``("sa_1s", "g")``); ``critical`` names the critical
+    value (``"pga_crit_g"``, ``"pgv_crit"``)."""
+    kind, period = parse_measure(measure)
+    if kind == "pga":
+        return ("pga_crit_g" if critical else "pga_g"), "g"
+    name = kind if period is None else f"sa_{period:g}s"
+    return (f"{name}_crit" if critical else name), MEASURE_UNITS[kind]
+
+
+def motion_measures(motion: GroundMotion, measures: Sequence[str]) -> dict[str, float]:
+    """Every measure of ``motion`` by its column name (:func:`measure_column`)."""
+    return {measure_column(m)[0]: intensity_measure(motion, m) for m in measures}
+
+
+_FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
+_ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
+          "pga_recorded_g", "pga_g"]
+
+
+def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]):
+    """One row per motion and requested (mode, tan α, limit state, R) of the store, in the
+    store's order (motions as in the ensemble file)."""
+    import pandas as pd
+
+    by_name = {m.name: m for m in motions}
+    stored = [str(v) for v in store["motion"].values]
+    missing = [n for n in stored if n not in by_name]
+    if missing:
+        raise ValueError(f"motions {missing} of the store are not in the ensemble file given")
+    ims = [m for m in measures if parse_measure(m)[0] != "pga"]
+    per_motion = []
+    for name in stored:
+        motion, who = by_name[name], identity(by_name[name])
+        per_motion.append({"motion": name, "kind": who["kind"],
+                           "source_record": who["source_record"],
+                           "pga_recorded_g": motion.metadata.get("recorded_pga_g", math.nan),
+                           "pga_g": motion.pga_g, **motion_measures(motion, ims),
+                           "processing": who["processing"]})
+    info = pd.DataFrame(per_motion)
+    # one conversion of the whole store (no per-cell selection: a paper study has 10^5 rows)
+    cells = store[["pga_crit", "pga_crit_g", *_FLAGS]].reset_coords(drop=True)
+    table = cells.to_dataframe().reset_index()
+    if "requested" in store:
+        asked = store["requested"].reset_coords(drop=True).to_dataframe().reset_index()
+        table = table.merge(asked, on=["mode", "limit_state", "tan_alpha"], how="left")
+        table = table[table["requested"].astype(bool)].drop(columns=["requested"])
+    for column in ("motion", "mode", "limit_state"):
+        table[column] = table[column].astype(str)
+    table = table.merge(info, on="motion", how="left", sort=False)
+    # the store's order: motions as in the ensemble file, limit states by severity
+    labels = {"motion": stored, "mode": [str(v) for v in store["mode"].values],
+              "limit_state": [str(v) for v in store["limit_state"].values]}
+    for column, order in labels.items():
+        table[column] = pd.Categorical(table[column], categories=order, ordered=True)
+    table = table.sort_values(["motion", "mode", "tan_alpha", "limit_state", "R"],
+                              kind="stable").reset_index(drop=True)
+    for column in labels:
+        table[column] = table[column].astype(str)
+    for flag in _FLAGS:
+        table[flag] = table[flag].astype(bool)
+    scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
+    table["scale_factor"] = scale
+    table["survives_as_recorded"] = table["not_reached"] | (scale > 1.0)
+    for m in ims:
+        column = measure_column(m)[0]
+        table[measure_column(m, critical=True)[0]] = scale * table[column]
+    head = [*_ORDER, *(measure_column(m)[0] for m in ims), "pga_crit", "pga_crit_g",
+            "scale_factor", "survives_as_recorded", *_FLAGS,
+            *(measure_column(m, critical=True)[0] for m in ims), "processing"]
+    return table[head]
+
+
+def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str] = ("pga",),
+                 *, kinds: Sequence[str] = ("record",)):
+    """The per-record table of a study.
+
+    Parameters
+    ----------
+    store : xarray.Dataset
+        The study's spectra store (``results/<study>/spectra.zarr``).
+    motions : sequence of GroundMotion
+        The motions of its ensemble file (:func:`rocking.motions.ensemble_io.load_ensemble`).
+    measures : sequence of str
+        Intensity measures beside the PGA (``"pgv"``, ``"sa:<T>"``; ``"pga"`` is always
+        given).
+    kinds : sequence of str
+        ``"record"`` (default: the recorded motions) and/or ``"synthetic"``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per motion and requested (mode, tan α, limit state, R): the columns of
+        :data:`RECORD_COLUMNS`, ``kind``, ``source_record``, each measure of the motion and
+        its critical value (``pgv``, ``pgv_crit`` [m/s]; ``sa_1s``, ``sa_1s_crit`` [g]).
+    """
+    table = _motion_table(store, motions, measures)
+    return table[table["kind"].isin(list(kinds))].reset_index(drop=True)
+
+
+def suite_fragility(table, measures: Sequence[str], upper: float | None):
+    """Lognormal fragility of every (mode, tan α, limit state, R) in each measure.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`record_table` of every motion (``kinds=("record", "synthetic")``).
+    measures : sequence of str
+        ``"pga"`` [g], ``"pgv"`` [m/s], ``"sa:<T>"`` [g].
+    upper : float or None
+        Search bound PGA/(g tan α) [-]: a motion not reached is right-censored at the
+        measure its record has when scaled to it (None: not-reached motions left out).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per ``motions`` (``"records"``, and ``"synthetic"`` when there are any), mode,
+        tan α, limit state, R and ``measure``: ``unit``, ``median``, ``beta``, ``n``,
+        ``n_censored``, ``status`` (:class:`rocking.spectra.fragility.LognormalFit`).
+    """
+    import pandas as pd
+
+    from ..spectra.fragility import fit_lognormal
+
+    keys = ["mode", "tan_alpha", "limit_state", "R"]
+    out = []
+    for kind, group_name in (("record", "records"), ("synthetic", "synthetic")):
+        part = table[table["kind"] == kind]
+        if part.empty:
+            continue
+        for key, cell in part.groupby(keys, sort=False):
+            for measure in measures:
+                column, unit = measure_column(measure)
+                values, censored = _samples(
+                    cell, cell[column].to_numpy(),
+                    cell[measure_column(measure, critical=True)[0]].to_numpy(), upper,
+                    float(key[1]))
+                if values.size == 0:
+                    fit = {"median": math.nan, "beta": math.nan, "n": 0, "n_censored": 0,
+                           "status": "too-few-observed"}
+                else:
+                    f = fit_lognormal(values, censored)
+                    fit = {"median": f.median, "beta": f.beta, "n": f.n,
+                           "n_censored": f.n_censored, "status": f.status}
+                out.append({"motions": group_name, **dict(zip(keys, key, strict=True)),
+                            "measure": measure, "unit": unit, **fit})
+    return pd.DataFrame(out)
+
+
+def _samples(cell, own: np.ndarray, crit: np.ndarray, upper: float | None,
+             tan_alpha: float) -> tuple[np.ndarray, np.ndarray]:
+    """Critical values, and for motions not reached the censoring value: the measure of
+    the record scaled to the search bound (PGA = upper·g·tan α). Failed analyses are left
+    out: they say nothing about the intensity."""
+    reached = np.isfinite(crit) & ~cell["failed"].to_numpy()
+    values, censored = list(crit[reached]), [False] * int(reached.sum())
+    if upper is not None:
+        lost = cell["not_reached"].to_numpy() & ~cell["failed"].to_numpy()
+        bound_scale = upper * tan_alpha / cell["pga_g"].to_numpy()[lost]
+        values += list(bound_scale * own[lost])
+        censored += [True] * int(lost.sum())
+    return np.asarray(values, dtype=float), np.asarray(censored, dtype=bool)
+
+
+def _headers(columns: Sequence[str], measures: Sequence[str]) -> dict[str, str]:
+    units = {k: u for k, (u, _) in RECORD_COLUMNS.items()}
+    for m in measures:
+        for critical in (False, True):
+            name, unit = measure_column(m, critical)
+            units[name] = unit
+    units["median"] = ""  # its unit is the row's
+    return {c: f"{c} [{units[c]}]" if units.get(c) else c for c in columns}
+
+
+def write_record_tables(store_path: str | Path, motions_path: str | Path,
+                        measures: Sequence[str], records_csv: str | Path,
+                        fragility_csv: str | Path) -> tuple[int, int]:
+    """Write ``records.csv`` (the recorded motions) and ``suite_fragility.csv``.
+
+    Parameters
+    ----------
+    store_path : str or Path
+        A finished spectra store.
+    motions_path : str or Path
+        Its ensemble file.
+    measures : sequence of str
+        The study's intensity measures (``studies.<name>.intensity_measures``).
+    records_csv, fragility_csv : str or Path
+        Output files (floats at :data:`rocking.units.CSV_FLOAT_FORMAT`).
+
+    Returns
+    -------
+    (int, int)
+        Rows written to each file.
+    """
+    import xarray as xr
+
+    from ..motions.ensemble_io import load_ensemble
+    from ..spectra.fragility import censoring_bound
+    from ..units import CSV_FLOAT_FORMAT
+
+    motions = load_ensemble(motions_path)
+    with xr.open_zarr(store_path, consolidated=True) as store:
+        table = record_table(store, motions, measures, kinds=("record", "synthetic"))
+        upper = censoring_bound(store)
+    records = table[table["kind"] == "record"].drop(columns=["kind"])
+    fragility = suite_fragility(table, measures, upper)
+    records.rename(columns=_headers(records.columns, measures)).to_csv(
+        records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
+    fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
+    return len(records), len(fragility)
+
+

@@ -1,0 +1,39 @@
+# The per-record table of a study (its recorded motions: PGA as recorded and processed, PGV,
+# Sa(T), and per mode, tan α, limit state and R the critical PGA, the scale factor to exceed
+# it, whether the record survives as recorded) and the lognormal fragility over the suite in
+# each of the study's intensity measures (recorded motions; synthetic pairs separately).
+# rocking.study.records does the work.
+
+
+def records_targets():
+    """The per-record table and the suite's fragility of every study."""
+    return [f"results/{study}/{name}" for study in config["studies"]
+            for name in ("records.csv", "suite_fragility.csv")]
+
+
+rule records_table:
+    input:
+        complete=rules.spectra.output.done,
+        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
+    output:
+        records=report(
+            "results/{study}/records.csv",
+            caption="../report/records_table.rst",
+            category="Records",
+            labels={"study": "{study}", "table": "per-record answers"},
+        ),
+        fragility=report(
+            "results/{study}/suite_fragility.csv",
+            caption="../report/records_table.rst",
+            category="Records",
+            labels={"study": "{study}", "table": "fragility over the suite"},
+        ),
+    params:
+        store=lambda wildcards: spectra_store(wildcards.study),
+        measures=lambda wildcards: list(study_spec(wildcards.study).intensity_measures),
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        "logs/{study}/records_table.log",
+    script:
+        "../scripts/records_table.py"

@@ -1,0 +1,29 @@
+"""The per-record table and the suite's fragility of a study: records.csv, suite_fragility.csv.
+
+rocking.study.records.write_record_tables does the work; this script checks the store first.
+"""
+
+from rocking.study.integrity import verify_store
+from rocking.study.logs import log_to
+from rocking.study.records import write_record_tables
+from rocking.study.store import REPAIR
+
+
+def main(snakemake):
+    store = snakemake.params.store
+    with log_to(snakemake.log[0]):
+        # a damaged chunk is named with the remedy, never tabulated
+        damaged = verify_store(store, say=print, repair=False)
+        if damaged:
+            raise ValueError(f"store {store!r}: {len(damaged)} damaged chunks {damaged}; "
+                             f"{REPAIR}")
+        n_rows, n_fits = write_record_tables(store, snakemake.input.motions,
+                                             snakemake.params.measures,
+                                             snakemake.output.records,
+                                             snakemake.output.fragility)
+        print(f"wrote {snakemake.output.records} ({n_rows} rows) and "
+              f"{snakemake.output.fragility} ({n_fits} fits)", flush=True)
+
+
+if __name__ == "__main__":
+    main(snakemake)
