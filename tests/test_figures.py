@@ -633,7 +633,7 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
            "-d", str(wd), "--configfile", str(config), "--cores", "2",
            "--rerun-triggers", "mtime", "--allowed-rules", *mine]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-    logs = "\n".join(p.read_text() for p in (wd / "logs").rglob("*.log"))
+    logs = "\n".join(p.read_text() for p in (wd / "results/logs").rglob("*.log"))
     assert proc.returncode == 0, proc.stderr[-4000:] + logs[-4000:]
     out = wd / "results/figures"
     for stem in ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",

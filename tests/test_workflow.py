@@ -163,7 +163,7 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
         np.testing.assert_array_equal(tm["theta_max_over_alpha"].sel(mode=model).values,
                                       want["theta_max_over_alpha"].values)
     # the log shows the dashboard and the progress; the summary says where it ran
-    log = (reference / f"logs/{STUDY}/spectra.log").read_text()
+    log = (reference / f"results/logs/{STUDY}/spectra.log").read_text()
     assert "dashboard: http://127.0.0.1:" in log and "8/8 chunks done" in log
     summary = json.loads((reference / f"results/{STUDY}/spectra.done.json").read_text())
     assert summary["cluster"] == "local" and summary["computed"] == 8
@@ -271,7 +271,7 @@ def test_forcerun_spectra_repairs_damaged_chunks_to_identical_bytes(reference, t
     assert summary["damaged"] == 3 and summary["computed"] == 3
     assert _chunk_files(store) == _chunk_files(reference / SPECTRA)
     assert store_bytes(store) == store_bytes(reference / SPECTRA)
-    log = (work / f"logs/{STUDY}/spectra.log").read_text()
+    log = (work / f"results/logs/{STUDY}/spectra.log").read_text()
     assert len(re.findall(r"chunk \d+ damaged, ", log)) == 3 and "unreadable" in log
     assert (work / f"results/{STUDY}/mean_spectra.csv").read_text() == \
         (reference / f"results/{STUDY}/mean_spectra.csv").read_text()
@@ -390,10 +390,10 @@ def test_progress_and_dashboard_reach_the_terminal(reference):
     assert re.search(r"embedded Dask LocalCluster: 2 worker processes.*dashboard: "
                      r"http://127\.0\.0\.1:\d+", err)
     assert "motions tiny: wrote 2 motions" in err
-    log = (reference / f"logs/{STUDY}/spectra.log").read_text()
+    log = (reference / f"results/logs/{STUDY}/spectra.log").read_text()
     assert "spectra tiny: 8/8 points done (100 %)" in log and "dashboard: http://" in log
     # quiet logs: no scipy mmap warning from reading the ensemble file
-    for path in (reference / "logs").rglob("*.log"):
+    for path in (reference / "results/logs").rglob("*.log"):
         assert "Cannot close a netcdf_file" not in path.read_text(), path
 
 

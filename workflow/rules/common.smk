@@ -2,11 +2,23 @@
 # rocking.study.spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
 # functions of `config`; no work happens here.
 
+import posixpath
 import re
 from functools import cache
 
 from rocking.study.spec import Damping, EnsembleSpec, StudySpec
 from snakemake.exceptions import WorkflowError
+
+
+OUTPUT = posixpath.normpath(config["output"])
+"""The output root (config key ``output``, default ``results``): every file a rule writes,
+its log included, lies under it, so two configurations with different roots never share one."""
+
+
+def out_path(path):
+    """``path`` (relative, may hold wildcards) under the output root: the one place paths of
+    outputs and logs are made."""
+    return posixpath.join(OUTPUT, path)
 
 
 def study_config(study):
@@ -95,7 +107,7 @@ def compute_threads():
         return 1
 
 
-NUMBA_CACHE = "results/numba_cache.json"
+NUMBA_CACHE = out_path("numba_cache.json")
 """Marker of the numba_cache step (the kernels compiled into numba's on-disk cache)."""
 
 
@@ -103,15 +115,15 @@ NUMBA_CACHE = "results/numba_cache.json"
 # spectra.smk); other rules take the rule's completion marker as input and the store path as
 # a parameter. Everything else is named by the rule that writes it (rules.<name>.output).
 def spectra_store(study):
-    return f"results/{study}/spectra.zarr"
+    return out_path(f"{study}/spectra.zarr")
 
 
 def tilt_map_store(study):
-    return f"results/{study}/tilt_map.zarr"
+    return out_path(f"{study}/tilt_map.zarr")
 
 
 def stripes_store(study):
-    return f"results/{study}/stripes.zarr"
+    return out_path(f"{study}/stripes.zarr")
 
 
 def spectra_complete(study):
@@ -126,7 +138,8 @@ def mean_spectra(study):
     return expand(rules.mean_spectra.output.nc, study=study)[0]
 
 
-RUN_CONFIG = "results/config.yaml"  # this run's configuration, defaults filled in (report)
+# this run's configuration, defaults filled in (report)
+RUN_CONFIG = out_path("config.yaml")
 
 
 def all_targets():
@@ -145,8 +158,8 @@ def stripe_targets():
     out = []
     for study in config["studies"]:
         if has_stripes(study):
-            out.append(f"results/{study}/stripe_fragility.csv")
-            out += [f"results/{study}/figures/stripe_fragility_{mode}.{ext}"
+            out.append(out_path(f"{study}/stripe_fragility.csv"))
+            out += [out_path(f"{study}/figures/stripe_fragility_{mode}.{ext}")
                     for mode in study_spec(study).stripes.modes
                     for ext in ("png", "pdf", "json")]
     return out

@@ -6,7 +6,7 @@
 
 from rocking.study.figures.captions import caption
 
-FIGURES_DIR = "results/figures"
+FIGURES_DIR = out_path("figures")
 FIG04_DURATION = 15.0  # [s]: six quasi-impacts of the quasi-rocking case (Eq 32 needs five)
 
 
@@ -48,7 +48,7 @@ def study_figure_stems(study):
     names = study_plan(study).figures()
     if has_tilt_map(study):
         names.insert(0, "fig07_tilt_map")
-    return [f"results/{study}/figures/{n}" for n in names]
+    return [out_path(f"{study}/figures/{n}") for n in names]
 
 
 def report_figures(study):
@@ -93,9 +93,8 @@ def figure_targets():
     targets = [f for s in global_figure_stems() for f in figure_files(s)]
     for study in config["studies"]:
         targets += [f for s in study_figure_stems(study) for f in figure_files(s)]
-        targets += [f"results/{study}/fragility.nc", f"results/{study}/fragility.csv",
-                    f"results/{study}/linear_fit.nc", f"results/{study}/linear_fit.csv",
-                    f"results/{study}/report.html"]
+        targets += [out_path(f"{study}/{name}") for name in (
+            "fragility.nc", "fragility.csv", "linear_fit.nc", "linear_fit.csv", "report.html")]
     return targets
 
 

@@ -7,14 +7,14 @@
 
 rule motions:
     output:
-        motions="results/motions/{ensemble}.nc",
-        params="results/motions/{ensemble}.json",
-        comparison="results/motions/{ensemble}.compare.nc",
+        motions=out_path("motions/{ensemble}.nc"),
+        params=out_path("motions/{ensemble}.json"),
+        comparison=out_path("motions/{ensemble}.compare.nc"),
     params:
         spec=lambda wildcards: ensemble_spec(wildcards.ensemble),
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/motions/{ensemble}.log",
+        out_path("logs/motions/{ensemble}.log"),
     script:
         "../scripts/motions.py"

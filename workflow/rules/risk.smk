@@ -14,10 +14,10 @@ rule risk:
         fragility=rules.fragility_curves.output.fragility_csv,
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
     output:
-        nrml="results/{study}/fragility.nrml.xml",
-        pelicun="results/{study}/fragility.pelicun.csv",
-        table="results/{study}/risk.csv",
-        **_figure_output("results/{study}/figures/risk", "Beyond the paper", figure="risk",
+        nrml=out_path("{study}/fragility.nrml.xml"),
+        pelicun=out_path("{study}/fragility.pelicun.csv"),
+        table=out_path("{study}/risk.csv"),
+        **_figure_output(out_path("{study}/figures/risk"), "Beyond the paper", figure="risk",
                          study="{study}"),
     params:
         caption=RISK_CAPTION,
@@ -25,6 +25,6 @@ rule risk:
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
     log:
-        "logs/{study}/risk.log",
+        out_path("logs/{study}/risk.log"),
     script:
         "../scripts/risk.py"

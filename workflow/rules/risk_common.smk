@@ -41,9 +41,9 @@ def risk_targets():
     """Exports, risk table and figure of every study with a hazard."""
     out = []
     for s in risk_studies():
-        out += [f"results/{s}/fragility.nrml.xml", f"results/{s}/fragility.pelicun.csv",
-                f"results/{s}/risk.csv"]
-        out += figure_files(f"results/{s}/figures/risk")
+        out += [out_path(f"{s}/{name}") for name in (
+            "fragility.nrml.xml", "fragility.pelicun.csv", "risk.csv")]
+        out += figure_files(out_path(f"{s}/figures/risk"))
     return out
 
 

@@ -10,6 +10,6 @@ rule run_config:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/run_config.log",
+        out_path("logs/run_config.log"),
     script:
         "../scripts/run_config.py"

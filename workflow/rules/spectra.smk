@@ -16,7 +16,7 @@ rule numba_cache:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/numba_cache.log",
+        out_path("logs/numba_cache.log"),
     script:
         "../scripts/numba_cache.py"
 
@@ -26,7 +26,7 @@ rule spectra:
         numba=ancient(rules.numba_cache.output[0]),
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
-        done="results/{study}/spectra.done.json",
+        done=out_path("{study}/spectra.done.json"),
     params:
         kind="spectra",
         store=lambda wildcards: spectra_store(wildcards.study),
@@ -40,6 +40,6 @@ rule spectra:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/spectra.log",
+        out_path("logs/{study}/spectra.log"),
     script:
         "../scripts/compute_store.py"

@@ -8,7 +8,7 @@ rule tilt_map:
         numba=ancient(rules.numba_cache.output[0]),
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
-        done="results/{study}/tilt_map.done.json",
+        done=out_path("{study}/tilt_map.done.json"),
     params:
         kind="tilt_map",
         store=lambda wildcards: tilt_map_store(wildcards.study),
@@ -18,6 +18,6 @@ rule tilt_map:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/tilt_map.log",
+        out_path("logs/{study}/tilt_map.log"),
     script:
         "../scripts/compute_store.py"
