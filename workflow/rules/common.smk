@@ -6,6 +6,7 @@ import posixpath
 import re
 from functools import cache
 
+from rocking.study.prepare import keyed
 from rocking.study.spec import Damping, EnsembleSpec, StudySpec
 from snakemake.exceptions import WorkflowError
 
@@ -34,8 +35,25 @@ def ensemble_spec(name):
     return EnsembleSpec.from_config(config, name).settings()
 
 
+def ensemble_files(name, kind="motions"):
+    """The file ``kind`` (motions, params, comparison) of ensemble ``name``, keyed by the
+    digest of its settings."""
+    digest = EnsembleSpec.from_config(config, name).digest
+    return expand(getattr(rules.motions.output, kind), ensemble=name, digest=digest)[0]
+
+
 def ensemble_file(name):
-    return expand(rules.motions.output.motions, ensemble=name)[0]
+    return ensemble_files(name)
+
+
+def planned_ensemble(name, digest):
+    """The settings of ensemble ``name``, if ``digest`` is theirs (a file asked for by name
+    with another digest belongs to other settings: it is not made from these)."""
+    spec = EnsembleSpec.from_config(config, name)
+    if spec.digest != digest:
+        raise WorkflowError(f"ensembles.{name}: the settings of this configuration hash to "
+                            f"{spec.digest}, not {digest}")
+    return spec.settings()
 
 
 @cache
@@ -114,16 +132,18 @@ NUMBA_CACHE = out_path("numba_cache.json")
 # The stores are prepared and filled by their compute rule and are not Snakemake outputs (see
 # spectra.smk); other rules take the rule's completion marker as input and the store path as
 # a parameter. Everything else is named by the rule that writes it (rules.<name>.output).
+# A store's name holds the digest of what decides its numbers (rocking.study.prepare.keyed):
+# a changed setting adds a store, changing it back finds the earlier one.
 def spectra_store(study):
-    return out_path(f"{study}/spectra.zarr")
+    return str(keyed(out_path(f"{study}/spectra.zarr"), spectra_hash(study)))
 
 
 def tilt_map_store(study):
-    return out_path(f"{study}/tilt_map.zarr")
+    return str(keyed(out_path(f"{study}/tilt_map.zarr"), tilt_map_hash(study)))
 
 
 def stripes_store(study):
-    return out_path(f"{study}/stripes.zarr")
+    return str(keyed(out_path(f"{study}/stripes.zarr"), stripes_hash(study)))
 
 
 def spectra_complete(study):
@@ -183,3 +203,4 @@ _check_config()
 wildcard_constraints:
     study="|".join(map(re.escape, config["studies"])),
     ensemble="|".join(map(re.escape, config["ensembles"])),
+    digest="[0-9a-f]{16}",

@@ -95,8 +95,8 @@ rule fig08_motions:
     conda:
         "../envs/rocking.yaml"
     input:
-        motions=rules.motions.output.motions,
-        comparison=rules.motions.output.comparison,
+        motions=lambda wildcards: ensemble_files(wildcards.ensemble),
+        comparison=lambda wildcards: ensemble_files(wildcards.ensemble, "comparison"),
     output:
         **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
                          figure="Fig 8", ensemble="{ensemble}"),

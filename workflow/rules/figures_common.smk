@@ -62,7 +62,7 @@ def report_figures(study):
 def report_run_files(study):
     """What the report's "what was run" section reads: the completion summaries and the
     ensemble parameters of every study (Fig 12 uses them all)."""
-    files = {"ensembles": expand(rules.motions.output.params, ensemble=study_ensembles()),
+    files = {"ensembles": [ensemble_files(e, "params") for e in study_ensembles()],
              "done": [spectra_complete(s) for s in config["studies"]]}
     if has_tilt_map(study):
         files["done"].append(tilt_map_complete(study))

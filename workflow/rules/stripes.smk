@@ -12,7 +12,6 @@ rule stripes:
         done=out_path("{study}/stripes.done.json"),
     params:
         store=lambda wildcards: stripes_store(wildcards.study),
-        spec=lambda wildcards: stripes_spec(wildcards.study),
         config_hash=lambda wildcards: stripes_hash(wildcards.study),
     threads: compute_threads()
     conda:

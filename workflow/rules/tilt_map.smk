@@ -12,7 +12,6 @@ rule tilt_map:
     params:
         kind="tilt_map",
         store=lambda wildcards: tilt_map_store(wildcards.study),
-        spec=lambda wildcards: tilt_map_spec(wildcards.study),
         config_hash=lambda wildcards: tilt_map_hash(wildcards.study),
     threads: compute_threads()
     conda:

@@ -295,6 +295,12 @@ class EnsembleSpec:
         return cls(name, e["record"], None if paths is None else tuple(paths), e["n_synthetic"],
                    e["seed"], e["mw"], e["rotation_deg"], e["fit_method"], max_duration)
 
+    @property
+    def digest(self) -> str:
+        """Short sha256 of :meth:`to_attrs`: the key of the ensemble file
+        (``<root>/motions/<name>-<digest>.nc``), so another setting is another file."""
+        return config_hash(self.to_attrs())
+
     def settings(self) -> dict[str, Any]:
         """What the motions rule is given: every field but the name."""
         return {k: v for k, v in self.to_attrs().items() if k != "name"}
