@@ -7,7 +7,7 @@ import re
 from functools import cache
 
 from rocking.study.prepare import keyed
-from rocking.study.spec import Damping, EnsembleSpec, StudySpec
+from rocking.study.spec import Damping, EnsembleSpec, StudySpec, config_hash
 from snakemake.exceptions import WorkflowError
 
 

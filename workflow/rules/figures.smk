@@ -43,14 +43,14 @@ rule fig06_theta_max_sensitivity:
     input:
         numba=ancient(NUMBA_CACHE),
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig06_theta_max_sensitivity", "Paper figures",
+        **_figure_output(global_stem("fig06_theta_max_sensitivity"), "Paper figures",
                          figure="Fig 6 (companion)"),
     params:
         caption=lambda wildcards: caption("fig06_theta_max_sensitivity"),
         spec=lambda wildcards: ensemble_spec(el_centro_ensemble()),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
-        out_path("logs/figures/fig06_theta_max_sensitivity.log"),
+        global_log("fig06_theta_max_sensitivity"),
     script:
         "../scripts/fig06_theta_max_sensitivity.py"
 
@@ -63,12 +63,12 @@ rule fig06_el_centro:
         sensitivity=rules.fig06_theta_max_sensitivity.output.notes,
         numba=ancient(NUMBA_CACHE),
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig06_el_centro", "Paper figures", figure="Fig 6"),
+        **_figure_output(global_stem("fig06_el_centro"), "Paper figures", figure="Fig 6"),
     params:
         caption=lambda wildcards: caption("fig06_el_centro"),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
-        out_path("logs/figures/fig06_el_centro.log"),
+        global_log("fig06_el_centro"),
     script:
         "../scripts/fig06_el_centro.py"
 
@@ -169,13 +169,13 @@ rule fig12_2d_vs_3d:
         complete=[spectra_complete(s) for s in config["studies"]],
         motions=[study_motions(s) for s in config["studies"]],
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig12_2d_vs_3d", "Paper figures", figure="Fig 12"),
+        **_figure_output(global_stem("fig12_2d_vs_3d"), "Paper figures", figure="Fig 12"),
     params:
         caption=lambda wildcards: caption("fig12_2d_vs_3d"),
         studies=list(config["studies"]),
         stores=[spectra_store(s) for s in config["studies"]],
     log:
-        out_path("logs/figures/fig12_2d_vs_3d.log"),
+        global_log("fig12_2d_vs_3d"),
     script:
         "../scripts/fig12_2d_vs_3d.py"
 

@@ -1,7 +1,8 @@
 # The paper's figures, the fragility curves and the HTML report: paths and helpers.
-# Figures that need no study (Figs 3, 4, 6, 8, 12) go to results/figures/, the others to
-# results/<study>/figures/; every figure is a PNG, a PDF and a JSON sidecar of the numbers it
-# measured, which results/<study>/report.html sets against the paper's. A figure's name is its
+# Figures not tied to one study (Figs 3, 4, 6, 8, 12) go to <root>/figures/ (named by
+# global_stem), the others to <root>/<study>/figures/; every figure is a PNG, a PDF and a JSON
+# sidecar of the numbers it measured, which <root>/<study>/report.html sets against the
+# paper's. A figure's name is its
 # module in rocking.study.figures, its rule, its script and its caption key.
 
 from rocking.study.figures.captions import caption
@@ -34,12 +35,30 @@ def study_motions(study):
     return ensemble_file(ensemble_of(study))
 
 
+def global_stem(name):
+    """The stem of a figure not tied to one study, named after what it is drawn from (as
+    Fig 8 after its ensemble), so that configurations sharing an output root but not their
+    study and ensemble names never write the same file: Fig 6 after its El Centro ensemble,
+    Fig 12 after the studies it sets side by side; Figs 3 and 4 after nothing (they depend on
+    no study: only Fig 4 on the `damped` parameters)."""
+    if name.startswith("fig06_"):
+        return f"{FIGURES_DIR}/{name}_{el_centro_ensemble()}"
+    if name == "fig12_2d_vs_3d":
+        return f"{FIGURES_DIR}/{name}_{'+'.join(config['studies'])}"
+    return f"{FIGURES_DIR}/{name}"
+
+
+def global_log(name):
+    """The log of the figure ``name`` not tied to one study."""
+    return out_path(f"logs/figures/{posixpath.basename(global_stem(name))}.log")
+
+
 def global_figure_stems():
-    stems = [f"{FIGURES_DIR}/fig03_wobbling_period", f"{FIGURES_DIR}/fig04_free_vibration"]
+    stems = [global_stem("fig03_wobbling_period"), global_stem("fig04_free_vibration")]
     if el_centro_ensemble() is not None:
-        stems += [f"{FIGURES_DIR}/fig06_el_centro", f"{FIGURES_DIR}/fig06_theta_max_sensitivity"]
+        stems += [global_stem("fig06_el_centro"), global_stem("fig06_theta_max_sensitivity")]
     stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in study_ensembles()]
-    stems.append(f"{FIGURES_DIR}/fig12_2d_vs_3d")
+    stems.append(global_stem("fig12_2d_vs_3d"))
     return stems
 
 
