@@ -13,6 +13,7 @@ from pathlib import Path
 
 import figures_synthetic as fs
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 import yaml
@@ -594,7 +595,7 @@ def test_fig08_traces_spectra_and_fit_quality():
 # ---------------------------------------------------------------- the Snakemake rules
 
 
-def _workdir(tmp_path: Path) -> tuple[Path, Path]:
+def _workdir(tmp_path: Path) -> tuple[Path, Path, dict[str, Path]]:
     """A work directory whose results/ holds the upstream products of a tiny study."""
     wd = tmp_path / "wd"
     paths = fs.write_study(wd / "results/synth", with_motions=False)
@@ -628,17 +629,18 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path]:
     config = tmp_path / "config.yaml"
     config.write_text(yaml.safe_dump(cfg))
     assert paths["store"].exists()
-    return wd, config
+    return wd, config, paths
 
 
 @pytest.mark.slow
 def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
-    wd, config = _workdir(tmp_path)
+    wd, config, paths = _workdir(tmp_path)
     # numba_cache: the figures that run analyses load the kernels it compiled
-    mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache"]
+    mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache", "run_config"]
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
-    cmd = [snakemake or "snakemake", "results/synth/report.html", "-s", str(ROOT / "Snakefile"),
+    cmd = [snakemake or "snakemake", "results/synth/report.html", "results/config.yaml",
+           "-s", str(ROOT / "Snakefile"),
            "-d", str(wd), "--configfile", str(config), "--cores", "2",
            "--rerun-triggers", "mtime", "--allowed-rules", *mine]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
@@ -665,6 +667,28 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
+    # the gallery of this run: found by the digests of its configuration, the ensemble's
+    # parameters under their unkeyed name as in the committed gallery
+    import zarr
+
+    zarr.consolidate_metadata(str(paths["store"]))  # as a finished store of the workflow
+    gallery = _gallery_module()
+    run_config = yaml.safe_load((wd / "results/config.yaml").read_text())
+    files = gallery.collect(wd / "results", tmp_path / "gallery", run_config)
+    names = {str(f.relative_to(tmp_path / "gallery")) for f in files}
+    assert {"motions/elcentro.json", "synth/critical.csv", "synth/report.html",
+            "figures/fig12_2d_vs_3d_synth.png", "config.yaml"} <= names
+    critical = pd.read_csv(tmp_path / "gallery/synth/critical.csv")
+    assert len(critical) == xr.open_zarr(paths["store"]).pga_crit.size
+
+
+def _gallery_module():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("gallery", ROOT / "workflow/gallery.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 # ---------------------------------------------------------------- one look across figures

@@ -26,7 +26,9 @@ import yaml
 from rocking import __version__
 from rocking.study.aggregate import critical_frame
 from rocking.study.figures.captions import CAPTIONS
+from rocking.study.prepare import keyed
 from rocking.study.report import link_images, relink_docs
+from rocking.study.spec import EnsembleSpec, StudySpec
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 OPTIONAL_FILES = ("stripe_fragility.csv", "risk.csv", "fragility.nrml.xml",
@@ -49,16 +51,25 @@ def _copy(src: Path, dst: Path) -> None:
     shutil.copy2(src, dst)
 
 
-def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
-    """Copy the gallery files of ``studies`` from ``results`` to ``out``; return them."""
+def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
+    """Copy the gallery files of the run configured by ``run_config`` (its ``config.yaml``)
+    from ``results`` (the run's output root) to ``out``; return them.
+
+    The run's files are found by the digests of its configuration (another configuration
+    writing to the same root leaves files of other digests beside them): each ensemble's
+    parameters ``motions/<name>-<digest>.json`` are copied as ``motions/<name>.json``, each
+    study's answers are read from its ``spectra-<digest>.zarr``.
+    """
     copied = []
     for f in sorted((results / "figures").glob("*")):
         if f.suffix in (".png", ".json"):
             _copy(f, out / "figures" / f.name)
             copied.append(out / "figures" / f.name)
-    for f in sorted((results / "motions").glob("*.json")):
-        _copy(f, out / "motions" / f.name)
-        copied.append(out / "motions" / f.name)
+    studies = list(run_config["studies"])
+    for name in dict.fromkeys(run_config["studies"][s]["ensemble"] for s in studies):
+        digest = EnsembleSpec.from_config(run_config, name).digest
+        _copy(results / "motions" / f"{name}-{digest}.json", out / "motions" / f"{name}.json")
+        copied.append(out / "motions" / f"{name}.json")
     for study in studies:
         src, dst = results / study, out / study
         for f in sorted((src / "figures").glob("*")):
@@ -72,7 +83,8 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
             if (src / name).exists():
                 _copy(src / name, dst / name)
                 copied.append(dst / name)
-        write_critical(src / "spectra.zarr", dst / CRITICAL)
+        digest = StudySpec.from_config(run_config, study).spectra.digest
+        write_critical(keyed(src / "spectra.zarr", digest), dst / CRITICAL)
         copied.append(dst / CRITICAL)
         page = (src / "report.html").read_text()
         # study figures live in <study>/figures/, the others in ../figures/
@@ -172,7 +184,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python workflow/gallery.py", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--results", type=Path, default=Path("results"),
-                        help="folder the run wrote (default: results)")
+                        help="the run's output root, its config key `output` "
+                             "(default: results)")
     parser.add_argument("--out", type=Path, default=Path("results/paper"),
                         help="gallery folder (default: results/paper)")
     parser.add_argument("--elapsed", type=float, required=True,
@@ -186,7 +199,7 @@ def main(argv: list[str] | None = None) -> int:
     studies = list(run_config["studies"])
     if args.out.exists():
         shutil.rmtree(args.out)
-    files = collect(args.results, args.out, studies)
+    files = collect(args.results, args.out, run_config)
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                             check=False).stdout.strip() or None
     manifest = {"command": args.command, "elapsed_seconds": args.elapsed,
