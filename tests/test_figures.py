@@ -639,7 +639,7 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache", "run_config"]
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
-    cmd = [snakemake or "snakemake", "results/synth/report.html", "results/config.yaml",
+    cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",
            "-s", str(ROOT / "Snakefile"),
            "-d", str(wd), "--configfile", str(config), "--cores", "2",
            "--rerun-triggers", "mtime", "--allowed-rules", *mine]
@@ -673,7 +673,7 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
 
     zarr.consolidate_metadata(str(paths["store"]))  # as a finished store of the workflow
     gallery = _gallery_module()
-    run_config = yaml.safe_load((wd / "results/config.yaml").read_text())
+    run_config = yaml.safe_load((wd / "results/synth/config.yaml").read_text())
     files = gallery.collect(wd / "results", tmp_path / "gallery", run_config)
     names = {str(f.relative_to(tmp_path / "gallery")) for f in files}
     assert {"motions/elcentro.json", "synth/critical.csv", "synth/report.html",

@@ -1,7 +1,8 @@
 """Copy a finished study run into the committed gallery (``results/paper/``).
 
     snakemake --cores 2 --configfile config/paper.yaml
-    python workflow/gallery.py --elapsed 842 --command "snakemake --cores 2 --configfile ..."
+    python workflow/gallery.py --configfile config/paper.yaml --elapsed 842 \
+        --command "snakemake --cores 2 --configfile config/paper.yaml"
 
 The gallery keeps what a reader needs to hold the run against the paper without running
 anything: every figure (PNG and its JSON sidecar of measured numbers), each study's report
@@ -94,7 +95,7 @@ def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
         page = relink_docs(page, dst)  # the derivations cited, from the page's new folder
         (dst / "report.html").write_text(page)
         copied.append(dst / "report.html")
-    (out / "config.yaml").write_text((results / "config.yaml").read_text())
+    (out / "config.yaml").write_text((results / studies[0] / "config.yaml").read_text())
     copied.append(out / "config.yaml")
     return copied
 
@@ -183,9 +184,9 @@ def readme(manifest: dict, out: Path) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python workflow/gallery.py", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--results", type=Path, default=Path("results"),
-                        help="the run's output root, its config key `output` "
-                             "(default: results)")
+    parser.add_argument("--configfile", type=Path, default=Path("config/paper.yaml"),
+                        help="the configuration the run was given (default: "
+                             "config/paper.yaml); its `output` is the folder read")
     parser.add_argument("--out", type=Path, default=Path("results/paper"),
                         help="gallery folder (default: results/paper)")
     parser.add_argument("--elapsed", type=float, required=True,
@@ -195,11 +196,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--machine", default=f"{os.cpu_count()} cores",
                         help="where it ran (cores, load)")
     args = parser.parse_args(argv)
-    run_config = yaml.safe_load((args.results / "config.yaml").read_text())
-    studies = list(run_config["studies"])
+    given = yaml.safe_load(args.configfile.read_text())
+    results = Path(given.get("output", "results"))
+    studies = list(given["studies"])
+    # the run's own record of its configuration, defaults filled in (every study has one)
+    run_config = yaml.safe_load((results / studies[0] / "config.yaml").read_text())
     if args.out.exists():
         shutil.rmtree(args.out)
-    files = collect(args.results, args.out, run_config)
+    files = collect(results, args.out, run_config)
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                             check=False).stdout.strip() or None
     manifest = {"command": args.command, "elapsed_seconds": args.elapsed,

@@ -158,18 +158,19 @@ def mean_spectra(study):
     return expand(rules.mean_spectra.output.nc, study=study)[0]
 
 
-# this run's configuration, defaults filled in (report)
-RUN_CONFIG = out_path("config.yaml")
+def run_config_file(study):
+    """This run's configuration, defaults filled in, in the study's folder (report)."""
+    return out_path(f"{study}/config.yaml")
 
 
 def all_targets():
     targets = []
     for study in config["studies"]:
         targets += expand(rules.mean_spectra.output, study=study)
+        targets.append(run_config_file(study))
         if has_tilt_map(study):
             targets.append(tilt_map_complete(study))
     targets += list(figure_targets())
-    targets.append(RUN_CONFIG)
     return targets
 
 
