@@ -1,7 +1,8 @@
 # Multiple-stripe fragility (beyond the paper): every motion of a study analysed once at each
-# stripe intensity, chunked on Dask into results/<study>/stripes.zarr (prepared and resumed
-# like the spectra store, spectra.smk; the output is the completion marker), then fitted and
-# set beside the first-exceedance fragility: stripe_fragility.csv and one figure per mode.
+# stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (prepared and
+# resumed like the spectra store, spectra.smk; the output is the completion marker), then
+# fitted and set beside the first-exceedance fragility: stripe_fragility.csv and one figure
+# per mode.
 
 
 rule stripes:

@@ -1,6 +1,7 @@
 # Fig 7 data: peak tilt over (mode, R, intensity) for one motion (default: the record),
-# computed by the same chunked Dask machinery into results/<study>/tilt_map.zarr, prepared
-# and resumed like the spectra store (spectra.smk); the output is the completion marker.
+# computed by the same chunked Dask machinery into <root>/<study>/tilt_map-<digest>.zarr,
+# prepared and resumed like the spectra store (spectra.smk); the output is the completion
+# marker.
 
 
 rule tilt_map:
