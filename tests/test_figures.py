@@ -13,6 +13,7 @@ from pathlib import Path
 
 import figures_synthetic as fs
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 import yaml
@@ -38,6 +39,8 @@ from rocking.study.figures import (
 )
 from rocking.study.figures._style import limit_state_title
 from rocking.study.figures.captions import CAPTIONS
+from rocking.study.prepare import keyed
+from rocking.study.spec import StudySpec
 
 ROOT = Path(__file__).parents[1]
 
@@ -592,19 +595,10 @@ def test_fig08_traces_spectra_and_fit_quality():
 # ---------------------------------------------------------------- the Snakemake rules
 
 
-def _workdir(tmp_path: Path) -> tuple[Path, Path]:
+def _workdir(tmp_path: Path) -> tuple[Path, Path, dict[str, Path]]:
     """A work directory whose results/ holds the upstream products of a tiny study."""
     wd = tmp_path / "wd"
     paths = fs.write_study(wd / "results/synth", with_motions=False)
-    fs.write_motions(wd / "results/motions/elcentro.nc")
-    fs.write_motions(wd / "results/motions/elcentro.compare.nc")
-    (wd / "results/motions/elcentro.json").write_text(json.dumps(
-        {"ensemble": "elcentro", "label": "synthetic record", "rotation_deg": -70.46,
-         "principal_offset_deg": 19.54, "highpass": {"kind": "oscillator", "fc_hz": 0.0946},
-         "n_synthetic": 1, "seed": 2017, "timings": {"fit_s": 1.0}}))
-    for name in ("spectra", "tilt_map"):
-        (wd / f"results/synth/{name}.done.json").write_text(json.dumps(
-            {"wall_seconds": 12.0, "chunks": 3, "computed": 3, "cluster": "local"}))
     cfg = {
         # the Fig 6 companion reads the El Centro record itself: 3 s of it keep this test short
         "motions": {"max_duration": 3.0},
@@ -616,28 +610,47 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path]:
             "tilt_map": {"R": [1.0, 2.0], "intensity": [1.0, 2.0]},
         }},
     }
+    # the stores and the ensemble files where the workflow looks: named after their digests
+    spec = StudySpec.from_config(cfg, "synth")
+    for name, part in (("spectra", spec.spectra), ("tilt_map", spec.tilt_map)):
+        store = wd / f"results/synth/{name}.zarr"
+        store.rename(keyed(store, part.digest))
+    paths["store"] = keyed(paths["store"], spec.spectra.digest)
+    stem = f"results/motions/elcentro-{spec.ensemble.digest}"
+    fs.write_motions(wd / f"{stem}.nc")
+    fs.write_motions(wd / f"{stem}.compare.nc")
+    (wd / f"{stem}.json").write_text(json.dumps(
+        {"ensemble": "elcentro", "label": "synthetic record", "rotation_deg": -70.46,
+         "principal_offset_deg": 19.54, "highpass": {"kind": "oscillator", "fc_hz": 0.0946},
+         "n_synthetic": 1, "seed": 2017, "timings": {"fit_s": 1.0}}))
+    for name in ("spectra", "tilt_map"):
+        (wd / f"results/synth/{name}.done.json").write_text(json.dumps(
+            {"wall_seconds": 12.0, "chunks": 3, "computed": 3, "cluster": "local"}))
     config = tmp_path / "config.yaml"
     config.write_text(yaml.safe_dump(cfg))
     assert paths["store"].exists()
-    return wd, config
+    return wd, config, paths
 
 
 @pytest.mark.slow
 def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
-    wd, config = _workdir(tmp_path)
+    wd, config, paths = _workdir(tmp_path)
     # numba_cache: the figures that run analyses load the kernels it compiled
-    mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache"]
+    mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache", "run_config"]
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
-    cmd = [snakemake or "snakemake", "results/synth/report.html", "-s", str(ROOT / "Snakefile"),
+    cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",
+           "-s", str(ROOT / "Snakefile"),
            "-d", str(wd), "--configfile", str(config), "--cores", "2",
            "--rerun-triggers", "mtime", "--allowed-rules", *mine]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
-    logs = "\n".join(p.read_text() for p in (wd / "logs").rglob("*.log"))
+    logs = "\n".join(p.read_text() for p in (wd / "results/logs").rglob("*.log"))
     assert proc.returncode == 0, proc.stderr[-4000:] + logs[-4000:]
     out = wd / "results/figures"
-    for stem in ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",
-                 "fig06_theta_max_sensitivity", "fig08_motions_elcentro", "fig12_2d_vs_3d"):
+    # figures not tied to one study: named after the ensemble or studies they are drawn from
+    for stem in ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro_elcentro",
+                 "fig06_theta_max_sensitivity_elcentro", "fig08_motions_elcentro",
+                 "fig12_2d_vs_3d_synth"):
         for suffix in (".png", ".pdf", ".json"):
             assert (out / f"{stem}{suffix}").stat().st_size > 0, stem + suffix
     for stem in ("fig07_tilt_map", "fig09_spectra", "fig10_goals", "fig11_slenderness",
@@ -647,13 +660,35 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     notes = json.loads((wd / "results/synth/figures/fig09_spectra.json").read_text())
     assert notes["measured"]["max_rel_diff_damped_tilt:0.3333"] == pytest.approx(0.05)
     assert "N19.5°W" in notes["axes"]["text"]
-    sens = json.loads((out / "fig06_theta_max_sensitivity.json").read_text())
+    sens = json.loads((out / "fig06_theta_max_sensitivity_elcentro.json").read_text())
     assert sens["measured"]["rotation_check"]["3d"] < 1e-6
     html = (wd / "results/synth/report.html").read_text()
     assert html.count("<figure") == 11
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
+    # the gallery of this run: found by the digests of its configuration, the ensemble's
+    # parameters under their unkeyed name as in the committed gallery
+    import zarr
+
+    zarr.consolidate_metadata(str(paths["store"]))  # as a finished store of the workflow
+    gallery = _gallery_module()
+    run_config = yaml.safe_load((wd / "results/synth/config.yaml").read_text())
+    files = gallery.collect(wd / "results", tmp_path / "gallery", run_config)
+    names = {str(f.relative_to(tmp_path / "gallery")) for f in files}
+    assert {"motions/elcentro.json", "synth/critical.csv", "synth/report.html",
+            "figures/fig12_2d_vs_3d_synth.png", "config.yaml"} <= names
+    critical = pd.read_csv(tmp_path / "gallery/synth/critical.csv")
+    assert len(critical) == xr.open_zarr(paths["store"]).pga_crit.size
+
+
+def _gallery_module():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("gallery", ROOT / "workflow/gallery.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 # ---------------------------------------------------------------- one look across figures

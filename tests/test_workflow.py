@@ -31,6 +31,7 @@ from rocking.dynamics.bodies import Cylinder
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.tilt_map import tilt_map
+from rocking.study.spec import EnsembleSpec, StudySpec
 from rocking.units import read_table
 
 pytestmark = pytest.mark.slow
@@ -58,8 +59,11 @@ TINY = {
     },
     "dask": {"progress_interval": 0},
 }
-SPECTRA = f"results/{STUDY}/spectra.zarr"
-TARGETS = [f"results/{STUDY}/mean_spectra.nc", f"results/{STUDY}/tilt_map.done.json"]
+SPECTRA = f"results/{STUDY}/spectra.zarr"  # the link to the latest keyed store
+MOTIONS = f"results/motions/tiny-{EnsembleSpec.from_config(TINY, 'tiny').digest}"
+"""The ensemble files' stem: named after the digest of the ensemble's settings."""
+TARGETS = [f"results/{STUDY}/mean_spectra.nc", f"results/{STUDY}/tilt_map.done.json",
+           f"results/{STUDY}/config.yaml"]
 
 
 def write_config(workdir: Path, **dask) -> Path:
@@ -95,8 +99,8 @@ def store_bytes(path: Path) -> dict[str, bytes]:
 def copy_motions(src: Path, dst: Path) -> None:
     """Reuse the reference run's ensemble file (its rule has no result-affecting change)."""
     (dst / "results/motions").mkdir(parents=True)
-    for name in ("tiny.nc", "tiny.json", "tiny.compare.nc"):
-        shutil.copy2(src / "results/motions" / name, dst / "results/motions" / name)
+    for suffix in (".nc", ".json", ".compare.nc"):
+        shutil.copy2(src / f"{MOTIONS}{suffix}", dst / f"{MOTIONS}{suffix}")
 
 
 @pytest.fixture(scope="module")
@@ -112,7 +116,7 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
     ds = xr.open_zarr(reference / SPECTRA, consolidated=True)
     attrs = {k: json.loads(v) if isinstance(v, str) and v[:1] in "{[" else v
              for k, v in ds.attrs.items()}
-    motions = {m.name: m for m in load_ensemble(reference / "results/motions/tiny.nc")}
+    motions = {m.name: m for m in load_ensemble(reference / f"{MOTIONS}.nc")}
     assert list(ds["motion"].values) == list(motions)  # the record first, then its pair
     assert bool(ds["done"].all())
     assert [str(s) for s in ds["limit_state"].values] == ["tilt:1/3", "overturning"]
@@ -163,7 +167,7 @@ def test_end_to_end_store_equals_direct_library_calls(reference):
         np.testing.assert_array_equal(tm["theta_max_over_alpha"].sel(mode=model).values,
                                       want["theta_max_over_alpha"].values)
     # the log shows the dashboard and the progress; the summary says where it ran
-    log = (reference / f"logs/{STUDY}/spectra.log").read_text()
+    log = (reference / f"results/logs/{STUDY}/spectra.log").read_text()
     assert "dashboard: http://127.0.0.1:" in log and "8/8 chunks done" in log
     summary = json.loads((reference / f"results/{STUDY}/spectra.done.json").read_text())
     assert summary["cluster"] == "local" and summary["computed"] == 8
@@ -271,7 +275,7 @@ def test_forcerun_spectra_repairs_damaged_chunks_to_identical_bytes(reference, t
     assert summary["damaged"] == 3 and summary["computed"] == 3
     assert _chunk_files(store) == _chunk_files(reference / SPECTRA)
     assert store_bytes(store) == store_bytes(reference / SPECTRA)
-    log = (work / f"logs/{STUDY}/spectra.log").read_text()
+    log = (work / f"results/logs/{STUDY}/spectra.log").read_text()
     assert len(re.findall(r"chunk \d+ damaged, ", log)) == 3 and "unreadable" in log
     assert (work / f"results/{STUDY}/mean_spectra.csv").read_text() == \
         (reference / f"results/{STUDY}/mean_spectra.csv").read_text()
@@ -374,6 +378,85 @@ def test_dask_settings_never_rerun_a_rule(reference, tmp_path):
     path.write_text(yaml.safe_dump(cfg))
     dry = snakemake(reference, "-n", *TARGETS, configfile=path)
     assert re.search(r"^spectra\s+1$", dry.stdout, re.MULTILINE), dry.stdout[-3000:]
+    # short "reason" lines: the parameters that changed are a store name and a hash
+    reasons = [line for line in dry.stdout.splitlines() if "Params have changed" in line]
+    assert reasons and max(map(len, reasons)) < 400, reasons
+    assert "spectra-" in " ".join(reasons) and "'runs'" not in " ".join(reasons)
+
+
+def _planned(workdir: Path, cfg: dict, name: str) -> set[str]:
+    """Every output and log file a dry run of the whole workflow plans for ``cfg``."""
+    path = workdir / f"{name}.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    dry = snakemake(workdir, "-n", configfile=path)
+    files = set()
+    for line in dry.stdout.splitlines():
+        m = re.match(r"^\s+(output|log): (.*)$", line)
+        if m:
+            files.update(f.strip() for f in m[2].split(", "))
+    assert files, dry.stdout[-2000:]
+    return files
+
+
+def test_two_configs_write_disjoint_outputs(tmp_path):
+    """Two output roots share no file; one root shared by studies and ensembles of other
+    names shares only what depends on no study (Figs 3 and 4, the compilation marker); an
+    ensemble name given other settings writes other motion files."""
+    a = {**json.loads(json.dumps(TINY)), "output": "results/a"}
+    b = {**json.loads(json.dumps(TINY)), "output": "results/b/"}
+    plan_a, plan_b = _planned(tmp_path, a, "a"), _planned(tmp_path, b, "b")
+    assert not plan_a & plan_b
+    assert all(f.startswith("results/a/") for f in plan_a)
+    assert all(f.startswith("results/b/") for f in plan_b)
+    # the same root, another study on another ensemble
+    c = json.loads(json.dumps(a))
+    c["ensembles"] = {"other": {**c["ensembles"]["tiny"], "n_synthetic": 2}}
+    c["studies"] = {"other": {**c["studies"][STUDY], "ensemble": "other"}}
+    plan_c = _planned(tmp_path, c, "c")
+    shared = {Path(f).name for f in plan_a & plan_c}
+    assert shared == {f"{stem}{suffix}" for stem in ("fig03_wobbling_period",
+                                                     "fig04_free_vibration")
+                      for suffix in (".png", ".pdf", ".json", ".log")} | \
+        {"numba_cache.json", "numba_cache.log"}, sorted(shared)
+    for f in plan_c - plan_a:
+        assert not f.startswith("results/a/tiny/")
+    # the same ensemble name with another seed: its own motion files, never the other's
+    d = json.loads(json.dumps(a))
+    d["ensembles"]["tiny"]["seed"] = 8
+    d["studies"] = {"seed8": d["studies"][STUDY]}
+    d["studies"]["seed8"]["ensemble"] = "tiny"
+    motions_a = {f for f in plan_a if "/motions/" in f}
+    motions_d = {f for f in _planned(tmp_path, d, "d") if "/motions/" in f}
+    assert len(motions_a) == len(motions_d) == 4 and not motions_a & motions_d
+
+
+def test_a_changed_setting_adds_a_store_and_changing_back_reuses_it(reference, tmp_path):
+    """A changed accuracy preset adds a store beside the first (kept byte for byte);
+    changing back finds the first store finished: nothing is computed again."""
+    work = tmp_path / "work"
+    shutil.copytree(reference, work, symlinks=True)
+    folder = work / "results" / STUDY
+    first = (work / SPECTRA).readlink()
+    before = store_bytes(folder / first)
+    target = f"results/{STUDY}/spectra.done.json"
+    cfg = json.loads(json.dumps(TINY))
+    cfg["accuracy"] = "default"
+    path = work / "default.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    snakemake(work, target, configfile=path)
+    second = (work / SPECTRA).readlink()
+    assert second != first
+    assert str(second) == f"spectra-{StudySpec.from_config(cfg, STUDY).spectra.digest}.zarr"
+    assert store_bytes(folder / first) == before  # the earlier store is kept, untouched
+    assert json.loads((work / target).read_text())["computed"] == 8
+    # back to the first configuration: resumed in its store, nothing computed
+    snakemake(work, *TARGETS, configfile=write_config(work))
+    summary = json.loads((work / target).read_text())
+    assert summary["store_state"] == "resumed" and summary["computed"] == 0
+    assert summary["done_before"] == 8
+    assert (work / SPECTRA).readlink() == first
+    assert (work / f"results/{STUDY}/mean_spectra.csv").read_text() == \
+        (reference / f"results/{STUDY}/mean_spectra.csv").read_text()
 
 
 def _no_nan(text):
@@ -390,10 +473,10 @@ def test_progress_and_dashboard_reach_the_terminal(reference):
     assert re.search(r"embedded Dask LocalCluster: 2 worker processes.*dashboard: "
                      r"http://127\.0\.0\.1:\d+", err)
     assert "motions tiny: wrote 2 motions" in err
-    log = (reference / f"logs/{STUDY}/spectra.log").read_text()
+    log = (reference / f"results/logs/{STUDY}/spectra.log").read_text()
     assert "spectra tiny: 8/8 points done (100 %)" in log and "dashboard: http://" in log
     # quiet logs: no scipy mmap warning from reading the ensemble file
-    for path in (reference / "logs").rglob("*.log"):
+    for path in (reference / "results/logs").rglob("*.log"):
         assert "Cannot close a netcdf_file" not in path.read_text(), path
 
 
@@ -435,7 +518,7 @@ def test_store_entry_reproduced_by_the_cli_and_the_library_bit_for_bit(reference
     out = tmp_path / "spectrum.json"  # every bit (the CSV rounds to 10 digits)
     # the README's command: the store's ensemble file and motion, mode, the limit states the
     # study asked of the mode (one search serves them all: its steps depend on the set)
-    assert main(["spectra", "--ensemble", str(reference / "results/motions/tiny.nc"),
+    assert main(["spectra", "--ensemble", str(reference / f"{MOTIONS}.nc"),
                  "--motion", motion, "--R", str(R), "--tan-alpha", "0.2", "--mode", mode,
                  "--limit-states", states, "--accuracy", "fast",
                  "-q", "-o", str(out)]) == 0

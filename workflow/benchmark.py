@@ -101,6 +101,12 @@ def _paper_spec(study: str = "elcentro") -> SpectraSpec:
     return StudySpec.from_config(paper, study).spectra
 
 
+def _paper_ensemble(workdir: Path) -> Path:
+    """The El Centro ensemble file of config/paper.yaml (named after its settings' digest)."""
+    digest = _paper_spec().ensemble.digest
+    return workdir / f"results/motions/elcentro-{digest}.nc"
+
+
 def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[str],
                  name: str) -> Path:
     """A store with the paper's settings on a sub-grid at tan α = 0.2, one size R per chunk;
@@ -109,7 +115,7 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
     plan = spec.plan
     k = plan.tan_alpha.index(0.2)
     requested = plan.requested[[plan.modes.index(m) for m in modes]][:, :, [k]]
-    ensemble = workdir / "results/motions/elcentro.nc"
+    ensemble = _paper_ensemble(workdir)
     layout = tasks.spectra_layout(modes, plan.limit_states, motions, [0.2], R, 1)
     options = {"upper": spec.upper,
                **(Damping.options(spec.damping) if "3d-damped" in modes else {})}
@@ -121,7 +127,7 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
 
 
 def paper_point_cost(rows: list[dict], workdir: Path) -> None:
-    ensemble = workdir / "results/motions/elcentro.nc"
+    ensemble = _paper_ensemble(workdir)
     names = [m["name"] for m in tasks.ensemble_attrs(ensemble, "elcentro")["motions"]]
     modes = ["3d", "3d-damped", "2d-x", "2d-y"]
     path = _paper_store(workdir, modes, SAMPLE_R, names[:2], "paper-sample")
@@ -163,7 +169,7 @@ def paper_point_cost(rows: list[dict], workdir: Path) -> None:
 
 
 def speedup(rows: list[dict], workdir: Path) -> None:
-    ensemble = workdir / "results/motions/elcentro.nc"
+    ensemble = _paper_ensemble(workdir)
     names = [m["name"] for m in tasks.ensemble_attrs(ensemble, "elcentro")["motions"]]
     walls = {}
     for n_workers in (1, 2):
@@ -206,7 +212,7 @@ def main(argv: list[str] | None = None) -> int:
     if not args.skip_default_run:
         default_run(rows, args.targets)
     workdir = Path(tempfile.mkdtemp(prefix="rocking-paper-sample-"))
-    _snakemake(workdir, "results/motions/elcentro.nc", "--configfile",
+    _snakemake(workdir, str(_paper_ensemble(workdir).relative_to(workdir)), "--configfile",
                str(REPO / "config/paper.yaml"), cores=1)
     paper_point_cost(rows, workdir)
     speedup(rows, workdir)

@@ -1,7 +1,8 @@
 """Copy a finished study run into the committed gallery (``results/paper/``).
 
     snakemake --cores 2 --configfile config/paper.yaml
-    python workflow/gallery.py --elapsed 842 --command "snakemake --cores 2 --configfile ..."
+    python workflow/gallery.py --configfile config/paper.yaml --elapsed 842 \
+        --command "snakemake --cores 2 --configfile config/paper.yaml"
 
 The gallery keeps what a reader needs to hold the run against the paper without running
 anything: every figure (PNG and its JSON sidecar of measured numbers), each study's report
@@ -26,7 +27,9 @@ import yaml
 from rocking import __version__
 from rocking.study.aggregate import critical_frame
 from rocking.study.figures.captions import CAPTIONS
+from rocking.study.prepare import keyed
 from rocking.study.report import link_images, relink_docs
+from rocking.study.spec import EnsembleSpec, StudySpec
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 OPTIONAL_FILES = ("stripe_fragility.csv", "risk.csv", "fragility.nrml.xml",
@@ -49,16 +52,25 @@ def _copy(src: Path, dst: Path) -> None:
     shutil.copy2(src, dst)
 
 
-def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
-    """Copy the gallery files of ``studies`` from ``results`` to ``out``; return them."""
+def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
+    """Copy the gallery files of the run configured by ``run_config`` (its ``config.yaml``)
+    from ``results`` (the run's output root) to ``out``; return them.
+
+    The run's files are found by the digests of its configuration (another configuration
+    writing to the same root leaves files of other digests beside them): each ensemble's
+    parameters ``motions/<name>-<digest>.json`` are copied as ``motions/<name>.json``, each
+    study's answers are read from its ``spectra-<digest>.zarr``.
+    """
     copied = []
     for f in sorted((results / "figures").glob("*")):
         if f.suffix in (".png", ".json"):
             _copy(f, out / "figures" / f.name)
             copied.append(out / "figures" / f.name)
-    for f in sorted((results / "motions").glob("*.json")):
-        _copy(f, out / "motions" / f.name)
-        copied.append(out / "motions" / f.name)
+    studies = list(run_config["studies"])
+    for name in dict.fromkeys(run_config["studies"][s]["ensemble"] for s in studies):
+        digest = EnsembleSpec.from_config(run_config, name).digest
+        _copy(results / "motions" / f"{name}-{digest}.json", out / "motions" / f"{name}.json")
+        copied.append(out / "motions" / f"{name}.json")
     for study in studies:
         src, dst = results / study, out / study
         for f in sorted((src / "figures").glob("*")):
@@ -72,7 +84,8 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
             if (src / name).exists():
                 _copy(src / name, dst / name)
                 copied.append(dst / name)
-        write_critical(src / "spectra.zarr", dst / CRITICAL)
+        digest = StudySpec.from_config(run_config, study).spectra.digest
+        write_critical(keyed(src / "spectra.zarr", digest), dst / CRITICAL)
         copied.append(dst / CRITICAL)
         page = (src / "report.html").read_text()
         # study figures live in <study>/figures/, the others in ../figures/
@@ -82,7 +95,7 @@ def collect(results: Path, out: Path, studies: list[str]) -> list[Path]:
         page = relink_docs(page, dst)  # the derivations cited, from the page's new folder
         (dst / "report.html").write_text(page)
         copied.append(dst / "report.html")
-    (out / "config.yaml").write_text((results / "config.yaml").read_text())
+    (out / "config.yaml").write_text((results / studies[0] / "config.yaml").read_text())
     copied.append(out / "config.yaml")
     return copied
 
@@ -171,8 +184,9 @@ def readme(manifest: dict, out: Path) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python workflow/gallery.py", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--results", type=Path, default=Path("results"),
-                        help="folder the run wrote (default: results)")
+    parser.add_argument("--configfile", type=Path, default=Path("config/paper.yaml"),
+                        help="the configuration the run was given (default: "
+                             "config/paper.yaml); its `output` is the folder read")
     parser.add_argument("--out", type=Path, default=Path("results/paper"),
                         help="gallery folder (default: results/paper)")
     parser.add_argument("--elapsed", type=float, required=True,
@@ -182,11 +196,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--machine", default=f"{os.cpu_count()} cores",
                         help="where it ran (cores, load)")
     args = parser.parse_args(argv)
-    run_config = yaml.safe_load((args.results / "config.yaml").read_text())
-    studies = list(run_config["studies"])
+    given = yaml.safe_load(args.configfile.read_text())
+    results = Path(given.get("output", "results"))
+    studies = list(given["studies"])
+    # the run's own record of its configuration, defaults filled in (every study has one)
+    run_config = yaml.safe_load((results / studies[0] / "config.yaml").read_text())
     if args.out.exists():
         shutil.rmtree(args.out)
-    files = collect(args.results, args.out, studies)
+    files = collect(results, args.out, run_config)
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                             check=False).stdout.strip() or None
     manifest = {"command": args.command, "elapsed_seconds": args.elapsed,

@@ -6,9 +6,9 @@ rule mean_spectra:
     input:
         complete=rules.spectra.output.done,
     output:
-        nc="results/{study}/mean_spectra.nc",
+        nc=out_path("{study}/mean_spectra.nc"),
         csv=report(
-            "results/{study}/mean_spectra.csv",
+            out_path("{study}/mean_spectra.csv"),
             caption="../report/mean_spectra.rst",
             category="Performance spectra",
             labels={"study": "{study}", "table": "ensemble statistics"},
@@ -18,6 +18,6 @@ rule mean_spectra:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/mean_spectra.log",
+        out_path("logs/{study}/mean_spectra.log"),
     script:
         "../scripts/mean_spectra.py"

@@ -2,11 +2,24 @@
 # rocking.study.spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
 # functions of `config`; no work happens here.
 
+import posixpath
 import re
 from functools import cache
 
-from rocking.study.spec import Damping, EnsembleSpec, StudySpec
+from rocking.study.prepare import keyed
+from rocking.study.spec import Damping, EnsembleSpec, StudySpec, config_hash
 from snakemake.exceptions import WorkflowError
+
+
+OUTPUT = posixpath.normpath(config["output"])
+"""The output root (config key ``output``, default ``results``): every file a rule writes,
+its log included, lies under it, so two configurations with different roots never share one."""
+
+
+def out_path(path):
+    """``path`` (relative, may hold wildcards) under the output root: the one place paths of
+    outputs and logs are made."""
+    return posixpath.join(OUTPUT, path)
 
 
 def study_config(study):
@@ -22,8 +35,25 @@ def ensemble_spec(name):
     return EnsembleSpec.from_config(config, name).settings()
 
 
+def ensemble_files(name, kind="motions"):
+    """The file ``kind`` (motions, params, comparison) of ensemble ``name``, keyed by the
+    digest of its settings."""
+    digest = EnsembleSpec.from_config(config, name).digest
+    return expand(getattr(rules.motions.output, kind), ensemble=name, digest=digest)[0]
+
+
 def ensemble_file(name):
-    return expand(rules.motions.output.motions, ensemble=name)[0]
+    return ensemble_files(name)
+
+
+def planned_ensemble(name, digest):
+    """The settings of ensemble ``name``, if ``digest`` is theirs (a file asked for by name
+    with another digest belongs to other settings: it is not made from these)."""
+    spec = EnsembleSpec.from_config(config, name)
+    if spec.digest != digest:
+        raise WorkflowError(f"ensembles.{name}: the settings of this configuration hash to "
+                            f"{spec.digest}, not {digest}")
+    return spec.settings()
 
 
 @cache
@@ -95,23 +125,25 @@ def compute_threads():
         return 1
 
 
-NUMBA_CACHE = "results/numba_cache.json"
+NUMBA_CACHE = out_path("numba_cache.json")
 """Marker of the numba_cache step (the kernels compiled into numba's on-disk cache)."""
 
 
 # The stores are prepared and filled by their compute rule and are not Snakemake outputs (see
 # spectra.smk); other rules take the rule's completion marker as input and the store path as
 # a parameter. Everything else is named by the rule that writes it (rules.<name>.output).
+# A store's name holds the digest of what decides its numbers (rocking.study.prepare.keyed):
+# a changed setting adds a store, changing it back finds the earlier one.
 def spectra_store(study):
-    return f"results/{study}/spectra.zarr"
+    return str(keyed(out_path(f"{study}/spectra.zarr"), spectra_hash(study)))
 
 
 def tilt_map_store(study):
-    return f"results/{study}/tilt_map.zarr"
+    return str(keyed(out_path(f"{study}/tilt_map.zarr"), tilt_map_hash(study)))
 
 
 def stripes_store(study):
-    return f"results/{study}/stripes.zarr"
+    return str(keyed(out_path(f"{study}/stripes.zarr"), stripes_hash(study)))
 
 
 def spectra_complete(study):
@@ -126,17 +158,19 @@ def mean_spectra(study):
     return expand(rules.mean_spectra.output.nc, study=study)[0]
 
 
-RUN_CONFIG = "results/config.yaml"  # this run's configuration, defaults filled in (report)
+def run_config_file(study):
+    """This run's configuration, defaults filled in, in the study's folder (report)."""
+    return out_path(f"{study}/config.yaml")
 
 
 def all_targets():
     targets = []
     for study in config["studies"]:
         targets += expand(rules.mean_spectra.output, study=study)
+        targets.append(run_config_file(study))
         if has_tilt_map(study):
             targets.append(tilt_map_complete(study))
     targets += list(figure_targets())
-    targets.append(RUN_CONFIG)
     return targets
 
 
@@ -145,8 +179,8 @@ def stripe_targets():
     out = []
     for study in config["studies"]:
         if has_stripes(study):
-            out.append(f"results/{study}/stripe_fragility.csv")
-            out += [f"results/{study}/figures/stripe_fragility_{mode}.{ext}"
+            out.append(out_path(f"{study}/stripe_fragility.csv"))
+            out += [out_path(f"{study}/figures/stripe_fragility_{mode}.{ext}")
                     for mode in study_spec(study).stripes.modes
                     for ext in ("png", "pdf", "json")]
     return out
@@ -170,3 +204,4 @@ _check_config()
 wildcard_constraints:
     study="|".join(map(re.escape, config["studies"])),
     ensemble="|".join(map(re.escape, config["ensembles"])),
+    digest="[0-9a-f]{16}",

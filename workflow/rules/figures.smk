@@ -13,7 +13,7 @@ rule fig03_wobbling_period:
     params:
         caption=lambda wildcards: caption("fig03_wobbling_period"),
     log:
-        "logs/figures/fig03_wobbling_period.log",
+        out_path("logs/figures/fig03_wobbling_period.log"),
     script:
         "../scripts/fig03_wobbling_period.py"
 
@@ -32,7 +32,7 @@ rule fig04_free_vibration:
         # the study's contact parameters; the figure adds the paper's eight pairs
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
-        "logs/figures/fig04_free_vibration.log",
+        out_path("logs/figures/fig04_free_vibration.log"),
     script:
         "../scripts/fig04_free_vibration.py"
 
@@ -43,14 +43,14 @@ rule fig06_theta_max_sensitivity:
     input:
         numba=ancient(NUMBA_CACHE),
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig06_theta_max_sensitivity", "Paper figures",
+        **_figure_output(global_stem("fig06_theta_max_sensitivity"), "Paper figures",
                          figure="Fig 6 (companion)"),
     params:
         caption=lambda wildcards: caption("fig06_theta_max_sensitivity"),
         spec=lambda wildcards: ensemble_spec(el_centro_ensemble()),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
-        "logs/figures/fig06_theta_max_sensitivity.log",
+        global_log("fig06_theta_max_sensitivity"),
     script:
         "../scripts/fig06_theta_max_sensitivity.py"
 
@@ -63,12 +63,12 @@ rule fig06_el_centro:
         sensitivity=rules.fig06_theta_max_sensitivity.output.notes,
         numba=ancient(NUMBA_CACHE),
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig06_el_centro", "Paper figures", figure="Fig 6"),
+        **_figure_output(global_stem("fig06_el_centro"), "Paper figures", figure="Fig 6"),
     params:
         caption=lambda wildcards: caption("fig06_el_centro"),
         model_options=lambda wildcards: damped_options(["3d-damped"]),
     log:
-        "logs/figures/fig06_el_centro.log",
+        global_log("fig06_el_centro"),
     script:
         "../scripts/fig06_el_centro.py"
 
@@ -80,13 +80,13 @@ rule fig07_tilt_map:
         complete=rules.tilt_map.output.done,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig07_tilt_map", "Paper figures",
+        **_figure_output(out_path("{study}/figures/fig07_tilt_map"), "Paper figures",
                          figure="Fig 7", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig07_tilt_map"),
         store=lambda wildcards: tilt_map_store(wildcards.study),
     log:
-        "logs/{study}/fig07_tilt_map.log",
+        out_path("logs/{study}/fig07_tilt_map.log"),
     script:
         "../scripts/fig07_tilt_map.py"
 
@@ -95,15 +95,15 @@ rule fig08_motions:
     conda:
         "../envs/rocking.yaml"
     input:
-        motions=rules.motions.output.motions,
-        comparison=rules.motions.output.comparison,
+        motions=lambda wildcards: ensemble_files(wildcards.ensemble),
+        comparison=lambda wildcards: ensemble_files(wildcards.ensemble, "comparison"),
     output:
         **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
                          figure="Fig 8", ensemble="{ensemble}"),
     params:
         caption=lambda wildcards: caption("fig08_motions"),
     log:
-        "logs/figures/fig08_motions_{ensemble}.log",
+        out_path("logs/figures/fig08_motions_{ensemble}.log"),
     script:
         "../scripts/fig08_motions.py"
 
@@ -116,13 +116,13 @@ rule fig09_spectra:
         means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig09_spectra", "Paper figures",
+        **_figure_output(out_path("{study}/figures/fig09_spectra"), "Paper figures",
                          figure="Fig 9", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig09_spectra"),
         store=lambda wildcards: spectra_store(wildcards.study),
     log:
-        "logs/{study}/fig09_spectra.log",
+        out_path("logs/{study}/fig09_spectra.log"),
     script:
         "../scripts/fig09_spectra.py"
 
@@ -134,12 +134,12 @@ rule fig10_goals:
         means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig10_goals", "Paper figures",
+        **_figure_output(out_path("{study}/figures/fig10_goals"), "Paper figures",
                          figure="Fig 10", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig10_goals"),
     log:
-        "logs/{study}/fig10_goals.log",
+        out_path("logs/{study}/fig10_goals.log"),
     script:
         "../scripts/fig10_goals.py"
 
@@ -151,12 +151,12 @@ rule fig11_slenderness:
         means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        **_figure_output("results/{study}/figures/fig11_slenderness", "Paper figures",
+        **_figure_output(out_path("{study}/figures/fig11_slenderness"), "Paper figures",
                          figure="Fig 11", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig11_slenderness"),
     log:
-        "logs/{study}/fig11_slenderness.log",
+        out_path("logs/{study}/fig11_slenderness.log"),
     script:
         "../scripts/fig11_slenderness.py"
 
@@ -169,13 +169,13 @@ rule fig12_2d_vs_3d:
         complete=[spectra_complete(s) for s in config["studies"]],
         motions=[study_motions(s) for s in config["studies"]],
     output:
-        **_figure_output(f"{FIGURES_DIR}/fig12_2d_vs_3d", "Paper figures", figure="Fig 12"),
+        **_figure_output(global_stem("fig12_2d_vs_3d"), "Paper figures", figure="Fig 12"),
     params:
         caption=lambda wildcards: caption("fig12_2d_vs_3d"),
         studies=list(config["studies"]),
         stores=[spectra_store(s) for s in config["studies"]],
     log:
-        "logs/figures/fig12_2d_vs_3d.log",
+        global_log("fig12_2d_vs_3d"),
     script:
         "../scripts/fig12_2d_vs_3d.py"
 
@@ -188,23 +188,23 @@ rule fragility_curves:
         means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
     output:
-        fragility_nc="results/{study}/fragility.nc",
-        fragility_csv=report("results/{study}/fragility.csv",
+        fragility_nc=out_path("{study}/fragility.nc"),
+        fragility_csv=report(out_path("{study}/fragility.csv"),
                              caption="../report/fragility_table.rst",
                              category="Beyond the paper",
                              labels={"study": "{study}", "table": "fragility"}),
-        linear_nc="results/{study}/linear_fit.nc",
-        linear_csv=report("results/{study}/linear_fit.csv", caption="../report/linear_fit.rst",
-                          category="Beyond the paper",
+        linear_nc=out_path("{study}/linear_fit.nc"),
+        linear_csv=report(out_path("{study}/linear_fit.csv"),
+                          caption="../report/linear_fit.rst", category="Beyond the paper",
                           labels={"study": "{study}", "table": "linear fits"}),
-        **_figure_output("results/{study}/figures/fragility_curves", "Beyond the paper",
+        **_figure_output(out_path("{study}/figures/fragility_curves"), "Beyond the paper",
                          figure="fragility", study="{study}"),
     params:
         caption=lambda wildcards: caption("fragility_curves"),
         store=lambda wildcards: spectra_store(wildcards.study),
         upper=lambda wildcards: search_upper(wildcards.study),
     log:
-        "logs/{study}/fragility_curves.log",
+        out_path("logs/{study}/fragility_curves.log"),
     script:
         "../scripts/fragility_curves.py"
 
@@ -215,7 +215,7 @@ rule report:
     input:
         unpack(lambda wildcards: report_inputs(wildcards.study)),
     output:
-        "results/{study}/report.html",
+        out_path("{study}/report.html"),
     params:
         study=lambda wildcards: wildcards.study,
         ensemble=lambda wildcards: ensemble_of(wildcards.study),
@@ -223,6 +223,6 @@ rule report:
         tilt_maps=lambda wildcards: report_stores(wildcards.study)["tilt_maps"],
         hazard=lambda wildcards: hazard_file(wildcards.study) or hazard_spec(wildcards.study),
     log:
-        "logs/{study}/report.log",
+        out_path("logs/{study}/report.log"),
     script:
         "../scripts/report.py"

@@ -1,12 +1,13 @@
 # The paper's figures, the fragility curves and the HTML report: paths and helpers.
-# Figures that need no study (Figs 3, 4, 6, 8, 12) go to results/figures/, the others to
-# results/<study>/figures/; every figure is a PNG, a PDF and a JSON sidecar of the numbers it
-# measured, which results/<study>/report.html sets against the paper's. A figure's name is its
+# Figures not tied to one study (Figs 3, 4, 6, 8, 12) go to <root>/figures/ (named by
+# global_stem), the others to <root>/<study>/figures/; every figure is a PNG, a PDF and a JSON
+# sidecar of the numbers it measured, which <root>/<study>/report.html sets against the
+# paper's. A figure's name is its
 # module in rocking.study.figures, its rule, its script and its caption key.
 
 from rocking.study.figures.captions import caption
 
-FIGURES_DIR = "results/figures"
+FIGURES_DIR = out_path("figures")
 FIG04_DURATION = 15.0  # [s]: six quasi-impacts of the quasi-rocking case (Eq 32 needs five)
 
 
@@ -40,12 +41,30 @@ def study_motions(study):
     return ensemble_file(ensemble_of(study))
 
 
+def global_stem(name):
+    """The stem of a figure not tied to one study, named after what it is drawn from (as
+    Fig 8 after its ensemble), so that configurations sharing an output root but not their
+    study and ensemble names never write the same file: Fig 6 after its El Centro ensemble,
+    Fig 12 after the studies it sets side by side; Figs 3 and 4 after nothing (they depend on
+    no study: only Fig 4 on the `damped` parameters)."""
+    if name.startswith("fig06_"):
+        return f"{FIGURES_DIR}/{name}_{el_centro_ensemble()}"
+    if name == "fig12_2d_vs_3d":
+        return f"{FIGURES_DIR}/{name}_{'+'.join(config['studies'])}"
+    return f"{FIGURES_DIR}/{name}"
+
+
+def global_log(name):
+    """The log of the figure ``name`` not tied to one study."""
+    return out_path(f"logs/figures/{posixpath.basename(global_stem(name))}.log")
+
+
 def global_figure_stems():
-    stems = [f"{FIGURES_DIR}/fig03_wobbling_period", f"{FIGURES_DIR}/fig04_free_vibration"]
+    stems = [global_stem("fig03_wobbling_period"), global_stem("fig04_free_vibration")]
     if el_centro_ensemble() is not None:
-        stems += [f"{FIGURES_DIR}/fig06_el_centro", f"{FIGURES_DIR}/fig06_theta_max_sensitivity"]
+        stems += [global_stem("fig06_el_centro"), global_stem("fig06_theta_max_sensitivity")]
     stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in fig08_ensembles()]
-    stems.append(f"{FIGURES_DIR}/fig12_2d_vs_3d")
+    stems.append(global_stem("fig12_2d_vs_3d"))
     return stems
 
 
@@ -54,7 +73,7 @@ def study_figure_stems(study):
     names = study_plan(study).figures()
     if has_tilt_map(study):
         names.insert(0, "fig07_tilt_map")
-    return [f"results/{study}/figures/{n}" for n in names]
+    return [out_path(f"{study}/figures/{n}") for n in names]
 
 
 def report_figures(study):
@@ -68,7 +87,7 @@ def report_figures(study):
 def report_run_files(study):
     """What the report's "what was run" section reads: the completion summaries and the
     ensemble parameters of every study (Fig 12 uses them all)."""
-    files = {"ensembles": expand(rules.motions.output.params, ensemble=study_ensembles()),
+    files = {"ensembles": [ensemble_files(e, "params") for e in study_ensembles()],
              "done": [spectra_complete(s) for s in config["studies"]]}
     if has_tilt_map(study):
         files["done"].append(tilt_map_complete(study))
@@ -99,9 +118,8 @@ def figure_targets():
     targets = [f for s in global_figure_stems() for f in figure_files(s)]
     for study in config["studies"]:
         targets += [f for s in study_figure_stems(study) for f in figure_files(s)]
-        targets += [f"results/{study}/fragility.nc", f"results/{study}/fragility.csv",
-                    f"results/{study}/linear_fit.nc", f"results/{study}/linear_fit.csv",
-                    f"results/{study}/report.html"]
+        targets += [out_path(f"{study}/{name}") for name in (
+            "fragility.nc", "fragility.csv", "linear_fit.nc", "linear_fit.csv", "report.html")]
     return targets
 
 

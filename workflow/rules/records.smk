@@ -1,22 +1,25 @@
 # Ground-motion ensembles: the record (rotated to principal axes and high-passed) first, then
+# Ground-motion ensembles: the record (rotated to principal axes and high-passed) first, then
 # its synthetic RDK pairs; or a suite (ensembles.<name>.records): every record processed with
-# its own settings first, then each record's synthetic pairs. Written by
-# rocking.motions.ensemble_io to results/motions/<ensemble>.nc (per motion: source_record,
-# kind);
-# the settings, fitted RDK parameters and fit quality go to results/motions/<ensemble>.json.
-# <ensemble>.compare.nc holds the pairs of the other identification method (Fig 8 only).
+# its own settings first, then each record's synthetic pairs (per motion: source_record,
+# kind). Written by rocking.motions.ensemble_io to
+# <root>/motions/<ensemble>-<digest>.nc, the digest that of every setting of the ensemble
+# (EnsembleSpec.digest): two configurations that give one ensemble name different settings
+# write different files, and no study reads motions made with other settings.
+# The settings, fitted RDK parameters and fit quality go to <ensemble>-<digest>.json;
+# <ensemble>-<digest>.compare.nc holds the pairs of the other identification method (Fig 8).
 
 
 rule motions:
     output:
-        motions="results/motions/{ensemble}.nc",
-        params="results/motions/{ensemble}.json",
-        comparison="results/motions/{ensemble}.compare.nc",
+        motions=out_path("motions/{ensemble}-{digest}.nc"),
+        params=out_path("motions/{ensemble}-{digest}.json"),
+        comparison=out_path("motions/{ensemble}-{digest}.compare.nc"),
     params:
-        spec=lambda wildcards: ensemble_spec(wildcards.ensemble),
+        spec=lambda wildcards: planned_ensemble(wildcards.ensemble, wildcards.digest),
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/motions/{ensemble}.log",
+        out_path("logs/motions/{ensemble}-{digest}.log"),
     script:
         "../scripts/motions.py"

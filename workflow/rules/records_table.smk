@@ -7,7 +7,7 @@
 
 def records_targets():
     """The per-record table and the suite's fragility of every study."""
-    return [f"results/{study}/{name}" for study in config["studies"]
+    return [out_path(f"{study}/{name}") for study in config["studies"]
             for name in ("records.csv", "suite_fragility.csv")]
 
 
@@ -17,13 +17,13 @@ rule records_table:
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
         records=report(
-            "results/{study}/records.csv",
+            out_path("{study}/records.csv"),
             caption="../report/records_table.rst",
             category="Records",
             labels={"study": "{study}", "table": "per-record answers"},
         ),
         fragility=report(
-            "results/{study}/suite_fragility.csv",
+            out_path("{study}/suite_fragility.csv"),
             caption="../report/records_table.rst",
             category="Records",
             labels={"study": "{study}", "table": "fragility over the suite"},
@@ -34,6 +34,6 @@ rule records_table:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/records_table.log",
+        out_path("logs/{study}/records_table.log"),
     script:
         "../scripts/records_table.py"

@@ -17,10 +17,10 @@ rule risk:
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
         stripes=lambda wildcards: stripe_fragility_csv(wildcards.study),
     output:
-        nrml="results/{study}/fragility.nrml.xml",
-        pelicun="results/{study}/fragility.pelicun.csv",
-        table="results/{study}/risk.csv",
-        **_figure_output("results/{study}/figures/risk", "Beyond the paper", figure="risk",
+        nrml=out_path("{study}/fragility.nrml.xml"),
+        pelicun=out_path("{study}/fragility.pelicun.csv"),
+        table=out_path("{study}/risk.csv"),
+        **_figure_output(out_path("{study}/figures/risk"), "Beyond the paper", figure="risk",
                          study="{study}"),
     params:
         caption=RISK_CAPTION,
@@ -28,7 +28,7 @@ rule risk:
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
     log:
-        "logs/{study}/risk.log",
+        out_path("logs/{study}/risk.log"),
     script:
         "../scripts/risk.py"
 
@@ -39,12 +39,12 @@ rule stripe_risk_exports:
     input:
         stripes=rules.stripe_fragility.output.csv,
     output:
-        nrml="results/{study}/stripe_fragility.nrml.xml",
-        pelicun="results/{study}/stripe_fragility.pelicun.csv",
+        nrml=out_path("{study}/stripe_fragility.nrml.xml"),
+        pelicun=out_path("{study}/stripe_fragility.pelicun.csv"),
     params:
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
     log:
-        "logs/{study}/stripe_risk_exports.log",
+        out_path("logs/{study}/stripe_risk_exports.log"),
     script:
         "../scripts/stripe_risk_exports.py"

@@ -50,7 +50,7 @@ def risk_targets():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
-        out += figure_files(f"results/{s}/figures/risk")
+        out += figure_files(out_path(f"{s}/figures/risk"))
         if has_stripes(s):
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]

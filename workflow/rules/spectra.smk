@@ -1,8 +1,9 @@
 # Performance spectra: the chunked critical-intensity searches of a study on Dask, written to
-# its zarr store results/<study>/spectra.zarr. The store is prepared by the rule itself (made
-# anew when the configuration changes, resumed after a killed run) and is not a Snakemake
-# output, so that Snakemake never deletes finished chunks; the rule's output is the
-# completion marker results/<study>/spectra.done.json, which later rules take as input.
+# its zarr store <root>/<study>/spectra-<digest>.zarr (spectra.zarr links to the latest). The
+# store is prepared by the rule itself (created for a new configuration, resumed after a
+# killed run or when an earlier configuration comes back) and is not a Snakemake output, so
+# that Snakemake never deletes finished chunks; the rule's output is the completion marker
+# <root>/<study>/spectra.done.json, which later rules take as input.
 
 
 # Compilation once per machine: the kernels are compiled (or loaded from numba's cache) here,
@@ -16,7 +17,7 @@ rule numba_cache:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/numba_cache.log",
+        out_path("logs/numba_cache.log"),
     script:
         "../scripts/numba_cache.py"
 
@@ -26,20 +27,19 @@ rule spectra:
         numba=ancient(rules.numba_cache.output[0]),
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
-        done="results/{study}/spectra.done.json",
+        done=out_path("{study}/spectra.done.json"),
     params:
         kind="spectra",
         store=lambda wildcards: spectra_store(wildcards.study),
-        # a change of any result-affecting setting changes the hash: the rule reruns and
-        # makes a fresh store instead of adding results of another configuration
-        spec=lambda wildcards: spectra_spec(wildcards.study),
+        # a change of any result-affecting setting changes the hash and the store's name: the
+        # rule reruns in another store (or resumes an earlier one) instead of mixing results.
+        # Short parameters only (the script rebuilds the spec from the config and checks its
+        # hash); no dask options: they cannot change a number, and a changed param reruns
         config_hash=lambda wildcards: spectra_hash(wildcards.study),
-        # no dask options here: they cannot change a number, and a changed param reruns the
-        # rule; the script reads them from the config (rocking.study.cluster.dask_options)
     threads: compute_threads()
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/spectra.log",
+        out_path("logs/{study}/spectra.log"),
     script:
         "../scripts/compute_store.py"

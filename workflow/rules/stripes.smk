@@ -1,7 +1,8 @@
 # Multiple-stripe fragility (beyond the paper): every motion of a study analysed once at each
-# stripe intensity, chunked on Dask into results/<study>/stripes.zarr (prepared and resumed
-# like the spectra store, spectra.smk; the output is the completion marker), then fitted and
-# set beside the first-exceedance fragility: stripe_fragility.csv and one figure per mode.
+# stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (prepared and
+# resumed like the spectra store, spectra.smk; the output is the completion marker), then
+# fitted and set beside the first-exceedance fragility: stripe_fragility.csv and one figure
+# per mode.
 
 
 rule stripes:
@@ -9,16 +10,15 @@ rule stripes:
         numba=ancient(rules.numba_cache.output[0]),
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
-        done="results/{study}/stripes.done.json",
+        done=out_path("{study}/stripes.done.json"),
     params:
         store=lambda wildcards: stripes_store(wildcards.study),
-        spec=lambda wildcards: stripes_spec(wildcards.study),
         config_hash=lambda wildcards: stripes_hash(wildcards.study),
     threads: compute_threads()
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/stripes.log",
+        out_path("logs/{study}/stripes.log"),
     script:
         "../scripts/compute_stripes.py"
 
@@ -28,7 +28,7 @@ rule stripe_fragility:
         complete=rules.stripes.output.done,
         fragility=rules.fragility_curves.output.fragility_nc,
     output:
-        csv=report("results/{study}/stripe_fragility.csv",
+        csv=report(out_path("{study}/stripe_fragility.csv"),
                    caption="../report/stripe_fragility.rst", category="Beyond the paper",
                    labels={"study": "{study}", "table": "stripe fragility"}),
     params:
@@ -36,7 +36,7 @@ rule stripe_fragility:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/stripe_fragility.log",
+        out_path("logs/{study}/stripe_fragility.log"),
     script:
         "../scripts/stripe_fragility.py"
 
@@ -46,11 +46,11 @@ rule stripe_fragility_figure:
         table=rules.stripe_fragility.output.csv,
         fragility=rules.fragility_curves.output.fragility_nc,
     output:
-        png=report("results/{study}/figures/stripe_fragility_{mode}.png",
+        png=report(out_path("{study}/figures/stripe_fragility_{mode}.png"),
                    caption="../report/stripe_fragility.rst", category="Beyond the paper",
                    labels={"study": "{study}", "figure": "stripe fragility {mode}"}),
-        pdf="results/{study}/figures/stripe_fragility_{mode}.pdf",
-        notes="results/{study}/figures/stripe_fragility_{mode}.json",
+        pdf=out_path("{study}/figures/stripe_fragility_{mode}.pdf"),
+        notes=out_path("{study}/figures/stripe_fragility_{mode}.json"),
     wildcard_constraints:
         mode="3d|3d-damped|2d-x|2d-y",
     params:
@@ -58,6 +58,6 @@ rule stripe_fragility_figure:
     conda:
         "../envs/rocking.yaml"
     log:
-        "logs/{study}/stripe_fragility_{mode}.log",
+        out_path("logs/{study}/stripe_fragility_{mode}.log"),
     script:
         "../scripts/stripe_fragility_figure.py"

@@ -8,13 +8,14 @@ from rocking.study.cluster import dask_options
 
 def main(snakemake):
     p = snakemake.params
+    study = snakemake.wildcards.study
     with logs.log_to(snakemake.log[0]):
+        spec = prepare.planned_spec(snakemake.config, study, p.kind, p.config_hash)
         summary = prepare.compute(
-            p.kind, p.store, p.spec, p.config_hash, snakemake.input.motions,
-            n_workers=snakemake.threads, key=f"{p.kind}-{snakemake.wildcards.study}",
-            label=f"{p.kind.replace('_', ' ')} {snakemake.wildcards.study}",
-            **dask_options(snakemake.config))
-        _json.write(snakemake.output.done, summary)
+            p.kind, p.store, spec, p.config_hash, snakemake.input.motions,
+            n_workers=snakemake.threads, key=f"{p.kind}-{study}",
+            label=f"{p.kind.replace('_', ' ')} {study}", **dask_options(snakemake.config))
+        _json.write(snakemake.output.done, {**summary, "store": str(p.store)})
 
 
 if __name__ == "__main__":

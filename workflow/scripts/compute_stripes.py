@@ -2,18 +2,20 @@
 configuration), fill it on Dask, write the completion marker (the rule's output)."""
 
 from rocking import _json
-from rocking.study import logs, stripes
+from rocking.study import logs, prepare, stripes
 from rocking.study.cluster import dask_options
 
 
 def main(snakemake):
     p = snakemake.params
+    study = snakemake.wildcards.study
     with logs.log_to(snakemake.log[0]):
+        spec = prepare.planned_spec(snakemake.config, study, "stripes", p.config_hash)
         summary = stripes.compute(
-            p.store, p.spec, p.config_hash, snakemake.input.motions,
-            n_workers=snakemake.threads, key=f"stripes-{snakemake.wildcards.study}",
-            label=f"stripes {snakemake.wildcards.study}", **dask_options(snakemake.config))
-        _json.write(snakemake.output.done, summary)
+            p.store, spec, p.config_hash, snakemake.input.motions,
+            n_workers=snakemake.threads, key=f"stripes-{study}",
+            label=f"stripes {study}", **dask_options(snakemake.config))
+        _json.write(snakemake.output.done, {**summary, "store": str(p.store)})
 
 
 if __name__ == "__main__":

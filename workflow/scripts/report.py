@@ -1,10 +1,11 @@
-"""Report (Snakemake script): results/<study>/report.html with what was run, every figure and
+"""Report (Snakemake script): <root>/<study>/report.html with what was run, every figure and
 the paper's statements against this run's numbers."""
 
 import json
 from datetime import datetime
 from pathlib import Path
 
+from rocking.study.figures import figure_name
 from rocking.study.logs import log_to
 from rocking.study.report import build, what_was_run
 
@@ -24,7 +25,8 @@ def workflow_elapsed() -> float | None:
 def main(snakemake):
     inp = snakemake.input
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
-    sens = [f for f in inp.figures if str(f).endswith("fig06_theta_max_sensitivity.json")]
+    sens = [f for f in inp.figures if str(f).endswith(".json")
+            and figure_name(f) == "fig06_theta_max_sensitivity"]
     with log_to(snakemake.log[0]):
         run = what_was_run(stores=list(snakemake.params.stores),
                            tilt_maps=list(snakemake.params.tilt_maps),

@@ -9,8 +9,9 @@ def main(snakemake):
     with log_to(snakemake.log[0]):
         with open(snakemake.output[0], "w") as fh:
             fh.write("# Configuration of this run, with the schema's defaults filled in\n"
-                     "# (config/README.md explains every key).\n")
-            yaml.safe_dump(dict(snakemake.params.config), fh, sort_keys=False)
+                     "# (config/README.md explains every key; dask.* as of the run that\n"
+                     "# wrote this file: a change of it alone reruns nothing).\n")
+            yaml.safe_dump(dict(snakemake.config), fh, sort_keys=False)
 
 
 if __name__ == "__main__":

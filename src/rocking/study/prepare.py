@@ -1,27 +1,36 @@
 """The store a compute rule fills: reused if it was made for this configuration, else made anew.
 
-A study's stores (``results/<study>/spectra.zarr``, ``tilt_map.zarr``) are side products of
-their compute rule, not Snakemake outputs: Snakemake deletes the outputs of a failed job, and a
-store must survive a killed run so that the next run computes only its missing chunks. The
-rule's output is the completion marker (``*.done.json``); the store itself is prepared here,
-at the start of the rule:
+A study's stores are side products of their compute rule, not Snakemake outputs: Snakemake
+deletes the outputs of a failed job, and a store must survive a killed run so that the next run
+computes only its missing chunks. The rule's output is the completion marker (``*.done.json``);
+the store itself is prepared here, at the start of the rule.
+
+A store is named after the digest of what decides its numbers (:func:`keyed`:
+``<root>/<study>/spectra-<digest>.zarr``), so a changed accuracy, grid or bound adds a store
+and changing it back finds the earlier one finished; the unkeyed name (``spectra.zarr``) is a
+relative symbolic link to the store of the latest run (:func:`link_alias`). At the start of
+the rule:
 
 - no store yet: create an empty one (layout, coordinates, CF attributes, ``requested`` mask);
 - a store of the same configuration hash: keep it and resume in it;
-- a store of another configuration: replace it (its results answer another question).
+- an unreadable store or one of another hash under this key: replace it;
+- a store made before names were keyed (a directory at the unkeyed name): moved to the keyed
+  name of its own hash (:func:`adopt_unkeyed`), so it is resumed, not recomputed.
 """
 
 from __future__ import annotations
 
 import logging
+import os
 import shutil
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from . import store, tasks
-from .spec import Damping, SpectraSpec, TiltMapSpec
+from .spec import Damping, SpectraSpec, StudySpec, TiltMapSpec
 
 log = logging.getLogger(__name__)
 
@@ -36,17 +45,106 @@ def _state(path: Path, config_digest: str) -> str:
         return "other"
 
 
+def planned_spec(config: Mapping[str, Any], study: str, kind: str, digest: str) -> Any:
+    """The part ``kind`` (``"spectra"``, ``"tilt_map"`` or ``"stripes"``) of study ``study``,
+    rebuilt from the workflow configuration, checked against the ``digest`` the job was
+    planned with (a rule's parameters carry only that hash, so its "reason" lines stay short).
+
+    Raises
+    ------
+    ValueError
+        If the study has no such part or its digest differs (naming both digests).
+    """
+    spec = getattr(StudySpec.from_config(config, study), kind)
+    got = None if spec is None else spec.digest
+    if got != digest:
+        raise ValueError(f"studies.{study}: the {kind} settings of this configuration hash to "
+                         f"{got}, the job was planned for {digest}; run snakemake again")
+    return spec
+
+
+def keyed(path: str | Path, digest: str) -> Path:
+    """``path`` with ``-<digest>`` before its suffix (``spectra.zarr`` → ``spectra-<digest>.zarr``).
+
+    Raises
+    ------
+    ValueError
+        If ``digest`` is not a non-empty hexadecimal string.
+    """
+    if not digest or any(c not in "0123456789abcdef" for c in digest):
+        raise ValueError(f"digest must be lowercase hexadecimal, got {digest!r}")
+    path = Path(path)
+    return path.with_name(f"{path.stem}-{digest}{path.suffix}")
+
+
+def unkeyed(path: str | Path, digest: str) -> Path:
+    """Inverse of :func:`keyed`; ``path`` itself when its name does not end in the digest."""
+    path = Path(path)
+    tail = f"-{digest}{path.suffix}"
+    if digest and path.name.endswith(tail):
+        return path.with_name(path.name[: -len(tail)] + path.suffix)
+    return path
+
+
+def adopt_unkeyed(alias: str | Path) -> Path | None:
+    """Move a store made before names were keyed (a real directory at ``alias``) to the keyed
+    name of its own ``config_hash``; return where it went, or None when there was none.
+
+    A store that cannot be read, or whose keyed name is taken, is left where it is (with a
+    warning): nothing is deleted here.
+    """
+    alias = Path(alias)
+    if alias.is_symlink() or not alias.is_dir():
+        return None
+    try:
+        digest = str(store.read_attrs(alias)["config_hash"])
+        target = keyed(alias, digest)
+    except Exception as exc:  # not a store of ours: not ours to move
+        log.warning("%s is not a readable store (%s); left in place", alias, exc)
+        return None
+    if target.exists():
+        log.warning("%s and %s both exist; %s left in place", alias, target, alias)
+        return None
+    alias.rename(target)
+    log.info("store %s (made before store names were keyed) moved to %s", alias, target)
+    return target
+
+
+def link_alias(path: str | Path, alias: str | Path) -> bool:
+    """Point ``alias`` (a relative symbolic link in the same folder) at the store ``path``.
+
+    An existing link is replaced atomically; a real file or directory at ``alias`` is never
+    touched (returns False, with a warning).
+    """
+    path, alias = Path(path), Path(alias)
+    if path.parent != alias.parent:
+        raise ValueError(f"alias {alias} must lie beside the store {path}")
+    if alias.exists() and not alias.is_symlink():
+        log.warning("%s is not a link; the latest store is %s", alias, path)
+        return False
+    tmp = alias.with_name(f".{alias.name}.{os.getpid()}.tmp")
+    tmp.unlink(missing_ok=True)
+    tmp.symlink_to(path.name, target_is_directory=True)
+    os.replace(tmp, alias)
+    return True
+
+
 def _prepare(path: str | Path, config_digest: str, create) -> str:
     path = Path(path)
+    alias = unkeyed(path, config_digest)
+    if alias != path:
+        adopt_unkeyed(alias)
     state = _state(path, config_digest)
     if state == "same":
         log.info("store %s: same configuration (%s), resuming in it", path, config_digest)
-        return "resumed"
-    if state == "other":
+    elif state == "other":
         log.info("store %s: made for another configuration, replacing it", path)
         shutil.rmtree(path)
-    create(path)
-    return "created" if state == "missing" else "replaced"
+    if state != "same":
+        create(path)
+    if alias != path:
+        link_alias(path, alias)
+    return {"same": "resumed", "missing": "created"}.get(state, "replaced")
 
 
 def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_digest: str,
@@ -56,7 +154,7 @@ def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_d
     Parameters
     ----------
     path : str or Path
-        ``results/<study>/spectra.zarr``.
+        ``<root>/<study>/spectra-<digest>.zarr`` (:func:`keyed`).
     spec : SpectraSpec or dict
         The study's result-affecting description, or its ``to_attrs()`` mapping (the
         workflow's ``spectra_spec``).
@@ -143,7 +241,7 @@ KINDS = {"spectra": spectra_store, "tilt_map": tilt_map_store}
 """Store kind → its preparation function."""
 
 
-def compute(kind: str, path: str | Path, spec: dict[str, Any], config_digest: str,
+def compute(kind: str, path: str | Path, spec: Any, config_digest: str,
             motions: str | Path, **fill_kw) -> dict[str, Any]:
     """Prepare a store of ``kind`` (``"spectra"`` or ``"tilt_map"``) and fill it on Dask.
 

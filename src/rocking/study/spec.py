@@ -432,6 +432,12 @@ class EnsembleSpec:
                    e["fit_method"], max_duration, one["units"], one["dt"], one["highpass"],
                    one["fc_hz"], suite)
 
+    @property
+    def digest(self) -> str:
+        """Short sha256 of :meth:`to_attrs`: the key of the ensemble file
+        (``<root>/motions/<name>-<digest>.nc``), so another setting is another file."""
+        return config_hash(self.to_attrs())
+
     def settings(self) -> dict[str, Any]:
         """What the motions rule is given: every field but the name."""
         return {k: v for k, v in self.to_attrs().items() if k != "name"}

@@ -143,7 +143,7 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
             "seconds": time.perf_counter() - t0}
 
 
-def compute(path: str | Path, spec: dict[str, Any], config_digest: str, motions: str | Path,
+def compute(path: str | Path, spec: Any, config_digest: str, motions: str | Path,
             **fill_kw) -> dict[str, Any]:
     """Prepare the stripes store and fill it on Dask (``fill_kw``: as
     :func:`rocking.study.cluster.fill_store`); returns its summary with ``store_state``."""
