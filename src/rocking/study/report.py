@@ -25,10 +25,10 @@ import pandas as pd
 
 from ..risk.report import risk_section_html
 from ..units import read_table
-from .figures import FIGURES, _load, figure_name
+from .figures import FIGURES, _load, figure_name, module
 from .figures._style import limit_state_title
 from .figures.captions import CAPTIONS
-from .figures.comparisons import Comparison, compare, damping_judgement, fmt
+from .figures.comparisons import Comparison, compare, fmt
 from .spec import decode_attrs
 
 SHOWN = 10
@@ -77,6 +77,14 @@ def figure_comparisons(entries: Sequence[FigureEntry]) -> dict[str, list[Compari
     return out
 
 
+def figure_tables(entry: FigureEntry) -> list[tuple[str, pd.DataFrame]]:
+    """The extra tables a figure shows under itself in the report: its module's
+    ``report_tables(notes)`` (the common hook; a figure without one has none)."""
+    hook = getattr(module(entry.name), "report_tables", None)
+    return [] if hook is None else [(title, df) for title, df in hook(entry.notes)
+                                    if not df.empty]
+
+
 def comparison_table(rows: Sequence[Comparison], *, with_figure: bool = True) -> pd.DataFrame:
     """Rows as a table: (figure,) statement, paper, this run, verdict."""
     data = [((c.figure,) if with_figure else ()) + (c.statement, c.paper, c.ours,
@@ -95,36 +103,6 @@ def measured_lines(entry: FigureEntry) -> list[str]:
     if missing:
         lines.append("Not computed in this run: " + "; ".join(missing) + ".")
     return lines
-
-
-def fit_quality_table(entries: Sequence[FigureEntry]) -> pd.DataFrame:
-    """Fit quality of every ensemble of Fig 8 (and its comparison), one row per component.
-
-    Columns: record, identification method (``*`` marks the ensemble the study uses),
-    component, the median ÷ record PSA ratio per period band, its range over 0.1–4 s, and
-    the share of periods with the record inside the ensemble's 5–95 % range.
-    """
-    rows = []
-    for entry in entries:
-        if entry.name != "fig08_motions":
-            continue
-        m = entry.notes.get("measured", {})
-        used = m.get("fit_method")
-        for method, quality in (m.get("fit_quality") or {}).items():
-            if not quality:
-                continue
-            for key, name in (("x", "x (major)"), ("y", "y (minor)")):
-                q = quality[key]
-                row = {"record": m.get("record"),
-                       "identification": method + (" *" if method == used else ""),
-                       "component": name}
-                row.update({f"median/record {b}": round(r, 2)
-                            for b, r in q["band_ratio"].items()})
-                row["range 0.1-4 s"] = f"{q['ratio_min']:.2f}–{q['ratio_max']:.2f}"
-                row["record inside 5–95 %"] = f"{100 * q['inside_5_95']:.0f} % of periods"
-                row["pairs"] = q["n"]
-                rows.append(row)
-    return pd.DataFrame(rows)
 
 
 # --------------------------------------------------------------------------- what was run
@@ -400,34 +378,6 @@ def _verdict_html(rows: Sequence[Comparison], with_figure: bool, docs: str = "")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
 
-def damping_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
-    """Fig 9's damped against undamped means per size R, with the spread among motions."""
-    m = notes.get("measured", {})
-    R = m.get("R")
-    out = []
-    for key, eff in m.items():
-        if not key.startswith("damping|") or not R:
-            continue
-        se = eff.get("se_rel_diff_means") or eff["paired_se"]
-        judged = damping_judgement(eff)
-        df = pd.DataFrame({
-            "R [m]": R,
-            "Δ of the means [%]": np.round(100 * np.asarray(eff["rel_diff_means"], float), 2),
-            "± 2 SE of Δ [%]": np.round(200 * np.asarray(se, float), 2),
-            "per-motion Δ, mean [%]": np.round(100 * np.asarray(eff["paired_mean"], float), 2),
-            "motions": eff["paired_n"],
-            "spread among motions, std/mean undamped [%]": np.round(100 * np.asarray(
-                eff["cov_undamped"], float), 1),
-            "essentially identical": ["yes" if ok else "no" for ok in judged["ok"]],
-        })
-        out.append((f"Damped − undamped, {limit_state_title(key.split('|', 1)[1])}: "
-                    "relative difference of the ensemble means with two standard errors "
-                    "(std of the paired differences / √n), the mean of the per-motion "
-                    "differences, and the spread among motions; identical = |Δ| ≤ 5 % or "
-                    "within 2 SE", df))
-    return out
-
-
 def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "") -> str:
     """A figure with its caption and evidence; its verdicts stay in the verdict table (one
     line here counts them and links there)."""
@@ -441,9 +391,8 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "")
             counts[c.verdict] = counts.get(c.verdict, 0) + 1
         table = ("<p><a href='#verdicts'>Verdicts</a>: "
                  + ", ".join(f"{n} {v}" for v, n in counts.items()) + ".</p>")
-    if entry.name == "fig09_spectra":
-        table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
-                         for title, df in damping_tables(entry.notes))
+    table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
+                     for title, df in figure_tables(entry))
     # the verdict table links #<figure name>: the first image of a figure carries it
     anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
@@ -514,12 +463,6 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts.append("<h2>Figures</h2>")
     parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs)
               for i, e in enumerate(entries)]
-    quality = fit_quality_table(entries)
-    if not quality.empty:
-        parts.append("<h2 id='fit-quality'>Fit quality of the synthetic ensembles (5 % PSA, "
-                     "geometric mean of the synthetic motions ÷ record; * = the ensemble the "
-                     "study uses)</h2>")
-        parts.append(_table_html(quality))
     if linear_fit is not None:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")

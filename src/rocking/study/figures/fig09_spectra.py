@@ -10,9 +10,12 @@ the means, with the spread of the per-motion differences.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
@@ -25,10 +28,13 @@ from ._style import (
     pga_g_axis,
     styled,
 )
+from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
 TAN_ALPHA = 0.2
 MODES = ("3d", "3d-damped")
 LINESTYLES = {"3d": "-", "3d-damped": "--"}
+DAMPING_NOTE = "damping|"
+"""Prefix of the measured key of the damped − undamped comparison of one limit state."""
 
 
 def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
@@ -71,7 +77,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
     for panel in panels:
         eff = panel["damping"]
         if eff is not None:
-            measured[f"damping|{panel['limit_state']}"] = eff
+            measured[DAMPING_NOTE + panel["limit_state"]] = eff
             # kept for readers of older notes: the largest |Δ| of the means
             measured[f"max_rel_diff_damped_{panel['limit_state']}"] = eff["max_abs_rel_diff_means"]
     return {
@@ -246,3 +252,121 @@ def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
     ax.plot(d["R_mean"], 100 * np.asarray(eff["rel_diff_means"], float), color="black", lw=2.0,
             label="difference of the means")
     ax.legend(loc="best", fontsize=6.5)
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig09_spectra", {}).get("measured", {})
+    rows = []
+    for key, eff in m.items():
+        if not key.startswith(DAMPING_NOTE):
+            continue
+        ls = key.removeprefix(DAMPING_NOTE)
+        rows.append(_damping_row(ls, eff, m.get("R")))
+    if not rows:
+        rows.append(Comparison("fig09_spectra", "Undamped and damped spectra essentially "
+                               "identical (§5.2)", "essentially identical", "—", NOT_COMPUTED,
+                               "the damped or the undamped model was not run at tan α = 0.2"))
+    return rows
+
+
+DAMPING_RTOL = 0.05
+"""Difference of the means that is "essentially identical" whatever its scatter [-]."""
+
+
+def damping_judgement(eff: Mapping) -> dict:
+    """Per R, is the damped mean "essentially identical" to the undamped one?
+
+    A difference of the means is accepted when it is small (≤ :data:`DAMPING_RTOL`) or when
+    it is within two standard errors of itself (``se_rel_diff_means``; older notes: the
+    standard error of the per-motion differences): the ensemble's scatter explains it.
+
+    Returns
+    -------
+    dict
+        ``ok`` (list of bool per R), ``noise`` (indices accepted only through the scatter),
+        ``small_systematic`` (indices with |Δ| ≤ 5 % but beyond 2 SE), ``failed`` (indices).
+    """
+    rel = [float("nan") if v is None else float(v) for v in eff.get("rel_diff_means", [])]
+    se = eff.get("se_rel_diff_means") or eff.get("paired_se") or [None] * len(rel)
+    se = [float("nan") if v is None else float(v) for v in se]
+    ok, noise, small, failed = [], [], [], []
+    for i, (d, e) in enumerate(zip(rel, se, strict=False)):
+        if not math.isfinite(d):
+            ok.append(True)
+            continue
+        within = math.isfinite(e) and abs(d) <= 2.0 * e
+        good = abs(d) <= DAMPING_RTOL * (1 + 1e-9) or within
+        ok.append(good)
+        if not good:
+            failed.append(i)
+        elif abs(d) > DAMPING_RTOL:
+            noise.append(i)
+        elif not within:
+            small.append(i)
+    return {"ok": ok, "noise": noise, "small_systematic": small, "failed": failed,
+            "rel": rel, "se": se}
+
+
+def _damping_row(ls: str, eff: Mapping, R: list | None = None) -> Comparison:
+    worst = eff.get("max_abs_rel_diff_means")
+    k = eff.get("R_index_of_max")
+    j = damping_judgement(eff)
+
+    def at(idx):
+        return ", ".join(f"{R[i]:g}" if R else str(i) for i in idx)
+
+    def pm(i):
+        return f"{fmt(100 * j['rel'][i], 2)} ± {fmt(200 * j['se'][i], 2)} %"
+
+    ours = (f"largest |Δ| of the means {fmt(100 * worst, 3) if finite(worst) else '—'} %"
+            + (f" at R = {R[k]:g} m, where Δ ± 2 SE = {pm(k)} (n = {eff['paired_n'][k]})"
+               if k is not None and R else "")) if k is not None else "—"
+    tolerance = "|Δ of the means| ≤ 5 % or within 2 standard errors of Δ, at every R"
+    notes = []
+    if j["noise"]:
+        notes.append(f"at R = {at(j['noise'])} m Δ exceeds 5 % but lies within 2 SE (the "
+                     "scatter among motions)")
+    if j["small_systematic"]:
+        notes.append(f"at R = {at(j['small_systematic'])} m a small systematic Δ (≤ 5 %, "
+                     "beyond 2 SE)")
+    if notes:
+        tolerance += "; " + "; ".join(notes)
+    reason = (f"at R = {at(j['failed'])} m the difference of the means exceeds both 5 % and 2 "
+              "standard errors: " + "; ".join(f"R = {R[i]:g} m: {pm(i)}" if R else pm(i)
+                                              for i in j["failed"]))
+    return judged("fig09_spectra", f"Undamped and damped mean spectra, {limit_state_title(ls)} "
+                  "(§5.2: 'essentially identical'; excessive tilt: 'differences ... practically "
+                  "vanish when the average spectra are compared')", "essentially identical",
+                  ours, (not j["failed"]) if finite(worst) else None, tolerance, reason)
+
+
+def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
+    """Fig 9's damped against undamped means per size R, with the spread among motions."""
+    m = notes.get("measured", {})
+    R = m.get("R")
+    out = []
+    for key, eff in m.items():
+        if not key.startswith(DAMPING_NOTE) or not R:
+            continue
+        se = eff.get("se_rel_diff_means") or eff["paired_se"]
+        judged = damping_judgement(eff)
+        df = pd.DataFrame({
+            "R [m]": R,
+            "Δ of the means [%]": np.round(100 * np.asarray(eff["rel_diff_means"], float), 2),
+            "± 2 SE of Δ [%]": np.round(200 * np.asarray(se, float), 2),
+            "per-motion Δ, mean [%]": np.round(100 * np.asarray(eff["paired_mean"], float), 2),
+            "motions": eff["paired_n"],
+            "spread among motions, std/mean undamped [%]": np.round(100 * np.asarray(
+                eff["cov_undamped"], float), 1),
+            "essentially identical": ["yes" if ok else "no" for ok in judged["ok"]],
+        })
+        out.append((f"Damped − undamped, {limit_state_title(key.removeprefix(DAMPING_NOTE))}: "
+                    "relative difference of the ensemble means with two standard errors "
+                    "(std of the paired differences / √n), the mean of the per-motion "
+                    "differences, and the spread among motions; identical = |Δ| ≤ 5 % or "
+                    "within 2 SE", df))
+    return out

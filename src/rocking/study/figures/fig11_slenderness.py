@@ -7,6 +7,7 @@ are named in the figure.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -15,9 +16,14 @@ from matplotlib.figure import Figure
 from ...spectra.fragility import fit_line
 from . import _axes, _load
 from ._style import MODE_STYLE, _suptitle_and_notes, limit_state_title, new_figure, styled
+from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
 TAN_ALPHAS = (0.1, 0.2, 0.3)
 MODE = "3d"
+TAN_ALPHAS_NOTE = "tan_alphas|"
+"""Prefix of the measured key of the slendernesses drawn for one limit state."""
+SPREAD_NOTE = "max_rel_spread_"
+"""Prefix of the measured key of the largest spread across slendernesses."""
 STYLES = {0.1: ("tab:blue", "s"), 0.2: ("black", "o"), 0.3: ("tab:red", "^")}
 """Colour and marker per slenderness (others cycle through the default colours)."""
 
@@ -54,12 +60,12 @@ def measurements(R: np.ndarray, panels: list[dict]) -> dict:
     measured: dict = {}
     for panel in panels:
         ls = panel["limit_state"]
-        measured[f"tan_alphas|{ls}"] = sorted(panel["curves"])
+        measured[TAN_ALPHAS_NOTE + ls] = sorted(panel["curves"])
         if len(panel["curves"]) >= 2:
             # Spread across slendernesses relative to their mean: the paper's "very small".
             y = np.vstack(list(panel["curves"].values()))
             spread = (np.nanmax(y, axis=0) - np.nanmin(y, axis=0)) / np.nanmean(y, axis=0)
-            measured[f"max_rel_spread_{ls}"] = float(np.nanmax(spread))
+            measured[SPREAD_NOTE + ls] = float(np.nanmax(spread))
         for t, y in panel["curves"].items():
             fit = fit_line(R, y)
             measured[f"line|{ls}|{t:g}"] = {"slope": fit.slope, "intercept": fit.intercept,
@@ -86,3 +92,27 @@ def plot(d: dict) -> Figure:
     _suptitle_and_notes(
         fig, d, f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)")
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig11_slenderness", {}).get("measured", {})
+    rows = []
+    for key, t in m.items():
+        if not key.startswith(TAN_ALPHAS_NOTE):
+            continue
+        ls = key.removeprefix(TAN_ALPHAS_NOTE)
+        spread = m.get(SPREAD_NOTE + ls)
+        rows.append(judged(
+            "fig11_slenderness", f"Slenderness has 'a very small influence' once the intensity "
+            f"is normalized by g tan α, {limit_state_title(ls)} (§5.3)", "very small influence",
+            f"largest spread among tan α = {', '.join(f'{v:g}' for v in t)}: "
+            f"{fmt(100 * spread, 3) if finite(spread) else '—'} % of the mean",
+            spread <= 0.15 if finite(spread) else None, "spread ≤ 15 % of the mean at every R",
+            "slenderness changes the normalized spectra beyond the tolerance",
+            f"only tan α = {', '.join(f'{v:g}' for v in t) or 'none'} computed"))
+    return rows or [Comparison("fig11_slenderness", "Influence of slenderness (§5.3)",
+                               "very small", "—", NOT_COMPUTED, "no mean spectra")]

@@ -7,6 +7,7 @@ whose critical intensity is at most the abscissa (not-reached motions never coun
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,7 @@ from ._style import (
     pga_g_axis,
     styled,
 )
+from .comparisons import NOT_IN_PAPER, Comparison
 
 MEDIAN_SYMBOL = "IM₅₀"
 """Symbol of the fitted median intensity (θ is the tilt everywhere else)."""
@@ -137,3 +139,13 @@ def plot(d: dict) -> Figure:
              "in the report's table")
     _suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    return [Comparison("fragility_curves", "Lognormal fragility curves per size R", "—",
+                       "see the fragility table", NOT_IN_PAPER,
+                       "an addition for performance-based design")]
