@@ -524,11 +524,15 @@ def test_partially_computed_store_builds_every_figure(partial, tmp_path):
 
 
 def test_reduced_run_degrades_gracefully(reduced, tmp_path):
-    d9 = fig09_spectra.data(reduced["store"], reduced["means"])
+    d9 = fig09_spectra.data(reduced["store"], reduced["means"], modes=("3d", "3d-damped"))
     assert "mode 3d-damped not computed" in d9["missing"]
+    # by default Fig 9 follows the store: no damped model ran, so no damped row and no gap
+    d9 = fig09_spectra.data(reduced["store"], reduced["means"])
+    assert d9["modes"] == ["3d"] and d9["missing"] == []
+    assert len(fig09_spectra.plot(d9).axes) == 2  # one row: two panels, no difference row
     out = [tmp_path / "f9.png", tmp_path / "f9.pdf"]
     render("fig09_spectra", out, tmp_path / "f9.json", store=reduced["store"],
-           means=reduced["means"])
+           means=reduced["means"], modes=("3d", "3d-damped"))
     notes = json.loads((tmp_path / "f9.json").read_text())
     assert notes["missing"] == ["mode 3d-damped not computed"]
     assert out[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

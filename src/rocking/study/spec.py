@@ -52,6 +52,9 @@ DEFAULTS: dict[str, Any] = {
 """The schema's defaults (tests/test_spec.py holds them equal), for configurations read
 without the workflow (the benchmark drivers); the workflow has filled them in already."""
 
+PAPERS = ("vassiliou2017",)
+"""Papers a study can reproduce (``studies.<name>.reproduces``): Vassiliou et al. (2017)."""
+
 
 def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[float]:
     """Values of a grid given as a list or ``{start, stop, num[, spacing]}``.
@@ -504,12 +507,16 @@ class StudySpec(_Hashed):
         The site's hazard as configured (``studies.<name>.hazard``: a hazard-curve file,
         ``{file, site, im_factor}`` or ``{k0, k, im_factor}``; read by
         :func:`rocking.risk.parse_hazard`), None without risk outputs. It decides no store.
+    reproduces : str or None
+        The paper the study reproduces (one of :data:`PAPERS`), None for a study of one's
+        own: it decides which figures and verdicts are drawn, no store.
     """
 
     spectra: SpectraSpec
     tilt_map: TiltMapSpec | None = None
     stripes: StripesSpec | None = None
     hazard: str | dict[str, Any] | None = None
+    reproduces: str | None = None
 
     @property
     def name(self) -> str:
@@ -540,7 +547,8 @@ class StudySpec(_Hashed):
             raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
         field = f"studies.{name}"
         s = _mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
-                                            "stripes": None, "hazard": None},
+                                            "stripes": None, "hazard": None,
+                                            "reproduces": None},
                      ["ensemble", "R", "runs"])
         ensemble = EnsembleSpec.from_config(config, s["ensemble"])
         accuracy = _accuracy(config.get("accuracy", DEFAULTS["accuracy"]))
@@ -568,16 +576,19 @@ class StudySpec(_Hashed):
         hazard = s["hazard"]
         if hazard is not None and not isinstance(hazard, (str, Mapping)):
             raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
+        if s["reproduces"] is not None and s["reproduces"] not in PAPERS:
+            raise ValueError(f"{field}.reproduces must be one of {list(PAPERS)} or null, got "
+                             f"{s['reproduces']!r}")
         return cls(spectra, tilt_map, stripes,
-                   dict(hazard) if isinstance(hazard, Mapping) else hazard)
+                   dict(hazard) if isinstance(hazard, Mapping) else hazard, s["reproduces"])
 
     def to_attrs(self) -> dict[str, Any]:
-        """``{"spectra", "tilt_map", "stripes", "hazard"}``: each part's mapping (None when
-        absent)."""
+        """``{"spectra", "tilt_map", "stripes", "hazard", "reproduces"}``: each part's mapping
+        (None when absent)."""
         return {"spectra": self.spectra.to_attrs(),
                 "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
                 "stripes": None if self.stripes is None else self.stripes.to_attrs(),
-                "hazard": self.hazard}
+                "hazard": self.hazard, "reproduces": self.reproduces}
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
@@ -585,7 +596,8 @@ class StudySpec(_Hashed):
         t, s = attrs.get("tilt_map"), attrs.get("stripes")
         return cls(SpectraSpec.from_attrs(attrs["spectra"]),
                    None if t is None else TiltMapSpec.from_attrs(t),
-                   None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"))
+                   None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"),
+                   attrs.get("reproduces"))
 
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:

@@ -1,11 +1,13 @@
 """Figure 9: seismic performance rocking spectra per ground motion, with their mean.
 
-Left overturning, right excessive tilt (θ > α/3), tan α = 0.2. Each motion has one colour;
-undamped solid, damped dashed; the thick black line is the mean over the motions (from the
-study's aggregate ``mean_spectra.nc``). Points where the limit state was not reached within
-the search range, or that were not computed, are not drawn. The lower row quantifies the
-paper's "essentially identical": the relative difference damped − undamped per motion and of
-the means, with the spread of the per-motion differences.
+One panel per limit state (overturning and excessive tilt θ > α/3 in the paper; a study's
+own goals otherwise, :func:`._load.panel_limit_states`) at the study's slenderness (the paper's
+tan α = 0.2; :func:`._load.main_tan_alpha`). Each motion has one colour; undamped solid,
+damped dashed; the thick black line is the mean over the motions (from the study's aggregate
+``mean_spectra.nc``). Points where the limit state was not reached within the search range,
+or that were not computed, are not drawn. Where the damped model ran, a lower row quantifies
+the paper's "essentially identical": the relative difference damped − undamped per motion and
+of the means, with the spread of the per-motion differences.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from matplotlib.lines import Line2D
 
 from . import _axes, _load
 from ._style import (
+    MODE_STYLE,
     _suptitle_and_notes,
     limit_state_title,
     motion_styles,
@@ -30,25 +33,26 @@ from ._style import (
 )
 from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
-TAN_ALPHA = 0.2
-MODES = ("3d", "3d-damped")
+DAMPED = "3d-damped"
+"""The damped mode, drawn beside the undamped "3d" where the study ran it."""
 LINESTYLES = {"3d": "-", "3d-damped": "--"}
 DAMPING_NOTE = "damping|"
 """Prefix of the measured key of the damped − undamped comparison of one limit state."""
 
 
-def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
-         modes: tuple[str, ...] = MODES, motions: str | Path | None = None) -> dict:
+def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None,
+         modes: tuple[str, ...] | None = None, motions: str | Path | None = None) -> dict:
     """Arrays of Fig 9 from the store and the aggregate.
 
     Parameters
     ----------
     store, means : path
         The study's spectra store and ``mean_spectra.nc``.
-    tan_alpha : float
-        Slenderness [-].
-    modes : tuple of str
-        Modes drawn (undamped and damped 3D).
+    tan_alpha : float, optional
+        Slenderness [-]; default the study's (:func:`._load.main_tan_alpha` of the modes).
+    modes : tuple of str, optional
+        Modes drawn; default the study's primary mode (:func:`._load.primary_mode`) and,
+        with "3d", the damped model where the study ran it.
     motions : path, optional
         The ensemble file, for the physical directions of x and y.
 
@@ -62,7 +66,17 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
     """
     ds = _load.open_store(store)
     agg = _load.open_means(means)
-    if not _load.has_value(ds, "tan_alpha", tan_alpha):
+    if modes is None:
+        primary = _load.primary_mode(ds)
+        if primary is None:
+            raise ValueError(f"the store {str(store)!r} holds no computed cell")
+        damped = primary == "3d" and DAMPED in _load.labels(ds, "mode") and bool(
+            _load.requested_cells(ds).sel(mode=DAMPED).any())
+        modes = (primary, DAMPED) if damped else (primary,)
+    if tan_alpha is None:
+        tan_alpha = _load.main_tan_alpha(ds, list(modes)) or _load.main_tan_alpha(
+            ds, list(modes[:1]))
+    if tan_alpha is None or not _load.has_value(ds, "tan_alpha", tan_alpha):
         raise ValueError(f"tan_alpha={tan_alpha!r} is not in the store {str(store)!r}")
     ds = _load.select_value(ds, "tan_alpha", tan_alpha)
     agg = _load.select_value(agg, "tan_alpha", tan_alpha)
@@ -70,9 +84,12 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
     motion_names = _load.labels(ds, "motion")
     missing: list[str] = []
     panels = []
-    for _title, ls in _load._paper_limit_states(states, missing):
-        panel = _panel(ds, agg, ls, modes, motion_names, missing, tan_alpha)
-        panels.append(panel)
+    cells = _load.requested_cells(ds)
+    drawn = [ls for ls in states
+             if any(m in _load.labels(ds, "mode") and bool(cells.sel(mode=m, limit_state=ls).any())
+                    for m in modes)]
+    for ls in _load.panel_limit_states(drawn or states):
+        panels.append(_panel(ds, agg, ls, modes, motion_names, missing, tan_alpha))
     measured: dict = {"R": ds["R"].values.astype(float).tolist()}
     for panel in panels:
         eff = panel["damping"]
@@ -87,6 +104,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
         "motions": motion_names,
         "panels": panels,
         "tan_alpha": tan_alpha,
+        "modes": list(modes),
         "colors": motion_styles(motion_names),
         "axes": _axes.from_ensemble(motions),
         "missing": sorted(set(missing)),
@@ -119,11 +137,10 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
             missing.append(f"mean of mode {mode} not aggregated")
         else:
             mean[mode] = m
-    std = _load.mean_curve(agg, "3d", ls, "std")
+    std = _load.mean_curve(agg, "3d", ls, "std") if "3d" in modes else None
     effect = None
-    if {"3d", "3d-damped"} <= set(curves) and {"3d", "3d-damped"} <= set(mean):
-        effect = damping_effect(curves["3d"], curves["3d-damped"], mean["3d"],
-                                mean["3d-damped"], std)
+    if {"3d", DAMPED} <= set(curves) and {"3d", DAMPED} <= set(mean):
+        effect = damping_effect(curves["3d"], curves[DAMPED], mean["3d"], mean[DAMPED], std)
     return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
             "unresolved": unresolved}
 
@@ -188,19 +205,25 @@ def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.
 
 @styled
 def plot(d: dict) -> Figure:
-    """Two columns (overturning, excessive tilt): spectra above, damped − undamped below."""
+    """One column per limit state: spectra above and, where the damped model ran,
+    damped − undamped below."""
     panels = d["panels"]
     ncols = max(len(panels), 1)
-    fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
-                           height_ratios=(2.2, 1.0))
+    damped = DAMPED in d.get("modes", ("3d", DAMPED))
+    if damped:
+        fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
+                               height_ratios=(2.2, 1.0))
+    else:
+        fig, axes = new_figure(10.0 if ncols > 1 else 6.4, 5.0, ncols=ncols, squeeze=False)
     colors = {m: st["color"] for m, st in d["colors"].items()}
     for col, panel in enumerate(panels):
         _spectra_panel(axes[0][col], d, panel, colors)
-        _difference_panel(axes[1][col], d, panel, colors)
-    for ax in axes[0][len(panels):]:
-        ax.text(0.5, 0.5, "no limit state computed", ha="center", transform=ax.transAxes)
-    title = (f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9); "
-             "solid undamped, dashed damped")
+        if damped:
+            _difference_panel(axes[1][col], d, panel, colors)
+    modes = d.get("modes", ["3d", DAMPED])
+    styles = "; solid undamped, dashed damped" if damped else (
+        f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
+    title = f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9){styles}"
     _suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
                         "(vector), normalized by g tan α.")
     return fig
@@ -213,7 +236,7 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
                     marker=".", ms=3)
     for mode, y in panel["means"].items():
         ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
-                label=f"mean, {'damped' if mode == '3d-damped' else 'undamped'}")
+                label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
     flagged = False
     for mode, flags in panel.get("unresolved", {}).items():
         for motion, f in flags.items():

@@ -1,8 +1,11 @@
 """Figure 10: mean performance spectra for every performance goal (θ > r·α and overturning).
 
-Undamped 3D model, tan α = 0.2, mean over the ensemble (the study's ``mean_spectra.nc``).
-The paper shows seven goals; a reduced run shows the goals it computed and names the others.
-Every curve gets a least-squares line in R (the paper: "almost straight lines").
+The study's primary mode (undamped 3D in the paper) at its slenderness (tan α = 0.2 in the
+paper; :func:`._load.main_tan_alpha`), mean over the ensemble (the study's
+``mean_spectra.nc``), one line per goal the study computed, however many. The paper shows
+seven goals; a reduced reproduction names the others. Every curve gets a least-squares line
+in R (the paper: "almost straight lines"); means that some answers flagged unresolved carry
+an open marker.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from ...spectra.limit_states import DEFAULT_LIMIT_STATES
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
+    UNRESOLVED_LABEL,
     _missing_and_axes_note,
     limit_state_sort_key,
     limit_state_title,
@@ -28,8 +32,6 @@ from ._style import (
 )
 from .comparisons import EQUATIONS, NOT_COMPUTED, NOT_IN_PAPER, Comparison, finite, fmt, judged
 
-TAN_ALPHA = 0.2
-MODE = "3d"
 PAPER_GOALS = DEFAULT_LIMIT_STATES
 """The seven performance goals of the paper's Fig 10."""
 GOAL_COLORS = ("#9ecae1", "#e6ab02", "#2ca02c", "#1f77b4", "#9467bd", "#d62728", "black")
@@ -44,12 +46,22 @@ FLAT_TOL = 0.10
 """A mean spectrum is "flat" while it stays within this share of its smallest-R value [-]."""
 
 
-def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
-         motions: str | Path | None = None) -> dict:
+def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None = None,
+         motions: str | Path | None = None, paper: bool = True) -> dict:
     """Mean spectra per limit state: ``R`` [m], ``curves`` {limit state: PGA/(g tan α) (R,)},
-    ``missing`` (goals, mode or slenderness not computed), ``measured`` line fits per goal."""
+    ``unresolved`` {limit state: bool (R,)} where some motion's answer is flagged unresolved,
+    ``missing`` (goals, mode or slenderness not computed), ``measured`` line fits per goal.
+
+    ``mode`` and ``tan_alpha`` default to the study's (:func:`._load.primary_mode`,
+    :func:`._load.main_tan_alpha`); ``paper`` (a reproduction of the paper) names the paper's
+    goals the run did not compute.
+    """
     agg = _load.open_means(means)
+    mode = mode or _load.primary_mode(agg) or "3d"
+    if tan_alpha is None:
+        tan_alpha = _load.main_tan_alpha(agg, [mode]) or float(agg["tan_alpha"].values[0])
     missing = []
+    unresolved: dict[str, np.ndarray] = {}
     curves: dict[str, np.ndarray] = {}
     R = agg["R"].values.astype(float)
     if not _load.has_value(agg, "tan_alpha", tan_alpha):
@@ -62,8 +74,11 @@ def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
             y = _load.mean_curve(agg, mode, ls)
             if y is not None:
                 curves[ls] = y
+                flag = _load.unresolved_means(agg, mode, ls)
+                if flag is not None:
+                    unresolved[ls] = flag
     absent = [g for g in PAPER_GOALS if _load.find_limit_state(list(curves), g) is None]
-    if absent and not missing:
+    if absent and not missing and paper:
         missing.append(f"{len(absent)} of the paper's {len(PAPER_GOALS)} goals not computed: "
                        + ", ".join(limit_state_title(g) for g in absent))
     measured = {"n_goals": len(curves), "n_paper_goals": len(PAPER_GOALS),
@@ -76,8 +91,9 @@ def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
         measured[COINCIDE_NOTE] = same
-    return {"R": R, "curves": curves, "tan_alpha": tan_alpha, "mode": mode,
-            "missing": missing, "measured": measured, "axes": _axes.from_ensemble(motions)}
+    return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
+            "mode": mode, "missing": missing, "paper": paper, "measured": measured,
+            "axes": _axes.from_ensemble(motions)}
 
 
 def shape(R: np.ndarray, y: np.ndarray, slope: float, intercept: float) -> dict:
@@ -154,11 +170,18 @@ def plot(d: dict) -> Figure:
             label += f" = {limit_state_title(hidden[ls]).lower()}"
         ax.plot(d["R"], y, color=color, lw=1.6, marker="o", ms=3, label=label,
                 ls="-" if ls not in hidden else (0, (1, 1)), zorder=3 if ls in hidden else 2)
+        flag = d.get("unresolved", {}).get(ls)
+        if flag is not None:  # means over answers some of which may lie lower
+            ax.plot(d["R"][flag], y[flag], "o", ms=7, mfc="white", mec=color, mew=1.2,
+                    zorder=4)
         if np.isfinite(fit.get("slope", np.nan)):
             # the least-squares line whose R² the legend quotes
             ax.plot(d["R"], fit["slope"] * d["R"] + fit["intercept"], color=color, lw=0.8,
                     ls="--", alpha=0.8)
     ax.plot([], [], color="0.4", lw=0.8, ls="--", label="least-squares line of each goal")
+    if d.get("unresolved"):
+        ax.plot([], [], "o", ms=7, mfc="white", mec="0.3", ls="",
+                label=UNRESOLVED_LABEL)
     if not n:
         ax.text(0.5, 0.5, "; ".join(d["missing"]) or "no data", ha="center",
                 transform=ax.transAxes)
@@ -183,7 +206,7 @@ def plot(d: dict) -> Figure:
     title = (f"Mean spectra per performance goal, {MODE_STYLE[d['mode']]['label']} model, "
              f"tan α = {d['tan_alpha']:g} (Fig 10)")
     m = d["measured"]
-    if d["missing"]:
+    if d["missing"] and d.get("paper", True):
         title += f"\nreduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals"
     ax.set_title(title, fontsize=8)
     _missing_and_axes_note(fig, d)

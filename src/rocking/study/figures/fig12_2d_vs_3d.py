@@ -3,9 +3,11 @@
 For each ensemble (El Centro, black; Loma Prieta or its stand-in, red) the 3D model under both
 components is compared with the 2D model under the x (major principal axis) and under the y
 (minor) component alone; the intensity is the bidirectional PGA in all three (paper §5.4).
-tan α = 0.2. The legend names each ensemble by its record and the number of motions averaged;
-the note under the axes gives each ensemble's axis azimuths, so the 2D curves can be matched
-with the paper's (whose x is E–W and y N–S before its rotation).
+At the studies' common slenderness (tan α = 0.2 in the paper). The legend names each
+ensemble by its record and the number of motions averaged; the note under the axes gives each
+ensemble's axis azimuths, so the 2D curves can be matched with the paper's (whose x is E–W and
+y N–S before its rotation). Open circles mark means over fewer motions than the ensemble,
+open diamonds means over answers flagged unresolved.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
+    UNRESOLVED_LABEL,
     footnote,
     limit_state_title,
     pga_g_axis,
@@ -32,7 +35,6 @@ from ._style import (
 )
 from .comparisons import Comparison, finite, fmt, judged
 
-TAN_ALPHA = 0.2
 MODES = ("3d", "2d-x", "2d-y")
 REFERENCE_R = 10.0
 """Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice 2D) [m]."""
@@ -41,9 +43,14 @@ MODE_LABELS = {"3d": "3D, both components", "2d-x": "2D, x (major axis) componen
                "2d-y": "2D, y (minor axis) component only"}
 
 
-def data(studies: Sequence[tuple], *, tan_alpha: float = TAN_ALPHA,
-         modes: tuple[str, ...] = MODES) -> dict:
+def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
+         modes: tuple[str, ...] = MODES, paper: bool = True) -> dict:
     """Mean spectra per ensemble and mode.
+
+    ``tan_alpha`` defaults to the first study's (:func:`._load.main_tan_alpha` of its 3D and
+    2D modes). Panels are the paper's overturning and excessive tilt in a reproduction of the
+    paper (``paper``: absent ones and absent ensembles named), else the studies' own goals
+    (:func:`._load.panel_limit_states`).
 
     Parameters
     ----------
@@ -55,27 +62,45 @@ def data(studies: Sequence[tuple], *, tan_alpha: float = TAN_ALPHA,
     -------
     dict
         ``ensembles``: [{``name``, ``label``, ``stand_in``, ``n_motions``, ``axes``, ``R`` [m],
-        ``panels``: {"overturning"/"excessive tilt": {mode: mean PGA/(g tan α) (R,)}}},
-        ``missing``: notes; ``measured``: the means at R = 10 m.
+        ``panels``: {"overturning"/"excessive tilt"/goal title: {mode: mean PGA/(g tan α)
+        (R,)}}}, ``titles``: the panel titles in order, ``missing``: notes; ``measured``: the
+        means at R = 10 m.
     """
     ensembles = []
     missing: list[str] = []
+    if tan_alpha is None and studies:
+        agg = _load.open_means(studies[0][1])
+        tan_alpha = (_load.main_tan_alpha(agg, list(modes))
+                     or _load.main_tan_alpha(agg, list(modes[:1])))
+    if tan_alpha is None:
+        raise ValueError("no study of Fig 12 computed its 3D mode")
     for entry in studies:
         name, means, store = entry[:3]
         motions = entry[3] if len(entry) > 3 else None
-        ens = _ensemble(name, means, store, motions, tan_alpha, modes, missing)
+        ens = _ensemble(name, means, store, motions, tan_alpha, modes, missing, paper)
         if ens is not None:
             ensembles.append(ens)
     names = " ".join(f"{e['name']} {e['label']}" for e in ensembles).lower()
-    for wanted in ("El Centro", "Loma Prieta"):
+    for wanted in ("El Centro", "Loma Prieta") if paper else ():
         if wanted.split()[0].lower() not in names:
             missing.append(f"no {wanted} ensemble in this run")
+    titles = list(dict.fromkeys(t for e in ensembles for t in e["panels"]))
     return {"ensembles": ensembles, "tan_alpha": tan_alpha, "missing": sorted(set(missing)),
+            "titles": titles or ["overturning", "excessive tilt"],
             "measured": at_size(ensembles, REFERENCE_R),
             "axes": {e["name"]: e["axes"] for e in ensembles}}
 
 
-def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing: list[str]):
+def _panel_title(limit_state: str) -> str:
+    """Key of a panel: the paper's "overturning" and "excessive tilt", else the goal's title."""
+    if limit_state == "overturning":
+        return "overturning"
+    return "excessive tilt" if _load.excessive_tilt([limit_state]) else limit_state_title(
+        limit_state)
+
+
+def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing: list[str],
+              paper: bool = True):
     """One ensemble's curves, or None (with a note) when its tan α was not computed."""
     agg = _load.open_means(means)
     attrs = dict(agg.attrs)
@@ -91,7 +116,9 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
     states = _load.labels(agg, "limit_state")
     panels: dict[str, dict[str, np.ndarray]] = {}
     spread: dict[str, np.ndarray] = {}
-    for title, ls in _load._paper_limit_states(states, missing, prefix=f"{record}: "):
+    chosen = (_load._paper_limit_states(states, missing, prefix=f"{record}: ") if paper else
+              ((_panel_title(ls), ls) for ls in _load.panel_limit_states(states)))
+    for title, ls in chosen:
         panels[title] = {}
         for mode in modes:
             y = _load.mean_curve(agg, mode, ls)
@@ -99,7 +126,7 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                 missing.append(f"{record}: mode {mode} not computed")
                 continue
             panels[title][mode] = y
-            for stat in ("std", "count", "n_not_reached", "censoring"):
+            for stat in ("std", "count", "n_not_reached", "censoring", "n_unresolved"):
                 if stat in agg and np.issubdtype(agg[stat].dtype, np.number):
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
@@ -158,10 +185,12 @@ def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
 @styled
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
-    titles = ("overturning", "excessive tilt")
-    fig, axes, legend_row = with_legend_row(10.0, 6.4, ncols=2, legend_share=0.22)
+    titles = d.get("titles", ("overturning", "excessive tilt"))
+    fig, axes, legend_row = with_legend_row(10.0 if len(titles) > 1 else 6.4, 6.4,
+                                            ncols=len(titles), legend_share=0.22)
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
+    unresolved = False  # any mean over answers flagged unresolved
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
@@ -178,6 +207,11 @@ def plot(d: dict) -> Figure:
                 if few.any():  # the mean leaves out motions not reached at the search bound
                     partial = True
                     ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.2)
+                flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_unresolved")
+                if flagged is not None and (np.nan_to_num(flagged) > 0).any():
+                    unresolved = True  # answers narrower windows may undercut: mean may be lower
+                    f = np.nan_to_num(flagged) > 0
+                    ax.plot(ens["R"][f], y[f], "D", ms=4.5, mfc="none", mec=color, mew=1.0)
                 if mode not in modes_seen:
                     modes_seen.append(mode)
     handles += [Line2D([], [], color="gray", lw=1.6, ls=MODE_STYLE[m]["linestyle"],
@@ -186,8 +220,12 @@ def plot(d: dict) -> Figure:
         handles.append(Line2D([], [], ls="", marker="o", ms=7, mfc="white", mec="gray",
                               label="open marker: mean over fewer motions than the ensemble\n"
                                     "(the others not reached at the search bound)"))
+    if unresolved:
+        handles.append(Line2D([], [], ls="", marker="D", ms=4.5, mfc="none", mec="gray",
+                              label=UNRESOLVED_LABEL))
     for ax, title in zip(axes, titles, strict=True):
-        ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3"))
+        ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
+                     if title in ("overturning", "excessive tilt") else title)
         ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
         ax.set_xlim(left=0.0)
