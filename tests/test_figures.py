@@ -93,7 +93,7 @@ def test_one_name_per_figure_across_module_script_and_caption():
         assert name in CAPTIONS
     rules = (ROOT / "workflow/rules/figures.smk").read_text()
     for name in figures.FIGURES:
-        assert f"rule {name}:" in rules and f'caption("{name}")' in rules
+        assert f"rule {name}:" in rules and f'caption("{name}"' in rules
     assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
         "figure", "fragility_table", "linear_fit", "mean_spectra", "run_config",
         "stripe_fragility", "workflow"]

@@ -36,7 +36,7 @@ def main(snakemake):
                     f"(ensemble {snakemake.params.ensemble})",
               figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run,
               risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
-              stripes=inp.get("stripes"))
+              stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None)
 
 
 if __name__ == "__main__":

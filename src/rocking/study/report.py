@@ -27,9 +27,9 @@ from ..risk.report import risk_section_html
 from ..units import read_table
 from .figures import FIGURES, _load, figure_name, module
 from .figures._style import limit_state_title
-from .figures.captions import CAPTIONS
+from .figures.captions import caption
 from .figures.comparisons import Comparison, compare, fmt
-from .spec import decode_attrs
+from .spec import SpectraSpec, TiltMapSpec, decode_attrs
 
 SHOWN = 10
 """Grids with at most this many values are listed in full, longer ones as a range."""
@@ -108,11 +108,6 @@ def measured_lines(entry: FigureEntry) -> list[str]:
 # --------------------------------------------------------------------------- what was run
 
 
-def _attr(attrs: Mapping, key: str, default=None):
-    """A store attribute, decoded when it is a JSON string (:func:`.spec.decode_attrs`)."""
-    return decode_attrs({key: attrs.get(key, default)})[key]
-
-
 def grid_text(values: Sequence[float], unit: str = "") -> str:
     """``"0.5, 1, 2 m"`` for short grids, ``"20 values, 0.5–10 m (step 0.5)"`` for long."""
     v = [float(x) for x in values]
@@ -128,37 +123,35 @@ def grid_text(values: Sequence[float], unit: str = "") -> str:
 
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
     """What a spectra store says was run: ensemble, grids, limit states, modes per tan α,
-    accuracy, contact parameters, version."""
+    accuracy, contact parameters, version (its ``config`` read as a
+    :class:`~rocking.study.spec.SpectraSpec`)."""
     ds = _load.open_store(path)
-    cfg = _attr(ds.attrs, "config", {}) or {}
-    ens = _attr(ds.attrs, "ensemble", {}) or {}
-    opts = _attr(ds.attrs, "search_options", {}) or {}
-    study = cfg.get("study", Path(path).parent.name)
-    motions = ens.get("motions", [])
-    ens_cfg = cfg.get("ensemble", {})
-    record = motions[0]["label"] if motions else ens_cfg.get("record", "?")
-    p = f"study {study}"
+    attrs = decode_attrs(ds.attrs)
+    spec = SpectraSpec.from_attrs(attrs["config"])
+    motions = attrs["ensemble"]["motions"]
+    p = f"study {spec.study}"
     rows = [
-        (f"{p}: motions", f"ensemble {ens.get('name', ens_cfg.get('name', '?'))}: {record} and "
-                          f"{max(len(motions) - 1, 0)} synthetic pairs (seed "
-                          f"{ens_cfg.get('seed', '?')}); " + ", ".join(m["name"] for m in motions)),
-        (f"{p}: sizes R", grid_text(ds["R"].values, "m")),
-        (f"{p}: slenderness tan α", grid_text(ds["tan_alpha"].values)),
+        (f"{p}: motions", f"ensemble {spec.ensemble.name}: {motions[0]['label']} and "
+                          f"{len(motions) - 1} synthetic pairs (seed {spec.ensemble.seed}); "
+                          + ", ".join(m["name"] for m in motions)),
+        (f"{p}: sizes R", grid_text(spec.R, "m")),
+        (f"{p}: slenderness tan α", grid_text(spec.plan.tan_alpha)),
         (f"{p}: limit states", ", ".join(limit_state_title(ls)
-                                         for ls in _load.labels(ds, "limit_state"))),
+                                         for ls in spec.plan.limit_states)),
         (f"{p}: modes per tan α", modes_text(ds)),
-        (f"{p}: accuracy", f"preset {cfg.get('accuracy', '?')}; tolerances "
-                           f"{json.dumps(_attr(ds.attrs, 'tolerances', {}))}; search up to "
-                           f"PGA/(g tan α) = {fmt(opts.get('upper'))}"),
+        (f"{p}: accuracy", f"preset {spec.accuracy if isinstance(spec.accuracy, str) else 'custom'}"
+                           "; tolerances "
+                           f"{json.dumps(attrs['tolerances'])}; search up to "
+                           f"PGA/(g tan α) = {fmt(spec.upper)}"),
     ]
-    if "omega_n" in opts:
+    if spec.damping is not None:
         rows.append((f"{p}: damped contact (3d-damped)",
-                     f"ωn = {fmt(opts['omega_n'])} rad/s, ζ = {fmt(opts['zeta'])} (Fig 4 also "
-                     "overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
+                     f"ωn = {fmt(spec.damping.omega_n)} rad/s, ζ = {fmt(spec.damping.zeta)} "
+                     "(Fig 4 also overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
                      "ζ ∈ {0.05, 0.5, 5, 50})"))
     if "unresolved" in ds:
         rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
-    rows.append((f"{p}: package version", f"rocking {ds.attrs.get('rocking_version', '?')}"))
+    rows.append((f"{p}: package version", f"rocking {attrs['rocking_version']}"))
     return rows
 
 
@@ -191,13 +184,15 @@ def modes_text(ds) -> str:
 
 
 def tilt_map_rows(path: str | Path) -> list[tuple[str, str]]:
-    """Grid and models of a Fig 7 tilt-map store."""
+    """Grid and models of a Fig 7 tilt-map store (its ``config`` read as a
+    :class:`~rocking.study.spec.TiltMapSpec`)."""
     ds = _load.open_store(path)
-    cfg = _attr(ds.attrs, "config", {}) or {}
-    p = f"study {cfg.get('study', Path(path).parent.name)}: Fig 7 tilt map"
-    return [(p, f"record {ds.attrs.get('motion', '?')}, tan α = {ds.attrs.get('tan_alpha', '?')}, "
-                f"models {', '.join(_load.labels(ds, 'mode'))}; R: {grid_text(ds['R'].values, 'm')}"
-                f"; PGA/(g tan α): {grid_text(ds['intensity'].values)}")]
+    attrs = decode_attrs(ds.attrs)
+    spec = TiltMapSpec.from_attrs(attrs["config"])
+    return [(f"study {spec.study}: Fig 7 tilt map",
+             f"record {attrs['motion']}, tan α = {spec.tan_alpha:g}, models "
+             f"{', '.join(spec.modes)}; R: {grid_text(spec.R, 'm')}; PGA/(g tan α): "
+             f"{grid_text(spec.intensity)}")]
 
 
 def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
@@ -217,8 +212,7 @@ def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
 
 def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str, str]:
     """The record's PGA: one number and what it is."""
-    ens = _attr(_load.open_store(store).attrs, "ensemble", {}) or {}
-    motions = ens.get("motions", [])
+    motions = decode_attrs(_load.open_store(store).attrs)["ensemble"]["motions"]
     if not motions:
         return ("record PGA", "not recorded in the store")
     from ..constants import G
@@ -378,9 +372,10 @@ def _verdict_html(rows: Sequence[Comparison], with_figure: bool, docs: str = "")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
 
-def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "") -> str:
-    """A figure with its caption and evidence; its verdicts stay in the verdict table (one
-    line here counts them and links there)."""
+def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "",
+                 paper: bool = True) -> str:
+    """A figure with its caption (with the paper's statements when ``paper``) and evidence;
+    its verdicts stay in the verdict table (one line here counts them and links there)."""
     img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
     lines = "".join(f"<br><span class='measured'>{html.escape(s)}</span>"
                     for s in measured_lines(entry))
@@ -397,7 +392,7 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "")
     anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption{anchor}>"
-            f"{link_docs(CAPTIONS[entry.name], docs)}{lines}</figcaption>{table}</figure>")
+            f"{link_docs(caption(entry.name, paper), docs)}{lines}</figcaption>{table}</figure>")
 
 
 _EMBEDDED = re.compile(r"<figure id='(?P<stem>[^']+)'><img alt='(?P=stem)' "
@@ -418,8 +413,13 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
           risk: str | Path | None = None, hazard: str = "",
-          stripes: str | Path | None = None) -> Path:
+          stripes: str | Path | None = None, paper: bool = True) -> Path:
     """Write the HTML report.
+
+    A study that reproduces the paper (``paper``) gets the paper's statements set against
+    its numbers (the verdict table, a verdict line per figure) and the paper's captions; a
+    study of one's own gets what was computed only: figures with what they show and
+    measure, and the tables.
 
     Parameters
     ----------
@@ -443,6 +443,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     stripes : path, optional
         ``results/<study>/stripe_fragility.csv``: adds the section that sets the
         multiple-stripe fragility beside the first-exceedance one (:func:`stripes_section`).
+    paper : bool
+        The study reproduces the paper (``studies.<name>.reproduces``): verdicts shown.
 
     Returns
     -------
@@ -450,7 +452,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         ``out``.
     """
     entries = load_figures(figures)
-    verdicts = figure_comparisons(entries)
+    verdicts = figure_comparisons(entries) if paper else {}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
@@ -458,10 +460,12 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts.append(_table_html(pd.DataFrame(list(run), columns=["item", "value"])) if run
                  else "<p>Not recorded.</p>")
     docs = docs_href(Path(out).parent)
-    parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
-    parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
+    if paper:
+        parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
+        parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
     parts.append("<h2>Figures</h2>")
-    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs)
+    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs,
+                           paper)
               for i, e in enumerate(entries)]
     if linear_fit is not None:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
