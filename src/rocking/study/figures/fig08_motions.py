@@ -129,8 +129,8 @@ def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | N
     }
     missing = [f"{m['name']} is a stand-in" for m in out if m["stand_in"]]
     if 1 < len(motions) < 11:
-        missing.append(f"{len(motions) - 1} synthetic pairs (paper: 10): medians, 16–84 % "
-                       "ranges and fit quality rest on few motions")
+        missing.append(f"only {len(motions) - 1} synthetic pairs: medians, 16–84 % ranges and "
+                       "fit quality rest on few motions")
     if len(groups) == 1:
         missing.append("no comparison ensemble of the other identification method")
     record = {"x_azimuth": first.get("x_azimuth"), "y_azimuth": first.get("y_azimuth"),

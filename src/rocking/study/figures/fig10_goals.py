@@ -92,7 +92,7 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     if same:
         measured[COINCIDE_NOTE] = same
     return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
-            "mode": mode, "missing": missing, "paper": paper, "measured": measured,
+            "mode": mode, "missing": missing, "reproduction": paper, "measured": measured,
             "axes": _axes.from_ensemble(motions)}
 
 
@@ -206,7 +206,7 @@ def plot(d: dict) -> Figure:
     title = (f"Mean spectra per performance goal, {MODE_STYLE[d['mode']]['label']} model, "
              f"tan α = {d['tan_alpha']:g} (Fig 10)")
     m = d["measured"]
-    if d["missing"] and d.get("paper", True):
+    if d["missing"] and d.get("reproduction", True):
         title += f"\nreduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals"
     ax.set_title(title, fontsize=8)
     _missing_and_axes_note(fig, d)
