@@ -1,7 +1,6 @@
 """Report (Snakemake script): results/<study>/report.html with what was run, every figure and
 the paper's statements against this run's numbers."""
 
-import json
 from datetime import datetime
 from pathlib import Path
 
@@ -24,12 +23,10 @@ def workflow_elapsed() -> float | None:
 def main(snakemake):
     inp = snakemake.input
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
-    sens = [f for f in inp.figures if str(f).endswith("fig06_theta_max_sensitivity.json")]
     with log_to(snakemake.log[0]):
         run = what_was_run(stores=list(snakemake.params.stores),
                            tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),
-                           sensitivity=json.loads(Path(sens[0]).read_text()) if sens else None,
                            elapsed_seconds=workflow_elapsed())
         build(snakemake.output[0],
               title=f"rocking: study {snakemake.params.study} "

@@ -16,7 +16,7 @@ import json
 import math
 import os
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -83,6 +83,16 @@ def figure_tables(entry: FigureEntry) -> list[tuple[str, pd.DataFrame]]:
     hook = getattr(module(entry.name), "report_tables", None)
     return [] if hook is None else [(title, df) for title, df in hook(entry.notes)
                                     if not df.empty]
+
+
+def figure_run_rows(entries: Sequence[FigureEntry]) -> list[tuple[str, str]]:
+    """Rows a figure adds to the "what was run" section: its module's ``run_rows(notes)``
+    (the common hook; e.g. the unprocessed record's PGA measured for the Fig 6 companion)."""
+    rows = []
+    for entry in entries:
+        hook = getattr(module(entry.name), "run_rows", None)
+        rows += [] if hook is None else list(hook(entry.notes))
+    return rows
 
 
 def comparison_table(rows: Sequence[Comparison], *, with_figure: bool = True) -> pd.DataFrame:
@@ -210,8 +220,9 @@ def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
              f"seed {e.get('seed', '?')}")]
 
 
-def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str, str]:
-    """The record's PGA: one number and what it is."""
+def pga_row(store: str | Path) -> tuple[str, str]:
+    """The record's PGA: one number and what it is (a figure may add the unprocessed record's
+    through its ``run_rows`` hook, :func:`figure_run_rows`)."""
     motions = decode_attrs(_load.open_store(store).attrs)["ensemble"]["motions"]
     if not motions:
         return ("record PGA", "not recorded in the store")
@@ -223,14 +234,6 @@ def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str,
     text = (f"{pga_g:.3f} g: vector peak max √(ax² + ay²) of {first['label']} after "
             "rotation to principal axes and high-pass, as every spectrum is scaled (a vector peak "
             "does not depend on the rotation)")
-    m = (sensitivity or {}).get("measured", {})
-    raw = [k.split("|", 1)[1] for k in m if k.startswith("component_pga_g|as recorded")]
-    if raw:
-        v = raw[0]
-        cx, cy = m[f"component_pga_g|{v}"]
-        text += (f". For reference, unprocessed: vector {m[f'pga_g|{v}']:.3f} g, components "
-                 f"x (E–W) {cx:.3f} g and y (N–S) {cy:.3f} g (the larger one is the PGA record "
-                 "tables quote)")
     return ("record PGA", text)
 
 
@@ -268,7 +271,6 @@ def timing_rows(done: Sequence[str | Path] = (), ensembles: Sequence[str | Path]
 
 def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str | Path] = (),
                  ensembles: Sequence[str | Path] = (), done: Sequence[str | Path] = (),
-                 sensitivity: Mapping | None = None,
                  elapsed_seconds: float | None = None) -> list[tuple[str, str]]:
     """Rows (item, value) of the report's "what was run" section.
 
@@ -283,8 +285,6 @@ def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str |
         ``results/motions/<ensemble>.json`` (rotation, high-pass, seeds, timings).
     done : sequence of path
         Completion summaries ``*.done.json`` (wall times).
-    sensitivity : mapping, optional
-        Notes of the Fig 6 companion figure (unprocessed record peaks).
     elapsed_seconds : float, optional
         Time from the start of the workflow to the report [s].
     """
@@ -292,7 +292,7 @@ def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str |
     for path in ensembles:
         rows += ensemble_rows(path)
     if stores:
-        rows.append(pga_row(stores[0], sensitivity))
+        rows.append(pga_row(stores[0]))
     for path in stores:
         rows += study_rows(path)
     for path in tilt_maps:
@@ -457,7 +457,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
     parts.append("<h2 id='what-was-run'>What was run</h2>")
-    parts.append(_table_html(pd.DataFrame(list(run), columns=["item", "value"])) if run
+    run = [*run, *figure_run_rows(entries)]
+    parts.append(_table_html(pd.DataFrame(run, columns=["item", "value"])) if run
                  else "<p>Not recorded.</p>")
     docs = docs_href(Path(out).parent)
     if paper:
