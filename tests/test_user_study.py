@@ -147,3 +147,66 @@ def test_own_study_report_has_no_paper_verdict(own_run):
     # what was computed is there: the study's grids, its fragility and line fits
     assert re.search(r"slenderness tan α</td>\s*<td>0.15</td>", html)
     assert "Lognormal fragility parameters" in html and "Linear fits" in html
+
+
+# ------------------------------------------------------- the choices, without the workflow
+
+
+def test_reproduces_is_checked_and_decides_no_store():
+    from rocking.study.spec import StudySpec
+
+    config = yaml.safe_load((REPO / "config/paper.yaml").read_text())
+    spec = StudySpec.from_config(config, "lomaprieta")
+    assert spec.reproduces == "vassiliou2017"
+    assert StudySpec.from_attrs(spec.to_attrs()).reproduces == "vassiliou2017"
+    del config["studies"]["lomaprieta"]["reproduces"]
+    own = StudySpec.from_config(config, "lomaprieta")
+    assert own.reproduces is None and own.spectra.digest == spec.spectra.digest
+    config["studies"]["lomaprieta"]["reproduces"] = "housner1963"
+    with pytest.raises(ValueError, match=r"studies\.lomaprieta\.reproduces must be one of "
+                                         r"\['vassiliou2017'\] or null, got 'housner1963'"):
+        StudySpec.from_config(config, "lomaprieta")
+
+
+def test_panels_and_slenderness_follow_the_study():
+    import xarray as xr
+
+    from rocking.study.figures import _load
+
+    # the paper's two panels where computed, else the study's own most severe goals
+    assert _load.panel_limit_states(["tilt:0.1", "tilt:1/3", "overturning"]) == [
+        "overturning", "tilt:1/3"]
+    assert _load.panel_limit_states(["tilt:0.5", "overturning"]) == ["overturning", "tilt:0.5"]
+    assert _load.panel_limit_states(["tilt:0.2", "tilt:0.75", "tilt:0.5"]) == [
+        "tilt:0.75", "tilt:0.5"]
+    assert _load.panel_limit_states(["overturning"]) == ["overturning"]
+    # the slenderness with the most goals of every mode drawn; among equals the middle one
+    req = np.zeros((2, 3, 3), bool)  # mode, limit state, tan α
+    req[0, :, 1] = True  # "3d": three goals at 0.2, one at 0.1 and 0.3
+    req[0, 0, [0, 2]] = True
+    req[1, 0, 2] = True  # "3d-damped": one goal at 0.3 only
+    ds = xr.Dataset({"requested": (("mode", "limit_state", "tan_alpha"), req)},
+                    coords={"mode": ["3d", "3d-damped"],
+                            "limit_state": ["overturning", "tilt:1/3", "tilt:0.1"],
+                            "tan_alpha": [0.1, 0.2, 0.3]})
+    assert _load.main_tan_alpha(ds, ["3d"]) == 0.2
+    assert _load.main_tan_alpha(ds, ["3d", "3d-damped"]) == 0.3
+    assert _load.primary_mode(ds) == "3d"
+    ds["requested"][:] = True
+    assert _load.main_tan_alpha(ds, ["3d"]) == 0.2  # all equal: the middle
+
+
+def test_risk_summary_follows_the_table():
+    import pandas as pd
+
+    from rocking.risk.report import main_tan_alpha, risk_section_html, summary_table
+
+    rows = [{"mode": "3d", "limit_state": ls, "tan_alpha": TAN_ALPHA, "R": R,
+             "maf": 1e-3 / R / (2 if ls == "overturning" else 1)}
+            for ls in ("overturning", "tilt:0.5") for R in (1.0, 3.0)]
+    frame = pd.DataFrame(rows)
+    assert main_tan_alpha(frame) == TAN_ALPHA
+    table = summary_table(frame)
+    assert list(table.columns) == ["R [m]", "overturning, 3d [1/yr]", "tilt:0.5, 3d [1/yr]"]
+    assert table["overturning, 3d [1/yr]"].tolist() == [5e-4, 1e-3 / 6]
+    assert "at tan α = 0.15" in risk_section_html(frame)

@@ -102,14 +102,15 @@ def _paper_limit_states(available: list[str], missing: list[str],
 def panel_limit_states(available: list[str]) -> list[str]:
     """The limit states a spectrum figure draws as panels, most severe first (at most two).
 
-    Overturning where computed, then the paper's excessive tilt θ > α/3 where computed, else
-    the most severe other tilt goal of the study: a study's own goals get panels, and no
-    panel is left empty for a goal the study did not ask for.
+    Overturning and the paper's excessive tilt θ > α/3 where computed, the study's most
+    severe other goals in their place: a study's own goals get panels, and no panel is left
+    empty for a goal the study did not ask for.
     """
     order = sorted(available, key=lambda ls: -parse_limit_state(ls).ratio)
-    over = find_limit_state(available, "overturning")
-    tilt = excessive_tilt(available) or next((ls for ls in order if ls != over), None)
-    return [ls for ls in (over, tilt) if ls is not None]
+    chosen = [ls for ls in (find_limit_state(available, "overturning"),
+                            excessive_tilt(available)) if ls is not None]
+    chosen += [ls for ls in order if ls not in chosen][:2 - len(chosen)]
+    return sorted(chosen, key=lambda ls: -parse_limit_state(ls).ratio)
 
 
 def requested_cells(ds: xr.Dataset) -> xr.DataArray:
