@@ -614,7 +614,7 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path]:
         "motions": {"max_duration": 3.0},
         "ensembles": {"elcentro": {"record": "el-centro-1940", "n_synthetic": 1}},
         "studies": {"synth": {
-            "ensemble": "elcentro", "R": fs.R,
+            "ensemble": "elcentro", "R": fs.R, "reproduces": "vassiliou2017",
             "runs": [{"modes": fs.MODES, "tan_alpha": fs.TAN_ALPHA,
                       "limit_states": fs.LIMIT_STATES}],
             "tilt_map": {"R": [1.0, 2.0], "intensity": [1.0, 2.0]},
