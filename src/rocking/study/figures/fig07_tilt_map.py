@@ -16,6 +16,7 @@ from matplotlib import colormaps
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 
+from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import footnote, new_figure, pga_g_axis, styled
 from .comparisons import Comparison, finite, fmt, judged, rank_correlation
@@ -30,6 +31,17 @@ TOP_COLOR = "#e8e8e8"
 """The class θmax > α (incl. overturning): a pale grey, so the area it covers does
 not outshine the classes below α, where the paper's contours are."""
 TITLES = {"3d": "Undamped 3D model", "3d-damped": "Damped 3D model"}
+
+
+def record_label(attrs: dict) -> str:
+    """Who the tilt map scales: the label of the store's ``motion`` in its ``ensemble``
+    attribute (a record's name, e.g. "1940 Imperial Valley, El Centro Array #9 (NGA-West2
+    RSN 6)"), else the motion's name."""
+    attrs = decode_attrs(attrs)
+    motions = attrs.get("ensemble", {}).get("motions", []) if isinstance(
+        attrs.get("ensemble"), dict) else []
+    found = [m.get("label", m["name"]) for m in motions if m.get("name") == attrs["motion"]]
+    return found[0] if found else str(attrs["motion"])
 
 
 def class_colors() -> ListedColormap:
@@ -127,7 +139,7 @@ def plot(d: dict) -> Figure:
     if not models:
         axes[0].text(0.5, 0.5, "no tilt map computed", ha="center", transform=axes[0].transAxes)
     axes[0].set_ylabel("PGA/(g tan α) [-]")
-    tan_alpha = d["attrs"].get("tan_alpha", "0.2")
+    tan_alpha = float(decode_attrs({"t": d["attrs"]["tan_alpha"]})["t"])  # the store's
     if models:
         pga_g_axis(axes[-1], float(tan_alpha))
     if mappable is not None:
@@ -141,8 +153,8 @@ def plot(d: dict) -> Figure:
         "between grid points.",
         f"Record on its principal axes: {d['axes']['text']}; PGA = max √(ügx² + ügy²) (vector).",
     ])
-    fig.suptitle(f"Normalized peak tilt, scaled El Centro 1940 record, tan α = {tan_alpha} "
-                 "(Fig 7); black line θmax = α")
+    fig.suptitle(f"Normalized peak tilt, tan α = {tan_alpha:g} (Fig 7); black line θmax = α\n"
+                 f"scaled record: {record_label(d['attrs'])}")
     return fig
 
 
