@@ -1,4 +1,4 @@
-"""Figure 7: contours of the peak normalized tilt θmax/α over (R, PGA/(g tan α)), El Centro.
+"""Figure 7: contours of the peak normalized tilt θmax/α over (R, PGA/(g tan α)) of one record.
 
 Reads the tilt map of the study (``results/<study>/tilt_map.zarr``, variable
 ``theta_max_over_alpha`` over (mode, R, intensity); older stores name the first dimension

@@ -87,6 +87,7 @@ def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
     titles = list(dict.fromkeys(t for e in ensembles for t in e["panels"]))
     return {"ensembles": ensembles, "tan_alpha": tan_alpha, "missing": sorted(set(missing)),
             "titles": titles or ["overturning", "excessive tilt"],
+            "reproduction": paper,
             "measured": at_size(ensembles, REFERENCE_R),
             "axes": {e["name"]: e["axes"] for e in ensembles}}
 
@@ -236,9 +237,11 @@ def plot(d: dict) -> Figure:
         legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7)
     title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
     if d["missing"]:
-        title += "\nreduced run: not everything the paper shows was computed (note below)"
+        if d.get("reproduction", True):
+            title += "\nreduced run: not everything the paper shows was computed (note below)"
         notes.insert(0, "Not computed in this run: " + "; ".join(d["missing"]) + ".")
-    notes.append(f"Axes: {_axes.PAPER_AXES}.")
+    if d.get("reproduction", True):  # how to read the paper's 2D curves against ours
+        notes.append(f"Axes: {_axes.PAPER_AXES}.")
     footnote(fig, notes)
     fig.suptitle(title)
     return fig
