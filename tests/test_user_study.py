@@ -210,3 +210,47 @@ def test_risk_summary_follows_the_table():
     assert list(table.columns) == ["R [m]", "overturning, 3d [1/yr]", "tilt:0.5, 3d [1/yr]"]
     assert table["overturning, 3d [1/yr]"].tolist() == [5e-4, 1e-3 / 6]
     assert "at tan α = 0.15" in risk_section_html(frame)
+
+
+def test_figs_10_and_12_mark_means_over_unresolved_answers(tmp_path):
+    """``n_unresolved`` of mean_spectra (answers narrower windows may undercut) is marked on
+    the means of Figs 10 and 12, exactly where it is > 0, with a legend entry; none without."""
+    import figures_synthetic as fs
+    import xarray as xr
+
+    from rocking.study.figures import fig10_goals, fig12_2d_vs_3d
+
+    paths = fs.write_study(tmp_path / "s", with_tilt_map=False)
+    agg = xr.open_dataset(paths["means"]).load()
+    flag = xr.zeros_like(agg["count"])
+    flag.loc[{"mode": "3d", "limit_state": "overturning", "tan_alpha": 0.2}] = [2, 0, 0, 1, 0]
+    flagged = tmp_path / "flagged.nc"
+    agg.assign(n_unresolved=flag).to_netcdf(flagged)
+    where = np.array([True, False, False, True, False])
+
+    d10 = fig10_goals.data(flagged)
+    assert list(d10["unresolved"]) == ["overturning"]
+    np.testing.assert_array_equal(d10["unresolved"]["overturning"], where)
+    fig = fig10_goals.plot(d10)
+    rings = [ln for ln in fig.axes[0].get_lines() if ln.get_mfc() == "white"
+             and len(ln.get_xdata())]
+    assert len(rings) == 1
+    np.testing.assert_array_equal(rings[0].get_xdata(), np.asarray(fs.R)[where])
+    np.testing.assert_array_equal(rings[0].get_ydata(), d10["curves"]["overturning"][where])
+    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any(s.startswith("unresolved answers in the mean") and "(2 of 20 points)" in s
+               for s in legend)
+    plain = fig10_goals.data(paths["means"])
+    assert plain["unresolved"] == {}
+
+    d12 = fig12_2d_vs_3d.data([("own", flagged, paths["store"])], paper=False)
+    fig = fig12_2d_vs_3d.plot(d12)
+    diamonds = [ln for ax in fig.axes[:2] for ln in ax.get_lines()
+                if ln.get_marker() == "D" and len(ln.get_xdata())]
+    assert len(diamonds) == 1
+    np.testing.assert_array_equal(diamonds[0].get_xdata(), np.asarray(fs.R)[where])
+    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
+    assert "unresolved answers in the mean: it may lie lower" in legend
+    # a study of one's own: no paper ensembles asked for, no paper axes note
+    assert d12["missing"] == [] and "22.33" not in "".join(
+        t.get_text() for t in fig.texts)

@@ -180,8 +180,10 @@ def plot(d: dict) -> Figure:
                     ls="--", alpha=0.8)
     ax.plot([], [], color="0.4", lw=0.8, ls="--", label="least-squares line of each goal")
     if d.get("unresolved"):
+        marked = sum(int(f.sum()) for f in d["unresolved"].values())
+        drawn = sum(int(np.isfinite(y).sum()) for y in d["curves"].values())
         ax.plot([], [], "o", ms=7, mfc="white", mec="0.3", ls="",
-                label=UNRESOLVED_LABEL)
+                label=f"{UNRESOLVED_LABEL} ({marked} of {drawn} points)")
     if not n:
         ax.text(0.5, 0.5, "; ".join(d["missing"]) or "no data", ha="center",
                 transform=ax.transAxes)
