@@ -254,3 +254,17 @@ def test_figs_10_and_12_mark_means_over_unresolved_answers(tmp_path):
     # a study of one's own: no paper ensembles asked for, no paper axes note
     assert d12["missing"] == [] and "22.33" not in "".join(
         t.get_text() for t in fig.texts)
+
+
+def test_fig11_of_a_study_of_ones_own_draws_its_own_slendernesses(tmp_path):
+    import figures_synthetic as fs
+
+    from rocking.study.figures import fig11_slenderness
+
+    paths = fs.write_study(tmp_path, requested={"3d": [0.1, 0.3]}, with_tilt_map=False)
+    own = fig11_slenderness.data(paths["means"], paper=False)
+    assert own["missing"] == []
+    assert [sorted(p["curves"]) for p in own["panels"]] == [[0.1, 0.3], [0.1, 0.3]]
+    # a reproduction of the paper names the paper's slenderness the run left out
+    paper = fig11_slenderness.data(paths["means"])
+    assert "tan α = 0.2 not computed" in paper["missing"]
