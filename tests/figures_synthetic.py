@@ -16,6 +16,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from rocking.study.plan import plan_study
+from rocking.study.spec import Damping, EnsembleSpec, SpectraSpec, TiltMapSpec
+
 MODES = ["3d", "3d-damped", "2d-x", "2d-y"]
 LIMIT_STATES = ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]
 MOTIONS = ["el-centro-1940", "synthetic-01", "synthetic-02", "synthetic-03"]
@@ -24,6 +27,18 @@ R = [1.0, 2.0, 4.0, 6.0, 10.0]
 UPPER = 30.0
 MODE_FACTOR = {"3d": 1.0, "3d-damped": 1.05, "2d-x": 2.0, "2d-y": 1.8}
 LS_FACTOR = {"tilt:0.1": 0.2, "tilt:0.3333": 0.5, "tilt:0.6": 0.8, "overturning": 3.0}
+
+
+ENSEMBLE = EnsembleSpec("synth", "el-centro-1940", None, 3, 2017, None, "auto", "spectrum",
+                        None)
+"""The ensemble the synthetic stores record in their ``config`` (as the workflow would)."""
+
+
+def spectra_spec(modes: list[str], limit_states: list[str]) -> SpectraSpec:
+    """The study description a synthetic spectra store records (its ``config`` attribute)."""
+    plan = plan_study([{"modes": modes, "tan_alpha": TAN_ALPHA, "limit_states": limit_states}])
+    return SpectraSpec("synth", ENSEMBLE, tuple(R), plan, 1, None, "default", UPPER,
+                       Damping.of_modes({"damped": {"omega_n": 2000.0, "zeta": 5.0}}, modes))
 
 
 def pga_crit_formula() -> np.ndarray:
@@ -80,10 +95,7 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
         },
         coords=coords,
         attrs={
-            "config": json.dumps({"study": "synth", "accuracy": "default",
-                                  "ensemble": {"name": "synth", "record": "el-centro-1940",
-                                               "n_synthetic": 3, "seed": 2017},
-                                  "search_options": {"upper": UPPER}}),
+            "config": json.dumps(spectra_spec(modes, limit_states or LIMIT_STATES).to_attrs()),
             "tolerances": json.dumps({"intensity_rtol": 0.01}),
             "rocking_version": "0.1.0",
             "ensemble": json.dumps({"label": ensemble, "stand_in": stand_in, "name": "synth",
@@ -155,7 +167,10 @@ def write_tilt_map(path: Path, dim: str = "model") -> xr.Dataset:
         {"theta_max_over_alpha": ((dim, "R", "intensity"), z)},
         coords={dim: np.array(["3d", "3d-damped"], dtype=object), "R": R_,
                 "intensity": intensity},
-        attrs={"motion": "el-centro-1940", "tan_alpha": "0.2"},
+        attrs={"motion": "el-centro-1940", "tan_alpha": "0.2",
+               "config": json.dumps(TiltMapSpec(
+                   "synth", ENSEMBLE, ("3d", "3d-damped"), 0.2, tuple(R_.tolist()),
+                   tuple(intensity.tolist()), 1, "default", Damping(2000.0, 5.0)).to_attrs())},
     )
     ds.to_zarr(path, mode="w", zarr_format=3, consolidated=False)
     return ds

@@ -96,7 +96,7 @@ def test_one_name_per_figure_across_module_script_and_caption():
         assert name in CAPTIONS
     rules = (ROOT / "workflow/rules/figures.smk").read_text()
     for name in figures.FIGURES:
-        assert f"rule {name}:" in rules and f'caption("{name}")' in rules
+        assert f"rule {name}:" in rules and f'caption("{name}"' in rules
     assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
         "figure", "fragility_table", "linear_fit", "mean_spectra", "run_config",
         "stripe_fragility", "workflow"]
@@ -527,11 +527,15 @@ def test_partially_computed_store_builds_every_figure(partial, tmp_path):
 
 
 def test_reduced_run_degrades_gracefully(reduced, tmp_path):
-    d9 = fig09_spectra.data(reduced["store"], reduced["means"])
+    d9 = fig09_spectra.data(reduced["store"], reduced["means"], modes=("3d", "3d-damped"))
     assert "mode 3d-damped not computed" in d9["missing"]
+    # by default Fig 9 follows the store: no damped model ran, so no damped row and no gap
+    d9 = fig09_spectra.data(reduced["store"], reduced["means"])
+    assert d9["modes"] == ["3d"] and d9["missing"] == []
+    assert len(fig09_spectra.plot(d9).axes) == 2  # one row: two panels, no difference row
     out = [tmp_path / "f9.png", tmp_path / "f9.pdf"]
     render("fig09_spectra", out, tmp_path / "f9.json", store=reduced["store"],
-           means=reduced["means"])
+           means=reduced["means"], modes=("3d", "3d-damped"))
     notes = json.loads((tmp_path / "f9.json").read_text())
     assert notes["missing"] == ["mode 3d-damped not computed"]
     assert out[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -604,7 +608,7 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path, dict[str, Path]]:
         "motions": {"max_duration": 3.0},
         "ensembles": {"elcentro": {"record": "el-centro-1940", "n_synthetic": 1}},
         "studies": {"synth": {
-            "ensemble": "elcentro", "R": fs.R,
+            "ensemble": "elcentro", "R": fs.R, "reproduces": "vassiliou2017",
             "runs": [{"modes": fs.MODES, "tan_alpha": fs.TAN_ALPHA,
                       "limit_states": fs.LIMIT_STATES}],
             "tilt_map": {"R": [1.0, 2.0], "intensity": [1.0, 2.0]},

@@ -14,7 +14,7 @@ import pytest
 
 from rocking.spectra import fragility
 from rocking.study import report
-from rocking.study.figures import _load, _style, render
+from rocking.study.figures import _load, _style, fig08_motions, fig09_spectra, fig10_goals, render
 from rocking.study.figures import comparisons as cmp
 from rocking.study.figures.captions import CAPTIONS
 
@@ -94,8 +94,7 @@ def outputs(tmp_path_factory):
                                 "cluster": "local", "done_before": 0}))
     run = report.what_was_run(
         stores=[paths["store"]], tilt_maps=[paths["tilt_map"]], ensembles=[ensemble_json],
-        done=[done], elapsed_seconds=840.0,
-        sensitivity={"measured": notes["fig06_theta_max_sensitivity"]})
+        done=[done], elapsed_seconds=840.0)
     page = report.build(root / "report.html", title="synthetic study", figures=pngs,
                         linear_fit=root / "linear_fit.csv", fragility=root / "fragility.csv",
                         notes=["The Loma Prieta record is a stand-in."], run=run)
@@ -136,12 +135,15 @@ def test_what_was_run_says_config_grids_modes_contact_seeds_version_and_time(out
     # one PGA, with what it is; the unprocessed numbers only for reference
     pga = run["record PGA"]
     assert pga.startswith(f"{2.7 / 9.80665:.3f} g: vector peak")
-    assert "high-pass" in pga and "N–S" in pga
+    assert "high-pass" in pga
+    # the Fig 6 companion adds the unprocessed record's peaks through its run_rows hook
+    text = outputs["html"].read_text()
+    assert "record PGA, unprocessed" in text and "y (N–S) 0.281 g" in text
 
 
 def test_fig09_damping_is_quantified_per_R(outputs):
     entry = next(e for e in report.load_figures(outputs["pngs"]) if e.name == "fig09_spectra")
-    tables = dict(report.damping_tables(entry.notes))
+    tables = dict(fig09_spectra.report_tables(entry.notes))
     assert len(tables) == 2
     tilt = next(df for title, df in tables.items() if "α/3" in title)
     # the synthetic damped spectra are 5 % above the undamped ones for every motion
@@ -226,15 +228,15 @@ def test_fig09_judges_the_difference_of_means_against_its_standard_error():
            "paired_mean": [0.012, 0.17, 0.0, 0.3], "paired_se": [0.001, 0.1, 0.01, 0.05],
            "paired_n": [11, 11, 11, 11], "cov_undamped": [0.05, 0.25, 0.1, 0.3],
            "max_abs_rel_diff_means": 0.30, "R_index_of_max": 3}
-    j = cmp.damping_judgement(eff)
+    j = fig09_spectra.damping_judgement(eff)
     assert j["ok"] == [True, True, True, False]
     assert j["noise"] == [1] and j["small_systematic"] == [0] and j["failed"] == [3]
-    row = cmp.fig09({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
+    row = fig09_spectra.compare({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
                                                     "damping|overturning": eff}}})[0]
     assert row.verdict == cmp.DIFFERS and "R = 10 m" in row.reason and "R = 8" not in row.reason
     eff.update(rel_diff_means=[0.012, 0.13, 0.002, 0.04], max_abs_rel_diff_means=0.13,
                R_index_of_max=1)
-    row = cmp.fig09({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
+    row = fig09_spectra.compare({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
                                                     "damping|overturning": eff}}})[0]
     assert row.verdict == cmp.REPRODUCED
     assert "at R = 1 m Δ exceeds 5 % but lies within 2 SE" in row.reason
@@ -343,7 +345,8 @@ def test_bad_inputs_name_the_file(tmp_path):
 
 
 def test_fit_quality_of_fig08_is_tabulated(outputs):
-    table = report.fit_quality_table(report.load_figures(outputs["pngs"]))
+    entry = next(e for e in report.load_figures(outputs["pngs"]) if e.name == "fig08_motions")
+    table = fig08_motions.fit_quality_table(entry.notes)
     assert len(table) == 4  # 2 methods × 2 components
     used = table[table["identification"] == "spectrum *"]
     assert list(used["component"]) == ["x (major)", "y (minor)"]
@@ -378,7 +381,7 @@ def test_fig10_verdicts_say_the_bend_and_the_coinciding_goals():
         "n_goals": 2, "n_paper_goals": 7, "absent_goals": [],
         "line|tilt:1": line, "line|overturning": line,
         "coincide": [{"goals": ["tilt:1", "overturning"], "n_R": 20, "n_motions": 11}]}}}
-    rows = cmp.fig10(notes)
+    rows = fig10_goals.compare(notes)
     assert len(rows) == 2  # the coinciding goal is not judged twice
     same, over = rows
     assert same.verdict == cmp.NOT_IN_PAPER and "all 20 sizes (11 motions each)" in same.ours

@@ -389,7 +389,8 @@ def test_risk_figure_data_plot_and_sidecar(tmp_path):
     assert ratio == pytest.approx(closed_form(1e-4, 2.5, 0.41234567891234, 0.2598765432101)
                                   / closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321),
                                   rel=1e-3)
-    assert "3d-damped overturning at tan α = 0.2" in d["missing"]
+    # a mode the study did not run is not a gap of the figure (it follows the study)
+    assert not any("3d-damped" in s for s in d["missing"])
     axes = fig.plot(d).axes
     assert axes[0].get_yscale() == "log"
     render("risk", [tmp_path / "risk.png"], tmp_path / "risk.json", risk=path, hazard="x")

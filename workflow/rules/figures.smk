@@ -83,7 +83,7 @@ rule fig07_tilt_map:
         **_figure_output(out_path("{study}/figures/fig07_tilt_map"), "Paper figures",
                          figure="Fig 7", study="{study}"),
     params:
-        caption=lambda wildcards: caption("fig07_tilt_map"),
+        caption=lambda wildcards: caption("fig07_tilt_map", reproduces_paper(wildcards.study)),
         store=lambda wildcards: tilt_map_store(wildcards.study),
     log:
         out_path("logs/{study}/fig07_tilt_map.log"),
@@ -101,7 +101,7 @@ rule fig08_motions:
         **_figure_output(f"{FIGURES_DIR}/fig08_motions_{{ensemble}}", "Paper figures",
                          figure="Fig 8", ensemble="{ensemble}"),
     params:
-        caption=lambda wildcards: caption("fig08_motions"),
+        caption=lambda wildcards: caption("fig08_motions", reproduces_paper()),
     log:
         out_path("logs/figures/fig08_motions_{ensemble}.log"),
     script:
@@ -119,7 +119,7 @@ rule fig09_spectra:
         **_figure_output(out_path("{study}/figures/fig09_spectra"), "Paper figures",
                          figure="Fig 9", study="{study}"),
     params:
-        caption=lambda wildcards: caption("fig09_spectra"),
+        caption=lambda wildcards: caption("fig09_spectra", reproduces_paper(wildcards.study)),
         store=lambda wildcards: spectra_store(wildcards.study),
     log:
         out_path("logs/{study}/fig09_spectra.log"),
@@ -137,7 +137,8 @@ rule fig10_goals:
         **_figure_output(out_path("{study}/figures/fig10_goals"), "Paper figures",
                          figure="Fig 10", study="{study}"),
     params:
-        caption=lambda wildcards: caption("fig10_goals"),
+        caption=lambda wildcards: caption("fig10_goals", reproduces_paper(wildcards.study)),
+        paper=lambda wildcards: reproduces_paper(wildcards.study),
     log:
         out_path("logs/{study}/fig10_goals.log"),
     script:
@@ -154,7 +155,8 @@ rule fig11_slenderness:
         **_figure_output(out_path("{study}/figures/fig11_slenderness"), "Paper figures",
                          figure="Fig 11", study="{study}"),
     params:
-        caption=lambda wildcards: caption("fig11_slenderness"),
+        caption=lambda wildcards: caption("fig11_slenderness", reproduces_paper(wildcards.study)),
+        paper=lambda wildcards: reproduces_paper(wildcards.study),
     log:
         out_path("logs/{study}/fig11_slenderness.log"),
     script:
@@ -165,15 +167,16 @@ rule fig12_2d_vs_3d:
     conda:
         "../envs/rocking.yaml"
     input:
-        means=[mean_spectra(s) for s in config["studies"]],
-        complete=[spectra_complete(s) for s in config["studies"]],
-        motions=[study_motions(s) for s in config["studies"]],
+        means=[mean_spectra(s) for s in fig12_studies()],
+        complete=[spectra_complete(s) for s in fig12_studies()],
+        motions=[study_motions(s) for s in fig12_studies()],
     output:
         **_figure_output(global_stem("fig12_2d_vs_3d"), "Paper figures", figure="Fig 12"),
     params:
-        caption=lambda wildcards: caption("fig12_2d_vs_3d"),
-        studies=list(config["studies"]),
-        stores=[spectra_store(s) for s in config["studies"]],
+        caption=lambda wildcards: caption("fig12_2d_vs_3d", reproduces_paper()),
+        studies=fig12_studies(),
+        stores=[spectra_store(s) for s in fig12_studies()],
+        paper=reproduces_paper(),
     log:
         global_log("fig12_2d_vs_3d"),
     script:
@@ -200,7 +203,7 @@ rule fragility_curves:
         **_figure_output(out_path("{study}/figures/fragility_curves"), "Beyond the paper",
                          figure="fragility", study="{study}"),
     params:
-        caption=lambda wildcards: caption("fragility_curves"),
+        caption=lambda wildcards: caption("fragility_curves", reproduces_paper(wildcards.study)),
         store=lambda wildcards: spectra_store(wildcards.study),
         upper=lambda wildcards: search_upper(wildcards.study),
     log:
@@ -222,6 +225,7 @@ rule report:
         stores=lambda wildcards: report_stores(wildcards.study)["stores"],
         tilt_maps=lambda wildcards: report_stores(wildcards.study)["tilt_maps"],
         hazard=lambda wildcards: hazard_file(wildcards.study) or hazard_spec(wildcards.study),
+        reproduces=lambda wildcards: study_spec(wildcards.study).reproduces,
     log:
         out_path("logs/{study}/report.log"),
     script:

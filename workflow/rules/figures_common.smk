@@ -59,12 +59,34 @@ def global_log(name):
     return out_path(f"logs/figures/{posixpath.basename(global_stem(name))}.log")
 
 
+def reproduces_paper(study=None):
+    """Whether ``study`` (default: any study) is declared a reproduction of the paper
+    (``studies.<name>.reproduces``): only then are the paper's model figures drawn."""
+    studies = config["studies"] if study is None else [study]
+    return any(study_spec(s).reproduces is not None for s in studies)
+
+
+def fig12_studies():
+    """Studies that run "3d" and a 2D mode at a common tan α (the curves of Fig 12)."""
+    return [s for s in config["studies"] if study_plan(s).compares_2d_with_3d()]
+
+
+PAPER_MODEL_FIGURES = ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",
+                       "fig06_theta_max_sensitivity")
+"""The paper's figures of the model itself, drawn only for a reproduction of the paper."""
+
+
 def global_figure_stems():
-    stems = [global_stem("fig03_wobbling_period"), global_stem("fig04_free_vibration")]
-    if el_centro_ensemble() is not None:
-        stems += [global_stem("fig06_el_centro"), global_stem("fig06_theta_max_sensitivity")]
+    """Figures beside the studies: the paper's model figures (Figs 3, 4, 6) for a
+    reproduction of the paper, Fig 8 per ensemble, Fig 12 where some study has 3D and 2D."""
+    stems = []
+    if reproduces_paper():
+        stems += [global_stem("fig03_wobbling_period"), global_stem("fig04_free_vibration")]
+        if el_centro_ensemble() is not None:
+            stems += [global_stem("fig06_el_centro"), global_stem("fig06_theta_max_sensitivity")]
     stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in fig08_ensembles()]
-    stems.append(global_stem("fig12_2d_vs_3d"))
+    if fig12_studies():
+        stems.append(global_stem("fig12_2d_vs_3d"))
     return stems
 
 
@@ -78,8 +100,15 @@ def study_figure_stems(study):
 
 def report_figures(study):
     """Every figure (PNG + notes) the report of ``study`` shows."""
-    stems = [s for s in global_figure_stems()
-             if "fig08_motions_" not in s or s.endswith(f"_{ensemble_of(study)}")]
+    def shown(stem):
+        name = stem.rsplit("/", 1)[1]
+        if name.startswith("fig08_motions_"):
+            return name == f"fig08_motions_{ensemble_of(study)}"
+        if name in PAPER_MODEL_FIGURES:
+            return reproduces_paper(study)
+        return name != "fig12_2d_vs_3d" or study in fig12_studies()
+
+    stems = [s for s in global_figure_stems() if shown(s)]
     stems += study_figure_stems(study)
     return [f for s in stems for f in (f"{s}.png", f"{s}.json")]
 

@@ -8,7 +8,7 @@ def main(snakemake):
     out = snakemake.output
     with log_to(snakemake.log[0]):
         render("fig10_goals", [out.png, out.pdf], out.notes, means=snakemake.input.means,
-               motions=snakemake.input.motions)
+               motions=snakemake.input.motions, paper=bool(snakemake.params.paper))
 
 
 if __name__ == "__main__":

@@ -9,7 +9,8 @@ def main(snakemake):
     with log_to(snakemake.log[0]):
         studies = list(zip(snakemake.params.studies, snakemake.input.means, snakemake.params.stores,
                            snakemake.input.motions, strict=True))
-        render("fig12_2d_vs_3d", [out.png, out.pdf], out.notes, studies=studies)
+        render("fig12_2d_vs_3d", [out.png, out.pdf], out.notes, studies=studies,
+               paper=bool(snakemake.params.paper))
 
 
 if __name__ == "__main__":

@@ -1,11 +1,9 @@
 """Report (Snakemake script): <root>/<study>/report.html with what was run, every figure and
 the paper's statements against this run's numbers."""
 
-import json
 from datetime import datetime
 from pathlib import Path
 
-from rocking.study.figures import figure_name
 from rocking.study.logs import log_to
 from rocking.study.report import build, what_was_run
 
@@ -25,20 +23,17 @@ def workflow_elapsed() -> float | None:
 def main(snakemake):
     inp = snakemake.input
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
-    sens = [f for f in inp.figures if str(f).endswith(".json")
-            and figure_name(f) == "fig06_theta_max_sensitivity"]
     with log_to(snakemake.log[0]):
         run = what_was_run(stores=list(snakemake.params.stores),
                            tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),
-                           sensitivity=json.loads(Path(sens[0]).read_text()) if sens else None,
                            elapsed_seconds=workflow_elapsed())
         build(snakemake.output[0],
               title=f"rocking: study {snakemake.params.study} "
                     f"(ensemble {snakemake.params.ensemble})",
               figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run,
               risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
-              stripes=inp.get("stripes"))
+              stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None)
 
 
 if __name__ == "__main__":

@@ -16,9 +16,9 @@ from ..spectra.limit_states import parse_limit_state
 from ..units import strip_units
 from .fragilities import FIRST_EXCEEDANCE, STRIPES
 
-LIMIT_STATES = ("overturning", "tilt:1/3")
 MODES = ("3d", "3d-damped", "2d-x", "2d-y")
-TAN_ALPHA = 0.2
+PAPER_LIMIT_STATES = ("overturning", "tilt:1/3")
+"""The limit states shown when a study has them (the paper's overturning and θ > α/3)."""
 
 
 def assumptions(hazard: str = "") -> list[str]:
@@ -95,22 +95,44 @@ def comparison_table(risk) -> pd.DataFrame:
     })
 
 
-def summary_table(risk, *, tan_alpha: float = TAN_ALPHA) -> pd.DataFrame:
-    """λ [1/yr] of overturning and excessive tilt per R (rows) and mode (columns), from the
-    first-exceedance fragility (the stripe rows: :func:`comparison_table`)."""
+def main_tan_alpha(frame: pd.DataFrame) -> float | None:
+    """The slenderness with the most risk rows (the paper's 0.2, where every mode ran);
+    among equals the middle one; None for an empty table."""
+    counts = frame.groupby("tan_alpha").size()
+    best = [float(t) for t, n in counts.items() if n == counts.max()]
+    return best[len(best) // 2] if best else None
+
+
+def shown_limit_states(frame: pd.DataFrame) -> list[str]:
+    """The paper's overturning and θ > α/3 where the table has them, else the study's own
+    limit states, most severe first (at most two)."""
+    present = list(dict.fromkeys(frame["limit_state"]))
+    paper = [ls for ls in PAPER_LIMIT_STATES if ls in present]
+    own = sorted(present, key=lambda ls: -parse_limit_state(ls).ratio)
+    return paper if len(paper) == len(PAPER_LIMIT_STATES) else (paper + [
+        ls for ls in own if ls not in paper])[:2]
+
+
+def summary_table(risk, *, tan_alpha: float | None = None) -> pd.DataFrame:
+    """λ [1/yr] of the shown limit states (:func:`shown_limit_states`) per R (rows) and mode
+    (columns) at ``tan_alpha`` (default :func:`main_tan_alpha`)."""
     frame = _frame(risk)
-    frame = frame[frame["fragility"] == FIRST_EXCEEDANCE]
-    keep = ((frame["tan_alpha"] - tan_alpha).abs() < 1e-9) & frame["limit_state"].isin(
-        LIMIT_STATES)
-    frame = frame[keep]
+    frame = frame[frame["fragility"] == FIRST_EXCEEDANCE]  # the stripe rows: comparison_table
+    tan_alpha = main_tan_alpha(frame) if tan_alpha is None else tan_alpha
+    if tan_alpha is None:
+        return pd.DataFrame()
+    frame = frame[(frame["tan_alpha"] - tan_alpha).abs() < 1e-9]
+    states = shown_limit_states(frame) if not frame.empty else []
+    frame = frame[frame["limit_state"].isin(states)]
     if frame.empty:
         return pd.DataFrame()
-    label = {"overturning": "overturning", "tilt:1/3": "tilt θ > α/3"}
+    label = {ls: ("tilt θ > α/3" if ls == "tilt:1/3" else
+                  "overturning" if ls == "overturning" else ls) for ls in states}
     frame = frame.assign(column=[f"{label[ls]}, {m} [1/yr]"
                                  for ls, m in zip(frame["limit_state"], frame["mode"],
                                                   strict=True)])
     table = frame.pivot_table(index="R", columns="column", values="maf", sort=False)
-    order = [f"{label[ls]}, {m} [1/yr]" for ls in LIMIT_STATES for m in MODES]
+    order = [f"{label[ls]}, {m} [1/yr]" for ls in states for m in MODES]
     table = table[[c for c in order if c in table.columns]]
     table = table.reset_index().rename(columns={"R": "R [m]"})
     table.columns.name = None
@@ -136,12 +158,12 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
         # the same markup as the report's other figures, so a gallery links it instead
         parts.append(f"<figure id='risk'><img alt='risk' src='data:image/png;base64,{data}'>"
                      "</figure>")
-    table = summary_table(risk)
+    tan_alpha = main_tan_alpha(_frame(risk))
+    table = summary_table(risk, tan_alpha=tan_alpha)
     if table.empty:
-        parts.append(f"<p>No overturning or excessive-tilt fragility at tan α = {TAN_ALPHA:g} "
-                     "in this run.</p>")
+        parts.append("<p>No fragility with a mean annual frequency in this run.</p>")
     else:
-        parts.append(f"<p>Mean annual frequency λ [1/yr] at tan α = {TAN_ALPHA:g} (return "
+        parts.append(f"<p>Mean annual frequency λ [1/yr] at tan α = {tan_alpha:g} (return "
                      "period 1/λ; every mode, slenderness and limit state in risk.csv).</p>")
         parts.append(table.to_html(index=False, escape=True, border=0, na_rep="—",
                                    float_format=lambda v: f"{v:.3g}"))
@@ -172,5 +194,6 @@ def _comparison_html(risk) -> list[str]:
                          float_format=lambda v: f"{v:.3g}")]
 
 
-__all__ = ["WHICH_TO_USE", "assumptions", "comparison_table", "risk_section_html",
+__all__ = ["WHICH_TO_USE", "assumptions", "comparison_table", "main_tan_alpha",
+           "risk_section_html", "shown_limit_states",
            "summary_table"]

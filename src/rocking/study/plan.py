@@ -88,18 +88,23 @@ class StudyPlan:
 
     def figures(self) -> list[str]:
         """The per-study figures this plan's cells can fill (a figure without its data is
-        not drawn): Fig 9 needs the damped mode beside "3d" at a common tan α, Fig 10 more
-        than two goals of "3d" at one tan α, Fig 11 "3d" at two or more tan α, the fragility
-        curves "3d"."""
-        if "3d" not in self.modes:
+        not drawn), for its primary mode ("3d", else its first mode): Fig 9 (spectra per
+        motion; its damped row only where "3d-damped" ran beside "3d") and Fig 10 (mean
+        spectra per goal, any number of goals) at one tan α, Fig 11 at two or more tan α,
+        and the fragility curves."""
+        if not self.modes:
             return []
-        shared = [t for t in self.tan_alpha if self.limit_states_of("3d", t)]
-        damped = "3d-damped" in self.modes and any(
-            self.limit_states_of("3d-damped", t) for t in shared)
-        goals = max(len(self.limit_states_of("3d", t)) for t in shared)
-        return [name for name, ok in (("fig09_spectra", damped), ("fig10_goals", goals > 2),
-                                      ("fig11_slenderness", len(shared) > 1),
-                                      ("fragility_curves", True)) if ok]
+        mode = "3d" if "3d" in self.modes else self.modes[0]
+        shared = [t for t in self.tan_alpha if self.limit_states_of(mode, t)]
+        return ["fig09_spectra", "fig10_goals",
+                *(["fig11_slenderness"] if len(shared) > 1 else []), "fragility_curves"]
+
+    def compares_2d_with_3d(self) -> bool:
+        """Whether the plan runs "3d" and a 2D mode at a common tan α (Fig 12)."""
+        flat = [m for m in ("2d-x", "2d-y") if m in self.modes]
+        return "3d" in self.modes and any(
+            self.limit_states_of("3d", t) and any(self.limit_states_of(m, t) for m in flat)
+            for t in self.tan_alpha)
 
     def to_dict(self) -> dict:
         """JSON form of the runs (what a store records and hashes)."""

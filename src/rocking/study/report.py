@@ -16,7 +16,7 @@ import json
 import math
 import os
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,11 +25,11 @@ import pandas as pd
 
 from ..risk.report import risk_section_html
 from ..units import read_table
-from .figures import FIGURES, _load, figure_name
+from .figures import FIGURES, _load, figure_name, module
 from .figures._style import limit_state_title
-from .figures.captions import CAPTIONS
-from .figures.comparisons import Comparison, compare, damping_judgement, fmt
-from .spec import decode_attrs
+from .figures.captions import caption
+from .figures.comparisons import Comparison, compare, fmt
+from .spec import SpectraSpec, TiltMapSpec, decode_attrs
 
 SHOWN = 10
 """Grids with at most this many values are listed in full, longer ones as a range."""
@@ -77,6 +77,24 @@ def figure_comparisons(entries: Sequence[FigureEntry]) -> dict[str, list[Compari
     return out
 
 
+def figure_tables(entry: FigureEntry) -> list[tuple[str, pd.DataFrame]]:
+    """The extra tables a figure shows under itself in the report: its module's
+    ``report_tables(notes)`` (the common hook; a figure without one has none)."""
+    hook = getattr(module(entry.name), "report_tables", None)
+    return [] if hook is None else [(title, df) for title, df in hook(entry.notes)
+                                    if not df.empty]
+
+
+def figure_run_rows(entries: Sequence[FigureEntry]) -> list[tuple[str, str]]:
+    """Rows a figure adds to the "what was run" section: its module's ``run_rows(notes)``
+    (the common hook; e.g. the unprocessed record's PGA measured for the Fig 6 companion)."""
+    rows = []
+    for entry in entries:
+        hook = getattr(module(entry.name), "run_rows", None)
+        rows += [] if hook is None else list(hook(entry.notes))
+    return rows
+
+
 def comparison_table(rows: Sequence[Comparison], *, with_figure: bool = True) -> pd.DataFrame:
     """Rows as a table: (figure,) statement, paper, this run, verdict."""
     data = [((c.figure,) if with_figure else ()) + (c.statement, c.paper, c.ours,
@@ -97,42 +115,7 @@ def measured_lines(entry: FigureEntry) -> list[str]:
     return lines
 
 
-def fit_quality_table(entries: Sequence[FigureEntry]) -> pd.DataFrame:
-    """Fit quality of every ensemble of Fig 8 (and its comparison), one row per component.
-
-    Columns: record, identification method (``*`` marks the ensemble the study uses),
-    component, the median ÷ record PSA ratio per period band, its range over 0.1–4 s, and
-    the share of periods with the record inside the ensemble's 5–95 % range.
-    """
-    rows = []
-    for entry in entries:
-        if entry.name != "fig08_motions":
-            continue
-        m = entry.notes.get("measured", {})
-        used = m.get("fit_method")
-        for method, quality in (m.get("fit_quality") or {}).items():
-            if not quality:
-                continue
-            for key, name in (("x", "x (major)"), ("y", "y (minor)")):
-                q = quality[key]
-                row = {"record": m.get("record"),
-                       "identification": method + (" *" if method == used else ""),
-                       "component": name}
-                row.update({f"median/record {b}": round(r, 2)
-                            for b, r in q["band_ratio"].items()})
-                row["range 0.1-4 s"] = f"{q['ratio_min']:.2f}–{q['ratio_max']:.2f}"
-                row["record inside 5–95 %"] = f"{100 * q['inside_5_95']:.0f} % of periods"
-                row["pairs"] = q["n"]
-                rows.append(row)
-    return pd.DataFrame(rows)
-
-
 # --------------------------------------------------------------------------- what was run
-
-
-def _attr(attrs: Mapping, key: str, default=None):
-    """A store attribute, decoded when it is a JSON string (:func:`.spec.decode_attrs`)."""
-    return decode_attrs({key: attrs.get(key, default)})[key]
 
 
 def grid_text(values: Sequence[float], unit: str = "") -> str:
@@ -150,37 +133,35 @@ def grid_text(values: Sequence[float], unit: str = "") -> str:
 
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
     """What a spectra store says was run: ensemble, grids, limit states, modes per tan α,
-    accuracy, contact parameters, version."""
+    accuracy, contact parameters, version (its ``config`` read as a
+    :class:`~rocking.study.spec.SpectraSpec`)."""
     ds = _load.open_store(path)
-    cfg = _attr(ds.attrs, "config", {}) or {}
-    ens = _attr(ds.attrs, "ensemble", {}) or {}
-    opts = _attr(ds.attrs, "search_options", {}) or {}
-    study = cfg.get("study", Path(path).parent.name)
-    motions = ens.get("motions", [])
-    ens_cfg = cfg.get("ensemble", {})
-    record = motions[0]["label"] if motions else ens_cfg.get("record", "?")
-    p = f"study {study}"
+    attrs = decode_attrs(ds.attrs)
+    spec = SpectraSpec.from_attrs(attrs["config"])
+    motions = attrs["ensemble"]["motions"]
+    p = f"study {spec.study}"
     rows = [
-        (f"{p}: motions", f"ensemble {ens.get('name', ens_cfg.get('name', '?'))}: {record} and "
-                          f"{max(len(motions) - 1, 0)} synthetic pairs (seed "
-                          f"{ens_cfg.get('seed', '?')}); " + ", ".join(m["name"] for m in motions)),
-        (f"{p}: sizes R", grid_text(ds["R"].values, "m")),
-        (f"{p}: slenderness tan α", grid_text(ds["tan_alpha"].values)),
+        (f"{p}: motions", f"ensemble {spec.ensemble.name}: {motions[0]['label']} and "
+                          f"{len(motions) - 1} synthetic pairs (seed {spec.ensemble.seed}); "
+                          + ", ".join(m["name"] for m in motions)),
+        (f"{p}: sizes R", grid_text(spec.R, "m")),
+        (f"{p}: slenderness tan α", grid_text(spec.plan.tan_alpha)),
         (f"{p}: limit states", ", ".join(limit_state_title(ls)
-                                         for ls in _load.labels(ds, "limit_state"))),
+                                         for ls in spec.plan.limit_states)),
         (f"{p}: modes per tan α", modes_text(ds)),
-        (f"{p}: accuracy", f"preset {cfg.get('accuracy', '?')}; tolerances "
-                           f"{json.dumps(_attr(ds.attrs, 'tolerances', {}))}; search up to "
-                           f"PGA/(g tan α) = {fmt(opts.get('upper'))}"),
+        (f"{p}: accuracy", f"preset {spec.accuracy if isinstance(spec.accuracy, str) else 'custom'}"
+                           "; tolerances "
+                           f"{json.dumps(attrs['tolerances'])}; search up to "
+                           f"PGA/(g tan α) = {fmt(spec.upper)}"),
     ]
-    if "omega_n" in opts:
+    if spec.damping is not None:
         rows.append((f"{p}: damped contact (3d-damped)",
-                     f"ωn = {fmt(opts['omega_n'])} rad/s, ζ = {fmt(opts['zeta'])} (Fig 4 also "
-                     "overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
+                     f"ωn = {fmt(spec.damping.omega_n)} rad/s, ζ = {fmt(spec.damping.zeta)} "
+                     "(Fig 4 also overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
                      "ζ ∈ {0.05, 0.5, 5, 50})"))
     if "unresolved" in ds:
         rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
-    rows.append((f"{p}: package version", f"rocking {ds.attrs.get('rocking_version', '?')}"))
+    rows.append((f"{p}: package version", f"rocking {attrs['rocking_version']}"))
     return rows
 
 
@@ -213,13 +194,15 @@ def modes_text(ds) -> str:
 
 
 def tilt_map_rows(path: str | Path) -> list[tuple[str, str]]:
-    """Grid and models of a Fig 7 tilt-map store."""
+    """Grid and models of a Fig 7 tilt-map store (its ``config`` read as a
+    :class:`~rocking.study.spec.TiltMapSpec`)."""
     ds = _load.open_store(path)
-    cfg = _attr(ds.attrs, "config", {}) or {}
-    p = f"study {cfg.get('study', Path(path).parent.name)}: Fig 7 tilt map"
-    return [(p, f"record {ds.attrs.get('motion', '?')}, tan α = {ds.attrs.get('tan_alpha', '?')}, "
-                f"models {', '.join(_load.labels(ds, 'mode'))}; R: {grid_text(ds['R'].values, 'm')}"
-                f"; PGA/(g tan α): {grid_text(ds['intensity'].values)}")]
+    attrs = decode_attrs(ds.attrs)
+    spec = TiltMapSpec.from_attrs(attrs["config"])
+    return [(f"study {spec.study}: Fig 7 tilt map",
+             f"record {attrs['motion']}, tan α = {spec.tan_alpha:g}, models "
+             f"{', '.join(spec.modes)}; R: {grid_text(spec.R, 'm')}; PGA/(g tan α): "
+             f"{grid_text(spec.intensity)}")]
 
 
 def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
@@ -237,10 +220,10 @@ def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
              f"seed {e.get('seed', '?')}")]
 
 
-def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str, str]:
-    """The record's PGA: one number and what it is."""
-    ens = _attr(_load.open_store(store).attrs, "ensemble", {}) or {}
-    motions = ens.get("motions", [])
+def pga_row(store: str | Path) -> tuple[str, str]:
+    """The record's PGA: one number and what it is (a figure may add the unprocessed record's
+    through its ``run_rows`` hook, :func:`figure_run_rows`)."""
+    motions = decode_attrs(_load.open_store(store).attrs)["ensemble"]["motions"]
     if not motions:
         return ("record PGA", "not recorded in the store")
     from ..constants import G
@@ -251,14 +234,6 @@ def pga_row(store: str | Path, sensitivity: Mapping | None = None) -> tuple[str,
     text = (f"{pga_g:.3f} g: vector peak max √(ax² + ay²) of {first['label']} after "
             "rotation to principal axes and high-pass, as every spectrum is scaled (a vector peak "
             "does not depend on the rotation)")
-    m = (sensitivity or {}).get("measured", {})
-    raw = [k.split("|", 1)[1] for k in m if k.startswith("component_pga_g|as recorded")]
-    if raw:
-        v = raw[0]
-        cx, cy = m[f"component_pga_g|{v}"]
-        text += (f". For reference, unprocessed: vector {m[f'pga_g|{v}']:.3f} g, components "
-                 f"x (E–W) {cx:.3f} g and y (N–S) {cy:.3f} g (the larger one is the PGA record "
-                 "tables quote)")
     return ("record PGA", text)
 
 
@@ -296,7 +271,6 @@ def timing_rows(done: Sequence[str | Path] = (), ensembles: Sequence[str | Path]
 
 def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str | Path] = (),
                  ensembles: Sequence[str | Path] = (), done: Sequence[str | Path] = (),
-                 sensitivity: Mapping | None = None,
                  elapsed_seconds: float | None = None) -> list[tuple[str, str]]:
     """Rows (item, value) of the report's "what was run" section.
 
@@ -311,8 +285,6 @@ def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str |
         ``results/motions/<ensemble>.json`` (rotation, high-pass, seeds, timings).
     done : sequence of path
         Completion summaries ``*.done.json`` (wall times).
-    sensitivity : mapping, optional
-        Notes of the Fig 6 companion figure (unprocessed record peaks).
     elapsed_seconds : float, optional
         Time from the start of the workflow to the report [s].
     """
@@ -320,7 +292,7 @@ def what_was_run(*, stores: Sequence[str | Path] = (), tilt_maps: Sequence[str |
     for path in ensembles:
         rows += ensemble_rows(path)
     if stores:
-        rows.append(pga_row(stores[0], sensitivity))
+        rows.append(pga_row(stores[0]))
     for path in stores:
         rows += study_rows(path)
     for path in tilt_maps:
@@ -400,37 +372,10 @@ def _verdict_html(rows: Sequence[Comparison], with_figure: bool, docs: str = "")
     return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
 
-def damping_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
-    """Fig 9's damped against undamped means per size R, with the spread among motions."""
-    m = notes.get("measured", {})
-    R = m.get("R")
-    out = []
-    for key, eff in m.items():
-        if not key.startswith("damping|") or not R:
-            continue
-        se = eff.get("se_rel_diff_means") or eff["paired_se"]
-        judged = damping_judgement(eff)
-        df = pd.DataFrame({
-            "R [m]": R,
-            "Δ of the means [%]": np.round(100 * np.asarray(eff["rel_diff_means"], float), 2),
-            "± 2 SE of Δ [%]": np.round(200 * np.asarray(se, float), 2),
-            "per-motion Δ, mean [%]": np.round(100 * np.asarray(eff["paired_mean"], float), 2),
-            "motions": eff["paired_n"],
-            "spread among motions, std/mean undamped [%]": np.round(100 * np.asarray(
-                eff["cov_undamped"], float), 1),
-            "essentially identical": ["yes" if ok else "no" for ok in judged["ok"]],
-        })
-        out.append((f"Damped − undamped, {limit_state_title(key.split('|', 1)[1])}: "
-                    "relative difference of the ensemble means with two standard errors "
-                    "(std of the paired differences / √n), the mean of the per-motion "
-                    "differences, and the spread among motions; identical = |Δ| ≤ 5 % or "
-                    "within 2 SE", df))
-    return out
-
-
-def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "") -> str:
-    """A figure with its caption and evidence; its verdicts stay in the verdict table (one
-    line here counts them and links there)."""
+def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "",
+                 paper: bool = True) -> str:
+    """A figure with its caption (with the paper's statements when ``paper``) and evidence;
+    its verdicts stay in the verdict table (one line here counts them and links there)."""
     img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
     lines = "".join(f"<br><span class='measured'>{html.escape(s)}</span>"
                     for s in measured_lines(entry))
@@ -441,14 +386,13 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "")
             counts[c.verdict] = counts.get(c.verdict, 0) + 1
         table = ("<p><a href='#verdicts'>Verdicts</a>: "
                  + ", ".join(f"{n} {v}" for v, n in counts.items()) + ".</p>")
-    if entry.name == "fig09_spectra":
-        table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
-                         for title, df in damping_tables(entry.notes))
+    table += "".join(f"<p>{html.escape(title)}</p>{_table_html(df)}"
+                     for title, df in figure_tables(entry))
     # the verdict table links #<figure name>: the first image of a figure carries it
     anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption{anchor}>"
-            f"{link_docs(CAPTIONS[entry.name], docs)}{lines}</figcaption>{table}</figure>")
+            f"{link_docs(caption(entry.name, paper), docs)}{lines}</figcaption>{table}</figure>")
 
 
 _EMBEDDED = re.compile(r"<figure id='(?P<stem>[^']+)'><img alt='(?P=stem)' "
@@ -469,8 +413,13 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
           risk: str | Path | None = None, hazard: str = "",
-          stripes: str | Path | None = None) -> Path:
+          stripes: str | Path | None = None, paper: bool = True) -> Path:
     """Write the HTML report.
+
+    A study that reproduces the paper (``paper``) gets the paper's statements set against
+    its numbers (the verdict table, a verdict line per figure) and the paper's captions; a
+    study of one's own gets what was computed only: figures with what they show and
+    measure, and the tables.
 
     Parameters
     ----------
@@ -494,6 +443,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     stripes : path, optional
         ``results/<study>/stripe_fragility.csv``: adds the section that sets the
         multiple-stripe fragility beside the first-exceedance one (:func:`stripes_section`).
+    paper : bool
+        The study reproduces the paper (``studies.<name>.reproduces``): verdicts shown.
 
     Returns
     -------
@@ -501,25 +452,22 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         ``out``.
     """
     entries = load_figures(figures)
-    verdicts = figure_comparisons(entries)
+    verdicts = figure_comparisons(entries) if paper else {}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
     parts.append("<h2 id='what-was-run'>What was run</h2>")
-    parts.append(_table_html(pd.DataFrame(list(run), columns=["item", "value"])) if run
+    run = [*run, *figure_run_rows(entries)]
+    parts.append(_table_html(pd.DataFrame(run, columns=["item", "value"])) if run
                  else "<p>Not recorded.</p>")
     docs = docs_href(Path(out).parent)
-    parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
-    parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
+    if paper:
+        parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
+        parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
     parts.append("<h2>Figures</h2>")
-    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs)
+    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs,
+                           paper)
               for i, e in enumerate(entries)]
-    quality = fit_quality_table(entries)
-    if not quality.empty:
-        parts.append("<h2 id='fit-quality'>Fit quality of the synthetic ensembles (5 % PSA, "
-                     "geometric mean of the synthetic motions ÷ record; * = the ensemble the "
-                     "study uses)</h2>")
-        parts.append(_table_html(quality))
     if linear_fit is not None:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")

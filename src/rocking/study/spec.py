@@ -53,6 +53,9 @@ DEFAULTS: dict[str, Any] = {
 """The schema's defaults (tests/test_spec.py holds them equal), for configurations read
 without the workflow (the benchmark drivers); the workflow has filled them in already."""
 
+PAPERS = ("vassiliou2017",)
+"""Papers a study can reproduce (``studies.<name>.reproduces``): Vassiliou et al. (2017)."""
+
 
 def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[float]:
     """Values of a grid given as a list or ``{start, stop, num[, spacing]}``.
@@ -678,6 +681,9 @@ class StudySpec(_Hashed):
         What the per-record table and the suite's fragility give beside the critical PGA
         (``studies.<name>.intensity_measures``): ``"pga"``, ``"pgv"``, ``"sa:<T>"`` (5 %
         damped pseudo-acceleration at period T [s]). It decides no store.
+    reproduces : str or None
+        The paper the study reproduces (one of :data:`PAPERS`), None for a study of one's
+        own: it decides which figures and verdicts are drawn, no store.
     """
 
     spectra: SpectraSpec
@@ -685,6 +691,7 @@ class StudySpec(_Hashed):
     stripes: StripesSpec | None = None
     hazard: str | dict[str, Any] | None = None
     intensity_measures: tuple[str, ...] = ("pga", "pgv")
+    reproduces: str | None = None
 
     @property
     def name(self) -> str:
@@ -715,7 +722,8 @@ class StudySpec(_Hashed):
             raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
         field = f"studies.{name}"
         s = _mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
-                                            "stripes": None, "hazard": None},
+                                            "stripes": None, "hazard": None,
+                                            "reproduces": None},
                      ["ensemble", "R", "runs"])
         ensemble = EnsembleSpec.from_config(config, s["ensemble"])
         accuracy = _accuracy(config.get("accuracy", DEFAULTS["accuracy"]))
@@ -743,17 +751,22 @@ class StudySpec(_Hashed):
         hazard = s["hazard"]
         if hazard is not None and not isinstance(hazard, (str, Mapping)):
             raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
+        if s["reproduces"] is not None and s["reproduces"] not in PAPERS:
+            raise ValueError(f"{field}.reproduces must be one of {list(PAPERS)} or null, got "
+                             f"{s['reproduces']!r}")
         return cls(spectra, tilt_map, stripes,
                    dict(hazard) if isinstance(hazard, Mapping) else hazard,
-                   _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures"))
+                   _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures"),
+                   s["reproduces"])
 
     def to_attrs(self) -> dict[str, Any]:
-        """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures"}``: each
-        part's mapping (None when absent)."""
+        """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures",
+        "reproduces"}``: each part's mapping (None when absent)."""
         return {"spectra": self.spectra.to_attrs(),
                 "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
                 "stripes": None if self.stripes is None else self.stripes.to_attrs(),
-                "hazard": self.hazard, "intensity_measures": list(self.intensity_measures)}
+                "hazard": self.hazard, "intensity_measures": list(self.intensity_measures),
+                "reproduces": self.reproduces}
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
@@ -763,7 +776,8 @@ class StudySpec(_Hashed):
                    None if t is None else TiltMapSpec.from_attrs(t),
                    None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"),
                    tuple(attrs.get("intensity_measures", DEFAULTS["study"]
-                                   ["intensity_measures"])))
+                                   ["intensity_measures"])),
+                   attrs.get("reproduces"))
 
 
 def _intensity_measures(value: Any, field: str) -> tuple[str, ...]:

@@ -99,6 +99,56 @@ def _paper_limit_states(available: list[str], missing: list[str],
         yield title, ls
 
 
+def panel_limit_states(available: list[str]) -> list[str]:
+    """The limit states a spectrum figure draws as panels, most severe first (at most two).
+
+    Overturning and the paper's excessive tilt θ > α/3 where computed, the study's most
+    severe other goals in their place: a study's own goals get panels, and no panel is left
+    empty for a goal the study did not ask for.
+    """
+    order = sorted(available, key=lambda ls: -parse_limit_state(ls).ratio)
+    chosen = [ls for ls in (find_limit_state(available, "overturning"),
+                            excessive_tilt(available)) if ls is not None]
+    chosen += [ls for ls in order if ls not in chosen][:2 - len(chosen)]
+    return sorted(chosen, key=lambda ls: -parse_limit_state(ls).ratio)
+
+
+def requested_cells(ds: xr.Dataset) -> xr.DataArray:
+    """(mode, limit_state, tan_alpha): True where the study computed the cell.
+
+    The ``requested`` mask where the store or aggregate has one, else the cells with a
+    result (a store's critical intensity or "not reached", an aggregate's finite mean).
+    """
+    if "requested" in ds:
+        return ds["requested"].astype(bool)
+    done = computed(ds) if "pga_crit" in ds else np.isfinite(ds["mean"])
+    other = [d for d in done.dims if d not in ("mode", "limit_state", "tan_alpha")]
+    return done.any(other) if other else done
+
+
+def primary_mode(ds: xr.Dataset) -> str | None:
+    """The mode a study's spectrum figures draw: ``"3d"`` where computed, else the first
+    computed mode (None when nothing was computed)."""
+    cells = requested_cells(ds)
+    done = [m for m in labels(ds, "mode") if bool(cells.sel(mode=m).any())]
+    return "3d" if "3d" in done else (done[0] if done else None)
+
+
+def main_tan_alpha(ds: xr.Dataset, modes: list[str]) -> float | None:
+    """The slenderness a one-slenderness figure draws: the one at which every mode of
+    ``modes`` has the most computed limit states (the paper's tan α = 0.2, with seven goals,
+    in its study); among equals the middle one. None when no tan α has them all."""
+    cells = requested_cells(ds)
+    modes = [m for m in modes if m in labels(ds, "mode")]
+    if not modes:
+        return None
+    score = cells.sel(mode=modes).sum("limit_state").min("mode")
+    tans = ds["tan_alpha"].values.astype(float)
+    best = [float(t) for t, s in zip(tans, score.values, strict=True)
+            if s > 0 and s == score.values.max()]
+    return best[len(best) // 2] if best else None
+
+
 def has_value(ds: xr.Dataset | xr.DataArray, dim: str, value: float, rtol: float = 1e-6) -> bool:
     """Whether numeric coordinate ``dim`` holds ``value`` (to ``rtol``)."""
     if dim not in ds.coords:
@@ -152,6 +202,17 @@ def mean_curve(agg: xr.Dataset, mode: str, limit_state: str, stat: str = "mean")
         return None  # no run of the study asked for it
     y = agg[stat].sel(mode=mode, limit_state=limit_state).values.astype(float)
     return y if np.isfinite(y).any() else None
+
+
+def unresolved_means(agg: xr.Dataset, mode: str, limit_state: str) -> np.ndarray | None:
+    """Sizes R where the mean of (mode, limit state) includes answers flagged unresolved
+    (``n_unresolved`` > 0 of ``mean_spectra``: narrower windows may lie below them, so the
+    mean may lie lower); None when the aggregate has no flag or none is set."""
+    if "n_unresolved" not in agg:
+        return None
+    n = agg["n_unresolved"].sel(mode=mode, limit_state=limit_state).values.astype(float)
+    flag = np.nan_to_num(n) > 0
+    return flag if flag.any() else None
 
 
 def computed(ds: xr.Dataset) -> xr.DataArray:

@@ -49,6 +49,9 @@ MODE_STYLE = {
 
 LIMIT_STATE_TITLES = {"overturning": "Overturning"}
 
+UNRESOLVED_LABEL = "unresolved answers in the mean: it may lie lower"
+"""Legend entry of the marks on means over answers flagged ``unresolved`` (Figs 10, 12)."""
+
 
 def limit_state_title(limit_state: str) -> str:
     """Human title of a limit state in either spelling (``"tilt:1/3"``, ``"tilt:0.3333"``).

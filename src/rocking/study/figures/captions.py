@@ -1,6 +1,8 @@
 """Captions of the figures: what each shows and what the paper states about it.
 
-The one source of caption text: the HTML report (:mod:`rocking.study.report`) prints them under
+A study that reproduces the paper gets :data:`CAPTIONS` (what a figure shows and what the
+paper states of it), a study of one's own :data:`STUDY_CAPTIONS` (what it shows). The one
+source of caption text: the HTML report (:mod:`rocking.study.report`) prints them under
 the figures and the workflow's Snakemake report renders them through
 ``workflow/report/figure.rst`` (``{{ snakemake.params.caption }}``). Keys are the figure names,
 which are also the module, rule and script names.
@@ -8,7 +10,7 @@ which are also the module, rule and script names.
 
 from __future__ import annotations
 
-CAPTIONS: dict[str, str] = {
+_PAPER_ONLY: dict[str, str] = {
     "fig03_wobbling_period": (
         "Fig 3. Period of pure wobbling T, normalized by the frequency parameter p, against the "
         "normalized tilt θ/α for tan α = 0.1, 0.2, 1 and 1000 (Euler's disk), with Housner's "
@@ -53,62 +55,57 @@ CAPTIONS: dict[str, str] = {
         "Scatter over a few per cent of scale is the chaotic sensitivity of a single-record "
         "peak: a match of θmax at scale 1 is not expected."
     ),
+}
+"""Captions of the paper's model figures, drawn only for a reproduction of the paper."""
+
+STUDY_CAPTIONS: dict[str, str] = {
     "fig07_tilt_map": (
         "Fig 7. Contours of the peak normalized tilt θmax/α over cylinder size R and "
-        "normalized intensity PGA/(g tan α) for the scaled El Centro record (principal axes, "
-        "high-passed), tan α = 0.2, undamped (left) and damped (right); PGA is the vector peak "
-        "max √(ügx² + ügy²); right axis PGA in g. Contours are drawn on the grid the "
-        "configuration gives (dots); the black line is θmax = α and the pale grey top class "
-        "θmax > α, which includes overturning. The paper reports that larger cylinders are "
-        "harder to "
-        "overturn and that both models give almost identical maps."
+        "normalized intensity PGA/(g tan α) for the study's scaled record (principal axes, "
+        "high-passed), at the slenderness in the title, one panel per model; PGA is the "
+        "vector peak max √(ügx² + ügy²); right axis PGA in g. Contours are drawn on the grid "
+        "the configuration gives (dots); the black line is θmax = α and the pale grey top "
+        "class θmax > α, which includes overturning."
     ),
     "fig08_motions": (
         "Fig 8. Acceleration traces on the principal axes (x = major, y = minor) and 5 %-damped "
         "pseudo-acceleration spectra of the record (top, black) and its synthetic "
-        "Rezaeian–Der Kiureghian pairs (synthetic 1–10, the same colours as in Fig 9): per "
+        "Rezaeian–Der Kiureghian pairs (the same colours as in Fig 9): per "
         "component the record (black), every synthetic "
         "motion (grey) and their median with the 16–84 % range (blue); left the count-based "
         "identification of RDK (2010), right the spectrum-matched one the study uses (fit "
-        "quality in the table below the figures). The paper rotates El Centro by 22.33° to "
-        "uncorrelated axes and simulates 10 pairs; the seeds are not the paper's, so individual "
-        "synthetic motions differ from its Fig 8."
+        "quality in the table below the figure)."
     ),
     "fig09_spectra": (
         "Fig 9. Seismic performance rocking spectra per ground motion (one colour each, the "
-        "same as in Fig 8: record black, synthetic 1–10; undamped solid, damped dashed) and "
-        "their means over the motions (thick black), for "
-        "overturning and excessive tilt θ > α/3, tan α = 0.2. Below: the relative difference "
-        "damped − undamped per motion and of the means, with the band of ± 2 standard errors; "
-        "open circles (when the store flags them) mark critical intensities that may lie "
-        "lower (unresolved). Right axis PGA in g. The paper reports essentially "
-        "identical undamped and damped overturning spectra, differences for excessive tilt "
-        "that vanish in the mean, and mean spectra that are almost straight lines in R."
+        "same as in Fig 8: record black, synthetic pairs in colour; undamped solid, damped "
+        "dashed) and their means over the motions (thick black), one panel per limit state "
+        "(overturning, and excessive tilt θ > α/3 or the study's own tilt goal) at the "
+        "slenderness in the title. Where the damped model ran, below: the relative difference "
+        "damped − undamped per motion and of the means, with the band of ± 2 standard errors. "
+        "Open circles (when the store flags them) mark critical intensities that may lie "
+        "lower (unresolved). Right axis PGA in g."
     ),
     "fig10_goals": (
-        "Fig 10. Mean performance spectra (undamped 3D model, tan α = 0.2) for the performance "
-        "goals θ > r·α, r ∈ {0.1, 0.2, 1/3, 0.5, 0.75, 1}, and overturning. The paper shows "
-        "seven goals, all almost linear in R; dashed lines are the least-squares lines whose R² "
-        "the legend gives. Goals whose statistics coincide at every R (θ > α and overturning "
-        "in the paper run: a cylinder tilted past α at the threshold intensity overturned) are "
-        "drawn dotted over each other and said so in the figure; goals this run did not "
-        "compute are named in the figure."
+        "Fig 10. Mean performance spectra of the study's performance goals θ > r·α and "
+        "overturning (the mode and slenderness in the title); dashed lines are the "
+        "least-squares lines whose R² the legend gives. Goals whose statistics coincide at "
+        "every R (a cylinder tilted past α at the threshold intensity overturned) are drawn "
+        "dotted over each other and said so in the figure. Open circles mark means over "
+        "answers flagged unresolved (they may lie lower). Right axis PGA in g."
     ),
     "fig11_slenderness": (
-        "Fig 11. Mean performance spectra (undamped 3D model) for tan α = 0.1, 0.2 and 0.3. "
-        "The paper reports that, once the intensity is normalized by g tan α, slenderness has "
-        "a very small influence. Slendernesses this run did not compute are named in the "
-        "figure."
+        "Fig 11. Mean performance spectra (undamped 3D model) per slenderness tan α of the "
+        "study, the intensity normalized by g tan α."
     ),
     "fig12_2d_vs_3d": (
         "Fig 12. Mean performance spectra of the 3D model under both components against the "
-        "2D model under the major-axis (x) or the minor-axis (y) component alone, tan α = 0.2; "
-        "the intensity is the bidirectional PGA in all three (§5.4). Colours are ensembles, "
-        "line styles modes; the note gives each ensemble's axis azimuths. Open markers: the mean "
-        "covers fewer motions than the ensemble, the others not having reached the limit state "
-        "at the search bound (such a mean understates the intensity). The paper reports "
-        "that overturning an R = 10 m cylinder needs PGA/(g tan α) of about 4 bidirectionally "
-        "and about twice that unidirectionally (El Centro black, Loma Prieta red)."
+        "2D model under the major-axis (x) or the minor-axis (y) component alone, at the "
+        "slenderness in the title; the intensity is the bidirectional PGA in all three (§5.4). "
+        "Colours are ensembles, line styles modes; the note gives each ensemble's axis "
+        "azimuths. Open circles: the mean covers fewer motions than the ensemble, the others "
+        "not having reached the limit state at the search bound (such a mean understates the "
+        "intensity); open diamonds: means over answers flagged unresolved (they may lie lower)."
     ),
     "fragility_curves": (
         "Fragility curves (beyond the paper): lognormal maximum-likelihood fits of the "
@@ -118,11 +115,58 @@ CAPTIONS: dict[str, str] = {
         "Medians IM₅₀ and dispersions β are tabulated in the report."
     ),
 }
-"""Caption of every figure, keyed by figure name, in the paper's order."""
+"""Captions of the figures a study draws, what they show and nothing of the paper (a study
+of one's own gets these)."""
+
+PAPER_STATEMENTS: dict[str, str] = {
+    "fig07_tilt_map": (
+        "The paper's Fig 7: the El Centro record at tan α = 0.2, undamped (left) and damped "
+        "(right); it reports that larger cylinders are harder to overturn and that both "
+        "models give almost identical maps."
+    ),
+    "fig08_motions": (
+        "The paper rotates El Centro by 22.33° to uncorrelated axes and simulates 10 pairs; "
+        "the seeds are not the paper's, so individual synthetic motions differ from its Fig 8."
+    ),
+    "fig09_spectra": (
+        "The paper's Fig 9: overturning and excessive tilt θ > α/3 at tan α = 0.2; it reports "
+        "essentially identical undamped and damped overturning spectra, differences for "
+        "excessive tilt that vanish in the mean, and mean spectra that are almost straight "
+        "lines in R."
+    ),
+    "fig10_goals": (
+        "The paper's Fig 10: the undamped 3D model at tan α = 0.2 and seven goals, "
+        "r ∈ {0.1, 0.2, 1/3, 0.5, 0.75, 1} and overturning, all almost linear in R (θ > α and "
+        "overturning coincide in the paper run); goals a reduced run did not compute are named "
+        "in the figure."
+    ),
+    "fig11_slenderness": (
+        "The paper's Fig 11: tan α = 0.1, 0.2 and 0.3; it reports that, once the intensity is "
+        "normalized by g tan α, slenderness has a very small influence. Slendernesses this run "
+        "did not compute are named in the figure."
+    ),
+    "fig12_2d_vs_3d": (
+        "The paper's Fig 12 (tan α = 0.2) reports that overturning an R = 10 m cylinder needs "
+        "PGA/(g tan α) of about 4 bidirectionally and about twice that unidirectionally "
+        "(El Centro black, Loma Prieta red)."
+    ),
+    "fragility_curves": "",
+}
+"""What the paper shows and states of each figure a study draws (added for a reproduction)."""
+
+CAPTIONS: dict[str, str] = {
+    **_PAPER_ONLY,
+    **{name: f"{text} {PAPER_STATEMENTS[name]}".strip() for name, text in STUDY_CAPTIONS.items()},
+}
+"""Caption of every figure in a reproduction of the paper, keyed by figure name, in the
+paper's order."""
 
 
-def caption(name: str) -> str:
-    """The caption of figure ``name`` (a key of :data:`CAPTIONS`)."""
+def caption(name: str, paper: bool = True) -> str:
+    """The caption of figure ``name`` (a key of :data:`CAPTIONS`): with the paper's
+    statements for a reproduction of the paper (``paper``), else what the figure shows."""
     if name not in CAPTIONS:
         raise ValueError(f"figure must be one of {list(CAPTIONS)}, got {name!r}")
-    return CAPTIONS[name]
+    if not paper and name in _PAPER_ONLY:
+        raise ValueError(f"figure {name!r} is drawn only for a reproduction of the paper")
+    return CAPTIONS[name] if paper else STUDY_CAPTIONS[name]

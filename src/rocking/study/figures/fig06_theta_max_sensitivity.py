@@ -11,7 +11,7 @@ paper.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -21,6 +21,7 @@ from ...dynamics.bodies import Cylinder
 from ...motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, styled, with_legend_row
+from .comparisons import NOT_IN_PAPER, Comparison, fmt
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -32,6 +33,10 @@ BAND = 0.05
 PAPER_ANGLE_DEG = 22.33
 """The paper's rotation of El Centro to uncorrelated axes (§5.1) [deg]."""
 PAPER_THETA_MAX = {"3d": 0.0838, "3d-damped": 0.0668}
+COMPONENT_PGA_NOTE = "component_pga_g|"
+"""Prefix of the measured key of a record version's component peaks [g]."""
+PGA_NOTE = "pga_g|"
+"""Prefix of the measured key of a record version's vector peak [g]."""
 """Peak tilts printed in §4 [rad]."""
 
 AS_RECORDED = "as recorded (x E–W, y N–S), unfiltered"
@@ -125,7 +130,7 @@ def data(record: GroundMotion | None = None, *,
              for v, motion in versions.items()}
     measured = measurements(scales, theta, {v: m.pga_g for v, m in versions.items()})
     for v, m in versions.items():  # component peaks: the numbers record tables quote
-        measured[f"component_pga_g|{v}"] = [float(np.max(np.abs(m.ax))) / G,
+        measured[COMPONENT_PGA_NOTE + v] = [float(np.max(np.abs(m.ax))) / G,
                                             float(np.max(np.abs(m.ay))) / G]
     rotated_theta = {}
     if rotated is not None and STUDY in versions:
@@ -153,7 +158,7 @@ def measurements(scales: np.ndarray, theta: dict, pga_g: dict) -> dict:
     near = np.abs(scales - 1.0) <= BAND + 1e-9
     at_one = int(np.argmin(np.abs(scales - 1.0)))
     for version, models in theta.items():
-        out[f"pga_g|{version}"] = float(pga_g[version])
+        out[PGA_NOTE + version] = float(pga_g[version])
         for model, values in models.items():
             band = values[near]
             out[f"theta_max|{version}|{model}"] = float(values[at_one])
@@ -220,3 +225,33 @@ def plot(d: dict) -> Figure:
                  f"R = {b['R']:g} m, tan α = {b['tan_alpha']:g} (companion to Fig 6, "
                  "not in the paper)")
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig06_theta_max_sensitivity", {}).get("measured", {})
+    check = m.get("rotation_check") or {}
+    worst = max(check.values()) if check else None
+    return [Comparison(
+        "fig06_theta_max_sensitivity", "θmax of the El Centro response versus scale factor and "
+        "record version (evidence for Fig 6)", "—",
+        f"a rotation by the paper's 22.33° changes θmax by {fmt(worst, 2)} rad; ranges per "
+        "version in the Fig 6 rows", NOT_IN_PAPER,
+        "a companion figure that explains Fig 6's difference")]
+
+
+def run_rows(notes: Mapping) -> list[tuple[str, str]]:
+    """The report's "what was run" row of the unprocessed record's peaks (for reference:
+    the study scales the processed record)."""
+    m = notes.get("measured", {})
+    raw = [k.removeprefix(COMPONENT_PGA_NOTE) for k in m
+           if k.startswith(COMPONENT_PGA_NOTE + "as recorded")]
+    if not raw:
+        return []
+    cx, cy = m[COMPONENT_PGA_NOTE + raw[0]]
+    return [("record PGA, unprocessed", f"vector {m[PGA_NOTE + raw[0]]:.3f} g, components "
+             f"x (E–W) {cx:.3f} g and y (N–S) {cy:.3f} g (the larger one is the PGA record "
+             "tables quote); for reference: the study scales the processed record")]

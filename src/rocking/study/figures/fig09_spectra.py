@@ -1,23 +1,29 @@
 """Figure 9: seismic performance rocking spectra per ground motion, with their mean.
 
-Left overturning, right excessive tilt (θ > α/3), tan α = 0.2. Each motion has one colour;
-undamped solid, damped dashed; the thick black line is the mean over the motions (from the
-study's aggregate ``mean_spectra.nc``). Points where the limit state was not reached within
-the search range, or that were not computed, are not drawn. The lower row quantifies the
-paper's "essentially identical": the relative difference damped − undamped per motion and of
-the means, with the spread of the per-motion differences.
+One panel per limit state (overturning and excessive tilt θ > α/3 in the paper; a study's
+own goals otherwise, :func:`._load.panel_limit_states`) at the study's slenderness (the paper's
+tan α = 0.2; :func:`._load.main_tan_alpha`). Each motion has one colour; undamped solid,
+damped dashed; the thick black line is the mean over the motions (from the study's aggregate
+``mean_spectra.nc``). Points where the limit state was not reached within the search range,
+or that were not computed, are not drawn. Where the damped model ran, a lower row quantifies
+the paper's "essentially identical": the relative difference damped − undamped per motion and
+of the means, with the spread of the per-motion differences.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from . import _axes, _load
 from ._style import (
+    MODE_STYLE,
     _suptitle_and_notes,
     limit_state_title,
     motion_styles,
@@ -25,24 +31,28 @@ from ._style import (
     pga_g_axis,
     styled,
 )
+from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
-TAN_ALPHA = 0.2
-MODES = ("3d", "3d-damped")
+DAMPED = "3d-damped"
+"""The damped mode, drawn beside the undamped "3d" where the study ran it."""
 LINESTYLES = {"3d": "-", "3d-damped": "--"}
+DAMPING_NOTE = "damping|"
+"""Prefix of the measured key of the damped − undamped comparison of one limit state."""
 
 
-def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
-         modes: tuple[str, ...] = MODES, motions: str | Path | None = None) -> dict:
+def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None,
+         modes: tuple[str, ...] | None = None, motions: str | Path | None = None) -> dict:
     """Arrays of Fig 9 from the store and the aggregate.
 
     Parameters
     ----------
     store, means : path
         The study's spectra store and ``mean_spectra.nc``.
-    tan_alpha : float
-        Slenderness [-].
-    modes : tuple of str
-        Modes drawn (undamped and damped 3D).
+    tan_alpha : float, optional
+        Slenderness [-]; default the study's (:func:`._load.main_tan_alpha` of the modes).
+    modes : tuple of str, optional
+        Modes drawn; default the study's primary mode (:func:`._load.primary_mode`) and,
+        with "3d", the damped model where the study ran it.
     motions : path, optional
         The ensemble file, for the physical directions of x and y.
 
@@ -56,7 +66,17 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
     """
     ds = _load.open_store(store)
     agg = _load.open_means(means)
-    if not _load.has_value(ds, "tan_alpha", tan_alpha):
+    if modes is None:
+        primary = _load.primary_mode(ds)
+        if primary is None:
+            raise ValueError(f"the store {str(store)!r} holds no computed cell")
+        damped = primary == "3d" and DAMPED in _load.labels(ds, "mode") and bool(
+            _load.requested_cells(ds).sel(mode=DAMPED).any())
+        modes = (primary, DAMPED) if damped else (primary,)
+    if tan_alpha is None:
+        tan_alpha = _load.main_tan_alpha(ds, list(modes)) or _load.main_tan_alpha(
+            ds, list(modes[:1]))
+    if tan_alpha is None or not _load.has_value(ds, "tan_alpha", tan_alpha):
         raise ValueError(f"tan_alpha={tan_alpha!r} is not in the store {str(store)!r}")
     ds = _load.select_value(ds, "tan_alpha", tan_alpha)
     agg = _load.select_value(agg, "tan_alpha", tan_alpha)
@@ -64,14 +84,17 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
     motion_names = _load.labels(ds, "motion")
     missing: list[str] = []
     panels = []
-    for _title, ls in _load._paper_limit_states(states, missing):
-        panel = _panel(ds, agg, ls, modes, motion_names, missing, tan_alpha)
-        panels.append(panel)
+    cells = _load.requested_cells(ds)
+    drawn = [ls for ls in states
+             if any(m in _load.labels(ds, "mode") and bool(cells.sel(mode=m, limit_state=ls).any())
+                    for m in modes)]
+    for ls in _load.panel_limit_states(drawn or states):
+        panels.append(_panel(ds, agg, ls, modes, motion_names, missing, tan_alpha))
     measured: dict = {"R": ds["R"].values.astype(float).tolist()}
     for panel in panels:
         eff = panel["damping"]
         if eff is not None:
-            measured[f"damping|{panel['limit_state']}"] = eff
+            measured[DAMPING_NOTE + panel["limit_state"]] = eff
             # kept for readers of older notes: the largest |Δ| of the means
             measured[f"max_rel_diff_damped_{panel['limit_state']}"] = eff["max_abs_rel_diff_means"]
     return {
@@ -81,6 +104,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float = TAN_ALPHA,
         "motions": motion_names,
         "panels": panels,
         "tan_alpha": tan_alpha,
+        "modes": list(modes),
         "colors": motion_styles(motion_names),
         "axes": _axes.from_ensemble(motions),
         "missing": sorted(set(missing)),
@@ -113,11 +137,10 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
             missing.append(f"mean of mode {mode} not aggregated")
         else:
             mean[mode] = m
-    std = _load.mean_curve(agg, "3d", ls, "std")
+    std = _load.mean_curve(agg, "3d", ls, "std") if "3d" in modes else None
     effect = None
-    if {"3d", "3d-damped"} <= set(curves) and {"3d", "3d-damped"} <= set(mean):
-        effect = damping_effect(curves["3d"], curves["3d-damped"], mean["3d"],
-                                mean["3d-damped"], std)
+    if {"3d", DAMPED} <= set(curves) and {"3d", DAMPED} <= set(mean):
+        effect = damping_effect(curves["3d"], curves[DAMPED], mean["3d"], mean[DAMPED], std)
     return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
             "unresolved": unresolved}
 
@@ -182,19 +205,25 @@ def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.
 
 @styled
 def plot(d: dict) -> Figure:
-    """Two columns (overturning, excessive tilt): spectra above, damped − undamped below."""
+    """One column per limit state: spectra above and, where the damped model ran,
+    damped − undamped below."""
     panels = d["panels"]
     ncols = max(len(panels), 1)
-    fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
-                           height_ratios=(2.2, 1.0))
+    damped = DAMPED in d.get("modes", ("3d", DAMPED))
+    if damped:
+        fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
+                               height_ratios=(2.2, 1.0))
+    else:
+        fig, axes = new_figure(10.0 if ncols > 1 else 6.4, 5.0, ncols=ncols, squeeze=False)
     colors = {m: st["color"] for m, st in d["colors"].items()}
     for col, panel in enumerate(panels):
         _spectra_panel(axes[0][col], d, panel, colors)
-        _difference_panel(axes[1][col], d, panel, colors)
-    for ax in axes[0][len(panels):]:
-        ax.text(0.5, 0.5, "no limit state computed", ha="center", transform=ax.transAxes)
-    title = (f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9); "
-             "solid undamped, dashed damped")
+        if damped:
+            _difference_panel(axes[1][col], d, panel, colors)
+    modes = d.get("modes", ["3d", DAMPED])
+    styles = "; solid undamped, dashed damped" if damped else (
+        f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
+    title = f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9){styles}"
     _suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
                         "(vector), normalized by g tan α.")
     return fig
@@ -207,7 +236,7 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
                     marker=".", ms=3)
     for mode, y in panel["means"].items():
         ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
-                label=f"mean, {'damped' if mode == '3d-damped' else 'undamped'}")
+                label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
     flagged = False
     for mode, flags in panel.get("unresolved", {}).items():
         for motion, f in flags.items():
@@ -246,3 +275,121 @@ def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
     ax.plot(d["R_mean"], 100 * np.asarray(eff["rel_diff_means"], float), color="black", lw=2.0,
             label="difference of the means")
     ax.legend(loc="best", fontsize=6.5)
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig09_spectra", {}).get("measured", {})
+    rows = []
+    for key, eff in m.items():
+        if not key.startswith(DAMPING_NOTE):
+            continue
+        ls = key.removeprefix(DAMPING_NOTE)
+        rows.append(_damping_row(ls, eff, m.get("R")))
+    if not rows:
+        rows.append(Comparison("fig09_spectra", "Undamped and damped spectra essentially "
+                               "identical (§5.2)", "essentially identical", "—", NOT_COMPUTED,
+                               "the damped or the undamped model was not run at tan α = 0.2"))
+    return rows
+
+
+DAMPING_RTOL = 0.05
+"""Difference of the means that is "essentially identical" whatever its scatter [-]."""
+
+
+def damping_judgement(eff: Mapping) -> dict:
+    """Per R, is the damped mean "essentially identical" to the undamped one?
+
+    A difference of the means is accepted when it is small (≤ :data:`DAMPING_RTOL`) or when
+    it is within two standard errors of itself (``se_rel_diff_means``; older notes: the
+    standard error of the per-motion differences): the ensemble's scatter explains it.
+
+    Returns
+    -------
+    dict
+        ``ok`` (list of bool per R), ``noise`` (indices accepted only through the scatter),
+        ``small_systematic`` (indices with |Δ| ≤ 5 % but beyond 2 SE), ``failed`` (indices).
+    """
+    rel = [float("nan") if v is None else float(v) for v in eff.get("rel_diff_means", [])]
+    se = eff.get("se_rel_diff_means") or eff.get("paired_se") or [None] * len(rel)
+    se = [float("nan") if v is None else float(v) for v in se]
+    ok, noise, small, failed = [], [], [], []
+    for i, (d, e) in enumerate(zip(rel, se, strict=False)):
+        if not math.isfinite(d):
+            ok.append(True)
+            continue
+        within = math.isfinite(e) and abs(d) <= 2.0 * e
+        good = abs(d) <= DAMPING_RTOL * (1 + 1e-9) or within
+        ok.append(good)
+        if not good:
+            failed.append(i)
+        elif abs(d) > DAMPING_RTOL:
+            noise.append(i)
+        elif not within:
+            small.append(i)
+    return {"ok": ok, "noise": noise, "small_systematic": small, "failed": failed,
+            "rel": rel, "se": se}
+
+
+def _damping_row(ls: str, eff: Mapping, R: list | None = None) -> Comparison:
+    worst = eff.get("max_abs_rel_diff_means")
+    k = eff.get("R_index_of_max")
+    j = damping_judgement(eff)
+
+    def at(idx):
+        return ", ".join(f"{R[i]:g}" if R else str(i) for i in idx)
+
+    def pm(i):
+        return f"{fmt(100 * j['rel'][i], 2)} ± {fmt(200 * j['se'][i], 2)} %"
+
+    ours = (f"largest |Δ| of the means {fmt(100 * worst, 3) if finite(worst) else '—'} %"
+            + (f" at R = {R[k]:g} m, where Δ ± 2 SE = {pm(k)} (n = {eff['paired_n'][k]})"
+               if k is not None and R else "")) if k is not None else "—"
+    tolerance = "|Δ of the means| ≤ 5 % or within 2 standard errors of Δ, at every R"
+    notes = []
+    if j["noise"]:
+        notes.append(f"at R = {at(j['noise'])} m Δ exceeds 5 % but lies within 2 SE (the "
+                     "scatter among motions)")
+    if j["small_systematic"]:
+        notes.append(f"at R = {at(j['small_systematic'])} m a small systematic Δ (≤ 5 %, "
+                     "beyond 2 SE)")
+    if notes:
+        tolerance += "; " + "; ".join(notes)
+    reason = (f"at R = {at(j['failed'])} m the difference of the means exceeds both 5 % and 2 "
+              "standard errors: " + "; ".join(f"R = {R[i]:g} m: {pm(i)}" if R else pm(i)
+                                              for i in j["failed"]))
+    return judged("fig09_spectra", f"Undamped and damped mean spectra, {limit_state_title(ls)} "
+                  "(§5.2: 'essentially identical'; excessive tilt: 'differences ... practically "
+                  "vanish when the average spectra are compared')", "essentially identical",
+                  ours, (not j["failed"]) if finite(worst) else None, tolerance, reason)
+
+
+def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
+    """Fig 9's damped against undamped means per size R, with the spread among motions."""
+    m = notes.get("measured", {})
+    R = m.get("R")
+    out = []
+    for key, eff in m.items():
+        if not key.startswith(DAMPING_NOTE) or not R:
+            continue
+        se = eff.get("se_rel_diff_means") or eff["paired_se"]
+        judged = damping_judgement(eff)
+        df = pd.DataFrame({
+            "R [m]": R,
+            "Δ of the means [%]": np.round(100 * np.asarray(eff["rel_diff_means"], float), 2),
+            "± 2 SE of Δ [%]": np.round(200 * np.asarray(se, float), 2),
+            "per-motion Δ, mean [%]": np.round(100 * np.asarray(eff["paired_mean"], float), 2),
+            "motions": eff["paired_n"],
+            "spread among motions, std/mean undamped [%]": np.round(100 * np.asarray(
+                eff["cov_undamped"], float), 1),
+            "essentially identical": ["yes" if ok else "no" for ok in judged["ok"]],
+        })
+        out.append((f"Damped − undamped, {limit_state_title(key.removeprefix(DAMPING_NOTE))}: "
+                    "relative difference of the ensemble means with two standard errors "
+                    "(std of the paired differences / √n), the mean of the per-motion "
+                    "differences, and the spread among motions; identical = |Δ| ≤ 5 % or "
+                    "within 2 SE", df))
+    return out

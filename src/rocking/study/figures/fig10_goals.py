@@ -1,13 +1,17 @@
 """Figure 10: mean performance spectra for every performance goal (θ > r·α and overturning).
 
-Undamped 3D model, tan α = 0.2, mean over the ensemble (the study's ``mean_spectra.nc``).
-The paper shows seven goals; a reduced run shows the goals it computed and names the others.
-Every curve gets a least-squares line in R (the paper: "almost straight lines").
+The study's primary mode (undamped 3D in the paper) at its slenderness (tan α = 0.2 in the
+paper; :func:`._load.main_tan_alpha`), mean over the ensemble (the study's
+``mean_spectra.nc``), one line per goal the study computed, however many. The paper shows
+seven goals; a reduced reproduction names the others. Every curve gets a least-squares line
+in R (the paper: "almost straight lines"); means that some answers flagged unresolved carry
+an open marker.
 """
 
 from __future__ import annotations
 
 import textwrap
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +22,7 @@ from ...spectra.limit_states import DEFAULT_LIMIT_STATES
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
+    UNRESOLVED_LABEL,
     _missing_and_axes_note,
     limit_state_sort_key,
     limit_state_title,
@@ -25,23 +30,38 @@ from ._style import (
     pga_g_axis,
     styled,
 )
+from .comparisons import EQUATIONS, NOT_COMPUTED, NOT_IN_PAPER, Comparison, finite, fmt, judged
 
-TAN_ALPHA = 0.2
-MODE = "3d"
 PAPER_GOALS = DEFAULT_LIMIT_STATES
 """The seven performance goals of the paper's Fig 10."""
 GOAL_COLORS = ("#9ecae1", "#e6ab02", "#2ca02c", "#1f77b4", "#9467bd", "#d62728", "black")
 """Distinct colours from the mildest goal to overturning (qualitative: neighbours differ)."""
+LINEAR_R2 = 0.95
+"""Least R² of a straight line in R for "almost straight lines" (§5.2, §6) [-]."""
+LINE_NOTE = "line|"
+"""Prefix of the measured key of one goal's least-squares line."""
+COINCIDE_NOTE = "coincide"
+"""Measured key of the goals whose statistics coincide."""
 FLAT_TOL = 0.10
 """A mean spectrum is "flat" while it stays within this share of its smallest-R value [-]."""
 
 
-def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
-         motions: str | Path | None = None) -> dict:
+def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None = None,
+         motions: str | Path | None = None, paper: bool = True) -> dict:
     """Mean spectra per limit state: ``R`` [m], ``curves`` {limit state: PGA/(g tan α) (R,)},
-    ``missing`` (goals, mode or slenderness not computed), ``measured`` line fits per goal."""
+    ``unresolved`` {limit state: bool (R,)} where some motion's answer is flagged unresolved,
+    ``missing`` (goals, mode or slenderness not computed), ``measured`` line fits per goal.
+
+    ``mode`` and ``tan_alpha`` default to the study's (:func:`._load.primary_mode`,
+    :func:`._load.main_tan_alpha`); ``paper`` (a reproduction of the paper) names the paper's
+    goals the run did not compute.
+    """
     agg = _load.open_means(means)
+    mode = mode or _load.primary_mode(agg) or "3d"
+    if tan_alpha is None:
+        tan_alpha = _load.main_tan_alpha(agg, [mode]) or float(agg["tan_alpha"].values[0])
     missing = []
+    unresolved: dict[str, np.ndarray] = {}
     curves: dict[str, np.ndarray] = {}
     R = agg["R"].values.astype(float)
     if not _load.has_value(agg, "tan_alpha", tan_alpha):
@@ -54,22 +74,26 @@ def data(means: str | Path, *, tan_alpha: float = TAN_ALPHA, mode: str = MODE,
             y = _load.mean_curve(agg, mode, ls)
             if y is not None:
                 curves[ls] = y
+                flag = _load.unresolved_means(agg, mode, ls)
+                if flag is not None:
+                    unresolved[ls] = flag
     absent = [g for g in PAPER_GOALS if _load.find_limit_state(list(curves), g) is None]
-    if absent and not missing:
+    if absent and not missing and paper:
         missing.append(f"{len(absent)} of the paper's {len(PAPER_GOALS)} goals not computed: "
                        + ", ".join(limit_state_title(g) for g in absent))
     measured = {"n_goals": len(curves), "n_paper_goals": len(PAPER_GOALS),
                 "absent_goals": absent}
     for ls, y in curves.items():
         fit = fit_line(R, y)
-        measured[f"line|{ls}"] = {"slope": fit.slope, "intercept": fit.intercept,
+        measured[LINE_NOTE + ls] = {"slope": fit.slope, "intercept": fit.intercept,
                                   "r_squared": fit.r_squared, "n": fit.n,
                                   **shape(R, y, fit.slope, fit.intercept)}
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
-        measured["coincide"] = same
-    return {"R": R, "curves": curves, "tan_alpha": tan_alpha, "mode": mode,
-            "missing": missing, "measured": measured, "axes": _axes.from_ensemble(motions)}
+        measured[COINCIDE_NOTE] = same
+    return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
+            "mode": mode, "missing": missing, "reproduction": paper, "measured": measured,
+            "axes": _axes.from_ensemble(motions)}
 
 
 def shape(R: np.ndarray, y: np.ndarray, slope: float, intercept: float) -> dict:
@@ -135,10 +159,10 @@ def plot(d: dict) -> Figure:
     """One panel, one line per goal, coloured from mild tilt (light) to overturning (dark)."""
     fig, ax = new_figure(6.4, 5.4)
     n = len(d["curves"])
-    same = d["measured"].get("coincide", [])
+    same = d["measured"].get(COINCIDE_NOTE, [])
     hidden = {c["goals"][0]: c["goals"][1] for c in same}  # drawn under its twin
     for i, (ls, y) in enumerate(d["curves"].items()):
-        fit = d["measured"].get(f"line|{ls}", {})
+        fit = d["measured"].get(LINE_NOTE + ls, {})
         r2 = fit.get("r_squared", np.nan)
         color = GOAL_COLORS[i % len(GOAL_COLORS)] if n <= len(GOAL_COLORS) else f"C{i % 10}"
         label = f"{limit_state_title(ls)} (R² = {r2:.3f})"
@@ -146,11 +170,20 @@ def plot(d: dict) -> Figure:
             label += f" = {limit_state_title(hidden[ls]).lower()}"
         ax.plot(d["R"], y, color=color, lw=1.6, marker="o", ms=3, label=label,
                 ls="-" if ls not in hidden else (0, (1, 1)), zorder=3 if ls in hidden else 2)
+        flag = d.get("unresolved", {}).get(ls)
+        if flag is not None:  # means over answers some of which may lie lower
+            ax.plot(d["R"][flag], y[flag], "o", ms=7, mfc="white", mec=color, mew=1.2,
+                    zorder=4)
         if np.isfinite(fit.get("slope", np.nan)):
             # the least-squares line whose R² the legend quotes
             ax.plot(d["R"], fit["slope"] * d["R"] + fit["intercept"], color=color, lw=0.8,
                     ls="--", alpha=0.8)
     ax.plot([], [], color="0.4", lw=0.8, ls="--", label="least-squares line of each goal")
+    if d.get("unresolved"):
+        marked = sum(int(f.sum()) for f in d["unresolved"].values())
+        drawn = sum(int(np.isfinite(y).sum()) for y in d["curves"].values())
+        ax.plot([], [], "o", ms=7, mfc="white", mec="0.3", ls="",
+                label=f"{UNRESOLVED_LABEL} ({marked} of {drawn} points)")
     if not n:
         ax.text(0.5, 0.5, "; ".join(d["missing"]) or "no data", ha="center",
                 transform=ax.transAxes)
@@ -162,7 +195,7 @@ def plot(d: dict) -> Figure:
     ax.legend(loc="upper left", title="performance goal (line fit R²)", fontsize=7)
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None
-    fit = d["measured"].get(f"line|{top}", {}) if top else {}
+    fit = d["measured"].get(LINE_NOTE + top, {}) if top else {}
     if fit.get("flat_to_R") is not None and fit["flat_to_R"] < fit["end_R"]:
         # the shape the R² only hints at, for the most severe goal
         notes.append(f"{limit_state_title(top)}: flat near {fit['flat_level']:.2f} up to "
@@ -175,8 +208,75 @@ def plot(d: dict) -> Figure:
     title = (f"Mean spectra per performance goal, {MODE_STYLE[d['mode']]['label']} model, "
              f"tan α = {d['tan_alpha']:g} (Fig 10)")
     m = d["measured"]
-    if d["missing"]:
+    if d["missing"] and d.get("reproduction", True):
         title += f"\nreduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals"
     ax.set_title(title, fontsize=8)
     _missing_and_axes_note(fig, d)
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+OVERTURNING_PHYSICS = (
+    "At the smallest intensity that takes θ past α, no motion left the cylinder standing. "
+    "Why: at θ = α the centre of mass is straight above the pivot (the contact point); beyond "
+    "it, gravity's moment about the pivot turns from restoring to overturning and grows as "
+    "θ grows, so only a reversal of the ground acceleration strong and long enough could "
+    "bring the body back; at the threshold intensity, which just pushes θ past α, the "
+    "motion has no such reserve. In numbers: gravity's moment about the pivot is "
+    "m g ρ sin(α − θ), ρ the distance from the pivot to the centre of mass "
+    "(geometry: {eq}#geometry-and-inertia); it changes sign at θ = α")
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig10_goals", {}).get("measured", {})
+    name = "fig10_goals"
+    rows = []
+    absent = m.get("absent_goals", [])
+    if absent:
+        rows.append(Comparison(name, "Seven performance goals (Fig 10)", "7",
+                               f"{m.get('n_goals', 0)}", NOT_COMPUTED,
+                               "goals " + ", ".join(limit_state_title(g) for g in absent)))
+    twins = {c["goals"][0]: c for c in m.get(COINCIDE_NOTE, [])}
+    for c in m.get(COINCIDE_NOTE, []):
+        a, b = (limit_state_title(g) for g in c["goals"])
+        rows.append(Comparison(
+            name, f"{a} and {b.lower()}: the same goal in this run", "seven distinct curves",
+            f"identical mean, median and spread at all {c['n_R']} sizes "
+            f"({c.get('n_motions')} motions each)", NOT_IN_PAPER,
+            OVERTURNING_PHYSICS.format(eq=EQUATIONS)))
+    for key, fit in m.items():
+        if not key.startswith(LINE_NOTE):
+            continue
+        ls = key.removeprefix(LINE_NOTE)
+        if ls in twins:  # said once, under the goal it coincides with
+            continue
+        r2 = fit.get("r_squared")
+        rows.append(judged(
+            name, f"Mean spectrum almost linear in R, {limit_state_title(ls)} (§5.2, §6: "
+            "'increases almost linearly with cylinder size R')", "almost straight lines",
+            f"slope {fmt(fit.get('slope'))} 1/m, intercept {fmt(fit.get('intercept'))}, "
+            f"R² = {fmt(r2, 4)} (n = {fit.get('n')})", r2 >= LINEAR_R2 if finite(r2) else None,
+            f"R² ≥ {LINEAR_R2}", _bend_reason(fit), "fewer than three sizes R"))
+    return rows
+
+
+def _bend_reason(fit: Mapping) -> str:
+    """Why a mean spectrum is not a straight line, in numbers: flat throughout (a low R² of
+    a small variation), or flat, then rising (a bend)."""
+    if "flat_to_R" not in fit:
+        return "the mean spectrum bends in R (R² below the tolerance)"
+    signs = fit.get("residual_signs", "")
+    runs = 1 + sum(a != b for a, b in zip(signs, signs[1:], strict=False)) if signs else 0
+    pattern = (f"residuals from the line by R: {signs} "
+               + ("(a bend: few long runs of one sign, not scatter)" if runs <= 3
+                  else f"({runs} runs of one sign)"))
+    if fit["flat_to_R"] >= fit["end_R"]:
+        return (f"the mean spectrum is nearly flat, within 10 % of {fit['flat_level']:.2f} at "
+                f"every R (up to {fit['end_value']:.2f} at R = {fit['end_R']:g} m): the line "
+                f"explains little of so small a variation; {pattern}")
+    return (f"the mean spectrum is not straight but flat, then rising: within 10 % of "
+            f"{fit['flat_level']:.2f} up to R = {fit['flat_to_R']:g} m, then up to "
+            f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m; {pattern}")

@@ -1,12 +1,13 @@
-"""Figure 11: mean performance spectra for tan α = 0.1, 0.2 and 0.3 (undamped 3D model).
+"""Figure 11: mean performance spectra per slenderness (undamped 3D model).
 
-Normalized by g tan α the spectra nearly coincide: slenderness acts mostly through
-PGA/(g tan α) (paper §5.3). Slendernesses, modes or limit states absent from a reduced run
-are named in the figure.
+The paper's tan α = 0.1, 0.2 and 0.3, or a study's own slendernesses. Normalized by g tan α
+the spectra nearly coincide: slenderness acts mostly through PGA/(g tan α) (paper §5.3). In a
+reproduction of the paper, slendernesses absent from a reduced run are named in the figure.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -15,25 +16,43 @@ from matplotlib.figure import Figure
 from ...spectra.fragility import fit_line
 from . import _axes, _load
 from ._style import MODE_STYLE, _suptitle_and_notes, limit_state_title, new_figure, styled
+from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
-TAN_ALPHAS = (0.1, 0.2, 0.3)
-MODE = "3d"
+PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)
+"""The slendernesses of the paper's Fig 11."""
+TAN_ALPHAS_NOTE = "tan_alphas|"
+"""Prefix of the measured key of the slendernesses drawn for one limit state."""
+SPREAD_NOTE = "max_rel_spread_"
+"""Prefix of the measured key of the largest spread across slendernesses."""
 STYLES = {0.1: ("tab:blue", "s"), 0.2: ("black", "o"), 0.3: ("tab:red", "^")}
 """Colour and marker per slenderness (others cycle through the default colours)."""
 
 
-def data(means: str | Path, *, tan_alphas: tuple[float, ...] = TAN_ALPHAS,
-         mode: str = MODE, motions: str | Path | None = None) -> dict:
+def data(means: str | Path, *, tan_alphas: tuple[float, ...] | None = None,
+         mode: str | None = None, motions: str | Path | None = None,
+         paper: bool = True) -> dict:
     """``panels``: [{``limit_state``, ``curves`` {tan α: mean (R,)}}], ``R`` [m], ``missing``,
-    ``measured``: spread across slendernesses and line fits per curve."""
+    ``measured``: spread across slendernesses and line fits per curve.
+
+    ``tan_alphas`` default to the paper's (``paper``: a reproduction, absent ones named) or
+    else to those the study computed for ``mode`` (default its primary mode).
+    """
     agg = _load.open_means(means)
+    mode = mode or _load.primary_mode(agg) or "3d"
+    if tan_alphas is None:
+        cells = _load.requested_cells(agg)
+        own = tuple(float(t) for t in agg["tan_alpha"].values
+                    if mode in _load.labels(agg, "mode")
+                    and bool(cells.sel(mode=mode).sel(tan_alpha=t).any()))
+        tan_alphas = PAPER_TAN_ALPHAS if paper else own
     states = _load.labels(agg, "limit_state")
     missing = []
     if mode not in _load.labels(agg, "mode"):
         missing.append(f"mode {mode} not computed")
     present = [t for t in tan_alphas if _load.has_value(agg, "tan_alpha", t)]
     panels = []
-    for _title, ls in _load._paper_limit_states(states, missing):
+    for ls in (_load.panel_limit_states(states) if not paper else
+               [ls for _title, ls in _load._paper_limit_states(states, missing)]):
         curves: dict[float, np.ndarray] = {}
         for t in present:
             y = _load.mean_curve(_load.select_value(agg, "tan_alpha", t), mode, ls)
@@ -54,12 +73,12 @@ def measurements(R: np.ndarray, panels: list[dict]) -> dict:
     measured: dict = {}
     for panel in panels:
         ls = panel["limit_state"]
-        measured[f"tan_alphas|{ls}"] = sorted(panel["curves"])
+        measured[TAN_ALPHAS_NOTE + ls] = sorted(panel["curves"])
         if len(panel["curves"]) >= 2:
             # Spread across slendernesses relative to their mean: the paper's "very small".
             y = np.vstack(list(panel["curves"].values()))
             spread = (np.nanmax(y, axis=0) - np.nanmin(y, axis=0)) / np.nanmean(y, axis=0)
-            measured[f"max_rel_spread_{ls}"] = float(np.nanmax(spread))
+            measured[SPREAD_NOTE + ls] = float(np.nanmax(spread))
         for t, y in panel["curves"].items():
             fit = fit_line(R, y)
             measured[f"line|{ls}|{t:g}"] = {"slope": fit.slope, "intercept": fit.intercept,
@@ -86,3 +105,27 @@ def plot(d: dict) -> Figure:
     _suptitle_and_notes(
         fig, d, f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)")
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig11_slenderness", {}).get("measured", {})
+    rows = []
+    for key, t in m.items():
+        if not key.startswith(TAN_ALPHAS_NOTE):
+            continue
+        ls = key.removeprefix(TAN_ALPHAS_NOTE)
+        spread = m.get(SPREAD_NOTE + ls)
+        rows.append(judged(
+            "fig11_slenderness", f"Slenderness has 'a very small influence' once the intensity "
+            f"is normalized by g tan α, {limit_state_title(ls)} (§5.3)", "very small influence",
+            f"largest spread among tan α = {', '.join(f'{v:g}' for v in t)}: "
+            f"{fmt(100 * spread, 3) if finite(spread) else '—'} % of the mean",
+            spread <= 0.15 if finite(spread) else None, "spread ≤ 15 % of the mean at every R",
+            "slenderness changes the normalized spectra beyond the tolerance",
+            f"only tan α = {', '.join(f'{v:g}' for v in t) or 'none'} computed"))
+    return rows or [Comparison("fig11_slenderness", "Influence of slenderness (§5.3)",
+                               "very small", "—", NOT_COMPUTED, "no mean spectra")]

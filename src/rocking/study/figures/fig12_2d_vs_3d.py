@@ -3,15 +3,19 @@
 For each ensemble (El Centro, black; Loma Prieta or its stand-in, red) the 3D model under both
 components is compared with the 2D model under the x (major principal axis) and under the y
 (minor) component alone; the intensity is the bidirectional PGA in all three (paper §5.4).
-tan α = 0.2. The legend names each ensemble by its record and the number of motions averaged;
-the note under the axes gives each ensemble's axis azimuths, so the 2D curves can be matched
-with the paper's (whose x is E–W and y N–S before its rotation).
+At the studies' common slenderness (tan α = 0.2 in the paper). The legend names each
+ensemble by its record and the number of motions averaged; the note under the axes gives each
+ensemble's axis azimuths, so the 2D curves can be matched with the paper's (whose x is E–W and
+y N–S before its rotation). Open circles mark means over fewer motions than the ensemble,
+open diamonds means over answers flagged unresolved.
 """
 
 from __future__ import annotations
 
+import math
+import re
 import textwrap
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -22,14 +26,15 @@ from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
+    UNRESOLVED_LABEL,
     footnote,
     limit_state_title,
     pga_g_axis,
     styled,
     with_legend_row,
 )
+from .comparisons import Comparison, finite, fmt, judged
 
-TAN_ALPHA = 0.2
 MODES = ("3d", "2d-x", "2d-y")
 REFERENCE_R = 10.0
 """Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice 2D) [m]."""
@@ -38,9 +43,14 @@ MODE_LABELS = {"3d": "3D, both components", "2d-x": "2D, x (major axis) componen
                "2d-y": "2D, y (minor axis) component only"}
 
 
-def data(studies: Sequence[tuple], *, tan_alpha: float = TAN_ALPHA,
-         modes: tuple[str, ...] = MODES) -> dict:
+def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
+         modes: tuple[str, ...] = MODES, paper: bool = True) -> dict:
     """Mean spectra per ensemble and mode.
+
+    ``tan_alpha`` defaults to the first study's (:func:`._load.main_tan_alpha` of its 3D and
+    2D modes). Panels are the paper's overturning and excessive tilt in a reproduction of the
+    paper (``paper``: absent ones and absent ensembles named), else the studies' own goals
+    (:func:`._load.panel_limit_states`).
 
     Parameters
     ----------
@@ -52,27 +62,46 @@ def data(studies: Sequence[tuple], *, tan_alpha: float = TAN_ALPHA,
     -------
     dict
         ``ensembles``: [{``name``, ``label``, ``stand_in``, ``n_motions``, ``axes``, ``R`` [m],
-        ``panels``: {"overturning"/"excessive tilt": {mode: mean PGA/(g tan α) (R,)}}},
-        ``missing``: notes; ``measured``: the means at R = 10 m.
+        ``panels``: {"overturning"/"excessive tilt"/goal title: {mode: mean PGA/(g tan α)
+        (R,)}}}, ``titles``: the panel titles in order, ``missing``: notes; ``measured``: the
+        means at R = 10 m.
     """
     ensembles = []
     missing: list[str] = []
+    if tan_alpha is None and studies:
+        agg = _load.open_means(studies[0][1])
+        tan_alpha = (_load.main_tan_alpha(agg, list(modes))
+                     or _load.main_tan_alpha(agg, list(modes[:1])))
+    if tan_alpha is None:
+        raise ValueError("no study of Fig 12 computed its 3D mode")
     for entry in studies:
         name, means, store = entry[:3]
         motions = entry[3] if len(entry) > 3 else None
-        ens = _ensemble(name, means, store, motions, tan_alpha, modes, missing)
+        ens = _ensemble(name, means, store, motions, tan_alpha, modes, missing, paper)
         if ens is not None:
             ensembles.append(ens)
     names = " ".join(f"{e['name']} {e['label']}" for e in ensembles).lower()
-    for wanted in ("El Centro", "Loma Prieta"):
+    for wanted in ("El Centro", "Loma Prieta") if paper else ():
         if wanted.split()[0].lower() not in names:
             missing.append(f"no {wanted} ensemble in this run")
+    titles = list(dict.fromkeys(t for e in ensembles for t in e["panels"]))
     return {"ensembles": ensembles, "tan_alpha": tan_alpha, "missing": sorted(set(missing)),
+            "titles": titles or ["overturning", "excessive tilt"],
+            "reproduction": paper,
             "measured": at_size(ensembles, REFERENCE_R),
             "axes": {e["name"]: e["axes"] for e in ensembles}}
 
 
-def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing: list[str]):
+def _panel_title(limit_state: str) -> str:
+    """Key of a panel: the paper's "overturning" and "excessive tilt", else the goal's title."""
+    if limit_state == "overturning":
+        return "overturning"
+    return "excessive tilt" if _load.excessive_tilt([limit_state]) else limit_state_title(
+        limit_state)
+
+
+def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing: list[str],
+              paper: bool = True):
     """One ensemble's curves, or None (with a note) when its tan α was not computed."""
     agg = _load.open_means(means)
     attrs = dict(agg.attrs)
@@ -88,7 +117,9 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
     states = _load.labels(agg, "limit_state")
     panels: dict[str, dict[str, np.ndarray]] = {}
     spread: dict[str, np.ndarray] = {}
-    for title, ls in _load._paper_limit_states(states, missing, prefix=f"{record}: "):
+    chosen = (_load._paper_limit_states(states, missing, prefix=f"{record}: ") if paper else
+              ((_panel_title(ls), ls) for ls in _load.panel_limit_states(states)))
+    for title, ls in chosen:
         panels[title] = {}
         for mode in modes:
             y = _load.mean_curve(agg, mode, ls)
@@ -96,7 +127,7 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                 missing.append(f"{record}: mode {mode} not computed")
                 continue
             panels[title][mode] = y
-            for stat in ("std", "count", "n_not_reached", "censoring"):
+            for stat in ("std", "count", "n_not_reached", "censoring", "n_unresolved"):
                 if stat in agg and np.issubdtype(agg[stat].dtype, np.number):
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
@@ -155,10 +186,12 @@ def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
 @styled
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
-    titles = ("overturning", "excessive tilt")
-    fig, axes, legend_row = with_legend_row(10.0, 6.4, ncols=2, legend_share=0.22)
+    titles = d.get("titles", ("overturning", "excessive tilt"))
+    fig, axes, legend_row = with_legend_row(10.0 if len(titles) > 1 else 6.4, 6.4,
+                                            ncols=len(titles), legend_share=0.22)
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
+    unresolved = False  # any mean over answers flagged unresolved
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
@@ -175,6 +208,11 @@ def plot(d: dict) -> Figure:
                 if few.any():  # the mean leaves out motions not reached at the search bound
                     partial = True
                     ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.2)
+                flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_unresolved")
+                if flagged is not None and (np.nan_to_num(flagged) > 0).any():
+                    unresolved = True  # answers narrower windows may undercut: mean may be lower
+                    f = np.nan_to_num(flagged) > 0
+                    ax.plot(ens["R"][f], y[f], "D", ms=4.5, mfc="none", mec=color, mew=1.0)
                 if mode not in modes_seen:
                     modes_seen.append(mode)
     handles += [Line2D([], [], color="gray", lw=1.6, ls=MODE_STYLE[m]["linestyle"],
@@ -183,8 +221,12 @@ def plot(d: dict) -> Figure:
         handles.append(Line2D([], [], ls="", marker="o", ms=7, mfc="white", mec="gray",
                               label="open marker: mean over fewer motions than the ensemble\n"
                                     "(the others not reached at the search bound)"))
+    if unresolved:
+        handles.append(Line2D([], [], ls="", marker="D", ms=4.5, mfc="none", mec="gray",
+                              label=UNRESOLVED_LABEL))
     for ax, title in zip(axes, titles, strict=True):
-        ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3"))
+        ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
+                     if title in ("overturning", "excessive tilt") else title)
         ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
         ax.set_xlim(left=0.0)
@@ -195,9 +237,125 @@ def plot(d: dict) -> Figure:
         legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7)
     title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
     if d["missing"]:
-        title += "\nreduced run: not everything the paper shows was computed (note below)"
+        if d.get("reproduction", True):
+            title += "\nreduced run: not everything the paper shows was computed (note below)"
         notes.insert(0, "Not computed in this run: " + "; ".join(d["missing"]) + ".")
-    notes.append(f"Axes: {_axes.PAPER_AXES}.")
+    if d.get("reproduction", True):  # how to read the paper's 2D curves against ours
+        notes.append(f"Axes: {_axes.PAPER_AXES}.")
     footnote(fig, notes)
     fig.suptitle(title)
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    m = notes.get("fig12_2d_vs_3d", {}).get("measured", {})
+    R = m.get("R", 10.0)
+    names = sorted({k.split("|")[0] for k in m if k.count("|") >= 2})
+    centro = next((n for n in names if "centro" in (n + m.get(f"{n}|label", "")).lower()), None)
+    loma = next((n for n in names if "loma" in (n + m.get(f"{n}|label", "")).lower()), None)
+    rows = [_r10_row(m, centro, R)]
+    rows += _ratio_rows(m, centro, R, "El Centro", "overturning", (1.5, 2.5),
+                        "'the intensities of unidirectional ground motion to overturn the same "
+                        "cylinder are twice as high' (§5.4)", "about 2× the 3D value")
+    rows += _ratio_rows(m, centro, R, "El Centro", "excessive tilt", (1.2, math.inf),
+                        "'a similar trend holds for the excessive tilt' (§5.4)",
+                        "2D above 3D")
+    rows += _ratio_rows(m, loma, R, "Loma Prieta", "overturning", (1.2, math.inf),
+                        "the same trend for the Loma Prieta ensemble (§5.4, red)",
+                        "2D above 3D")
+    rows += _ratio_rows(m, loma, R, "Loma Prieta", "excessive tilt", (1.2, math.inf),
+                        "the same trend for the Loma Prieta ensemble (§5.4, red)",
+                        "2D above 3D")
+    return rows
+
+
+def _r10_row(m: Mapping, ens: str | None, R: float) -> Comparison:
+    v = m.get(f"{ens}|overturning|3d") if ens else None
+    std, n = m.get(f"{ens}|overturning|3d|std"), m.get(f"{ens}|overturning|3d|count")
+    se = std / math.sqrt(n) if finite(std, n) and n > 0 else None
+    return judged(
+        "fig12_2d_vs_3d", f"Overturning of an R = {R:g} m cylinder by bidirectional motion, "
+        "mean PGA/(g tan α) (§5.4; printed as 'PGA/tan α of about 4')", "about 4",
+        f"{fmt(v)} (standard error of the mean {fmt(se, 2)}, {fmt(n, 3)} motions)",
+        abs(v - 4.0) <= 1.0 if finite(v) else None, "4 ± 1",
+        "a different synthetic ensemble (own seeds, fewer motions in a reduced run) and record "
+        "version; the mean of a few broadband motions scatters by its standard error, and the "
+        "search bound and accuracy preset bound the values", "El Centro study not computed at "
+        f"R = {R:g} m")
+
+
+def _ratio_rows(m: Mapping, ens: str | None, R: float, who: str, title: str,
+                bounds: tuple[float, float], statement: str, paper: str) -> list[Comparison]:
+    v3 = m.get(f"{ens}|{title}|3d") if ens else None
+    rows = []
+    for mode, axis in (("2d-x", "x, major principal axis"), ("2d-y", "y, minor principal axis")):
+        v2 = m.get(f"{ens}|{title}|{mode}") if ens else None
+        ratio = v2 / v3 if finite(v2, v3) and v3 > 0 else None
+        lo, hi = bounds
+        tol = f"ratio in [{lo:g}, {hi:g}]" if math.isfinite(hi) else f"ratio ≥ {lo:g}"
+        stand_in = " (stand-in record)" if ens and m.get(f"{ens}|stand_in") else ""
+        counts = _counts(m, ens, title, ("3d", mode))
+        rows.append(judged(
+            "fig12_2d_vs_3d", f"{who}{stand_in}, {title}, R = {R:g} m: 2D under the {axis} "
+            f"component against 3D — {statement}", paper,
+            (f"2D/3D = {fmt(ratio, 3)} ({fmt(v2, 3)} / {fmt(v3, 3)})" + counts)
+            if ratio is not None else "—",
+            lo <= ratio <= hi if ratio is not None else None, tol,
+            _ratio_reason(m, ens, title, mode, who),
+            f"{who} ensemble or its 2D modes not computed in this run"))
+    return rows
+
+
+def _n_motions(m: Mapping, ens: str | None) -> int | None:
+    """Motions of an ensemble: its ``n_motions`` note, else the "mean of N motions" label."""
+    n = m.get(f"{ens}|n_motions")
+    if finite(n):
+        return int(n)
+    found = re.search(r"mean of (\d+) motions", str(m.get(f"{ens}|label", "")))
+    return int(found[1]) if found else None
+
+
+def _short(m: Mapping, ens: str | None, title: str, modes) -> dict:
+    """Motions left out of each mode's mean (not reached at the search bound)."""
+    total = _n_motions(m, ens)
+    out = {}
+    for mo in modes:
+        v = m.get(f"{ens}|{title}|{mo}|n_not_reached")
+        c = m.get(f"{ens}|{title}|{mo}|count")
+        if finite(v):
+            out[mo] = int(round(v))
+        elif finite(c) and total is not None:
+            out[mo] = int(round(total - c))
+    return out
+
+
+def _counts(m: Mapping, ens: str | None, title: str, modes) -> str:
+    """``"; means over 7 (3D) and 4 (2D) of 11 motions"`` when a mean leaves motions out."""
+    total = _n_motions(m, ens)
+    got = {mo: m.get(f"{ens}|{title}|{mo}|count") for mo in modes}
+    if total is None or all(not finite(c) or c >= total for c in got.values()):
+        return ""
+    return ("; means over " + " and ".join(f"{int(c)} ({'3D' if mo == '3d' else '2D'})"
+                                           for mo, c in got.items() if finite(c))
+            + f" of {int(total)} motions")
+
+
+def _ratio_reason(m: Mapping, ens: str | None, title: str, mode: str, who: str) -> str:
+    """Why a 2D/3D ratio differs: censored means when motions were not reached, else the
+    ensemble and the direction of x."""
+    short = _short(m, ens, title, ("3d", mode))
+    if any(v > 0 for v in short.values()):
+        upper = m.get(f"{ens}|upper")
+        bound = f" PGA/(g tan α) = {fmt(upper)}" if finite(upper) else ""
+        left = " and ".join(f"{v} ({'3D' if mo == '3d' else '2D'})"
+                            for mo, v in short.items() if v > 0)
+        return (f"motions not reached at the search bound{bound}: {left} motions of the "
+                f"{who} ensemble had not reached the limit state there and are left out of the "
+                "means, which therefore understate the intensities, the 2D ones most (they are "
+                "higher); the ratio of these censored means says little")
+    return (f"a different {who} ensemble (own synthetic pairs, record version); our x is the "
+            "record's major principal axis, the paper's x the E–W component before rotation")

@@ -7,6 +7,7 @@ whose critical intensity is at most the abscissa (not-reached motions never coun
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -27,17 +28,20 @@ from ._style import (
     pga_g_axis,
     styled,
 )
+from .comparisons import NOT_IN_PAPER, Comparison
 
 MEDIAN_SYMBOL = "IM₅₀"
 """Symbol of the fitted median intensity (θ is the tilt everywhere else)."""
 
-TAN_ALPHA = 0.2
-MODE = "3d"
 
 
-def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALPHA,
-         mode: str = MODE, n: int = 200, motions: str | Path | None = None) -> dict:
-    """Fitted curves and empirical points for the overturning and excessive-tilt states.
+def data(fragility: str | Path, store: str | Path, *, tan_alpha: float | None = None,
+         mode: str | None = None, n: int = 200, motions: str | Path | None = None) -> dict:
+    """Fitted curves and empirical points of the study's limit states (overturning and
+    excessive tilt in the paper; :func:`._load.panel_limit_states`).
+
+    ``mode`` and ``tan_alpha`` default to the study's (:func:`._load.primary_mode`,
+    :func:`._load.main_tan_alpha`).
 
     Returns
     -------
@@ -49,6 +53,9 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
         frag = _load.canonical(f.load())
     axes = _axes.from_ensemble(motions)
     ds = _load.open_store(store)
+    mode = mode or _load.primary_mode(ds) or "3d"
+    if tan_alpha is None:
+        tan_alpha = _load.main_tan_alpha(ds, [mode]) or float(ds["tan_alpha"].values[0])
     record, stand_in = _load.ensemble_label(dict(ds.attrs), Path(str(store)).parent.name)
     upper = _load.search_bound(ds.attrs)
     missing: list[str] = []
@@ -59,9 +66,12 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float = TAN_ALP
                 "missing": [f"mode {mode} at tan α = {tan_alpha:g} not computed"]}
     frag = _load.select_value(frag, "tan_alpha", tan_alpha).sel(mode=mode)
     ds = _load.select_value(ds, "tan_alpha", tan_alpha).sel(mode=mode)
-    states = _load.labels(frag, "limit_state")
+    cells = _load.requested_cells(ds)  # the limit states the study asked for here
+    states = [ls for ls in _load.labels(frag, "limit_state")
+              if ls not in _load.labels(cells, "limit_state") or bool(cells.sel(limit_state=ls))]
     panels = []
-    for title, ls in _load._paper_limit_states(states, missing):
+    for ls in _load.panel_limit_states(states):
+        title = limit_state_title(ls)
         curves = {}
         for R in frag["R"].values.astype(float):
             par = _load.select_value(frag.sel(limit_state=ls), "R", R)
@@ -137,3 +147,13 @@ def plot(d: dict) -> Figure:
              "in the report's table")
     _suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
     return fig
+
+
+# ------------------------------------------------------ comparison with the paper
+
+
+def compare(notes: Mapping) -> list[Comparison]:
+    """This figure's statements of the paper set against the run's notes."""
+    return [Comparison("fragility_curves", "Lognormal fragility curves per size R", "—",
+                       "see the fragility table", NOT_IN_PAPER,
+                       "an addition for performance-based design")]

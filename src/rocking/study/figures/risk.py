@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from ...risk.report import main_tan_alpha, shown_limit_states
 from ...spectra.limit_states import parse_limit_state
 from ...units import strip_units
 from ._style import MODE_STYLE, limit_state_title, new_figure, styled
@@ -34,8 +35,6 @@ CAPTION = (
 )
 """Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
 
-TAN_ALPHA = 0.2
-LIMIT_STATES = ("overturning", "tilt:1/3")
 R_NOTES = (2.0, 6.0, 10.0)
 
 
@@ -73,9 +72,11 @@ def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
     return curves
 
 
-def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float = TAN_ALPHA,
+def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
          hazard: str = "") -> dict:
-    """λ_LS against R per mode for overturning and excessive tilt at ``tan_alpha``.
+    """λ_LS against R per mode for the study's limit states (overturning and excessive tilt
+    in the paper; :func:`rocking.risk.report.shown_limit_states`) at ``tan_alpha`` (default
+    the study's, :func:`rocking.risk.report.main_tan_alpha`).
 
     Returns
     -------
@@ -86,15 +87,20 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float = TAN_ALPHA,
         ``missing``, ``tan_alpha``, ``hazard``.
     """
     frame = _frame(risk)
+    if tan_alpha is None:
+        tan_alpha = main_tan_alpha(frame[frame["fragility"] == FIRST])
+    if tan_alpha is None:
+        raise ValueError("the risk table has no rows")
     frame = frame[np.isclose(frame["tan_alpha"].astype(float), tan_alpha)]
     stripes = frame[frame["fragility"] == STRIPES]
     frame = frame[frame["fragility"] == FIRST]
+    modes = [m for m in MODE_STYLE if m in set(frame["mode"])]
     missing: list[str] = []
     panels, measured = [], {}
-    for ls in LIMIT_STATES:
+    for ls in shown_limit_states(frame):
         rows = frame[frame["limit_state"] == ls]
         curves = {}
-        for mode in MODE_STYLE:
+        for mode in modes:
             sel = rows[rows["mode"] == mode].sort_values("R")
             if sel.empty:
                 missing.append(f"{mode} {ls} at tan α = {tan_alpha:g}")

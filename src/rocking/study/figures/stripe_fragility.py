@@ -19,7 +19,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, pga_g_axis, styled
 
 
 def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = "3d") -> dict:
@@ -98,6 +98,13 @@ def plot(d: dict) -> Figure:
         ax.set_title(f"{limit_state_title(p['limit_state'])}, R = {p['R']:g} m", fontsize=9)
         ax.set_xlabel("PGA/(g tan α) [-]")
         ax.set_ylabel("P(exceeded) [-]")
+        if np.isfinite(d["tan_alpha"]):  # one body per panel: its PGA in g on top
+            top = pga_g_axis(ax, d["tan_alpha"], which="x")
+            g = x * d["tan_alpha"]
+            top.xaxis.set_major_locator(FixedLocator(
+                [v for v in (0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10) if g[0] / 1.5 <= v <= g[-1] * 1.5]))
+            top.xaxis.set_major_formatter(ScalarFormatter())
+            top.xaxis.set_minor_formatter(NullFormatter())
         ax.legend(loc="best", fontsize=6)
     label = MODE_STYLE.get(d["mode"], {}).get("label", d["mode"])
     fig.suptitle(f"Stripe against first-exceedance fragility, {label} model, "
