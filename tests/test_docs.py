@@ -295,15 +295,21 @@ def test_own_records_config_is_valid():
     import yaml
 
     from rocking.study.config_checks import schema_error
+    from rocking.study.spec import StudySpec
 
     blocks = [yaml.safe_load(b) for b in _fenced(README.read_text(encoding="utf-8"), "yaml")]
-    mine = [b for b in blocks if any(e.get("paths") for e in b.get("ensembles", {}).values())]
+    def reads_files(e: dict) -> bool:
+        return bool(e.get("paths")) or any(r.get("paths") for r in e.get("records") or [])
+
+    mine = [b for b in blocks if any(reads_files(e) for e in b.get("ensembles", {}).values())]
     assert mine, "the README shows no ensemble read from the user's files"
     schema = yaml.safe_load((ROOT / "workflow/schemas/config.schema.yaml").read_text())
     for config in mine:
         assert schema_error(config, schema) is None
-        for study in config["studies"].values():
+        for name, study in config["studies"].items():
             assert study["ensemble"] in config["ensembles"]
+            spec = StudySpec.from_config(config, name)   # the typed study accepts it too
+            assert spec.reproduces is None               # a study of one's own
 
 
 def _gallery(study: str, table: str, **where) -> dict:
