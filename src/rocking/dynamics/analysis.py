@@ -186,14 +186,44 @@ def energy_reserve(ax: np.ndarray, ay: np.ndarray, dt: float,
         One value per sample (the last, after the record, is 0).
     """
     a = np.hypot(ax, ay)
+    return _mark_liftable(_reserve_of(a, dt), np.flatnonzero(a > threshold))
+
+
+def _reserve_of(a: np.ndarray, dt: float) -> np.ndarray:
+    """Σ over the intervals from k on of dt·max(|a_k|, |a_k+1|)/√2, per sample k."""
     out = np.zeros(a.size)
     if a.size > 1:
         per_interval = dt * np.maximum(a[:-1], a[1:]) / math.sqrt(2.0)
         out[:-1] = np.cumsum(per_interval[::-1])[::-1]
-    above = np.flatnonzero(a > threshold)
-    if above.size:
-        out[:int(above[-1]) + 1] = math.inf
     return out
+
+
+def _mark_liftable(reserve: np.ndarray, above: np.ndarray) -> np.ndarray:
+    """``reserve`` with inf up to the last sample in ``above`` (|a| above uplift)."""
+    if above.size:
+        reserve[:int(above[-1]) + 1] = math.inf
+    return reserve
+
+
+_UNIT_RESERVES: dict[tuple[int, bool], tuple] = {}
+"""Reserve of the unscaled motion per (id of its ax array, planar): a search analyses one
+motion at many scales, and the reserve scales with it. Entries hold the arrays themselves,
+so an id is never reused while its entry lives (GroundMotion arrays are read-only)."""
+
+
+def _scaled_reserve(motion: GroundMotion, planar: bool, scale: float,
+                    above: np.ndarray) -> np.ndarray:
+    """:func:`energy_reserve` of ``motion`` scaled by ``scale`` (x only if ``planar``), from
+    the cached reserve of the unscaled motion; ``above``: samples of the scaled motion above
+    uplift."""
+    key = (id(motion.ax), planar)
+    hit = _UNIT_RESERVES.get(key)
+    if hit is None or hit[0] is not motion.ax or hit[1] is not motion.ay or hit[2] != motion.dt:
+        a = np.abs(motion.ax) if planar else np.hypot(motion.ax, motion.ay)
+        if len(_UNIT_RESERVES) >= 16:
+            _UNIT_RESERVES.pop(next(iter(_UNIT_RESERVES)))
+        hit = _UNIT_RESERVES[key] = (motion.ax, motion.ay, motion.dt, _reserve_of(a, motion.dt))
+    return _mark_liftable(scale * hit[3], above)
 
 
 def _start_state(model: str, phi0: float) -> tuple[np.ndarray, float]:
@@ -510,12 +540,14 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     acc = _Acc(model, history)
     if model == "2d":  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
+    threshold = G * body.tan_alpha
+    above = np.flatnonzero(np.hypot(ax, ay) > threshold)
     # Without history, an analysis may end once the rest of the motion cannot raise its peak
     # tilt (same θmax and decisions); a history must run to the end.
-    quiet = (energy_reserve(ax, ay, motion.dt, G * body.tan_alpha)
+    quiet = (_scaled_reserve(motion, model == "2d", scale, above)
              if stop_when_decided and not history else None)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
-                                             G * body.tan_alpha, stop_level, quiet)
+                                             threshold, stop_level, above, quiet)
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
         return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta)
@@ -526,19 +558,19 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     return _response(acc, status, reason, True, t_first, omega_n, zeta)
 
 
-def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level,
+def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level, above,
               quiet=None):
     """Rocking episodes: from each uplift until the body is back at rest, then the next one.
 
-    ``quiet`` (:func:`energy_reserve`, or None) lets a run end once the motion left cannot
-    raise the peak tilt (code DECIDED, no free tail needed: the bound covers it).
+    ``above``: the samples where |a| > ``threshold``. ``quiet`` (:func:`energy_reserve`, or
+    None) lets a run end once the motion left cannot raise the peak tilt (code DECIDED, no
+    free tail needed: the bound covers it).
 
     Returns the last kernel output (None if the record ended at rest), the first uplift time
     [s] (NaN if never) and the status and reason.
     """
     k, tau, t_rest, t_first = 0, 0.0, 0.0, math.nan
     stalls = 0
-    above = np.flatnonzero(np.hypot(ax, ay) > threshold)
     while True:
         up = next_uplift(ax, ay, dt, threshold, above, k, tau)
         if up is None:
