@@ -203,8 +203,10 @@ def auto_chunk_R(n_R: int, npts: int, min_task_seconds: float) -> int:
     return int(min(n_R, max(1, math.ceil(min_task_seconds / point))))
 
 
-MODE_COST = {"3d-damped": 3.0, "3d": 2.0, "2d-x": 1.0, "2d-y": 1.0}
-"""Relative cost of a search per mode (3D searches take several times a 2D one)."""
+MODE_COST = {"3d-damped": 4.0, "3d": 1.5, "2d-x": 1.0, "2d-y": 1.0}
+"""Relative cost of a search per mode, measured on the paper run (``python -m
+rocking.benchmarks paper_cost``, docs/performance.md): CPU per El Centro spectrum point
+3d-damped 1.2 s, 3d 0.4 s, 2D 0.3 s (more analyses of 1.8 ms against 5–8 ms)."""
 
 
 def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
