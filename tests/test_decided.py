@@ -206,3 +206,21 @@ def test_bad_switch_names_the_field():
     body = rocking.Cylinder(1.0, 0.2)
     with pytest.raises(ValueError, match="stop_when_decided"):
         analysis.ground_response(body, _pulse_and_coda(4.0, 0.1), stop_when_decided="yes")
+
+
+@pytest.mark.parametrize("planar", [False, True])
+def test_uplift_samples_from_the_cached_motion_are_those_of_the_full_evaluation(planar):
+    """The samples above uplift come from the cached unscaled |a| (candidates) and the scaled
+    components there: exactly the full evaluation's, also for thresholds that sit on a
+    sample's own scaled |a| (ties)."""
+    rng = np.random.default_rng(7)
+    m = GroundMotion(rng.standard_normal(3000), rng.standard_normal(3000), 0.01, "noise")
+    cached = analysis._unscaled(m, planar)
+    assert analysis._unscaled(m, planar) is cached  # computed once per motion
+    for scale in rng.uniform(0.1, 10.0, 40):
+        ax = m.ax * scale
+        ay = np.zeros_like(ax) if planar else m.ay * scale
+        full = np.hypot(ax, ay)
+        for thr in (*np.quantile(full, [0.5, 0.9, 0.999]), *full[rng.integers(0, 3000, 5)]):
+            want = np.flatnonzero(full > thr)
+            assert np.array_equal(analysis._above(cached, ax, ay, scale, thr), want)

@@ -22,6 +22,7 @@ date it; the decision itself is the invariant one.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -205,25 +206,44 @@ def _mark_liftable(reserve: np.ndarray, above: np.ndarray) -> np.ndarray:
     return reserve
 
 
-_UNIT_RESERVES: dict[tuple[int, bool], tuple] = {}
-"""Reserve of the unscaled motion per (id of its ax array, planar): a search analyses one
-motion at many scales, and the reserve scales with it. Entries hold the arrays themselves,
-so an id is never reused while its entry lives (GroundMotion arrays are read-only)."""
+class _Unscaled(NamedTuple):
+    """What an analysis needs of the unscaled motion, the same at every scale."""
+
+    ax: np.ndarray
+    ay: np.ndarray
+    dt: float
+    a: np.ndarray  # |a| of the components the model sees [m/s²]
+    reserve: np.ndarray  # _reserve_of(a, dt)
+    unidirectional: bool
 
 
-def _scaled_reserve(motion: GroundMotion, planar: bool, scale: float,
-                    above: np.ndarray) -> np.ndarray:
-    """:func:`energy_reserve` of ``motion`` scaled by ``scale`` (x only if ``planar``), from
-    the cached reserve of the unscaled motion; ``above``: samples of the scaled motion above
-    uplift."""
+_UNSCALED: dict[tuple[int, bool], _Unscaled] = {}
+"""Per (id of the motion's ax array, planar): a search analyses one motion at many scales.
+Entries hold the arrays themselves, so an id is never reused while its entry lives
+(GroundMotion arrays are read-only)."""
+
+
+def _unscaled(motion: GroundMotion, planar: bool) -> _Unscaled:
+    """The cached :class:`_Unscaled` of ``motion`` (x only if ``planar``)."""
     key = (id(motion.ax), planar)
-    hit = _UNIT_RESERVES.get(key)
-    if hit is None or hit[0] is not motion.ax or hit[1] is not motion.ay or hit[2] != motion.dt:
+    hit = _UNSCALED.get(key)
+    if hit is None or hit.ax is not motion.ax or hit.ay is not motion.ay or hit.dt != motion.dt:
         a = np.abs(motion.ax) if planar else np.hypot(motion.ax, motion.ay)
-        if len(_UNIT_RESERVES) >= 16:
-            _UNIT_RESERVES.pop(next(iter(_UNIT_RESERVES)))
-        hit = _UNIT_RESERVES[key] = (motion.ax, motion.ay, motion.dt, _reserve_of(a, motion.dt))
-    return _mark_liftable(scale * hit[3], above)
+        if len(_UNSCALED) >= 16:
+            _UNSCALED.pop(next(iter(_UNSCALED)))
+        hit = _UNSCALED[key] = _Unscaled(motion.ax, motion.ay, motion.dt, a,
+                                         _reserve_of(a, motion.dt), motion.is_unidirectional)
+    return hit
+
+
+def _above(unscaled: _Unscaled, ax: np.ndarray, ay: np.ndarray, scale: float,
+           threshold: float) -> np.ndarray:
+    """``np.flatnonzero(np.hypot(ax, ay) > threshold)`` for ``ax, ay`` = the motion times
+    ``scale``, evaluated only where the unscaled |a| comes within 1e-9 of ``threshold/scale``
+    (a superset: the scaled hypot differs from scale × |a| by a few ulps), so the samples
+    found are exactly those of the full evaluation."""
+    near = np.flatnonzero(unscaled.a > (threshold / scale) * (1.0 - 1e-9))
+    return near[np.hypot(ax[near], ay[near]) > threshold]
 
 
 def _start_state(model: str, phi0: float) -> tuple[np.ndarray, float]:
@@ -528,7 +548,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         scale = positive_finite("pga_ratio", pga_ratio) * G * body.tan_alpha / motion.pga
     scale = positive_finite("scale", 1.0 if scale is None else scale)
     stop_level = _check_stop(stop_at)
-    if model != "2d" and motion.is_unidirectional:
+    unscaled = _unscaled(motion, model == "2d")
+    if model != "2d" and unscaled.unidirectional:
         live = "y" if motion.ay.any() else "x"
         raise ValueError(
             f"motion {motion.name!r} has a zero component: unidirectional excitation of the 3D "
@@ -541,10 +562,10 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     if model == "2d":  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
     threshold = G * body.tan_alpha
-    above = np.flatnonzero(np.hypot(ax, ay) > threshold)
+    above = _above(unscaled, ax, ay, scale, threshold)
     # Without history, an analysis may end once the rest of the motion cannot raise its peak
     # tilt (same θmax and decisions); a history must run to the end.
-    quiet = (_scaled_reserve(motion, model == "2d", scale, above)
+    quiet = (_mark_liftable(scale * unscaled.reserve, above)
              if stop_when_decided and not history else None)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
                                              threshold, stop_level, above, quiet)
