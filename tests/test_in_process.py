@@ -64,3 +64,22 @@ def test_the_workflow_passes_the_threshold():
     # a tilt-map or stripe point is one analysis
     layout = tasks.tilt_map_layout(["3d"], [1.0, 2.0], [1.0, 2.0, 3.0], 1)
     assert cluster.estimated_analyses(tasks.fill_tilt_map_region, layout, [0, 1]) == 6
+
+
+def test_store_metadata_is_read_once_and_never_stale(tmp_path):
+    """A worker reads a store's layout, attributes and requested cells once; a new store at
+    the same path (another configuration) is read again."""
+    path, ensemble, layout = _spectra_store(tmp_path)
+    tasks._store_metadata.cache_clear()
+    first = tasks.store_metadata(path)
+    again = tasks.store_metadata(path)
+    assert tasks._store_metadata.cache_info().hits == 1
+    assert again[0] is first[0] and again[1] == first[1] and again[1] is not first[1]
+    assert first[0].n_regions == layout.n_regions
+    import shutil
+
+    shutil.rmtree(path)
+    other = tasks.spectra_layout(["3d"], ["overturning"], ["m0"], [0.2], [1.0, 2.0, 3.0], 1)
+    store.create_store(path, other, {"tolerances": {"name": "fast"}, "search_options": {},
+                                     "ensemble": tasks.ensemble_attrs(ensemble, "test")}, "d2")
+    assert tasks.store_metadata(path)[0].n_regions == other.n_regions == 3
