@@ -22,6 +22,7 @@ date it; the decision itself is the invariant one.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -160,6 +161,91 @@ def next_uplift(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float,
     return k, tau, float(a[0]), float(a[1])
 
 
+def energy_reserve(ax: np.ndarray, ay: np.ndarray, dt: float,
+                   threshold: float) -> np.ndarray:
+    """Energy the ground motion left can still feed into a body, per record interval.
+
+    Entry k bounds ∫|a_g| dt/√2 from the start of interval k to the end of the record
+    [√(J/kg)]: since d√E/dt ≤ |a_g|/√2 (:func:`rocking.dynamics.driver.decided`), √E can
+    grow by at most this much. |a_g| is linear inside an interval, so dt·max(|a_k|, |a_k+1|)
+    bounds its integral there. Up to the last sample above ``threshold`` (g tan α) the entry
+    is inf: the ground may still lift a body at rest, and an episode after rest starts from
+    a small tilt whose energy the bound does not count.
+
+    Parameters
+    ----------
+    ax, ay : ndarray
+        Scaled ground accelerations [m/s²].
+    dt : float
+        Sample interval [s].
+    threshold : float
+        Uplift acceleration g tan α [m/s²].
+
+    Returns
+    -------
+    ndarray
+        One value per sample (the last, after the record, is 0).
+    """
+    a = np.hypot(ax, ay)
+    return _mark_liftable(_reserve_of(a, dt), np.flatnonzero(a > threshold))
+
+
+def _reserve_of(a: np.ndarray, dt: float) -> np.ndarray:
+    """Σ over the intervals from k on of dt·max(|a_k|, |a_k+1|)/√2, per sample k."""
+    out = np.zeros(a.size)
+    if a.size > 1:
+        per_interval = dt * np.maximum(a[:-1], a[1:]) / math.sqrt(2.0)
+        out[:-1] = np.cumsum(per_interval[::-1])[::-1]
+    return out
+
+
+def _mark_liftable(reserve: np.ndarray, above: np.ndarray) -> np.ndarray:
+    """``reserve`` with inf up to the last sample in ``above`` (|a| above uplift)."""
+    if above.size:
+        reserve[:int(above[-1]) + 1] = math.inf
+    return reserve
+
+
+class _Unscaled(NamedTuple):
+    """What an analysis needs of the unscaled motion, the same at every scale."""
+
+    ax: np.ndarray
+    ay: np.ndarray
+    dt: float
+    a: np.ndarray  # |a| of the components the model sees [m/s²]
+    reserve: np.ndarray  # _reserve_of(a, dt)
+    unidirectional: bool
+
+
+_UNSCALED: dict[tuple[int, bool], _Unscaled] = {}
+"""Per (id of the motion's ax array, planar): a search analyses one motion at many scales.
+Entries hold the arrays themselves, so an id is never reused while its entry lives
+(GroundMotion arrays are read-only)."""
+
+
+def _unscaled(motion: GroundMotion, planar: bool) -> _Unscaled:
+    """The cached :class:`_Unscaled` of ``motion`` (x only if ``planar``)."""
+    key = (id(motion.ax), planar)
+    hit = _UNSCALED.get(key)
+    if hit is None or hit.ax is not motion.ax or hit.ay is not motion.ay or hit.dt != motion.dt:
+        a = np.abs(motion.ax) if planar else np.hypot(motion.ax, motion.ay)
+        if len(_UNSCALED) >= 16:
+            _UNSCALED.pop(next(iter(_UNSCALED)))
+        hit = _UNSCALED[key] = _Unscaled(motion.ax, motion.ay, motion.dt, a,
+                                         _reserve_of(a, motion.dt), motion.is_unidirectional)
+    return hit
+
+
+def _above(unscaled: _Unscaled, ax: np.ndarray, ay: np.ndarray, scale: float,
+           threshold: float) -> np.ndarray:
+    """``np.flatnonzero(np.hypot(ax, ay) > threshold)`` for ``ax, ay`` = the motion times
+    ``scale``, evaluated only where the unscaled |a| comes within 1e-9 of ``threshold/scale``
+    (a superset: the scaled hypot differs from scale × |a| by a few ulps), so the samples
+    found are exactly those of the full evaluation."""
+    near = np.flatnonzero(unscaled.a > (threshold / scale) * (1.0 - 1e-9))
+    return near[np.hypot(ax[near], ay[near]) > threshold]
+
+
 def _start_state(model: str, phi0: float) -> tuple[np.ndarray, float]:
     """State at uplift along the D'Alembert direction φ0, and the 2D pivot side."""
     if model == "2d":
@@ -184,9 +270,10 @@ class _Runner:
                                    method=None if self.model.implicit else METHOD)
 
     def __call__(self, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, side=1.0,
-                 until_peak=False) -> models.KernelResult:
+                 until_peak=False, quiet=None, theta_before=0.0) -> models.KernelResult:
         return models.run(self.prep, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level,
-                          history=self.history, until_peak=until_peak, side=side)
+                          history=self.history, until_peak=until_peak, side=side,
+                          quiet=quiet, theta_before=theta_before)
 
     def free(self, t0: float, y0: np.ndarray, duration: float, stop_level: float,
              side: float = 1.0, until_peak: bool = False) -> models.KernelResult:
@@ -398,7 +485,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
                     stop_at: float | None = None,
                     rtol: float | None = None, omega_n: float = 2000.0, zeta: float = 5.0,
                     history: bool = True, free_tail: bool = True,
-                    rest_tilt: float | None = None) -> Response:
+                    rest_tilt: float | None = None,
+                    stop_when_decided: bool = True) -> Response:
     """Response of a body initially at rest to a (scaled) ground motion.
 
     Parameters
@@ -431,6 +519,14 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         ends and the body rests until the ground lifts it again (docs/equations.md,
         "Micro-uplift: when a rocking episode ends"). Default :func:`default_rest_tilt`;
         0 is the exact treatment (only the Zeno floor ends an episode); below 0.01 α.
+    stop_when_decided : bool
+        Without history, end an analysis at a tilt minimum (3D) or an impact (2D)
+        once the motion left provably cannot raise its peak tilt: every later ground
+        acceleration is below uplift and the energy it can feed in
+        (:func:`energy_reserve`) keeps the body below that peak with a margin
+        (:func:`rocking.dynamics.driver.decided`). θmax, its time, the status and every
+        limit-state decision are those of the run to the end, for fewer steps (a quiet
+        coda, the zero padding of a high-passed record). False: always run to the end.
 
     Returns
     -------
@@ -439,6 +535,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     _check_model(model, body)
     rtol = _check_common(rtol, omega_n, zeta, model)
     rest_tilt = _check_rest_tilt(rest_tilt, model, body)
+    if not isinstance(stop_when_decided, bool):
+        raise ValueError(f"stop_when_decided must be True or False, got {stop_when_decided!r}")
     if not isinstance(motion, GroundMotion):
         raise ValueError(f"motion must be a GroundMotion, got {type(motion).__name__}")
     if pga_ratio is not None:
@@ -450,7 +548,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         scale = positive_finite("pga_ratio", pga_ratio) * G * body.tan_alpha / motion.pga
     scale = positive_finite("scale", 1.0 if scale is None else scale)
     stop_level = _check_stop(stop_at)
-    if model != "2d" and motion.is_unidirectional:
+    unscaled = _unscaled(motion, model == "2d")
+    if model != "2d" and unscaled.unidirectional:
         live = "y" if motion.ay.any() else "x"
         raise ValueError(
             f"motion {motion.name!r} has a zero component: unidirectional excitation of the 3D "
@@ -462,8 +561,14 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     acc = _Acc(model, history)
     if model == "2d":  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
+    threshold = G * body.tan_alpha
+    above = _above(unscaled, ax, ay, scale, threshold)
+    # Without history, an analysis may end once the rest of the motion cannot raise its peak
+    # tilt (same θmax and decisions); a history must run to the end.
+    quiet = (_mark_liftable(scale * unscaled.reserve, above)
+             if stop_when_decided and not history else None)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
-                                             G * body.tan_alpha, stop_level)
+                                             threshold, stop_level, above, quiet)
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
         return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta)
@@ -474,15 +579,19 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     return _response(acc, status, reason, True, t_first, omega_n, zeta)
 
 
-def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level):
+def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level, above,
+              quiet=None):
     """Rocking episodes: from each uplift until the body is back at rest, then the next one.
+
+    ``above``: the samples where |a| > ``threshold``. ``quiet`` (:func:`energy_reserve`, or
+    None) lets a run end once the motion left cannot raise the peak tilt (code DECIDED, no
+    free tail needed: the bound covers it).
 
     Returns the last kernel output (None if the record ended at rest), the first uplift time
     [s] (NaN if never) and the status and reason.
     """
     k, tau, t_rest, t_first = 0, 0.0, 0.0, math.nan
     stalls = 0
-    above = np.flatnonzero(np.hypot(ax, ay) > threshold)
     while True:
         up = next_uplift(ax, ay, dt, threshold, above, k, tau)
         if up is None:
@@ -494,7 +603,8 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
             t_first = t_up
         acc.add_rest(t_rest, t_up)
         y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
-        out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side)
+        out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side, quiet=quiet,
+                     theta_before=acc.theta_max)
         acc.add(out)
         code, t_stop = int(out.code), float(out.t_stop)
         if code != codes.AT_REST:

@@ -21,6 +21,10 @@ AT_REST = 3
 the rest criterion (docs/equations.md, "Back at rest")."""
 AT_PEAK = 4
 """Stopped at the first tilt maximum (asked for by the free tail)."""
+DECIDED = 5
+"""Stopped at a tilt minimum (3D) or an impact (2D) once the rest of the motion provably
+cannot raise the peak tilt: every ground acceleration left is below uplift and the energy it
+can still feed in keeps the body below its peak so far (:func:`rocking.dynamics.driver.decided`)."""
 UNDERFLOW = -1
 """The step size fell below its floor while the error stayed too large."""
 NEGATIVE_TILT = -2
@@ -57,6 +61,6 @@ def status_of(code: int, t_stop: float) -> tuple[Status, str]:
         return Status.STOPPED_AT_LIMIT, ""
     if code == AT_REST:
         return Status.OK, f"came back to rest at t = {t_stop:.9g} s"
-    if code in (OK, AT_PEAK):
+    if code in (OK, AT_PEAK, DECIDED):
         return Status.OK, ""
     raise ValueError(f"unknown kernel code {code!r}")

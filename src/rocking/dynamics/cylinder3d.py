@@ -114,8 +114,8 @@ def rocking_energy(y, P):
 @njit(cache=True, error_model="numpy")
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
-    return driver.integrate(rhs, driver.no_impact, rocking_energy, output, driver.no_observe,
-                            driver.no_factor, driver.no_solve, rk_step, run)
+    return driver.integrate(rhs, driver.no_impact, rocking_energy, rocking_energy, output,
+                            driver.no_observe, driver.no_factor, driver.no_solve, rk_step, run)
 
 
 def energy(body: Cylinder, theta, theta_dot, phi_dot):

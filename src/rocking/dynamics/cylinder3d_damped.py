@@ -312,10 +312,23 @@ def rocking_energy(y, P):
 
 
 @njit(cache=True, error_model="numpy")
+def total_energy(y, P):
+    """Whole mechanical energy above rest per unit mass [J/kg]: the rocking energy plus the
+    vertical motion and the contact spring, ½[ẇ² + 2R sin(α − θ) θ̇ ẇ] + ½ωn² w² (E_d of
+    :func:`energy` minus gR cos α). Only the ground's work and the dashpot change it, so it
+    is what the driver's "decided" test bounds (:func:`rocking.dynamics.driver.decided`)."""
+    R, wn, s, c = P[1], P[4], P[6], P[7]
+    th, thd, wd = y[0], y[3], y[5]
+    sam = s * math.cos(th) - c * math.sin(th)  # sin(α − θ)
+    return rocking_energy(y, P) + 0.5 * (wd * wd + 2.0 * R * sam * thd * wd) \
+        + 0.5 * wn * wn * y[2] * y[2]
+
+
+@njit(cache=True, error_model="numpy")
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
-    return driver.integrate(rhs, driver.no_impact, rocking_energy, output, observe, factor,
-                            solve, ros_step, run)
+    return driver.integrate(rhs, driver.no_impact, rocking_energy, total_energy, output,
+                            observe, factor, solve, ros_step, run)
 
 
 # ---------------------------------------------------------------------------------------------

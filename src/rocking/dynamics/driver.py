@@ -12,6 +12,9 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
 - ``impact(y, P)``: the impact map applied where the tilt crosses zero (2D: rate × e and the
   pivot changes side), for models whose layout asks for impacts;
 - ``energy(y, P)``: the rocking energy above rest per unit mass [J/kg] (rest criterion);
+- ``bound_energy(y, P)``: the whole mechanical energy above rest per unit mass [J/kg], the
+  one the ground's work bounds (:func:`decided`; the damped model adds its contact spring
+  and vertical motion, the undamped models pass ``energy``);
 - ``output(y, P, row)``: the state the user sees (e.g. φ̇ from the spin momentum);
 - ``observe(y, P, diag)``: bookkeeping after each accepted step (e.g. contact force);
 - ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`).
@@ -224,6 +227,26 @@ def at_rest(energy_now, F, tau, rest):
     return math.hypot(F[0] + F[2] * tau, F[1] + F[3] * tau) <= rest[2]
 
 
+# Entries of the ``qpar`` array of the run tuple (the "decided" test, :func:`decided`).
+Q_CAP, Q_BEFORE, Q_MARGIN = 0, 1, 2
+QPAR_SIZE = 3
+
+
+@njit(cache=True, error_model="numpy")
+def decided(e_now, reserve, e_cap, margin):
+    """Whether the rest of the motion cannot lift the body to the tilt whose potential
+    energy is ``e_cap`` [J/kg] (docs/performance.md, "An analysis decided before its end").
+
+    The ground acceleration a_g does work −a_g·v_G per unit mass on a rigid body rolling or
+    rocking on it, and ½|v_G|² is at most the kinetic energy, so the energy above rest obeys
+    d√E/dt ≤ |a_g|/√2: from now on √E stays below √``e_now`` + ``reserve``, ``reserve`` =
+    ∫|a_g|dt/√2 over the motion left [√(J/kg)]. A tilt θ needs E ≥ gR[cos(α − θ) − cos α];
+    with the energy bound times (1 + ``margin``) below ``e_cap`` the body never reaches it.
+    """
+    bound = math.sqrt(max(e_now, 0.0)) + reserve
+    return bound * bound * (1.0 + margin) < e_cap
+
+
 @njit(cache=True, error_model="numpy")
 def step_failure(err, tilt, positive):
     """Failure code of a step (0 if it can be accepted): a non-finite error estimate (a
@@ -268,11 +291,16 @@ def land(step, rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, ys, fs,
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
+def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve, step, run):
     """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
 
     ``run = (P, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
-    rest, diag)`` is built by :func:`rocking.dynamics.models.run`, which names the returned
+    rest, diag, quiet, qpar)`` is built by :func:`rocking.dynamics.models.run`; ``quiet``
+    (empty: no such test) holds per record interval the energy reserve of the motion left
+    from its start (:func:`decided`), ``qpar`` the ``Q_*`` entries: the tilt cap (α), the
+    peak tilt of earlier episodes [rad] and the energy margin [-]. At a tilt minimum or an
+    impact where :func:`decided` holds for the peak so far the run ends with code DECIDED:
+    integrating on could not change θmax nor any decision. It names the returned
     tuple (:class:`rocking.dynamics.models.KernelResult`, same order): ``(code,
     t_hist, y_hist, n_steps, n_rejected, theta_max, t_theta_max, ev_t, ev_y, t_stop, y_end,
     diag)``, a code of :mod:`.codes`, the history of output rows (the final row only without
@@ -281,7 +309,7 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
     and the model's diagnostics.
     """
     (P0, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
-     rest, diag0) = run
+     rest, diag0, quiet, qpar) = run
     P, diag, y = P0.copy(), diag0.copy(), y0.copy()
     n = y.size
     i_thd = layout[L_ITHD]
@@ -291,6 +319,7 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
     W = np.empty((layout[L_WROWS], n))
     LA = np.empty((layout[L_LAROWS], layout[L_LACOLS]))
     row = np.empty(layout[L_NOUT])
+    y_cap = np.zeros(n)  # the state at rest at the tilt cap of the "decided" test
     hist, events = recorder(), recorder()
     n_steps, n_rej, rejected = 0, 0, False
     k_last, tau_last = last_interval(ax.size, dt, t_offset, t_end)
@@ -367,6 +396,15 @@ def integrate(rhs, impact, energy, output, observe, factor, solve, step, run):
                     impact(ys, P)
                 rest_now = at_rest(energy(ys, P), F, tau + s * h_try, rest)
             action, code = outcome(kind, rest_now, layout[L_UNTIL_PEAK], lvl_code)
+            if action != 1 and kind != _MAXIMUM and kind != _THRESHOLD and k < quiet.size:
+                # the peak so far (this and earlier episodes), never above α: below α the
+                # potential grows with θ, so a bound under its potential caps the tilt
+                cap = min(max(theta_max, qpar[Q_BEFORE]), qpar[Q_CAP])
+                if P[0] * ys[0] < cap:
+                    y_cap[0] = cap
+                    if decided(bound_energy(ys, P), quiet[k], bound_energy(y_cap, P),
+                               qpar[Q_MARGIN]):
+                        action, code = 1, codes.DECIDED
             if action != 0:
                 for i in range(n):
                     y[i] = ys[i]

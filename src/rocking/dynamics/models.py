@@ -174,6 +174,8 @@ class Prepared(NamedTuple):
     ctrl: np.ndarray
     layout: np.ndarray
     rest: np.ndarray
+    tilt_cap: float
+    """Tilt above which the potential energy no longer grows with θ: α [rad]."""
 
 
 def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray, *,
@@ -217,12 +219,13 @@ def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray,
     layout[driver.L_LAROWS], layout[driver.L_LACOLS] = model.la_shape
     layout[driver.L_MAXSTEPS] = max_steps
     tol = (float(rtol), np.array([floor, wtilt]), floor.size)
-    return Prepared(model, body, P, tol, tab, ctrl, layout, rest)
+    return Prepared(model, body, P, tol, tab, ctrl, layout, rest, float(body.alpha))
 
 
 def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0: float,
         t_offset: float, y0: np.ndarray, t_end: float, stop_level: float, *, history: bool,
-        until_peak: bool = False, side: float = 1.0) -> KernelResult:
+        until_peak: bool = False, side: float = 1.0, quiet: np.ndarray | None = None,
+        theta_before: float = 0.0) -> KernelResult:
     """Integrate a prepared model from record interval ``k0``, local time ``tau0`` [s].
 
     Parameters
@@ -246,6 +249,13 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
         Keep every step; end at the first tilt maximum.
     side : float
         Initial pivot side (±1; the 2D model).
+    quiet : ndarray, optional
+        Energy reserve of the motion left from the start of each record interval
+        [√(J/kg)] (:func:`rocking.dynamics.analysis.energy_reserve`): the run ends with code
+        DECIDED once that motion cannot raise the peak tilt (:func:`.driver.decided`).
+        None: never (every undamped analysis without history passes it).
+    theta_before : float
+        Peak tilt of the analysis' earlier episodes [rad] (the ``quiet`` test's cap).
 
     Returns
     -------
@@ -260,5 +270,16 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
     layout[driver.L_UNTIL_PEAK] = until_peak
     out = prep.model.kernel((P, ax, ay, float(dt), int(k0), float(tau0), float(t_offset), y,
                              float(t_end), float(stop_level), prep.tol, prep.tab, prep.ctrl,
-                             layout, prep.rest, diag0))
+                             layout, prep.rest, diag0,
+                             _NO_QUIET if quiet is None else quiet,
+                             np.array([prep.tilt_cap, float(theta_before), DECIDED_MARGIN])))
     return KernelResult(*out)
+
+
+_NO_QUIET = np.zeros(0)
+
+DECIDED_MARGIN = 0.02
+"""Relative margin on the energy of the "decided" test [-] (:func:`.driver.decided`): the
+integrated energy drifts by far less (~1e-7 relative per quasi-impact at rtol 1e-6), so a
+run ends early only where the exact bound holds with room to spare and the θmax the
+integration would have reached cannot differ."""

@@ -240,6 +240,9 @@ class _Knowledge:
     exceeded: list[np.ndarray] = field(default_factory=list)
     theta: list[float] = field(default_factory=list)
     failed_at: list[float] = field(default_factory=list)
+    # brackets() of the analyses so far: asked two or three times per analysis, and each
+    # call rereads every row, so it is kept until the next add()
+    _brackets: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
     def add(self, intensity: float, known: np.ndarray, exceeded: np.ndarray,
             theta: float) -> None:
@@ -247,10 +250,17 @@ class _Knowledge:
         self.known.append(known)
         self.exceeded.append(exceeded)
         self.theta.append(theta)
+        self._brackets = None
 
     def brackets(self) -> tuple[np.ndarray, np.ndarray]:
         """(lo, hi) per limit state: hi = smallest exceeding I seen (NaN if none), lo = the
         largest I below hi seen not exceeding (at least the uplift intensity)."""
+        if self._brackets is None:
+            self._brackets = self._compute_brackets()
+        lo, hi = self._brackets
+        return lo.copy(), hi.copy()  # callers may modify what they get
+
+    def _compute_brackets(self) -> tuple[np.ndarray, np.ndarray]:
         n = self.tau.size
         hi = np.full(n, np.nan)
         lo = np.full(n, self.lower)

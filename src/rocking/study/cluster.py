@@ -56,7 +56,32 @@ def dask_options(config: Mapping[str, Any]) -> dict[str, Any]:
     d = config["dask"]
     return {"scheduler_address": d["scheduler_address"], "scheduler_file": d["scheduler_file"],
             "progress_interval": float(d["progress_interval"]),
-            "worker_timeout": float(d["worker_timeout"])}
+            "worker_timeout": float(d["worker_timeout"]),
+            "in_process_analyses": IN_PROCESS_ANALYSES}
+
+
+IN_PROCESS_ANALYSES = 400
+"""Analyses (estimated) up to which a workflow rule without a cluster to join fills its store
+in its own process instead of starting an embedded LocalCluster [-]. Starting one, loading the
+kernels in each worker and closing it took 8–12 s of wall time on the 2-core machine (the
+stripes rule of the paper run: 27 s, 14.6 s of them chunks on 2 workers), while 400
+analyses take 2–6 s in one process (5–15 ms each): the default run's Fig 7 map (168
+analyses) and stripes (120) run faster without Dask, the paper run's (1560 and 1320) do not."""
+
+SPECTRA_ANALYSES_PER_POINT = 70
+"""Typical analyses of one critical-intensity search (the paper run: 73–231 per point on
+average per mode; small sizes R need fewer) for the in-process estimate."""
+
+
+def estimated_analyses(fn: Callable[..., dict], layout, indices: Sequence[int]) -> int:
+    """Analyses the regions ``indices`` are expected to run: a spectrum point is a search
+    (:data:`SPECTRA_ANALYSES_PER_POINT`), a tilt-map or stripe point one analysis."""
+    from . import tasks
+    from .layout import region_points
+
+    points = sum(region_points(layout, i) for i in indices)
+    body = getattr(fn, "func", fn)  # a functools.partial of a task body
+    return points * (SPECTRA_ANALYSES_PER_POINT if body is tasks.fill_spectra_region else 1)
 
 
 @dataclass(frozen=True)
@@ -66,7 +91,8 @@ class Target:
     Attributes
     ----------
     kind : str
-        ``"local"`` (embedded LocalCluster), ``"address"`` or ``"scheduler_file"``.
+        ``"local"`` (embedded LocalCluster), ``"address"`` or ``"scheduler_file"``; a
+        summary of :func:`fill_store` says ``"in-process"`` where no cluster was started.
     value : str
         Scheduler address or scheduler-file path; empty for ``"local"``.
     """
@@ -317,11 +343,32 @@ class _WorkerWatch:
                 f"finished chunks are kept")
 
 
+def run_in_process(fn: Callable[..., dict], indices: Sequence[int], path: str, motions: str,
+                   progress: Progress | None = None) -> list[dict]:
+    """``fn(path, index, motions=motions)`` for every region, in order, in this process.
+
+    Raises
+    ------
+    RuntimeError
+        Naming the region, when a task fails (as :func:`run_regions` does).
+    """
+    reports = []
+    for i in indices:
+        try:
+            reports.append(fn(path, i, motions=motions))
+        except Exception as exc:
+            raise RuntimeError(f"chunk {i} failed: {exc}") from exc
+        if progress is not None:
+            progress.update(int(reports[-1].get("points", 1)))
+    log.info("%d/%d chunks done in this process", len(reports), len(indices))
+    return reports
+
+
 def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *,
                config_digest: str, n_workers: int = 1, scheduler_address: str | None = None,
                scheduler_file: str | None = None, progress_interval: float = 10.0,
                key: str = "region", worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
-               label: str | None = None) -> dict[str, Any]:
+               label: str | None = None, in_process_analyses: int = 0) -> dict[str, Any]:
     """Verify the finished regions of a store, compute the others on Dask, consolidate it.
 
     Every finished region is re-read first (:func:`rocking.study.integrity.verify_store`):
@@ -352,6 +399,11 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         time the cluster may have no worker during the run [s].
     label : str, optional
         Name of the computation in progress lines (default ``key``).
+    in_process_analyses : int
+        Without a cluster to join, regions expected to run at most this many analyses
+        (:func:`estimated_analyses`) are computed one after the other in this process, with
+        no cluster started (0: always a cluster; the workflow passes
+        :data:`IN_PROCESS_ANALYSES`). The results are the same: the same task bodies run.
 
     Returns
     -------
@@ -382,14 +434,21 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                       interval=progress_interval) as bar:
             bar.message(f"{label or key}: {total} points in {len(pending)} chunks to compute "
                         f"({n - len(pending)} of {n} chunks already done)")
-            with dask_client(target, n_workers, worker_timeout=worker_timeout,
-                             say=bar.message) as client:
-                log.info("worker pids: %s", sorted(worker_pids(client).values()))
-                reports = run_regions(client, fn, pending, (str(path),),
-                                      {"motions": str(motions)},
-                                      key=f"{key}-{config_digest}",
-                                      interval=progress_interval, progress=bar,
-                                      worker_timeout=worker_timeout)
+            work = estimated_analyses(fn, layout, pending)
+            if target.kind == "local" and work <= in_process_analyses:
+                bar.message(f"{label or key}: about {work} analyses, computed in this "
+                            f"process (starting a Dask cluster would cost more)")
+                reports = run_in_process(fn, pending, str(path), str(motions), bar)
+                target = Target("in-process")
+            else:
+                with dask_client(target, n_workers, worker_timeout=worker_timeout,
+                                 say=bar.message) as client:
+                    log.info("worker pids: %s", sorted(worker_pids(client).values()))
+                    reports = run_regions(client, fn, pending, (str(path),),
+                                          {"motions": str(motions)},
+                                          key=f"{key}-{config_digest}",
+                                          interval=progress_interval, progress=bar,
+                                          worker_timeout=worker_timeout)
     store.finalize(path)
     seconds = sorted(r["seconds"] for r in reports)
     summary = {

@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -203,8 +204,10 @@ def auto_chunk_R(n_R: int, npts: int, min_task_seconds: float) -> int:
     return int(min(n_R, max(1, math.ceil(min_task_seconds / point))))
 
 
-MODE_COST = {"3d-damped": 3.0, "3d": 2.0, "2d-x": 1.0, "2d-y": 1.0}
-"""Relative cost of a search per mode (3D searches take several times a 2D one)."""
+MODE_COST = {"3d-damped": 4.0, "3d": 1.5, "2d-x": 1.0, "2d-y": 1.0}
+"""Relative cost of a search per mode, measured on the paper run (``python -m
+rocking.benchmarks paper_cost``, docs/performance.md): CPU per El Centro spectrum point
+3d-damped 1.2 s, 3d 0.4 s, 2D 0.3 s (more analyses of 1.8 ms against 5–8 ms)."""
 
 
 def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
@@ -253,6 +256,29 @@ def _load_ensemble_cached(path: str, mtime_ns: int, size: int) -> dict[str, Grou
 # Task bodies (run in Dask workers): compute one region, write it, report timing
 # --------------------------------------------------------------------------------------------
 
+def store_metadata(path: str | Path) -> tuple[Layout, dict[str, Any], np.ndarray]:
+    """Layout, attributes and ``requested`` mask of a store, read once per worker process.
+
+    A worker fills many regions of one store, and rereading its metadata cost 35 ms per
+    region (of 83 ms of store work; docs/performance.md). The key includes the modification
+    time and size of the store's root metadata, which a new store at the same path rewrites,
+    so a worker of a long-lived cluster never sees an old store's layout.
+    """
+    p = Path(path)
+    st = (p / "zarr.json").stat()
+    layout, attrs, requested = _store_metadata(str(p.resolve()), st.st_mtime_ns, st.st_size)
+    return layout, copy.deepcopy(attrs), requested
+
+
+@lru_cache(maxsize=8)
+def _store_metadata(path: str, mtime_ns: int, size: int):
+    layout = open_layout(path)
+    requested = read_requested(path, layout) if REQUESTED in layout.static else None
+    if requested is not None:
+        requested.setflags(write=False)
+    return layout, read_attrs(path), requested
+
+
 BatchFunction = Callable[..., list]
 """``critical_intensity_batch(tasks, limit_states, accuracy=..., upper=..., omega_n=...,
 zeta=...) -> list[CriticalResult]`` with a task ``(R, tan_alpha, motion, mode)``."""
@@ -286,15 +312,16 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
     t0 = time.perf_counter()
     if batch is None:
         from ..spectra.critical import critical_intensity_batch as batch
-    layout = open_layout(path)
-    attrs = read_attrs(path)
+    layout, attrs, requested = store_metadata(path)
     rc = region_coords(layout, index)
     (mode,), (name,), (tan_alpha,) = rc["mode"], rc["motion"], rc["tan_alpha"]
     motion = motion_named(motions, name)
     limit_states = [str(s) for s in layout.coords["limit_state"]]
     region = layout.region(index)
     # (limit_state,): the cells of this region some run of the study asks for
-    wanted = read_requested(path, layout)[region["mode"], :, region["tan_alpha"]][0, :, 0]
+    if requested is None:  # a store made without a study plan computes every cell
+        requested = read_requested(path, layout)
+    wanted = requested[region["mode"], :, region["tan_alpha"]][0, :, 0]
     computed = [ls for ls, w in zip(limit_states, wanted, strict=True) if w]
     tasks = [(float(R), float(tan_alpha), motion, str(mode)) for R in rc["R"]]
     results = batch(tasks, computed, accuracy=attrs["tolerances"],
@@ -413,8 +440,7 @@ def fill_tilt_map_region(path: str | Path, index: int, motions: MotionSource, *,
     t0 = time.perf_counter()
     if tilt_map is None:
         from ..spectra.tilt_map import tilt_map
-    layout = open_layout(path)
-    attrs = read_attrs(path)
+    layout, attrs, _ = store_metadata(path)
     rc = region_coords(layout, index)
     (mode,) = rc["mode"]
     out = tilt_map([float(r) for r in rc["R"]], float(attrs["tan_alpha"]),
