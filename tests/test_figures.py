@@ -98,7 +98,7 @@ def test_one_name_per_figure_across_module_script_and_caption():
     for name in figures.FIGURES:
         assert f"rule {name}:" in rules and f'caption("{name}"' in rules
     assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
-        "figure", "fragility_table", "linear_fit", "mean_spectra", "run_config",
+        "figure", "fragility_table", "linear_fit", "mean_spectra", "records_table", "run_config",
         "stripe_fragility", "workflow"]
     assert figures.figure_name("results/figures/fig08_motions_lomaprieta.png") == "fig08_motions"
     assert figures.figure_name("fig06_theta_max_sensitivity.png") == (

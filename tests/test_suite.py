@@ -308,14 +308,18 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     from rocking.dynamics.bodies import Cylinder
     from rocking.motions.ensemble_io import load_ensemble
     from rocking.spectra.critical import critical_intensity
+    from rocking.study.spec import EnsembleSpec
     from rocking.units import read_table
 
     snakemake(tmp_path, "results/three/records.csv", configfile=_write(tmp_path, SUITE))
-    motions = {m.name: m for m in load_ensemble(tmp_path / "results/motions/three.nc")}
+    # the ensemble file is keyed by the digest of its settings
+    digest = EnsembleSpec.from_config(SUITE, "three").digest
+    ensemble = tmp_path / f"results/motions/three-{digest}.nc"
+    motions = {m.name: m for m in load_ensemble(ensemble)}
     assert list(motions) == [*RECORDS, "el-centro-1940-rdk-000"]  # records first
     from rocking.motions.ensemble_io import open_netcdf
 
-    with open_netcdf(tmp_path / "results/motions/three.nc") as ds:  # which record, what kind
+    with open_netcdf(ensemble) as ds:  # which record, what kind
         assert list(ds["source_record"].values) == [*RECORDS, "el-centro-1940"]
         assert list(ds["kind"].values) == ["record"] * 3 + ["synthetic"]
     # each record processed as configured

@@ -109,7 +109,9 @@ def test_own_study_draws_no_empty_figure(own_run):
         assert missing == [] or name == "fig08_motions", (name, missing)
         assert not any("paper" in s for s in missing), (name, missing)
     res = own_run / "results/column"
-    motions = own_run / "results/motions/own.nc"
+    from rocking.study.spec import EnsembleSpec
+
+    motions = own_run / f"results/motions/own-{EnsembleSpec.from_config(OWN, 'own').digest}.nc"
     # every panel of every spectrum figure holds the study's numbers at its own tan α
     d9 = fig09_spectra.data(res / "spectra.zarr", res / "mean_spectra.nc", motions=motions)
     assert d9["tan_alpha"] == TAN_ALPHA and d9["modes"] == ["3d"]

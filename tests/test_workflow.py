@@ -408,7 +408,10 @@ def test_two_configs_write_disjoint_outputs(tmp_path):
     assert not plan_a & plan_b
     assert all(f.startswith("results/a/") for f in plan_a)
     assert all(f.startswith("results/b/") for f in plan_b)
-    # the same root, another study on another ensemble
+    # the same root, another study on another ensemble (both reproductions of the paper, so
+    # that both draw the paper's model figures, Figs 3 and 4)
+    a["studies"][STUDY]["reproduces"] = "vassiliou2017"
+    plan_a = _planned(tmp_path, a, "a")
     c = json.loads(json.dumps(a))
     c["ensembles"] = {"other": {**c["ensembles"]["tiny"], "n_synthetic": 2}}
     c["studies"] = {"other": {**c["studies"][STUDY], "ensemble": "other"}}

@@ -205,3 +205,9 @@ wildcard_constraints:
     study="|".join(map(re.escape, config["studies"])),
     ensemble="|".join(map(re.escape, config["ensembles"])),
     digest="[0-9a-f]{16}",
+
+
+def records_targets():
+    """The per-record table and the suite's fragility of every study."""
+    return [out_path(f"{study}/{name}") for study in config["studies"]
+            for name in ("records.csv", "suite_fragility.csv")]

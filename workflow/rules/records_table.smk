@@ -5,12 +5,6 @@
 # rocking.study.records does the work.
 
 
-def records_targets():
-    """The per-record table and the suite's fragility of every study."""
-    return [out_path(f"{study}/{name}") for study in config["studies"]
-            for name in ("records.csv", "suite_fragility.csv")]
-
-
 rule records_table:
     input:
         complete=rules.spectra.output.done,
