@@ -129,7 +129,15 @@ def link_alias(path: str | Path, alias: str | Path) -> bool:
     return True
 
 
-def _prepare(path: str | Path, config_digest: str, create) -> str:
+def ready_store(path: str | Path, config_digest: str, create) -> str:
+    """Make the store at ``path`` ready for the configuration ``config_digest``: adopt an
+    unkeyed store of this configuration, resume one of the same hash, or call ``create``.
+
+    Returns
+    -------
+    str
+        What was done: ``"resumed"``, ``"created"`` or ``"replaced"`` (as logged).
+    """
     path = Path(path)
     alias = unkeyed(path, config_digest)
     if alias != path:
@@ -199,7 +207,7 @@ def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_d
                  "done), motions %s; points per mode %s", p, layout.n_regions, chunk_R, skipped,
                  names, plan.points(len(names), len(s.R)))
 
-    return _prepare(path, config_digest, create)
+    return ready_store(path, config_digest, create)
 
 
 def tilt_map_store(path: str | Path, spec: TiltMapSpec | dict[str, Any], config_digest: str,
@@ -234,7 +242,7 @@ def tilt_map_store(path: str | Path, spec: TiltMapSpec | dict[str, Any], config_
         store.create_store(p, layout, attrs, config_digest, coords={"pga_g": pga_g})
         log.info("created %s: %d chunks, motion %s", p, layout.n_regions, motion)
 
-    return _prepare(path, config_digest, create)
+    return ready_store(path, config_digest, create)
 
 
 KINDS = {"spectra": spectra_store, "tilt_map": tilt_map_store}

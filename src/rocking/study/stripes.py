@@ -26,7 +26,7 @@ from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from . import store, tasks
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
-from .prepare import _prepare
+from .prepare import ready_store
 from .spec import Damping, StripesSpec
 
 log = logging.getLogger(__name__)
@@ -102,7 +102,7 @@ def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_d
         log.info("created %s: %d chunks, %d motions x %d stripes", p, layout.n_regions,
                  len(names), len(s.intensity))
 
-    return _prepare(path, config_digest, create)
+    return ready_store(path, config_digest, create)
 
 
 def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSource,

@@ -149,7 +149,7 @@ def footnote(fig: Figure, lines: Sequence[str], size: float = 7.0) -> None:
              va="top", wrap=False)
 
 
-def _suptitle_and_notes(fig: Figure, d: dict, title: str, *,
+def suptitle_and_notes(fig: Figure, d: dict, title: str, *,
                         reduced: str = "not everything the paper shows was computed (note below)",
                         intensity: str = "; PGA = vector peak.") -> None:
     """Suptitle of figure data ``d`` (a reduced run flagged), footnote of its gaps and axes."""

@@ -24,12 +24,12 @@ from matplotlib.lines import Line2D
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
-    _suptitle_and_notes,
     limit_state_title,
     motion_styles,
     new_figure,
     pga_g_axis,
     styled,
+    suptitle_and_notes,
 )
 from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
@@ -224,7 +224,7 @@ def plot(d: dict) -> Figure:
     styles = "; solid undamped, dashed damped" if damped else (
         f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
     title = f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9){styles}"
-    _suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
+    suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
                         "(vector), normalized by g tan α.")
     return fig
 

@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 
 from ...spectra.fragility import fit_line
 from . import _axes, _load
-from ._style import MODE_STYLE, _suptitle_and_notes, limit_state_title, new_figure, styled
+from ._style import MODE_STYLE, limit_state_title, new_figure, styled, suptitle_and_notes
 from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
 
 PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)
@@ -102,7 +102,7 @@ def plot(d: dict) -> Figure:
         ax.set_xlim(left=0.0)
         ax.set_ylim(bottom=0.0)
         ax.legend(loc="upper left")
-    _suptitle_and_notes(
+    suptitle_and_notes(
         fig, d, f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)")
     return fig
 

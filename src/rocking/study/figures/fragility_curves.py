@@ -22,11 +22,11 @@ from scipy import stats
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
-    _suptitle_and_notes,
     limit_state_title,
     new_figure,
     pga_g_axis,
     styled,
+    suptitle_and_notes,
 )
 from .comparisons import NOT_IN_PAPER, Comparison
 
@@ -145,7 +145,7 @@ def plot(d: dict) -> Figure:
              f"{MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
              f"tan α = {d['tan_alpha']:g}{bound}; medians {MEDIAN_SYMBOL} and dispersions β "
              "in the report's table")
-    _suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
+    suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
     return fig
 
 
