@@ -48,7 +48,9 @@ def assumptions(hazard: str = "") -> list[str]:
     ]
 
 
-def _frame(risk) -> pd.DataFrame:
+def read_risk_table(risk: str | Path | pd.DataFrame) -> pd.DataFrame:
+    """``risk.csv`` (or its frame) with unit-free column names, canonical limit-state names,
+    and a ``fragility`` column (a table written before the stripe rows: first exceedance)."""
     frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
     frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
     frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
@@ -77,7 +79,7 @@ def comparison_table(risk) -> pd.DataFrame:
     their ratio (stripes / first exceedance) and the stripe fit's status; empty when the
     table has no stripe rows.
     """
-    frame = _frame(risk)
+    frame = read_risk_table(risk)
     keys = ["mode", "tan_alpha", "R", "limit_state"]
     first = frame[frame["fragility"] == FIRST_EXCEEDANCE]
     stripes = frame[frame["fragility"] == STRIPES]
@@ -116,7 +118,7 @@ def shown_limit_states(frame: pd.DataFrame) -> list[str]:
 def summary_table(risk, *, tan_alpha: float | None = None) -> pd.DataFrame:
     """λ [1/yr] of the shown limit states (:func:`shown_limit_states`) per R (rows) and mode
     (columns) at ``tan_alpha`` (default :func:`main_tan_alpha`)."""
-    frame = _frame(risk)
+    frame = read_risk_table(risk)
     frame = frame[frame["fragility"] == FIRST_EXCEEDANCE]  # the stripe rows: comparison_table
     tan_alpha = main_tan_alpha(frame) if tan_alpha is None else tan_alpha
     if tan_alpha is None:
@@ -158,7 +160,7 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
         # the same markup as the report's other figures, so a gallery links it instead
         parts.append(f"<figure id='risk'><img alt='risk' src='data:image/png;base64,{data}'>"
                      "</figure>")
-    tan_alpha = main_tan_alpha(_frame(risk))
+    tan_alpha = main_tan_alpha(read_risk_table(risk))
     table = summary_table(risk, tan_alpha=tan_alpha)
     if table.empty:
         parts.append("<p>No fragility with a mean annual frequency in this run.</p>")
@@ -195,5 +197,5 @@ def _comparison_html(risk) -> list[str]:
 
 
 __all__ = ["WHICH_TO_USE", "assumptions", "comparison_table", "main_tan_alpha",
-           "risk_section_html", "shown_limit_states",
+           "read_risk_table", "risk_section_html", "shown_limit_states",
            "summary_table"]

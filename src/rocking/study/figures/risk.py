@@ -17,9 +17,9 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ...risk.report import main_tan_alpha, shown_limit_states
-from ...spectra.limit_states import parse_limit_state
-from ...units import strip_units
+from ...risk.fragilities import FIRST_EXCEEDANCE
+from ...risk.fragilities import STRIPES as STRIPE_FRAGILITY
+from ...risk.report import main_tan_alpha, read_risk_table, shown_limit_states
 from ._style import MODE_STYLE, limit_state_title, new_figure, styled
 
 CAPTION = (
@@ -38,17 +38,7 @@ CAPTION = (
 R_NOTES = (2.0, 6.0, 10.0)
 
 
-FIRST, STRIPES = "first_exceedance", "stripes"
-"""Values of risk.csv's ``fragility`` column (:data:`rocking.risk.fragilities.KINDS`)."""
-
-
-def _frame(risk: str | Path | pd.DataFrame) -> pd.DataFrame:
-    frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
-    frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
-    frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
-    if "fragility" not in frame.columns:  # a risk.csv written before the stripe rows
-        frame["fragility"] = FIRST
-    return frame
+FIRST, STRIPES = FIRST_EXCEEDANCE, STRIPE_FRAGILITY  # values of risk.csv's fragility column
 
 
 def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
@@ -86,7 +76,7 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
         ``measured``: {"<mode> <limit state> R=<R> m": λ [1/yr], "ratio 2d-x/3d ...": [-]},
         ``missing``, ``tan_alpha``, ``hazard``.
     """
-    frame = _frame(risk)
+    frame = read_risk_table(risk)
     if tan_alpha is None:
         tan_alpha = main_tan_alpha(frame[frame["fragility"] == FIRST])
     if tan_alpha is None:
