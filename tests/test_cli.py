@@ -558,3 +558,36 @@ def test_a_reader_closing_stdout_ends_the_command_quietly():
     err = proc.stderr.read()
     assert proc.wait(timeout=60) == 141, err
     assert err == ""
+
+
+def test_help_names_every_catalogue_record_and_unit():
+    """`--help` spells the record names and units out (it imports no numpy): they are those
+    the library knows."""
+    from rocking.cli._common import RECORD_NAMES, UNITS
+    from rocking.motions.catalogue import RECORDS
+    from rocking.motions.readers import UNIT_FACTORS
+
+    assert sorted(RECORD_NAMES.split(", ")) == sorted(RECORDS)
+    assert set(UNITS) <= set(UNIT_FACTORS)
+    assert {UNIT_FACTORS[u] for u in UNITS} == set(UNIT_FACTORS.values())
+
+
+def test_files_in_cm_per_s2_read_with_units(tmp_path, capsys):
+    """One-column text in cm/s² (--units, --dt) gives the motion the same file in g gives."""
+    from rocking.constants import G
+
+    acc_g = np.sin(np.linspace(0.0, 40.0, 1500)) * 0.3 * np.exp(-np.linspace(0, 3, 1500))
+    in_g = tmp_path / "x_g.txt"
+    in_cm = tmp_path / "x_cm.txt"
+    np.savetxt(in_g, acc_g)
+    np.savetxt(in_cm, acc_g * G * 100.0)
+    args = ["simulate", "--R", "1", "--tan-alpha", "0.2", "--dt", "0.01", "--mode", "2d-x",
+            "--scale", "1", "--json"]  # as recorded: the unit decides the answer
+    assert main([*args, "--files", str(in_g), "-o", str(tmp_path / "g")]) == 0
+    by_g = json.loads(capsys.readouterr().out)
+    assert main([*args, "--files", str(in_cm), "--units", "cm/s2", "-o",
+                 str(tmp_path / "cm")]) == 0
+    by_cm = json.loads(capsys.readouterr().out)
+    assert by_cm["pga_g"] == pytest.approx(by_g["pga_g"], rel=1e-9)
+    assert by_cm["pga_g"] == pytest.approx(0.3, rel=0.15)
+    assert by_cm["t_theta_max"] == pytest.approx(by_g["t_theta_max"], rel=1e-6)

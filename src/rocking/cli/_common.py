@@ -20,7 +20,11 @@ from pathlib import Path
 HIGHPASS_CHOICES = ("none", "oscillator", "butterworth")
 """High-pass kinds of :func:`rocking.motions.build.build_ensemble` (checked again there)."""
 
-RECORD_NAMES = "el-centro-1940, loma-prieta-corralitos, loma-prieta-sjte"
+# Spelled out, not read from the catalogue: `--help` imports no numpy (tests/test_import.py);
+# tests/test_cli.py holds them equal to rocking.motions.catalogue.RECORDS and UNIT_FACTORS.
+RECORD_NAMES = ("el-centro-1940, loma-prieta-corralitos, loma-prieta-sjte, "
+                "northridge-05-sylmar-1994, san-fernando-pacoima-dam-1971")
+UNITS = ("g", "m/s2", "cm/s2", "gal")
 
 
 class Formatter(argparse.RawDescriptionHelpFormatter):
@@ -82,7 +86,9 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
                    help=f"named record ({RECORD_NAMES}); with --files, read from those files")
     g.add_argument("--files", nargs="+", metavar="FILE",
                    help="acceleration files, x then y, in the order given (PEER AT2 or "
-                   "text, in g)")
+                   "text; unit --units)")
+    g.add_argument("--units", default="g", choices=UNITS,
+                   help="unit of the values in --files (default: g; AT2 files are in g)")
     g.add_argument("--dt", type=float, metavar="SECONDS",
                    help="time step [s] of one-column text --files (AT2 headers and "
                    "two-column files give their own)")
@@ -139,7 +145,8 @@ def motion_from_args(args: argparse.Namespace, default_record: str | None = None
         raise ValueError("--dt is the time step of one-column --files; a motion of "
                          "--ensemble has its own")
     motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None),
-                         order_by_azimuth=getattr(args, "order_by_azimuth", False), dt=args.dt)
+                         order_by_azimuth=getattr(args, "order_by_azimuth", False), dt=args.dt,
+                         units=getattr(args, "units", "g"))
     if ensemble is None and (any(v is not None for v in processing.values())
                              or highpass != "none"):
         motion = process_motion(motion, highpass=highpass, **processing)

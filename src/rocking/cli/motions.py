@@ -76,7 +76,7 @@ def run(args) -> int:
                          "(its fit needs them); give 'auto' or the forced offset [deg]")
     record = args.record if (args.record or args.files) else "el-centro-1940"
     motion = load_motion(record, args.files, name=args.name,
-                         order_by_azimuth=args.order_by_azimuth, dt=args.dt)
+                         order_by_azimuth=args.order_by_azimuth, dt=args.dt, units=args.units)
     from ..study.config_checks import check_ensemble_size
 
     check_ensemble_size("--n-synthetic", args.n_synthetic, motion.npts)

@@ -28,7 +28,8 @@ __all__ = ["describe_processing", "identity", "load_motion", "process_motion"]
 
 def load_motion(record: str | None = None, files=None, ensemble: str | Path | None = None,
                 motion: str | None = None, *, name: str | None = None,
-                order_by_azimuth: bool = False, dt: float | None = None) -> GroundMotion:
+                order_by_azimuth: bool = False, dt: float | None = None,
+                units: str = "g") -> GroundMotion:
     """A ground motion from a named record, acceleration files or an ensemble file.
 
     Parameters
@@ -51,6 +52,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     dt : float, optional
         Time step [s] of one-column text ``files`` (AT2 and two-column files carry their
         own; given, it must agree with it).
+    units : str
+        Unit of the values in ``files``: ``"g"`` (default), ``"m/s2"``, ``"cm/s2"`` or
+        ``"gal"`` (:func:`rocking.motions.readers.read_record`).
 
     Returns
     -------
@@ -67,6 +71,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     if ensemble is not None:
         if record is not None or files:
             raise ValueError("give an ensemble file or a record/files, not both")
+        if units != "g":
+            raise ValueError(f"units={units!r} is the unit of acceleration files; a motion of "
+                             "an ensemble file is stored in m/s²")
         return _from_ensemble(Path(ensemble), motion)
     if motion is not None:
         raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
@@ -83,11 +90,11 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
             return loma_prieta_pair(files, order_by_azimuth=order_by_azimuth)
         stems = "+".join(Path(f).stem for f in files)
         return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth,
-                           dt=dt)
+                           dt=dt, units=units)
     if len(files) == 1 and record is None:
         from .readers import read_record
 
-        rec = read_record(files[0], dt=dt)
+        rec = read_record(files[0], units, dt=dt)
         return GroundMotion(rec.acc, None, rec.dt, name or Path(files[0]).stem,
                             {**rec.meta, "source": "file", "components": {"x": rec.meta}})
     raise ValueError(f"files must be one or two paths (x, y), got {len(files)}: {files!r}")
