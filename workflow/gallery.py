@@ -32,10 +32,11 @@ from rocking.study.report import link_images, relink_docs
 from rocking.study.spec import EnsembleSpec, StudySpec
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
-OPTIONAL_FILES = ("stripe_fragility.csv", "risk.csv", "fragility.nrml.xml",
-                  "fragility.pelicun.csv")
-"""Outputs of the stripes and risk rules, copied when the study has stripes or a hazard
-(docs/performance.md, docs/risk.md)."""
+OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",
+                  "fragility.nrml.xml", "fragility.pelicun.csv", "stripe_fragility.nrml.xml",
+                  "stripe_fragility.pelicun.csv")
+"""Outputs of the per-record table (docs/records.md), the stripes and the risk rules, copied
+where the study has them (docs/performance.md, docs/risk.md)."""
 CRITICAL = "critical.csv"
 """Every motion's answers (the spectra store as a table): what tests/test_gallery.py holds
 against a slice of the study run again."""
