@@ -591,3 +591,18 @@ def test_files_in_cm_per_s2_read_with_units(tmp_path, capsys):
     assert by_cm["pga_g"] == pytest.approx(by_g["pga_g"], rel=1e-9)
     assert by_cm["pga_g"] == pytest.approx(0.3, rel=0.15)
     assert by_cm["t_theta_max"] == pytest.approx(by_g["t_theta_max"], rel=1e-6)
+
+
+def test_a_file_pair_is_named_once_in_the_motion_line(tmp_path, capsys):
+    """A pair read from the user's files has no title but its name: the label says it once."""
+    from rocking.motions.identity import describe_processing
+    from rocking.motions.source import load_motion
+
+    acc = np.sin(np.linspace(0.0, 30.0, 800)) * 0.2
+    x, y = tmp_path / "site_x.txt", tmp_path / "site_y.txt"
+    np.savetxt(x, acc)
+    np.savetxt(y, 0.5 * acc)
+    motion = load_motion(None, [x, y], dt=0.01)
+    line = describe_processing(motion)
+    assert line.startswith("site_x+site_y (recorded)"), line
+    assert line.count("site_x+site_y") == 1, line

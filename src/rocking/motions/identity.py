@@ -68,7 +68,9 @@ def identity(motion: GroundMotion) -> dict[str, Any]:
         head = (f"RDK synthetic pair {meta.get('realization')} of {source} "
                 f"(seed {meta.get('seed')})")
     else:
-        head = f"{source} ({meta.get('title', 'recorded')})"
+        # a motion read from the user's files has its name as title: say it once
+        title = meta.get("title")
+        head = f"{source} ({'recorded' if title in (None, source) else title})"
     # zeros the filters added that are still in the motion (a cut may have removed them)
     padding = (motion.npts - min(n_data, max(motion.npts - front, 0))) * motion.dt
     if padding:
