@@ -803,3 +803,29 @@ def test_fig09_marks_unresolved_points_when_the_store_flags_them(study, tmp_path
     assert "unresolved: may lie lower" in _texts(fig)
     plain = fig09_spectra.data(study["store"], study["means"])
     assert all(not p["unresolved"] for p in plain["panels"])
+
+
+def test_a_suite_is_labelled_by_its_records_not_as_record_and_synthetics():
+    """A suite's recorded motions (each its own source record) keep their names in the
+    legends, and the suite is named after itself, not after its first record."""
+    from rocking.study.figures import _load
+    from rocking.study.figures._style import motion_styles
+
+    names = ["site-a", "site-b", "site-b-rdk-000", "sylmar"]
+    sources = ["site-a", "site-b", "site-b", "sylmar"]
+    labels = {n: s["label"] for n, s in motion_styles(names, sources).items()}
+    assert labels == {"site-a": "site-a", "site-b": "site-b",
+                      "site-b-rdk-000": "synthetic 1", "sylmar": "sylmar"}
+    assert len({s["color"] for s in motion_styles(names, sources).values()}) == 4
+    # one record and its pairs: the paper's labels, with or without the sources
+    paper = motion_styles(["elc", "elc-rdk-000"], ["elc", "elc"])
+    assert [s["label"] for s in paper.values()] == ["record", "synthetic 1"]
+    assert paper == motion_styles(["elc", "elc-rdk-000"])
+    attrs = {"ensemble": {"name": "mine", "motions": [
+        {"name": n, "source_record": s, "label": n}
+        for n, s in zip(names, sources, strict=True)]}}
+    assert _load.ensemble_label(attrs, "x") == ("suite mine (3 records)", False)
+    one = {"ensemble": {"name": "elcentro", "motions": [
+        {"name": "elc", "source_record": "elc", "label": "El Centro"},
+        {"name": "elc-rdk-000", "source_record": "elc", "label": "elc-rdk-000"}]}}
+    assert _load.ensemble_label(one, "x") == ("El Centro", False)

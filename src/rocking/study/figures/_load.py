@@ -177,8 +177,13 @@ def ensemble_label(attrs: dict, default: str) -> tuple[str, bool]:
     stand_in = attrs.get("stand_in", attrs.get("stand_ins", False))
     if isinstance(raw, dict):
         motions = raw.get("motions") or [{}]
-        # The store's ensemble record: its first motion is the record, labelled by source.
-        label = str(raw.get("label", motions[0].get("label", raw.get("name", default))))
+        records = [m for m in motions if m.get("name") is not None
+                   and m.get("name") == m.get("source_record")]
+        if len(records) > 1:  # a suite: named after itself, not after its first record
+            label = f"suite {raw.get('name', default)} ({len(records)} records)"
+        else:
+            # The store's ensemble record: its first motion is the record, labelled by source.
+            label = str(raw.get("label", motions[0].get("label", raw.get("name", default))))
         stand_in = raw.get("stand_in", stand_in)
     elif isinstance(raw, list | tuple):
         label = ", ".join(str(x) for x in raw) or default

@@ -177,20 +177,33 @@ def motion_label(index: int) -> str:
     return "record" if index == 0 else f"synthetic {index}"
 
 
-def motion_styles(names: Sequence[str]) -> dict[str, dict[str, str]]:
+def motion_styles(names: Sequence[str],
+                  sources: Sequence[str] | None = None) -> dict[str, dict[str, str]]:
     """One colour and label per motion, the same in every figure (Figs 8 and 9).
 
     ``names`` are the ensemble's motions in its order, the record first. Up to 10 synthetic
     motions get distinct colours; beyond that the cycle repeats (said by the caller's legend).
+    ``sources`` (each motion's ``source_record``) tell a suite, whose recorded motions are
+    their own source: those are labelled by name, the others "synthetic i".
 
     Returns
     -------
     dict
-        name → {``label``: "record" / "synthetic i", ``color``: hex colour}.
+        name → {``label``: "record" / "synthetic i" (a suite: the record's name),
+        ``color``: hex colour}.
     """
-    return {n: {"label": motion_label(i),
-                "color": RECORD_COLOR if i == 0 else SYNTHETIC_COLORS[(i - 1) % 10]}
-            for i, n in enumerate(names)}
+    recorded = [sources is not None and n == s for n, s in zip(names, sources or names,
+                                                                  strict=True)]
+    if sum(recorded) <= 1:
+        return {n: {"label": motion_label(i),
+                    "color": RECORD_COLOR if i == 0 else SYNTHETIC_COLORS[(i - 1) % 10]}
+                for i, n in enumerate(names)}
+    out, k = {}, 0
+    for i, n in enumerate(names):
+        k += not recorded[i]
+        out[n] = {"label": n if recorded[i] else f"synthetic {k}",
+                  "color": SYNTHETIC_COLORS[i % 10]}
+    return out
 
 
 def pga_g_axis(ax, tan_alpha: float, which: str = "y"):

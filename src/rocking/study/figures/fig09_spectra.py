@@ -105,7 +105,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         "panels": panels,
         "tan_alpha": tan_alpha,
         "modes": list(modes),
-        "colors": motion_styles(motion_names),
+        "colors": motion_styles(motion_names, _load.labels(ds, "source_record") or None),
         "axes": _axes.from_ensemble(motions),
         "missing": sorted(set(missing)),
     }

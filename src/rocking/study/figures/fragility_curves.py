@@ -141,7 +141,7 @@ def plot(d: dict) -> Figure:
     record = d.get("record", "")
     who = f"{record}{' (stand-in)' if d.get('stand_in') and 'stand-in' not in record else ''}"
     bound = f"; search bound {d['upper']:g}" if d.get("upper") else ""
-    title = (f"Fragility curves, {who} ensemble\n"
+    title = (f"Fragility curves, {who}{'' if who.startswith('suite ') else ' ensemble'}\n"
              f"{MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
              f"tan α = {d['tan_alpha']:g}{bound}; medians {MEDIAN_SYMBOL} and dispersions β "
              "in the report's table")
