@@ -402,3 +402,23 @@ def test_links_to_the_derivations_follow_the_page(tmp_path):
     href = moved.split("href='")[1].split("#")[0]
     assert (deeper / href).resolve() == (report.DOCS / "equations.md").resolve()
     assert (report.DOCS / "equations.md").is_file()
+
+
+def test_a_suite_is_reported_record_by_record(tmp_path):
+    """A suite's ensemble file: one row per record with its own processing, not one record
+    'and n synthetic pairs'."""
+    suite = {"ensemble": "mine", "suite": True, "label": "suite of 2 records: a, b",
+             "records": [
+                 {"record": "a", "label": "a", "rotation_deg": 48.63,
+                  "principal_offset_deg": 3.4, "n_synthetic": 0,
+                  "highpass": {"kind": "oscillator", "fc_hz": 0.14, "mw": 6.61}},
+                 {"record": "b", "label": "b", "rotation_deg": None, "n_synthetic": 2,
+                  "seed": 7, "highpass": {"kind": "none"}}]}
+    path = tmp_path / "mine-0123.json"
+    path.write_text(json.dumps(suite))
+    rows = dict(report.ensemble_rows(path))
+    assert rows["ensemble mine"] == "suite of 2 records: a, b"
+    assert "rotated by 48.63° to principal axes" in rows["ensemble mine: record a"]
+    assert "oscillator at 0.14 Hz (Mw 6.61); 0 synthetic pairs" in rows["ensemble mine: record a"]
+    assert rows["ensemble mine: record b"] == ("b; recorded axes kept; no high-pass; "
+                                               "2 synthetic pairs, seed 7")

@@ -16,7 +16,7 @@ import json
 import math
 import os
 import re
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -131,6 +131,16 @@ def grid_text(values: Sequence[float], unit: str = "") -> str:
     return f"{len(v)} values, {min(v):g}–{max(v):g}{u}{step}"
 
 
+def _motions_text(motions: Sequence[Mapping], spec: SpectraSpec) -> str:
+    """"<record> and n synthetic pairs (seed s)", or for a suite "k records and n pairs"."""
+    records = [m for m in motions if _is_recorded(m)]
+    n_pairs = len(motions) - max(len(records), 1)
+    pairs = f"{n_pairs} synthetic pairs" + (f" (seed {spec.ensemble.seed})" if n_pairs else "")
+    if len(records) > 1:
+        return f"a suite of {len(records)} records and {pairs}"
+    return f"{motions[0]['label']} and {pairs}"
+
+
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
     """What a spectra store says was run: ensemble, grids, limit states, modes per tan α,
     accuracy, contact parameters, version (its ``config`` read as a
@@ -141,8 +151,7 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
     motions = attrs["ensemble"]["motions"]
     p = f"study {spec.study}"
     rows = [
-        (f"{p}: motions", f"ensemble {spec.ensemble.name}: {motions[0]['label']} and "
-                          f"{len(motions) - 1} synthetic pairs (seed {spec.ensemble.seed}); "
+        (f"{p}: motions", f"ensemble {spec.ensemble.name}: {_motions_text(motions, spec)}; "
                           + ", ".join(m["name"] for m in motions)),
         (f"{p}: sizes R", grid_text(spec.R, "m")),
         (f"{p}: slenderness tan α", grid_text(spec.plan.tan_alpha)),
@@ -205,36 +214,63 @@ def tilt_map_rows(path: str | Path) -> list[tuple[str, str]]:
              f"{grid_text(spec.intensity)}")]
 
 
-def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
-    """Processing of an ensemble's record and its synthetic pairs (``results/motions/*.json``)."""
-    e = json.loads(Path(path).read_text())
+def _processing_text(e: Mapping) -> str:
+    """How one record was processed and how many pairs were simulated from it."""
     hp = e.get("highpass") or {}
-    name = e.get("ensemble", Path(path).stem)
     stand_in = f" — stand-in for {e['stand_in_for']}" if e.get("stand_in") else ""
-    return [(f"ensemble {name}",
-             f"{e.get('label', e.get('record'))}{stand_in}; rotated by "
-             f"{fmt(e.get('rotation_deg'))}° to principal axes (x = major; offset "
-             f"{fmt(e.get('principal_offset_deg'))}° from the nearest recording axis); "
-             f"high-pass {hp.get('kind', '?')} at {fmt(hp.get('fc_hz'))} Hz "
-             f"(Mw {fmt(hp.get('mw'))}); {e.get('n_synthetic', 0)} synthetic pairs, "
-             f"seed {e.get('seed', '?')}")]
+    if e.get("rotation_deg") is None:
+        rotation = "recorded axes kept"
+    else:
+        rotation = (f"rotated by {fmt(e.get('rotation_deg'))}° to principal axes (x = major; "
+                    f"offset {fmt(e.get('principal_offset_deg'))}° from the nearest recording "
+                    "axis)")
+    highpass = ("no high-pass" if not hp or hp.get("kind") in (None, "none") else
+                f"high-pass {hp['kind']} at {fmt(hp.get('fc_hz'))} Hz (Mw {fmt(hp.get('mw'))})")
+    pairs = f"{e.get('n_synthetic', 0)} synthetic pairs"
+    if e.get("n_synthetic"):
+        pairs += f", seed {e.get('seed', '?')}"
+    return f"{e.get('label', e.get('record'))}{stand_in}; {rotation}; {highpass}; {pairs}"
+
+
+def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
+    """Processing of an ensemble's record and its synthetic pairs (``results/motions/*.json``);
+    a suite: one row per record."""
+    e = json.loads(Path(path).read_text())
+    name = e.get("ensemble", Path(path).stem)
+    if e.get("suite"):
+        return [(f"ensemble {name}", str(e.get("label")))] + [
+            (f"ensemble {name}: record {r.get('record')}", _processing_text(r))
+            for r in e.get("records", [])]
+    return [(f"ensemble {name}", _processing_text(e))]
+
+
+def _is_recorded(m: Mapping) -> bool:
+    """A motion of a store's ensemble that is a record (its own source), not a pair."""
+    return m.get("name") is not None and m.get("name") == m.get("source_record")
 
 
 def pga_row(store: str | Path) -> tuple[str, str]:
-    """The record's PGA: one number and what it is (a figure may add the unprocessed record's
-    through its ``run_rows`` hook, :func:`figure_run_rows`)."""
+    """The record's PGA (a suite: every record's): one number each and what it is (a figure
+    may add the unprocessed record's through its ``run_rows`` hook,
+    :func:`figure_run_rows`)."""
     motions = decode_attrs(_load.open_store(store).attrs)["ensemble"]["motions"]
     if not motions:
         return ("record PGA", "not recorded in the store")
     from ..constants import G
 
+    def pga_g(m: Mapping) -> float:
+        # stores record the motion's identity "PGA" [g]; older ones its "pga" [m/s²]
+        return m["PGA"] if "PGA" in m else m["pga"] / G
+
+    records = [m for m in motions if _is_recorded(m)]
+    if len(records) > 1:  # a suite
+        values = ", ".join(f"{m['label']} {pga_g(m):.3f} g" for m in records)
+        return ("records' PGA", f"{values}: vector peaks max √(ax² + ay²) after each record's "
+                "processing, as every spectrum is scaled")
     first = motions[0]
-    # stores record the motion's identity "PGA" [g]; older ones its "pga" [m/s²]
-    pga_g = first["PGA"] if "PGA" in first else first["pga"] / G
-    text = (f"{pga_g:.3f} g: vector peak max √(ax² + ay²) of {first['label']} after "
-            "rotation to principal axes and high-pass, as every spectrum is scaled (a vector peak "
-            "does not depend on the rotation)")
-    return ("record PGA", text)
+    return ("record PGA", f"{pga_g(first):.3f} g: vector peak max √(ax² + ay²) of "
+            f"{first['label']} after rotation to principal axes and high-pass, as every "
+            "spectrum is scaled (a vector peak does not depend on the rotation)")
 
 
 def timing_rows(done: Sequence[str | Path] = (), ensembles: Sequence[str | Path] = (),
