@@ -340,3 +340,20 @@ def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, 
     said = []
     assert integrity.verify_store(path, say=said.append) == [3]
     assert "without chunk checksums" in said[0] and "rebuild" in said[0]
+
+
+def test_a_damaged_store_is_refused_before_its_numbers_are_read(tmp_path, ensemble):
+    """`require_intact` (the aggregate and table rules' check) names the store, the damaged
+    region and the remedy, and changes nothing: the store stays damaged for --forcerun."""
+    path = tmp_path / "s.zarr"
+    layout = make_spectra_store(path, ensemble)
+    fill(path, ensemble, range(layout.n_regions))
+    store.finalize(path)
+    integrity.require_intact(path)  # an intact store passes
+    group = zarr.open_group(path, mode="r")
+    chunk = integrity.chunk_file(path, group["pga_crit"],
+                                 layout.selection(tasks.SPECTRA_DIMS, layout.region(2)))
+    _flip_bit(chunk)
+    with pytest.raises(ValueError, match=r"1 damaged chunks \[2\]; .*forcerun"):
+        integrity.require_intact(path, say=lambda s: None)
+    assert store.pending_regions(path) == []  # read-only: the done flags are kept

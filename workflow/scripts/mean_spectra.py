@@ -3,19 +3,14 @@
 import xarray as xr
 
 from rocking.study.aggregate import ensemble_statistics, write_statistics
-from rocking.study.integrity import verify_store
+from rocking.study.integrity import require_intact
 from rocking.study.logs import log_to
-from rocking.study.store import REPAIR
 
 
 def main(snakemake):
     store = snakemake.params.store
     with log_to(snakemake.log[0]):
-        # a damaged chunk is named with the remedy, never aggregated into other numbers
-        damaged = verify_store(store, say=print, repair=False)
-        if damaged:
-            raise ValueError(f"store {store!r}: {len(damaged)} damaged chunks {damaged}; "
-                             f"{REPAIR}")
+        require_intact(store, say=print)  # a damaged chunk is never aggregated into other numbers
         with xr.open_zarr(store, consolidated=True) as ds:
             stats = ensemble_statistics(ds)
         write_statistics(stats, snakemake.output.nc, snakemake.output.csv)

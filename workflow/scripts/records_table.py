@@ -3,20 +3,15 @@
 rocking.study.records.write_record_tables does the work; this script checks the store first.
 """
 
-from rocking.study.integrity import verify_store
+from rocking.study.integrity import require_intact
 from rocking.study.logs import log_to
 from rocking.study.records import write_record_tables
-from rocking.study.store import REPAIR
 
 
 def main(snakemake):
     store = snakemake.params.store
     with log_to(snakemake.log[0]):
-        # a damaged chunk is named with the remedy, never tabulated
-        damaged = verify_store(store, say=print, repair=False)
-        if damaged:
-            raise ValueError(f"store {store!r}: {len(damaged)} damaged chunks {damaged}; "
-                             f"{REPAIR}")
+        require_intact(store, say=print)  # a damaged chunk is never tabulated
         n_rows, n_fits = write_record_tables(store, snakemake.input.motions,
                                              snakemake.params.measures,
                                              snakemake.output.records,

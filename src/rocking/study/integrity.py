@@ -19,6 +19,7 @@ from .layout import Layout
 from .store import (
     CHECKSUM_CODEC,
     DONE,
+    REPAIR,
     REQUESTED_DIMS,
     every_chunk,
     open_group,
@@ -178,3 +179,18 @@ def verify_store(path: str | Path, layout: Layout | None = None,
                 every_chunk(group[DONE])[sel] = False
             damaged.append(index)
     return damaged
+
+
+def require_intact(path: str | Path, say: Callable[[str], None] | None = None) -> None:
+    """Check a finished store before its numbers are read into others (aggregates, tables).
+
+    Raises
+    ------
+    ValueError
+        Naming the store, its damaged regions and the remedy; the store is not changed
+        (opened read-only), so a damaged chunk is never tabulated.
+    """
+    damaged = verify_store(path, say=say, repair=False)
+    if damaged:
+        raise ValueError(f"store {str(path)!r}: {len(damaged)} damaged chunks {damaged}; "
+                         f"{REPAIR}")
