@@ -27,6 +27,7 @@ import numpy as np
 from ..motions.identity import identity
 from ..motions.measures import MEASURE_UNITS, intensity_measure, parse_measure
 from ..motions.motion import GroundMotion
+from .aggregate import requested_answers
 
 __all__ = ["RECORD_COLUMNS", "measure_column", "motion_measures", "record_table",
            "suite_fragility", "write_record_tables"]
@@ -94,15 +95,7 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
                            "pga_g": motion.pga_g, **motion_measures(motion, ims),
                            "processing": who["processing"]})
     info = pd.DataFrame(per_motion)
-    # one conversion of the whole store (no per-cell selection: a paper study has 10^5 rows)
-    cells = store[["pga_crit", "pga_crit_g", *_FLAGS]].reset_coords(drop=True)
-    table = cells.to_dataframe().reset_index()
-    if "requested" in store:
-        asked = store["requested"].reset_coords(drop=True).to_dataframe().reset_index()
-        table = table.merge(asked, on=["mode", "limit_state", "tan_alpha"], how="left")
-        table = table[table["requested"].astype(bool)].drop(columns=["requested"])
-    for column in ("motion", "mode", "limit_state"):
-        table[column] = table[column].astype(str)
+    table = requested_answers(store, ["pga_crit", "pga_crit_g", *_FLAGS])
     table = table.merge(info, on="motion", how="left", sort=False)
     # the store's order: motions as in the ensemble file, limit states by severity
     labels = {"motion": stored, "mode": [str(v) for v in store["mode"].values],
