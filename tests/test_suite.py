@@ -305,8 +305,10 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     import xarray as xr
     from test_workflow import snakemake
 
+    from rocking.dynamics.analysis import ground_response
     from rocking.dynamics.bodies import Cylinder
     from rocking.motions.ensemble_io import load_ensemble
+    from rocking.spectra.accuracy import get_accuracy
     from rocking.spectra.critical import critical_intensity
     from rocking.study.spec import EnsembleSpec
     from rocking.units import read_table
@@ -330,6 +332,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     store = xr.open_zarr(tmp_path / "results/three/spectra.zarr", consolidated=True)
     attrs = {k: json.loads(v) if isinstance(v, str) and v[:1] in "{[" else v
              for k, v in store.attrs.items()}
+    acc = get_accuracy(attrs["tolerances"])
     table = read_table(tmp_path / "results/three/records.csv")
     assert sorted(set(table["motion"])) == sorted(RECORDS)  # recorded motions only
     assert len(table) == 3 * 2 * 2  # records x limit states x R
@@ -347,14 +350,21 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
                 assert row.pga_g == pytest.approx(m.pga_g, rel=1e-9)
                 assert row.not_reached == bool(want.not_reached[k])
                 assert row.unresolved == bool(want.unresolved[k])
+                # exceeds_as_recorded: an independent analysis at scale 1
+                r = ground_response(Cylinder(R, 0.2), m, model="3d", scale=1.0,
+                                    history=False, rtol=acc.rtol_for("3d"),
+                                    rest_tilt=acc.rest_tilt)
+                hit = r.overturned or (ls == "tilt:1/3" and r.theta_max > math.atan(0.2) / 3)
+                assert row.exceeds_as_recorded == hit
                 if want.not_reached[k]:
-                    assert math.isnan(row.pga_crit) and row.survives_as_recorded
+                    assert math.isnan(row.pga_crit)
+                    assert row.as_recorded_disagrees == hit
                     continue
                 assert row.pga_crit == pytest.approx(want.intensity[k], rel=1e-9)
                 assert row.pga_crit_g == pytest.approx(want.pga_g[k], rel=1e-9)
                 scale = want.pga_g[k] / m.pga_g
                 assert row.scale_factor == pytest.approx(scale, rel=1e-9)
-                assert row.survives_as_recorded == (scale > 1.0)
+                assert row.as_recorded_disagrees == (hit != (scale <= 1.0))
                 assert row.pgv_crit == pytest.approx(scale * peak_vector_velocity(m),
                                                      rel=1e-9)
                 assert row["sa_0.5s_crit"] == pytest.approx(scale * vector_sa(m, 0.5),
@@ -451,7 +461,7 @@ def _motions():
     return [a, b, b8, c]
 
 
-def test_record_table_scale_factor_survival_and_requested_cells():
+def test_record_table_scale_factor_and_requested_cells():
     from rocking.study.records import record_table
 
     motions = _motions()
@@ -464,17 +474,52 @@ def test_record_table_scale_factor_survival_and_requested_cells():
     assert list(t["limit_state"]) == ["tilt:1/3", "overturning"] * 3  # store order
     row = t.iloc[0]
     assert row["scale_factor"] == pytest.approx(0.5 / a.pga_g, rel=1e-12)
-    assert row["survives_as_recorded"] == (0.5 > a.pga_g)
     assert row["pgv_crit"] == pytest.approx(0.5 / a.pga_g * peak_vector_velocity(a),
                                             rel=1e-12)
     lost = t.iloc[1]
-    assert lost["not_reached"] and lost["survives_as_recorded"]
-    assert math.isnan(lost["scale_factor"])
-    assert t.iloc[2]["survives_as_recorded"] == (0.3 > b.pga_g)
+    assert lost["not_reached"] and math.isnan(lost["scale_factor"])
+    assert t.iloc[2]["scale_factor"] == pytest.approx(0.3 / b.pga_g, rel=1e-12)
     # a limit state no run asked for is not a row
     only = record_table(_store_of(motions, np.full((2, 4), 0.5), np.zeros(8), [False, True]),
                         motions, ["pga"])
     assert set(only["limit_state"]) == {"overturning"} and len(only) == 3
+
+
+@pytest.mark.parametrize("R", [0.6, 2.0])
+def test_exceeds_as_recorded_is_an_analysis_at_scale_one(R):
+    """Every record row against its own ground_response at scale 1; the scale factors of the
+    hand-made store are chosen so that some rows disagree with it."""
+    from rocking.dynamics.analysis import ground_response
+    from rocking.dynamics.bodies import Cylinder
+    from rocking.spectra.accuracy import get_accuracy
+    from rocking.study.records import as_recorded, record_table
+
+    motions = _motions()
+    # crit PGA [g]: below and above each record's PGA (0.28-0.64 g); overturning of a lost
+    store = _store_of(motions, [[0.1, 0.9, 0.3, 0.3], [np.nan, 0.4, 2.0, 0.4]],
+                      [[False] * 4, [True, False, False, False]], [True, True])
+    table = record_table(store.assign_coords(R=[R]), motions, ["pga"])
+    acc = get_accuracy("fast")
+    t = as_recorded(table, motions, accuracy="fast")
+    assert list(t.columns[list(t.columns).index("scale_factor") + 1:][:3]) == [
+        "exceeds_as_recorded", "as_recorded_disagrees", "as_recorded_note"]
+    by_name = {m.name: m for m in motions}
+    alpha = math.atan(0.2)
+    for row in t.itertuples():
+        r = ground_response(Cylinder(R, 0.2), by_name[row.motion], model="3d", scale=1.0,
+                            history=False, rtol=acc.rtol_for("3d"), rest_tilt=acc.rest_tilt)
+        hit = bool(r.overturned or (row.limit_state == "tilt:1/3"
+                                    and r.theta_max > alpha / 3))
+        assert row.exceeds_as_recorded == hit, (row.motion, row.limit_state)
+        implied = (not row.not_reached) and row.scale_factor <= 1.0
+        assert row.as_recorded_disagrees == (hit != implied)
+        assert (row.as_recorded_note != "") == (hit != implied)
+        if hit and not implied:
+            assert row.as_recorded_note.startswith("exceeds at scale 1 although")
+        elif implied and not hit:
+            assert row.as_recorded_note.startswith("survives at scale 1 although it exceeds "
+                                                   f"at scale {row.scale_factor:.3g}")
+    assert t["as_recorded_disagrees"].sum() >= 2  # the store was made to disagree
 
 
 def test_suite_fragility_censors_at_the_bound_in_every_measure():

@@ -1,7 +1,8 @@
 # The per-record table of a study (its recorded motions: PGA as recorded and processed, PGV,
 # Sa(T), and per mode, tan α, limit state and R the critical PGA, the scale factor to exceed
-# it, whether the record survives as recorded) and the lognormal fragility over the suite in
-# each of the study's intensity measures (recorded motions; synthetic pairs separately).
+# it, whether the record exceeds it at scale 1: one analysis) and the lognormal fragility
+# over the suite in each of the study's intensity measures (recorded motions; synthetic
+# pairs separately).
 # rocking.study.records does the work.
 
 

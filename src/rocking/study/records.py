@@ -4,7 +4,10 @@ For every recorded motion of a study (``kind == "record"`` in its ensemble file)
 requested (mode, tan α, limit state, R) of its spectra store, :func:`record_table` gives what
 an engineer asks of one record: its PGA as recorded and as processed, its PGV and Sa(T), the
 critical PGA/(g tan α) and PGA [g], the factor the processed record must be scaled by to
-exceed the limit state, and whether it survives as recorded.
+exceed the limit state, and (:func:`as_recorded`) whether the processed record at scale 1
+exceeds it: one analysis per (mode, tan α, R), not an inference from the scale factor, since
+rocking is not monotonic in the intensity (a record may exceed at scale 1 although the
+search's first exceedance is above 1, or survive at 1 although it exceeds at a scale below 1).
 
 The critical intensity is searched on the scale of the record, and every intensity measure
 of a scaled record is that scale times the record's measure (:mod:`rocking.motions.measures`),
@@ -29,8 +32,8 @@ from ..motions.measures import MEASURE_UNITS, intensity_measure, parse_measure
 from ..motions.motion import GroundMotion
 from .aggregate import requested_answers
 
-__all__ = ["RECORD_COLUMNS", "measure_column", "motion_measures", "record_table",
-           "suite_fragility", "write_record_tables"]
+__all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
+           "record_table", "suite_fragility", "write_record_tables"]
 
 RECORD_COLUMNS = {
     "motion": ("", "the recorded motion (ensemble file, spectra store)"),
@@ -43,8 +46,12 @@ RECORD_COLUMNS = {
     "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): smallest exceeding intensity"),
     "pga_crit_g": ("g", "critical PGA"),
     "scale_factor": ("-", "critical PGA / processed record PGA: the factor to exceed"),
-    "survives_as_recorded": ("", "limit state not exceeded by the processed record at scale "
-                                 "1 (scale factor > 1, or not reached)"),
+    "exceeds_as_recorded": ("", "the processed record at scale 1 exceeds the limit state: "
+                                "one analysis (empty where it failed)"),
+    "as_recorded_disagrees": ("", "exceeds_as_recorded is not what the scale factor implies "
+                                  "(exceeds although the scale factor is > 1 or not reached, "
+                                  "or survives although it is <= 1)"),
+    "as_recorded_note": ("", "the disagreement or failure in words"),
     "not_reached": ("", "not exceeded up to the search bound"),
     "unresolved": ("", "the response came close to the goal below the answer"),
     "non_monotonic": ("", "exceeded at one intensity and not at a higher one"),
@@ -110,12 +117,11 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
         table[flag] = table[flag].astype(bool)
     scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
     table["scale_factor"] = scale
-    table["survives_as_recorded"] = table["not_reached"] | (scale > 1.0)
     for m in ims:
         column = measure_column(m)[0]
         table[measure_column(m, critical=True)[0]] = scale * table[column]
     head = [*_ORDER, *(measure_column(m)[0] for m in ims), "pga_crit", "pga_crit_g",
-            "scale_factor", "survives_as_recorded", *_FLAGS,
+            "scale_factor", *_FLAGS,
             *(measure_column(m, critical=True)[0] for m in ims), "processing"]
     return table[head]
 
@@ -145,6 +151,88 @@ def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]
     """
     table = _motion_table(store, motions, measures)
     return table[table["kind"].isin(list(kinds))].reset_index(drop=True)
+
+
+_AS_RECORDED = ("exceeds_as_recorded", "as_recorded_disagrees", "as_recorded_note")
+
+
+def as_recorded(table, motions: Sequence[GroundMotion], *, accuracy="default",
+                omega_n: float | None = None, zeta: float | None = None):
+    """Whether each processed record at scale 1 exceeds each limit state: one analysis.
+
+    Every (motion, mode, tan α, R) of ``table`` is analysed once at the record's own
+    intensity, PGA/(g tan α) = ``pga_g``/tan α, with the engine and tolerances of the
+    spectra (:func:`rocking.spectra.stripes.stripe_outcomes`: a failed analysis is retried
+    at a tighter tolerance), and every limit state of its rows is decided from that one
+    response.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        :func:`record_table` (any rows of it).
+    motions : sequence of GroundMotion
+        The motions of the table (by name).
+    accuracy : str, dict or Accuracy
+        The store's tolerances (its ``tolerances`` attribute).
+    omega_n, zeta : float, optional
+        Contact model of "3d-damped" [rad/s], [-] (the store's ``search_options``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``table`` with ``exceeds_as_recorded`` (nullable boolean: missing where the analysis
+        failed), ``as_recorded_disagrees`` (the answer is not the one the scale factor
+        implies: exceeding although the scale factor is > 1 or not reached, surviving
+        although it is <= 1) and ``as_recorded_note`` (that in words) after
+        ``scale_factor``.
+    """
+    import pandas as pd
+
+    from ..dynamics.bodies import Cylinder
+    from ..spectra.accuracy import get_accuracy
+    from ..spectra.limit_states import parse_limit_states
+    from ..spectra.stripes import stripe_outcomes
+
+    acc = get_accuracy(accuracy)
+    by_name = {m.name: m for m in motions}
+    exceeds = pd.Series(pd.NA, index=table.index, dtype="boolean")
+    for (name, mode, tan_alpha, R), rows in table.groupby(
+            ["motion", "mode", "tan_alpha", "R"], sort=False):
+        motion = by_name[name]
+        states = parse_limit_states(list(rows["limit_state"]), sort=False)
+        # the record's own intensity: the analysis runs at scale 1
+        at_one = np.array([motion.pga_g / float(tan_alpha)])
+        hit, failed, _ = stripe_outcomes(Cylinder(float(R), float(tan_alpha)), motion,
+                                         states, at_one, str(mode), acc,
+                                         omega_n=omega_n, zeta=zeta)
+        if not failed[0]:  # one row per limit state, in the order of ``states``
+            exceeds[rows.index] = hit[0]
+    out = table.copy()
+    implied = ~out["not_reached"] & (out["scale_factor"] <= 1.0)
+    disagrees = (exceeds.fillna(implied) != implied).astype(bool)
+    notes = [_note(e, s, nr, d) for e, s, nr, d in
+             zip(exceeds, out["scale_factor"], out["not_reached"], disagrees, strict=True)]
+    at = list(out.columns).index("scale_factor") + 1
+    for k, (column, values) in enumerate(zip(_AS_RECORDED, (exceeds, disagrees, notes),
+                                             strict=True)):
+        out.insert(at + k, column, values)
+    return out
+
+
+def _note(exceeds, scale: float, not_reached: bool, disagrees: bool) -> str:
+    """Why ``exceeds_as_recorded`` is not what the scale factor implies, in words."""
+    import pandas as pd
+
+    if pd.isna(exceeds):
+        return "the analysis at scale 1 failed"
+    if not disagrees:
+        return ""
+    if exceeds:
+        first = "it is not exceeded up to the search bound" if not_reached else \
+            f"the first exceedance found is at scale {scale:.3g}"
+        return f"exceeds at scale 1 although {first} (rocking is not monotonic in the intensity)"
+    return (f"survives at scale 1 although it exceeds at scale {scale:.3g} "
+            "(rocking is not monotonic in the intensity)")
 
 
 def suite_fragility(table, measures: Sequence[str], upper: float | None):
@@ -224,7 +312,8 @@ def _headers(columns: Sequence[str], measures: Sequence[str]) -> dict[str, str]:
 def write_record_tables(store_path: str | Path, motions_path: str | Path,
                         measures: Sequence[str], records_csv: str | Path,
                         fragility_csv: str | Path) -> tuple[int, int]:
-    """Write ``records.csv`` (the recorded motions) and ``suite_fragility.csv``.
+    """Write ``records.csv`` (the recorded motions, with :func:`as_recorded`: one analysis
+    per record and (mode, tan α, R)) and ``suite_fragility.csv``.
 
     Parameters
     ----------
@@ -247,12 +336,17 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     from ..motions.ensemble_io import load_ensemble
     from ..spectra.fragility import censoring_bound
     from ..units import CSV_FLOAT_FORMAT
+    from .store import read_attrs
 
     motions = load_ensemble(motions_path)
     with xr.open_zarr(store_path, consolidated=True) as store:
         table = record_table(store, motions, measures, kinds=("record", "synthetic"))
         upper = censoring_bound(store)
-    records = table[table["kind"] == "record"].drop(columns=["kind"])
+    attrs = read_attrs(store_path)  # the spectra's tolerances and contact model
+    contact = {k: v for k, v in attrs.get("search_options", {}).items()
+               if k in ("omega_n", "zeta")}
+    records = as_recorded(table[table["kind"] == "record"].drop(columns=["kind"]), motions,
+                          accuracy=attrs["tolerances"], **contact)
     fragility = suite_fragility(table, measures, upper)
     records.rename(columns=_headers(records.columns, measures)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
