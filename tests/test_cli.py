@@ -17,6 +17,10 @@ from rocking.cli import SUBCOMMANDS, build_parser, main
 from rocking.motions.catalogue import load_record
 from rocking.motions.ensemble_io import save_ensemble
 
+# the body: spectra and stripes have no default slenderness
+SPECTRA = ["spectra", "--tan-alpha", "0.2"]
+STRIPES = ["stripes", "--tan-alpha", "0.2"]
+
 
 def _no_nan(text):
     raise ValueError(f"non-standard JSON constant {text}")
@@ -38,8 +42,8 @@ def test_version_and_help_show_defaults_and_examples(capsys):
         assert "examples:" in text and f"rocking {name} " in text, name
         assert "(default:" in text, name
     spectra = sub.choices["spectra"].format_help()
-    assert "slenderness b/h [-] (default: 0.2)" in spectra.replace("\n", " ").replace(
-        "  ", " ")
+    flat = " ".join(spectra.split())
+    assert "slenderness b/h [-] (no default: give it, or --height and --diameter)" in flat
     assert "(default: 3d)" in spectra and "(default: 20.0)" in spectra
 
 
@@ -66,18 +70,18 @@ def files(tmp_path_factory):
     [
         (["simulate", "--R", "1", "--tan-alpha", "0.2", "--files", "nosuch.AT2", "y.AT2",
           "-o", "o"], "nosuch.AT2"),
-        (["spectra", "--R", "1", "--files", "nosuch.AT2", "y.AT2"], "nosuch.AT2"),
+        ([*SPECTRA, "--R", "1", "--files", "nosuch.AT2", "y.AT2"], "nosuch.AT2"),
         (["motions", "--files", "nosuch.AT2", "y.AT2", "-o", "m.nc"], "nosuch.AT2"),
-        (["spectra", "--R", "1", "--files", "{d}/adir", "{d}/adir"], "is a directory"),
-        (["spectra", "--R", "1", "--files", "{d}/empty.AT2", "{d}/empty.AT2"], "is empty"),
-        (["spectra", "--R", "1", "--files", "{d}/repeated.txt", "{d}/repeated.txt"],
+        ([*SPECTRA, "--R", "1", "--files", "{d}/adir", "{d}/adir"], "is a directory"),
+        ([*SPECTRA, "--R", "1", "--files", "{d}/empty.AT2", "{d}/empty.AT2"], "is empty"),
+        ([*SPECTRA, "--R", "1", "--files", "{d}/repeated.txt", "{d}/repeated.txt"],
          "time does not increase"),
-        (["spectra", "--R", "1", "--files", "{d}/bad.AT2", "{d}/bad.AT2"], "line 5"),
-        (["spectra", "--R", "1", "--record", "kobe-1995"], "kobe-1995"),
-        (["spectra", "--R", "1", "--ensemble", "{d}/nosuch.nc"], "nosuch.nc"),
-        (["spectra", "--R", "1", "--ensemble", "{d}/plain.txt"], "plain.txt"),
-        (["spectra", "--R", "1", "-o", "{d}/x.txt"], "x.txt"),
-        (["spectra", "--R", "1", "-q", "--accuracy", "fast", "--limit-states", "tilt:1",
+        ([*SPECTRA, "--R", "1", "--files", "{d}/bad.AT2", "{d}/bad.AT2"], "line 5"),
+        ([*SPECTRA, "--R", "1", "--record", "kobe-1995"], "kobe-1995"),
+        ([*SPECTRA, "--R", "1", "--ensemble", "{d}/nosuch.nc"], "nosuch.nc"),
+        ([*SPECTRA, "--R", "1", "--ensemble", "{d}/plain.txt"], "plain.txt"),
+        ([*SPECTRA, "--R", "1", "-o", "{d}/x.txt"], "x.txt"),
+        ([*SPECTRA, "--R", "1", "-q", "--accuracy", "fast", "--limit-states", "tilt:1",
           "-o", "{d}/adir/sub/x.csv/"], None),
         (["simulate", "--R", "1", "--tan-alpha", "0.2", "--theta0", "0.01", "--duration",
           "1", "-o", "{d}/bad.AT2"], "bad.AT2"),
@@ -149,7 +153,7 @@ def _short_ensemble(path: Path) -> Path:
 
 def test_spectra_csv_json_order_units_and_both_intensities(tmp_path):
     ens = _short_ensemble(tmp_path / "e.nc")
-    common = ["spectra", "--R", "1,2", "--ensemble", str(ens), "--accuracy", "fast",
+    common = [*SPECTRA, "--R", "1,2", "--ensemble", str(ens), "--accuracy", "fast",
               "--limit-states", "overturning,tilt:1/3", "-q"]
     assert main([*common, "-o", str(tmp_path / "s.csv")]) == 0
     table = pd.read_csv(tmp_path / "s.csv")
@@ -223,7 +227,7 @@ def test_unwritable_spectra_output_fails_before_any_analysis(where, tmp_path, ca
     out = {"directory": tmp_path / "out.csv",
            "read-only": "/proc/rocking-test/s.csv",  # not writable, even by root
            "under a file": tmp_path / "blocker" / "s.csv"}[where]
-    code = main(["spectra", "--R", "1", "-q", "--accuracy", "fast", "-o", str(out)])
+    code = main([*SPECTRA, "--R", "1", "-q", "--accuracy", "fast", "-o", str(out)])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1, err
     assert str(out) in err[0] or str(Path(out).parent) in err[0]
@@ -240,7 +244,7 @@ def test_full_disk_names_the_file_and_leaves_no_partial_output(tmp_path, capsys,
 
     monkeypatch.setattr(pd.DataFrame, "to_csv", full_disk)
     out = tmp_path / "s.csv"
-    code = main(["spectra", "--R", "1", "-q", "--accuracy", "fast", "--limit-states",
+    code = main([*SPECTRA, "--R", "1", "-q", "--accuracy", "fast", "--limit-states",
                  "tilt:1", "-o", str(out)])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1
@@ -266,7 +270,7 @@ def test_spectra_rejects_bad_lists_and_bounds_before_work(argv, message, capsys,
         raise AssertionError("an analysis ran")
 
     monkeypatch.setattr(critical, "critical_intensity_batch", no_analysis)
-    assert main(["spectra", "-q", *argv]) == 2
+    assert main([*SPECTRA, "-q", *argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
 
@@ -341,7 +345,7 @@ def test_ctrl_c_mid_search_is_one_line_exit_130_and_no_output(tmp_path):
     # Ctrl-C as a terminal sends it (a process started in the background may ignore SIGINT)
     code = ("import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
             "from rocking.cli import main; sys.exit(main(sys.argv[1:]))")
-    proc = subprocess.Popen([sys.executable, "-c", code, "spectra", "--R", many_R,
+    proc = subprocess.Popen([sys.executable, "-c", code, *SPECTRA, "--R", many_R,
                              "--record", "el-centro-1940", "-o", str(out)],
                             stderr=subprocess.PIPE, text=True)
     lines = []
@@ -369,7 +373,7 @@ def test_an_error_caused_by_ctrl_c_is_reported_as_the_interrupt(monkeypatch, cap
             raise SystemError("CPUDispatcher returned a result with an exception set") from exc
 
     monkeypatch.setattr(spectra, "run", run)
-    assert main(["spectra", "--R", "1"]) == 130
+    assert main([*SPECTRA, "--R", "1"]) == 130
     assert capsys.readouterr().err.startswith("rocking spectra: interrupted;")
 
 
@@ -462,7 +466,7 @@ def test_simulate_prints_the_processing_it_applied(tmp_path, capsys):
 
 def test_spectra_prints_a_labelled_table_and_json_on_request(tmp_path, capsys):
     ens = _short_ensemble(tmp_path / "e.nc")
-    common = ["spectra", "--R", "1,2", "--ensemble", str(ens), "--accuracy", "fast",
+    common = [*SPECTRA, "--R", "1,2", "--ensemble", str(ens), "--accuracy", "fast",
               "--limit-states", "overturning,tilt:1/3", "-q", "--tan-alpha", "0.15"]
     assert main([*common, "-o", str(tmp_path / "s.json")]) == 0
     text = capsys.readouterr().out
@@ -493,7 +497,7 @@ def test_spectra_prints_a_labelled_table_and_json_on_request(tmp_path, capsys):
 
 def test_stripes_json_is_the_file_s_document_with_the_processing(tmp_path, capsys):
     ens = _short_ensemble(tmp_path / "e.nc")
-    common = ["stripes", "--R", "1", "--ensemble", str(ens), "--intensities", "1.5,3",
+    common = [*STRIPES, "--R", "1", "--ensemble", str(ens), "--intensities", "1.5,3",
               "--limit-states", "overturning", "-q"]
     assert main([*common, "-o", str(tmp_path / "s.json")]) == 0
     text = capsys.readouterr().out
@@ -606,3 +610,72 @@ def test_a_file_pair_is_named_once_in_the_motion_line(tmp_path, capsys):
     line = describe_processing(motion)
     assert line.startswith("site_x+site_y (recorded)"), line
     assert line.count("site_x+site_y") == 1, line
+
+
+# --- the body as engineers give it: height and diameter -----------------------------------
+
+COLUMN = ["--height", "6", "--diameter", "0.66"]  # a marble column: tan α 0.11, R 3.018 m
+
+
+def test_simulate_takes_the_column_s_dimensions_and_a_pga_in_g(tmp_path, capsys):
+    from rocking.constants import G
+
+    code = main(["simulate", *COLUMN, "--record", "el-centro-1940", "--pga-g", "0.3",
+                 "--stop-at", "0.01", "-q", "--json", "-o", str(tmp_path / "run")])
+    assert code == 0
+    captured = capsys.readouterr()
+    doc = json.loads(captured.out, parse_constant=_no_nan)
+    # R = sqrt(b² + h²) of b = 0.33, h = 3; tan α = b/h, written out here
+    assert doc["R"] == pytest.approx(math.sqrt(0.33**2 + 3.0**2), rel=1e-12)
+    assert doc["tan_alpha"] == pytest.approx(0.11, rel=1e-12)
+    rec = load_record("el-centro-1940")
+    assert doc["pga_g"] == pytest.approx(0.3, rel=1e-12)
+    assert doc["scale"] == pytest.approx(0.3 * G / rec.pga, rel=1e-12)
+    assert captured.err.strip() == ("rocking simulate: height 6 m, diameter 0.66 m: "
+                                    "R = 3.018 m, tan α = 0.11 (α = 6.28°)")
+
+
+def test_risk_selects_the_row_of_the_body_given_by_its_dimensions(tmp_path, capsys):
+    rows = [("3d", "overturning", 0.2, 1.0, 0.4, 0.3, "ok"),
+            ("3d", "overturning", 0.2, 2.0, 0.5, 0.3, "ok"),
+            ("3d", "overturning", 0.11, 1.0, 0.3, 0.3, "ok")]
+    path = tmp_path / "fragility.csv"
+    pd.DataFrame(rows, columns=["mode", "limit_state", "tan_alpha [-]", "R [m]",
+                                "median_pga_g [g]", "beta [-]", "status"]).to_csv(path,
+                                                                                 index=False)
+    # the body of R = 2 m, tan α = 0.2: h = R/sqrt(1 + 0.04), 2b = 0.2 * 2h
+    h = 2.0 / math.sqrt(1.04)
+    argv = ["risk", "--fragility", str(path), "--hazard", "1e-4,2.5", "--json",
+            "--height", repr(2 * h), "--diameter", repr(0.4 * h)]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out, parse_constant=_no_nan)
+    assert [(r["tan_alpha"], r["R"]) for r in doc["rows"]] == [(0.2, 2.0)]
+    assert main(["risk", "--fragility", str(path), "--hazard", "1e-4,2.5", *COLUMN]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "is not a body of the table" in err[1]  # the body, then why
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["spectra", "--R", "1"], "give the body's slenderness: --tan-alpha, or --height "
+                                  "and --diameter (there is no default)"),
+        (["stripes", "--R", "1"], "give the body's slenderness"),
+        (["spectra", "--tan-alpha", "0.2"], "give the body's size: --R, or --height"),
+        (["simulate", "--height", "-6", "--diameter", "0.66", "-o", "o"],
+         "--height must be a finite length > 0 [m], got -6.0"),
+        (["spectra", "--height", "6"], "--height and --diameter go together"),
+        (["simulate", *COLUMN, "--tan-alpha", "0.2", "-o", "o"],
+         "--tan-alpha 0.2 contradicts --height 6 and --diameter 0.66 (--tan-alpha = 0.11)"),
+        (["spectra", *COLUMN, "--R", "2"], "--R 2.0 contradicts --height 6"),
+        (["simulate", "--R", "1", "--tan-alpha", "0.2", "--record", "el-centro-1940",
+          "--pga-g", "-0.3", "-o", "o"], "--pga-g must be a finite number > 0, got -0.3"),
+    ],
+)
+def test_bad_bodies_are_one_line_before_any_work(argv, message, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"rocking {argv[0]}: error: "), err
+    assert message in err[0]
+    assert not (tmp_path / "o").exists()

@@ -36,8 +36,9 @@ def test_shipped_configurations_pass():
         (lambda c: c["studies"]["elcentro"]["runs"][0].update(modes=["3d", "4d"]),
          "config key studies.elcentro.runs[0].modes[1]='4d': must be one of"),
         (lambda c: c["studies"]["elcentro"].update(modes=["3d"]),
-         "unknown config key 'modes' in studies.elcentro; allowed: R, chunk_R, ensemble, "
-         "hazard, intensity_measures, reproduces, runs, stripes, tilt_map, upper"),
+         "unknown config key 'modes' in studies.elcentro; allowed: R, chunk_R, diameter, "
+         "ensemble, hazard, height, intensity_measures, reproduces, runs, stripes, "
+         "tilt_map, upper"),
         (lambda c: c.update(accuracy="fastest"), "config key accuracy='fastest'"),
     ],
 )
@@ -162,3 +163,66 @@ def test_user_record_needs_mw_and_passes_with_it():
         check_config(cfg)
     cfg["ensembles"]["elcentro"]["mw"] = 6.9
     check_config(cfg)
+
+
+# --- the body as engineers give it: height and diameter ----------------------------------
+
+def _column(**study):
+    """A study of one marble column (height 6 m, diameter 0.66 m) with stripes."""
+    return {"ensembles": {"e": {"record": "el-centro-1940", "n_synthetic": 0}},
+            "studies": {"col": {"ensemble": "e", "height": 6.0, "diameter": 0.66,
+                                "runs": [{"modes": ["3d"], "limit_states": ["overturning"]}],
+                                "stripes": {"height": 6.0, "diameter": 0.66,
+                                            "intensity": [1.5, 3.0]}, **study}}}
+
+
+def test_height_and_diameter_become_R_and_tan_alpha_printed(capsys):
+    from snakemake.utils import validate
+
+    from rocking.study.config_checks import validate_config
+    from rocking.study.spec import StudySpec
+
+    R = (0.33**2 + 3.0**2) ** 0.5  # sqrt(b² + h²), written out
+    cfg = _column()
+    validate_config(cfg, REPO / "workflow/schemas/config.schema.yaml", validate)
+    s = cfg["studies"]["col"]
+    assert "height" not in s and s["R"] == [pytest.approx(R, rel=1e-12)]
+    assert s["runs"][0]["tan_alpha"] == [pytest.approx(0.11, rel=1e-12)]
+    assert s["stripes"]["tan_alpha"] == pytest.approx(0.11, rel=1e-12)  # not the 0.2 default
+    assert capsys.readouterr().err.splitlines() == [
+        "studies.col: height 6 m, diameter 0.66 m: R = 3.018 m, tan α = 0.11 (α = 6.28°)",
+        "studies.col.stripes: height 6 m, diameter 0.66 m: R = 3.018 m, tan α = 0.11 "
+        "(α = 6.28°)"]
+    # the typed study of the raw configuration is the same study, and R and tan alpha given
+    # beside the dimensions that agree change nothing
+    spec = StudySpec.from_config(_column(), "col")
+    assert spec == StudySpec.from_config(cfg, "col")
+    agreeing = _column(R=[R])
+    agreeing["studies"]["col"]["runs"][0]["tan_alpha"] = [0.11]
+    assert StudySpec.from_config(agreeing, "col") == spec
+
+
+@pytest.mark.parametrize(
+    ("study", "message"),
+    [
+        ({"height": -6.0}, "studies.col.height must be a finite length > 0 [m], got -6.0"),
+        ({"diameter": "big"}, "studies.col.diameter must be a finite length > 0 [m], got 'big'"),
+        ({"R": [2.0]}, "studies.col.R 2.0 contradicts studies.col.height 6 and "
+                       "studies.col.diameter 0.66 (studies.col.R = 3.0181)"),
+        ({"runs": [{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["overturning"]}]},
+         "studies.col.runs[0].tan_alpha 0.2 contradicts the study's height and diameter "
+         "(tan_alpha = 0.11)"),
+        ({"stripes": {"height": 6.0, "intensity": [2.0]}},
+         "studies.col.stripes.height and studies.col.stripes.diameter go together"),
+        ({"stripes": {"height": 6.0, "diameter": 0.66, "tan_alpha": 0.2, "intensity": [2.0]}},
+         "studies.col.stripes.tan_alpha 0.2 contradicts"),
+    ],
+)
+def test_bad_dimensions_are_one_line(study, message):
+    from snakemake.utils import validate
+
+    from rocking.study.config_checks import validate_config
+
+    with pytest.raises(ValueError) as err:
+        validate_config(_column(**study), REPO / "workflow/schemas/config.schema.yaml", validate)
+    assert str(err.value).startswith(message) and "\n" not in str(err.value)

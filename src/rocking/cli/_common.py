@@ -56,15 +56,51 @@ def floats(text: str) -> list[float]:
 
 
 def add_cylinders(p: argparse.ArgumentParser) -> None:
-    """``--R``, ``--tan-alpha`` and ``--mode``: the cylinders and the model of a command that
-    runs many sizes (``spectra``, ``stripes``)."""
+    """``--R``, ``--tan-alpha`` (or ``--height``/``--diameter``) and ``--mode``: the cylinders
+    and the model of a command that runs many sizes (``spectra``, ``stripes``)."""
     from ..spectra.modes import MODES
 
-    p.add_argument("--R", dest="R", type=floats, action="extend", required=True,
-                   help="cylinder semi-diagonals [m], comma-separated or repeated")
-    p.add_argument("--tan-alpha", type=float, default=0.2, help="slenderness b/h [-]")
+    p.add_argument("--R", dest="R", type=floats, action="extend", default=None,
+                   help="cylinder semi-diagonals [m], comma-separated or repeated (or "
+                   "--height and --diameter)")
+    p.add_argument("--tan-alpha", type=float, default=None,
+                   help="slenderness b/h [-] (no default: give it, or --height and --diameter)")
+    add_dimensions(p)
     p.add_argument("--mode", choices=list(MODES), default="3d",
                    help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
+
+
+def add_dimensions(p: argparse.ArgumentParser) -> None:
+    """``--height``/``--diameter``: the body as measured, instead of R and tan α."""
+    p.add_argument("--height", type=float, default=None, metavar="M",
+                   help="the body's height 2h [m], with --diameter: R and tan alpha derived "
+                   "(and printed)")
+    p.add_argument("--diameter", type=float, default=None, metavar="M",
+                   help="the body's diameter 2b [m] (a block's width), with --height")
+
+
+def resolve_body(args: argparse.Namespace, command: str, *, many: bool) -> None:
+    """Set ``args.R`` and ``args.tan_alpha`` from ``--height``/``--diameter`` (printing the
+    derived body on stderr), or check that both were given: one line naming the options
+    before any work (:func:`rocking.study.dimensions.body_size`)."""
+    import sys
+
+    from ..study.dimensions import body_line, body_size
+
+    R = args.R if args.R is None or many else [args.R]
+    size = body_size(args.height, args.diameter, R=R, tan_alpha=args.tan_alpha,
+                     names=("--height", "--diameter", "--R", "--tan-alpha"))
+    if size is not None:
+        args.R = [size[0]] if many else size[0]
+        args.tan_alpha = size[1]
+        print(f"rocking {command}: {body_line(args.height, args.diameter, *size)}",
+              file=sys.stderr)
+        return
+    if args.tan_alpha is None:
+        raise ValueError("give the body's slenderness: --tan-alpha, or --height and "
+                         "--diameter (there is no default)")
+    if args.R is None:
+        raise ValueError("give the body's size: --R, or --height and --diameter")
 
 
 def rotation(text: str) -> float | str | None:

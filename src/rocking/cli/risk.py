@@ -49,6 +49,7 @@ def add_parser(subparsers) -> None:
                    help="study PGA / hazard PGA (e.g. RotD100/RotD50)")
     p.add_argument("--mode", default=None, help="only this mode (3d, 3d-damped, 2d-x, 2d-y)")
     p.add_argument("--tan-alpha", type=float, default=None, help="only this slenderness")
+    _common.add_dimensions(p)  # only the row of this body (its R and tan alpha)
     p.add_argument("--limit-states", default=None,
                    help="only these, comma-separated (e.g. overturning,tilt:1/3)")
     p.add_argument("-o", "--out", type=Path, default=None,
@@ -87,6 +88,7 @@ def _select(frag, args):
         rows = rows[(rows["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
         if rows.empty:
             raise ValueError(f"--tan-alpha {args.tan_alpha:g} is not in the table")
+    rows = _body_rows(rows, args)
     if args.limit_states is not None:
         names = [ls.name for ls in parse_limit_states(args.limit_states, sort=False)]
         rows = rows[rows["limit_state"].isin(names)]
@@ -94,6 +96,32 @@ def _select(frag, args):
             raise ValueError(f"--limit-states {args.limit_states!r}: none in the table")
     return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed,
                        frag.kind)
+
+
+def _body_rows(rows, args):
+    """The rows of the body of ``--height``/``--diameter`` (its R and tan α, printed on
+    stderr), or a line saying which bodies the table has."""
+    import sys
+
+    from ..study.dimensions import AGREE_RTOL, body_line, body_size
+
+    size = body_size(args.height, args.diameter, tan_alpha=args.tan_alpha,
+                     names=("--height", "--diameter", "--R", "--tan-alpha"))
+    if size is None:
+        return rows
+    R, tan_alpha = size
+    print(f"rocking risk: {body_line(args.height, args.diameter, R, tan_alpha)}",
+          file=sys.stderr)
+    mine = ((rows["R"] - R).abs() <= AGREE_RTOL * R) \
+        & ((rows["tan_alpha"] - tan_alpha).abs() <= AGREE_RTOL * tan_alpha)
+    if not mine.any():
+        sizes = sorted({float(r) for r in rows["R"]})
+        shown = ", ".join(f"{r:g}" for r in sizes[:6]) + (", ..." if len(sizes) > 6 else "")
+        raise ValueError(f"--height {args.height:g} --diameter {args.diameter:g} (R = {R:.6g} "
+                         f"m, tan alpha = {tan_alpha:.6g}) is not a body of the table (tan "
+                         f"alpha {sorted({float(t) for t in rows['tan_alpha']})}, R {shown}); "
+                         f"run the study with studies.<name>.height and diameter")
+    return rows[mine]
 
 
 def run(args) -> int:

@@ -22,6 +22,7 @@ from . import _common, _human
 EXAMPLES = """\
   rocking simulate --R 6 --tan-alpha 0.2 --theta0 0.1 --phi-dot0 1e-8 --duration 20 -o run
   rocking simulate --R 6 --tan-alpha 0.2 --record el-centro-1940 --pga-ratio 2 -o run
+  rocking simulate --height 6 --diameter 0.66 --record el-centro-1940 --pga-g 0.5 -o run
   rocking simulate --R 1 --tan-alpha 0.25 --files x.AT2 y.AT2 --scale 1.5 --mode 2d-x \\
       --body block -o run
   rocking simulate --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc \\
@@ -43,8 +44,11 @@ def add_parser(subparsers) -> None:
         description="Run one analysis of a cylinder (3D or 2D) or a block (2D): free "
         "vibration from --theta0, or the response to a ground motion; write history.csv "
         "and summary.json to --out.")
-    p.add_argument("--R", type=float, required=True, help="semi-diagonal [m]")
-    p.add_argument("--tan-alpha", type=float, required=True, help="slenderness b/h [-]")
+    p.add_argument("--R", type=float, default=None,
+                   help="semi-diagonal [m] (or --height and --diameter)")
+    p.add_argument("--tan-alpha", type=float, default=None,
+                   help="slenderness b/h [-] (or --height and --diameter)")
+    _common.add_dimensions(p)
     p.add_argument("--body", choices=("cylinder", "block"), default="cylinder",
                    help="rigid body (a block only in the 2D modes)")
     p.add_argument("--mode", choices=list(MODES), default="3d",
@@ -68,6 +72,8 @@ def add_parser(subparsers) -> None:
     amp.add_argument("--scale", type=float, default=None, help="factor on the motion [-]")
     amp.add_argument("--pga-ratio", type=float, default=None,
                      help="scale so that the pair's vector PGA/(g tan alpha) equals this [-]")
+    amp.add_argument("--pga-g", type=float, default=None,
+                     help="scale so that the pair's vector PGA equals this [g]")
     p.add_argument("-o", "--out", type=Path, required=True, help="output folder")
     _human.add_json(p, "the summary (summary.json, on one line)")
     _common.add_quiet(p)
@@ -84,6 +90,8 @@ def _ground(args, body, model: str, component: str | None, motion, common: dict)
     scale = args.scale if args.scale is not None else 1.0
     if args.pga_ratio is not None:
         scale = args.pga_ratio * G * body.tan_alpha / motion.pga
+    if args.pga_g is not None:
+        scale = args.pga_g / motion.pga_g
     res = ground_response(body, excitation, scale=scale, stop_at=args.stop_at, model=model,
                           **common)
     who = identity(motion)
@@ -103,6 +111,11 @@ def run(args: argparse.Namespace) -> int:
     from ..dynamics.bodies import Block, Cylinder
     from ..units import QUANTITIES, header
 
+    _common.resolve_body(args, "simulate", many=False)
+    for option, value in (("--scale", args.scale), ("--pga-ratio", args.pga_ratio),
+                          ("--pga-g", args.pga_g)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{option} must be a finite number > 0, got {value!r}")
     model, component = MODES[args.mode]
     if args.body == "block" and model != "2d":
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "

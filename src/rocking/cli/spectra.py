@@ -17,11 +17,12 @@ from ..spectra.accuracy import PRESETS
 from . import _common, _human
 
 EXAMPLES = """\
-  rocking spectra --R 0.5,1,2,5,10 --record el-centro-1940 --mode 3d -o spectrum.csv
-  rocking spectra --R 6 --ensemble results/motions/elcentro.nc --motion el-centro-1940 \\
-      --mode 3d --limit-states overturning,tilt:1/3 --accuracy default
-  rocking spectra --R 2 --files RSN801_LOMAP_SJTE315.AT2 RSN801_LOMAP_SJTE225.AT2 \\
-      --rotation auto --highpass oscillator --mw 6.93 -o sjte.json"""
+  rocking spectra --R 0.5,1,2,5,10 --tan-alpha 0.2 --record el-centro-1940 -o spectrum.csv
+  rocking spectra --height 6 --diameter 0.66 --record loma-prieta-corralitos
+  rocking spectra --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc \\
+      --motion el-centro-1940 --mode 3d --limit-states overturning,tilt:1/3 --accuracy default
+  rocking spectra --R 2 --tan-alpha 0.2 --files RSN801_LOMAP_SJTE315.AT2 \\
+      RSN801_LOMAP_SJTE225.AT2 --rotation auto --highpass oscillator --mw 6.93 -o sjte.json"""
 
 UPPER_DEFAULT = 20.0
 """Highest PGA/(g tan α) searched by default (:data:`rocking.spectra.search.DEFAULT_UPPER`,
@@ -149,6 +150,7 @@ def run(args) -> int:
     from ..spectra.limit_states import parse_limit_states
     from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
+    _common.resolve_body(args, "spectra", many=True)
     _check_numbers(args)
     out = args.out
     if out is not None:

@@ -16,10 +16,10 @@ from ..spectra.accuracy import PRESETS
 from . import _common, _human
 
 EXAMPLES = """\
-  rocking stripes --R 6 --ensemble results/motions/elcentro.nc --mode 3d \\
+  rocking stripes --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --mode 3d \\
       --limit-states overturning,tilt:1/3 -o stripes.csv
-  rocking stripes --R 2,6 --ensemble results/motions/elcentro.nc --stripes 20 --upper 10
-  rocking stripes --R 6 --record el-centro-1940 --intensities 1.5,2,3,4,6"""
+  rocking stripes --R 2,6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --stripes 20
+  rocking stripes --height 6 --diameter 0.66 --record el-centro-1940 --intensities 1.5,2,3,4"""
 
 DEFAULT_STRIPES = 40
 """Default number of stripes (:data:`rocking.spectra.stripes.DEFAULT_STRIPES`, checked equal
@@ -157,6 +157,7 @@ def run(args) -> int:
     from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
     out = args.out
+    _common.resolve_body(args, "stripes", many=True)
     if out is not None:
         _common.check_output(out, (".csv", ".json"))
     states = parse_limit_states(args.limit_states, sort=False)

@@ -17,6 +17,7 @@ boolean or null it spells wherever the schema wants one.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -106,9 +107,17 @@ def validate_config(config: dict[str, Any], schema_path: str | Path,
     """
     import yaml
 
+    from .dimensions import resolve_dimensions
+
     schema = yaml.safe_load(Path(schema_path).read_text())
     coerce_strings(config, schema)
     _check_finite(config)
+    # height/diameter -> R, tan_alpha (in place: the workflow holds this dict), then the
+    # schema sees what it always saw; the derived body is printed
+    resolved = resolve_dimensions(config, say=lambda line: print(line, file=sys.stderr))
+    if resolved is not config:
+        config.clear()
+        config.update(resolved)
     message = schema_error(config, schema)
     if message is not None:
         raise ValueError(message)
@@ -129,7 +138,10 @@ def check_config(config: Mapping[str, Any]) -> None:
         ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
     """
     _check_finite(config)
+    from .dimensions import resolve_dimensions
     from .spec import EnsembleSpec
+
+    config = resolve_dimensions(config)
 
     max_duration = (config.get("motions") or {}).get("max_duration")
     n_motions = {}

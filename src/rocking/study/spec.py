@@ -738,6 +738,9 @@ class StudySpec(_Hashed):
         ValueError
             Naming the key and the value of the first bad setting.
         """
+        from .dimensions import resolve_dimensions
+
+        config = resolve_dimensions(config)  # height/diameter -> R, tan_alpha
         studies = config.get("studies") or {}
         if name not in studies:
             raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
