@@ -33,8 +33,9 @@ SUBCOMMANDS: dict[str, str] = {
 EPILOG = """examples:
   rocking simulate --R 6 --tan-alpha 0.2 --record el-centro-1940 --pga-ratio 2 -o run
   rocking motions --record el-centro-1940 -n 10 -o results/motions/elcentro.nc
-  rocking spectra --R 1,2,6 --record el-centro-1940 --mode 3d -o spectrum.csv
-  rocking stripes --R 6 --ensemble results/motions/elcentro.nc --stripes 40
+  rocking spectra --R 1,2,6 --tan-alpha 0.2 --record el-centro-1940 -o spectrum.csv
+  rocking spectra --height 6 --diameter 0.66 --record el-centro-1940
+  rocking stripes --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --stripes 40
   rocking risk --fragility results/elcentro/stripe_fragility.csv --hazard 1e-4,2.5 --json
 
 Commands print labelled text with units (and the motion's processing); --json prints JSON
