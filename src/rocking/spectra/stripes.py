@@ -57,6 +57,7 @@ from .limit_states import LimitState, parse_limit_states
 from .modes import MODES, check_mode
 
 __all__ = ["BOOTSTRAP_SEED", "DEFAULT_BOOTSTRAP", "DEFAULT_REFINE", "DEFAULT_STRIPES",
+           "MEASURE_COLUMNS",
            "STRIPE_RANGE", "StripeFit", "StripeFragility", "bootstrap_interval",
            "bootstrap_stripes", "bracket",
            "fit_stripes", "measure_ratio", "measure_scale", "refine_stripes",
@@ -91,6 +92,9 @@ DEFAULT_BOOTSTRAP = 1000
 
 BOOTSTRAP_SEED = 2017
 """Seed of the resampling (the same resamples for every row of the same motions)."""
+
+MEASURE_COLUMNS = ("median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi")
+"""Table columns in the unit of the stripes' measure (g for pga and sa:T, m/s for pgv)."""
 
 BOOTSTRAP_LEVEL = 0.90
 """Level of the bootstrap interval of θ (``median_p05``, ``median_p95``)."""

@@ -26,7 +26,7 @@ import xarray as xr
 
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
-from ..spectra.stripes import measure_scale
+from ..spectra.stripes import MEASURE_COLUMNS, measure_scale
 from . import store, tasks
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .prepare import ready_store
@@ -362,8 +362,6 @@ measure's unit (:data:`MEASURE_COLUMNS`); ``median_pga_g`` [g] only for the meas
 ``stripes`` counts the stripes as asked, ``n_refined`` those added; ``boot_defined`` is the
 share of resamples with a median."""
 
-MEASURE_COLUMNS = ("median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi")
-"""Columns in the unit of the table's measure (g for pga and sa:T, m/s for pgv)."""
 
 
 def table_headers(table: pd.DataFrame) -> dict[str, str]:
