@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 from scipy import signal
+from test_stripes import independent_mle
 
 import rocking
 from rocking.dynamics.analysis import ground_response
@@ -25,7 +26,6 @@ from rocking.spectra.stripes import (
     stripe_fragility,
     stripe_intensities,
 )
-from test_stripes import independent_mle
 
 # --------------------------------------------------------------------------------------
 # A threshold model: motion m exceeds at every intensity >= its capacity c_m (no dynamics)
