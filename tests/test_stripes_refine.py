@@ -69,6 +69,12 @@ def test_bracket_and_refinement_point():
     # a defined fit is not separated, and the step at the first stripe cannot be bisected
     assert fit_stripes(x, [0, 2, 3, 5], n).status == "ok"
     assert refinement_point(x, [0, 5, 5, 5], n) == pytest.approx(math.sqrt(2.0))
+    # mixed at the first (last) stripe, all (none) beyond: the step is sought beyond it, as
+    # far from it in ln I as the next bracketing stripe
+    assert fit_stripes(x, [3, 5, 5, 5], n).status == "separated"
+    assert bracket(x, [3, 5, 5, 5], n) == (0.0, 2.0)
+    assert refinement_point(x, [3, 5, 5, 5], n) == pytest.approx(0.5)
+    assert refinement_point(x, [0, 0, 0, 2], n) == pytest.approx(16.0)
 
 
 def test_refined_stripes_match_a_dense_stripe_reference():

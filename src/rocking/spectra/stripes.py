@@ -386,21 +386,33 @@ def refinement_point(intensities, n_exceeding, n_total) -> float | None:
     """The next stripe of a separated fit: the middle in ln I of the gap that holds the step.
 
     Between the highest stripe with none and the lowest with all exceeding lies at most one
-    stripe with some exceeding (else the fit would be defined): the new stripe halves the gap
-    without it, or the larger of the two gaps beside it (the lower on a tie). None where no
-    such gap exists (the step is at the end of the stripes) or the gap is at the resolution
-    of floating point.
+    stripe c with some exceeding (else the fit would be defined): the new stripe halves the
+    gap without it, or the larger of the two gaps beside it (the lower on a tie). Where c is
+    the first stripe (no stripe below it with none exceeding), the new one lies as far below
+    c in ln I as the first stripe with all exceeding lies above it, and likewise above a
+    last stripe c: the step is then looked for beyond the stripes. None where there is no
+    stripe with some exceeding and no gap (every motion steps between the same two stripes
+    is bisected; none or all exceeding everywhere is not) or the gap is at the resolution of
+    floating point.
     """
     x, k, n = _check_counts(intensities, n_exceeding, n_total)
     lo, hi = bracket(x, k, n)
-    if not (0.0 < lo < hi < math.inf):
-        return None
     inner = x[(n > 0) & (x > lo) & (x < hi)]
-    if inner.size == 0:
-        new = math.sqrt(lo * hi)
-    else:
+    if 0.0 < lo < hi < math.inf:
+        if inner.size == 0:
+            new = math.sqrt(lo * hi)
+        else:
+            c = float(inner[0])
+            new = (math.sqrt(lo * c) if math.log(c / lo) >= math.log(hi / c)
+                   else math.sqrt(c * hi))
+    elif lo == 0.0 and hi < math.inf and inner.size:  # mixed at the first stripe: below it
         c = float(inner[0])
-        new = math.sqrt(lo * c) if math.log(c / lo) >= math.log(hi / c) else math.sqrt(c * hi)
+        new, lo = c * c / hi, 0.0
+    elif hi == math.inf and lo > 0.0 and inner.size:  # mixed at the last stripe: above it
+        c = float(inner[-1])
+        new, hi = c * c / lo, math.inf
+    else:
+        return None
     return None if new in x or not lo < new < hi else float(new)
 
 
