@@ -149,9 +149,13 @@ def test_refinement_resumes_after_a_kill_and_gives_the_same_bytes(filled, tmp_pa
     cache = st.refine_cache_path(path)
     lines = cache.read_text().splitlines()
     refined = table[table["n_refined"] > 0]
-    assert len(refined) >= 1 and len(lines) == 3 * refined["n_refined"].sum()
-    # a refined row is what the library gives at the union of the stripes, directly
     rows = st.stripe_rows(xr.open_zarr(path, consolidated=True), refine=4, cache=cache)
+    # one line per motion and stripe added to a (mode, R), shared by its limit states
+    added = {(m, R, x) for (m, _, R), r in rows.items()
+             for x in set(r.intensities) - set(SPEC.intensity)}
+    assert len(refined) >= 1 and len(lines) == 3 * len(added)
+    assert sum(r.n_refined for r in rows.values()) == refined["n_refined"].sum()
+    # a refined row is what the library gives at the union of the stripes, directly
     motions = standin.motions(3, npts=300)
     for row in refined.itertuples():
         r = rows[(row.mode, row.limit_state, row.R)]
