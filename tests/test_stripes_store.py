@@ -266,6 +266,18 @@ def test_stripes_in_sa(tmp_path):
     assert (table["measure"] == "sa:1.0").all() and table["median_pga_g"].isna().all()
     assert table["first_median"].isna().all()
     np.testing.assert_allclose(ds["im"].values, [0.3, 0.6, 1.2])
+    # the report's section names the measure and gives each row its answer or its bracket
+    from rocking.study.report import stripes_section
+
+    csv = tmp_path / "s.csv"
+    table = st.write_stripe_fragility(path, csv, tmp_path / "s.nc", motions=ens, refine=0,
+                                      resamples=10)
+    html = "\n".join(stripes_section(csv))
+    assert "stripes are in sa:1.0" in html and "stripe median [sa:1.0, g]" in html
+    for r in table.itertuples():
+        assert (f"{r.median_im:.3g} (" if np.isfinite(r.median_im)
+                else f"between {r.bracket_lo:.3g} and" if np.isfinite(r.bracket_lo)
+                else "—") in html
     bad = {**config["studies"]["t"], "intensity_measures": ["pga", "pgv"]}
     with pytest.raises(ValueError, match="stripes.measure='sa:1.0' is not one of"):
         StudySpec.from_config({**config, "studies": {"t": bad}}, "t")
