@@ -281,3 +281,13 @@ def test_stripes_in_sa(tmp_path):
     bad = {**config["studies"]["t"], "intensity_measures": ["pga", "pgv"]}
     with pytest.raises(ValueError, match="stripes.measure='sa:1.0' is not one of"):
         StudySpec.from_config({**config, "studies": {"t": bad}}, "t")
+    for key, value in (("refine", -1), ("bootstrap", 2.5), ("refine", True)):
+        bad = {**config["studies"]["t"],
+               "stripes": {**config["studies"]["t"]["stripes"], key: value}}
+        with pytest.raises(ValueError, match=f"studies.t.stripes.{key} must be an integer"):
+            StudySpec.from_config({**config, "studies": {"t": bad}}, "t")
+    # refine and bootstrap decide no store: the hash stays
+    more = {**config["studies"]["t"],
+            "stripes": {**config["studies"]["t"]["stripes"], "refine": 3, "bootstrap": 0}}
+    other = StudySpec.from_config({**config, "studies": {"t": more}}, "t").stripes
+    assert other.digest == spec.digest and (other.refine, other.bootstrap) == (3, 0)
