@@ -234,6 +234,7 @@ def test_cli_default_matches_library():
     from rocking.spectra import stripes as lib
 
     assert cli.DEFAULT_STRIPES == lib.DEFAULT_STRIPES
+    assert cli.DEFAULT_REFINE == lib.DEFAULT_REFINE
     assert (1.0, 20.0) == lib.STRIPE_RANGE
 
 
@@ -243,7 +244,7 @@ def test_cli_stripes_csv_and_strict_json(tmp_path):
     from rocking.cli import main
 
     args = ["stripes", "--R", "2", "--record", "el-centro-1940", "--intensities", "1.5,2.5",
-            "--limit-states", "overturning", "-q"]
+            "--limit-states", "overturning", "--refine", "0", "-q"]
     assert main([*args, "-o", str(tmp_path / "s.csv")]) == 0
     import pandas as pd
 
@@ -258,3 +259,31 @@ def test_cli_stripes_csv_and_strict_json(tmp_path):
     doc = json.loads((tmp_path / "s.json").read_text(), parse_constant=no_nan)
     assert doc["intensities"] == [1.5, 2.5] and doc["units"]["median"] == "g tan(alpha)"
     assert doc["fits"][0]["status"] != "ok" and doc["fits"][0]["median"] is None
+
+
+def test_cli_stripes_in_sa_refined_and_bootstrapped(tmp_path, capsys):
+    """--measure sa:1.0: the stripes in Sa(1 s) as the library gives them; --refine adds
+    stripes to a separated fit (one motion: it stays separated, with its bracket in g);
+    --bootstrap fills the interval columns."""
+    import json
+
+    from rocking.cli import main
+    from rocking.spectra.stripes import refine_stripes, stripe_analyzer
+
+    args = ["stripes", "--R", "2", "--tan-alpha", "0.15", "--record", "el-centro-1940",
+            "--intensities", "2,4,8", "--limit-states", "overturning", "--measure", "sa:1.0",
+            "--refine", "2", "--bootstrap", "20", "-q", "-o", str(tmp_path / "s.json")]
+    assert main(args) == 0
+    assert "median sa:1.0 [g]" in capsys.readouterr().out
+    doc = json.loads((tmp_path / "s.json").read_text())
+    assert doc["measure"] == "sa:1.0" and doc["units"]["median_im"] == "g"
+    motion = rocking.load_motion("el-centro-1940")
+    cyl = rocking.Cylinder(2.0, 0.15)
+    base = stripe_fragility(cyl, motion, "overturning", intensities=[2, 4, 8], measure="sa:1.0")
+    want = refine_stripes(base, "overturning",
+                          stripe_analyzer(cyl, [motion], ["overturning"], measure="sa:1.0"), 2)
+    (fit,) = doc["fits"]
+    assert fit["status"] == want.status["overturning"] and fit["n_refined"] == want.n_refined
+    assert [s["intensity"] for s in doc["stripes"]] == want.intensities.tolist()
+    if fit["status"] == "separated":
+        assert 0 < fit["bracket_lo"] < fit["bracket_hi"]

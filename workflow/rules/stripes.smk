@@ -2,7 +2,7 @@
 # stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (prepared and
 # resumed like the spectra store, spectra.smk; the output is the completion marker), then
 # fitted and set beside the first-exceedance fragility: stripe_fragility.csv and one figure
-# per mode.
+# per mode. The stripes are in the study's `stripes.measure` (PGA by default).
 
 
 rule stripes:
@@ -23,16 +23,23 @@ rule stripes:
         "../scripts/compute_stripes.py"
 
 
+# Separated fits are refined here, in-process (a few stripes: their analyses are kept in
+# stripes-<digest>.refined.jsonl beside the store, so a killed job resumes), and every row is
+# bootstrapped over the motions (stripe_fragility_bootstrap.nc).
 rule stripe_fragility:
     input:
         complete=rules.stripes.output.done,
         fragility=rules.fragility_curves.output.fragility_nc,
+        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
         csv=report(out_path("{study}/stripe_fragility.csv"),
                    caption="../report/stripe_fragility.rst", category="Beyond the paper",
                    labels={"study": "{study}", "table": "stripe fragility"}),
+        samples=out_path("{study}/stripe_fragility_bootstrap.nc"),
     params:
         store=lambda wildcards: stripes_store(wildcards.study),
+        refine=lambda wildcards: study_spec(wildcards.study).stripes.refine,
+        bootstrap=lambda wildcards: study_spec(wildcards.study).stripes.bootstrap,
     conda:
         "../envs/rocking.yaml"
     log:

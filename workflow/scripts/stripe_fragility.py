@@ -1,20 +1,18 @@
 """Stripe fragility table (Snakemake script): the binomial lognormal fit of every (mode, limit
-state, R) of the stripes store beside the first-exceedance fit of the spectra."""
-
-import xarray as xr
+state, R) of the stripes store, refined where separated and bootstrapped over the motions,
+beside the first-exceedance fit of the spectra; and the bootstrap samples."""
 
 from rocking.study.logs import log_to
-from rocking.study.stripes import stripe_table
-from rocking.units import header
+from rocking.study.stripes import write_stripe_fragility
 
 
 def main(snakemake):
+    p = snakemake.params
     with log_to(snakemake.log[0]):
-        with xr.open_dataset(snakemake.input.fragility) as f:
-            first = f.load()
-        table = stripe_table(xr.open_zarr(snakemake.params.store, consolidated=True), first)
-        table.rename(columns=header).to_csv(snakemake.output.csv, index=False,
-                                            float_format="%.10g")
+        write_stripe_fragility(p.store, snakemake.output.csv, snakemake.output.samples,
+                               fragility=snakemake.input.fragility,
+                               motions=snakemake.input.motions, refine=int(p.refine),
+                               resamples=int(p.bootstrap), study=snakemake.wildcards.study)
 
 
 if __name__ == "__main__":

@@ -25,9 +25,14 @@ DEFAULT_STRIPES = 40
 """Default number of stripes (:data:`rocking.spectra.stripes.DEFAULT_STRIPES`, checked equal
 in the tests; the library is not imported to print the help)."""
 
+DEFAULT_REFINE = 8
+"""Default refinement budget (:data:`rocking.spectra.stripes.DEFAULT_REFINE`, likewise)."""
+
 SUMMARY = ("R", "limit_state", "median", "median_lo", "median_hi", "median_pga_g", "beta",
-           "beta_lo", "beta_hi", "status", "reason")
-STRIPES = ("R", "limit_state", "intensity", "pga_g", "n_exceeding", "n_motions", "fraction")
+           "beta_lo", "beta_hi", "status", "reason", "measure", "median_im", "median_p05",
+           "median_p95", "bracket_lo", "bracket_hi", "n_refined")
+STRIPES = ("R", "limit_state", "intensity", "pga_g", "im", "n_exceeding", "n_motions",
+           "fraction")
 
 
 def add_parser(subparsers) -> None:
@@ -54,6 +59,16 @@ def add_parser(subparsers) -> None:
     g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
+    g.add_argument("--measure", default="pga",
+                   help="intensity measure of the stripes: pga (default), pgv or sa:<T in s> "
+                   "(e.g. sa:1.0): every motion is scaled so that its measure equals the "
+                   "stripe's; the stripes are then that measure over g tan alpha")
+    g.add_argument("--refine", type=int, default=DEFAULT_REFINE,
+                   help="most stripes added per (R, limit state) where the fit separates "
+                   "(bisection in ln intensity), 0 for none (default: %(default)s)")
+    g.add_argument("--bootstrap", type=int, default=0,
+                   help="resamples of the motions for the 90 %% interval of the median "
+                   "(median_p05, median_p95), 0 for none (default)")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="ODE tolerances preset (the scan settings do not apply)")
     p.add_argument("--omega-n", type=float, default=None,
@@ -83,16 +98,40 @@ def _motions(args):
     return [_common.motion_from_args(args, default_record="el-centro-1940")]
 
 
-def tables(results):
-    """(fits, stripes) as pandas tables over all R, with the columns of SUMMARY / STRIPES."""
+def tables(results, boot=None):
+    """(fits, stripes) as pandas tables over all R, with the columns of SUMMARY / STRIPES.
+
+    ``results``: per R, the StripeFragility of each limit state (refined); ``boot``: per
+    (R index, limit state) the resampled medians, or None."""
+    import math
+
     import pandas as pd
 
+    from ..spectra.stripes import bootstrap_interval
+
     fits, stripes = [], []
-    for r in results:
-        fits.append(r.summary_frame().assign(R=r.R))
-        stripes.append(r.to_frame().assign(R=r.R))
+    for i, per_state in enumerate(results):
+        for ls, r in per_state.items():
+            f = r.summary_frame().assign(R=r.R, median_p05=math.nan, median_p95=math.nan)
+            if boot is not None:
+                lo, hi = bootstrap_interval(boot[(i, ls)])
+                f = f.assign(median_p05=lo * r.scale, median_p95=hi * r.scale)
+            fits.append(f)
+            stripes.append(r.to_frame().assign(R=r.R))
     return (pd.concat(fits)[list(SUMMARY)].reset_index(drop=True),
             pd.concat(stripes)[list(STRIPES)].reset_index(drop=True))
+
+
+def _refined(result, body, motions, args, acc) -> dict:
+    """Per limit state, the fit refined where separated (--refine stripes at most)."""
+    from ..spectra.stripes import refine_stripes, stripe_analyzer
+
+    analyze = stripe_analyzer(body, motions, list(result.limit_states), mode=args.mode,
+                              accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
+                              measure=args.measure)
+    note = None if args.quiet else (lambda line: print(line, file=sys.stderr))
+    return {ls: refine_stripes(result, ls, analyze, args.refine, log=note)
+            for ls in result.limit_states}
 
 
 def _motions_line(motions, args) -> tuple[str, str]:
@@ -113,35 +152,43 @@ def _identity_line(motion) -> str:
     return identity(motion)["processing"]
 
 
-def human(fits, stripes, motions, args, accuracy: str, x) -> str:
+def human(fits, stripes, motions, args, accuracy: str, x, unit: str = "g") -> str:
     """The fits and the stripes for people: medians as PGA/(g tan α) and PGA [g] with their
     95 % intervals, β, status; then each stripe's count of motions exceeding."""
     ta = args.tan_alpha
     motion_line, processing_line = _motions_line(motions, args)
+    from ..spectra.stripes import measure_scale
+
+    name = "PGA" if args.measure == "pga" else args.measure
+    scale = measure_scale(args.measure, ta)
     head = _human.block([
         ("motion" if len(motions) == 1 else "motions", motion_line),
         ("processing", processing_line),
         ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
-        ("stripes", f"{len(x)} intensities PGA/(g tan α) = {_human.num(x[0])}–"
-                    f"{_human.num(x[-1])} (PGA {_human.num(x[0] * ta)}–{_human.num(x[-1] * ta)}"
-                    f" g); accuracy {accuracy}"),
+        ("stripes", f"{len(x)} intensities {name}/(g tan α) = {_human.num(x[0])}–"
+                    f"{_human.num(x[-1])} ({name} {_human.num(x[0] * scale)}–"
+                    f"{_human.num(x[-1] * scale)} {unit}); accuracy {accuracy}"),
     ])
     rows, notes = [], []
     for r in fits.itertuples(index=False):
         rows.append([_human.num(r.R), r.limit_state, _human.num(r.median),
                      _human.interval(r.median_lo, r.median_hi),
-                     _human.num(r.median_pga_g), _human.num(r.beta),
-                     _human.interval(r.beta_lo, r.beta_hi), r.status])
+                     _human.num(r.median_im), _human.interval(r.median_p05, r.median_p95),
+                     _human.num(r.beta), _human.interval(r.beta_lo, r.beta_hi), r.status,
+                     str(r.n_refined)])
         if r.status != "ok":
-            notes.append(f"  R = {_human.num(r.R)} m, {r.limit_state}: {r.status}: {r.reason}")
-    fit_table = _human.table(["R [m]", "limit state", "median PGA/(g tan α) [-]", "95 %",
-                              "median PGA [g]", "β [-]", "95 %", "status"], rows,
-                             left=(1, 7))
-    srows = [[_human.num(r.R), r.limit_state, _human.num(r.intensity), _human.num(r.pga_g),
+            notes.append(f"  R = {_human.num(r.R)} m, {r.limit_state}: {r.status}: {r.reason}"
+                         f"; median between {_human.num(r.bracket_lo)} and "
+                         f"{_human.num(r.bracket_hi)} {unit}")
+    fit_table = _human.table(["R [m]", "limit state", f"median {name}/(g tan α) [-]", "95 %",
+                              f"median {name} [{unit}]", "90 % bootstrap", "β [-]", "95 %",
+                              "status", "added"], rows, left=(1, 8))
+    srows = [[_human.num(r.R), r.limit_state, _human.num(r.intensity), _human.num(r.im),
               f"{r.n_exceeding} of {r.n_motions}", _human.num(r.fraction, 3)]
              for r in stripes.itertuples(index=False)]
-    stripe_table = _human.table(["R [m]", "limit state", "PGA/(g tan α) [-]", "PGA [g]",
-                                 "exceeding", "fraction [-]"], srows, left=(1,))
+    stripe_table = _human.table(["R [m]", "limit state", f"{name}/(g tan α) [-]",
+                                 f"{name} [{unit}]", "exceeding", "fraction [-]"], srows,
+                                left=(1,))
     return "\n".join([head, "", "lognormal fit (binomial maximum likelihood) per R and limit "
                        "state:", fit_table, *notes, "", "stripes:", stripe_table])
 
@@ -151,9 +198,15 @@ def run(args) -> int:
     from .. import _json
     from ..dynamics.bodies import Cylinder
     from ..motions.identity import identity
+    from ..motions.measures import MEASURE_UNITS, parse_measure
     from ..spectra.accuracy import get_accuracy
     from ..spectra.limit_states import parse_limit_states
-    from ..spectra.stripes import stripe_fragility, stripe_intensities
+    from ..spectra.stripes import (
+        MEASURE_COLUMNS,
+        bootstrap_stripes,
+        stripe_fragility,
+        stripe_intensities,
+    )
     from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
     out = args.out
@@ -167,18 +220,32 @@ def run(args) -> int:
     motions = _motions(args)
     bodies = [Cylinder(R, args.tan_alpha) for R in args.R]  # bad R fails before any analysis
     t0 = time.perf_counter()
+    if args.refine < 0 or args.bootstrap < 0:
+        raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
+                         f"{args.bootstrap}")
+    parse_measure(args.measure)
     results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
                                 accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
-                                progress=not args.quiet) for b in bodies]
+                                progress=not args.quiet, measure=args.measure) for b in bodies]
+    refined = [_refined(r, b, motions, args, acc) for r, b in zip(results, bodies, strict=True)]
+    boot = None
+    if args.bootstrap:
+        boot = {(i, ls): bootstrap_stripes(r, args.bootstrap)[ls]["median"]
+                for i, per in enumerate(refined) for ls, r in per.items()}
     seconds = time.perf_counter() - t0
-    fits, stripes = tables(results)
-    doc = {"motions": [m.name for m in motions], "mode": args.mode,
+    fits, stripes = tables(refined, boot)
+    unit = MEASURE_UNITS[parse_measure(args.measure)[0]]
+
+    def titles(c: str) -> str:  # the measure's columns in its unit
+        return f"{c} [{unit}]" if c in (*MEASURE_COLUMNS, "im") else header(c)
+    doc = {"motions": [m.name for m in motions], "mode": args.mode, "measure": args.measure,
            "tan_alpha": args.tan_alpha, "limit_states": [s.name for s in states],
            "accuracy": acc.to_dict(), "intensities": [float(v) for v in results[0]
                                                       .intensities],
            "seconds": seconds,
-           "units": {k: QUANTITIES[k][1] for k in (*SUMMARY, *STRIPES)
-                     if k in QUANTITIES and QUANTITIES[k][1]},
+           "units": {**{k: QUANTITIES[k][1] for k in (*SUMMARY, *STRIPES)
+                        if k in QUANTITIES and QUANTITIES[k][1]},
+                     **{k: unit for k in (*MEASURE_COLUMNS, "im")}},
            "fits": fits.to_dict(orient="records"),
            "stripes": stripes.to_dict(orient="records"),
            # what was done to each motion (the command line's and the workflow's defaults
@@ -188,10 +255,10 @@ def run(args) -> int:
         out.parent.mkdir(parents=True, exist_ok=True)
     if out is not None and out.suffix.lower() == ".csv":
         with _common.replacing(out) as tmp:
-            fits.rename(columns=header).to_csv(tmp, index=False,
+            fits.rename(columns=titles).to_csv(tmp, index=False,
                                                float_format=CSV_FLOAT_FORMAT)
         with _common.replacing(out.with_name(f"{out.stem}_stripes.csv")) as tmp:
-            stripes.rename(columns=header).to_csv(tmp, index=False,
+            stripes.rename(columns=titles).to_csv(tmp, index=False,
                                                   float_format=CSV_FLOAT_FORMAT)
     elif out is not None:
         with _common.replacing(out) as tmp:
@@ -199,12 +266,14 @@ def run(args) -> int:
     if args.json:
         print(_json.dumps(doc, indent=1))
     else:
-        print(human(fits, stripes, motions, args, acc.name, results[0].intensities))
+        print(human(fits, stripes, motions, args, acc.name, results[0].intensities, unit))
         if out is not None:
             print(f"written: {out}" + (f", {out.with_name(f'{out.stem}_stripes.csv')}"
                                        if out.suffix.lower() == ".csv" else ""))
     if not args.quiet:
-        n = sum(r.n_analyses for r in results)
+        # each limit state's refined result counts the shared stripes as asked again
+        n = sum(r.n_analyses + sum(f.n_analyses - r.n_analyses for f in per.values())
+                for r, per in zip(results, refined, strict=True))
         print(f"{len(results)} body(ies) x {len(motions)} motion(s), {n} analyses, "
               f"{seconds:.2f} s", file=sys.stderr)
     return 0

@@ -543,28 +543,46 @@ def stripes_section(path: str | Path) -> list[str]:
              "intensity at which half the motions exceed (95 % interval in brackets). It "
              "converges as stripes are added; the first exceedance depends on where a scan "
              "falls among the windows (docs/performance.md).</p>"]
+    measure = str(df["measure"].iloc[0]) if "measure" in df and len(df) else "pga"
+    name = "PGA" if measure == "pga" else measure
     if ok.empty:
-        parts.append("<p>No (mode, limit state, R) has both fits in this run.</p>")
-        return parts
-    ratio = ok["ratio"].to_numpy(dtype=float)
-    parts.append(f"<p>Over the {len(ok)} cells with both fits, the stripe median is "
-                 f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the first-exceedance median "
-                 f"(median ratio {np.median(ratio):.2f}): a column designed with the first "
-                 "exceedance is designed for the onset of exceedance, with the stripe median "
-                 "as its 50 % point.</p>")
+        parts.append("<p>No (mode, limit state, R) has both fits in this run"
+                     + ("" if measure == "pga" else f" (the stripes are in {name}, the first "
+                        "exceedance in PGA)") + ".</p>")
+        if measure == "pga" or df.empty:
+            return parts
+    else:
+        ratio = ok["ratio"].to_numpy(dtype=float)
+        parts.append(f"<p>Over the {len(ok)} cells with both fits, the stripe median is "
+                     f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the first-exceedance "
+                     f"median (median ratio {np.median(ratio):.2f}): a column designed with "
+                     "the first exceedance is designed for the onset of exceedance, with the "
+                     "stripe median as its 50 % point.</p>")
+    nan = pd.Series(np.nan, index=df.index)
     rows = pd.DataFrame({
         "mode": df["mode"], "limit state": df["limit_state"].map(limit_state_title),
         "tan α": df["tan_alpha"], "R [m]": df["R"],
-        "stripe median [PGA/(g tan α)]": [
+        f"stripe median [{name}/(g tan α)]": [
             f"{m:.3g} ({lo:.3g}–{hi:.3g})" if np.isfinite(m) else f"— ({st})"
             for m, lo, hi, st in zip(df["median"], df["median_lo"], df["median_hi"],
                                      df["status"], strict=True)],
+        # in the measure's unit: the bootstrap's 90 % interval, or where no lognormal fits
+        # the stripes that bracket the median (never a number for a missing fit)
+        f"stripe median [{name}, g], 90 % over motions": [
+            f"{m:.3g} ({a:.3g}–{b:.3g})" if np.isfinite(m) and np.isfinite(a)
+            else f"{m:.3g}" if np.isfinite(m)
+            else f"between {lo:.3g} and {hi:.3g}" if np.isfinite(lo) else "—"
+            for m, a, b, lo, hi in zip(df.get("median_im", nan), df.get("median_p05", nan),
+                                       df.get("median_p95", nan), df.get("bracket_lo", nan),
+                                       df.get("bracket_hi", nan), strict=True)],
         "stripe β": df["beta"].map(lambda b: f"{b:.2f}" if np.isfinite(b) else "—"),
         "first-exceedance median": df["first_median"].map(
             lambda m: f"{m:.3g}" if np.isfinite(m) else "—"),
         "ratio": df["ratio"].map(lambda r: f"{r:.2f}" if np.isfinite(r) else "—"),
-        "motions × stripes": [f"{n} × {k}" for n, k in zip(df["n_motions"], df["stripes"],
-                                                           strict=True)],
+        "motions × stripes": [f"{n} × {k}" + (f" + {int(a)} added" if a > 0 else "")
+                              for n, k, a in zip(df["n_motions"], df["stripes"],
+                                                 df.get("n_refined", nan).fillna(0),
+                                                 strict=True)],
     })
     parts.append(_table_html(rows))
     return parts

@@ -26,6 +26,7 @@ import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from dataclasses import field as dc_field
 from typing import Any
 
 import numpy as np
@@ -48,7 +49,8 @@ DEFAULTS: dict[str, Any] = {
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"]},
     "tilt_map": {"motion": None, "modes": ["3d", "3d-damped"], "tan_alpha": 0.2, "chunk_R": 1},
     "stripes": {"modes": ["3d"], "tan_alpha": 0.2,
-                "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1},
+                "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1, "measure": "pga",
+                "refine": 8, "bootstrap": 1000},
 }
 """The schema's defaults (tests/test_spec.py holds them equal), for configurations read
 without the workflow (the benchmark drivers); the workflow has filled them in already."""
@@ -672,17 +674,32 @@ class StripesSpec(_IntensityGrid):
     ----------
     limit_states : tuple of str
         As configured (the store canonicalises them).
+    measure : str
+        Intensity measure of the stripes (``"pga"``, or one of the study's
+        ``intensity_measures`` such as ``"sa:1.0"``): ``intensity`` is it over g tan α.
+    refine : int
+        Most stripes added per (mode, limit state, R) where the fit separates (decides no
+        store: the refined analyses go beside it).
+    bootstrap : int
+        Resamples of the motions for the interval of the median (0: none; decides no store).
     """
 
     limit_states: tuple[str, ...] = ()
+    measure: str = "pga"
+    refine: int = dc_field(default=8, compare=False)
+    bootstrap: int = dc_field(default=1000, compare=False)
 
     def to_attrs(self) -> dict[str, Any]:
-        return {**super().to_attrs(), "limit_states": list(self.limit_states)}
+        # the measure PGA is left out: stores made before stripes had a measure keep their hash
+        extra = {} if self.measure == "pga" else {"measure": self.measure}
+        return {**super().to_attrs(), "limit_states": list(self.limit_states), **extra}
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> StripesSpec:
-        """Inverse of :meth:`to_attrs`."""
-        return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]))
+        """Inverse of :meth:`to_attrs` (``refine`` and ``bootstrap``, which decide no store,
+        take their defaults)."""
+        return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]),
+                   measure=attrs.get("measure", "pga"))
 
 
 @dataclass(frozen=True)
@@ -772,6 +789,10 @@ class StudySpec(_Hashed):
             config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
         stripes = None if s["stripes"] is None else _stripes(
             config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy)
+        measures = _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures")
+        if stripes is not None and stripes.measure != "pga" and stripes.measure not in measures:
+            raise ValueError(f"{field}.stripes.measure={stripes.measure!r} is not one of the "
+                             f"study's intensity_measures {list(measures)} (or pga)")
         hazard = s["hazard"]
         if hazard is not None and not isinstance(hazard, (str, Mapping)):
             raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
@@ -780,8 +801,7 @@ class StudySpec(_Hashed):
                              f"{s['reproduces']!r}")
         return cls(spectra, tilt_map, stripes,
                    dict(hazard) if isinstance(hazard, Mapping) else hazard,
-                   _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures"),
-                   s["reproduces"])
+                   measures, s["reproduces"])
 
     def to_attrs(self) -> dict[str, Any]:
         """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures",
@@ -853,4 +873,9 @@ def _stripes(config, t, field, study, ensemble, accuracy) -> StripesSpec:
         parse_limit_states(list(states))
     except ValueError as exc:
         raise ValueError(f"{field}.limit_states={states!r}: {exc}") from None
-    return StripesSpec(*common, limit_states=tuple(states))
+    for key in ("refine", "bootstrap"):
+        v = t[key]
+        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+            raise ValueError(f"{field}.{key} must be an integer >= 0, got {v!r}")
+    return StripesSpec(*common, limit_states=tuple(states), measure=t["measure"],
+                       refine=t["refine"], bootstrap=t["bootstrap"])

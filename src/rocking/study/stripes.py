@@ -12,7 +12,9 @@ state, R) and sets it beside the first-exceedance fragility of the spectra
 
 from __future__ import annotations
 
+import json
 import logging
+import os
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -24,10 +26,11 @@ import xarray as xr
 
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
+from ..spectra.stripes import MEASURE_COLUMNS, measure_scale
 from . import store, tasks
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .prepare import ready_store
-from .spec import Damping, StripesSpec
+from .spec import Damping, StripesSpec, decode_attrs
 
 log = logging.getLogger(__name__)
 
@@ -96,9 +99,17 @@ def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_d
             "ensemble": ensemble,
             "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
         }
-        pga_g = ("intensity", [i * float(s.tan_alpha) for i in s.intensity])
+        if s.measure == "pga":
+            extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
+        else:  # every motion scaled so that its measure equals the stripe's
+            scale = measure_scale(s.measure, s.tan_alpha)
+            attrs["measure"] = s.measure
+            attrs["intensity_definition"] = (
+                f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, vector peak of the "
+                "pair): each motion scaled so that its measure equals the stripe's")
+            extra = {"im": ("intensity", [i * scale for i in s.intensity])}
         store.create_store(p, layout, attrs, config_digest,
-                           coords={**tasks.identity_coords(ensemble), "pga_g": pga_g})
+                           coords={**tasks.identity_coords(ensemble), **extra})
         log.info("created %s: %d chunks, %d motions x %d stripes", p, layout.n_regions,
                  len(names), len(s.intensity))
 
@@ -128,7 +139,8 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     exc, fail, runs = [], [], []
     for R in rc["R"]:
         e, f, n = stripe_outcomes(Cylinder(float(R), tan_alpha), motion, states, x, str(mode),
-                                  acc, **attrs.get("model_options", {}))
+                                  acc, **attrs.get("model_options", {}),
+                                  measure=store_measure(attrs))
         exc.append(e.T)  # (limit_state, intensity)
         fail.append(f)
         runs.append(n)
@@ -155,6 +167,20 @@ def compute(path: str | Path, spec: Any, config_digest: str, motions: str | Path
     return {**summary, "store_state": state}
 
 
+def store_measure(attrs) -> str:
+    """The intensity measure of a stripes store's stripes (``"pga"`` for a store without
+    one: those made before stripes had a measure)."""
+    return str(attrs.get("measure", "pga"))
+
+
+def measure_label(measure: str) -> str:
+    """``"PGA"``, ``"PGV"``, ``"Sa(1 s)"``: the measure as an axis names it."""
+    from ..motions.measures import parse_measure
+
+    kind, period = parse_measure(measure)
+    return f"Sa({period:g} s)" if kind == "sa" else kind.upper()
+
+
 def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
     """:class:`rocking.spectra.stripes.StripeFragility` per (mode, R) of a stripes store."""
     from ..spectra.stripes import from_outcomes
@@ -176,17 +202,183 @@ def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
             exc = exceeded[i, :, :, k, :].transpose(2, 1, 0)
             out[(mode, float(R))] = from_outcomes(
                 x, states, motions, exc, failed[i, :, k, :].T, mode=mode, R=float(R),
-                tan_alpha=tan_alpha, n_analyses=int(n_runs[i, :, k].sum()))
+                tan_alpha=tan_alpha, n_analyses=int(n_runs[i, :, k].sum()),
+                measure=store_measure(ds.attrs))
     return out
+
+
+def refine_cache_path(store_path: str | Path) -> Path:
+    """Where the analyses of refined stripes of a store are kept:
+    ``stripes-<digest>.refined.jsonl`` beside ``stripes-<digest>.zarr`` (the digest names
+    the configuration, so a new one starts a new file)."""
+    p = Path(store_path)
+    return p.with_name(f"{p.stem}.refined.jsonl")
+
+
+class RefineCache:
+    """Analyses of refined stripes, one JSON line each, appended (and flushed) as each is
+    done: a refinement killed part way resumes without redoing any, and reads them back
+    exactly (JSON keeps every float). A line cut short by the kill is dropped on opening.
+
+    Keys are (mode, R [m], motion, stripe [measure/(g tan α)]); values (exceeded per limit
+    state, failed, analyses run).
+    """
+
+    def __init__(self, path: str | Path | None):
+        self.path = None if path is None else Path(path)
+        self._data: dict[tuple, tuple] = {}
+        if self.path is None or not self.path.exists():
+            return
+        raw = self.path.read_bytes()
+        if raw and not raw.endswith(b"\n"):  # killed while writing: drop the cut line
+            raw = raw[: raw.rfind(b"\n") + 1]
+            self.path.write_bytes(raw)
+        for line in raw.decode().splitlines():
+            d = json.loads(line)
+            self._data[(d["mode"], d["R"], d["motion"], d["x"])] = (
+                tuple(d["exceeded"]), d["failed"], d["runs"])
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def get(self, key: tuple) -> tuple | None:
+        return self._data.get(key)
+
+    def put(self, key: tuple, value: tuple) -> None:
+        self._data[key] = value
+        if self.path is None:
+            return
+        mode, R, motion, x = key
+        line = json.dumps({"mode": mode, "R": R, "motion": motion, "x": x,
+                           "exceeded": [bool(v) for v in value[0]], "failed": bool(value[1]),
+                           "runs": int(value[2])})
+        with open(self.path, "a") as fh:
+            fh.write(line + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+
+
+def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
+    """``analyze(x)`` of :func:`rocking.spectra.stripes.refine_stripes` for one (mode, R) of
+    a store: each motion from ``cache`` or, if absent there, analysed (``motions``: the
+    ensemble file) and added to it."""
+    from ..dynamics.bodies import Cylinder
+    from ..spectra.limit_states import parse_limit_states
+    from ..spectra.stripes import stripe_outcomes
+
+    states = parse_limit_states(list(result.limit_states), sort=False)
+    body = Cylinder(float(result.R), float(result.tan_alpha))
+    attrs = decode_attrs(ds.attrs)
+    acc = get_accuracy(attrs["tolerances"])
+    options = attrs.get("model_options", {})
+
+    def analyze(x: float):
+        exc = np.zeros((len(result.motions), len(states)), dtype=bool)
+        fail = np.zeros(len(result.motions), dtype=bool)
+        runs = 0
+        for m, name in enumerate(result.motions):
+            key = (result.mode, float(result.R), name, float(x))
+            hit = cache.get(key)
+            if hit is None:
+                if motions is None:
+                    raise ValueError(f"the refined stripe {x!r} of {result.mode}, R = "
+                                     f"{result.R:g} m, motion {name!r} is not in "
+                                     f"{cache.path}: run the stripe_fragility step first")
+                e, f, r = stripe_outcomes(body, tasks.motion_named(motions, name), states,
+                                          np.array([float(x)]), result.mode, acc, **options,
+                                          measure=result.measure)
+                hit = (tuple(bool(v) for v in e[0]), bool(f[0]), int(r))
+                cache.put(key, hit)
+            exc[m], fail[m], runs = hit[0], hit[1], runs + hit[2]
+        return exc, fail, runs
+
+    return analyze
+
+
+def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = None,
+                motions: tasks.MotionSource | None = None) -> dict[tuple[str, str, float], Any]:
+    """The fit of every (mode, limit state, R) of a stripes store, refined where separated.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A complete stripes store.
+    refine : int
+        Most stripes added per row (:func:`rocking.spectra.stripes.refine_stripes`); 0: none.
+    cache : path, optional
+        The :class:`RefineCache` file (:func:`refine_cache_path`): analyses found there are
+        not redone, new ones are added.
+    motions : path, optional
+        The ensemble file, to analyse refined stripes not in ``cache`` (None: every one must
+        be there, as when a figure replays the refinement).
+
+    Returns
+    -------
+    dict
+        (mode, limit state, R) → :class:`rocking.spectra.stripes.StripeFragility` of that
+        limit state, ``n_refined`` stripes added.
+    """
+    from ..spectra.stripes import refine_stripes
+
+    store_cache = RefineCache(cache)
+    out = {}
+    for (mode, R), r in stripe_fits(ds).items():
+        analyze = None
+        for j, ls in enumerate(r.limit_states):
+            if refine > 0 and r.fits[ls].status == "separated":
+                analyze = analyze or _cached_analyzer(r, ds, store_cache, motions)
+                before = len(store_cache)
+                row = refine_stripes(r, ls, analyze, refine, log=log.info)
+                log.info("%s, %s, R = %g m: %s after %d stripe(s) added (%d analyses new, %d "
+                         "from %s)", mode, ls, R, row.fits[ls].status, row.n_refined,
+                         len(store_cache) - before,
+                         row.n_refined * len(r.motions) - (len(store_cache) - before),
+                         store_cache.path)
+            else:
+                row = from_outcomes_of(r, j)
+            out[(mode, ls, R)] = row
+    return out
+
+
+def from_outcomes_of(result, j: int):
+    """The :class:`~rocking.spectra.stripes.StripeFragility` of limit state ``j`` alone."""
+    from ..spectra.stripes import from_outcomes
+
+    return from_outcomes(result.intensities, [result.limit_states[j]], result.motions,
+                         result.exceeded[:, :, [j]], result.failed, mode=result.mode,
+                         accuracy=result.accuracy, R=result.R, tan_alpha=result.tan_alpha,
+                         n_analyses=result.n_analyses, measure=result.measure)
 
 
 TABLE_COLUMNS = ("mode", "limit_state", "tan_alpha", "R", "median", "median_lo", "median_hi",
                  "median_pga_g", "beta", "beta_lo", "beta_hi", "status", "reason", "n_motions",
-                 "stripes", "first_median", "first_beta", "first_status", "ratio")
-"""Columns of ``stripe_fragility.csv`` (before units are added to the titles)."""
+                 "stripes", "first_median", "first_beta", "first_status", "ratio", "measure",
+                 "median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi",
+                 "n_refined", "boot_defined")
+"""Columns of ``stripe_fragility.csv`` (before units are added to the titles). ``median``
+and its Wald interval are in measure/(g tan α); ``median_im``, ``median_p05``,
+``median_p95`` (the bootstrap's 90 % interval), ``bracket_lo``, ``bracket_hi`` in the
+measure's unit (:data:`MEASURE_COLUMNS`); ``median_pga_g`` [g] only for the measure PGA;
+``stripes`` counts the stripes as asked, ``n_refined`` those added; ``boot_defined`` is the
+share of resamples with a median."""
 
 
-def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None) -> pd.DataFrame:
+
+def table_headers(table: pd.DataFrame) -> dict[str, str]:
+    """CSV titles of a stripe table: :func:`rocking.units.header`, and the unit of the
+    table's measure for :data:`MEASURE_COLUMNS`."""
+    from ..motions.measures import MEASURE_UNITS, parse_measure
+    from ..units import header
+
+    measures = set(table["measure"]) if len(table) else {"pga"}
+    units = {MEASURE_UNITS[parse_measure(m)[0]] for m in measures}
+    unit = units.pop() if len(units) == 1 else "measure unit"
+    return {c: f"{c} [{unit}]" if c in MEASURE_COLUMNS else
+            ("n_refined" if c == "n_refined" else header(c)) for c in table.columns}
+
+
+def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
+                 rows: dict | None = None, boot: dict | None = None) -> pd.DataFrame:
     """One row per (mode, limit_state, R): the stripe fit and the first-exceedance fit.
 
     Parameters
@@ -197,24 +389,93 @@ def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None) -> pd.DataFram
         :func:`rocking.spectra.fragility.fragility_table` of the same study: its ``median``,
         ``beta`` and ``status`` at the same (mode, limit_state, tan α, R) become
         ``first_median``, ``first_beta``, ``first_status``, and ``ratio`` = stripe median /
-        first-exceedance median (NaN where the spectra have no such cell).
+        first-exceedance median (NaN where the spectra have no such cell, or the stripes
+        are in another measure than PGA).
+    rows : dict, optional
+        :func:`stripe_rows` (refined fits); None: the stripes as asked.
+    boot : dict, optional
+        Per (mode, limit state, R), :func:`rocking.spectra.stripes.bootstrap_stripes` of the
+        row: gives ``median_p05``, ``median_p95``, ``boot_defined`` (NaN without).
 
     Returns
     -------
     pandas.DataFrame
-        Columns :data:`TABLE_COLUMNS` (medians in PGA/(g tan α), median_pga_g in g).
+        Columns :data:`TABLE_COLUMNS`.
     """
-    rows = []
-    for (mode, R), r in stripe_fits(ds).items():
-        summary = r.summary_frame()
-        for rec in summary.to_dict(orient="records"):
-            ls = rec["limit_state"]
-            fm, fb, fs = _first(first, mode, ls, r.tan_alpha, R)
-            rows.append({"mode": mode, "tan_alpha": r.tan_alpha, "R": R, **rec,
-                         "n_motions": int(r.n_motions.min()), "stripes": int(r.intensities.size),
-                         "first_median": fm, "first_beta": fb, "first_status": fs,
-                         "ratio": rec["median"] / fm if np.isfinite(fm) else np.nan})
-    return pd.DataFrame(rows, columns=list(TABLE_COLUMNS))
+    from ..spectra.stripes import bootstrap_interval
+
+    if rows is None:
+        rows = stripe_rows(ds)
+    base = {(m, R): r.intensities.size for (m, R), r in stripe_fits(ds).items()}
+    out = []
+    for (mode, ls, R), r in rows.items():
+        (rec,) = r.summary_frame().to_dict(orient="records")
+        fm, fb, fs = (_first(first, mode, ls, r.tan_alpha, R) if r.measure == "pga"
+                      else (np.nan, np.nan, f"not comparable ({r.measure}, not pga)"))
+        p05 = p95 = defined = np.nan
+        if boot is not None and (mode, ls, R) in boot:
+            med = boot[(mode, ls, R)]["median"]
+            p05, p95 = (v * r.scale for v in bootstrap_interval(med))
+            defined = float(np.mean(~np.isnan(med)))
+        out.append({"mode": mode, "tan_alpha": r.tan_alpha, "R": R, **rec,
+                    "n_motions": int(r.n_motions.min()), "stripes": int(base[(mode, R)]),
+                    "first_median": fm, "first_beta": fb, "first_status": fs,
+                    "ratio": rec["median"] / fm if np.isfinite(fm) else np.nan,
+                    "median_p05": p05, "median_p95": p95, "boot_defined": defined})
+    return pd.DataFrame(out, columns=list(TABLE_COLUMNS))
+
+
+def bootstrap_rows(rows: dict, resamples: int, seed: int | None = None) -> dict:
+    """:func:`rocking.spectra.stripes.bootstrap_stripes` of every row of :func:`stripe_rows`
+    (the same resamples of the motions for all), logging the seconds it took."""
+    from ..spectra.stripes import BOOTSTRAP_SEED, bootstrap_stripes
+
+    t0 = time.perf_counter()
+    out = {}
+    for key, r in rows.items():
+        (ls,) = r.limit_states
+        out[key] = bootstrap_stripes(r, resamples, BOOTSTRAP_SEED if seed is None else seed)[ls]
+    log.info("bootstrap: %d resamples of the motions for %d rows in %.1f s", resamples,
+             len(rows), time.perf_counter() - t0)
+    return out
+
+
+def bootstrap_dataset(table: pd.DataFrame, rows: dict, boot: dict, *, seed: int | None = None,
+                      study: str = "") -> xr.Dataset:
+    """The resampled fits as ``stripe_fragility_bootstrap.nc``: ``median`` [the measure's
+    unit] and ``beta`` [-] over (``row``, ``resample``), ``row`` in the table's order
+    (its mode, limit_state, R, measure as coordinates), ``status`` codes of each fit."""
+    from ..motions.measures import MEASURE_UNITS, parse_measure
+    from ..spectra.stripes import BOOT_CODES, BOOTSTRAP_SEED
+
+    keys = list(zip(table["mode"], table["limit_state"], table["R"], strict=True))
+    median = np.stack([boot[k]["median"] * rows[k].scale for k in keys]) if keys \
+        else np.zeros((0, 0))
+    beta = np.stack([boot[k]["beta"] for k in keys]) if keys else np.zeros((0, 0))
+    status = np.stack([boot[k]["status"] for k in keys]) if keys else np.zeros((0, 0), np.int8)
+    measure = str(table["measure"].iloc[0]) if keys else "pga"
+    unit = MEASURE_UNITS[parse_measure(measure)[0]]
+    dims = ("row", "resample")
+    ds = xr.Dataset(
+        {"median": (dims, median, {"units": unit, "long_name": f"median {measure} of the "
+                                   "resample's lognormal fit (geometric middle of the "
+                                   "bracket where it separates, inf where no motion exceeds, "
+                                   "0 where all do, NaN where no fit)"}),
+         "beta": (dims, beta, {"units": "-", "long_name": "lognormal dispersion of the "
+                               "resample (0 where it separates)"}),
+         "status": (dims, status, {"flag_values": list(BOOT_CODES.values()),
+                                   "flag_meanings": " ".join(BOOT_CODES)})},
+        coords={"row": np.arange(len(keys)), "resample": np.arange(median.shape[1]),
+                "mode": ("row", [k[0] for k in keys]),
+                "limit_state": ("row", [k[1] for k in keys]),
+                "R": ("row", np.array([k[2] for k in keys], dtype=float), {"units": "m"}),
+                "tan_alpha": ("row", table["tan_alpha"].to_numpy(dtype=float))},
+        attrs={"title": f"Bootstrap over motions of the stripe fragility, study {study}",
+               "measure": measure, "seed": int(BOOTSTRAP_SEED if seed is None else seed),
+               "resamples": int(median.shape[1]), "interval": "median_p05, median_p95 of "
+               "stripe_fragility.csv: 5 and 95 % order statistics (inverted_cdf) of median "
+               "over the resamples that have one", "rocking_version": __version__})
+    return ds
 
 
 def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
@@ -233,6 +494,38 @@ def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
     return float(cell["median"]), float(cell["beta"]), str(cell["status"].values)
 
 
-__all__ = ["STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS", "compute",
-           "fill_stripes_region", "prepare_store", "stripe_fits", "stripe_table",
-           "stripes_layout"]
+__all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS",
+           "RefineCache", "bootstrap_dataset", "bootstrap_rows", "compute",
+           "fill_stripes_region", "measure_label", "prepare_store", "refine_cache_path",
+           "store_measure", "stripe_fits", "stripe_rows", "stripe_table", "stripes_layout",
+           "table_headers", "write_stripe_fragility"]
+
+
+def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str | Path, *,
+                           fragility: str | Path | None = None,
+                           motions: tasks.MotionSource | None = None, refine: int = 0,
+                           resamples: int = 0, study: str = "") -> pd.DataFrame:
+    """``stripe_fragility.csv`` and ``stripe_fragility_bootstrap.nc`` of a stripes store.
+
+    Refines separated rows (analyses kept in :func:`refine_cache_path`, so a killed run
+    resumes), bootstraps every row over the motions, and writes both files. Returns the
+    table (bare column names).
+    """
+    first = None
+    if fragility is not None:
+        with xr.open_dataset(fragility) as f:
+            first = f.load()
+    ds = xr.open_zarr(store_path, consolidated=True)
+    t0 = time.perf_counter()
+    rows = stripe_rows(ds, refine=refine, cache=refine_cache_path(store_path), motions=motions)
+    log.info("fits of %d rows (%d refined, %d stripes added) in %.1f s", len(rows),
+             sum(r.n_refined > 0 for r in rows.values()),
+             sum(r.n_refined for r in rows.values()), time.perf_counter() - t0)
+    boot = bootstrap_rows(rows, resamples) if resamples > 0 else None
+    table = stripe_table(ds, first, rows=rows, boot=boot)
+    table.rename(columns=table_headers(table)).to_csv(csv, index=False, float_format="%.10g")
+    empty = {k: {"median": np.zeros(0), "beta": np.zeros(0), "status": np.zeros(0, np.int8)}
+             for k in rows}
+    bootstrap_dataset(table, rows, boot if boot is not None else empty,
+                      study=study).to_netcdf(samples)
+    return table

@@ -1,12 +1,14 @@
 """Stripe against first-exceedance fragility (beyond the paper), one figure per mode.
 
-One panel per (limit state, R): the share of the motions exceeding at each stripe (markers)
-and its binomial maximum-likelihood lognormal (solid, :mod:`rocking.spectra.stripes`), beside
+One panel per (limit state, R): the share of the motions exceeding at each stripe (markers,
+refined stripes filled) and its binomial maximum-likelihood lognormal (solid,
+:mod:`rocking.spectra.stripes`) with the bootstrap's 90 % interval of its median IM₅₀, beside
 the lognormal fitted to the motions' first-exceedance intensities (dashed,
-:func:`rocking.spectra.fragility.fragility_table`). The first answers "at which intensity do
-half of the motions exceed", the second "at which intensity does a motion first exceed"; a
-body that exceeds in a narrow window of intensity and survives above it pulls the second
-down only.
+:func:`rocking.spectra.fragility.fragility_table`; PGA stripes only). The first answers "at
+which intensity do half of the motions exceed", the second "at which intensity does a motion
+first exceed"; a body that exceeds in a narrow window of intensity and survives above it
+pulls the second down only. A row without a fit is drawn as the span of intensities that
+brackets its median, never as a curve.
 """
 
 from __future__ import annotations
@@ -19,56 +21,112 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, pga_g_axis, styled
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+
+CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stripes added "
+           "where the fit separated); solid: its binomial maximum-likelihood lognormal, "
+           "IM₅₀ its median, the bar at P = 0.5 the 90 % bootstrap interval of IM₅₀ over "
+           "resamples of the motions; dashed: lognormal of the motions' first-exceedance "
+           "intensities (PGA stripes only); shaded: where no lognormal fits, the intensities "
+           "between the last stripe with no motion exceeding and the first with all "
+           "exceeding, which bracket the median. Intensities are vector peaks of the pair.")
+"""What the figure shows (the footnote; workflow/report/stripe_fragility.rst says the same)."""
 
 
-def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = "3d") -> dict:
-    """Stripe fractions and both fits for every (limit state, R) of ``mode``.
+def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = "3d",
+         table: str | Path | None = None) -> dict:
+    """Stripe fractions, fits, brackets and intervals for every (limit state, R) of ``mode``.
+
+    Parameters
+    ----------
+    stripes : path
+        The stripes store.
+    fragility : path, optional
+        The study's first-exceedance ``fragility.nc``.
+    mode : str
+    table : path, optional
+        ``stripe_fragility.csv`` (refined, bootstrapped): its rows are drawn, and its
+        refined stripes replayed from the store's refinement file; None: the stripes as
+        asked, fitted here.
 
     Returns
     -------
     dict
-        ``panels``: [{``limit_state``, ``R``, ``x`` (stripes), ``fraction``, ``stripe``:
-        (median, beta, status), ``first``: (median, beta, status)}], ``measured`` (medians
-        and their ratio per panel), ``missing``, ``mode``, ``tan_alpha``.
+        ``panels``: [{``limit_state``, ``R``, ``x`` (stripes [measure unit]), ``refined``,
+        ``fraction``, ``stripe``: (IM₅₀, beta, status), ``bracket``, ``interval``,
+        ``first``: (median, beta, status) [measure unit]}], ``measured``, ``missing``,
+        ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
-    from ..stripes import stripe_fits, stripe_table
+    from ...units import read_table
+    from .. import stripes as st
+    from ..spec import decode_attrs
 
     ds = xr.open_zarr(stripes, consolidated=True)
     if mode not in [str(m) for m in ds["mode"].values]:
         raise ValueError(f"mode {mode!r} is not in the stripes store {str(stripes)!r}")
-    first = None
-    if fragility is not None:
-        with xr.open_dataset(fragility) as f:
-            first = f.load()
-    table = stripe_table(ds, first)
-    fits = stripe_fits(ds)
+    if table is not None:
+        tab = read_table(table)
+        budget = int(tab["n_refined"].max()) if len(tab) else 0
+        rows = st.stripe_rows(ds, refine=budget, cache=st.refine_cache_path(stripes))
+    else:
+        first = None
+        if fragility is not None:
+            with xr.open_dataset(fragility) as f:
+                first = f.load()
+        rows = st.stripe_rows(ds)
+        tab = st.stripe_table(ds, first, rows=rows)
+    base = {k: set(r.intensities.tolist()) for k, r in st.stripe_fits(ds).items()}
     panels, measured, missing = [], {}, []
-    for row in table[table["mode"] == mode].itertuples():
-        r = fits[(mode, float(row.R))]
-        j = r.limit_states.index(row.limit_state)
-        panels.append({"limit_state": row.limit_state, "R": float(row.R),
-                       "x": r.intensities, "fraction": r.fraction[:, j],
-                       "stripe": (row.median, row.beta, row.status),
-                       "first": (row.first_median, row.first_beta, row.first_status)})
+    for row in tab[tab["mode"] == mode].itertuples():
+        r = rows[(mode, row.limit_state, float(row.R))]
+        scale = r.scale
+        x = r.intensities * scale
+        refined = np.array([v not in base[(mode, float(row.R))] for v in r.intensities])
+        first_g = row.first_median * scale if r.measure == "pga" else np.nan
+        panels.append({"limit_state": row.limit_state, "R": float(row.R), "x": x,
+                       "refined": refined, "fraction": r.fraction[:, 0],
+                       "stripe": (row.median_im, row.beta, row.status),
+                       "bracket": (row.bracket_lo, row.bracket_hi),
+                       "interval": (row.median_p05, row.median_p95),
+                       "first": (first_g, row.first_beta, row.first_status)})
         key = f"{row.limit_state}, R = {row.R:g} m"
-        measured[key] = {"stripe_median": row.median, "first_exceedance_median":
-                         row.first_median, "ratio": row.ratio, "stripe_status": row.status,
-                         "stripe_reason": row.reason}
+        measured[key] = {"stripe_median": row.median, "stripe_median_im": row.median_im,
+                         "median_p05": row.median_p05, "median_p95": row.median_p95,
+                         "first_exceedance_median": row.first_median, "ratio": row.ratio,
+                         "stripe_status": row.status, "stripe_reason": row.reason,
+                         "bracket_lo": row.bracket_lo, "bracket_hi": row.bracket_hi,
+                         "n_refined": int(row.n_refined)}
         if row.status != "ok":
             missing.append(f"{key}: {row.status}")
+    attrs = decode_attrs(ds.attrs)
+    ens = attrs.get("ensemble", {})
+    measure = st.store_measure(attrs)
     return {"panels": panels, "measured": measured, "missing": missing, "mode": mode,
-            "tan_alpha": float(ds.attrs.get("tan_alpha", np.nan))}
+            "tan_alpha": float(ds.attrs.get("tan_alpha", np.nan)), "measure": measure,
+            "measure_label": st.measure_label(measure),
+            "unit": "m/s" if measure == "pgv" else "g",
+            "study": str(attrs.get("config", {}).get("study", "")),
+            "ensemble": str(ens.get("name", "")), "n_motions": int(ds.sizes["motion"])}
 
 
-def _curve(ax, x: np.ndarray, fit: tuple, style: str, label: str, color: str) -> None:
+def _curve(ax, x: np.ndarray, fit: tuple, style: str, label: str, color: str, unit: str,
+           name: str = "IM₅₀") -> bool:
+    """The lognormal where it exists (True), else only a legend entry (False)."""
     median, beta, status = fit
-    if np.isfinite(median) and np.isfinite(beta):
+    if np.isfinite(median) and np.isfinite(beta) and beta > 0:
         ax.plot(x, stats.norm.cdf(np.log(x / median) / beta), style, color=color,
-                label=f"{label}: θ̂ = {median:.3g}, β = {beta:.2f}"
+                label=f"{label}: {name} = {median:.3g} {unit}, β = {beta:.2f}"
                 + ("" if status == "ok" else f" [{status}]"))
-    else:
-        ax.plot([], [], style, color=color, label=f"{label}: no fit ({status})")
+        return True
+    return False
+
+
+def _ticks(axis, lo: float, hi: float) -> None:
+    # plain numbers: log-axis labels like 3×10⁻¹ collide
+    steps = [m * 10.0**e for e in range(-3, 3) for m in (1, 2, 5)]
+    axis.set_major_locator(FixedLocator([v for v in steps if lo / 1.5 <= v <= hi * 1.5]))
+    axis.set_major_formatter(ScalarFormatter())
+    axis.set_minor_formatter(NullFormatter())
 
 
 @styled
@@ -77,41 +135,51 @@ def plot(d: dict) -> Figure:
     panels = d["panels"]
     states = list(dict.fromkeys(p["limit_state"] for p in panels)) or ["-"]
     sizes = sorted({p["R"] for p in panels}) or [0.0]
-    fig, axes = new_figure(3.4 * len(sizes) + 0.6, 3.0 * len(states) + 0.9,
+    fig, axes = new_figure(3.6 * len(sizes) + 0.6, 3.1 * len(states) + 1.2,
                            nrows=len(states), ncols=len(sizes), squeeze=False)
     color = MODE_STYLE.get(d["mode"], {}).get("color", "black")
+    unit, im = d.get("unit", "g"), d.get("measure_label", "PGA")
     for p in panels:
         ax = axes[states.index(p["limit_state"])][sizes.index(p["R"])]
         x = np.asarray(p["x"], dtype=float)
         grid = np.geomspace(x[0], x[-1], 200)
-        ax.plot(x, p["fraction"], "o", ms=3.5, mfc="none", color=color,
+        ref = np.asarray(p.get("refined", np.zeros(x.size, bool)), dtype=bool)
+        ax.plot(x[~ref], p["fraction"][~ref], "o", ms=3.5, mfc="none", color=color,
                 label="share of motions exceeding")
-        _curve(ax, grid, p["stripe"], "-", "stripes", color)
-        _curve(ax, grid, p["first"], "--", "first exceedance", "tab:red")
+        if ref.any():
+            ax.plot(x[ref], p["fraction"][ref], "o", ms=3.5, color=color,
+                    label=f"… at {int(ref.sum())} stripe(s) added")
+        if _curve(ax, grid, p["stripe"], "-", "stripes", color, unit):
+            lo, hi = p.get("interval", (np.nan, np.nan))
+            if np.isfinite(lo) and np.isfinite(hi):
+                ax.plot([lo, hi], [0.5, 0.5], "-", lw=3, alpha=0.4, color=color,
+                        solid_capstyle="butt",
+                        label=f"90 % bootstrap IM₅₀: {lo:.3g}–{hi:.3g} {unit}")
+        else:
+            lo, hi = p.get("bracket", (np.nan, np.nan))
+            status = p["stripe"][2]
+            if np.isfinite(lo) and lo > 0 and np.isfinite(hi):
+                ax.axvspan(lo, hi, color=color, alpha=0.2, lw=0,
+                           label=f"no fit ({status}): IM₅₀ in {lo:.3g}–{hi:.3g} {unit}")
+            else:
+                ax.plot([], [], " ", label=f"no fit ({status}): IM₅₀ "
+                        + (f"> {lo:.3g} {unit}" if np.isfinite(lo) and lo > 0
+                           else f"< {hi:.3g} {unit}" if np.isfinite(hi) else "unknown"))
+        _curve(ax, grid, p["first"], "--", "first exceedance", "tab:red", unit, "median")
         ax.set_xscale("log")
-        # plain numbers at 1, 2, 5, 10, 20: log-axis labels like 3×10⁰ collide
-        ax.xaxis.set_major_locator(FixedLocator([v for v in (1, 2, 5, 10, 20, 50)
-                                                 if x[0] / 1.5 <= v <= x[-1] * 1.5]))
-        ax.xaxis.set_major_formatter(ScalarFormatter())
-        ax.xaxis.set_minor_formatter(NullFormatter())
+        _ticks(ax.xaxis, x[0], x[-1])
         ax.set_ylim(-0.02, 1.02)
         ax.set_title(f"{limit_state_title(p['limit_state'])}, R = {p['R']:g} m", fontsize=9)
-        ax.set_xlabel("PGA/(g tan α) [-]")
+        ax.set_xlabel(f"{im} [{unit}]")
         ax.set_ylabel("P(exceeded) [-]")
-        if np.isfinite(d["tan_alpha"]):  # one body per panel: its PGA in g on top
-            top = pga_g_axis(ax, d["tan_alpha"], which="x")
-            g = x * d["tan_alpha"]
-            top.xaxis.set_major_locator(FixedLocator(
-                [v for v in (0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10) if g[0] / 1.5 <= v <= g[-1] * 1.5]))
-            top.xaxis.set_major_formatter(ScalarFormatter())
-            top.xaxis.set_minor_formatter(NullFormatter())
         ax.legend(loc="best", fontsize=6)
     label = MODE_STYLE.get(d["mode"], {}).get("label", d["mode"])
-    fig.suptitle(f"Stripe against first-exceedance fragility, {label} model, "
-                 f"tan α = {d['tan_alpha']:g}")
-    footnote(fig, ["Markers: share of the motions exceeding at each stripe; solid: its "
-                   "binomial maximum-likelihood lognormal; dashed: lognormal of the motions' "
-                   "first-exceedance intensities. PGA = vector peak.",
+    who = ", ".join(v for v in (f"study {d['study']}" if d.get("study") else "",
+                                f"ensemble {d['ensemble']} ({d['n_motions']} motions)"
+                                if d.get("ensemble") else "") if v)
+    fig.suptitle(f"Multiple-stripe fragility in {im}, {who + ', ' if who else ''}{label} "
+                 f"model, tan α = {d['tan_alpha']:g}")
+    footnote(fig, [CAPTION,
                    *(["Undefined or flagged stripe fits: " + "; ".join(d["missing"]) + "."]
                      if d["missing"] else [])])
     return fig
