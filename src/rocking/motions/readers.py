@@ -10,8 +10,9 @@ time axis.
 
 Every malformed file (bad header, NPTS disagreeing with the data, a non-numeric token, NaN or
 infinity, dt <= 0, a non-uniform time column, a number not written in the file's format such as
-a last value cut before its exponent, a data line holding fewer values than the others) raises :class:`RecordFormatError` naming the file
-and the line, so a record is never silently truncated or padded. The named records of the study
+a last value cut before its exponent, a data line holding fewer values than the others) raises
+:class:`RecordFormatError` naming the file and the line, so a record is never silently
+truncated or padded. The named records of the study
 are in :mod:`rocking.motions.catalogue`.
 """
 
