@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import zarr
 
-from .layout import Layout
+from .layout import Layout, region_coords
 from .store import (
     CHECKSUM_CODEC,
     DONE,
@@ -24,6 +24,7 @@ from .store import (
     every_chunk,
     open_group,
     open_layout,
+    pending_regions,
     read_requested,
 )
 
@@ -182,15 +183,39 @@ def verify_store(path: str | Path, layout: Layout | None = None,
 
 
 def require_intact(path: str | Path, say: Callable[[str], None] | None = None) -> None:
-    """Check a finished store before its numbers are read into others (aggregates, tables).
+    """Check a store before its numbers are read into others (aggregates, tables): every
+    region complete (done, whether the study asked for it or not) and every finished one
+    verified (:func:`verify_store`).
+
+    A region whose done flag is gone (its chunk file deleted) counts as not computed, never
+    as an empty answer: a table of the store would otherwise hold NaN rows for it.
 
     Raises
     ------
     ValueError
-        Naming the store, its damaged regions and the remedy; the store is not changed
-        (opened read-only), so a damaged chunk is never tabulated.
+        Naming the store, its damaged or missing regions (with the coordinates of the first)
+        and the remedy; the store is not changed (opened read-only), so a damaged chunk is
+        never tabulated.
     """
     damaged = verify_store(path, say=say, repair=False)
     if damaged:
         raise ValueError(f"store {str(path)!r}: {len(damaged)} damaged chunks {damaged}; "
                          f"{REPAIR}")
+    layout = open_layout(path)
+    missing = pending_regions(path, layout)
+    if missing:
+        first = {d: _plain(v) for d, v in region_coords(layout, missing[0]).items()
+                 if d in layout.task_dims}
+        raise ValueError(f"store {str(path)!r}: {len(missing)} chunks not computed "
+                         f"{_some(missing)} (the first at {first}); {REPAIR}")
+
+
+def _plain(values: np.ndarray) -> list:
+    """Coordinate values as plain Python numbers and strings (for a message)."""
+    return [v.item() if isinstance(v, np.generic) else v for v in np.atleast_1d(values)]
+
+
+def _some(indices: Sequence[int], n: int = 10) -> str:
+    """At most ``n`` indices, the rest counted."""
+    head = ", ".join(map(str, indices[:n]))
+    return f"[{head}{f', ... {len(indices) - n} more' if len(indices) > n else ''}]"
