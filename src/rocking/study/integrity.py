@@ -154,7 +154,8 @@ def verify_store(path: str | Path, layout: Layout | None = None,
         checksums = has_checksums(path)
     except Exception as exc:
         raise ValueError(f"store {str(path)!r}: metadata or coordinates are unreadable "
-                         f"({exc}); delete the store, its rule makes it anew") from exc
+                         f"({exc}); {REPAIR} (coordinates are restored from the "
+                         f"configuration), or delete the store") from exc
     if not checksums:
         say(f"store {path} was made without chunk checksums (by an older version): a "
             f"flipped bit cannot be detected, only values that contradict each other; "
