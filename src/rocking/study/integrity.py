@@ -21,6 +21,7 @@ from .store import (
     DONE,
     REPAIR,
     REQUESTED_DIMS,
+    describing_arrays,
     every_chunk,
     open_group,
     open_layout,
@@ -152,6 +153,9 @@ def verify_store(path: str | Path, layout: Layout | None = None,
         spectra_like = all(d in layout.coords for d in REQUESTED_DIMS)
         requested = read_requested(path, layout) if spectra_like else None
         checksums = has_checksums(path)
+        group = open_group(path, "r")
+        for name in describing_arrays(path):  # auxiliary coordinates too (source_record)
+            group[name][...]
     except Exception as exc:
         raise ValueError(f"store {str(path)!r}: metadata or coordinates are unreadable "
                          f"({exc}); {REPAIR} (coordinates are restored from the "
