@@ -25,7 +25,6 @@ from .store import (
     every_chunk,
     open_group,
     open_layout,
-    pending_regions,
     read_requested,
 )
 
@@ -113,7 +112,8 @@ def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
 
 
 def verify_store(path: str | Path, layout: Layout | None = None,
-                 say: Callable[[str], None] | None = None, repair: bool = True) -> list[int]:
+                 say: Callable[[str], None] | None = None, repair: bool = True,
+                 not_done: list[int] | None = None) -> list[int]:
     """Re-read every finished region; mark the damaged ones not done, to be recomputed.
 
     A region counts as damaged when its done flag is unreadable, when a chunk of its results
@@ -133,6 +133,8 @@ def verify_store(path: str | Path, layout: Layout | None = None,
     repair : bool
         Reset the done flag of damaged regions (False: only report them; the store is
         opened read-only).
+    not_done : list, optional
+        Receives the regions not marked done (read on the way: no second read of the mask).
 
     Returns
     -------
@@ -175,6 +177,8 @@ def verify_store(path: str | Path, layout: Layout | None = None,
             problem = f"done flag {reader.chunk_file(DONE, sel)} is unreadable ({exc})"
         else:
             if not done:
+                if not_done is not None:
+                    not_done.append(index)
                 continue
             problem = _region_problem(path, group, layout, index, requested, checksums,
                                       reader)
@@ -202,12 +206,12 @@ def require_intact(path: str | Path, say: Callable[[str], None] | None = None) -
         and the remedy; the store is not changed (opened read-only), so a damaged chunk is
         never tabulated.
     """
-    damaged = verify_store(path, say=say, repair=False)
+    layout = open_layout(path)
+    missing: list[int] = []
+    damaged = verify_store(path, layout, say=say, repair=False, not_done=missing)
     if damaged:
         raise ValueError(f"store {str(path)!r}: {len(damaged)} damaged chunks {damaged}; "
                          f"{REPAIR}")
-    layout = open_layout(path)
-    missing = pending_regions(path, layout)
     if missing:
         first = {d: _plain(v) for d, v in region_coords(layout, missing[0]).items()
                  if d in layout.task_dims}

@@ -164,7 +164,8 @@ def repair_coordinates(path: str | Path, create) -> list[str]:
     fresh = path.with_name(f".{path.name}.reference-{os.getpid()}")
     shutil.rmtree(fresh, ignore_errors=True)
     try:
-        create(fresh)
+        with store.describing_only():
+            create(fresh)
         damaged = store.differing_arrays(path, fresh)
         if damaged:
             log.warning("store %s: coordinates %s damaged (unreadable, missing or other "

@@ -26,6 +26,7 @@ study's stores hold and how a worker fills a region: :mod:`rocking.study.tasks`.
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import json
 import os
 import shutil
@@ -102,7 +103,9 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     for name, (dim, values) in (coords or {}).items():
         kind = "O" if any(isinstance(v, str) for v in values) else "f8"
         ds = ds.assign_coords({name: (dim, np.array(list(values), dtype=kind), _cf(name))})
-    for name, var in {**layout.variables, DONE: _done_variable(layout)}.items():
+    reference = _DESCRIBING_ONLY.get()
+    results = {} if reference else {**layout.variables, DONE: _done_variable(layout)}
+    for name, var in results.items():
         shape, chunks = layout.shape(var.dims), layout.chunks(var.dims)
         # lazy fill: to_zarr(compute=False) writes metadata and coordinates, no chunk files
         ds[name] = (var.dims, da.full(shape, var.fill, dtype=var.dtype, chunks=chunks),
@@ -113,8 +116,7 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     ds.attrs["Conventions"] = "CF-1.10"
     ds.attrs["config_hash"] = config_digest
     ds.attrs["layout"] = layout.to_json()
-    encoding = {name: {"chunks": layout.chunks(ds[name].dims)}
-                for name in [*layout.variables, DONE]}
+    encoding = {name: {"chunks": layout.chunks(ds[name].dims)} for name in results}
     # every array, coordinates included, gets a checksum on each chunk (verify_store)
     for name in [*ds.data_vars, *ds.coords]:
         encoding.setdefault(name, {})["compressors"] = chunk_codecs()
@@ -125,13 +127,32 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         group = zarr.open_group(tmp, mode="r+", zarr_format=3)
         for name, values in static.items():
             group[name][...] = values
-        for index in regions_not_requested(layout, static.get(REQUESTED)):
+        for index in ([] if reference else regions_not_requested(layout,
+                                                                 static.get(REQUESTED))):
             group[DONE][layout.selection(layout.task_dims, layout.region(index))] = True
     if path.exists():
         shutil.rmtree(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp.rename(path)
     return path
+
+
+_DESCRIBING_ONLY: contextvars.ContextVar[bool] = contextvars.ContextVar("describing_only",
+                                                                       default=False)
+
+
+@contextlib.contextmanager
+def describing_only() -> Iterator[None]:
+    """Within the block, :func:`create_store` writes only the arrays that describe the grid
+    (coordinates, auxiliary coordinates, static variables: :func:`describing_arrays`), not
+    the result arrays nor ``done``: the reference a resumed store's coordinates are compared
+    with (:func:`rocking.study.prepare.repair_coordinates`), made in milliseconds instead of
+    seconds (the lazy result arrays of a large grid cost most of a creation)."""
+    token = _DESCRIBING_ONLY.set(True)
+    try:
+        yield
+    finally:
+        _DESCRIBING_ONLY.reset(token)
 
 
 def _cf(name: str) -> dict[str, str]:
