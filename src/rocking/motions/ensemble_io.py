@@ -106,9 +106,15 @@ def verify_digest(path: str | Path) -> str:
     try:
         text = side.read_text(encoding="ascii", errors="replace").split()
     except FileNotFoundError:
-        log.warning("motions file %s has no digest (made before digests were written): "
-                    "recorded now in %s", p, side)
-        return write_digest(p, found)
+        try:
+            write_digest(p, found)
+        except OSError as exc:  # a read-only results folder: checked from the next write on
+            log.warning("motions file %s has no digest (made before digests were written) "
+                        "and none can be written (%s)", p, exc)
+        else:
+            log.warning("motions file %s has no digest (made before digests were written): "
+                        "recorded now in %s", p, side)
+        return found
     expected = text[0] if text else ""
     if found != expected:
         raise MotionsDigestError(
