@@ -396,6 +396,14 @@ def test_dry_run_refuses_physical_bounds_naming_the_key(change, message):
         check_config(_config(change))
 
 
+def test_command_line_refuses_a_magnitude_out_of_bounds(tmp_path, capsys):
+    from rocking.cli import main
+
+    assert main(["motions", "--mw", "12", "-n", "1", "-o", str(tmp_path / "m.nc")]) != 0
+    err = capsys.readouterr().err
+    assert "--mw=12.0 is outside 3-9.5" in err and not (tmp_path / "m.nc").exists()
+
+
 def test_dry_run_warns_of_a_padding_many_times_the_record():
     cfg = _config(lambda c: c["ensembles"]["elcentro"].update(fc_hz=0.002))
     with pytest.warns(UserWarning, match=r"ensembles.elcentro: the oscillator high-pass at "

@@ -77,9 +77,10 @@ def run(args) -> int:
     record = args.record if (args.record or args.files) else "el-centro-1940"
     motion = load_motion(record, args.files, name=args.name,
                          order_by_azimuth=args.order_by_azimuth, dt=args.dt, units=args.units)
-    from ..study.config_checks import check_ensemble_size
+    from ..study.config_checks import check_ensemble_size, check_magnitude
 
     check_ensemble_size("--n-synthetic", args.n_synthetic, motion.npts)
+    check_magnitude("--mw", args.mw)
     say(f"read {motion.name} ({motion.npts} samples, dt {motion.dt} s, vector PGA "
         f"{motion.pga_g:.4f} g){' [stand-in]' if motion.metadata.get('stand_in') else ''}")
     build = build_ensemble(

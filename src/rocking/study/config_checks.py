@@ -21,8 +21,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["check_config", "check_ensemble_size", "coerce_strings", "schema_error",
-           "validate_config"]
+__all__ = ["check_config", "check_ensemble_size", "check_magnitude", "coerce_strings",
+           "schema_error", "validate_config"]
 
 MAX_GRID_VALUES = 10_000
 """Most values of one grid (R, tan α, intensity)."""
@@ -223,6 +223,14 @@ PAD_WARN_FACTOR = 10.0
 """A high-pass padding longer than this many times the record is warned about [-]."""
 
 
+def check_magnitude(field: str, mw: float | None) -> None:
+    """Refuse a moment magnitude outside :data:`MW_RANGE` (None passes), naming ``field``."""
+    lo, hi = MW_RANGE
+    if mw is not None and not lo <= mw <= hi:
+        raise ValueError(f"{field}={mw!r} is outside {lo:g}-{hi:g}: no earthquake's moment "
+                         f"magnitude (it sets the Brune corner of the high-pass)")
+
+
 def _check_highpass(key: str, rec, motion) -> None:
     """The magnitude within :data:`MW_RANGE`, the high-pass corner below the record's
     Nyquist frequency (naming the key it comes from), and a warning with the numbers when
@@ -231,10 +239,7 @@ def _check_highpass(key: str, rec, motion) -> None:
 
     from ..motions.highpass import brune_corner, butterworth_pad, oscillator_pad
 
-    lo, hi = MW_RANGE
-    if rec.mw is not None and not lo <= rec.mw <= hi:
-        raise ValueError(f"{key}.mw={rec.mw!r} is outside {lo:g}-{hi:g}: no earthquake's "
-                         f"moment magnitude (it sets the Brune corner of the high-pass)")
+    check_magnitude(f"{key}.mw", rec.mw)
     if rec.highpass == "none":
         return
     if rec.fc_hz is not None:
