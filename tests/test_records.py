@@ -61,10 +61,11 @@ def test_named_record_hashes_are_the_published_hashes() -> None:
 
 def test_reversed_npts_dt_header(tmp_path: Path) -> None:
     # Pre-2000 PEER files end the fourth line with "NPTS, DT" instead of "NPTS=, DT=".
+    # (Every value carries its exponent: a ".3" after ".1D+00" reads as a file cut short.)
     p = tmp_path / "old.AT2"
     p.write_text("PEER STRONG MOTION DATABASE RECORD\nEVENT, STATION, 90\n"
                  "ACCELERATION TIME HISTORY IN UNITS OF G\n  3  .0200  NPTS, DT\n"
-                 " .1D+00 -.2E+00\n .3\n")
+                 " .1D+00 -.2E+00\n .3E+00\n")
     acc_g, dt, meta = read_at2(p)
     assert acc_g.tolist() == [0.1, -0.2, 0.3] and dt == 0.02 and meta["azimuth"] == 90.0
 

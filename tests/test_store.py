@@ -180,7 +180,7 @@ def test_other_configuration_or_ensemble_is_refused(tmp_path, ensemble):
     other = tmp_path / "other.nc"
     save_ensemble(other, standin.motions(npts=150))
     tasks.check_ensemble(path, ensemble)
-    with pytest.raises(ValueError, match="other.nc.*rebuild the store"):
+    with pytest.raises(ValueError, match="other.nc.*made from sha256.*delete the store"):
         tasks.check_ensemble(path, other)
 
 

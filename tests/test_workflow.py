@@ -99,7 +99,8 @@ def store_bytes(path: Path) -> dict[str, bytes]:
 def copy_motions(src: Path, dst: Path) -> None:
     """Reuse the reference run's ensemble file (its rule has no result-affecting change)."""
     (dst / "results/motions").mkdir(parents=True)
-    for suffix in (".nc", ".json", ".compare.nc"):
+    # with their digests (.sha256), which every read checks
+    for suffix in (".nc", ".json", ".compare.nc", ".nc.sha256", ".compare.nc.sha256"):
         shutil.copy2(src / f"{MOTIONS}{suffix}", dst / f"{MOTIONS}{suffix}")
 
 

@@ -61,7 +61,7 @@ def run(args) -> int:
     """Build the ensemble, write the NetCDF and JSON files; returns 0."""
     from .. import _json
     from ..motions.build import ENSEMBLE_ATTRS, build_ensemble, comparison_path, quality_lines
-    from ..motions.ensemble_io import save_ensemble
+    from ..motions.ensemble_io import save_ensemble, write_digest
     from ..motions.source import load_motion
 
     def say(message: str) -> None:
@@ -77,9 +77,10 @@ def run(args) -> int:
     record = args.record if (args.record or args.files) else "el-centro-1940"
     motion = load_motion(record, args.files, name=args.name,
                          order_by_azimuth=args.order_by_azimuth, dt=args.dt, units=args.units)
-    from ..study.config_checks import check_ensemble_size
+    from ..study.config_checks import check_ensemble_size, check_magnitude
 
     check_ensemble_size("--n-synthetic", args.n_synthetic, motion.npts)
+    check_magnitude("--mw", args.mw)
     say(f"read {motion.name} ({motion.npts} samples, dt {motion.dt} s, vector PGA "
         f"{motion.pga_g:.4f} g){' [stand-in]' if motion.metadata.get('stand_in') else ''}")
     build = build_ensemble(
@@ -92,10 +93,13 @@ def run(args) -> int:
     print("\n".join(quality_lines(params)))
     attrs = {k: params[k] for k in ENSEMBLE_ATTRS}
     with _common.replacing(args.out) as tmp:
-        save_ensemble(tmp, build.motions, attrs=attrs)
+        save_ensemble(tmp, build.motions, attrs=attrs, digest=False)
+    write_digest(args.out)  # the digest of the final name, checked before every read
     if build.comparison:
         with _common.replacing(comparison_path(args.out)) as tmp:
-            save_ensemble(tmp, build.comparison, attrs={**attrs, **params["comparison"]})
+            save_ensemble(tmp, build.comparison, attrs={**attrs, **params["comparison"]},
+                          digest=False)
+        write_digest(comparison_path(args.out))
     params_out = args.params_out or args.out.with_suffix(".json")
     with _common.replacing(params_out) as tmp:
         _json.write(tmp, params, sort_keys=True)

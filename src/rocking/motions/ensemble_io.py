@@ -12,11 +12,17 @@ it comes from: in a suite, which record), ``kind`` (``record`` or ``synthetic``)
 (one line: rotation, high-pass corner, padding, cut), ``rotation_deg``, ``highpass_fc_hz``,
 ``padding_s``, ``duration_s``, ``PGA`` [g], ``Ia_x``, ``Ia_y`` [m/s]. Every variable has CF
 ``units`` and ``long_name``.
+
+Beside each file lies its digest, ``<file>.sha256`` (one ``sha256sum`` line: ``sha256sum -c``
+checks it too), written when the file is made (:func:`write_digest`) and checked before every
+read (:func:`verify_digest`): a file changed or damaged after it was made is refused with a line
+naming it and the command that rebuilds it, never read into other numbers.
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import math
 import os
 from collections.abc import Sequence
@@ -30,9 +36,12 @@ from .. import _json
 from ..units import attrs as _attrs
 from .identity import identity
 from .motion import GroundMotion
+from .readers import file_sha256
 
-__all__ = ["FORMAT", "IDENTITY", "ensemble_attrs", "load_ensemble", "open_netcdf",
-           "save_ensemble"]
+__all__ = ["FORMAT", "IDENTITY", "MotionsDigestError", "digest_path", "ensemble_attrs",
+           "load_ensemble", "open_netcdf", "save_ensemble", "verify_digest", "write_digest"]
+
+log = logging.getLogger(__name__)
 
 FORMAT = "rocking-ensemble-1"
 """Value of the ``format`` attribute; bumped when the layout changes."""
@@ -42,6 +51,77 @@ IDENTITY = ("source_record", "kind", "processing", "rotation_deg", "highpass_fc_
 """Per-motion identity variables (see :func:`rocking.motions.identity.identity`)."""
 
 _TEXT = ("source_record", "kind", "processing")
+
+REBUILD = ("rebuild the motions: `snakemake --forcerun motions` in the workflow (it rewrites "
+           "the file and its digest; the stores resume), or run again the `rocking motions` "
+           "command that wrote it")
+"""The remedy a motions file that fails its digest names."""
+
+
+class MotionsDigestError(ValueError):
+    """A motions file whose bytes differ from the digest written when it was made."""
+
+
+def digest_path(path: str | Path) -> Path:
+    """Where the digest of the motions file ``path`` lies: ``<path>.sha256``."""
+    p = Path(path)
+    return p.with_name(p.name + ".sha256")
+
+
+def write_digest(path: str | Path, sha256: str | None = None) -> str:
+    """Write ``<path>.sha256`` (``sha256sum`` format), atomically; return the digest (hex)."""
+    p = Path(path)
+    sha256 = sha256 or file_sha256(p)
+    side = digest_path(p)
+    tmp = side.with_name(f".{side.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(f"{sha256}  {p.name}\n", encoding="ascii")
+        os.replace(tmp, side)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return sha256
+
+
+def verify_digest(path: str | Path) -> str:
+    """Check a motions file against the digest written beside it when it was made.
+
+    A file without a digest (made before digests were written) has one recorded now, with a
+    warning: from then on it is checked like the others.
+
+    Returns
+    -------
+    str
+        The file's sha256 (hex), so that callers need not hash it again.
+
+    Raises
+    ------
+    MotionsDigestError
+        Naming the file, both digests and the command that rebuilds the motions.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise FileNotFoundError(f"ensemble file not found: {p}")
+    found = file_sha256(p)
+    side = digest_path(p)
+    try:
+        text = side.read_text(encoding="ascii", errors="replace").split()
+    except FileNotFoundError:
+        try:
+            write_digest(p, found)
+        except OSError as exc:  # a read-only results folder: checked from the next write on
+            log.warning("motions file %s has no digest (made before digests were written) "
+                        "and none can be written (%s)", p, exc)
+        else:
+            log.warning("motions file %s has no digest (made before digests were written): "
+                        "recorded now in %s", p, side)
+        return found
+    expected = text[0] if text else ""
+    if found != expected:
+        raise MotionsDigestError(
+            f"motions file {str(p)!r} has sha256 {found} but was written with sha256 "
+            f"{expected or '(unreadable)'} ({side}): it was changed or damaged after it was "
+            f"made; {REBUILD}")
+    return found
 
 
 def open_netcdf(path: str | Path) -> xr.Dataset:
@@ -64,9 +144,11 @@ def open_netcdf(path: str | Path) -> xr.Dataset:
 
 
 def save_ensemble(
-    path: str | Path, motions: Sequence[GroundMotion], attrs: dict[str, Any] | None = None
+    path: str | Path, motions: Sequence[GroundMotion], attrs: dict[str, Any] | None = None,
+    *, digest: bool = True,
 ) -> Path:
-    """Write motions to a NetCDF file (atomically: temporary file, then rename).
+    """Write motions to a NetCDF file (atomically: temporary file, then rename), and its
+    digest beside it (:func:`write_digest`).
 
     Parameters
     ----------
@@ -76,6 +158,9 @@ def save_ensemble(
         The motions, the record first by convention; names must be unique.
     attrs : dict, optional
         Extra global attributes (JSON-encoded under ``attrs_json``).
+    digest : bool
+        Write ``<path>.sha256`` (False: a caller writing to a temporary file it renames
+        afterwards writes the digest of the final name itself).
 
     Returns
     -------
@@ -138,6 +223,8 @@ def save_ensemble(
         os.replace(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
+    if digest:
+        write_digest(out)
     return out
 
 
@@ -156,12 +243,13 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
 
     Raises
     ------
+    MotionsDigestError
+        The file differs from the digest written when it was made (:func:`verify_digest`).
     ValueError
         A file without the expected variables, or an ``npts`` outside the stored length.
     """
     p = Path(path)
-    if not p.is_file():
-        raise FileNotFoundError(f"ensemble file not found: {p}")
+    verify_digest(p)
     with open_netcdf(p) as ds:
         missing = [v for v in ("ax", "ay", "npts", "dt", "metadata") if v not in ds]
         if missing:
@@ -186,6 +274,8 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
 
 
 def ensemble_attrs(path: str | Path) -> dict[str, Any]:
-    """Global attributes stored by :func:`save_ensemble` (``attrs`` argument) [-]."""
+    """Global attributes stored by :func:`save_ensemble` (``attrs`` argument) [-]; the file
+    is checked against its digest first (:func:`verify_digest`)."""
+    verify_digest(path)
     with open_netcdf(path) as ds:
         return json.loads(ds.attrs.get("attrs_json", "{}"))

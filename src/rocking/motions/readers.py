@@ -9,8 +9,10 @@ picks the right reader and converts to m/s²; :func:`read_pair` puts two compone
 time axis.
 
 Every malformed file (bad header, NPTS disagreeing with the data, a non-numeric token, NaN or
-infinity, dt <= 0, a non-uniform time column) raises :class:`RecordFormatError` naming the file
-and the line, so a record is never silently truncated or padded. The named records of the study
+infinity, dt <= 0, a non-uniform time column, a number not written in the file's format such as
+a last value cut before its exponent, a data line holding fewer values than the others) raises
+:class:`RecordFormatError` naming the file and the line, so a record is never silently
+truncated or padded. The named records of the study
 are in :mod:`rocking.motions.catalogue`.
 """
 
@@ -142,6 +144,47 @@ def _parse_float(token: str, path: Path, line: int) -> float:
     return value
 
 
+_NUMBER_SHAPE = re.compile(r"[+-]?\d*\.(?P<frac>\d+)(?:[EeDd](?P<exp>[+-]?\d+))?")
+
+_SHAPE_SAMPLE = 20
+"""Values of a plain-text column that must share one number format for the column to be
+read strictly (AT2 data always are)."""
+
+
+def _shape(token: str) -> tuple[int, int] | None:
+    """(digits after the point, exponent characters; -1 without exponent) of a number
+    written with a decimal point, or None for other writings (integers)."""
+    m = _NUMBER_SHAPE.fullmatch(token)
+    if m is None:
+        return None
+    return len(m.group("frac")), -1 if m.group("exp") is None else len(m.group("exp"))
+
+
+def _check_shapes(tokens: list[str], lines: list[int], path: Path, strict: bool) -> None:
+    """Every number written like the first one: the same digits after the point and the same
+    exponent (``.1773449E-03`` everywhere, never ``.1773449``). A file cut inside its last
+    number (its exponent lost) would otherwise be read as a value 10^k times too large.
+
+    ``strict`` (AT2 data, written by one Fortran format): any number not written like the
+    first is an error. Otherwise (plain text, perhaps written with ``%g``) only a column whose
+    first :data:`_SHAPE_SAMPLE` values share one format is held to it.
+    """
+    if not tokens:
+        return
+    first = _shape(tokens[0])
+    if first is None:
+        return
+    if not strict and any(_shape(t) != first for t in tokens[:_SHAPE_SAMPLE]):
+        return
+    for tok, line in zip(tokens, lines, strict=True):
+        if _shape(tok) != first:
+            expo = "no exponent" if first[1] < 0 else f"an exponent of {first[1]} characters"
+            raise RecordFormatError(
+                path, line, f"value {tok!r} is not written like the file's numbers "
+                f"({tokens[0]!r}: {first[0]} digits after the point, {expo}); the file is "
+                f"cut or damaged")
+
+
 def _split_fixed(text: str, width: int) -> list[str]:
     text = text.rstrip()
     return [text[i : i + width] for i in range(0, len(text), width) if text[i : i + width].strip()]
@@ -150,17 +193,34 @@ def _split_fixed(text: str, width: int) -> list[str]:
 def _parse_values(
     lines: list[str], first: int, path: Path, width: int | None
 ) -> tuple[list[float], list[int]]:
-    """Numbers of lines ``first:`` with, for each, the 1-based line it came from."""
+    """Numbers of lines ``first:`` with, for each, the 1-based line it came from.
+
+    Read strictly: every number written in the file's format (:func:`_check_shapes`), and
+    every line but the last holding as many values as the first data line, the last no more.
+    """
     values: list[float] = []
     origin: list[int] = []
+    texts: list[str] = []
+    per_line: list[tuple[int, int]] = []  # (line, values on it)
     for i in range(first, len(lines)):
         text = lines[i]
         if not text.strip():
             continue
-        tokens = _split_fixed(text, width) if width else text.split()
+        tokens = [t.strip() for t in (_split_fixed(text, width) if width else text.split())]
         for tok in tokens:
-            values.append(_parse_float(tok.strip(), path, i + 1))
+            values.append(_parse_float(tok, path, i + 1))
             origin.append(i + 1)
+            texts.append(tok)
+        per_line.append((i + 1, len(tokens)))
+    _check_shapes(texts, origin, path, strict=True)
+    if per_line:
+        full = per_line[0][1]
+        for k, (line, n) in enumerate(per_line):
+            last = k == len(per_line) - 1
+            if n > full or (n < full and not last):
+                raise RecordFormatError(
+                    path, line, f"{n} values on this line, the data lines hold {full} "
+                    f"(line {per_line[0][0]}); the file is cut or damaged")
     return values, origin
 
 
@@ -314,6 +374,7 @@ def read_text(
     path = Path(path)
     lines = _read_lines(path)
     rows: list[list[float]] = []
+    texts: list[list[str]] = []
     origin: list[int] = []
     ncol = None
     for i, text in enumerate(lines):
@@ -333,9 +394,12 @@ def read_text(
                 f"{len(tokens)}"
             )
         rows.append([_parse_float(t, path, i + 1) for t in tokens])
+        texts.append(tokens)
         origin.append(i + 1)
     if len(rows) < 2:
         raise RecordFormatError(path, None, f"needs at least 2 samples, found {len(rows)}")
+    for col in range(ncol):
+        _check_shapes([t[col] for t in texts], origin, path, strict=False)
     data = np.asarray(rows, dtype=np.float64)
     t0 = 0.0
     if ncol == 1:

@@ -25,6 +25,7 @@ import pandas as pd
 import xarray as xr
 
 from ..units import CSV_FLOAT_FORMAT, attrs, header
+from .store import REPAIR
 
 STAT_DIMS = ("mode", "limit_state", "tan_alpha", "R")
 """Dimensions of the aggregated spectra."""
@@ -57,7 +58,8 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     """
     missing = ~ds["done"].values.astype(bool)
     if missing.any():
-        first = {d: ds["done"][d].values[i].item()
+        # labels are numpy scalars or (mode, motion) plain str: no .item() on those
+        first = {d: _plain(ds["done"][d].values[i])
                  for d, i in zip(ds["done"].dims, np.argwhere(missing)[0], strict=True)}
         raise ValueError(f"spectra store is incomplete: {int(missing.sum())} points not done, "
                          f"first at {first}")
@@ -96,6 +98,11 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     out.attrs = {k: v for k, v in ds.attrs.items() if k != "layout"}
     out.attrs["motions"] = ", ".join(map(str, ds["motion"].values))
     return out
+
+
+def _plain(value):
+    """A coordinate value as a plain Python number or string."""
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def median_all(pga: xr.DataArray, reached: xr.DataArray,
@@ -163,6 +170,16 @@ def requested_answers(ds: xr.Dataset, columns: Sequence[str]) -> pd.DataFrame:
         frame = frame[frame["requested"].astype(bool)].drop(columns="requested")
     for dim in ("mode", "limit_state", "motion"):
         frame[dim] = frame[dim].astype(str)
+    if "pga_crit" in frame and "not_reached" in frame:
+        # a requested answer is a number or "not reached", never an empty cell
+        blank = frame["pga_crit"].isna() & ~frame["not_reached"].astype(bool)
+        if blank.any():
+            row = frame[blank].iloc[0]
+            raise ValueError(f"spectra store: {int(blank.sum())} requested answers are NaN "
+                             f"without a flag, the first at mode={row['mode']}, limit_state="
+                             f"{row['limit_state']}, motion={row['motion']}, tan_alpha="
+                             f"{row['tan_alpha']}, R={row['R']}; the store is incomplete or "
+                             f"damaged: {REPAIR}")
     return frame
 
 

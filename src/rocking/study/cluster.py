@@ -206,7 +206,89 @@ def dask_client(target: Target, n_workers: int = 1, *,
             f"{client.dashboard_link}")
         if n == 0:
             _wait_for_a_worker(client, address, worker_timeout, say)
+        check_workers(client)  # workers of another environment: said now, by name
         yield client
+
+
+CHECKED_PACKAGES = ("rocking", "numpy", "numba")
+"""Packages whose version a worker must share with the client: another ``rocking`` or a
+numpy/numba that rounds or compiles differently could change a number."""
+
+# The probe runs on workers that may lack rocking itself, so it must not be pickled as a
+# reference to this module (cloudpickle sends functions of unimportable modules by value).
+_PROBE_SOURCE = """
+def probe(names):
+    import importlib
+    out = {}
+    for name in names:
+        try:
+            out[name] = str(importlib.import_module(name).__version__)
+        except Exception as exc:
+            out[name] = "cannot import: %s: %s" % (type(exc).__name__, exc)
+    return out
+"""
+
+
+def _probe():
+    namespace: dict[str, Any] = {"__name__": "rocking_worker_probe"}
+    exec(_PROBE_SOURCE, namespace)  # noqa: S102 - fixed source, see above
+    return namespace["probe"]
+
+
+def environment_problems(client_versions: Mapping[str, str],
+                         workers: Mapping[str, Any]) -> list[str]:
+    """What differs between the client's packages and each worker's.
+
+    Parameters
+    ----------
+    client_versions : mapping
+        Package → version of this process (the probe's answer here).
+    workers : mapping
+        Worker address → the probe's answer there, or the exception it raised.
+
+    Returns
+    -------
+    list of str
+        One phrase per worker and package ("cannot import rocking: ...", "numpy 2.0 where
+        this run has 2.1"), empty when they all agree.
+    """
+    out = []
+    for address, found in sorted(workers.items()):
+        if isinstance(found, BaseException):
+            out.append(f"worker {address} could not run a version check "
+                       f"({type(found).__name__}: {found})")
+            continue
+        for name, want in client_versions.items():
+            got = found.get(name)
+            if isinstance(got, str) and got.startswith("cannot import: "):
+                out.append(f"worker {address} cannot import {name} "
+                           f"({got.removeprefix('cannot import: ')})")
+            elif got != want:
+                out.append(f"worker {address} has {name} {got!r} where this run has {want!r}")
+    return out
+
+
+def check_workers(client: Client, addresses: Sequence[str] | None = None) -> None:
+    """Check that workers (all, or ``addresses``) import rocking, numpy and numba at the
+    client's versions (:data:`CHECKED_PACKAGES`).
+
+    Raises
+    ------
+    RuntimeError
+        In one line naming each worker and what differs, and the remedy; a worker whose
+        environment lacks the package is reported as such, not as "no worker".
+    """
+    probe = _probe()
+    here = probe(CHECKED_PACKAGES)
+    kw = {"workers": list(addresses)} if addresses is not None else {}
+    if addresses is not None and not addresses:
+        return
+    there = client.run(probe, CHECKED_PACKAGES, on_error="return", **kw)
+    problems = environment_problems(here, there)
+    if problems:
+        raise RuntimeError(f"Dask workers differ from this run's environment: "
+                           f"{'; '.join(problems)}; start the workers from this run's "
+                           f"environment (the same rocking, numpy and numba)")
 
 
 def _wait_for_a_worker(client: Client, address: str, timeout: float, say) -> None:
@@ -322,9 +404,21 @@ class _WorkerWatch:
         self.client, self.timeout, self.n = client, float(timeout), n
         self.workers = -1
         self._none_since: float | None = None
+        self._seen = set(client.nthreads())  # checked when the client joined
 
     def check(self, now: float, left: int, futures: Mapping) -> None:
-        self.workers = len(self.client.nthreads())
+        current = set(self.client.nthreads())
+        self.workers = len(current)
+        joined = current - self._seen
+        if joined:
+            # a worker that joins later is checked too, before its results are trusted
+            self._seen |= joined
+            try:
+                check_workers(self.client, sorted(joined))
+            except RuntimeError:
+                for f in futures:
+                    f.cancel()
+                raise
         if self.workers:
             self._none_since = None
             return

@@ -22,8 +22,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-__all__ = ["check_config", "check_ensemble_size", "coerce_strings", "schema_error",
-           "validate_config"]
+__all__ = ["check_config", "check_ensemble_size", "check_magnitude", "coerce_strings",
+           "schema_error", "validate_config"]
 
 MAX_GRID_VALUES = 10_000
 """Most values of one grid (R, tan α, intensity)."""
@@ -134,7 +134,9 @@ def check_config(config: Mapping[str, Any]) -> None:
     ValueError
         An ensemble with both or neither of ``record`` and ``records``, an unknown record
         name without files, a record file that does not exist, a high-pass at the Brune
-        corner of a record of unknown magnitude without ``mw``, a study naming an unknown
+        corner of a record of unknown magnitude without ``mw``, ``mw`` outside
+        :data:`MW_RANGE`, a high-pass corner at or above the record's Nyquist frequency
+        (a padding many times the record is a warning), a study naming an unknown
         ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
     """
     _check_finite(config)
@@ -153,6 +155,7 @@ def check_config(config: Mapping[str, Any]) -> None:
             if motion is None:
                 continue
             _check_magnitude(key, rec, motion)
+            _check_highpass(key, rec, motion)
             if max_duration is not None and max_duration < 2 * motion.dt:
                 raise ValueError(f"motions.max_duration={max_duration!r} s keeps fewer than "
                                  f"two samples of {key} (dt {motion.dt:g} s); give at least "
@@ -228,6 +231,54 @@ def _check_magnitude(key: str, rec, motion) -> None:
                          f"catalogue, so the moment magnitude that sets the corner of its "
                          f"{rec.highpass} high-pass (Brune corner) is unknown; give {key}.mw, "
                          f"or {key}.fc_hz [Hz], or {key}.highpass: none")
+
+
+MW_RANGE = (3.0, 9.5)
+"""Moment magnitudes accepted for ``mw`` [-]: outside, the Brune corner (and the high-pass
+padding it sets) is no earthquake's (``mw: 12``: a corner of 0.0003 Hz, 4 h of zeros)."""
+
+PAD_WARN_FACTOR = 10.0
+"""A high-pass padding longer than this many times the record is warned about [-]."""
+
+
+def check_magnitude(field: str, mw: float | None) -> None:
+    """Refuse a moment magnitude outside :data:`MW_RANGE` (None passes), naming ``field``."""
+    lo, hi = MW_RANGE
+    if mw is not None and not lo <= mw <= hi:
+        raise ValueError(f"{field}={mw!r} is outside {lo:g}-{hi:g}: no earthquake's moment "
+                         f"magnitude (it sets the Brune corner of the high-pass)")
+
+
+def _check_highpass(key: str, rec, motion) -> None:
+    """The magnitude within :data:`MW_RANGE`, the high-pass corner below the record's
+    Nyquist frequency (naming the key it comes from), and a warning with the numbers when
+    the filter's zero padding is :data:`PAD_WARN_FACTOR` times the record or longer."""
+    import warnings
+
+    from ..motions.highpass import brune_corner, butterworth_pad, oscillator_pad
+
+    check_magnitude(f"{key}.mw", rec.mw)
+    if rec.highpass == "none":
+        return
+    if rec.fc_hz is not None:
+        fc, source = float(rec.fc_hz), f"{key}.fc_hz={rec.fc_hz!r}"
+    else:
+        mw = rec.mw if rec.mw is not None else motion.metadata.get("mw")
+        if mw is None:
+            return  # _check_magnitude has said so
+        fc = brune_corner(float(mw), 50.0, 3.5)  # the defaults the motions rule uses
+        source = f"the Brune corner {fc:.4g} Hz of {key}.mw={mw!r}"
+    nyquist = 0.5 / motion.dt
+    if fc >= nyquist:
+        raise ValueError(f"{source}: the high-pass corner must be below the Nyquist "
+                         f"frequency {nyquist:g} Hz of the record (dt {motion.dt:g} s)")
+    pad = oscillator_pad(fc) if rec.highpass == "oscillator" else butterworth_pad(fc, 4)
+    duration = motion.npts * motion.dt
+    if pad >= PAD_WARN_FACTOR * duration:
+        warnings.warn(f"{key}: the {rec.highpass} high-pass at {fc:.4g} Hz ({source}) pads "
+                      f"{pad:.0f} s of zeros onto a record of {duration:.0f} s "
+                      f"({pad / duration:.0f} times as long): every analysis runs through "
+                      f"them; check {key}.mw or {key}.fc_hz", stacklevel=2)
 
 
 def coerce_strings(config: dict[str, Any], schema: Mapping[str, Any]) -> None:

@@ -15,12 +15,13 @@ from pathlib import Path
 import numpy as np
 import zarr
 
-from .layout import Layout
+from .layout import Layout, region_coords
 from .store import (
     CHECKSUM_CODEC,
     DONE,
     REPAIR,
     REQUESTED_DIMS,
+    describing_arrays,
     every_chunk,
     open_group,
     open_layout,
@@ -111,7 +112,8 @@ def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
 
 
 def verify_store(path: str | Path, layout: Layout | None = None,
-                 say: Callable[[str], None] | None = None, repair: bool = True) -> list[int]:
+                 say: Callable[[str], None] | None = None, repair: bool = True,
+                 not_done: list[int] | None = None) -> list[int]:
     """Re-read every finished region; mark the damaged ones not done, to be recomputed.
 
     A region counts as damaged when its done flag is unreadable, when a chunk of its results
@@ -131,6 +133,8 @@ def verify_store(path: str | Path, layout: Layout | None = None,
     repair : bool
         Reset the done flag of damaged regions (False: only report them; the store is
         opened read-only).
+    not_done : list, optional
+        Receives the regions not marked done (read on the way: no second read of the mask).
 
     Returns
     -------
@@ -151,9 +155,13 @@ def verify_store(path: str | Path, layout: Layout | None = None,
         spectra_like = all(d in layout.coords for d in REQUESTED_DIMS)
         requested = read_requested(path, layout) if spectra_like else None
         checksums = has_checksums(path)
+        group = open_group(path, "r")
+        for name in describing_arrays(path):  # auxiliary coordinates too (source_record)
+            group[name][...]
     except Exception as exc:
         raise ValueError(f"store {str(path)!r}: metadata or coordinates are unreadable "
-                         f"({exc}); delete the store, its rule makes it anew") from exc
+                         f"({exc}); {REPAIR} (coordinates are restored from the "
+                         f"configuration), or delete the store") from exc
     if not checksums:
         say(f"store {path} was made without chunk checksums (by an older version): a "
             f"flipped bit cannot be detected, only values that contradict each other; "
@@ -169,6 +177,8 @@ def verify_store(path: str | Path, layout: Layout | None = None,
             problem = f"done flag {reader.chunk_file(DONE, sel)} is unreadable ({exc})"
         else:
             if not done:
+                if not_done is not None:
+                    not_done.append(index)
                 continue
             problem = _region_problem(path, group, layout, index, requested, checksums,
                                       reader)
@@ -182,15 +192,39 @@ def verify_store(path: str | Path, layout: Layout | None = None,
 
 
 def require_intact(path: str | Path, say: Callable[[str], None] | None = None) -> None:
-    """Check a finished store before its numbers are read into others (aggregates, tables).
+    """Check a store before its numbers are read into others (aggregates, tables): every
+    region complete (done, whether the study asked for it or not) and every finished one
+    verified (:func:`verify_store`).
+
+    A region whose done flag is gone (its chunk file deleted) counts as not computed, never
+    as an empty answer: a table of the store would otherwise hold NaN rows for it.
 
     Raises
     ------
     ValueError
-        Naming the store, its damaged regions and the remedy; the store is not changed
-        (opened read-only), so a damaged chunk is never tabulated.
+        Naming the store, its damaged or missing regions (with the coordinates of the first)
+        and the remedy; the store is not changed (opened read-only), so a damaged chunk is
+        never tabulated.
     """
-    damaged = verify_store(path, say=say, repair=False)
+    layout = open_layout(path)
+    missing: list[int] = []
+    damaged = verify_store(path, layout, say=say, repair=False, not_done=missing)
     if damaged:
         raise ValueError(f"store {str(path)!r}: {len(damaged)} damaged chunks {damaged}; "
                          f"{REPAIR}")
+    if missing:
+        first = {d: _plain(v) for d, v in region_coords(layout, missing[0]).items()
+                 if d in layout.task_dims}
+        raise ValueError(f"store {str(path)!r}: {len(missing)} chunks not computed "
+                         f"{_some(missing)} (the first at {first}); {REPAIR}")
+
+
+def _plain(values: np.ndarray) -> list:
+    """Coordinate values as plain Python numbers and strings (for a message)."""
+    return [v.item() if isinstance(v, np.generic) else v for v in np.atleast_1d(values)]
+
+
+def _some(indices: Sequence[int], n: int = 10) -> str:
+    """At most ``n`` indices, the rest counted."""
+    head = ", ".join(map(str, indices[:n]))
+    return f"[{head}{f', ... {len(indices) - n} more' if len(indices) > n else ''}]"

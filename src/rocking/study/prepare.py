@@ -145,6 +145,7 @@ def ready_store(path: str | Path, config_digest: str, create) -> str:
     state = _state(path, config_digest)
     if state == "same":
         log.info("store %s: same configuration (%s), resuming in it", path, config_digest)
+        repair_coordinates(path, create)
     elif state == "other":
         log.info("store %s: made for another configuration, replacing it", path)
         shutil.rmtree(path)
@@ -153,6 +154,26 @@ def ready_store(path: str | Path, config_digest: str, create) -> str:
     if alias != path:
         link_alias(path, alias)
     return {"same": "resumed", "missing": "created"}.get(state, "replaced")
+
+
+def repair_coordinates(path: str | Path, create) -> list[str]:
+    """Verify the coordinates and static arrays of a store against the same arrays made anew
+    (``create`` into a sibling folder) and restore those damaged: its coordinates are
+    verified like its data, and repaired by the same rerun. Returns the arrays restored."""
+    path = Path(path)
+    fresh = path.with_name(f".{path.name}.reference-{os.getpid()}")
+    shutil.rmtree(fresh, ignore_errors=True)
+    try:
+        with store.describing_only():
+            create(fresh)
+        damaged = store.differing_arrays(path, fresh)
+        if damaged:
+            log.warning("store %s: coordinates %s damaged (unreadable, missing or other "
+                        "values); restored from the configuration", path, damaged)
+            store.restore_arrays(path, fresh, damaged)
+    finally:
+        shutil.rmtree(fresh, ignore_errors=True)
+    return damaged
 
 
 def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_digest: str,
@@ -261,7 +282,11 @@ def compute(kind: str, path: str | Path, spec: Any, config_digest: str,
 
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
-    state = KINDS[kind](path, spec, config_digest, motions)
-    fill = tasks.fill_spectra_region if kind == "spectra" else tasks.fill_tilt_map_region
-    summary = cluster.fill_store(path, fill, motions, config_digest=config_digest, **fill_kw)
+    # one run at a time per store: another working directory starting the same study waits
+    # for nothing and deletes nothing, it stops naming the run that holds the store
+    with store.locked(path):
+        state = KINDS[kind](path, spec, config_digest, motions)
+        fill = tasks.fill_spectra_region if kind == "spectra" else tasks.fill_tilt_map_region
+        summary = cluster.fill_store(path, fill, motions, config_digest=config_digest,
+                                     **fill_kw)
     return {**summary, "store_state": state}

@@ -25,10 +25,13 @@ study's stores hold and how a worker fills a region: :mod:`rocking.study.tasks`.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import json
+import os
 import shutil
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -100,7 +103,9 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     for name, (dim, values) in (coords or {}).items():
         kind = "O" if any(isinstance(v, str) for v in values) else "f8"
         ds = ds.assign_coords({name: (dim, np.array(list(values), dtype=kind), _cf(name))})
-    for name, var in {**layout.variables, DONE: _done_variable(layout)}.items():
+    reference = _DESCRIBING_ONLY.get()
+    results = {} if reference else {**layout.variables, DONE: _done_variable(layout)}
+    for name, var in results.items():
         shape, chunks = layout.shape(var.dims), layout.chunks(var.dims)
         # lazy fill: to_zarr(compute=False) writes metadata and coordinates, no chunk files
         ds[name] = (var.dims, da.full(shape, var.fill, dtype=var.dtype, chunks=chunks),
@@ -111,8 +116,7 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
     ds.attrs["Conventions"] = "CF-1.10"
     ds.attrs["config_hash"] = config_digest
     ds.attrs["layout"] = layout.to_json()
-    encoding = {name: {"chunks": layout.chunks(ds[name].dims)}
-                for name in [*layout.variables, DONE]}
+    encoding = {name: {"chunks": layout.chunks(ds[name].dims)} for name in results}
     # every array, coordinates included, gets a checksum on each chunk (verify_store)
     for name in [*ds.data_vars, *ds.coords]:
         encoding.setdefault(name, {})["compressors"] = chunk_codecs()
@@ -123,13 +127,32 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         group = zarr.open_group(tmp, mode="r+", zarr_format=3)
         for name, values in static.items():
             group[name][...] = values
-        for index in regions_not_requested(layout, static.get(REQUESTED)):
+        for index in ([] if reference else regions_not_requested(layout,
+                                                                 static.get(REQUESTED))):
             group[DONE][layout.selection(layout.task_dims, layout.region(index))] = True
     if path.exists():
         shutil.rmtree(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp.rename(path)
     return path
+
+
+_DESCRIBING_ONLY: contextvars.ContextVar[bool] = contextvars.ContextVar("describing_only",
+                                                                       default=False)
+
+
+@contextlib.contextmanager
+def describing_only() -> Iterator[None]:
+    """Within the block, :func:`create_store` writes only the arrays that describe the grid
+    (coordinates, auxiliary coordinates, static variables: :func:`describing_arrays`), not
+    the result arrays nor ``done``: the reference a resumed store's coordinates are compared
+    with (:func:`rocking.study.prepare.repair_coordinates`), made in milliseconds instead of
+    seconds (the lazy result arrays of a large grid cost most of a creation)."""
+    token = _DESCRIBING_ONLY.set(True)
+    try:
+        yield
+    finally:
+        _DESCRIBING_ONLY.reset(token)
 
 
 def _cf(name: str) -> dict[str, str]:
@@ -186,7 +209,13 @@ def open_layout(path: str | Path) -> Layout:
     names = list(group.array_keys())
     dims_of = {k: tuple(group[k].metadata.dimension_names) for k in names}
     coord_names = [k for k, d in dims_of.items() if d == (k,)]
-    coords = {k: _read_coord(group[k]) for k in coord_names}
+    coords = {}
+    for k in coord_names:
+        try:
+            coords[k] = _read_coord(group[k])
+        except Exception as exc:  # a checksum mismatch or truncated chunk of a coordinate
+            raise ValueError(f"store {str(path)!r}: coordinate {k!r} is unreadable "
+                             f"({type(exc).__name__}: {exc}); {REPAIR}") from exc
     task_dims = set(chunking["task_dims"])
     static_names = set(chunking.get("static", []))
     variables, static = {}, {}
@@ -211,6 +240,91 @@ def read_requested(path: str | Path, layout: Layout | None = None) -> np.ndarray
     if REQUESTED not in layout.static:
         return np.ones(layout.shape(REQUESTED_DIMS), dtype=bool)
     return np.asarray(open_group(path, "r")[REQUESTED][...], dtype=bool)
+
+
+def describing_arrays(path: str | Path) -> list[str]:
+    """The arrays of a store that describe its grid rather than hold results: coordinates,
+    auxiliary coordinates (a motion's source record) and static variables (``requested``);
+    every array but ``done`` and those spanning every task dimension."""
+    group = open_group(path, "r")
+    task_dims = set(json.loads(group.attrs["layout"])["task_dims"])
+    return sorted(k for k in group.array_keys() if k != DONE
+                  and not task_dims <= set(group[k].metadata.dimension_names))
+
+
+def differing_arrays(path: str | Path, reference: str | Path) -> list[str]:
+    """The describing arrays of ``path`` (:func:`describing_arrays` of ``reference``) that
+    are unreadable (checksum mismatch, truncated chunk), missing, or hold other values than
+    in ``reference``, a store made anew for the same configuration. A missing chunk file of
+    a coordinate reads as its fill value, so values are compared, not only read."""
+    group, ref = open_group(path, "r"), open_group(reference, "r")
+    out = []
+    for name in describing_arrays(reference):
+        expected = np.asarray(ref[name][...])
+        try:
+            found = np.asarray(group[name][...])
+        except Exception:  # unreadable or absent
+            out.append(name)
+            continue
+        same = found.shape == expected.shape and (
+            np.array_equal(found, expected, equal_nan=True) if expected.dtype.kind == "f"
+            else bool(np.all(found == expected)))
+        if not same:
+            out.append(name)
+    return out
+
+
+def restore_arrays(path: str | Path, reference: str | Path, names: Sequence[str]) -> None:
+    """Replace the arrays ``names`` of store ``path`` by those of ``reference`` (each
+    written whole to a sibling folder, then renamed into place)."""
+    path, reference = Path(path), Path(reference)
+    for name in names:
+        tmp = path / f".{name}.restoring"
+        shutil.rmtree(tmp, ignore_errors=True)
+        shutil.copytree(reference / name, tmp)
+        shutil.rmtree(path / name, ignore_errors=True)
+        tmp.rename(path / name)
+
+
+@contextlib.contextmanager
+def locked(path: str | Path) -> Iterator[Path]:
+    """Hold the lock of store ``path`` (``<path>.lock``, an exclusive ``flock``) for the
+    block: two runs of one study (from two working directories sharing the results) can
+    then never replace or delete a store the other is making or filling.
+
+    Raises
+    ------
+    RuntimeError
+        In one line naming the store, the lock file and the run holding it, when another
+        process holds the lock (it is not waited for).
+    """
+    import fcntl
+    import socket
+    import time
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lock = path.with_name(path.name + ".lock")
+    fh = lock.open("a+")
+    try:
+        try:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.seek(0)
+            holder = fh.read().strip() or "another process"
+            raise RuntimeError(f"store {str(path)!r} is in use by {holder} (lock {lock}); "
+                               f"wait for that run to end, then run again (it resumes "
+                               f"from what that run finished)") from None
+        # the lock file is never deleted (that would race with a waiting opener); it names
+        # its holder for the message above
+        fh.seek(0)
+        fh.truncate()
+        fh.write(f"pid {os.getpid()} on {socket.gethostname()} since "
+                 f"{time.strftime('%Y-%m-%d %H:%M:%S %Z')} in {os.getcwd()}")
+        fh.flush()
+        yield path
+    finally:
+        fh.close()  # closing releases the flock
 
 
 def _read_coord(array: zarr.Array) -> np.ndarray:

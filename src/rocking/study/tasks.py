@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..motions.ensemble_io import verify_digest
 from ..motions.motion import GroundMotion
-from ..motions.readers import file_sha256
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .store import REQUESTED, REQUESTED_DIMS, open_layout, read_attrs, read_requested, write_region
 
@@ -152,7 +152,7 @@ def ensemble_attrs(motions_path: str | Path, name: str) -> dict[str, Any]:
     return {
         "name": name,
         "file": str(motions_path),
-        "file_sha256": file_sha256(motions_path),
+        "file_sha256": verify_digest(motions_path),
         "stand_in": any(r["stand_in"] for r in rows),
         "motions": rows,
     }
@@ -163,14 +163,19 @@ def check_ensemble(path: str | Path, motions_path: str | Path) -> None:
 
     Raises
     ------
+    MotionsDigestError
+        The file differs from its own digest (damaged after it was made: rebuild it).
     ValueError
-        Naming the file and both sha256 values.
+        Naming the file and both sha256 values, when the store was made from other motions.
     """
+    # the file against its own digest first: a damaged file is rebuilt, not a store made of it
+    found = verify_digest(motions_path)
     expected = read_attrs(path)["ensemble"]["file_sha256"]
-    found = file_sha256(motions_path)
     if found != expected:
         raise ValueError(f"ensemble file {str(motions_path)!r} has sha256 {found} but store "
-                         f"{str(path)!r} was made from sha256 {expected}; rebuild the store")
+                         f"{str(path)!r} was made from sha256 {expected}: the motions were "
+                         f"made anew with other numbers; delete the store, its rule makes "
+                         f"it anew from these motions")
 
 
 SECONDS_PER_SAMPLE = 0.4e-6
