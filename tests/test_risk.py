@@ -123,12 +123,22 @@ def test_example_hazard_curve_is_what_its_readme_says():
 
 
 @pytest.mark.parametrize("text, match", [
-    ("#,,,,,\"investigation_time=1.0, imt='SA(0.3)'\"\nlon,lat,poe-0.1\n0,0,0.1\n", "imt"),
-    ("lon,lat,poe-0.1\n0,0,0.1\n", "investigation_time"),
-    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.0,0.1\n",
-     "poe must be in"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGV'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n",
+     "PGV.* not supported"),
+    ("lon,lat,poe-0.1\n0,0,0.1\n", "no investigation_time and imt"),
+    ("#,,,,,\"imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n", "no investigation_time "
+     "in a comment"),
+    ("#,,,,,\"investigation_time=50.0\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n",
+     "no imt in a comment"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.5,0.1\n",
+     r"must be in \[0, 1\]"),
     ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.2\n",
      "must not increase"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1\n0,0,0.1\n",
+     "at least 2 levels"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.0,0.1\n",
+     "at least 2 levels"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,depth\n0,0,0\n", "no poe-"),
 ])
 def test_bad_openquake_files_are_refused_with_the_reason(tmp_path, text, match):
     path = tmp_path / "h.csv"

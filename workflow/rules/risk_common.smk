@@ -4,7 +4,7 @@
 
 from pathlib import Path
 
-from rocking.risk.hazard import parse_hazard
+from rocking.risk.hazard import parse_hazard, same_measure
 
 
 def hazard_spec(study):
@@ -57,13 +57,36 @@ def risk_targets():
     return out
 
 
+def hazard_measure(study):
+    """The study's name of its hazard's intensity measure (pga, sa:1.0, ...), read from the
+    hazard file (or the power law's measure)."""
+    curve = parse_hazard(hazard_param(study))
+    if same_measure(curve.measure, "pga"):
+        return "pga"
+    # the study's own spelling (sa:1.0), as suite_fragility.csv writes it
+    return next(m for m in study_spec(study).intensity_measures
+                if same_measure(m, curve.measure))
+
+
+def suite_fragility_csv(study):
+    """The suite's fragility table when the hazard is not PGA (its fits in Sa(T)), else []."""
+    return [] if hazard_measure(study) == "pga" else [out_path(f"{study}/suite_fragility.csv")]
+
+
 def _check_hazards():
-    """Every hazard parses before any job runs; the error names the key."""
+    """Every hazard parses, and its intensity measure is one the study fits, before any job
+    runs (a dry run too); the error names the key."""
     for s in risk_studies():
         try:
-            parse_hazard(hazard_param(s))
+            curve = parse_hazard(hazard_param(s))
         except (ValueError, OSError) as exc:
             raise ValueError(f"studies.{s}.hazard: {exc}") from None
+        measures = list(study_spec(s).intensity_measures)
+        if not any(same_measure(curve.measure, m) for m in ["pga", *measures]):
+            raise ValueError(f"studies.{s}.hazard: {curve.source} is a hazard of "
+                             f"{curve.imt} ({curve.measure}), which is not one of the study's "
+                             f"intensity measures {measures}: add {curve.measure} to "
+                             f"studies.{s}.intensity_measures")
 
 
 _check_hazards()
