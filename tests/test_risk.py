@@ -197,15 +197,24 @@ def test_risk_table_columns_units_and_values():
     frag = fragilities.read_fragilities(table(ROWS))
     h = HazardCurve.from_power_law(1e-4, 2.5)
     t = risk_table(frag, h)
-    assert list(t.columns) == ["fragility", "mode", "tan_alpha [-]", "R [m]", "limit_state",
-                               "median_pga_g [g]", "beta [-]", "maf [1/yr]",
-                               "return_period [yr]", "p_50yr [-]", "share_extrapolated [-]",
-                               "status"]
-    assert set(t["fragility"]) == {"first_exceedance"}
-    for r in t.itertuples(index=False):
-        lam = closed_form(1e-4, 2.5, r[5], r[6])
-        assert r[7] == pytest.approx(lam, rel=1e-3)
-        assert r[8] == pytest.approx(1 / r[7]) and r[9] == pytest.approx(1 - math.exp(-50 * r[7]))
+    assert list(t.columns) == ["fragility", "measure", "mode", "tan_alpha [-]", "R [m]",
+                               "limit_state", "median_im [g]", "median_pga_g [g]", "beta [-]",
+                               "n", "maf [1/yr]", "lambda_p05 [1/yr]", "lambda_p95 [1/yr]",
+                               "lambda_lo [1/yr]", "lambda_hi [1/yr]", "return_period [yr]",
+                               "p_50yr [-]", "share_extrapolated [-]", "share_dropped [-]",
+                               "preset", "status"]
+    assert set(t["fragility"]) == {"first_exceedance"} and set(t["measure"]) == {"pga"}
+    # every requested row is present: the one without a fit with its status and λ NaN
+    assert len(t) == len(ROWS) - 1  # the not-computed cell is not part of the study
+    for r in t.to_dict(orient="records"):
+        if r["status"] == "too-few-observed":
+            assert math.isnan(r["maf [1/yr]"]) and math.isnan(r["median_pga_g [g]"])
+            continue
+        lam = closed_form(1e-4, 2.5, r["median_pga_g [g]"], r["beta [-]"])
+        assert r["maf [1/yr]"] == pytest.approx(lam, rel=1e-3)
+        assert r["return_period [yr]"] == pytest.approx(1 / r["maf [1/yr]"])
+        assert r["p_50yr [-]"] == pytest.approx(1 - math.exp(-50 * r["maf [1/yr]"]))
+        assert r["share_dropped [-]"] == 0.0
     assert "too-few-observed" in t.attrs["skipped"]
 
 
@@ -360,7 +369,9 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "-o",
                  str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
                  "--pelicun", str(tmp_path / "f.p.csv")]) == 0
-    assert len(pd.read_csv(tmp_path / "r.csv")) == 9
+    written = pd.read_csv(tmp_path / "r.csv")
+    assert len(written) == 10  # 9 fits and the row without one, with its status
+    assert list(written["status"]).count("too-few-observed") == 1
     assert (tmp_path / "f.xml").exists() and (tmp_path / "f.p.csv").exists()
     assert main(["risk", "--fragility", str(path), "--hazard", "0.5"]) == 2
     assert "power law 'k0,k'" in capsys.readouterr().err
@@ -394,7 +405,10 @@ def test_risk_figure_data_plot_and_sidecar(tmp_path):
     over = d["panels"][0]
     assert over["limit_state"] == "overturning"
     assert over["curves"]["3d"]["R"].tolist() == [2.0, 6.0]
-    assert over["curves"]["2d-x"]["R"].tolist() == [2.0]  # R = 6 m has no fit
+    # R = 6 m has no fit: present, λ NaN (a gap in the line, never a line across it)
+    assert over["curves"]["2d-x"]["R"].tolist() == [2.0, 6.0]
+    assert np.isnan(over["curves"]["2d-x"]["maf"][1])
+    assert any("2d-x overturning R = 6 m (too-few-observed)" in g for g in d["gaps"])
     ratio = d["measured"]["ratio 2d-x/3d overturning R=2 m [-]"]
     assert ratio == pytest.approx(closed_form(1e-4, 2.5, 0.41234567891234, 0.2598765432101)
                                   / closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321),
@@ -488,8 +502,9 @@ def test_stripe_maf_matches_an_independent_numerical_integration(stripe_csv):
     assert frag.kind == "stripes" and len(frag.rows) == 4  # told by its columns
     t = risk_table(frag, h)
     assert set(t["fragility"]) == {"stripes"}
-    for r in t.itertuples(index=False):
-        assert r[7] == pytest.approx(independent_maf(r[5], r[6]), rel=1e-3)
+    for r in t.to_dict(orient="records"):
+        assert r["maf [1/yr]"] == pytest.approx(independent_maf(r["median_pga_g [g]"],
+                                                                r["beta [-]"]), rel=1e-3)
     # the medians are the binomial fits of the stripes (PGA in g = median · tan α)
     table_ = pd.read_csv(stripe_csv)
     keys = zip(t["R [m]"], t["limit_state"], strict=True)
@@ -509,11 +524,12 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
                                  study="mine", stripes=stripe_csv)
     risk = pd.read_csv(tmp_path / "risk.csv")
     assert summary["risk_fragilities"] == ["first_exceedance", "stripes"]
-    assert risk["fragility"].value_counts().to_dict() == {"first_exceedance": 9, "stripes": 4}
+    assert risk["fragility"].value_counts().to_dict() == {"first_exceedance": 10, "stripes": 4}
     # each row's λ is that of its own fragility
     stripe_rows = risk[risk["fragility"] == "stripes"]
-    for r in stripe_rows.itertuples(index=False):
-        assert r[7] == pytest.approx(rocking.mean_annual_frequency(r[5], r[6], h), rel=1e-5)
+    for r in stripe_rows.to_dict(orient="records"):
+        assert r["maf [1/yr]"] == pytest.approx(rocking.mean_annual_frequency(
+            r["median_pga_g [g]"], r["beta [-]"], h), rel=1e-5)
     with pytest.raises(ValueError, match="one table per kind"):
         from rocking.risk.table import risk_tables
 
