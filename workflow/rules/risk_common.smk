@@ -33,6 +33,13 @@ def hazard_param(study):
     return {**spec, "file": path} if isinstance(spec, dict) else path
 
 
+def study_preset(study):
+    """The accuracy preset of the study's analyses ('' for custom tolerances): the risk table
+    carries it, and a `fast` one is warned about."""
+    accuracy = study_spec(study).spectra.accuracy
+    return accuracy if isinstance(accuracy, str) else ""
+
+
 def risk_studies():
     return [s for s in config["studies"] if hazard_spec(s) is not None]
 
