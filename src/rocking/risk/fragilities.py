@@ -194,6 +194,8 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     where = str(source) if isinstance(source, str | Path) else "fragility table"
     measure = "pga" if measure is None else measure
     frame, median_col = _in_measure(frame, measure, where, same_measure)
+    if "measure" in frame.columns and len(frame):
+        measure = str(frame["measure"].iloc[0])  # the table's own spelling (sa:1.0)
     need = {"mode", "limit_state", "tan_alpha", "R", median_col, "beta"}
     missing = sorted(need - set(frame.columns))
     if missing:

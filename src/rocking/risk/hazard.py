@@ -74,8 +74,18 @@ def measure_imt(measure: str) -> str:
 
 
 def same_measure(a: str, b: str) -> bool:
-    """Whether two names (either spelling) denote the same intensity measure."""
-    return parse_measure(imt_measure(a)) == parse_measure(imt_measure(b))
+    """Whether two names (either spelling, ``SA(1.0)`` or ``sa:1.0``) denote the same
+    intensity measure (any measure the study knows, pgv included)."""
+    def key(name):
+        text = str(name).strip()
+        hit = _SA.match(text)
+        try:
+            return parse_measure(f"sa:{hit.group(1)}" if hit else text)
+        except ValueError:
+            return None
+
+    ka = key(a)
+    return ka is not None and ka == key(b)
 
 
 @dataclass(frozen=True, eq=False)

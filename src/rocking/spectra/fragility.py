@@ -441,25 +441,29 @@ def fragility_bootstrap(store: xr.Dataset, table: xr.Dataset, *, upper: float | 
     return rows
 
 
+def percentile_interval(samples, ci: float = 0.90) -> tuple[np.ndarray, np.ndarray]:
+    """The central ``ci`` interval of bootstrap samples along their last axis, over the
+    resamples with a fit (NaN where none has one)."""
+    import warnings
+
+    q = 100.0 * (1.0 - ci) / 2.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows give NaN, counted
+        lo, hi = np.nanpercentile(np.asarray(samples, dtype=float), [q, 100.0 - q], axis=-1)
+    return lo, hi
+
+
 def with_interval(table: xr.Dataset, samples: xr.Dataset, ci: float = 0.90) -> xr.Dataset:
     """``table`` with ``median_p05`` and ``median_p95`` [g]: the ``ci`` interval of the
     median PGA over the bootstrap ``samples`` (:func:`fragility_bootstrap`), and
     ``bootstrap_fitted``, the resamples with a fit."""
-    q = 100.0 * (1.0 - ci) / 2.0
     med = samples["median"].values
     fitted = np.isfinite(med).sum(axis=1)
-    with np.errstate(all="ignore"):
-        import warnings
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows: NaN, said below
-            lo, hi = np.nanpercentile(med, [q, 100.0 - q], axis=1)
-    frame = table[["median"]].to_dataframe()
+    lo, hi = percentile_interval(med, ci)
+    index = table[["median"]].to_dataframe().index  # the rows of to_frame, in order
     out = table.copy()
     for name, values in (("median_p05", lo), ("median_p95", hi), ("bootstrap_fitted", fitted)):
-        flat = xr.DataArray(values, dims="row", coords={"row": np.arange(len(frame))})
-        index = pd.MultiIndex.from_frame(frame.reset_index()[list(frame.index.names)])
-        da = flat.assign_coords(row=index).unstack("row")
+        da = pd.Series(values, index=index).to_xarray()
         out[name] = da.transpose(*table["median"].dims)
     set_attrs(out)
     return out
@@ -526,6 +530,7 @@ __all__ = [
     "fit_line",
     "fit_lognormal",
     "fragility_bootstrap",
+    "percentile_interval",
     "with_interval",
     "fragility_table",
     "linear_fit_table",
