@@ -23,7 +23,7 @@ from matplotlib.figure import Figure
 from ...risk.fragilities import FIRST_EXCEEDANCE
 from ...risk.fragilities import STRIPES as STRIPE_FRAGILITY
 from ...risk.report import main_tan_alpha, read_risk_table, shown_limit_states
-from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -196,8 +196,7 @@ def plot(d: dict) -> Figure:
     if d.get("gaps"):
         foot.append("No fit (gap): " + "; ".join(d["gaps"][:6])
                     + (f"; and {len(d['gaps']) - 6} more" if len(d["gaps"]) > 6 else "") + ".")
-    if foot:
-        fig.text(0.01, 0.01, " ".join(foot), fontsize=7, wrap=True)
+    footnote(fig, foot)
     return fig
 
 
