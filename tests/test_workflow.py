@@ -339,8 +339,8 @@ def test_dry_run_plans_every_rule(config, tmp_path):
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
-         "missing-ensemble", "missing-hazard-file", "hazard-measure-not-fitted", "nan-grid", "inf-grid", "tilt-map-motion",
-         "max-duration", "huge-grid", "user-record-without-mw"],
+         "missing-ensemble", "missing-hazard-file", "hazard-measure-not-fitted", "nan-grid",
+         "inf-grid", "tilt-map-motion", "max-duration", "huge-grid", "user-record-without-mw"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))
