@@ -2,6 +2,7 @@
 # `config`; the hazard of every study is parsed once here, so a bad file or power law stops
 # even a dry run with one line naming studies.<study>.hazard.
 
+from functools import cache
 from pathlib import Path
 
 from rocking.risk.hazard import parse_hazard, same_measure
@@ -64,10 +65,16 @@ def risk_targets():
     return out
 
 
+@cache
+def hazard_curve(study):
+    """The study's hazard curve, parsed once (a note on dropped levels is said once)."""
+    return parse_hazard(hazard_param(study))
+
+
 def hazard_measure(study):
     """The study's name of its hazard's intensity measure (pga, sa:1.0, ...), read from the
     hazard file (or the power law's measure)."""
-    curve = parse_hazard(hazard_param(study))
+    curve = hazard_curve(study)
     if same_measure(curve.measure, "pga"):
         return "pga"
     # the study's own spelling (sa:1.0), as suite_fragility.csv writes it
@@ -85,7 +92,7 @@ def _check_hazards():
     runs (a dry run too); the error names the key."""
     for s in risk_studies():
         try:
-            curve = parse_hazard(hazard_param(s))
+            curve = hazard_curve(s)
         except (ValueError, OSError) as exc:
             raise ValueError(f"studies.{s}.hazard: {exc}") from None
         measures = list(study_spec(s).intensity_measures)
