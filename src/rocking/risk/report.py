@@ -92,9 +92,11 @@ PRESET_ERRORS = {
 reference", two goals). Always on the high side: the search steps over narrow windows of
 exceedance, so capacities come out too high and λ too low."""
 
-FAST_BIAS = ("on a four-record suite (issue 29) the fast preset's capacities ran 20–37 % "
-             "above the default preset's and λ about 40 % lower")
-"""The measured cost of the fast preset in risk (the issue's case)."""
+FAST_BIAS = ("on the four shipped records (tan α 0.11, R 3–3.02 m, docs/risk.md) the fast "
+             "preset's median capacity ran 9–11 % above the default preset's (one record's "
+             "30–46 %) and λ of overturning 27–38 % lower; on issue 29's four records 20–37 % "
+             "and about 40 %")
+"""The measured cost of the fast preset in risk (docs/risk.md, and the issue's case)."""
 
 MIN_RECORDS = 10
 """Fewer motions behind a fragility than this get a warning on the width of its interval."""
