@@ -362,6 +362,7 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "λ [1/yr]" in out and "return period [yr]" in out and "P(50 yr) [-]" in out
     assert "first-exceedance fragility" in out
+    assert "too-few-observed" not in out  # the 2d-x row without a fit is not asked for
     lam = closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321)
     assert f"{lam:.4g}" in out
     # the median in g and as PGA/(g tan α)

@@ -92,26 +92,32 @@ def _hazard(args):
 
 
 def _select(frag, args):
+    """The rows (with a fit or without) of the mode, tan α and limit states asked for."""
     import dataclasses
+
+    import pandas as pd
 
     from ..spectra.limit_states import parse_limit_states
 
-    rows = frag.rows
+    both = pd.concat([frag.rows.assign(_fit=True), frag.skipped.assign(_fit=False)],
+                     ignore_index=True)
     if args.mode is not None:
-        if args.mode not in set(rows["mode"]):
+        if args.mode not in set(both["mode"]):
             raise ValueError(f"--mode {args.mode!r} is not in the table (has "
-                             f"{sorted(set(rows['mode']))})")
-        rows = rows[rows["mode"] == args.mode]
+                             f"{sorted(set(both['mode']))})")
+        both = both[both["mode"] == args.mode]
     if args.tan_alpha is not None:
-        rows = rows[(rows["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
-        if rows.empty:
+        both = both[(both["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
+        if both.empty:
             raise ValueError(f"--tan-alpha {args.tan_alpha:g} is not in the table")
     if args.limit_states is not None:
         names = [ls.name for ls in parse_limit_states(args.limit_states, sort=False)]
-        rows = rows[rows["limit_state"].isin(names)]
-        if rows.empty:
+        both = both[both["limit_state"].isin(names)]
+        if both.empty:
             raise ValueError(f"--limit-states {args.limit_states!r}: none in the table")
-    return dataclasses.replace(frag, rows=rows.reset_index(drop=True))
+    rows = both[both["_fit"].astype(bool)].drop(columns="_fit").reset_index(drop=True)
+    skipped = both[~both["_fit"].astype(bool)].drop(columns="_fit").reset_index(drop=True)
+    return dataclasses.replace(frag, rows=rows, skipped=skipped)
 
 
 def run(args) -> int:
