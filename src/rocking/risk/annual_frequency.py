@@ -140,7 +140,7 @@ def mean_annual_frequency(median_g: float, beta: float, hazard: HazardCurve) -> 
     return annual_frequency_parts(median_g, beta, hazard)["total"]
 
 
-Z_NODES = 801
+Z_NODES = 401
 """Nodes in the standard normal variable of :func:`mean_annual_frequencies`."""
 
 
