@@ -32,6 +32,7 @@ rule risk:
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
         preset=lambda wildcards: study_preset(wildcards.study),
+        ensemble=lambda wildcards: ensemble_of(wildcards.study),
     log:
         out_path("logs/{study}/risk.log"),
     script:

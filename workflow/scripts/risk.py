@@ -30,7 +30,7 @@ def main(snakemake):
             print(summary["preset_warning"])
         print(json.dumps(summary, indent=1, ensure_ascii=False))
         render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source,
-               study=params.study)
+               study=f"study {params.study} (ensemble {params.ensemble})")
 
 
 if __name__ == "__main__":

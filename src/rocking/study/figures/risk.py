@@ -148,7 +148,7 @@ def _draw(ax, c: dict, style: dict, *, marker: str, mfc, linestyle: str, label: 
     if band.any():
         ax.fill_between(c["R"], np.where(band, c["p05"], np.nan),
                         np.where(band, c["p95"], np.nan), color=style["color"], alpha=0.15,
-                        linewidth=0)
+                        linewidth=0, label=f"{label}: 90 % interval")
     gap = ~np.isfinite(c["maf"])
     for R, lo, hi in zip(c["R"][gap], c["lo"][gap], c["hi"][gap], strict=True):
         if np.isfinite(hi) and hi > 0:
