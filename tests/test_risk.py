@@ -123,12 +123,22 @@ def test_example_hazard_curve_is_what_its_readme_says():
 
 
 @pytest.mark.parametrize("text, match", [
-    ("#,,,,,\"investigation_time=1.0, imt='SA(0.3)'\"\nlon,lat,poe-0.1\n0,0,0.1\n", "imt"),
-    ("lon,lat,poe-0.1\n0,0,0.1\n", "investigation_time"),
-    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.0,0.1\n",
-     "poe must be in"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGV'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n",
+     "PGV.* not supported"),
+    ("lon,lat,poe-0.1\n0,0,0.1\n", "no investigation_time and imt"),
+    ("#,,,,,\"imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n", "no investigation_time "
+     "in a comment"),
+    ("#,,,,,\"investigation_time=50.0\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n",
+     "no imt in a comment"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.5,0.1\n",
+     r"must be in \[0, 1\]"),
     ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.2\n",
      "must not increase"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1\n0,0,0.1\n",
+     "at least 2 levels"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.0,0.1\n",
+     "at least 2 levels"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,depth\n0,0,0\n", "no poe-"),
 ])
 def test_bad_openquake_files_are_refused_with_the_reason(tmp_path, text, match):
     path = tmp_path / "h.csv"
@@ -187,15 +197,24 @@ def test_risk_table_columns_units_and_values():
     frag = fragilities.read_fragilities(table(ROWS))
     h = HazardCurve.from_power_law(1e-4, 2.5)
     t = risk_table(frag, h)
-    assert list(t.columns) == ["fragility", "mode", "tan_alpha [-]", "R [m]", "limit_state",
-                               "median_pga_g [g]", "beta [-]", "maf [1/yr]",
-                               "return_period [yr]", "p_50yr [-]", "share_extrapolated [-]",
-                               "status"]
-    assert set(t["fragility"]) == {"first_exceedance"}
-    for r in t.itertuples(index=False):
-        lam = closed_form(1e-4, 2.5, r[5], r[6])
-        assert r[7] == pytest.approx(lam, rel=1e-3)
-        assert r[8] == pytest.approx(1 / r[7]) and r[9] == pytest.approx(1 - math.exp(-50 * r[7]))
+    assert list(t.columns) == ["fragility", "measure", "mode", "tan_alpha [-]", "R [m]",
+                               "limit_state", "median_im [g]", "median_pga_g [g]", "beta [-]",
+                               "n", "maf [1/yr]", "lambda_p05 [1/yr]", "lambda_p95 [1/yr]",
+                               "lambda_lo [1/yr]", "lambda_hi [1/yr]", "return_period [yr]",
+                               "p_50yr [-]", "share_extrapolated [-]", "share_dropped [-]",
+                               "preset", "status"]
+    assert set(t["fragility"]) == {"first_exceedance"} and set(t["measure"]) == {"pga"}
+    # every requested row is present: the one without a fit with its status and λ NaN
+    assert len(t) == len(ROWS) - 1  # the not-computed cell is not part of the study
+    for r in t.to_dict(orient="records"):
+        if r["status"] == "too-few-observed":
+            assert math.isnan(r["maf [1/yr]"]) and math.isnan(r["median_pga_g [g]"])
+            continue
+        lam = closed_form(1e-4, 2.5, r["median_pga_g [g]"], r["beta [-]"])
+        assert r["maf [1/yr]"] == pytest.approx(lam, rel=1e-3)
+        assert r["return_period [yr]"] == pytest.approx(1 / r["maf [1/yr]"])
+        assert r["p_50yr [-]"] == pytest.approx(1 - math.exp(-50 * r["maf [1/yr]"]))
+        assert r["share_dropped [-]"] == 0.0
     assert "too-few-observed" in t.attrs["skipped"]
 
 
@@ -343,6 +362,7 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "λ [1/yr]" in out and "return period [yr]" in out and "P(50 yr) [-]" in out
     assert "first-exceedance fragility" in out
+    assert "too-few-observed" not in out  # the 2d-x row without a fit is not asked for
     lam = closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321)
     assert f"{lam:.4g}" in out
     # the median in g and as PGA/(g tan α)
@@ -350,7 +370,9 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "-o",
                  str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
                  "--pelicun", str(tmp_path / "f.p.csv")]) == 0
-    assert len(pd.read_csv(tmp_path / "r.csv")) == 9
+    written = pd.read_csv(tmp_path / "r.csv")
+    assert len(written) == 10  # 9 fits and the row without one, with its status
+    assert list(written["status"]).count("too-few-observed") == 1
     assert (tmp_path / "f.xml").exists() and (tmp_path / "f.p.csv").exists()
     assert main(["risk", "--fragility", str(path), "--hazard", "0.5"]) == 2
     assert "power law 'k0,k'" in capsys.readouterr().err
@@ -384,7 +406,10 @@ def test_risk_figure_data_plot_and_sidecar(tmp_path):
     over = d["panels"][0]
     assert over["limit_state"] == "overturning"
     assert over["curves"]["3d"]["R"].tolist() == [2.0, 6.0]
-    assert over["curves"]["2d-x"]["R"].tolist() == [2.0]  # R = 6 m has no fit
+    # R = 6 m has no fit: present, λ NaN (a gap in the line, never a line across it)
+    assert over["curves"]["2d-x"]["R"].tolist() == [2.0, 6.0]
+    assert np.isnan(over["curves"]["2d-x"]["maf"][1])
+    assert any("2d-x overturning R = 6 m (too-few-observed)" in g for g in d["gaps"])
     ratio = d["measured"]["ratio 2d-x/3d overturning R=2 m [-]"]
     assert ratio == pytest.approx(closed_form(1e-4, 2.5, 0.41234567891234, 0.2598765432101)
                                   / closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321),
@@ -478,8 +503,9 @@ def test_stripe_maf_matches_an_independent_numerical_integration(stripe_csv):
     assert frag.kind == "stripes" and len(frag.rows) == 4  # told by its columns
     t = risk_table(frag, h)
     assert set(t["fragility"]) == {"stripes"}
-    for r in t.itertuples(index=False):
-        assert r[7] == pytest.approx(independent_maf(r[5], r[6]), rel=1e-3)
+    for r in t.to_dict(orient="records"):
+        assert r["maf [1/yr]"] == pytest.approx(independent_maf(r["median_pga_g [g]"],
+                                                                r["beta [-]"]), rel=1e-3)
     # the medians are the binomial fits of the stripes (PGA in g = median · tan α)
     table_ = pd.read_csv(stripe_csv)
     keys = zip(t["R [m]"], t["limit_state"], strict=True)
@@ -499,11 +525,12 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
                                  study="mine", stripes=stripe_csv)
     risk = pd.read_csv(tmp_path / "risk.csv")
     assert summary["risk_fragilities"] == ["first_exceedance", "stripes"]
-    assert risk["fragility"].value_counts().to_dict() == {"first_exceedance": 9, "stripes": 4}
+    assert risk["fragility"].value_counts().to_dict() == {"first_exceedance": 10, "stripes": 4}
     # each row's λ is that of its own fragility
     stripe_rows = risk[risk["fragility"] == "stripes"]
-    for r in stripe_rows.itertuples(index=False):
-        assert r[7] == pytest.approx(rocking.mean_annual_frequency(r[5], r[6], h), rel=1e-5)
+    for r in stripe_rows.to_dict(orient="records"):
+        assert r["maf [1/yr]"] == pytest.approx(rocking.mean_annual_frequency(
+            r["median_pga_g [g]"], r["beta [-]"], h), rel=1e-5)
     with pytest.raises(ValueError, match="one table per kind"):
         from rocking.risk.table import risk_tables
 

@@ -320,7 +320,10 @@ def test_dry_run_plans_every_rule(config, tmp_path):
         (lambda c: c["studies"][STUDY].update(ensemble="nope"),
          "studies.tiny.ensemble='nope' is not a key of ensembles"),
         (lambda c: c["studies"][STUDY].update(hazard="nosuch_hazard.csv"),
-         "studies.tiny.hazard: hazard must be an existing OpenQuake hazard-curve CSV"),
+         "studies.tiny.hazard: hazard must be an existing hazard-curve file"),
+        (lambda c: c["studies"][STUDY].update(hazard={"k0": 1e-4, "k": 2.0,
+                                                     "measure": "sa:1.0"}),
+         "which is not one of the study's intensity measures"),
         (lambda c: c["studies"][STUDY].update(R=[float("nan")]),
          "studies.tiny.R[0]=nan: must be a finite number"),
         (lambda c: c["studies"][STUDY]["tilt_map"].update(intensity=[1.0, float("inf")]),
@@ -337,8 +340,8 @@ def test_dry_run_plans_every_rule(config, tmp_path):
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
-         "missing-ensemble", "missing-hazard-file", "nan-grid", "inf-grid", "tilt-map-motion",
-         "max-duration", "huge-grid", "user-record-without-mw"],
+         "missing-ensemble", "missing-hazard-file", "hazard-measure-not-fitted", "nan-grid",
+         "inf-grid", "tilt-map-motion", "max-duration", "huge-grid", "user-record-without-mw"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))

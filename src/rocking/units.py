@@ -115,6 +115,19 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "p_50yr": ("1", "-", "probability of exceeding the limit state in 50 years (Poisson)"),
     "share_extrapolated": ("1", "-",
                            "share of maf resting on the hazard curve's extrapolated tail"),
+    "share_dropped": ("1", "-", "share of maf from below the hazard's first level kept (where "
+                                "levels with probability of exceedance 1 were dropped)"),
+    "lambda_p05": ("year-1", "1/yr", "5th percentile of maf over bootstrap resamples of the "
+                                     "motions"),
+    "lambda_p95": ("year-1", "1/yr", "95th percentile of maf over bootstrap resamples of the "
+                                     "motions"),
+    "lambda_lo": ("year-1", "1/yr", "maf implied at least by the bracketing stripes (no fit)"),
+    "lambda_hi": ("year-1", "1/yr", "maf implied at most by the bracketing stripes (no fit)"),
+    "median_im": ("gravity", "g", "median capacity in the row's intensity measure"),
+    # bootstrap of a fragility over the motions
+    "median_p05": ("gravity", "g", "5th percentile of the median over bootstrap resamples"),
+    "median_p95": ("gravity", "g", "95th percentile of the median over bootstrap resamples"),
+    "bootstrap_fitted": ("1", "", "bootstrap resamples with a fit"),
 }
 """Output name → (CF units, unit in CSV headers, long_name)."""
 

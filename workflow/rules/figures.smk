@@ -196,6 +196,7 @@ rule fragility_curves:
                              caption="../report/fragility_table.rst",
                              category="Beyond the paper",
                              labels={"study": "{study}", "table": "fragility"}),
+        bootstrap=out_path("{study}/fragility_bootstrap.nc"),
         linear_nc=out_path("{study}/linear_fit.nc"),
         linear_csv=report(out_path("{study}/linear_fit.csv"),
                           caption="../report/linear_fit.rst", category="Beyond the paper",

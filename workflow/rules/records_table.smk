@@ -23,6 +23,7 @@ rule records_table:
             category="Records",
             labels={"study": "{study}", "table": "fragility over the suite"},
         ),
+        bootstrap=out_path("{study}/suite_fragility_bootstrap.nc"),
     params:
         store=lambda wildcards: spectra_store(wildcards.study),
         measures=lambda wildcards: list(study_spec(wildcards.study).intensity_measures),

@@ -4,7 +4,9 @@
 # limit state) and the risk figure. A study that also declares `stripes:` gets the same
 # exports of its stripe fragility (stripe_fragility.nrml.xml / .pelicun.csv), and its stripe
 # rows in risk.csv (column `fragility`), set beside the first-exceedance ones in the figure
-# and the report. Studies without `hazard:` get none of these. Helpers in risk_common.smk.
+# and the report. Studies without `hazard:` get none of these. A hazard of SA(T) takes the
+# first-exceedance rows from suite_fragility.csv (the suite's fits in Sa(T)). Every requested
+# row is written, with its status where there is no fit. Helpers in risk_common.smk.
 
 from rocking.study.figures.risk import CAPTION as RISK_CAPTION
 
@@ -14,8 +16,10 @@ rule risk:
         "../envs/rocking.yaml"
     input:
         fragility=rules.fragility_curves.output.fragility_csv,
+        bootstrap=rules.fragility_curves.output.bootstrap,  # read beside fragility.csv
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
         stripes=lambda wildcards: stripe_fragility_csv(wildcards.study),
+        suite=lambda wildcards: suite_fragility_csv(wildcards.study),
     output:
         nrml=out_path("{study}/fragility.nrml.xml"),
         pelicun=out_path("{study}/fragility.pelicun.csv"),
@@ -27,6 +31,8 @@ rule risk:
         hazard=lambda wildcards: hazard_param(wildcards.study),
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
+        preset=lambda wildcards: study_preset(wildcards.study),
+        ensemble=lambda wildcards: ensemble_of(wildcards.study),
     log:
         out_path("logs/{study}/risk.log"),
     script:

@@ -2,9 +2,10 @@
 # `config`; the hazard of every study is parsed once here, so a bad file or power law stops
 # even a dry run with one line naming studies.<study>.hazard.
 
+from functools import cache
 from pathlib import Path
 
-from rocking.risk.hazard import parse_hazard
+from rocking.risk.hazard import parse_hazard, same_measure
 
 
 def hazard_spec(study):
@@ -33,6 +34,13 @@ def hazard_param(study):
     return {**spec, "file": path} if isinstance(spec, dict) else path
 
 
+def study_preset(study):
+    """The accuracy preset of the study's analyses ('' for custom tolerances): the risk table
+    carries it, and a `fast` one is warned about."""
+    accuracy = study_spec(study).spectra.accuracy
+    return accuracy if isinstance(accuracy, str) else ""
+
+
 def risk_studies():
     return [s for s in config["studies"] if hazard_spec(s) is not None]
 
@@ -57,13 +65,42 @@ def risk_targets():
     return out
 
 
+@cache
+def hazard_curve(study):
+    """The study's hazard curve, parsed once (a note on dropped levels is said once)."""
+    return parse_hazard(hazard_param(study))
+
+
+def hazard_measure(study):
+    """The study's name of its hazard's intensity measure (pga, sa:1.0, ...), read from the
+    hazard file (or the power law's measure)."""
+    curve = hazard_curve(study)
+    if same_measure(curve.measure, "pga"):
+        return "pga"
+    # the study's own spelling (sa:1.0), as suite_fragility.csv writes it
+    return next(m for m in study_spec(study).intensity_measures
+                if same_measure(m, curve.measure))
+
+
+def suite_fragility_csv(study):
+    """The suite's fragility table when the hazard is not PGA (its fits in Sa(T)), else []."""
+    return [] if hazard_measure(study) == "pga" else [out_path(f"{study}/suite_fragility.csv")]
+
+
 def _check_hazards():
-    """Every hazard parses before any job runs; the error names the key."""
+    """Every hazard parses, and its intensity measure is one the study fits, before any job
+    runs (a dry run too); the error names the key."""
     for s in risk_studies():
         try:
-            parse_hazard(hazard_param(s))
+            curve = hazard_curve(s)
         except (ValueError, OSError) as exc:
             raise ValueError(f"studies.{s}.hazard: {exc}") from None
+        measures = list(study_spec(s).intensity_measures)
+        if not any(same_measure(curve.measure, m) for m in ["pga", *measures]):
+            raise ValueError(f"studies.{s}.hazard: {curve.source} is a hazard of "
+                             f"{curve.imt} ({curve.measure}), which is not one of the study's "
+                             f"intensity measures {measures}: add {curve.measure} to "
+                             f"studies.{s}.intensity_measures")
 
 
 _check_hazards()

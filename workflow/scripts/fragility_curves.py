@@ -1,5 +1,8 @@
 """Fragility curves (Snakemake script): lognormal MLE per point, line fits of the mean spectra."""
 
+import time
+
+from rocking.risk.bootstrap import write_bootstrap
 from rocking.spectra import fragility
 from rocking.study.figures import open_means, open_store, render
 from rocking.study.logs import log_to
@@ -8,8 +11,16 @@ from rocking.study.logs import log_to
 def main(snakemake):
     out = snakemake.output
     with log_to(snakemake.log[0]):
-        table = fragility.fragility_table(open_store(snakemake.params.store),
-                                          upper=float(snakemake.params.upper))
+        store = open_store(snakemake.params.store)
+        upper = float(snakemake.params.upper)
+        table = fragility.fragility_table(store, upper=upper)
+        started = time.perf_counter()
+        samples = fragility.fragility_bootstrap(store, table, upper=upper)
+        print(f"bootstrap of the fragility over the motions: {samples.sizes['resample']} "
+              f"resamples of {samples.sizes['row']} rows in "
+              f"{time.perf_counter() - started:.1f} s")
+        write_bootstrap(samples, out.bootstrap)
+        table = fragility.with_interval(table, samples)
         table.to_netcdf(out.fragility_nc)
         fragility.to_frame(table).to_csv(out.fragility_csv, index=False, float_format="%.10g")
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))

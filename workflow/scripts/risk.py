@@ -1,5 +1,5 @@
 """Risk of a study (Snakemake script): NRML and pelicun exports, risk table (first-exceedance
-rows, and stripe rows when the study has stripes), risk figure."""
+rows in the hazard's measure, and stripe rows when the study has stripes), risk figure."""
 
 import json
 
@@ -9,19 +9,28 @@ from rocking.study.figures import render
 from rocking.study.logs import log_to
 
 
+def _one(files):
+    """The single file of an optional input ([] → None)."""
+    if not files:
+        return None
+    return files if isinstance(files, str) else files[0]
+
+
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
     with log_to(snakemake.log[0]):
         hazard = parse_hazard(params.hazard)
-        stripes = snakemake.input.get("stripes") or None  # only studies with stripes:
-        if stripes is not None and not isinstance(stripes, str):
-            stripes = stripes[0]
         summary = write_risk_outputs(snakemake.input.fragility, hazard, nrml=out.nrml,
                                      pelicun=out.pelicun, table=out.table,
                                      search_upper=float(params.upper), study=params.study,
-                                     stripes=stripes)
+                                     stripes=_one(snakemake.input.get("stripes")),
+                                     suite=_one(snakemake.input.get("suite")),
+                                     preset=params.preset)
+        if summary["preset_warning"]:
+            print(summary["preset_warning"])
         print(json.dumps(summary, indent=1, ensure_ascii=False))
-        render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source)
+        render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source,
+               study=f"study {params.study} (ensemble {params.ensemble})")
 
 
 if __name__ == "__main__":

@@ -1,12 +1,15 @@
 """``rocking risk``: mean annual frequency of each limit state of a study under a hazard curve.
 
-Reads a study's ``fragility.csv`` (the lognormal fits of the performance spectra) or
+Reads a study's ``fragility.csv`` (the lognormal fits of the performance spectra, PGA),
+``suite_fragility.csv`` (the same over the suite in each intensity measure) or
 ``stripe_fragility.csv`` (the multiple-stripe fits; which one is told by its columns) and a
-hazard curve (an OpenQuake hazard-curve CSV of PGA, or a power law ``k0,k``), and prints or
-writes the risk table: per mode, tan α, R and limit state the mean annual frequency [1/yr],
-return period [yr] and probability of exceedance in 50 years (:func:`rocking.risk.risk_table`),
-with the median capacity in g and as PGA/(g tan α). ``--json`` prints the table as JSON.
-Optionally writes the OpenQuake NRML and pelicun exports of the same fragilities.
+hazard curve (an OpenQuake hazard-curve CSV of PGA or SA(T), a two-column table, or a power law
+``k0,k``), and prints or writes the risk table: per mode, tan α, R and limit state the mean
+annual frequency [1/yr] with its 90 % bootstrap interval (from ``<table>_bootstrap.nc`` beside
+the table), return period [yr] and probability of exceedance in 50 years
+(:func:`rocking.risk.risk_table`). Rows without a fit are kept with their status (and named in
+one line). ``--json`` prints the table as JSON. Optionally writes the OpenQuake NRML and
+pelicun exports of the same fragilities (PGA only).
 """
 
 from __future__ import annotations
@@ -21,11 +24,14 @@ EXAMPLES = """\
   rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5 --mode 3d \\
       --limit-states overturning -o risk.csv
   rocking risk --fragility results/elcentro/fragility.csv --hazard hazard_curve-mean-PGA.csv \\
-      --site 3 --im-factor 1.1 --nrml fragility.nrml.xml --pelicun fragility.pelicun.csv"""
+      --site 3 --im-factor 1.1 --nrml fragility.nrml.xml --pelicun fragility.pelicun.csv
+  rocking risk --fragility results/mysuite/suite_fragility.csv \\
+      --hazard "hazard_curve-mean-SA(1.0).csv" --measure sa:1.0"""
 
-HEADER = ("mode", "tan α [-]", "R [m]", "limit state", "median PGA [g]",
-          "median PGA/(g tan α) [-]", "β [-]", "λ [1/yr]", "return period [yr]",
-          "P(50 yr) [-]", "fit")
+HEADER = ("mode", "tan α [-]", "R [m]", "limit state", "median [g]",
+          "median PGA/(g tan α) [-]", "β [-]", "n",
+          "λ [1/yr]", "λ 5 % [1/yr]", "λ 95 % [1/yr]", "return period [yr]", "P(50 yr) [-]",
+          "fit")
 """Columns printed on the terminal (a file or ``--json`` gets every column of the table)."""
 
 
@@ -35,16 +41,24 @@ def add_parser(subparsers) -> None:
         subparsers, "risk", examples=EXAMPLES,
         help="mean annual frequency of each limit state under a hazard curve",
         description="From fragility to risk: integrate each lognormal fragility of a study's "
-        "fragility.csv against a hazard curve of PGA [g]. PGA is the pair's vector peak "
-        "(RotD100); a hazard of the geometric mean or RotD50 needs --im-factor (docs/risk.md).",
+        "fragility table against a hazard curve of PGA or Sa(T) [g], with the 90 %% interval "
+        "of a bootstrap over the motions. Intensities are the pair's vector peak (RotD100); "
+        "a hazard of the geometric mean or RotD50 needs --im-factor (docs/risk.md).",
     )
     p.add_argument("--fragility", type=Path, required=True,
                    help="a study's fragility table: results/<study>/fragility.csv or .nc "
-                   "(first exceedance), or stripe_fragility.csv (multiple stripes)")
+                   "(first exceedance, PGA), suite_fragility.csv (first exceedance in each "
+                   "intensity measure), or stripe_fragility.csv (multiple stripes)")
     p.add_argument("--hazard", required=True,
-                   help="OpenQuake hazard-curve CSV of PGA, or a power law 'k0,k' "
-                   "(annual rate k0 PGA^-k, PGA in g)")
+                   help="OpenQuake hazard-curve CSV (PGA or SA(T)), a two-column table "
+                   "(intensity, annual_rate or poe), or a power law 'k0,k' (annual rate "
+                   "k0 IM^-k, IM in g)")
+    p.add_argument("--measure", default=None,
+                   help="intensity measure: pga or sa:<T> (default: the hazard file's; pga "
+                   "for a power law)")
     p.add_argument("--site", type=int, default=0, help="row of the hazard CSV")
+    p.add_argument("--investigation-time", type=float, default=None,
+                   help="investigation time of a two-column table's poe [yr]")
     p.add_argument("--im-factor", type=float, default=1.0,
                    help="study PGA / hazard PGA (e.g. RotD100/RotD50)")
     p.add_argument("--mode", default=None, help="only this mode (3d, 3d-damped, 2d-x, 2d-y)")
@@ -65,37 +79,47 @@ def add_parser(subparsers) -> None:
 
 
 def _hazard(args):
-    from ..risk.hazard import HazardCurve, parse_hazard
+    from ..risk.hazard import HazardCurve, parse_hazard, same_measure
 
     if Path(args.hazard).exists():
-        curve = HazardCurve.from_openquake_csv(args.hazard, site=args.site)
+        curve = HazardCurve.from_file(args.hazard, site=args.site,
+                                      investigation_time=args.investigation_time)
+        if args.measure is not None and not same_measure(args.measure, curve.measure):
+            raise ValueError(f"--measure {args.measure} does not match the hazard "
+                             f"{args.hazard}, which is of {curve.imt}")
     else:
-        curve = parse_hazard(args.hazard)
+        curve = parse_hazard(args.hazard, measure=args.measure)
     return curve.scaled(args.im_factor) if args.im_factor != 1.0 else curve
 
 
 def _select(frag, args):
-    from ..risk.fragilities import Fragilities
+    """The rows (with a fit or without) of the mode, tan α and limit states asked for."""
+    import dataclasses
+
+    import pandas as pd
+
     from ..spectra.limit_states import parse_limit_states
 
-    rows = frag.rows
+    both = pd.concat([frag.rows.assign(_fit=True), frag.skipped.assign(_fit=False)],
+                     ignore_index=True)
     if args.mode is not None:
-        if args.mode not in set(rows["mode"]):
+        if args.mode not in set(both["mode"]):
             raise ValueError(f"--mode {args.mode!r} is not in the table (has "
-                             f"{sorted(set(rows['mode']))})")
-        rows = rows[rows["mode"] == args.mode]
+                             f"{sorted(set(both['mode']))})")
+        both = both[both["mode"] == args.mode]
     if args.tan_alpha is not None:
-        rows = rows[(rows["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
-        if rows.empty:
+        both = both[(both["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
+        if both.empty:
             raise ValueError(f"--tan-alpha {args.tan_alpha:g} is not in the table")
     rows = _body_rows(rows, args)
     if args.limit_states is not None:
         names = [ls.name for ls in parse_limit_states(args.limit_states, sort=False)]
-        rows = rows[rows["limit_state"].isin(names)]
-        if rows.empty:
+        both = both[both["limit_state"].isin(names)]
+        if both.empty:
             raise ValueError(f"--limit-states {args.limit_states!r}: none in the table")
-    return Fragilities(rows.reset_index(drop=True), frag.skipped, frag.n_not_computed,
-                       frag.kind)
+    rows = both[both["_fit"].astype(bool)].drop(columns="_fit").reset_index(drop=True)
+    skipped = both[~both["_fit"].astype(bool)].drop(columns="_fit").reset_index(drop=True)
+    return dataclasses.replace(frag, rows=rows, skipped=skipped)
 
 
 def _body_rows(rows, args):
@@ -136,8 +160,10 @@ def run(args) -> int:
     if not args.fragility.exists():
         raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
     hazard = _hazard(args)
-    frag = _select(read_fragilities(args.fragility), args)
+    frag = _select(read_fragilities(args.fragility, measure=hazard.measure), args)
     table = risk_table(frag, hazard)
+    if (args.nrml is not None or args.pelicun is not None) and hazard.measure != "pga":
+        raise ValueError("--nrml and --pelicun export PGA fragilities only")
     if args.nrml is not None:
         write_nrml(frag, args.nrml, search_upper=args.upper)
     if args.pelicun is not None:
@@ -151,6 +177,7 @@ def run(args) -> int:
 
         plain = table.rename(columns={c: strip_units(c) for c in table.columns})
         print(_json.dumps({"hazard": hazard.source, "fragility": frag.kind,
+                           "measure": hazard.measure, "hazard_note": hazard.note,
                            "skipped": frag.skipped_note(),
                            "units": {strip_units(c): c.split(" [", 1)[1].rstrip("]")
                                      for c in table.columns if " [" in c},
@@ -163,19 +190,33 @@ def run(args) -> int:
 def human(table, frag, hazard, args) -> str:
     """The risk table for people: the hazard, which fragility, then one row per fit."""
     from ..risk.fragilities import KINDS
+    from ..units import strip_units
 
-    head = _human.block([("hazard", hazard.source),
+    what = hazard.source if hazard.imt in hazard.source else f"{hazard.source} ({hazard.imt})"
+    head = _human.block([("hazard", what),
                          ("fragility", f"{args.fragility}: {KINDS[frag.kind]}")])
+    plain = table.rename(columns={c: strip_units(c) for c in table.columns})
     rows = []
-    for r in table.itertuples(index=False):
-        _, mode, ta, R, ls, median_g, beta, maf, period, p50, _, status = r
-        rows.append([mode, _human.num(ta), _human.num(R), ls, _human.num(median_g),
-                     _human.num(median_g / ta), _human.num(beta, 3), _human.num(maf, 4),
-                     _human.num(period, 4), _human.num(p50, 3), status])
+    for r in plain.to_dict(orient="records"):
+        rows.append([r["mode"], _human.num(r["tan_alpha"]), _human.num(r["R"]),
+                     r["limit_state"], _human.num(r["median_im"]),
+                     _human.num(r["median_pga_g"] / r["tan_alpha"]), _human.num(r["beta"], 3),
+                     _human.num(r["n"]), _human.num(r["maf"], 4),
+                     _human.num(r["lambda_p05"], 3), _human.num(r["lambda_p95"], 3),
+                     _human.num(r["return_period"], 4), _human.num(r["p_50yr"], 3),
+                     r["status"]])
     lines = [head]
+    if hazard.note:
+        lines.append(hazard.note)
     if frag.skipped_note():
         lines.append(frag.skipped_note())
-    lines += ["", _human.table(HEADER, rows, left=(0, 3, 10))]
+    if frag.samples is None:
+        lines.append("no bootstrap samples beside the table (<table>_bootstrap.nc): no "
+                     "interval on λ")
+    else:
+        lines.append(f"λ 5 %–95 %: the 90 % interval of λ over {frag.samples.n_resamples} "
+                     "resamples of the motions (each refitted and integrated)")
+    lines += ["", _human.table(HEADER, rows, left=(0, 3, 13))]
     if args.out is not None:
         lines.append(f"{len(table)} rows (every column) written: {args.out}")
     return "\n".join(lines)

@@ -1,7 +1,9 @@
 """From fragility to risk: hazard curves, mean annual frequencies, exports to risk tools.
 
-:mod:`.hazard` (:class:`HazardCurve`), :mod:`.annual_frequency` (λ_LS of a lognormal
-fragility under a hazard curve), :mod:`.fragilities` (the study's fragility table as records),
+:mod:`.hazard` (:class:`HazardCurve`: PGA or Sa(T), from OpenQuake CSVs, tables or a power
+law), :mod:`.annual_frequency` (λ_LS of a lognormal fragility under a hazard curve, and its
+interval over bootstrap resamples), :mod:`.fragilities` (the study's fragility table as
+records), :mod:`.bootstrap` (the ``<table>_bootstrap.nc`` samples beside each table),
 :mod:`.nrml` (OpenQuake NRML 0.5 fragility model), :mod:`.pelicun` (pelicun / FEMA P-58 damage
 model CSV), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report).
 """
@@ -13,6 +15,9 @@ _EXPORTS = {
     "parse_hazard": "hazard",
     "mean_annual_frequency": "annual_frequency",
     "annual_frequency_parts": "annual_frequency",
+    "annual_frequency_interval": "annual_frequency",
+    "mean_annual_frequencies": "annual_frequency",
+    "read_bootstrap": "bootstrap",
     "probability_in": "annual_frequency",
     "read_fragilities": "fragilities",
     "write_nrml": "nrml",

@@ -22,14 +22,6 @@ def _read(fragility) -> Fragilities:
     return fragility if isinstance(fragility, Fragilities) else read_fragilities(fragility)
 
 
-def _fitted(fragility) -> Fragilities:
-    frag = _read(fragility)
-    if frag.rows.empty:
-        raise ValueError(f"the {frag.kind} fragility table has no fitted row (every median "
-                         "is NaN)")
-    return frag
-
-
 def write_fragility_exports(fragility, *, nrml: str | Path, pelicun: str | Path,
                             search_upper: float | None = None, study: str = "") -> dict:
     """Write the NRML and pelicun exports of one fragility table (either kind).
@@ -69,15 +61,20 @@ def write_fragility_exports(fragility, *, nrml: str | Path, pelicun: str | Path,
 def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
                        pelicun: str | Path, table: str | Path,
                        search_upper: float | None = None, study: str = "",
-                       stripes=None) -> dict:
+                       stripes=None, suite=None, preset: str = "") -> dict:
     """Write ``fragility.nrml.xml``, ``fragility.pelicun.csv`` and ``risk.csv`` of a study.
+
+    One behaviour whatever the fits: every requested row is in ``risk.csv``, a row without a
+    fit with its status (a study whose fragility cannot be fitted anywhere gets a table of
+    statuses and exports without functions, never an error).
 
     Parameters
     ----------
     fragility : path, DataFrame or Dataset
-        The study's fragility table (``results/<study>/fragility.csv``).
+        The study's fragility table (``results/<study>/fragility.csv``, PGA): always
+        exported; its rows enter ``risk.csv`` when the hazard is of PGA.
     hazard : HazardCurve
-        The site's hazard curve.
+        The site's hazard curve (PGA or Sa(T)).
     nrml, pelicun, table : path
         Output files (the exports of ``fragility``; the risk table of both fragilities).
     search_upper : float, optional
@@ -85,26 +82,56 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
     study : str
         Study name, for the NRML model id and description.
     stripes : path, DataFrame or Dataset, optional
-        The study's stripe fragility (``stripe_fragility.csv``): its mean annual frequencies
-        join the table, rows marked ``fragility = stripes`` (its exports:
-        :func:`write_fragility_exports`).
+        The study's stripe fragility (``stripe_fragility.csv``): its rows in the hazard's
+        measure join the table, marked ``fragility = stripes``.
+    suite : path, DataFrame or Dataset, optional
+        The suite's fragility (``suite_fragility.csv``): the first-exceedance rows of
+        ``risk.csv`` when the hazard is not of PGA (its fits in Sa(T)).
+    preset : str
+        Accuracy preset of the study's analyses (the ``preset`` column).
 
     Returns
     -------
     dict
-        What was written: counts, the NRML limit states, the functions left out of the NRML
-        and the fragilities without a fit (``skipped``), for the rule's log.
+        What was written: counts, the NRML limit states, the functions left out of the NRML,
+        the rows without a fit (``skipped``) and the preset's warning, for the rule's log.
     """
-    first = _fitted(fragility)
-    summary = write_fragility_exports(first, nrml=nrml, pelicun=pelicun,
+    from .report import preset_warning
+
+    pga = read_fragilities(fragility)
+    summary = write_fragility_exports(pga, nrml=nrml, pelicun=pelicun,
                                       search_upper=search_upper, study=study)
+    if hazard.measure == "pga":
+        first = pga
+    elif suite is None:
+        raise ValueError(f"the hazard is of {hazard.imt}: give the suite's fragility "
+                         "(suite_fragility.csv) for its first-exceedance fits in that measure")
+    else:
+        first = read_fragilities(suite, measure=hazard.measure)
     tables = [first]
     if stripes is not None:
-        tables.append(_read(stripes))  # without any fit it adds no row, only its note
-    risk = risk_tables(tables, hazard)
+        tables.append(_stripes_in(stripes, hazard))
+    risk = risk_tables(tables, hazard, preset=preset)
     risk.to_csv(table, index=False, float_format="%.6g")
     return {**summary, "risk_rows": len(risk), "risk_fragilities": [f.kind for f in tables],
-            "risk_skipped": risk.attrs["skipped"], "hazard": hazard.source}
+            "risk_measure": hazard.measure, "risk_skipped": risk.attrs["skipped"],
+            "hazard": hazard.source, "hazard_note": hazard.note,
+            "preset_warning": preset_warning(preset)}
+
+
+def _stripes_in(stripes, hazard: HazardCurve) -> Fragilities:
+    """The stripe table's rows in the hazard's measure; a table of another measure (an old
+    one is of PGA) gives no rows, with a status saying so."""
+    try:
+        return read_fragilities(stripes, kind="stripes", measure=hazard.measure)
+    except ValueError as exc:
+        import pandas as pd
+
+        from .fragilities import COLUMNS
+
+        empty = pd.DataFrame(columns=list(COLUMNS))
+        return Fragilities(empty, empty, 0, "stripes", hazard.measure,
+                           source=f"stripe table not in {hazard.measure} ({exc})")
 
 
 __all__ = ["write_fragility_exports", "write_risk_outputs"]

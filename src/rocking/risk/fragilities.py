@@ -27,12 +27,17 @@ import pandas as pd
 
 from ..spectra.limit_states import parse_limit_state
 from ..units import strip_units
+from .bootstrap import BootstrapSamples
 
 KEYS = ("mode", "tan_alpha", "R", "limit_state")
 """Columns that identify a fragility."""
 
-COLUMNS = (*KEYS, "median_g", "beta", "status")
-"""Columns of :attr:`Fragilities.rows` and :attr:`Fragilities.skipped`."""
+COLUMNS = (*KEYS, "median_g", "beta", "n", "bracket_lo", "bracket_hi", "row", "status")
+"""Columns of :attr:`Fragilities.rows` and :attr:`Fragilities.skipped` (``n`` motions fitted,
+``row`` the row of the table read, −1 for a frame without one)."""
+
+SUITE_GROUPS = ("records", "synthetic")
+"""Motion groups of ``suite_fragility.csv``, in the order the risk table prefers them."""
 
 NOT_COMPUTED = "not-computed"
 
@@ -61,24 +66,43 @@ class Fragilities:
     Attributes
     ----------
     rows : pandas.DataFrame
-        :data:`COLUMNS`; ``median_g`` the median PGA capacity [g], ``beta`` [-]; sorted by
-        mode, tan α, R and increasing severity of the limit state.
+        :data:`COLUMNS`; ``median_g`` the median capacity in the measure [g], ``beta`` [-];
+        sorted by mode, tan α, R and increasing severity of the limit state.
     skipped : pandas.DataFrame
-        Requested (mode, tan α, R, limit state) without a fit, with the reason (``status``).
+        Requested (mode, tan α, R, limit state) without a fit, with the reason (``status``)
+        and, for stripes, the bracketing stripes' intensities (``bracket_lo``,
+        ``bracket_hi`` [g], NaN where the table does not give them).
     n_not_computed : int
         Cells of the table the study did not ask for.
     kind : str
         Which fragility: ``"first_exceedance"`` or ``"stripes"`` (:data:`KINDS`).
+    measure : str
+        The intensity measure of the medians (``"pga"``, ``"sa:1.0"``).
+    samples : BootstrapSamples, optional
+        The table's bootstrap resamples (``<table>_bootstrap.nc``), rows addressed by the
+        ``row`` column (the row of the table read).
+    source : str
+        The table read (a path), for notes.
     """
 
     rows: pd.DataFrame
     skipped: pd.DataFrame
     n_not_computed: int = 0
     kind: str = FIRST_EXCEEDANCE
+    measure: str = "pga"
+    samples: BootstrapSamples | None = None
+    source: str = ""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"kind must be one of {sorted(KINDS)}, got {self.kind!r}")
+
+    def resamples(self, row: int) -> tuple[np.ndarray, np.ndarray] | None:
+        """θ [g] and β [-] of the bootstrap resamples of the table's row ``row`` (the
+        ``row`` column of :attr:`rows`), None without a bootstrap file."""
+        if self.samples is None or row < 0:
+            return None
+        return self.samples.median[row], self.samples.beta[row]
 
     def limit_states(self) -> list[str]:
         """Limit states with at least one fit, in increasing severity."""
@@ -94,7 +118,9 @@ class Fragilities:
             return ""
         items = [f"{r.mode} tan α={r.tan_alpha:g} R={r.R:g} m {r.limit_state} ({r.status})"
                  for r in self.skipped.itertuples()]
-        return f"{len(items)} fragilities without a fit, skipped: " + "; ".join(items)
+        where = f" of {self.source}" if self.source else ""
+        return (f"{len(items)} row(s){where} without a fit (NaN median), no λ integrated: "
+                + "; ".join(items))
 
 
 def severity(limit_state: str) -> float:
@@ -131,56 +157,131 @@ def _as_frame(source) -> pd.DataFrame:
                      f"{type(source).__name__}")
 
 
-def read_fragilities(source, kind: str | None = None) -> Fragilities:
-    """The fitted lognormal fragilities of a study's fragility table.
+def read_fragilities(source, kind: str | None = None, *, measure: str | None = None,
+                     bootstrap=None) -> Fragilities:
+    """The fitted lognormal fragilities of a study's fragility table, and those without.
 
     Parameters
     ----------
     source : path, pandas.DataFrame or xarray.Dataset
-        ``results/<study>/fragility.csv`` or ``.nc``, ``stripe_fragility.csv``, or the table
-        itself; needs ``mode``, ``limit_state``, ``tan_alpha``, ``R``, ``median_pga_g`` [g]
-        and ``beta`` (column titles with or without their units).
+        ``results/<study>/fragility.csv`` or ``.nc`` (first exceedance in PGA),
+        ``suite_fragility.csv`` (first exceedance in each intensity measure of the study),
+        ``stripe_fragility.csv``, or the table itself; column titles with or without units.
     kind : {"first_exceedance", "stripes"}, optional
         Which fragility the table holds; default: told by its columns
         (:func:`fragility_kind`).
+    measure : str, optional
+        The intensity measure wanted (``"pga"``, ``"sa:1.0"``; default ``pga``). A suite or
+        stripe table with a ``measure`` column gives its rows of that measure; a suite table
+        its ``records`` rows (its ``synthetic`` ones where it has no records).
+    bootstrap : path or False, optional
+        The table's bootstrap samples (:mod:`rocking.risk.bootstrap`); default
+        ``<table>_bootstrap.nc`` beside a table given by path, when it exists; False: none.
 
     Returns
     -------
     Fragilities
     """
-    frame = _plain_columns(_as_frame(source))
+    from .hazard import same_measure
+
+    frame = _plain_columns(_as_frame(source)).reset_index(drop=True)
+    n_total = len(frame)
+    frame["row"] = np.arange(n_total)
     if kind is None:
         kind = fragility_kind(frame)
     elif kind not in KINDS:
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
-    need = {"mode", "limit_state", "tan_alpha", "R", "median_pga_g", "beta"}
+    where = str(source) if isinstance(source, str | Path) else "fragility table"
+    measure = "pga" if measure is None else measure
+    frame, median_col = _in_measure(frame, measure, where, same_measure)
+    if "measure" in frame.columns and len(frame):
+        measure = str(frame["measure"].iloc[0])  # the table's own spelling (sa:1.0)
+    need = {"mode", "limit_state", "tan_alpha", "R", median_col, "beta"}
     missing = sorted(need - set(frame.columns))
     if missing:
-        raise ValueError(f"fragility table lacks the columns {missing} (has "
+        raise ValueError(f"{where} lacks the columns {missing} (has "
                          f"{sorted(map(str, frame.columns))})")
     status = (frame["status"].astype(str) if "status" in frame.columns
               else pd.Series("", index=frame.index))
+    n_col = next((c for c in ("n", "n_motions") if c in frame.columns), None)
+    nan = pd.Series(np.nan, index=frame.index)
     out = pd.DataFrame({
         "mode": frame["mode"].astype(str),
         "tan_alpha": frame["tan_alpha"].astype(float),
         "R": frame["R"].astype(float),
         "limit_state": [parse_limit_state(str(s)).name for s in frame["limit_state"]],
-        "median_g": frame["median_pga_g"].astype(float),
+        "median_g": frame[median_col].astype(float),
         "beta": frame["beta"].astype(float),
+        "n": frame[n_col].astype(float) if n_col else nan,
+        "bracket_lo": _bracket(frame, "bracket_lo", kind),
+        "bracket_hi": _bracket(frame, "bracket_hi", kind),
+        "row": frame["row"].astype(int),
         "status": status.values,
     })
     fitted = np.isfinite(out["median_g"]) & np.isfinite(out["beta"])
     bad = fitted & ((out["median_g"] <= 0) | (out["beta"] <= 0))
     if bad.any():
         r = out[bad].iloc[0]
-        raise ValueError(f"median_pga_g and beta must be > 0, got {r.median_g!r}, {r.beta!r} "
-                         f"at {r['mode']} tan_alpha={r.tan_alpha:g} R={r.R:g} {r.limit_state}")
+        raise ValueError(f"{where}: median and beta must be > 0, got {r.median_g!r}, "
+                         f"{r.beta!r} at {r['mode']} tan_alpha={r.tan_alpha:g} R={r.R:g} "
+                         f"{r.limit_state}")
     not_computed = ~fitted & (out["status"] == NOT_COMPUTED)
     rows = _sorted(out[fitted])
     rows["status"] = rows["status"].replace("", "ok")
     skipped = _sorted(out[~fitted & ~not_computed])
     skipped["status"] = skipped["status"].replace("", "no fit")
-    return Fragilities(rows, skipped, int(not_computed.sum()), kind)
+    return Fragilities(rows, skipped, int(not_computed.sum()), kind, measure,
+                       _samples(source, bootstrap, n_total),
+                       str(source) if isinstance(source, str | Path) else "")
+
+
+def _in_measure(frame: pd.DataFrame, measure: str, where: str, same_measure):
+    """The rows of ``frame`` in ``measure`` and the column holding their median [g]."""
+    has_measure = "measure" in frame.columns
+    if "motions" in frame.columns and has_measure:  # suite_fragility.csv
+        rows = frame[[same_measure(str(m), measure) for m in frame["measure"]]]
+        if rows.empty:
+            raise ValueError(f"{where} has no fit in {measure} (its measures: "
+                             f"{sorted(set(map(str, frame['measure'])))}): add {measure} to "
+                             "the study's intensity_measures")
+        groups = [g for g in SUITE_GROUPS if g in set(rows["motions"])]
+        fitted = [g for g in groups if np.isfinite(rows.loc[rows["motions"] == g,
+                                                            "median"]).any()]
+        group = (fitted or groups)[0]
+        return rows[rows["motions"] == group], "median"
+    if has_measure:  # a stripe table that says its measure
+        rows = frame[[same_measure(str(m), measure) for m in frame["measure"]]]
+        if rows.empty:
+            raise ValueError(f"{where} has no fit in {measure} (its measure: "
+                             f"{sorted(set(map(str, frame['measure'])))})")
+        return rows, ("median_im" if "median_im" in rows.columns else "median_pga_g")
+    if not same_measure(measure, "pga"):
+        raise ValueError(f"{where} holds fits in PGA only, not {measure}: give the suite's "
+                         "suite_fragility.csv (or a stripe table in that measure)")
+    return frame, "median_pga_g"
+
+
+def _bracket(frame: pd.DataFrame, name: str, kind: str) -> pd.Series:
+    """A stripe table's bracketing intensity [g] (NaN where absent: old tables, or the
+    first-exceedance table, whose ``bracket_*`` columns mean something else)."""
+    if kind != STRIPES or name not in frame.columns:
+        return pd.Series(np.nan, index=frame.index)
+    return frame[name].astype(float)
+
+
+def _samples(source, bootstrap, n_rows: int):
+    from .bootstrap import bootstrap_path, read_bootstrap
+
+    if bootstrap is False:
+        return None
+    if bootstrap is None:
+        if not isinstance(source, str | Path):
+            return None
+        path = bootstrap_path(source)
+        if not path.exists():
+            return None
+        bootstrap = path
+    return read_bootstrap(bootstrap, n_rows)
 
 
 def _sorted(frame: pd.DataFrame) -> pd.DataFrame:
@@ -204,6 +305,7 @@ def median_beta(mean: float, stddev: float) -> tuple[float, float]:
     return mean * mean / math.hypot(stddev, mean), math.sqrt(math.log1p((stddev / mean) ** 2))
 
 
-__all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "STRIPES", "Fragilities",
+__all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "STRIPES", "SUITE_GROUPS",
+           "Fragilities",
            "fragility_kind", "lognormal_moments", "median_beta", "read_fragilities", "severity",
            "sort_limit_states"]

@@ -1,15 +1,27 @@
-"""Seismic hazard curves: the mean annual rate λ(im) at which PGA exceeds im at a site.
+"""Seismic hazard curves: the mean annual rate λ(im) at which an intensity im is exceeded at a site.
 
 A :class:`HazardCurve` is a table of intensity levels [g] and their annual rates of exceedance
-[1/yr], from a power law (λ = k0·im^−k) or from an OpenQuake hazard-curve CSV. Between levels
-the curve is interpolated log-log (a piecewise power law, the shape hazard curves have
-locally); beyond either end the first or last segment's log-log slope is extrapolated
-(see :mod:`rocking.risk.annual_frequency` for why and for how much that end contributes).
+[1/yr], in one intensity measure: PGA or Sa(T) (OpenQuake's ``PGA``, ``SA(1.0)``; the study's
+``pga``, ``sa:1.0``, :mod:`rocking.motions.measures`). It comes from a power law
+(λ = k0·im^−k), an OpenQuake hazard-curve CSV, or a plain two-column table (intensity and
+annual rate, or intensity and probability of exceedance in a stated investigation time).
+Between levels the curve is interpolated log-log (a piecewise power law, the shape hazard
+curves have locally); beyond either end the first or last segment's log-log slope is
+extrapolated (see :mod:`rocking.risk.annual_frequency` for why and for how much that end
+contributes).
+
+Engines write probabilities of exceedance with six significant digits, so the lowest levels
+of a 50-year curve read ``1.000000E+00``: an infinite rate. Those levels are dropped (said
+once, in one line, and kept on the curve as :attr:`HazardCurve.n_dropped` and
+:attr:`HazardCurve.dropped_up_to`); the part of λ_LS that rests on the intensities below the
+first kept level is ``below_first`` of :func:`rocking.risk.annual_frequency.annual_frequency_parts`
+(``share_dropped`` in the risk table).
 """
 
 from __future__ import annotations
 
 import csv
+import logging
 import math
 import re
 from dataclasses import dataclass
@@ -17,57 +29,135 @@ from pathlib import Path
 
 import numpy as np
 
+from ..motions.measures import parse_measure
+
+log = logging.getLogger(__name__)
+
 POWER_LAW_IML = np.geomspace(1e-3, 10.0, 41)
 """Levels [g] at which a power-law curve is tabulated (exact there and, log-log, between)."""
 
 _TIME = re.compile(r"investigation_time\s*=\s*['\"]?([0-9.eE+-]+)")
-_IMT = re.compile(r"imt\s*=\s*['\"]?([A-Za-z0-9().]+)")
+_IMT = re.compile(r"\bimt\s*=\s*['\"]?([A-Za-z0-9().:]+)")
+_SA = re.compile(r"^SA\(\s*([0-9.eE+-]+)\s*\)$", re.IGNORECASE)
+
+RATE_COLUMNS = ("annual_rate", "rate", "lambda", "maf")
+"""Names the second column of a two-column table may have when it holds annual rates."""
+
+
+def imt_measure(imt: str) -> str:
+    """The study's name of an intensity measure type: ``"PGA"`` → ``"pga"``,
+    ``"SA(1.0)"`` → ``"sa:1"``; the study's own names (``"pga"``, ``"sa:1.0"``) are accepted
+    too. Raises ValueError for any other (PGV and the rest: the study's PGV is in m/s, an
+    engine's in cm/s, so it is refused rather than guessed)."""
+    text = str(imt).strip()
+    hit = _SA.match(text)
+    if hit:
+        text = f"sa:{hit.group(1)}"
+    try:
+        kind, period = parse_measure(text)
+    except ValueError:
+        kind, period = "", None
+    if kind == "pga":
+        return "pga"
+    if kind == "sa":
+        return f"sa:{period:g}"
+    raise ValueError(f"intensity measure type {imt!r} is not supported: use PGA or SA(T) "
+                     "(e.g. SA(1.0)), in g")
+
+
+def measure_imt(measure: str) -> str:
+    """OpenQuake's name of a study measure: ``"pga"`` → ``"PGA"``, ``"sa:1"`` → ``"SA(1.0)"``."""
+    kind, period = parse_measure(imt_measure(measure))
+    if kind == "pga":
+        return "PGA"
+    return f"SA({period:.1f})" if period == round(period, 1) else f"SA({period:g})"
+
+
+def same_measure(a: str, b: str) -> bool:
+    """Whether two names (either spelling, ``SA(1.0)`` or ``sa:1.0``) denote the same
+    intensity measure (any measure the study knows, pgv included)."""
+    def key(name):
+        text = str(name).strip()
+        hit = _SA.match(text)
+        try:
+            return parse_measure(f"sa:{hit.group(1)}" if hit else text)
+        except ValueError:
+            return None
+
+    ka = key(a)
+    return ka is not None and ka == key(b)
 
 
 @dataclass(frozen=True, eq=False)
 class HazardCurve:
-    """Annual rate of exceedance of PGA at a site, tabulated at increasing levels.
+    """Annual rate of exceedance of an intensity measure at a site, at increasing levels.
 
     Parameters
     ----------
     im_g : array_like
-        Intensity levels, PGA [g], strictly increasing, > 0.
+        Intensity levels [g] (PGA or Sa(T)), strictly increasing, > 0.
     annual_rate : array_like
         Mean annual rate of exceedance λ at each level [1/yr], > 0 and non-increasing.
     imt : str
-        Intensity measure type (``"PGA"``; others are refused by the readers).
+        Intensity measure type: ``"PGA"`` or ``"SA(<T>)"`` (or the study's ``"pga"``,
+        ``"sa:<T>"``); :attr:`measure` is the study's name of it.
     source : str
         Where the curve came from (a file path, or the power law), for tables and reports.
+    n_dropped : int
+        Levels of the file left out because their probability of exceedance was 1 (an
+        infinite rate), all below the first level kept.
+    dropped_up_to : float
+        The highest such level [g] (NaN when none was dropped).
     """
 
     im_g: np.ndarray
     annual_rate: np.ndarray
     imt: str = "PGA"
     source: str = ""
+    n_dropped: int = 0
+    dropped_up_to: float = math.nan
 
     def __post_init__(self) -> None:
         im = np.asarray(self.im_g, dtype=float).ravel()
         lam = np.asarray(self.annual_rate, dtype=float).ravel()
+        where = f"{self.source}: " if self.source else ""
         if im.size != lam.size:
-            raise ValueError(f"im_g and annual_rate must have the same length, got {im.size} "
-                             f"and {lam.size}")
+            raise ValueError(f"{where}im_g and annual_rate must have the same length, got "
+                             f"{im.size} and {lam.size}")
         if im.size < 2:
-            raise ValueError(f"a hazard curve needs at least 2 levels, got {im.size}")
+            raise ValueError(f"{where}a hazard curve needs at least 2 levels with a finite "
+                             f"rate, got {im.size}")
         if np.any(~np.isfinite(im) | (im <= 0.0)) or np.any(np.diff(im) <= 0.0):
-            raise ValueError(f"im_g must be finite, > 0 and strictly increasing, got {im}")
+            raise ValueError(f"{where}intensity levels must be finite, > 0 and strictly "
+                             f"increasing, got {_short(im)}")
         if np.any(~np.isfinite(lam) | (lam <= 0.0)):
-            raise ValueError("annual_rate must be finite and > 0 (a zero rate has no log-log "
-                             f"slope; drop those levels), got {lam}")
+            raise ValueError(f"{where}annual rates must be finite and > 0 (a zero rate has no "
+                             f"log-log slope; drop those levels), got {_short(lam)}")
         if np.any(np.diff(lam) > 0.0):
-            raise ValueError(f"annual_rate must not increase with im_g, got {lam}")
-        if self.imt != "PGA":
-            raise ValueError(f"imt must be 'PGA' (the study's intensity measure), got "
-                             f"{self.imt!r}")
+            i = int(np.flatnonzero(np.diff(lam) > 0.0)[0])
+            raise ValueError(f"{where}annual rates must not increase with the intensity, got "
+                             f"{lam[i]:.6g} at {im[i]:g} g and {lam[i + 1]:.6g} at "
+                             f"{im[i + 1]:g} g")
+        object.__setattr__(self, "imt", measure_imt(self.imt))
         object.__setattr__(self, "im_g", im)
         object.__setattr__(self, "annual_rate", lam)
 
+    @property
+    def measure(self) -> str:
+        """The study's name of the curve's intensity measure (``"pga"``, ``"sa:1"``)."""
+        return imt_measure(self.imt)
+
+    @property
+    def note(self) -> str:
+        """One line on the levels dropped for a probability of exceedance of 1 ('' if none)."""
+        if not self.n_dropped:
+            return ""
+        return (f"{self.source}: {self.n_dropped} level(s) with probability of exceedance 1 "
+                f"(an infinite rate) dropped, up to {self.dropped_up_to:g} g; the part of "
+                "each λ from below the first level kept is reported as share_dropped")
+
     @classmethod
-    def from_power_law(cls, k0: float, k: float, im_g=None) -> HazardCurve:
+    def from_power_law(cls, k0: float, k: float, im_g=None, imt: str = "PGA") -> HazardCurve:
         """λ(im) = k0·im^−k, tabulated at ``im_g`` (default :data:`POWER_LAW_IML`).
 
         Parameters
@@ -75,23 +165,32 @@ class HazardCurve:
         k0 : float
             Annual rate of exceeding 1 g [1/yr], > 0.
         k : float
-            Log-log slope of the hazard curve [-], > 0.
+            Log-log slope of the hazard curve [-], > 0 (a flat or rising curve is no hazard
+            curve).
         im_g : array_like, optional
             Levels [g]. The log-log interpolation and extrapolation reproduce the power law
             exactly everywhere, so the levels only bound what "inside the table" means.
+        imt : str
+            The intensity measure (``"PGA"``, ``"SA(1.0)"``, ``"sa:1.0"``).
         """
         k0, k = _positive("k0", k0), _positive("k", k)
         im = POWER_LAW_IML if im_g is None else np.asarray(im_g, dtype=float)
-        return cls(im, k0 * im ** (-k), source=f"power law k0={k0:g}/yr, k={k:g}")
+        return cls(im, k0 * im ** (-k), imt=imt,
+                   source=f"power law k0={k0:g}/yr, k={k:g} ({measure_imt(imt)})")
 
     @classmethod
     def from_openquake_csv(cls, path: str | Path, site: int = 0) -> HazardCurve:
         """Read one site of an OpenQuake ``hazard_curve-*.csv``.
 
-        The file has a comment line holding ``investigation_time`` T [yr] and ``imt``, then a
-        header ``lon,lat[,depth],poe-<iml>,...`` and one row per site of probabilities of
-        exceedance in T. They become annual rates by λ = −ln(1 − poe)/T (Poisson). Levels with
-        poe = 0 are dropped (no rate to interpolate in log-log); poe = 1 is refused.
+        The file has a comment line holding ``investigation_time`` T [yr] and ``imt``
+        (``PGA`` or ``SA(T)``), then a header ``[custom_site_id,]lon,lat[,depth],poe-<iml>,...``
+        and one row per site of probabilities of exceedance in T. They become annual rates
+        by λ = −ln(1 − poe)/T (Poisson). Levels with poe = 0 are dropped (no rate to
+        interpolate in log-log); levels with poe = 1 (the lowest levels of a long
+        investigation time written with six significant digits) are dropped too, said once
+        in one line (logged, and :attr:`note`). Probabilities that increase with the level,
+        fewer than two levels left, or a missing ``investigation_time``/``imt`` are refused
+        with one line naming the file.
 
         Parameters
         ----------
@@ -101,38 +200,98 @@ class HazardCurve:
             Row of the site (0 = first).
         """
         path = Path(path)
-        with path.open(newline="") as fh:
-            lines = fh.read().splitlines()
-        comments = [ln for ln in lines if ln.startswith("#")]
-        body = [ln for ln in lines if ln.strip() and not ln.startswith("#")]
+        comments, rows = _read_csv(path)
         meta = " ".join(comments)
         time, imt = _TIME.search(meta), _IMT.search(meta)
         if time is None or imt is None:
-            raise ValueError(f"{path}: no comment line with investigation_time and imt "
-                             "(an OpenQuake hazard_curve CSV starts with one)")
-        years = float(time.group(1))
-        if not years > 0:
-            raise ValueError(f"{path}: investigation_time must be > 0, got {years!r}")
-        if imt.group(1) != "PGA":
-            raise ValueError(f"{path}: imt must be 'PGA' (the study's intensity), got "
-                             f"{imt.group(1)!r}")
-        rows = list(csv.reader(body))
+            missing = " and ".join(n for n, m in (("investigation_time", time), ("imt", imt))
+                                   if m is None)
+            raise ValueError(f"{path}: no {missing} in a comment line (an OpenQuake "
+                             "hazard_curve CSV starts with one)")
+        years = _positive(f"{path}: investigation_time", time.group(1))
+        measure = _file_measure(path, imt.group(1))
         if len(rows) < 2:
             raise ValueError(f"{path}: expected a header and at least one site row")
         header, sites = rows[0], rows[1:]
-        cols = [i for i, name in enumerate(header) if name.startswith("poe-")]
+        cols = [i for i, name in enumerate(header) if name.strip().startswith("poe-")]
         if not cols:
             raise ValueError(f"{path}: no poe-<iml> columns in the header {header}")
         if not 0 <= site < len(sites):
             raise ValueError(f"site must be in 0..{len(sites) - 1} for {path}, got {site!r}")
-        iml = np.array([float(header[i][4:]) for i in cols])
-        poe = np.array([float(sites[site][i]) for i in cols])
-        if np.any((poe < 0.0) | (poe >= 1.0)):
-            raise ValueError(f"{path}: poe must be in [0, 1) (poe = 1 is an infinite rate), "
-                             f"got {poe}")
-        keep = poe > 0.0
-        rate = -np.log1p(-poe[keep]) / years
-        return cls(iml[keep], rate, imt="PGA", source=f"{path} (site {site})")
+        try:
+            iml = np.array([float(header[i].strip()[4:]) for i in cols])
+            poe = np.array([float(sites[site][i]) for i in cols])
+        except (ValueError, IndexError) as exc:
+            raise ValueError(f"{path}: site {site}: unreadable level or probability "
+                             f"({exc})") from None
+        return _from_poe(iml, poe, years, measure, f"{path} (site {site})")
+
+    @classmethod
+    def from_table(cls, path: str | Path, investigation_time: float | None = None
+                   ) -> HazardCurve:
+        """Read a plain two-column hazard table.
+
+        A header names the columns: the intensity measure first (``pga``, ``PGA``,
+        ``sa:1.0``, ``SA(1.0)``, with or without a unit ``[g]``), then ``annual_rate``
+        (or ``rate``, ``lambda``: λ [1/yr]) or ``poe`` (probability of exceedance in the
+        investigation time, given here or in a comment line ``# investigation_time=50``).
+        Lines starting with ``#`` are comments.
+
+        Parameters
+        ----------
+        path : path
+            The CSV file.
+        investigation_time : float, optional
+            T [yr] of a ``poe`` column (overrides a comment line).
+        """
+        path = Path(path)
+        comments, rows = _read_csv(path)
+        if len(rows) < 2 or len(rows[0]) != 2:
+            raise ValueError(f"{path}: a hazard table has a header of two columns "
+                             "(intensity measure, annual_rate or poe) and one row per level")
+        first, second = (c.split("[", 1)[0].strip() for c in rows[0])
+        measure = _file_measure(path, first)
+        try:
+            data = np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
+        except ValueError as exc:
+            raise ValueError(f"{path}: unreadable number ({exc})") from None
+        if data.ndim != 2 or data.shape[1] != 2:
+            raise ValueError(f"{path}: every row must have two numbers")
+        im, value = data[:, 0], data[:, 1]
+        if second.lower() in RATE_COLUMNS:
+            if investigation_time is not None:
+                raise ValueError(f"{path}: investigation_time is given but the table holds "
+                                 "annual rates (column "
+                                 f"{second!r}); it applies to a poe column only")
+            return cls(im, value, imt=measure, source=str(path))
+        if second.lower() != "poe":
+            raise ValueError(f"{path}: the second column must be annual_rate (or rate, "
+                             f"lambda) or poe, got {second!r}")
+        if investigation_time is None:
+            hit = _TIME.search(" ".join(comments))
+            if hit is None:
+                raise ValueError(f"{path}: a poe column needs its investigation time: "
+                                 "hazard {file, investigation_time} or a comment line "
+                                 "'# investigation_time=50'")
+            investigation_time = hit.group(1)
+        years = _positive(f"{path}: investigation_time", investigation_time)
+        return _from_poe(im, value, years, measure, str(path))
+
+    @classmethod
+    def from_file(cls, path: str | Path, site: int = 0,
+                  investigation_time: float | None = None) -> HazardCurve:
+        """An OpenQuake CSV (its header has ``poe-<iml>`` columns) or a two-column table."""
+        path = Path(path)
+        _, rows = _read_csv(path)
+        if rows and any(c.strip().startswith("poe-") for c in rows[0]):
+            if investigation_time is not None:
+                raise ValueError(f"{path}: an OpenQuake hazard curve states its own "
+                                 "investigation_time; leave it out of the hazard entry")
+            return cls.from_openquake_csv(path, site)
+        if site != 0:
+            raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV, this "
+                             "is a two-column table")
+        return cls.from_table(path, investigation_time)
 
     def rate(self, im_g) -> np.ndarray:
         """λ(im) [1/yr]: log-log interpolation, end slopes extrapolated."""
@@ -153,44 +312,60 @@ class HazardCurve:
     def scaled(self, factor: float) -> HazardCurve:
         """The curve of the intensity ``factor``·im (levels multiplied, rates unchanged).
 
-        Converts a hazard computed for another definition of PGA to the study's: a curve
-        of the geometric mean or RotD50 becomes one of the vector peak (RotD100) with the
-        ratio RotD100/RotD50 as ``factor`` (docs/risk.md).
+        Converts a hazard computed for another definition of the measure to the study's: a
+        curve of the geometric mean or RotD50 becomes one of the vector peak (RotD100) with
+        the ratio RotD100/RotD50 as ``factor`` (docs/risk.md).
         """
         factor = _positive("factor", factor)
         note = f", levels x{factor:g}" if factor != 1.0 else ""
-        return HazardCurve(self.im_g * factor, self.annual_rate, self.imt, self.source + note)
+        return HazardCurve(self.im_g * factor, self.annual_rate, self.imt, self.source + note,
+                           self.n_dropped, self.dropped_up_to * factor)
 
 
-def parse_hazard(spec, *, base: str | Path | None = None) -> HazardCurve:
+HAZARD_KEYS = {"file", "site", "investigation_time", "im_factor"}
+"""Keys of a hazard mapping that names a file."""
+
+POWER_LAW_KEYS = {"k0", "k", "measure", "im_factor"}
+"""Keys of a hazard mapping that gives a power law."""
+
+
+def parse_hazard(spec, *, base: str | Path | None = None,
+                 measure: str | None = None) -> HazardCurve:
     """A hazard curve from the forms the configuration and the CLI accept.
 
     Parameters
     ----------
     spec : str, path or dict
-        ``"k0,k"`` (a power law), a path to an OpenQuake hazard-curve CSV, or a mapping
-        ``{k0, k}`` or ``{file, site}``; either mapping may add ``im_factor`` (see
+        ``"k0,k"`` (a power law), a path to an OpenQuake hazard-curve CSV or a two-column
+        table (:meth:`HazardCurve.from_file`), or a mapping ``{k0, k[, measure]}`` or
+        ``{file[, site][, investigation_time]}``; either mapping may add ``im_factor`` (see
         :meth:`HazardCurve.scaled`, default 1).
     base : path, optional
         Directory a relative file path is taken from.
+    measure : str, optional
+        The intensity measure of a power law given as ``"k0,k"`` (default ``pga``); a file's
+        own measure is read from it.
     """
     factor = 1.0
     if isinstance(spec, dict):
         spec = dict(spec)
         factor = spec.pop("im_factor", 1.0)
-        if set(spec) == {"k0", "k"}:
-            curve = HazardCurve.from_power_law(spec["k0"], spec["k"])
-        elif "file" in spec and set(spec) <= {"file", "site"}:
-            curve = HazardCurve.from_openquake_csv(_resolve(spec["file"], base),
-                                                   int(spec.get("site", 0)))
+        if {"k0", "k"} <= set(spec) and set(spec) <= POWER_LAW_KEYS:
+            curve = HazardCurve.from_power_law(spec["k0"], spec["k"],
+                                               imt=spec.get("measure", measure or "pga"))
+        elif "file" in spec and set(spec) <= HAZARD_KEYS:
+            curve = HazardCurve.from_file(_resolve(spec["file"], base),
+                                          int(spec.get("site", 0)),
+                                          spec.get("investigation_time"))
         else:
-            raise ValueError("hazard must be {k0, k} or {file, site} (optionally im_factor), "
-                             f"got keys {sorted(spec)}")
+            raise ValueError("hazard must be {k0, k[, measure]} or {file[, site]"
+                             "[, investigation_time]} (optionally im_factor), got keys "
+                             f"{sorted(spec)}")
     elif isinstance(spec, str | Path):
         text = str(spec)
         path = _resolve(text, base)
         if path.exists():
-            curve = HazardCurve.from_openquake_csv(path)
+            curve = HazardCurve.from_file(path)
         else:
             parts = text.split(",")
             try:
@@ -198,12 +373,74 @@ def parse_hazard(spec, *, base: str | Path | None = None) -> HazardCurve:
             except ValueError:
                 k0 = k = None
             if k0 is None:
-                raise ValueError("hazard must be an existing OpenQuake hazard-curve CSV or a "
-                                 f"power law 'k0,k', got {text!r}")
-            curve = HazardCurve.from_power_law(k0, k)
+                raise ValueError("hazard must be an existing hazard-curve file or a power "
+                                 f"law 'k0,k', got {text!r}")
+            curve = HazardCurve.from_power_law(k0, k, imt=measure or "pga")
     else:
         raise ValueError(f"hazard must be a file path, 'k0,k' or a mapping, got {spec!r}")
+    if curve.note:
+        log.warning(curve.note)
     return curve.scaled(float(factor)) if factor != 1.0 else curve
+
+
+def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
+    """Comment lines (``#``) and the other non-empty rows of a CSV file."""
+    try:
+        with path.open(newline="") as fh:
+            lines = fh.read().splitlines()
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read the hazard file ({exc.strerror})") from None
+    comments = [ln for ln in lines if ln.lstrip().startswith("#")]
+    body = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
+    return comments, list(csv.reader(body))
+
+
+def _file_measure(path: Path, imt: str) -> str:
+    try:
+        return imt_measure(imt)
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+
+
+def _from_poe(iml: np.ndarray, poe: np.ndarray, years: float, measure: str,
+              source: str) -> HazardCurve:
+    """Annual rates of probabilities of exceedance in ``years``; poe = 0 and poe = 1 levels
+    dropped (the latter counted and noted)."""
+    if iml.size == 0:
+        raise ValueError(f"{source}: the hazard curve is empty (no level)")
+    bad = ~np.isfinite(poe) | (poe < 0.0) | (poe > 1.0)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"{source}: probabilities of exceedance must be in [0, 1], got "
+                         f"{poe[i]!r} at {iml[i]:g} g")
+    if np.any(np.diff(iml) <= 0.0):
+        raise ValueError(f"{source}: intensity levels must be strictly increasing, got "
+                         f"{_short(iml)}")
+    rise = np.flatnonzero(np.diff(poe) > 0.0)
+    if rise.size:
+        i = int(rise[0])
+        raise ValueError(f"{source}: probabilities of exceedance must not increase with the "
+                         f"level, got {poe[i]:.6g} at {iml[i]:g} g and {poe[i + 1]:.6g} at "
+                         f"{iml[i + 1]:g} g")
+    one = poe >= 1.0
+    keep = (poe > 0.0) & ~one
+    if keep.sum() < 2:
+        raise ValueError(f"{source}: a hazard curve needs at least 2 levels with a "
+                         f"probability of exceedance between 0 and 1, got {int(keep.sum())} "
+                         f"of {iml.size}")
+    rate = -np.log1p(-poe[keep]) / years
+    dropped_up_to = float(iml[one].max()) if one.any() else math.nan
+    return HazardCurve(iml[keep], rate, imt=measure, source=source, n_dropped=int(one.sum()),
+                       dropped_up_to=dropped_up_to)
+
+
+def _short(a: np.ndarray) -> str:
+    """An array in one short line (first and last values when long)."""
+    a = np.asarray(a, dtype=float)
+    if a.size <= 6:
+        return "[" + ", ".join(f"{v:.6g}" for v in a) + "]"
+    return ("[" + ", ".join(f"{v:.6g}" for v in a[:3]) + ", ..., "
+            + ", ".join(f"{v:.6g}" for v in a[-2:]) + f"] ({a.size} values)")
 
 
 def _positive(name: str, value) -> float:
@@ -221,4 +458,5 @@ def _resolve(path, base) -> Path:
     return p if p.is_absolute() or base is None else Path(base) / p
 
 
-__all__ = ["POWER_LAW_IML", "HazardCurve", "parse_hazard"]
+__all__ = ["HAZARD_KEYS", "POWER_LAW_IML", "POWER_LAW_KEYS", "HazardCurve", "imt_measure",
+           "measure_imt", "parse_hazard", "same_measure"]

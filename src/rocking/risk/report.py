@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import base64
 import html
+import math
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from ..spectra.limit_states import parse_limit_state
@@ -72,6 +74,101 @@ WHICH_TO_USE = (
 """The report's sentence on which of the two mean annual frequencies to use."""
 
 
+INTERVAL_MEANING = (
+    "The 90 % interval of λ (lambda_p05 to lambda_p95 in risk.csv) is the spread of λ over "
+    "1000 resamples of the study's motions drawn with replacement, each refitted and "
+    "integrated again: the range within which λ would fall 9 times in 10 with another set of "
+    "motions like these. It measures the record-to-record sampling uncertainty only, not the "
+    "hazard's, the model's or the search preset's error.")
+"""What the interval on λ means, in words (the report and docs/risk.md)."""
+
+PRESET_ERRORS = {
+    "fast": (7.7, 35.0),
+    "default": (1.6, 15.0),
+    "precise": (0.93, 10.0),
+}
+"""Preset → error of its critical intensities against a converged reference [%]: median and
+90th percentile (docs/performance.md, "Accuracy of the presets against the converged
+reference", two goals). Always on the high side: the search steps over narrow windows of
+exceedance, so capacities come out too high and λ too low."""
+
+FAST_BIAS = ("on the four shipped records (tan α 0.11, R 3–3.02 m, docs/risk.md) the fast "
+             "preset's median capacity ran 9–11 % above the default preset's (one record's "
+             "30–46 %) and λ of overturning 27–38 % lower; on issue 29's four records 20–37 % "
+             "and about 40 %")
+"""The measured cost of the fast preset in risk (docs/risk.md, and the issue's case)."""
+
+MIN_RECORDS = 10
+"""Fewer motions behind a fragility than this get a warning on the width of its interval."""
+
+
+def preset_note(preset: str) -> str:
+    """The measured error of the preset that was run, with its sign ('' for an unknown one)."""
+    if preset not in PRESET_ERRORS:
+        return ""
+    median, p90 = PRESET_ERRORS[preset]
+    return (f"Search preset '{preset}': its critical intensities are {median:g} % off on "
+            f"median and {p90:g} % at the 90th percentile against a converged reference, "
+            "always too high (first exceedances step over narrow windows of exceedance), so "
+            "capacities are overestimated and λ is too low (docs/performance.md).")
+
+
+def preset_warning(preset: str) -> str:
+    """One line for a risk computed from ``fast`` answers ('' otherwise)."""
+    if preset != "fast":
+        return ""
+    median, p90 = PRESET_ERRORS["fast"]
+    return (f"WARNING: λ computed from fast-preset answers, unconservative: capacities "
+            f"{median:g} % (median) to {p90:g} % (90th percentile) too high, {FAST_BIAS}; "
+            "rerun with accuracy: default before using λ.")
+
+
+def small_suite_warnings(risk) -> list[str]:
+    """One sentence per fragility whose rows rest on fewer than :data:`MIN_RECORDS` motions:
+    the interval's width at n and what 1/√n says more motions would give."""
+    frame = read_risk_table(risk)
+    if "n" not in frame.columns:
+        return []
+    out = []
+    ok = frame[np.isfinite(frame["n"].astype(float)) & (frame["n"] < MIN_RECORDS)]
+    for kind, rows in ok.groupby("fragility", sort=False):
+        n = int(rows["n"].min())
+        with np.errstate(all="ignore"):
+            ratio = (rows["lambda_p95"] / rows["lambda_p05"]).astype(float)
+        ratio = ratio[np.isfinite(ratio) & (ratio > 0)]
+        text = (f"The {kind.replace('_', '-')} fragility rests on {n} motion(s) in some rows "
+                f"(fewer than {MIN_RECORDS}): ")
+        if ratio.empty:
+            text += "no bootstrap interval could be formed there."
+        else:
+            width = float(np.median(ratio))
+            at_ten = width ** math.sqrt(n / MIN_RECORDS)
+            text += (f"the 90 % interval of λ spans a factor {width:.3g} (median over those "
+                     f"rows, p95/p05); its log-width shrinks as 1/√n, so {MIN_RECORDS} motions "
+                     f"would give about a factor {at_ten:.3g} and {4 * n} motions half the "
+                     "log-width. Add records before relying on λ.")
+        out.append(text)
+    return out
+
+
+def interval_table(risk, *, tan_alpha: float | None = None) -> pd.DataFrame:
+    """λ with its 90 % interval (or the bracket bounds of a row without a fit) for the shown
+    limit states at ``tan_alpha``, every fragility and mode; empty without rows."""
+    frame = read_risk_table(risk)
+    tan_alpha = main_tan_alpha(frame) if tan_alpha is None else tan_alpha
+    if tan_alpha is None or "lambda_p05" not in frame.columns:
+        return pd.DataFrame()
+    frame = frame[(frame["tan_alpha"] - tan_alpha).abs() < 1e-9]
+    frame = frame[frame["limit_state"].isin(shown_limit_states(frame))]
+    return pd.DataFrame({
+        "fragility": frame["fragility"], "mode": frame["mode"], "R [m]": frame["R"],
+        "limit state": frame["limit_state"], "n": frame["n"],
+        "λ [1/yr]": frame["maf"], "λ 5 % [1/yr]": frame["lambda_p05"],
+        "λ 95 % [1/yr]": frame["lambda_p95"],
+        "no fit: λ from [1/yr]": frame["lambda_lo"], "no fit: λ to [1/yr]": frame["lambda_hi"],
+        "fit": frame["status"]}).reset_index(drop=True)
+
+
 def comparison_table(risk) -> pd.DataFrame:
     """λ [1/yr] of the first-exceedance and of the stripe fragility side by side.
 
@@ -87,6 +184,10 @@ def comparison_table(risk) -> pd.DataFrame:
         return pd.DataFrame()
     both = stripes[[*keys, "maf", "status"]].merge(first[[*keys, "maf"]], on=keys,
                                                     suffixes=("_stripes", "_first"))
+    # rows without a fit on either side have no ratio: they are named in the gaps sentence
+    both = both[np.isfinite(both["maf_stripes"]) & np.isfinite(both["maf_first"])]
+    if both.empty:
+        return pd.DataFrame()
     return pd.DataFrame({
         "mode": both["mode"], "tan α [-]": both["tan_alpha"], "R [m]": both["R"],
         "limit state": both["limit_state"],
@@ -170,7 +271,50 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
         parts.append(table.to_html(index=False, escape=True, border=0, na_rep="—",
                                    float_format=lambda v: f"{v:.3g}"))
     parts += _comparison_html(risk)
+    parts += _uncertainty_html(risk, tan_alpha)
     return "\n".join(parts)
+
+
+def _uncertainty_html(risk, tan_alpha) -> list[str]:
+    """The interval in words, the preset's error and warning, small suites, rows without a
+    fit."""
+    frame = read_risk_table(risk)
+    parts = ["<h3>How sure: the interval of λ, the preset, the rows without a fit</h3>",
+             f"<p>{html.escape(INTERVAL_MEANING)}</p>"]
+    presets = sorted({str(p) for p in frame.get("preset", pd.Series(dtype=str)).dropna()
+                      if str(p) and str(p) != "nan"})
+    for preset in presets:
+        warning = preset_warning(preset)
+        if warning:
+            parts.append(f"<p><strong>{html.escape(warning)}</strong></p>")
+        note = preset_note(preset)
+        if note:
+            parts.append(f"<p>{html.escape(note)}</p>")
+    parts += [f"<p>{html.escape(w)}</p>" for w in small_suite_warnings(frame)]
+    gaps = frame[~np.isfinite(frame["maf"].astype(float))]
+    if not gaps.empty:
+        parts.append(f"<p>{html.escape(_gap_sentence(gaps))}</p>")
+    table = interval_table(frame, tan_alpha=tan_alpha)
+    if not table.empty:
+        parts.append(table.to_html(index=False, escape=True, border=0, na_rep="—",
+                                   float_format=lambda v: f"{v:.3g}"))
+    return parts
+
+
+def _gap_sentence(gaps: pd.DataFrame) -> str:
+    """What to use where a fit is missing."""
+    bounded = gaps[np.isfinite(gaps["lambda_hi"].astype(float))] \
+        if "lambda_hi" in gaps.columns else gaps.iloc[0:0]
+    text = (f"{len(gaps)} row(s) of risk.csv have no fit (status: "
+            f"{', '.join(sorted(set(map(str, gaps['status']))))}) and no λ. ")
+    if not bounded.empty:
+        text += (f"For {len(bounded)} of them the stripes bracket the step from no motion "
+                 "exceeding to all exceeding: λ lies between lambda_lo and lambda_hi, the "
+                 "hazard's rates at those two stripes; use lambda_hi as the conservative "
+                 "value, or refine the stripes there. ")
+    text += ("Elsewhere use the other fragility's λ of the same row, or add motions "
+             "(first exceedance: fewer than two motions exceeded).")
+    return text
 
 
 def _comparison_html(risk) -> list[str]:
@@ -196,6 +340,7 @@ def _comparison_html(risk) -> list[str]:
                          float_format=lambda v: f"{v:.3g}")]
 
 
-__all__ = ["WHICH_TO_USE", "assumptions", "comparison_table", "main_tan_alpha",
-           "read_risk_table", "risk_section_html", "shown_limit_states",
-           "summary_table"]
+__all__ = ["FAST_BIAS", "INTERVAL_MEANING", "MIN_RECORDS", "PRESET_ERRORS", "WHICH_TO_USE",
+           "assumptions", "comparison_table", "interval_table", "main_tan_alpha",
+           "preset_note", "preset_warning", "read_risk_table", "risk_section_html",
+           "shown_limit_states", "small_suite_warnings", "summary_table"]

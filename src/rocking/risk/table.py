@@ -1,71 +1,137 @@
-"""The risk table: every fitted fragility of a study under one hazard curve.
+"""The risk table: every requested fragility of a study under one hazard curve.
 
-One row per (mode, tan α, R, limit state) with a fit: the median capacity and β, the mean
-annual frequency λ_LS [1/yr] (:func:`rocking.risk.annual_frequency.mean_annual_frequency`),
-the return period 1/λ_LS [yr], the probability of at least one exceedance in 50 years
-(Poisson) and the share of λ_LS that rests on extrapolating the hazard curve's last slope
-(:func:`rocking.risk.annual_frequency.annual_frequency_parts`, ``extrapolated``).
+One row per requested (mode, tan α, R, limit state) of each fragility, with or without a fit:
+the median capacity and β, the mean annual frequency λ_LS [1/yr]
+(:func:`rocking.risk.annual_frequency.mean_annual_frequency`) with its 90 % bootstrap interval
+over the motions (``lambda_p05``, ``lambda_p95``: each resample of the motions refitted and
+integrated, :mod:`rocking.risk.bootstrap`), the return period 1/λ_LS [yr], the probability of
+at least one exceedance in 50 years (Poisson), the share of λ_LS that rests on extrapolating
+the hazard curve's last slope (``share_extrapolated``) and on the intensities below its first
+level kept (``share_dropped``: nonzero only where levels with probability of exceedance 1
+were dropped, :class:`rocking.risk.hazard.HazardCurve`).
+
+A row without a fit (median NaN: too few motions exceeded, or a separated stripe fit) is
+present with its ``status`` and λ NaN; for stripes the bracketing stripes bound it: λ lies
+between the hazard's rates at the two stripes that bracket the step from no motion exceeding
+to all exceeding (``lambda_lo`` = λ(bracket_hi), ``lambda_hi`` = λ(bracket_lo); NaN where a
+side is open).
 
 The first column, ``fragility``, says which fragility the row integrates
-(``first_exceedance`` or ``stripes``, :data:`rocking.risk.fragilities.KINDS`); the last,
-``status``, the fit's status (a stripe fit whose median lies outside the stripes is
-``extrapolated``). :func:`risk_tables` stacks the tables of several fragilities of a study,
-so that both answers stand side by side in one ``risk.csv``.
+(``first_exceedance`` or ``stripes``, :data:`rocking.risk.fragilities.KINDS`), ``measure`` in
+which intensity measure; the last, ``status``, the fit's status. :func:`risk_tables` stacks
+the tables of several fragilities of a study, so that both answers stand side by side in one
+``risk.csv``.
 """
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pandas as pd
 
 from ..units import header
-from .annual_frequency import annual_frequency_parts, probability_in
+from .annual_frequency import annual_frequency_interval, annual_frequency_parts, probability_in
 from .fragilities import Fragilities, read_fragilities
-from .hazard import HazardCurve
+from .hazard import HazardCurve, same_measure
 
 YEARS = 50.0
 """Exposure time of the probability column [yr] (``p_50yr``)."""
 
-COLUMNS = ("fragility", "mode", "tan_alpha", "R", "limit_state", "median_pga_g", "beta",
-           "maf", "return_period", "p_50yr", "share_extrapolated", "status")
+CI = 0.90
+"""Central probability of the bootstrap interval of λ (5th to 95th percentile)."""
+
+COLUMNS = ("fragility", "measure", "mode", "tan_alpha", "R", "limit_state", "median_im",
+           "median_pga_g", "beta", "n", "maf", "lambda_p05", "lambda_p95", "lambda_lo",
+           "lambda_hi", "return_period", "p_50yr", "share_extrapolated", "share_dropped",
+           "preset", "status")
 """Columns of :func:`risk_table` (with units in their titles, :func:`rocking.units.header`)."""
 
 
-def risk_table(fragility, hazard: HazardCurve) -> pd.DataFrame:
-    """Mean annual frequency, return period and 50-year probability of each limit state.
+def risk_table(fragility, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:
+    """Mean annual frequency, its interval, return period and 50-year probability of each
+    limit state.
 
     Parameters
     ----------
     fragility : Fragilities, path, DataFrame or Dataset
-        The study's fitted fragilities, or anything
-        :func:`rocking.risk.fragilities.read_fragilities` reads.
+        The study's fragilities, or anything
+        :func:`rocking.risk.fragilities.read_fragilities` reads (in the hazard's measure).
     hazard : HazardCurve
-        The site's hazard curve (PGA [g]).
+        The site's hazard curve, in the fragility's intensity measure.
+    preset : str
+        The accuracy preset of the analyses behind the fragility ('' unknown), carried in
+        the ``preset`` column (the report warns about ``fast``).
 
     Returns
     -------
     pandas.DataFrame
         :data:`COLUMNS`, titles with units (``maf [1/yr]``, ``return_period [yr]`` ...);
-        ``attrs["skipped"]`` names the fragilities without a fit.
+        ``attrs["skipped"]`` names the rows without a fit.
     """
-    frag = fragility if isinstance(fragility, Fragilities) else read_fragilities(fragility)
-    out = []
-    for r in frag.rows.itertuples():
-        parts = annual_frequency_parts(r.median_g, r.beta, hazard)
-        maf = parts["total"]
-        out.append({"fragility": frag.kind, "mode": r.mode, "tan_alpha": r.tan_alpha, "R": r.R,
-                    "limit_state": r.limit_state, "median_pga_g": r.median_g, "beta": r.beta,
-                    "maf": maf, "return_period": 1.0 / maf if maf > 0 else float("inf"),
-                    "p_50yr": probability_in(maf, YEARS),
-                    "share_extrapolated": parts["extrapolated"] / maf if maf > 0 else 0.0,
-                    "status": r.status})
-    table = pd.DataFrame(out, columns=list(COLUMNS)).rename(columns=header)
+    frag = (fragility if isinstance(fragility, Fragilities)
+            else read_fragilities(fragility, measure=hazard.measure))
+    if not same_measure(frag.measure, hazard.measure):
+        raise ValueError(f"the hazard ({hazard.source}) is of {hazard.imt}, the "
+                         f"{frag.kind} fragility of {frag.measure}: they must be the same "
+                         "intensity measure")
+    out = [_fitted_row(r, frag, hazard) for r in frag.rows.itertuples()]
+    out += [_unfitted_row(r, frag, hazard) for r in frag.skipped.itertuples()]
+    table = pd.DataFrame(out, columns=list(COLUMNS))
+    table["preset"] = preset
+    table = _sorted(table).rename(columns=header)
     table.attrs["skipped"] = frag.skipped_note()
     table.attrs["hazard"] = hazard.source
     table.attrs["fragility"] = frag.kind
     return table
 
 
-def risk_tables(fragilities, hazard: HazardCurve) -> pd.DataFrame:
+def _base(r, frag: Fragilities) -> dict:
+    pga = same_measure(frag.measure, "pga")
+    return {"fragility": frag.kind, "measure": frag.measure, "mode": r.mode,
+            "tan_alpha": r.tan_alpha, "R": r.R, "limit_state": r.limit_state,
+            "median_im": r.median_g, "median_pga_g": r.median_g if pga else math.nan,
+            "beta": r.beta, "n": r.n, "status": r.status}
+
+
+def _fitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
+    parts = annual_frequency_parts(r.median_g, r.beta, hazard)
+    maf = parts["total"]
+    lo = hi = math.nan
+    resamples = frag.resamples(int(r.row))
+    if resamples is not None:
+        lo, hi, _ = annual_frequency_interval(*resamples, hazard, ci=CI)
+    return {**_base(r, frag), "maf": maf, "lambda_p05": lo, "lambda_p95": hi,
+            "lambda_lo": math.nan, "lambda_hi": math.nan,
+            "return_period": 1.0 / maf if maf > 0 else math.inf,
+            "p_50yr": probability_in(maf, YEARS),
+            "share_extrapolated": parts["extrapolated"] / maf if maf > 0 else 0.0,
+            "share_dropped": (parts["below_first"] / maf if maf > 0 and hazard.n_dropped
+                              else 0.0)}
+
+
+def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
+    """A row without a fit: λ NaN; the bracketing stripes' bounds where the table has them."""
+    lo_im, hi_im = float(r.bracket_lo), float(r.bracket_hi)
+    lam_lo = float(hazard.rate(hi_im)) if math.isfinite(hi_im) and hi_im > 0 else math.nan
+    lam_hi = float(hazard.rate(lo_im)) if math.isfinite(lo_im) and lo_im > 0 else math.nan
+    if math.isfinite(lam_hi) and not math.isfinite(hi_im):
+        lam_lo = 0.0  # nothing exceeded up to the highest stripe: only an upper bound
+    return {**_base(r, frag), "maf": math.nan, "lambda_p05": math.nan,
+            "lambda_p95": math.nan, "lambda_lo": lam_lo, "lambda_hi": lam_hi,
+            "return_period": math.nan, "p_50yr": math.nan, "share_extrapolated": math.nan,
+            "share_dropped": math.nan}
+
+
+def _sorted(table: pd.DataFrame) -> pd.DataFrame:
+    from .fragilities import severity
+
+    key = table.assign(_sev=[severity(s) for s in table["limit_state"]])
+    return (key.sort_values(["mode", "tan_alpha", "R", "_sev"], kind="stable")
+            .drop(columns="_sev").reset_index(drop=True))
+
+
+def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:
     """:func:`risk_table` of each fragility, stacked (the ``fragility`` column tells them apart).
 
     Parameters
@@ -74,14 +140,16 @@ def risk_tables(fragilities, hazard: HazardCurve) -> pd.DataFrame:
         E.g. a study's ``fragility.csv`` and ``stripe_fragility.csv``; two of one kind are
         refused (their rows could not be told apart).
     hazard : HazardCurve
-        The site's hazard curve (PGA [g]).
+        The site's hazard curve.
+    preset : str
+        As for :func:`risk_table`.
 
     Returns
     -------
     pandas.DataFrame
         The rows of every table, in the order given; ``attrs["skipped"]`` joins their notes.
     """
-    tables = [risk_table(f, hazard) for f in fragilities]
+    tables = [risk_table(f, hazard, preset=preset) for f in fragilities]
     kinds = [t.attrs["fragility"] for t in tables]
     if len(set(kinds)) != len(kinds):
         raise ValueError(f"fragilities: one table per kind, got kinds {kinds}")
@@ -94,4 +162,22 @@ def risk_tables(fragilities, hazard: HazardCurve) -> pd.DataFrame:
     return out
 
 
-__all__ = ["COLUMNS", "YEARS", "risk_table", "risk_tables"]
+def lambda_line(row) -> str:
+    """One line for people: λ with its 90 % interval, or the bounds of a row without a fit."""
+    get = row.get if hasattr(row, "get") else (lambda k, d=None: getattr(row, k, d))
+    maf = float(get("maf", math.nan))
+    if math.isfinite(maf):
+        lo, hi = float(get("lambda_p05", math.nan)), float(get("lambda_p95", math.nan))
+        band = (f" (90 % interval {lo:.3g}–{hi:.3g})" if np.isfinite([lo, hi]).all()
+                else " (no interval: no bootstrap samples)")
+        return f"λ = {maf:.3g} per year{band}"
+    lo, hi = float(get("lambda_lo", math.nan)), float(get("lambda_hi", math.nan))
+    if math.isfinite(lo) or math.isfinite(hi):
+        lo_txt = f"{lo:.3g}" if math.isfinite(lo) else "?"
+        hi_txt = f"{hi:.3g}" if math.isfinite(hi) else "?"
+        return (f"no fit ({get('status', '')}): λ between {lo_txt} and {hi_txt} per year "
+                "(the rates at the bracketing stripes)")
+    return f"no fit ({get('status', '')}): no λ"
+
+
+__all__ = ["CI", "COLUMNS", "YEARS", "lambda_line", "risk_table", "risk_tables"]

@@ -253,14 +253,18 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None):
     pandas.DataFrame
         Per ``motions`` (``"records"``, and ``"synthetic"`` when there are any), mode,
         tan α, limit state, R and ``measure``: ``unit``, ``median``, ``beta``, ``n``,
-        ``n_censored``, ``status`` (:class:`rocking.spectra.fragility.LognormalFit`).
+        ``n_censored``, ``status`` (:class:`rocking.spectra.fragility.LognormalFit`),
+        ``median_p05``, ``median_p95`` (90 % interval of the median over 1000 resamples of
+        the motions, :func:`rocking.spectra.fragility.bootstrap_lognormal`) and
+        ``bootstrap_fitted`` (resamples with a fit); ``attrs["bootstrap"]`` holds the
+        resamples' θ and β, (rows, resamples) each.
     """
     import pandas as pd
 
     from ..spectra.fragility import fit_lognormal
 
     keys = ["mode", "tan_alpha", "limit_state", "R"]
-    out = []
+    out, samples = [], []
     for kind, group_name in (("record", "records"), ("synthetic", "synthetic")):
         part = table[table["kind"] == kind]
         if part.empty:
@@ -279,9 +283,29 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None):
                     f = fit_lognormal(values, censored)
                     fit = {"median": f.median, "beta": f.beta, "n": f.n,
                            "n_censored": f.n_censored, "status": f.status}
+                fit.update(_bootstrap(values, censored, fit, samples))
                 out.append({"motions": group_name, **dict(zip(keys, key, strict=True)),
                             "measure": measure, "unit": unit, **fit})
-    return pd.DataFrame(out)
+    frame = pd.DataFrame(out)
+    frame.attrs["bootstrap"] = (np.array([m for m, _ in samples]),
+                                np.array([b for _, b in samples]))
+    return frame
+
+
+def _bootstrap(values: np.ndarray, censored: np.ndarray, fit: dict, samples: list) -> dict:
+    """The 90 % interval of the median over resamples of the motions
+    (:func:`rocking.spectra.fragility.bootstrap_lognormal`); the resamples go to ``samples``
+    (one entry per row of the table, NaN where the row has no fit)."""
+    from ..spectra.fragility import BOOTSTRAP_RESAMPLES, bootstrap_lognormal, percentile_interval
+
+    if math.isfinite(fit["median"]):
+        med, beta = bootstrap_lognormal(values, censored)
+    else:
+        med = beta = np.full(BOOTSTRAP_RESAMPLES, np.nan)
+    samples.append((med, beta))
+    lo, hi = percentile_interval(med)
+    return {"median_p05": float(lo), "median_p95": float(hi),
+            "bootstrap_fitted": int(np.isfinite(med).sum())}
 
 
 def _samples(cell, own: np.ndarray, crit: np.ndarray, upper: float | None,
@@ -351,6 +375,25 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     records.rename(columns=_headers(records.columns, measures)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
+    _write_bootstrap(fragility, fragility_csv)
     return len(records), len(fragility)
+
+
+def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
+    """``suite_fragility_bootstrap.nc`` beside the table: θ [the row's unit] and β of every
+    resample, rows in the CSV's order (:mod:`rocking.risk.bootstrap`)."""
+    import xarray as xr
+
+    from ..risk.bootstrap import bootstrap_path, write_bootstrap
+    from ..spectra.fragility import BOOTSTRAP_SEED
+
+    med, beta = fragility.attrs["bootstrap"]
+    ds = xr.Dataset({"median": (("row", "resample"), med.reshape(len(fragility), -1)),
+                     "beta": (("row", "resample"), beta.reshape(len(fragility), -1))},
+                    coords={"row": np.arange(len(fragility)),
+                            "measure": ("row", fragility["measure"].astype(str).to_numpy())})
+    ds.attrs.update(fragility="first_exceedance", seed=BOOTSTRAP_SEED,
+                    unit="the row's measure unit (g for pga and sa, m/s for pgv)")
+    write_bootstrap(ds, bootstrap_path(fragility_csv))
 
 

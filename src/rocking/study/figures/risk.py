@@ -2,11 +2,14 @@
 
 Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.table.risk_table`): for each mode at
 one slenderness, the mean annual frequency λ_LS [1/yr] of each size R under the study's
-hazard curve, on a log scale, one panel per limit state. The right axis gives the return
-period 1/λ_LS; the notes give λ_LS at R = 2, 6, 10 m per mode and the ratio of 2D to 3D.
-Where the table also holds the multiple-stripe fragility's rows (``fragility`` column
-``stripes``), they are drawn beside the first-exceedance ones (open squares, dotted), and the
-notes give their λ_LS and the ratio stripes / first exceedance.
+hazard curve, on a log scale, one panel per limit state, with the 90 % bootstrap band
+(``lambda_p05``–``lambda_p95``) shaded. A size without a fit leaves a gap in its line (never
+a line drawn across it); where the bracketing stripes bound λ there, a bracket
+(``lambda_lo``–``lambda_hi``) marks it. The right axis gives the return period 1/λ_LS; the
+notes give λ_LS at R = 2, 6, 10 m per mode and the ratio of 2D to 3D. Where the table also
+holds the multiple-stripe fragility's rows (``fragility`` column ``stripes``), they are drawn
+beside the first-exceedance ones (open squares, dotted), and the notes give their λ_LS and
+the ratio stripes / first exceedance.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from matplotlib.figure import Figure
 from ...risk.fragilities import FIRST_EXCEEDANCE
 from ...risk.fragilities import STRIPES as STRIPE_FRAGILITY
 from ...risk.report import main_tan_alpha, read_risk_table, shown_limit_states
-from ._style import MODE_STYLE, limit_state_title, new_figure, styled
+from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -31,7 +34,9 @@ CAPTION = (
     "an im_factor is configured (docs/risk.md). Where the study has stripes, open squares: "
     "the same integral with the multiple-stripe fragility (the probability of exceeding at "
     "the intensity, the one the integral asks for); filled circles: the first-exceedance "
-    "fragility (larger: it also counts motions that exceed at a lower intensity only)."
+    "fragility (larger: it also counts motions that exceed at a lower intensity only). "
+    "Shaded: the 90 % interval of λ from resampling the motions (bootstrap); a gap in a line "
+    "is a size without a fit, a bracket there the range of λ the bracketing stripes imply."
 )
 """Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
 
@@ -39,6 +44,18 @@ R_NOTES = (2.0, 6.0, 10.0)
 
 
 FIRST, STRIPES = FIRST_EXCEEDANCE, STRIPE_FRAGILITY  # values of risk.csv's fragility column
+
+
+def _curve(sel: pd.DataFrame) -> dict:
+    """R, λ, its band and the bracket bounds of one mode's rows (NaN where absent)."""
+    def col(name):
+        return (sel[name].to_numpy(float) if name in sel.columns
+                else np.full(len(sel), np.nan))
+
+    return {"R": col("R"), "maf": col("maf"), "p05": col("lambda_p05"),
+            "p95": col("lambda_p95"), "lo": col("lambda_lo"), "hi": col("lambda_hi"),
+            "status": sel["status"].astype(str).to_numpy() if "status" in sel.columns
+            else np.full(len(sel), "ok")}
 
 
 def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
@@ -49,10 +66,10 @@ def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
         sel = rows[rows["mode"] == mode].sort_values("R")
         if sel.empty:
             continue
-        curves[mode] = {"R": sel["R"].to_numpy(float), "maf": sel["maf"].to_numpy(float)}
+        curves[mode] = _curve(sel)
         for R in R_NOTES:
             hit = sel[np.isclose(sel["R"], R)]
-            if hit.empty:
+            if hit.empty or not np.isfinite(hit["maf"].iloc[0]):
                 continue
             lam = float(hit["maf"].iloc[0])
             measured[f"stripes {mode} {ls} R={R:g} m [1/yr]"] = lam
@@ -63,7 +80,7 @@ def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
 
 
 def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
-         hazard: str = "") -> dict:
+         hazard: str = "", study: str = "") -> dict:
     """λ_LS against R per mode for the study's limit states (overturning and excessive tilt
     in the paper; :func:`rocking.risk.report.shown_limit_states`) at ``tan_alpha`` (default
     the study's, :func:`rocking.risk.report.main_tan_alpha`).
@@ -71,10 +88,12 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
     Returns
     -------
     dict
-        ``panels``: [{``limit_state``, ``curves``: {mode: {``R``, ``maf``}}, ``stripes``:
-        the same from the stripe fragility (empty without it)}],
+        ``panels``: [{``limit_state``, ``curves``: {mode: {``R``, ``maf``, ``p05``,
+        ``p95``, ``lo``, ``hi``, ``status``}}, ``stripes``: the same from the stripe
+        fragility (empty without it)}],
         ``measured``: {"<mode> <limit state> R=<R> m": λ [1/yr], "ratio 2d-x/3d ...": [-]},
-        ``missing``, ``tan_alpha``, ``hazard``.
+        ``missing``, ``gaps`` (sizes without a fit, named), ``tan_alpha``, ``hazard``,
+        ``study``, ``measure``.
     """
     frame = read_risk_table(risk)
     if tan_alpha is None:
@@ -82,10 +101,13 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
     if tan_alpha is None:
         raise ValueError("the risk table has no rows")
     frame = frame[np.isclose(frame["tan_alpha"].astype(float), tan_alpha)]
+    measure = str(frame["measure"].iloc[0]) if "measure" in frame.columns and len(frame) \
+        else "pga"
     stripes = frame[frame["fragility"] == STRIPES]
     frame = frame[frame["fragility"] == FIRST]
     modes = [m for m in MODE_STYLE if m in set(frame["mode"])]
     missing: list[str] = []
+    gaps: list[str] = []
     panels, measured = [], {}
     for ls in shown_limit_states(frame):
         rows = frame[frame["limit_state"] == ls]
@@ -95,10 +117,10 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
             if sel.empty:
                 missing.append(f"{mode} {ls} at tan α = {tan_alpha:g}")
                 continue
-            curves[mode] = {"R": sel["R"].to_numpy(float), "maf": sel["maf"].to_numpy(float)}
+            curves[mode] = _curve(sel)
             for R in R_NOTES:
                 hit = sel[np.isclose(sel["R"], R)]
-                if not hit.empty:
+                if not hit.empty and np.isfinite(hit["maf"].iloc[0]):
                     measured[f"{mode} {ls} R={R:g} m [1/yr]"] = float(hit["maf"].iloc[0])
         for two in ("2d-x", "2d-y"):
             for R in R_NOTES:
@@ -107,42 +129,74 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
                 if a is not None and b:
                     measured[f"ratio {two}/3d {ls} R={R:g} m [-]"] = a / b
         stripe = _stripe_curves(stripes[stripes["limit_state"] == ls], ls, measured)
+        for kind, group in (("first exceedance", curves), ("stripes", stripe)):
+            for mode, c in group.items():
+                gaps += [f"{kind} {mode} {ls} R = {R:g} m ({st})"
+                         for R, m, st in zip(c["R"], c["maf"], c["status"], strict=True)
+                         if not np.isfinite(m)]
         panels.append({"limit_state": ls, "curves": curves, "stripes": stripe})
-    return {"panels": panels, "measured": measured, "missing": missing,
-            "tan_alpha": tan_alpha, "hazard": hazard}
+    return {"panels": panels, "measured": measured, "missing": missing, "gaps": gaps,
+            "tan_alpha": tan_alpha, "hazard": hazard, "study": study, "measure": measure}
+
+
+def _draw(ax, c: dict, style: dict, *, marker: str, mfc, linestyle: str, label: str) -> None:
+    """One mode's λ(R): the line (broken where a size has no fit), its band, brackets."""
+    maf = np.where(c["maf"] > 0, c["maf"], np.nan)  # NaN breaks the line: no line over a gap
+    ax.semilogy(c["R"], maf, marker=marker, ms=4.0, mfc=mfc, color=style["color"],
+                linestyle=linestyle, label=label)
+    band = np.isfinite(c["p05"]) & np.isfinite(c["p95"]) & (c["p05"] > 0)
+    if band.any():
+        ax.fill_between(c["R"], np.where(band, c["p05"], np.nan),
+                        np.where(band, c["p95"], np.nan), color=style["color"], alpha=0.15,
+                        linewidth=0, label=f"{label}: 90 % interval")
+    gap = ~np.isfinite(c["maf"])
+    for R, lo, hi in zip(c["R"][gap], c["lo"][gap], c["hi"][gap], strict=True):
+        if np.isfinite(hi) and hi > 0:
+            bottom = lo if np.isfinite(lo) and lo > 0 else hi * 1e-2
+            ax.annotate("", xy=(R, bottom), xytext=(R, hi),
+                        arrowprops={"arrowstyle": "|-|" if lo > 0 else "-|>",
+                                    "color": style["color"], "lw": 1.0})
+        else:
+            ax.plot([R], [np.nan])  # nothing known there: the gap alone says it
 
 
 @styled
 def plot(d: dict) -> Figure:
-    """One log-scale panel per limit state, one line per mode; return period on the right."""
+    """One log-scale panel per limit state, one line per mode, its 90 % band shaded, gaps
+    where a size has no fit (brackets where stripes bound it); return period on the right."""
     fig, axes = new_figure(11.0, 4.6, ncols=len(d["panels"]) or 1, squeeze=False)
     axes = axes[0]
     for ax, panel in zip(axes, d["panels"], strict=False):
         for mode, c in panel["curves"].items():
             style = MODE_STYLE[mode]
-            ok = c["maf"] > 0
             label = style["label"] + (", first exceedance" if panel.get("stripes") else "")
-            ax.semilogy(c["R"][ok], c["maf"][ok], marker="o", ms=3.5, color=style["color"],
-                        linestyle=style["linestyle"], label=label)
+            _draw(ax, c, style, marker="o", mfc=None, linestyle=style["linestyle"],
+                  label=label)
         for mode, c in panel.get("stripes", {}).items():
             style = MODE_STYLE[mode]
-            ok = c["maf"] > 0
-            ax.semilogy(c["R"][ok], c["maf"][ok], marker="s", ms=4.5, mfc="none",
-                        color=style["color"], linestyle=":", label=f"{style['label']}, stripes")
+            _draw(ax, c, style, marker="s", mfc="none", linestyle=":",
+                  label=f"{style['label']}, stripes")
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("R [m]")
-        ax.set_ylabel("mean annual frequency λ [1/yr]")
+        unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
+        ax.set_ylabel(f"mean annual frequency λ [1/yr] ({unit} hazard)")
         ax.grid(True, which="both", alpha=0.3)
         if panel["curves"]:
             ax.legend(fontsize=8)
             right = ax.secondary_yaxis("right", functions=(_inverse, _inverse))
             right.set_ylabel("return period [yr]")
-    title = f"Mean annual frequency of exceedance, tan α = {d['tan_alpha']:g}"
+    who = f"{d['study']}: " if d.get("study") else ""
+    title = f"{who}mean annual frequency of exceedance, tan α = {d['tan_alpha']:g}"
     if d.get("hazard"):
         title += f"\nhazard: {d['hazard']}"
     fig.suptitle(title, fontsize=10)
+    foot = []
     if d["missing"]:
-        fig.text(0.01, 0.01, "Not in this run: " + "; ".join(d["missing"]) + ".", fontsize=7)
+        foot.append("Not in this run: " + "; ".join(d["missing"]) + ".")
+    if d.get("gaps"):
+        foot.append("No fit (gap): " + "; ".join(d["gaps"][:6])
+                    + (f"; and {len(d['gaps']) - 6} more" if len(d["gaps"]) > 6 else "") + ".")
+    footnote(fig, foot)
     return fig
 
 
