@@ -111,7 +111,7 @@ def _select(frag, args):
         both = both[(both["tan_alpha"] - args.tan_alpha).abs() < 1e-9]
         if both.empty:
             raise ValueError(f"--tan-alpha {args.tan_alpha:g} is not in the table")
-    rows = _body_rows(rows, args)
+    both = _body_rows(both, args)
     if args.limit_states is not None:
         names = [ls.name for ls in parse_limit_states(args.limit_states, sort=False)]
         both = both[both["limit_state"].isin(names)]
