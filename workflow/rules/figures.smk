@@ -226,6 +226,7 @@ rule report:
         tilt_maps=lambda wildcards: report_stores(wildcards.study)["tilt_maps"],
         hazard=lambda wildcards: hazard_file(wildcards.study) or hazard_spec(wildcards.study),
         reproduces=lambda wildcards: study_spec(wildcards.study).reproduces,
+        paper_record=lambda wildcards: is_paper_record_study(wildcards.study),
     log:
         out_path("logs/{study}/report.log"),
     script:

@@ -53,6 +53,22 @@ UNRESOLVED_LABEL = "unresolved answers in the mean: it may lie lower"
 """Legend entry of the marks on means over answers flagged ``unresolved`` (Figs 10, 12)."""
 
 
+GOAL_COLORS = {0.1: "#9ecae1", 0.2: "#e6ab02", 1 / 3: "#2ca02c", 0.5: "#1f77b4",
+               0.75: "#9467bd", 1.0: "#d62728", float("inf"): "black"}
+"""Colour of each of the paper's goals θ > r·α (by r; overturning: inf), the same in every
+figure that colours by goal."""
+
+
+def goal_color(limit_state: str) -> str:
+    """The colour of a performance goal, the same in every figure and study: the paper's
+    goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r."""
+    r = parse_limit_state(limit_state).ratio
+    for ratio, color in GOAL_COLORS.items():
+        if abs(r - ratio) <= 1e-3 or r == ratio:
+            return color
+    return matplotlib.colors.to_hex(matplotlib.colormaps["plasma"](min(r, 1.0) * 0.85))
+
+
 def limit_state_title(limit_state: str) -> str:
     """Human title of a limit state in either spelling (``"tilt:1/3"``, ``"tilt:0.3333"``).
 

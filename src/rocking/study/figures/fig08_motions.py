@@ -23,7 +23,15 @@ from ...motions.motion import GroundMotion
 from ...motions.response_spectrum import pseudo_acceleration
 from ...motions.stochastic import quality
 from ._style import motion_styles, styled
-from .comparisons import NOT_COMPUTED, NOT_IN_PAPER, Comparison, finite, fmt, judged
+from .comparisons import (
+    NOT_COMPUTED,
+    NOT_IN_PAPER,
+    Comparison,
+    finite,
+    fmt,
+    judged,
+    notes_of,
+)
 
 DAMPING = quality.DAMPING
 PERIODS = np.geomspace(0.05, 5.0, 100)
@@ -253,9 +261,8 @@ def _is_el_centro(*names) -> bool:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    found = {k: v for k, v in notes.items() if k.startswith("fig08_motions")}
     rows = []
-    for key, d in found.items():
+    for key, d in notes_of(notes, "fig08_motions"):
         m = d.get("measured", {})
         ens = key.removeprefix("fig08_motions").strip("_") or "ensemble"
         angle = m.get("principal_offset_deg")

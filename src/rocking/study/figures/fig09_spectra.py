@@ -31,7 +31,7 @@ from ._style import (
     styled,
     suptitle_and_notes,
 )
-from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
+from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
 DAMPED = "3d-damped"
 """The damped mode, drawn beside the undamped "3d" where the study ran it."""
@@ -282,7 +282,7 @@ def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig09_spectra", {}).get("measured", {})
+    m = first_notes(notes, "fig09_spectra").get("measured", {})
     rows = []
     for key, eff in m.items():
         if not key.startswith(DAMPING_NOTE):

@@ -24,24 +24,40 @@ from ._style import (
     MODE_STYLE,
     UNRESOLVED_LABEL,
     _missing_and_axes_note,
+    goal_color,
     limit_state_sort_key,
     limit_state_title,
     new_figure,
     pga_g_axis,
     styled,
 )
-from .comparisons import EQUATIONS, NOT_COMPUTED, NOT_IN_PAPER, Comparison, finite, fmt, judged
+from .comparisons import (
+    EQUATIONS,
+    NOT_COMPUTED,
+    NOT_IN_PAPER,
+    Comparison,
+    finite,
+    first_notes,
+    fmt,
+    judged,
+)
 
 PAPER_GOALS = DEFAULT_LIMIT_STATES
 """The seven performance goals of the paper's Fig 10."""
-GOAL_COLORS = ("#9ecae1", "#e6ab02", "#2ca02c", "#1f77b4", "#9467bd", "#d62728", "black")
-"""Distinct colours from the mildest goal to overturning (qualitative: neighbours differ)."""
 LINEAR_R2 = 0.95
 """Least R² of a straight line in R for "almost straight lines" (§5.2, §6) [-]."""
+LINEAR_STATEMENT = "Mean spectrum almost linear in R"
+"""Start of the linearity verdict's statement (the report keeps it in every study)."""
 LINE_NOTE = "line|"
 """Prefix of the measured key of one goal's least-squares line."""
 COINCIDE_NOTE = "coincide"
 """Measured key of the goals whose statistics coincide."""
+RUNS_ALPHA = 0.05
+"""Least probability of the residual-sign runs under a straight line plus scatter (one-sided
+Wald–Wolfowitz runs test): fewer runs are a bend, not scatter [-]."""
+LINEARITY_TOLERANCE = (f"R² ≥ {LINEAR_R2} and residual signs in as many runs as scatter gives "
+                       f"(runs test p ≥ {RUNS_ALPHA})")
+"""The one linearity criterion of every study, in words."""
 FLAT_TOL = 0.10
 """A mean spectrum is "flat" while it stays within this share of its smallest-R value [-]."""
 
@@ -161,10 +177,10 @@ def plot(d: dict) -> Figure:
     n = len(d["curves"])
     same = d["measured"].get(COINCIDE_NOTE, [])
     hidden = {c["goals"][0]: c["goals"][1] for c in same}  # drawn under its twin
-    for i, (ls, y) in enumerate(d["curves"].items()):
+    for ls, y in d["curves"].items():
         fit = d["measured"].get(LINE_NOTE + ls, {})
         r2 = fit.get("r_squared", np.nan)
-        color = GOAL_COLORS[i % len(GOAL_COLORS)] if n <= len(GOAL_COLORS) else f"C{i % 10}"
+        color = goal_color(ls)  # one colour per goal in every figure and study
         label = f"{limit_state_title(ls)} (R² = {r2:.3f})"
         if ls in hidden:
             label += f" = {limit_state_title(hidden[ls]).lower()}"
@@ -231,7 +247,7 @@ OVERTURNING_PHYSICS = (
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig10_goals", {}).get("measured", {})
+    m = first_notes(notes, "fig10_goals").get("measured", {})
     name = "fig10_goals"
     rows = []
     absent = m.get("absent_goals", [])
@@ -255,12 +271,51 @@ def compare(notes: Mapping) -> list[Comparison]:
             continue
         r2 = fit.get("r_squared")
         rows.append(judged(
-            name, f"Mean spectrum almost linear in R, {limit_state_title(ls)} (§5.2, §6: "
+            name, f"{LINEAR_STATEMENT}, {limit_state_title(ls)} (§5.2, §6: "
             "'increases almost linearly with cylinder size R')", "almost straight lines",
             f"slope {fmt(fit.get('slope'))} 1/m, intercept {fmt(fit.get('intercept'))}, "
-            f"R² = {fmt(r2, 4)} (n = {fit.get('n')})", r2 >= LINEAR_R2 if finite(r2) else None,
-            f"R² ≥ {LINEAR_R2}", _bend_reason(fit), "fewer than three sizes R"))
+            f"R² = {fmt(r2, 4)} (n = {fit.get('n')}){_runs_text(fit)}", linearity_ok(fit),
+            LINEARITY_TOLERANCE, _bend_reason(fit), "fewer than three sizes R"))
     return rows
+
+
+def _runs_text(fit: Mapping) -> str:
+    p = runs_p_value(fit.get("residual_signs", ""))
+    return "" if p is None else f", runs test p = {p:.2g}"
+
+
+def runs_p_value(signs: str) -> float | None:
+    """Probability of at most the observed number of runs of one sign among ``signs``
+    ("++−−+"), were the signs in random order (exact Wald–Wolfowitz distribution).
+
+    Residuals of a straight line through a straight trend plus scatter change sign often;
+    a curve that bends leaves few long runs, hence a small probability. None when one sign
+    is missing (no test).
+    """
+    from math import comb
+
+    n1, n2 = signs.count("+"), len(signs) - signs.count("+")
+    if n1 == 0 or n2 == 0:
+        return None
+    runs = 1 + sum(a != b for a, b in zip(signs, signs[1:], strict=False))
+
+    def pmf(r: int) -> int:  # arrangements with exactly r runs
+        k = r // 2
+        if r % 2 == 0:
+            return 2 * comb(n1 - 1, k - 1) * comb(n2 - 1, k - 1)
+        return comb(n1 - 1, k) * comb(n2 - 1, k - 1) + comb(n1 - 1, k - 1) * comb(n2 - 1, k)
+
+    return sum(pmf(r) for r in range(2, runs + 1)) / comb(n1 + n2, n1)
+
+
+def linearity_ok(fit: Mapping) -> bool | None:
+    """The linearity criterion of every study (:data:`LINEARITY_TOLERANCE`): a high R²
+    *and* residuals that do not bend; None without a fit."""
+    r2 = fit.get("r_squared")
+    if not finite(r2):
+        return None
+    p = runs_p_value(fit.get("residual_signs", ""))
+    return bool(r2 >= LINEAR_R2 and (p is None or p >= RUNS_ALPHA))
 
 
 def _bend_reason(fit: Mapping) -> str:

@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from ...spectra.fragility import fit_line
 from . import _axes, _load
 from ._style import MODE_STYLE, limit_state_title, new_figure, styled, suptitle_and_notes
-from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
+from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
 PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)
 """The slendernesses of the paper's Fig 11."""
@@ -112,7 +112,7 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig11_slenderness", {}).get("measured", {})
+    m = first_notes(notes, "fig11_slenderness").get("measured", {})
     rows = []
     for key, t in m.items():
         if not key.startswith(TAN_ALPHAS_NOTE):

@@ -33,7 +33,7 @@ from ._style import (
     styled,
     with_legend_row,
 )
-from .comparisons import Comparison, finite, fmt, judged
+from .comparisons import Comparison, finite, first_notes, fmt, judged
 
 MODES = ("3d", "2d-x", "2d-y")
 REFERENCE_R = 10.0
@@ -252,7 +252,7 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig12_2d_vs_3d", {}).get("measured", {})
+    m = first_notes(notes, "fig12_2d_vs_3d").get("measured", {})
     R = m.get("R", 10.0)
     names = sorted({k.split("|")[0] for k in m if k.count("|") >= 2})
     centro = next((n for n in names if "centro" in (n + m.get(f"{n}|label", "")).lower()), None)
