@@ -121,6 +121,7 @@ rule fig09_spectra:
     params:
         caption=lambda wildcards: caption("fig09_spectra", reproduces_paper(wildcards.study)),
         store=lambda wildcards: spectra_store(wildcards.study),
+        paper=lambda wildcards: reproduces_paper(wildcards.study),
     log:
         out_path("logs/{study}/fig09_spectra.log"),
     script:

@@ -460,7 +460,8 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "",
     anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption{anchor}>"
-            f"{link_docs(caption(entry.name, paper), docs)}{lines}</figcaption>{table}</figure>")
+            f"{link_docs(caption(entry.name, paper, entry.notes), docs)}{lines}</figcaption>"
+            f"{table}</figure>")
 
 
 _EMBEDDED = re.compile(r"<figure id='(?P<stem>[^']+)'><img alt='(?P=stem)' "
