@@ -788,8 +788,8 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
 
 def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(study, tmp_path):
     """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is
-    counted per motion (its answers in every mode drawn) in the legend, not ringed on every point; a store without the flag
-    counts none."""
+    counted per motion (its answers in every mode drawn) in the legend, not ringed on every
+    point; a store without the flag counts none."""
     from rocking.study.figures import _load
 
     ds = _load.open_store(study["store"])
