@@ -137,10 +137,11 @@ def _motions_text(motions: Sequence[Mapping], spec: SpectraSpec) -> str:
     """"<record> and n synthetic pairs (seed s)", or for a suite "k records and n pairs"."""
     records = [m for m in motions if _is_recorded(m)]
     n_pairs = len(motions) - max(len(records), 1)
-    pairs = f"{n_pairs} synthetic pairs" + (f" (seed {spec.ensemble.seed})" if n_pairs else "")
+    pairs = (f" and {n_pairs} synthetic pairs (seed {spec.ensemble.seed})" if n_pairs
+             else ", no synthetic pairs")
     if len(records) > 1:
-        return f"a suite of {len(records)} records and {pairs}"
-    return f"{motions[0]['label']} and {pairs}"
+        return f"a suite of {len(records)} records{pairs}"
+    return f"{motions[0]['label']}{pairs}"
 
 
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
@@ -258,10 +259,9 @@ def _processing_text(e: Mapping) -> str:
                     "axis)")
     highpass = ("no high-pass" if not hp or hp.get("kind") in (None, "none") else
                 f"high-pass {hp['kind']} at {fmt(hp.get('fc_hz'))} Hz (Mw {fmt(hp.get('mw'))})")
-    pairs = f"{e.get('n_synthetic', 0)} synthetic pairs"
-    if e.get("n_synthetic"):
-        pairs += f", seed {e.get('seed', '?')}"
-    return f"{e.get('label', e.get('record'))}{stand_in}; {rotation}; {highpass}; {pairs}"
+    pairs = (f"; {e['n_synthetic']} synthetic pairs, seed {e.get('seed', '?')}"
+             if e.get("n_synthetic") else "")
+    return f"{e.get('label', e.get('record'))}{stand_in}; {rotation}; {highpass}{pairs}"
 
 
 def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
@@ -557,10 +557,11 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs,
                            paper)
               for i, e in enumerate(entries)]
-    if linear_fit is not None:
+    fits = linear_fit_rows(linear_fit) if linear_fit is not None else pd.DataFrame()
+    if not fits.empty:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")
-        parts.append(_table_html(linear_fit_rows(linear_fit)))
+        parts.append(_table_html(fits))
     if fragility is not None:
         parts.append("<h2 id='fragility'>Lognormal fragility parameters: median PGA/(g tan α) "
                      "(× tan α for g) and, in brackets, dispersion β; \"k&gt;\" = k motions "
@@ -744,14 +745,22 @@ def fragility_pivot(path: str | Path) -> pd.DataFrame:
     out = df.pivot_table(index=["mode", "limit_state", ta], columns=r, values="cell",
                          aggfunc="first", sort=False)
     out.columns = [f"R = {c:g}" for c in out.columns]
-    return out.reset_index().rename(columns={"limit_state": "limit state", ta: "tan α"})
+    out = out.reset_index().rename(columns={"limit_state": "limit state", ta: "tan α"})
+    return out.assign(**{"limit state": out["limit state"].map(limit_state_title)})
 
 
 def linear_fit_rows(path: str | Path) -> pd.DataFrame:
-    """Linear fits of the mean spectra that were computed (rows without a fit dropped)."""
+    """Linear fits of the mean spectra over enough sizes to mean something (at least
+    :data:`.figures.fig10_goals.MIN_FIT_SIZES`; rows without a fit dropped), limit states
+    in words."""
+    from .figures.fig10_goals import MIN_FIT_SIZES
+
     df = pd.read_csv(path)
     n = next((c for c in df.columns if c == "n"), None)
-    return df[df[n] > 0] if n is not None else df
+    df = df[df[n] >= MIN_FIT_SIZES] if n is not None else df
+    if "limit_state" in df:
+        df = df.assign(limit_state=df["limit_state"].map(limit_state_title))
+    return df
 
 
 def _first(entries: Sequence[FigureEntry], entry: FigureEntry) -> int:
@@ -881,21 +890,21 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
             t = _main(df, ta, [0.2])
             r = next(c for c in df.columns if c.startswith("R"))
             sub = df[(df["limit_state"] == ls) & (df[ta] == t)]
+            n_records = sub["motion"].nunique()
             sub = sub[sub[r] == sub[r].max()]
             sf = next(c for c in sub.columns if c.startswith("scale_factor"))
             sub = sub[np.isfinite(pd.to_numeric(sub[sf], errors="coerce"))]
             if len(sub):
                 worst = sub.loc[sub[sf].idxmin()]
-                many = sub["motion"].nunique() > 1
                 g = next(c for c in sub.columns if c.startswith("pga_crit_g"))
-                who = (f"The most dangerous of the {sub['motion'].nunique()} records is "
-                       f"{worst['motion']}: it" if many else f"The record {worst['motion']}")
+                who = (f"The most dangerous of the {n_records} records is {worst['motion']}: it"
+                       if n_records > 1 else f"The record {worst['motion']}")
                 out.append(Finding(
                     f"{who} exceeds {limit_state_title(ls).lower()} of the R = {worst[r]:g} m, "
                     f"tan α = {t:g} cylinder ({MODE_LABEL.get(mode, mode)}) when scaled by "
                     f"{worst[sf]:.2f} (critical PGA {worst[g]:.3f} g); "
                     + ("it survives as recorded" if bool(worst["survives_as_recorded"])
-                       else "it exceeds it as recorded"), "records"))
+                       else "a factor below 1: it does so already as recorded"), "records"))
     if fragility is not None and Path(fragility).exists():
         df = pd.read_csv(fragility)
         med = next(c for c in df.columns if c.startswith("median ["))

@@ -253,13 +253,18 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
     ax.set_title(limit_state_title(panel["limit_state"]))
     ax.set_ylabel("PGA/(g tan α) [-]")
     r_axis(ax, d["R"], label=DAMPED not in d.get("modes", ()))
-    ax.set_ylim(bottom=0.0)
     pga_g_axis(ax, d["tan_alpha"])
     handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"]
                       + unresolved_suffix(counts[m], n_points[m]))
                for m in d["motions"]]
-    ax.legend(handles=ax.get_legend_handles_labels()[0] + handles, loc="upper left",
-              ncols=2 if len(handles) > 6 else 1, fontsize=6.5,
+    handles = ax.get_legend_handles_labels()[0] + handles
+    ncols = 2 if len(handles) > 6 else 1
+    # room above the data for the legend (about 6 % of the panel per legend row)
+    top = max((float(np.nanmax(y)) for c in panel["curves"].values() for y in c.values()
+               if np.isfinite(y).any()), default=1.0)
+    rows = -(-len(handles) // ncols) + bool(any(counts.values()))
+    ax.set_ylim(0.0, top / max(0.35, 1.0 - 0.065 * rows))
+    ax.legend(handles=handles, loc="upper left", ncols=ncols, fontsize=6.5,
               title="unresolved: the answer may lie lower" if any(counts.values()) else None,
               title_fontsize=6.5)
 
