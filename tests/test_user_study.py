@@ -148,7 +148,54 @@ def test_own_study_report_has_no_paper_verdict(own_run):
     assert "The paper reports" not in html and "The paper's Fig" not in html
     # what was computed is there: the study's grids, its fragility and line fits
     assert re.search(r"slenderness tan α</td>\s*<td>0.15</td>", html)
-    assert "Lognormal fragility parameters" in html and "Linear fits" in html
+    assert "Lognormal fragility parameters" in html
+    # two sizes R: no line fitted through them, in the report or the figure
+    assert "Linear fits" not in html
+    notes = json.loads((own_run / "results/column/figures/fig10_goals.json").read_text())
+    assert not any(k.startswith("line|") for k in notes["measured"])
+
+
+SUITE = {
+    "accuracy": "fast",
+    "motions": {"max_duration": 3.0},
+    "ensembles": {"mine": {"n_synthetic": 0, "records": [
+        {"record": "el-centro-1940"}, {"record": "loma-prieta-corralitos"}]}},
+    "studies": {"column": {
+        "ensemble": "mine", "R": [2.5, 4.0], "chunk_R": 1,
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.15],
+                  "limit_states": ["overturning", "tilt:1/3"]}],
+    }},
+    "dask": {"progress_interval": 0},
+}
+
+
+@pytest.mark.slow
+def test_a_suite_study_speaks_its_own_language(tmp_path):
+    """Shipped records, no synthetic pairs: no paper numbering in a title or caption, no
+    caption describing what is not drawn, x axes on the study's sizes, the per-record table
+    and the findings in the report."""
+    from rocking.study.figures import fig09_spectra, fig10_goals
+
+    wd = tmp_path / "suite"
+    snakemake(wd, write(tmp_path / "suite.yaml", SUITE), "results/column/report.html")
+    html = (wd / "results/column/report.html").read_text()
+    captions = " ".join(re.findall(r"<figcaption>(.*?)</figcaption>", html, re.S))
+    assert captions and "synthetic" not in captions and "damped" not in captions
+    assert not re.search(r"\bFig \d", captions)
+    assert "the 2 recorded motions" in captions
+    assert html.index("id='findings'") < html.index("id='what-was-run'")
+    assert "The most dangerous of the 2 records" in html and "id='records'" in html
+    assert "0 synthetic pairs" not in html
+    res = wd / "results/column"
+    for mod, d in ((fig09_spectra, fig09_spectra.data(res / "spectra.zarr",
+                                                      res / "mean_spectra.nc", paper=False)),
+                   (fig10_goals, fig10_goals.data(res / "mean_spectra.nc", paper=False))):
+        fig = mod.plot(d)
+        texts = [t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text"))]
+        assert not any(re.search(r"\(Fig \d+\)", t) for t in texts), mod.__name__
+        assert any("suite mine (2 records)" in t for t in texts), mod.__name__
+        for ax in (a for a in fig.axes if a.get_xlabel() == "R [m]"):
+            assert ax.get_xlim()[0] > 2.0  # the study's sizes, not from R = 0
 
 
 # ------------------------------------------------------- the choices, without the workflow

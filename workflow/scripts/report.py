@@ -36,7 +36,8 @@ def main(snakemake):
               stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None,
               records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
               stripe_figures=list(inp.get("stripe_figures", [])),
-              paper_record=bool(snakemake.params.paper_record))
+              paper_record=bool(snakemake.params.paper_record),
+              study=str(snakemake.params.study))
 
 
 if __name__ == "__main__":
