@@ -228,7 +228,7 @@ def plot(d: dict) -> Figure:
         if damped:
             _difference_panel(axes[1][col], d, panel, colors)
     modes = d.get("modes", ["3d", DAMPED])
-    styles = "; solid undamped, dashed damped" if damped else (
+    styles = "\nsolid undamped, dashed damped" if damped else (
         f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
     title = (f"Performance spectra per motion, {d.get('title', 'ensemble')}, tan α = "
              f"{d['tan_alpha']:g}{paper_tag(d, 'Fig 9')}{styles}")

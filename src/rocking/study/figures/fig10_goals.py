@@ -228,8 +228,8 @@ def plot(d: dict) -> Figure:
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None
     fit = d["measured"].get(LINE_NOTE + top, {}) if top else {}
-    if fit.get("flat_to_R") is not None and fit["flat_to_R"] < fit["end_R"] and finite(
-            fit.get("r_squared")):
+    if fit.get("flat_to_R") is not None and fit["flat_to_R"] < fit["end_R"] and (
+            linearity_ok(fit) is False):  # the bend that fails the criterion, in numbers
         # the shape the R² only hints at, for the most severe goal
         notes.append(f"{limit_state_title(top)}: flat near {fit['flat_level']:.2f} up to "
                      f"R = {fit['flat_to_R']:g} m, then rising to {fit['end_value']:.2f} at "
@@ -238,9 +238,10 @@ def plot(d: dict) -> Figure:
         ax.text(0.98, 0.03, "\n".join(w for n in notes for w in textwrap.wrap(n, 52)),
                 transform=ax.transAxes, ha="right", va="bottom", fontsize=6.5,
                 bbox={"facecolor": "white", "alpha": 0.85, "lw": 0})
-    title = (f"Mean spectra per performance goal, {d.get('title', 'ensemble')}, "
-             f"{MODE_STYLE[d['mode']]['label']} model, tan α = {d['tan_alpha']:g}"
-             f"{paper_tag({'paper': d.get('reproduction', True)}, 'Fig 10')}")
+    title = "\n".join(textwrap.wrap(
+        f"Mean spectra per performance goal, {d.get('title', 'ensemble')}, "
+        f"{MODE_STYLE[d['mode']]['label']} model, tan α = {d['tan_alpha']:g}"
+        f"{paper_tag({'paper': d.get('reproduction', True)}, 'Fig 10')}", 90))
     m = d["measured"]
     if d["missing"] and d.get("reproduction", True):
         title += f"\nreduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals"

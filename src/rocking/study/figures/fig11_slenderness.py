@@ -112,7 +112,7 @@ def plot(d: dict) -> Figure:
         ax.set_ylim(bottom=0.0)
         ax.legend(loc="upper left")
     suptitle_and_notes(
-        fig, d, f"Mean spectra per slenderness, {d.get('title', 'ensemble')}, "
+        fig, d, f"Mean spectra per slenderness, {d.get('title', 'ensemble')},\n"
         f"{MODE_STYLE[d['mode']]['label']} model{paper_tag(d, 'Fig 11')}")
     return fig
 
