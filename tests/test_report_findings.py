@@ -119,6 +119,19 @@ def test_gallery_report_leads_with_findings_that_link_their_figures(report):
         assert link and link[1] in ids, item
 
 
+@pytest.mark.parametrize("report", REPORTS, ids=[p.parent.name for p in REPORTS])
+def test_gallery_every_figure_has_a_caption_and_the_stripe_and_risk_figures_are_shown(report):
+    page = report.read_text(encoding="utf-8")
+    figures = re.findall(r"<figure id='([^']+)'>.*?<figcaption[^>]*>(.*?)</figcaption>",
+                         page, re.S)
+    assert len(figures) == page.count("<figure ")
+    assert not [stem for stem, text in figures if not text.strip()]
+    stems = {stem for stem, _ in figures}
+    study = report.parent
+    for png in (study / "figures").glob("*.png"):  # every figure of the study is shown
+        assert png.stem in stems, png.stem
+
+
 def test_gallery_model_figures_once():
     """Figs 3, 4 and 6 in the El Centro report only."""
     pages = {p.parent.name: p.read_text(encoding="utf-8") for p in REPORTS}

@@ -179,7 +179,9 @@ def test_a_suite_study_speaks_its_own_language(tmp_path):
     wd = tmp_path / "suite"
     snakemake(wd, write(tmp_path / "suite.yaml", SUITE), "results/column/report.html")
     html = (wd / "results/column/report.html").read_text()
-    captions = " ".join(re.findall(r"<figcaption>(.*?)</figcaption>", html, re.S))
+    each = re.findall(r"<figcaption[^>]*>(.*?)</figcaption>", html, re.S)
+    assert len(each) == html.count("<figure ") and all(c.strip() for c in each)
+    captions = " ".join(each)
     assert captions and "synthetic" not in captions and "damped" not in captions
     assert not re.search(r"\bFig \d", captions)
     assert "the 2 recorded motions" in captions

@@ -27,7 +27,7 @@ from ..risk.report import risk_section_html
 from ..units import read_table
 from .figures import FIGURES, _load, figure_name, module
 from .figures._style import MODE_STYLE, limit_state_sort_key, limit_state_title
-from .figures.captions import caption
+from .figures.captions import EXTRA_CAPTIONS, caption
 from .figures.comparisons import Comparison, compare, finite, fmt
 from .spec import SpectraSpec, TiltMapSpec, decode_attrs
 
@@ -529,7 +529,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         reproduction study (Loma Prieta) gets the verdicts that concern it (Figs 8, 10's
         linearity and 12), and the El Centro-only rows stay in the El Centro report.
     study : str
-        The study's name (its curves of Fig 12 head the findings).
+        The study's name (its curves of Fig 12 come first in the findings).
 
     Returns
     -------
@@ -621,11 +621,12 @@ def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
         notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
         text = notes.get("caption") or ""
         if not text:
-            kind = notes.get("figure") or png.stem.split("_3d")[0].split("_2d")[0]
+            kind = str(notes.get("figure") or re.sub(r"_(3d|2d).*$", "", png.stem))
             try:
                 text = getattr(module(kind), "CAPTION", "")
-            except ValueError:
+            except ValueError:  # not a module of .figures: the report's own caption
                 text = ""
+            text = text or EXTRA_CAPTIONS.get(kind, "")
     img = base64.b64encode(png.read_bytes()).decode("ascii")
     return (f"<figure id='{png.stem}'><img alt='{png.stem}' src='data:image/png;base64,{img}'>"
             f"<figcaption>{html.escape(text)}</figcaption></figure>")
@@ -805,15 +806,15 @@ def paper_findings(entries: Sequence[FigureEntry],
                    verdicts: Mapping[str, Sequence[Comparison]], study: str = ""
                    ) -> list[Finding]:
     """Headline answers of a reproduction of the paper, read from the figures' notes:
-    2D against 3D and the 3D mean at R = 10 m (Fig 12: of ``study`` where it is one of the
-    figure's, else of every study it draws), damped against undamped (Fig 9), linearity in R
+    2D against 3D and the 3D mean at R = 10 m (Fig 12: every study it draws, ``study``'s
+    first), damped against undamped (Fig 9), linearity in R
     (Fig 10), the El Centro peak tilts (Fig 6)."""
     out = []
     m12, a12 = _notes(entries, "fig12_2d_vs_3d"), _stem(entries, "fig12_2d_vs_3d")
     if a12 is not None:
         R = m12.get("R", 10.0)
         names = sorted({k.split("|")[0] for k in m12 if k.count("|") >= 2})
-        names = [study] if study in names else names
+        names = sorted(names, key=lambda n: n != study)  # the study's own curves first
         for ens in names:
             v3 = m12.get(f"{ens}|overturning|3d")
             if not finite(v3):

@@ -175,6 +175,20 @@ CAPTIONS: dict[str, str] = {
 paper's order."""
 
 
+EXTRA_CAPTIONS: dict[str, str] = {
+    "stripe_fragility": (
+        "Multiple-stripe against first-exceedance fragility (beyond the paper), one panel per "
+        "limit state and size R of the study's stripes: markers the share of the motions "
+        "exceeding the limit state at each stripe intensity, the solid line its binomial "
+        "maximum-likelihood lognormal, the dashed line the lognormal of the motions' first "
+        "exceedances; medians IM₅₀ and dispersions β in the legend and in the table below."
+    ),
+    "risk": "",
+}
+"""Captions of figures drawn beyond :data:`CAPTIONS` (the stripe and the risk figures),
+used by the report where the figure's sidecar or module gives none."""
+
+
 def caption(name: str, paper: bool = True, notes: dict | None = None) -> str:
     """The caption of figure ``name`` (a key of :data:`CAPTIONS`): with the paper's
     statements for a reproduction of the paper (``paper``), else what the figure shows,
