@@ -204,3 +204,33 @@ def test_config_readme_lists_every_schema_key_and_no_other():
     documented = set(re.findall(r"^\s*- `([A-Za-z_][A-Za-z0-9_]*)`", readme, re.M)) | set(
         re.findall(r"^#+ `([A-Za-z_][A-Za-z0-9_]*)", readme, re.M))
     assert not documented - keys, sorted(documented - keys)
+
+
+# ------------------------------------------------------------------ findings of any study
+
+
+def test_findings_quote_lambda_with_its_interval_and_the_most_dangerous_record(tmp_path):
+    from rocking.study.report import study_findings
+
+    risk = tmp_path / "risk.csv"
+    risk.write_text(
+        "fragility,mode,tan_alpha [-],R [m],limit_state,median_pga_g [g],beta [-],maf [1/yr],"
+        "lambda_p05 [1/yr],lambda_p95 [1/yr],status\n"
+        "first_exceedance,3d,0.2,2,overturning,0.3,0.3,2.0e-3,1.0e-3,4.0e-3,ok\n"
+        "first_exceedance,3d,0.2,8,overturning,0.9,0.3,1.0e-4,5.0e-5,3.0e-4,ok\n")
+    records = tmp_path / "records.csv"
+    records.write_text(
+        "motion,mode,tan_alpha [-],limit_state,R [m],pga_crit_g [g],scale_factor [-],"
+        "survives_as_recorded\n"
+        "a,3d,0.2,overturning,8,0.6,2.0,True\n"
+        "b,3d,0.2,overturning,8,0.3,0.8,False\n"
+        "c,3d,0.2,overturning,8,,,True\n"
+        "a,3d,0.2,overturning,2,0.2,0.7,False\n")
+    text = [f.text for f in study_findings(risk=risk, records=records)]
+    # the three records count, though one never reached overturning at R = 8 m; b needs the
+    # smallest scale at the largest size
+    assert any(t.startswith("The most dangerous of the 3 records is b") and "0.80" in t
+               and "already as recorded" in t for t in text), text
+    lam = next(t for t in text if t.startswith("Annual frequency"))
+    assert "0.002 /yr at R = 2 m (5–95 %: 0.001–0.004)" in lam
+    assert "0.0001 /yr at R = 8 m (5–95 %: 5e-05–0.0003)" in lam

@@ -688,7 +688,8 @@ def stripes_section(path: str | Path) -> list[str]:
     ok = df[np.isfinite(df["ratio"].to_numpy(dtype=float))]
     parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": first "
              "exceedance and multiple-stripe fragility</h2>",
-             "<p>The paper's answer, and Figs 9–12's, is the <em>first exceedance</em>: per "
+             "<p>The answer of the spectra and of the fragility curves above (and the "
+             "paper's) is the <em>first exceedance</em>: per "
              "motion, the smallest PGA/(g tan α) found to exceed the limit state, then the "
              "lognormal fit over motions. Rocking near a limit state is chaotic in the "
              "intensity: a motion exceeds it in narrow windows and the body survives stronger "
@@ -942,15 +943,19 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
                 f"tan α = {t:g}: " + "; ".join(texts), "fragility"))
     if risk is not None and Path(risk).exists():
         from ..risk.report import main_tan_alpha, read_risk_table
-        df = read_risk_table(risk)
-        df = df[(df["fragility"] == "first_exceedance") & np.isfinite(df["maf"])] \
-            if "fragility" in df else df[np.isfinite(df["maf"])]
+        frame = read_risk_table(risk)
+        df = frame[(frame["fragility"] == "first_exceedance") & np.isfinite(frame["maf"])]
         if len(df):
             mode = _main(df, "mode", ["3d"])
             t = main_tan_alpha(df[df["mode"] == mode])
             ls = _main(df, "limit_state", ["overturning"])
+            stripes_df = frame[(frame["fragility"] != "first_exceedance")
+                               & np.isfinite(frame["maf"])] if "fragility" in frame else \
+                frame.iloc[:0]
             sub = df[(df["mode"] == mode) & (df["tan_alpha"] == t)
                      & (df["limit_state"] == ls)].sort_values("R")
+            stripe = stripes_df[(stripes_df["mode"] == mode) & (stripes_df["tan_alpha"] == t)
+                                & (stripes_df["limit_state"] == ls)].sort_values("R")
             if len(sub):
                 def lam(x) -> str:
                     text = f"{x['maf']:.2g} /yr at R = {x['R']:g} m"
@@ -958,10 +963,14 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
                         text += f" (5–95 %: {x['lambda_p05']:.2g}–{x['lambda_p95']:.2g})"
                     return text
                 ends = sub.iloc[[0, -1]] if len(sub) > 1 else sub
-                out.append(Finding(
-                    f"Annual frequency λ of {limit_state_title(ls).lower()}, "
-                    f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, under the study's hazard "
-                    f"curve: " + " to ".join(lam(x) for _, x in ends.iterrows()), "risk"))
+                text = (f"Annual frequency λ of {limit_state_title(ls).lower()}, "
+                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, under the study's "
+                        "hazard curve: " + " to ".join(lam(x) for _, x in ends.iterrows())
+                        + " (first-exceedance fragility)")
+                if len(stripe):  # the λ the risk section recommends
+                    text += "; with the multiple-stripe fragility " + ", ".join(
+                        lam(x) for _, x in stripe.iterrows())
+                out.append(Finding(text, "risk"))
     if stripes is not None and Path(stripes).exists():
         df = read_table(stripes)
         ratio = df["ratio"].to_numpy(dtype=float)
@@ -975,11 +984,17 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
     return out
 
 
+TABLE_ANCHORS = ("records", "fragility", "stripes")
+"""Anchors of the report's tables (the other findings link a figure)."""
+
+
 def findings_html(findings: Sequence[Finding]) -> str:
     """The findings summary: a list, each line linking to where its number comes from."""
     if not findings:
         return "<p>No headline answer could be read from this run's outputs.</p>"
-    items = "".join(f"<li>{html.escape(f.text)}. <a href='#{html.escape(f.anchor)}'>"
-                    "(figure)</a></li>" if f.anchor else f"<li>{html.escape(f.text)}.</li>"
-                    for f in findings)
+    def link(anchor: str) -> str:
+        what = "table" if anchor in TABLE_ANCHORS else "figure"
+        return f" <a href='#{html.escape(anchor)}'>({what})</a>" if anchor else ""
+
+    items = "".join(f"<li>{html.escape(f.text)}.{link(f.anchor)}</li>" for f in findings)
     return f"<ul class='findings'>{items}</ul>"
