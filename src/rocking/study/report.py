@@ -832,9 +832,11 @@ def paper_findings(entries: Sequence[FigureEntry],
                 if parts:
                     ratios.append(f"{key} " + ", ".join(parts))
             who = _ensemble_title(m12, ens)
+            # the paper gives the 3D number for El Centro only
+            paper4 = " (paper: about 4)" if "centro" in (ens + who).lower() else ""
             out.append(Finding(
                 f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
-                f"{v3:.2f}{se} (paper: about 4 for El Centro); the 2D model under one "
+                f"{v3:.2f}{se}{paper4}; the 2D model under one "
                 f"component needs {'; '.join(ratios)} the 3D mean (x = major, y = minor axis; "
                 "paper: about twice)", a12))
     m9, a9 = _notes(entries, "fig09_spectra"), _stem(entries, "fig09_spectra")
