@@ -102,6 +102,7 @@ rule fig08_motions:
                          figure="Fig 8", ensemble="{ensemble}"),
     params:
         caption=lambda wildcards: caption("fig08_motions", reproduces_paper()),
+        paper=lambda wildcards: reproduces_paper(),
     log:
         out_path("logs/figures/fig08_motions_{ensemble}.log"),
     script:
