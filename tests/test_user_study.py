@@ -148,7 +148,56 @@ def test_own_study_report_has_no_paper_verdict(own_run):
     assert "The paper reports" not in html and "The paper's Fig" not in html
     # what was computed is there: the study's grids, its fragility and line fits
     assert re.search(r"slenderness tan α</td>\s*<td>0.15</td>", html)
-    assert "Lognormal fragility parameters" in html and "Linear fits" in html
+    assert "Lognormal fragility parameters" in html
+    # two sizes R: no line fitted through them, in the report or the figure
+    assert "Linear fits" not in html
+    notes = json.loads((own_run / "results/column/figures/fig10_goals.json").read_text())
+    assert not any(k.startswith("line|") for k in notes["measured"])
+
+
+SUITE = {
+    "accuracy": "fast",
+    "motions": {"max_duration": 3.0},
+    "ensembles": {"mine": {"n_synthetic": 0, "records": [
+        {"record": "el-centro-1940"}, {"record": "loma-prieta-corralitos"}]}},
+    "studies": {"column": {
+        "ensemble": "mine", "R": [2.5, 4.0], "chunk_R": 1,
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.15],
+                  "limit_states": ["overturning", "tilt:1/3"]}],
+    }},
+    "dask": {"progress_interval": 0},
+}
+
+
+@pytest.mark.slow
+def test_a_suite_study_speaks_its_own_language(tmp_path):
+    """Shipped records, no synthetic pairs: no paper numbering in a title or caption, no
+    caption describing what is not drawn, x axes on the study's sizes, the per-record table
+    and the findings in the report."""
+    from rocking.study.figures import fig09_spectra, fig10_goals
+
+    wd = tmp_path / "suite"
+    snakemake(wd, write(tmp_path / "suite.yaml", SUITE), "results/column/report.html")
+    html = (wd / "results/column/report.html").read_text()
+    each = re.findall(r"<figcaption[^>]*>(.*?)</figcaption>", html, re.S)
+    assert len(each) == html.count("<figure ") and all(c.strip() for c in each)
+    captions = " ".join(each)
+    assert captions and "synthetic" not in captions and "damped" not in captions
+    assert not re.search(r"\bFig \d", captions)
+    assert "the 2 recorded motions" in captions
+    assert html.index("id='findings'") < html.index("id='what-was-run'")
+    assert "The most dangerous of the 2 records" in html and "id='records'" in html
+    assert "0 synthetic pairs" not in html
+    res = wd / "results/column"
+    for mod, d in ((fig09_spectra, fig09_spectra.data(res / "spectra.zarr",
+                                                      res / "mean_spectra.nc", paper=False)),
+                   (fig10_goals, fig10_goals.data(res / "mean_spectra.nc", paper=False))):
+        fig = mod.plot(d)
+        texts = [t.get_text() for t in fig.findobj(lambda a: hasattr(a, "get_text"))]
+        assert not any(re.search(r"\(Fig \d+\)", t) for t in texts), mod.__name__
+        assert any("suite mine (2 records)" in t for t in texts), mod.__name__
+        for ax in (a for a in fig.axes if a.get_xlabel() == "R [m]"):
+            assert ax.get_xlim()[0] > 2.0  # the study's sizes, not from R = 0
 
 
 # ------------------------------------------------------- the choices, without the workflow
@@ -214,9 +263,10 @@ def test_risk_summary_follows_the_table():
     assert "at tan α = 0.15" in risk_section_html(frame)
 
 
-def test_figs_10_and_12_mark_means_over_unresolved_answers(tmp_path):
-    """``n_unresolved`` of mean_spectra (answers narrower windows may undercut) is marked on
-    the means of Figs 10 and 12, exactly where it is > 0, with a legend entry; none without."""
+def test_figs_10_and_12_count_means_over_unresolved_answers(tmp_path):
+    """``n_unresolved`` of mean_spectra (answers narrower windows may undercut) is counted
+    per curve, exactly the sizes where it is > 0: in Fig 10's legend and Fig 12's note, not
+    ringed on every point; none without."""
     import figures_synthetic as fs
     import xarray as xr
 
@@ -234,28 +284,24 @@ def test_figs_10_and_12_mark_means_over_unresolved_answers(tmp_path):
     assert list(d10["unresolved"]) == ["overturning"]
     np.testing.assert_array_equal(d10["unresolved"]["overturning"], where)
     fig = fig10_goals.plot(d10)
-    rings = [ln for ln in fig.axes[0].get_lines() if ln.get_mfc() == "white"
-             and len(ln.get_xdata())]
-    assert len(rings) == 1
-    np.testing.assert_array_equal(rings[0].get_xdata(), np.asarray(fs.R)[where])
-    np.testing.assert_array_equal(rings[0].get_ydata(), d10["curves"]["overturning"][where])
+    assert not [ln for ln in fig.axes[0].get_lines() if ln.get_mfc() == "white"
+                and len(ln.get_xdata())]
     legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
-    assert any(s.startswith("unresolved answers in the mean") and "(2 of 20 points)" in s
-               for s in legend)
+    counted = [s for s in legend if "unresolved" in s]
+    assert len(counted) == 1 and counted[0].startswith("Overturning")
+    assert counted[0].endswith(f"; 2 of {len(fs.R)} means unresolved")
     plain = fig10_goals.data(paths["means"])
     assert plain["unresolved"] == {}
 
     d12 = fig12_2d_vs_3d.data([("own", flagged, paths["store"])], paper=False)
     fig = fig12_2d_vs_3d.plot(d12)
-    diamonds = [ln for ax in fig.axes[:2] for ln in ax.get_lines()
+    assert not [ln for ax in fig.axes[:2] for ln in ax.get_lines()
                 if ln.get_marker() == "D" and len(ln.get_xdata())]
-    assert len(diamonds) == 1
-    np.testing.assert_array_equal(diamonds[0].get_xdata(), np.asarray(fs.R)[where])
-    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
-    assert "unresolved answers in the mean: it may lie lower" in legend
-    # a study of one's own: no paper ensembles asked for, no paper axes note
-    assert d12["missing"] == [] and "22.33" not in "".join(
-        t.get_text() for t in fig.texts)
+    note = "".join(t.get_text() for t in fig.texts)
+    assert "flagged unresolved" in note and f"overturning: 2 of {len(fs.R)}" in note
+    # a study of one's own: no paper ensembles asked for, no paper axes note, no Fig number
+    assert d12["missing"] == [] and "22.33" not in note and "Fig 12" not in note
+    assert "(Fig 12)" not in fig._suptitle.get_text()
 
 
 def test_fig11_of_a_study_of_ones_own_draws_its_own_slendernesses(tmp_path):

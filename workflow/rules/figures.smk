@@ -102,6 +102,7 @@ rule fig08_motions:
                          figure="Fig 8", ensemble="{ensemble}"),
     params:
         caption=lambda wildcards: caption("fig08_motions", reproduces_paper()),
+        paper=lambda wildcards: reproduces_paper(),
     log:
         out_path("logs/figures/fig08_motions_{ensemble}.log"),
     script:
@@ -121,6 +122,7 @@ rule fig09_spectra:
     params:
         caption=lambda wildcards: caption("fig09_spectra", reproduces_paper(wildcards.study)),
         store=lambda wildcards: spectra_store(wildcards.study),
+        paper=lambda wildcards: reproduces_paper(wildcards.study),
     log:
         out_path("logs/{study}/fig09_spectra.log"),
     script:
@@ -227,6 +229,7 @@ rule report:
         tilt_maps=lambda wildcards: report_stores(wildcards.study)["tilt_maps"],
         hazard=lambda wildcards: hazard_file(wildcards.study) or hazard_spec(wildcards.study),
         reproduces=lambda wildcards: study_spec(wildcards.study).reproduces,
+        paper_record=lambda wildcards: is_paper_record_study(wildcards.study),
     log:
         out_path("logs/{study}/report.log"),
     script:

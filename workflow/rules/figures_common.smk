@@ -5,6 +5,7 @@
 # paper's. A figure's name is its
 # module in rocking.study.figures, its rule, its script and its caption key.
 
+from rocking.study.figures import figure_name
 from rocking.study.figures.captions import caption
 
 FIGURES_DIR = out_path("figures")
@@ -66,6 +67,13 @@ def reproduces_paper(study=None):
     return any(study_spec(s).reproduces is not None for s in studies)
 
 
+def is_paper_record_study(study):
+    """Whether ``study`` reproduces the paper on its El Centro ensemble: its report carries
+    the paper's model figures (Figs 3, 4, 6) and the verdicts the paper states for El Centro
+    only; another reproduction study (Loma Prieta) gets neither, once is enough."""
+    return reproduces_paper(study) and ensemble_of(study) == el_centro_ensemble()
+
+
 def fig12_studies():
     """Studies that run "3d" and a 2D mode at a common tan α (the curves of Fig 12)."""
     return [s for s in config["studies"] if study_plan(s).compares_2d_with_3d()]
@@ -102,11 +110,12 @@ def report_figures(study):
     """Every figure (PNG + notes) the report of ``study`` shows."""
     def shown(stem):
         name = stem.rsplit("/", 1)[1]
-        if name.startswith("fig08_motions_"):
+        kind = figure_name(name)  # the figure's kind, whatever its file is called
+        if kind == "fig08_motions":
             return name == f"fig08_motions_{ensemble_of(study)}"
-        if name in PAPER_MODEL_FIGURES:
-            return reproduces_paper(study)
-        return name != "fig12_2d_vs_3d" or study in fig12_studies()
+        if kind in PAPER_MODEL_FIGURES:
+            return is_paper_record_study(study)
+        return kind != "fig12_2d_vs_3d" or study in fig12_studies()
 
     stems = [s for s in global_figure_stems() if shown(s)]
     stems += study_figure_stems(study)
@@ -137,8 +146,12 @@ def report_inputs(study):
             **({"risk": rules.risk.output.table.format(study=study),
                 "risk_png": rules.risk.output.png.format(study=study)}
                if hazard_spec(study) is not None else {}),
-            **({"stripes": rules.stripe_fragility.output.csv.format(study=study)}
+            **({"stripes": out_path(f"{study}/stripe_fragility.csv"),
+                "stripe_figures": [out_path(f"{study}/figures/stripe_fragility_{mode}.png")
+                                   for mode in study_spec(study).stripes.modes]}
                if has_stripes(study) else {}),
+            "records": out_path(f"{study}/records.csv"),
+            "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 
 

@@ -11,7 +11,8 @@ def main(snakemake):
     with log_to(snakemake.log[0]):
         render("fig08_motions", [out.png, out.pdf], out.notes,
                motions=load_ensemble(snakemake.input.motions),
-               comparison=load_ensemble(snakemake.input.comparison))
+               comparison=load_ensemble(snakemake.input.comparison),
+               paper=bool(snakemake.params.get("paper", True)))
 
 
 if __name__ == "__main__":

@@ -8,7 +8,8 @@ def main(snakemake):
     out = snakemake.output
     with log_to(snakemake.log[0]):
         render("fig09_spectra", [out.png, out.pdf], out.notes, store=snakemake.params.store,
-               means=snakemake.input.means, motions=snakemake.input.motions)
+               means=snakemake.input.means, motions=snakemake.input.motions,
+               paper=bool(snakemake.params.get("paper", True)))
 
 
 if __name__ == "__main__":

@@ -33,7 +33,11 @@ def main(snakemake):
                     f"(ensemble {snakemake.params.ensemble})",
               figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run,
               risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
-              stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None)
+              stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None,
+              records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
+              stripe_figures=list(inp.get("stripe_figures", [])),
+              paper_record=bool(snakemake.params.paper_record),
+              study=str(snakemake.params.study))
 
 
 if __name__ == "__main__":

@@ -26,13 +26,15 @@ import pandas as pd
 from ..risk.report import risk_section_html
 from ..units import read_table
 from .figures import FIGURES, _load, figure_name, module
-from .figures._style import limit_state_title
-from .figures.captions import caption
-from .figures.comparisons import Comparison, compare, fmt
+from .figures._style import MODE_STYLE, limit_state_sort_key, limit_state_title
+from .figures.captions import EXTRA_CAPTIONS, caption
+from .figures.comparisons import Comparison, compare, finite, fmt
 from .spec import SpectraSpec, TiltMapSpec, decode_attrs
 
 SHOWN = 10
 """Grids with at most this many values are listed in full, longer ones as a range."""
+MODE_LABEL = {m: s["label"] for m, s in MODE_STYLE.items()}
+"""Reader's name of each analysis mode ("3D", "2D, x component")."""
 
 
 @dataclass(frozen=True)
@@ -135,10 +137,11 @@ def _motions_text(motions: Sequence[Mapping], spec: SpectraSpec) -> str:
     """"<record> and n synthetic pairs (seed s)", or for a suite "k records and n pairs"."""
     records = [m for m in motions if _is_recorded(m)]
     n_pairs = len(motions) - max(len(records), 1)
-    pairs = f"{n_pairs} synthetic pairs" + (f" (seed {spec.ensemble.seed})" if n_pairs else "")
+    pairs = (f" and {n_pairs} synthetic pairs (seed {spec.ensemble.seed})" if n_pairs
+             else ", no synthetic pairs")
     if len(records) > 1:
-        return f"a suite of {len(records)} records and {pairs}"
-    return f"{motions[0]['label']} and {pairs}"
+        return f"a suite of {len(records)} records{pairs}"
+    return f"{motions[0]['label']}{pairs}"
 
 
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
@@ -159,8 +162,7 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
                                          for ls in spec.plan.limit_states)),
         (f"{p}: modes per tan α", modes_text(ds)),
         (f"{p}: accuracy", f"preset {spec.accuracy if isinstance(spec.accuracy, str) else 'custom'}"
-                           "; tolerances "
-                           f"{json.dumps(attrs['tolerances'])}; search up to "
+                           f": {tolerances_text(attrs['tolerances'])}; search up to "
                            f"PGA/(g tan α) = {fmt(spec.upper)}"),
     ]
     if spec.damping is not None:
@@ -172,6 +174,37 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
         rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
     rows.append((f"{p}: package version", f"rocking {attrs['rocking_version']}"))
     return rows
+
+
+def tolerances_text(t: Mapping) -> str:
+    """The accuracy settings of a store (:class:`rocking.spectra.accuracy.Accuracy` as
+    attributes) in words: integration tolerance, scan step, bisection."""
+    parts = []
+    if "rtol" in t:
+        parts.append(f"time integration to a relative tolerance of {t['rtol']:g}"
+                     + (f" ({t['rtol_damped']:g} for the damped model)"
+                        if t.get("rtol_damped") is not None else ""))
+    step = t.get("scan_step")
+    if step is not None:
+        unit = f"{100 * step:g} %" if t.get("scan_relative", True) else f"{step:g}"
+        scan = t.get("scan", "fixed")
+        if scan == "fixed":
+            parts.append(f"intensity scanned upwards in steps of {unit}")
+        else:
+            top = t.get("scan_step_max")
+            hi = (f"{100 * top:g} %" if t.get("scan_relative", True) else f"{top:g}") if top \
+                else unit
+            parts.append(f"intensity scanned upwards in {scan} steps of {unit} to {hi}")
+    if t.get("bisection_tol") is not None:
+        parts.append(f"each first exceedance refined by bisection to "
+                     f"{100 * t['bisection_tol']:g} %")
+    if t.get("rest_tilt") is not None:
+        parts.append(f"an analysis ends early once the body is at rest (tilt below "
+                     f"{t['rest_tilt']:g} rad)")
+    known = {"name", "rtol", "rtol_damped", "scan_step", "scan_relative", "scan",
+             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near"}
+    parts += [f"{k} = {v}" for k, v in t.items() if k not in known and v is not None]
+    return "; ".join(parts) or "not recorded"
 
 
 def resolution_text(ds) -> str:
@@ -226,10 +259,9 @@ def _processing_text(e: Mapping) -> str:
                     "axis)")
     highpass = ("no high-pass" if not hp or hp.get("kind") in (None, "none") else
                 f"high-pass {hp['kind']} at {fmt(hp.get('fc_hz'))} Hz (Mw {fmt(hp.get('mw'))})")
-    pairs = f"{e.get('n_synthetic', 0)} synthetic pairs"
-    if e.get("n_synthetic"):
-        pairs += f", seed {e.get('seed', '?')}"
-    return f"{e.get('label', e.get('record'))}{stand_in}; {rotation}; {highpass}; {pairs}"
+    pairs = (f"; {e['n_synthetic']} synthetic pairs, seed {e.get('seed', '?')}"
+             if e.get("n_synthetic") else "")
+    return f"{e.get('label', e.get('record'))}{stand_in}; {rotation}; {highpass}{pairs}"
 
 
 def ensemble_rows(path: str | Path) -> list[tuple[str, str]]:
@@ -428,7 +460,8 @@ def _figure_html(entry: FigureEntry, rows: Sequence[Comparison], docs: str = "",
     anchor = f" id='{entry.name}'" if entry.name != entry.stem and rows else ""
     return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
             f"src='data:image/png;base64,{img}'><figcaption{anchor}>"
-            f"{link_docs(caption(entry.name, paper), docs)}{lines}</figcaption>{table}</figure>")
+            f"{link_docs(caption(entry.name, paper, entry.notes), docs)}{lines}</figcaption>"
+            f"{table}</figure>")
 
 
 _EMBEDDED = re.compile(r"<figure id='(?P<stem>[^']+)'><img alt='(?P=stem)' "
@@ -449,7 +482,10 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
           risk: str | Path | None = None, hazard: str = "",
-          stripes: str | Path | None = None, paper: bool = True) -> Path:
+          stripes: str | Path | None = None, paper: bool = True,
+          records: str | Path | None = None, suite_fragility: str | Path | None = None,
+          stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
+          study: str = "") -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -481,6 +517,19 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         multiple-stripe fragility beside the first-exceedance one (:func:`stripes_section`).
     paper : bool
         The study reproduces the paper (``studies.<name>.reproduces``): verdicts shown.
+    records, suite_fragility : path, optional
+        ``records.csv`` (the per-record answers) and ``suite_fragility.csv`` (the fragility
+        over the suite in each intensity measure) of :mod:`rocking.study.records`.
+    stripe_figures : sequence of path
+        The stripe-fragility figures (PNG, a JSON sidecar with their ``caption`` beside),
+        shown in the stripes section.
+    paper_record : bool
+        The study's ensemble is built on the record of the paper's Figs 6–11 (El Centro):
+        verdicts the paper states for that record only are judged here; another
+        reproduction study (Loma Prieta) gets the verdicts that concern it (Figs 8, 10's
+        linearity and 12), and the El Centro-only rows stay in the El Centro report.
+    study : str
+        The study's name (its curves of Fig 12 come first in the findings).
 
     Returns
     -------
@@ -489,9 +538,20 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     """
     entries = load_figures(figures)
     verdicts = figure_comparisons(entries) if paper else {}
+    if paper and not paper_record:
+        verdicts = {k: [c for c in rows if not el_centro_only(c)] for k, rows in
+                    verdicts.items()}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    found = (paper_findings(entries, verdicts, study) if paper else []) + study_findings(
+        entries=entries, fragility=fragility, records=records, risk=risk, stripes=stripes)
+    parts.append("<h2 id='findings'>Findings</h2>")
+    parts.append(findings_html(found))
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
+    if paper and not paper_record:
+        parts.append("<p>The paper's figures of the model (Figs 3, 4 and 6) and the statements "
+                     "it makes of its El Centro study only are in the report of the study on "
+                     "El Centro.</p>")
     parts.append("<h2 id='what-was-run'>What was run</h2>")
     run = [*run, *figure_run_rows(entries)]
     parts.append(_table_html(pd.DataFrame(run, columns=["item", "value"])) if run
@@ -504,25 +564,121 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs,
                            paper)
               for i, e in enumerate(entries)]
-    if linear_fit is not None:
+    fits = linear_fit_rows(linear_fit) if linear_fit is not None else pd.DataFrame()
+    if not fits.empty:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
                      "</h2>")
-        parts.append(_table_html(linear_fit_rows(linear_fit)))
+        parts.append(_table_html(fits))
     if fragility is not None:
-        parts.append("<h2>Lognormal fragility parameters: median PGA/(g tan α) (× tan α for g) "
-                     "and, in brackets, dispersion β; \"k&gt;\" = k motions right-censored at "
-                     "the search bound; points without a fit left out</h2>")
+        parts.append("<h2 id='fragility'>Lognormal fragility parameters: median PGA/(g tan α) "
+                     "(× tan α for g) and, in brackets, dispersion β; \"k&gt;\" = k motions "
+                     "right-censored at the search bound; points without a fit left out</h2>")
         parts.append(_table_html(fragility_pivot(fragility)))
+    if records is not None:
+        parts += records_section(records, suite_fragility)
     if stripes is not None:
         parts += stripes_section(stripes)
+        parts += [_extra_figure_html(p) for p in stripe_figures]
     if risk is not None:
-        parts.append(risk_section_html(risk, hazard=hazard,
-                                       figure=Path(risk).parent / "figures" / "risk.png"))
+        from .figures.risk import CAPTION as RISK_CAPTION
+
+        parts.append(risk_section_html(risk, hazard=hazard))
+        parts.append(_extra_figure_html(Path(risk).parent / "figures" / "risk.png",
+                                        RISK_CAPTION))
     parts.append("</body></html>")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
     return out
+
+
+EL_CENTRO_FIGURES = ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",
+                     "fig06_theta_max_sensitivity", "fig07_tilt_map", "fig09_spectra",
+                     "fig10_goals", "fig11_slenderness")
+"""Figures the paper draws for its El Centro study only (its model figures and Figs 7, 9–11)."""
+
+
+def el_centro_only(row: Comparison) -> bool:
+    """Whether a verdict row states what the paper reports for El Centro only: every row of
+    :data:`EL_CENTRO_FIGURES` but Fig 10's linearity in R, which the paper states of rocking
+    spectra in general (§6) and which is judged by one criterion in every study."""
+    from .figures.fig10_goals import LINEAR_STATEMENT
+
+    if row.figure == "fig10_goals":
+        return not row.statement.startswith(LINEAR_STATEMENT)
+    return row.figure in EL_CENTRO_FIGURES
+
+
+def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
+    """A figure beyond :data:`.figures.FIGURES` (the stripe and the risk figures): embedded
+    with ``text`` as caption, else the ``caption`` of its JSON sidecar, else its module's
+    ``CAPTION`` (the same markup as the other figures, so a gallery links it instead)."""
+    png = Path(png)
+    if not png.exists():
+        return ""
+    if text is None:
+        sidecar = png.with_suffix(".json")
+        notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
+        text = notes.get("caption") or ""
+        if not text:
+            kind = str(notes.get("figure") or re.sub(r"_(3d|2d).*$", "", png.stem))
+            try:
+                text = getattr(module(kind), "CAPTION", "")
+            except ValueError:  # not a module of .figures: the report's own caption
+                text = ""
+            text = text or EXTRA_CAPTIONS.get(kind, "")
+    img = base64.b64encode(png.read_bytes()).decode("ascii")
+    return (f"<figure id='{png.stem}'><img alt='{png.stem}' src='data:image/png;base64,{img}'>"
+            f"<figcaption>{html.escape(text)}</figcaption></figure>")
+
+
+def records_section(records: str | Path, suite_fragility: str | Path | None = None
+                    ) -> list[str]:
+    """HTML of the per-record answers (``records.csv``) at the study's main mode and
+    slenderness, largest and smallest R, and of the fragility over the suite in each
+    intensity measure (``suite_fragility.csv``; fits only)."""
+    df = pd.read_csv(records)
+    parts = ["<h2 id='records'>The recorded motions one by one</h2>"]
+    if df.empty:
+        return parts + ["<p>No recorded motion in this study.</p>"]
+    ta = next(c for c in df.columns if c.startswith("tan_alpha"))
+    r = next(c for c in df.columns if c.startswith("R"))
+    sf = next(c for c in df.columns if c.startswith("scale_factor"))
+    crit = next(c for c in df.columns if c.startswith("pga_crit_g"))
+    rec = next(c for c in df.columns if c.startswith("pga_g"))
+    sizes = sorted(set(df[r]))
+    keep = df[df[r].isin({sizes[0], sizes[len(sizes) // 2], sizes[-1]})]
+    table = pd.DataFrame({
+        "record": keep["motion"], "mode": keep["mode"].map(lambda m: MODE_LABEL.get(m, m)),
+        "tan α": keep[ta], "limit state": keep["limit_state"].map(limit_state_title),
+        "R [m]": keep[r], "PGA processed [g]": keep[rec], "critical PGA [g]": keep[crit],
+        "scale factor to exceed": keep[sf],
+        "survives as recorded": keep["survives_as_recorded"].map(
+            lambda v: "yes" if bool(v) else "no"),
+    })
+    parts.append(f"<p>Per record: the factor its processed version must be scaled by to "
+                 f"exceed each limit state, at R = {sizes[0]:g}, {sizes[len(sizes) // 2]:g} "
+                 f"and {sizes[-1]:g} m (every size, Sa(T) and PGV: records.csv).</p>")
+    parts.append(_table_html(table))
+    if suite_fragility is not None and Path(suite_fragility).exists():
+        fr = pd.read_csv(suite_fragility)
+        fr = fr[np.isfinite(pd.to_numeric(fr["median"], errors="coerce"))]
+        if fr.empty:
+            parts.append("<p>Fragility over the suite: no fit (too few records reached the "
+                         "limit states).</p>")
+        else:
+            out = pd.DataFrame({
+                "motions": fr["motions"], "mode": fr["mode"].map(lambda m: MODE_LABEL.get(m, m)),
+                "tan α": fr["tan_alpha"], "limit state": fr["limit_state"].map(
+                    limit_state_title), "R [m]": fr["R"],
+                "measure": fr["measure"] + " [" + fr["unit"].astype(str) + "]",
+                "median IM₅₀": fr["median"], "β": fr["beta"], "n": fr["n"],
+                "censored": fr["n_censored"]})
+            parts.append("<p id='suite-fragility'>Lognormal fragility over the suite in each "
+                         "intensity measure (median IM₅₀ in the measure's unit; recorded "
+                         "motions and synthetic pairs fitted separately).</p>")
+            parts.append(_table_html(out))
+    return parts
 
 
 def stripes_section(path: str | Path) -> list[str]:
@@ -532,7 +688,8 @@ def stripes_section(path: str | Path) -> list[str]:
     ok = df[np.isfinite(df["ratio"].to_numpy(dtype=float))]
     parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": first "
              "exceedance and multiple-stripe fragility</h2>",
-             "<p>The paper's answer, and Figs 9–12's, is the <em>first exceedance</em>: per "
+             "<p>The answer of the spectra and of the fragility curves above (and the "
+             "paper's) is the <em>first exceedance</em>: per "
              "motion, the smallest PGA/(g tan α) found to exceed the limit state, then the "
              "lognormal fit over motions. Rocking near a limit state is chaotic in the "
              "intensity: a motion exceeds it in narrow windows and the body survives stronger "
@@ -615,16 +772,249 @@ def fragility_pivot(path: str | Path) -> pd.DataFrame:
     out = df.pivot_table(index=["mode", "limit_state", ta], columns=r, values="cell",
                          aggfunc="first", sort=False)
     out.columns = [f"R = {c:g}" for c in out.columns]
-    return out.reset_index().rename(columns={"limit_state": "limit state", ta: "tan α"})
+    out = out.reset_index().rename(columns={"limit_state": "limit state", ta: "tan α"})
+    return out.assign(**{"limit state": out["limit state"].map(limit_state_title)})
 
 
 def linear_fit_rows(path: str | Path) -> pd.DataFrame:
-    """Linear fits of the mean spectra that were computed (rows without a fit dropped)."""
+    """Linear fits of the mean spectra over enough sizes to mean something (at least
+    :data:`.figures.fig10_goals.MIN_FIT_SIZES`; rows without a fit dropped), limit states
+    in words."""
+    from .figures.fig10_goals import MIN_FIT_SIZES
+
     df = pd.read_csv(path)
     n = next((c for c in df.columns if c == "n"), None)
-    return df[df[n] > 0] if n is not None else df
+    df = df[df[n] >= MIN_FIT_SIZES] if n is not None else df
+    if "limit_state" in df:
+        df = df.assign(limit_state=df["limit_state"].map(limit_state_title))
+    return df
 
 
 def _first(entries: Sequence[FigureEntry], entry: FigureEntry) -> int:
     """Index of the first entry of ``entry``'s figure (its verdict table is shown once)."""
     return next(i for i, e in enumerate(entries) if e.name == entry.name)
+
+
+# --------------------------------------------------------------------------- findings
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One line of the report's findings summary: its text (with its number) and the
+    anchor in the page of the figure or table it comes from."""
+
+    text: str
+    anchor: str
+
+
+def _stem(entries: Sequence[FigureEntry], name: str) -> str | None:
+    """Anchor (file stem) of the first figure of kind ``name`` in ``entries``."""
+    return next((e.stem for e in entries if e.name == name), None)
+
+
+def _notes(entries: Sequence[FigureEntry], name: str) -> Mapping:
+    return next((e.notes for e in entries if e.name == name), {}).get("measured", {}) or {}
+
+
+def _ensemble_title(m: Mapping, ens: str) -> str:
+    """``"El Centro (elcentro)"``: an ensemble of Fig 12's notes by its record's label."""
+    return re.sub(r": mean of \d+ motions?$", "", str(m.get(f"{ens}|label", ens)))
+
+
+def paper_findings(entries: Sequence[FigureEntry],
+                   verdicts: Mapping[str, Sequence[Comparison]], study: str = ""
+                   ) -> list[Finding]:
+    """Headline answers of a reproduction of the paper, read from the figures' notes:
+    2D against 3D and the 3D mean at R = 10 m (Fig 12: every study it draws, ``study``'s
+    first), damped against undamped (Fig 9), linearity in R
+    (Fig 10), the El Centro peak tilts (Fig 6)."""
+    out = []
+    m12, a12 = _notes(entries, "fig12_2d_vs_3d"), _stem(entries, "fig12_2d_vs_3d")
+    if a12 is not None:
+        R = m12.get("R", 10.0)
+        names = sorted({k.split("|")[0] for k in m12 if k.count("|") >= 2})
+        names = sorted(names, key=lambda n: n != study)  # the study's own curves first
+        for ens in names:
+            v3 = m12.get(f"{ens}|overturning|3d")
+            if not finite(v3):
+                continue
+            std, n = m12.get(f"{ens}|overturning|3d|std"), m12.get(f"{ens}|overturning|3d|count")
+            se = f" ± {std / math.sqrt(n):.2f} (standard error, {n:g} motions)" if finite(
+                std, n) and n > 0 else ""
+            ratios = []
+            for ls in ("overturning", "tilt:1/3"):
+                key = "excessive tilt" if ls != "overturning" else ls
+                base = m12.get(f"{ens}|{key}|3d")
+                parts = [f"{c[-1]} {m12[f'{ens}|{key}|{c}'] / base:.2f}×" for c in
+                         ("2d-x", "2d-y") if finite(m12.get(f"{ens}|{key}|{c}"), base)]
+                if parts:
+                    ratios.append(f"{key} " + ", ".join(parts))
+            who = _ensemble_title(m12, ens)
+            # the paper gives the 3D number for El Centro only
+            paper4 = " (paper: about 4)" if "centro" in (ens + who).lower() else ""
+            out.append(Finding(
+                f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
+                f"{v3:.2f}{se}{paper4}; the 2D model under one "
+                f"component needs {'; '.join(ratios)} the 3D mean (x = major, y = minor axis; "
+                "paper: about twice)", a12))
+    m9, a9 = _notes(entries, "fig09_spectra"), _stem(entries, "fig09_spectra")
+    for key, eff in m9.items():
+        if not key.startswith("damping|") or not isinstance(eff, Mapping):
+            continue
+        worst, k, R = eff.get("max_abs_rel_diff_means"), eff.get("R_index_of_max"), m9.get("R")
+        row = next((c for c in verdicts.get("fig09_spectra", [])
+                    if limit_state_title(key.removeprefix("damping|")) in c.statement), None)
+        if finite(worst):
+            at = f" (at R = {R[k]:g} m)" if R and k is not None else ""
+            out.append(Finding(
+                f"Damped against undamped, {limit_state_title(key.removeprefix('damping|'))}: "
+                f"the ensemble means differ by at most {100 * worst:.1f} %{at}"
+                + (f" — {row.verdict}" if row else "")
+                + " (paper: essentially identical)", a9))
+    from .figures.fig10_goals import LINEAR_STATEMENT, LINEARITY_TOLERANCE
+
+    rows10 = [c for c in verdicts.get("fig10_goals", [])
+              if c.statement.startswith(LINEAR_STATEMENT)]
+    rows10 = [c for c in rows10 if c.verdict in ("reproduced", "differs")]
+    if rows10:
+        ok = sum(c.verdict == "reproduced" for c in rows10)
+        r2 = [float(x) for c in rows10 for x in re.findall(r"R² = ([0-9.]+)", c.ours)]
+        span = f"; R² {min(r2):.3f}–{max(r2):.3f}" if r2 else ""
+        out.append(Finding(
+            f"Linearity in R (paper: 'almost straight lines'): {ok} of {len(rows10)} mean "
+            f"spectra pass the one criterion of every study ({LINEARITY_TOLERANCE}"
+            f"){span}" + ("" if ok == len(rows10) else "; those that fail bend: flat near the "
+                          "uplift intensity at small R, then rising"),
+            _stem(entries, "fig10_goals") or ""))
+    m6 = _notes(entries, "fig06_el_centro")
+    u, d = m6.get("theta_max_3d"), m6.get("theta_max_3d-damped")
+    if finite(u, d):
+        out.append(Finding(
+            f"El Centro, R = 6 m, tan α = 0.2 (Fig 6): peak tilt θmax {u:.4f} rad undamped and "
+            f"{d:.4f} rad damped (paper: 0.0838 and 0.0668 rad); the companion figure shows "
+            "θmax scattering by a factor of two within ±5 % of the scale", _stem(
+                entries, "fig06_el_centro") or ""))
+    return out
+
+
+
+
+def _main(df: pd.DataFrame, col: str, prefer: Sequence) -> object | None:
+    """The first of ``prefer`` present in column ``col``, else its most frequent value."""
+    values = list(dict.fromkeys(df[col]))
+    hit = next((p for p in prefer if p in values), None)
+    return hit if hit is not None else (df[col].mode().iloc[0] if len(df) else None)
+
+
+def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, records=None,
+                   risk=None, stripes=None) -> list[Finding]:
+    """Headline answers of any study: the most dangerous record (``records.csv``), the
+    median capacities (``fragility.csv``), λ with its interval (``risk.csv``; 5–95 % when
+    the table has ``lambda_p05``/``lambda_p95``) and the stripe against first-exceedance
+    medians. Each at the study's main mode (3D where run), slenderness and largest R."""
+    out = []
+    if records is not None and Path(records).exists():
+        df = pd.read_csv(records)
+        if len(df):
+            mode = _main(df, "mode", ["3d"])
+            df = df[df["mode"] == mode]
+            ta = next(c for c in df.columns if c.startswith("tan_alpha"))
+            ls = _main(df, "limit_state", ["overturning"])
+            t = _main(df, ta, [0.2])
+            r = next(c for c in df.columns if c.startswith("R"))
+            sub = df[(df["limit_state"] == ls) & (df[ta] == t)]
+            n_records = sub["motion"].nunique()
+            sub = sub[sub[r] == sub[r].max()]
+            sf = next(c for c in sub.columns if c.startswith("scale_factor"))
+            sub = sub[np.isfinite(pd.to_numeric(sub[sf], errors="coerce"))]
+            if len(sub):
+                worst = sub.loc[sub[sf].idxmin()]
+                g = next(c for c in sub.columns if c.startswith("pga_crit_g"))
+                who = (f"The most dangerous of the {n_records} records is {worst['motion']}: it"
+                       if n_records > 1 else f"The record {worst['motion']}")
+                out.append(Finding(
+                    f"{who} exceeds {limit_state_title(ls).lower()} of the R = {worst[r]:g} m, "
+                    f"tan α = {t:g} cylinder ({MODE_LABEL.get(mode, mode)}) when scaled by "
+                    f"{worst[sf]:.2f} (critical PGA {worst[g]:.3f} g); "
+                    + ("it survives as recorded" if bool(worst["survives_as_recorded"])
+                       else "a factor below 1: it does so already as recorded"), "records"))
+    if fragility is not None and Path(fragility).exists():
+        df = pd.read_csv(fragility)
+        med = next(c for c in df.columns if c.startswith("median ["))
+        df = df[np.isfinite(pd.to_numeric(df[med], errors="coerce"))]
+        if len(df):
+            ta = next(c for c in df.columns if c.startswith("tan_alpha"))
+            r = next(c for c in df.columns if c.startswith("R"))
+            mode = _main(df, "mode", ["3d"])
+            t = _main(df[df["mode"] == mode], ta, [0.2])
+            sub = df[(df["mode"] == mode) & (df[ta] == t)]
+            present = list(dict.fromkeys(sub["limit_state"]))
+            shown = [ls for ls in ("overturning", "tilt:1/3") if ls in present] or sorted(
+                present, key=lambda s: -limit_state_sort_key(s))[:2]
+            texts = []
+            for ls in shown:
+                rows = sub[sub["limit_state"] == ls].sort_values(r)
+                ends = rows.iloc[[0, -1]] if len(rows) > 1 else rows
+                texts.append(f"{limit_state_title(ls).lower()} " + " to ".join(
+                    f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
+                    for _, x in ends.iterrows()))
+            out.append(Finding(
+                f"Median capacities IM₅₀ in PGA/(g tan α), {MODE_LABEL.get(mode, mode)}, "
+                f"tan α = {t:g}: " + "; ".join(texts), "fragility"))
+    if risk is not None and Path(risk).exists():
+        from ..risk.report import main_tan_alpha, read_risk_table
+        frame = read_risk_table(risk)
+        df = frame[(frame["fragility"] == "first_exceedance") & np.isfinite(frame["maf"])]
+        if len(df):
+            mode = _main(df, "mode", ["3d"])
+            t = main_tan_alpha(df[df["mode"] == mode])
+            ls = _main(df, "limit_state", ["overturning"])
+            stripes_df = frame[(frame["fragility"] != "first_exceedance")
+                               & np.isfinite(frame["maf"])] if "fragility" in frame else \
+                frame.iloc[:0]
+            sub = df[(df["mode"] == mode) & (df["tan_alpha"] == t)
+                     & (df["limit_state"] == ls)].sort_values("R")
+            stripe = stripes_df[(stripes_df["mode"] == mode) & (stripes_df["tan_alpha"] == t)
+                                & (stripes_df["limit_state"] == ls)].sort_values("R")
+            if len(sub):
+                def lam(x) -> str:
+                    text = f"{x['maf']:.2g} /yr at R = {x['R']:g} m"
+                    if finite(x.get("lambda_p05"), x.get("lambda_p95")):
+                        text += f" (5–95 %: {x['lambda_p05']:.2g}–{x['lambda_p95']:.2g})"
+                    return text
+                ends = sub.iloc[[0, -1]] if len(sub) > 1 else sub
+                text = (f"Annual frequency λ of {limit_state_title(ls).lower()}, "
+                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, under the study's "
+                        "hazard curve: " + " to ".join(lam(x) for _, x in ends.iterrows())
+                        + " (first-exceedance fragility)")
+                if len(stripe):  # the λ the risk section recommends
+                    text += "; with the multiple-stripe fragility " + ", ".join(
+                        lam(x) for _, x in stripe.iterrows())
+                out.append(Finding(text, "risk"))
+    if stripes is not None and Path(stripes).exists():
+        df = read_table(stripes)
+        ratio = df["ratio"].to_numpy(dtype=float)
+        ratio = ratio[np.isfinite(ratio)]
+        if ratio.size:
+            out.append(Finding(
+                f"Multiple-stripe median against first-exceedance median: "
+                f"{ratio.min():.2f}–{ratio.max():.2f}× over {ratio.size} cells (the first "
+                "exceedance marks where exceedance starts, the stripe median where half the "
+                "motions exceed)", "stripes"))
+    return out
+
+
+TABLE_ANCHORS = ("records", "fragility", "stripes")
+"""Anchors of the report's tables (the other findings link a figure)."""
+
+
+def findings_html(findings: Sequence[Finding]) -> str:
+    """The findings summary: a list, each line linking to where its number comes from."""
+    if not findings:
+        return "<p>No headline answer could be read from this run's outputs.</p>"
+    def link(anchor: str) -> str:
+        what = "table" if anchor in TABLE_ANCHORS else "figure"
+        return f" <a href='#{html.escape(anchor)}'>({what})</a>" if anchor else ""
+
+    items = "".join(f"<li>{html.escape(f.text)}.{link(f.anchor)}</li>" for f in findings)
+    return f"<ul class='findings'>{items}</ul>"

@@ -197,6 +197,24 @@ def ensemble_label(attrs: dict, default: str) -> tuple[str, bool]:
     return label, bool(stand_in)
 
 
+def ensemble_title(attrs: dict, default: str = "ensemble") -> str:
+    """What a study's figures are drawn from, for their titles: the record (or the suite)
+    with its synthetic pairs, and "stand-in" where the record stands in for another
+    (``"Loma Prieta 1989 (stand-in: Corralitos RSN 753) + 10 synthetic pairs"``,
+    ``"suite mine (4 records)"``)."""
+    label, stand_in = ensemble_label(attrs, default)
+    raw = decode_attrs(attrs).get("ensemble")
+    motions = raw.get("motions") or [] if isinstance(raw, dict) else []
+    records = sum(1 for m in motions if m.get("name") is not None
+                  and m.get("name") == m.get("source_record"))
+    pairs = len(motions) - max(records, 1) if motions else 0
+    if pairs > 0:
+        label += f" + {pairs} synthetic pair{'s' if pairs > 1 else ''}"
+    if stand_in and "stand-in" not in label:
+        label += " (stand-in)"
+    return label
+
+
 def mean_curve(agg: xr.Dataset, mode: str, limit_state: str, stat: str = "mean"):
     """``agg[stat]`` over R for one (mode, limit state); None when either is absent or no point
     of the curve was computed (a mode not requested at this tan α is all NaN)."""

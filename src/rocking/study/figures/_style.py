@@ -49,8 +49,22 @@ MODE_STYLE = {
 
 LIMIT_STATE_TITLES = {"overturning": "Overturning"}
 
-UNRESOLVED_LABEL = "unresolved answers in the mean: it may lie lower"
-"""Legend entry of the marks on means over answers flagged ``unresolved`` (Figs 10, 12)."""
+
+
+GOAL_COLORS = {0.1: "#9ecae1", 0.2: "#e6ab02", 1 / 3: "#2ca02c", 0.5: "#1f77b4",
+               0.75: "#9467bd", 1.0: "#d62728", float("inf"): "black"}
+"""Colour of each of the paper's goals θ > r·α (by r; overturning: inf), the same in every
+figure that colours by goal."""
+
+
+def goal_color(limit_state: str) -> str:
+    """The colour of a performance goal, the same in every figure and study: the paper's
+    goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r."""
+    r = parse_limit_state(limit_state).ratio
+    for ratio, color in GOAL_COLORS.items():
+        if abs(r - ratio) <= 1e-3 or r == ratio:
+            return color
+    return matplotlib.colors.to_hex(matplotlib.colormaps["plasma"](min(r, 1.0) * 0.85))
 
 
 def limit_state_title(limit_state: str) -> str:
@@ -71,6 +85,34 @@ def limit_state_title(limit_state: str) -> str:
         return f"Tilt θ > α/{frac.denominator}" + (" (excessive tilt)" if frac == Fraction(1, 3)
                                                     else "")
     return f"Tilt θ > {frac.numerator}α/{frac.denominator}"
+
+
+def paper_tag(d: dict, figure: str) -> str:
+    """``" (Fig 9)"`` in the title of a reproduction of the paper (``d["paper"]``, default
+    true), nothing for a study of one's own: its figures are named by what they show."""
+    return f" ({figure})" if d.get("paper", True) else ""
+
+
+def r_axis(ax, R, label: bool = True) -> None:
+    """The x axis of a spectrum over sizes R [m], scaled to the study's range (from 0 when
+    the study starts near it, as the paper's 0.5–10 m)."""
+    import numpy as np
+
+    r = np.asarray(R, dtype=float)
+    r = r[np.isfinite(r)]
+    if r.size:
+        lo, hi = float(r.min()), float(r.max())
+        pad = 0.04 * (hi - lo) if hi > lo else 0.5
+        ax.set_xlim(0.0 if lo <= 0.1 * hi else lo - pad, hi + pad)
+    if label:
+        ax.set_xlabel("R [m]")
+
+
+def unresolved_suffix(k: int, n: int, what: str = "answers") -> str:
+    """Legend suffix counting a curve's answers flagged unresolved (``"; 3 of 20 answers
+    unresolved"``), empty when none: the count a reader can use, instead of a ring on
+    every point."""
+    return f"; {k} of {n} {what} unresolved" if k else ""
 
 
 def limit_state_sort_key(limit_state: str) -> float:

@@ -58,9 +58,17 @@ _PAPER_ONLY: dict[str, str] = {
 }
 """Captions of the paper's model figures, drawn only for a reproduction of the paper."""
 
+NUMBERS = {"fig07_tilt_map": "Fig 7", "fig08_motions": "Fig 8", "fig09_spectra": "Fig 9",
+           "fig10_goals": "Fig 10", "fig11_slenderness": "Fig 11", "fig12_2d_vs_3d": "Fig 12"}
+"""The paper's number of each figure a study draws (named only in a reproduction)."""
+
+UNRESOLVED = ("Answers flagged unresolved (the response came close to the goal below the "
+              "answer, so a narrower window of exceedance may lie lower) are counted per curve "
+              "in the legend.")
+
 STUDY_CAPTIONS: dict[str, str] = {
     "fig07_tilt_map": (
-        "Fig 7. Contours of the peak normalized tilt θmax/α over cylinder size R and "
+        "Contours of the peak normalized tilt θmax/α over cylinder size R and "
         "normalized intensity PGA/(g tan α) for the study's scaled record (principal axes, "
         "high-passed), at the slenderness in the title, one panel per model; PGA is the "
         "vector peak max √(ügx² + ügy²); right axis PGA in g. Contours are drawn on the grid "
@@ -68,55 +76,59 @@ STUDY_CAPTIONS: dict[str, str] = {
         "class θmax > α, which includes overturning."
     ),
     "fig08_motions": (
-        "Fig 8. Acceleration traces on the principal axes (x = major, y = minor) and 5 %-damped "
+        "Acceleration traces on the principal axes (x = major, y = minor) and 5 %-damped "
         "pseudo-acceleration spectra of the record (top, black) and its synthetic "
-        "Rezaeian–Der Kiureghian pairs (the same colours as in Fig 9): per "
+        "Rezaeian–Der Kiureghian pairs (the same colours as in the spectra per motion): per "
         "component the record (black), every synthetic "
         "motion (grey) and their median with the 16–84 % range (blue); left the count-based "
         "identification of RDK (2010), right the spectrum-matched one the study uses (fit "
         "quality in the table below the figure)."
     ),
     "fig09_spectra": (
-        "Fig 9. Seismic performance rocking spectra per ground motion (one colour each, the "
+        "Seismic performance rocking spectra per ground motion (one colour each, the "
         "same as in Fig 8: record black, synthetic pairs in colour; undamped solid, damped "
         "dashed) and their means over the motions (thick black), one panel per limit state "
         "(overturning, and excessive tilt θ > α/3 or the study's own tilt goal) at the "
         "slenderness in the title. Where the damped model ran, below: the relative difference "
         "damped − undamped per motion and of the means, with the band of ± 2 standard errors. "
-        "Open circles (when the store flags them) mark critical intensities that may lie "
-        "lower (unresolved). Right axis PGA in g."
+        f"{UNRESOLVED} Right axis PGA in g."
     ),
     "fig10_goals": (
-        "Fig 10. Mean performance spectra of the study's performance goals θ > r·α and "
-        "overturning (the mode and slenderness in the title); dashed lines are the "
-        "least-squares lines whose R² the legend gives. Goals whose statistics coincide at "
-        "every R (a cylinder tilted past α at the threshold intensity overturned) are drawn "
-        "dotted over each other and said so in the figure. Open circles mark means over "
-        "answers flagged unresolved (they may lie lower). Right axis PGA in g."
+        "Mean performance spectra of the study's performance goals θ > r·α and "
+        "overturning (the mode and slenderness in the title), each goal in its own colour in "
+        "every figure; dashed lines are the least-squares lines (fitted over five sizes R or "
+        "more) whose R² and largest departure from the mean the legend gives. Goals whose "
+        "statistics coincide at every R (a cylinder tilted past α at the threshold intensity "
+        "overturned) are drawn dotted over each other and said so in the figure. Means over "
+        "answers flagged unresolved (they may lie lower) are counted per goal in the legend. "
+        "Right axis PGA in g."
     ),
     "fig11_slenderness": (
-        "Fig 11. Mean performance spectra (undamped 3D model) per slenderness tan α of the "
+        "Mean performance spectra (undamped 3D model) per slenderness tan α of the "
         "study, the intensity normalized by g tan α."
     ),
     "fig12_2d_vs_3d": (
-        "Fig 12. Mean performance spectra of the 3D model under both components against the "
+        "Mean performance spectra of the 3D model under both components against the "
         "2D model under the major-axis (x) or the minor-axis (y) component alone, at the "
         "slenderness in the title; the intensity is the bidirectional PGA in all three (§5.4). "
-        "Colours are ensembles, line styles modes; the note gives each ensemble's axis "
+        "Colours are ensembles, line styles modes; the ratios 2D/3D at the largest R are "
+        "written at the right end of the curves; the note gives each ensemble's axis "
         "azimuths. Open circles: the mean covers fewer motions than the ensemble, the others "
         "not having reached the limit state at the search bound (such a mean understates the "
-        "intensity); open diamonds: means over answers flagged unresolved (they may lie lower)."
+        "intensity). Means over answers flagged unresolved are counted per curve in the "
+        "legend."
     ),
     "fragility_curves": (
-        "Fragility curves (beyond the paper): lognormal maximum-likelihood fits of the "
+        "Fragility curves: lognormal maximum-likelihood fits of the "
         "ensemble's critical intensities PGA/(g tan α) per size R (motions that never reached "
         "the limit state are right-censored at the search bound); colour gives R on the colour "
-        "bar, markers are the empirical fractions; the x axis ends at the search bound. "
-        "Medians IM₅₀ and dispersions β are tabulated in the report."
+        "bar, markers are the empirical fractions; the x axis runs a quarter beyond the "
+        "largest intensity observed (or the largest median, at most three times that), never "
+        "beyond the search bound. Medians IM₅₀ and dispersions β are tabulated in the report."
     ),
 }
 """Captions of the figures a study draws, what they show and nothing of the paper (a study
-of one's own gets these)."""
+of one's own gets these, adapted by :func:`caption` to what its notes say is drawn)."""
 
 PAPER_STATEMENTS: dict[str, str] = {
     "fig07_tilt_map": (
@@ -156,17 +168,56 @@ PAPER_STATEMENTS: dict[str, str] = {
 
 CAPTIONS: dict[str, str] = {
     **_PAPER_ONLY,
-    **{name: f"{text} {PAPER_STATEMENTS[name]}".strip() for name, text in STUDY_CAPTIONS.items()},
+    **{name: (f"{NUMBERS[name]}. " if name in NUMBERS else "Beyond the paper: ")
+       + f"{text} {PAPER_STATEMENTS[name]}".strip() for name, text in STUDY_CAPTIONS.items()},
 }
 """Caption of every figure in a reproduction of the paper, keyed by figure name, in the
 paper's order."""
 
 
-def caption(name: str, paper: bool = True) -> str:
+EXTRA_CAPTIONS: dict[str, str] = {
+    "stripe_fragility": (
+        "Multiple-stripe against first-exceedance fragility (beyond the paper), one panel per "
+        "limit state and size R of the study's stripes: markers the share of the motions "
+        "exceeding the limit state at each stripe intensity, the solid line its binomial "
+        "maximum-likelihood lognormal, the dashed line the lognormal of the motions' first "
+        "exceedances; medians IM₅₀ and dispersions β in the legend and in the table below."
+    ),
+    "risk": "",
+}
+"""Captions of figures drawn beyond :data:`CAPTIONS` (the stripe and the risk figures),
+used by the report where the figure's sidecar or module gives none."""
+
+
+def caption(name: str, paper: bool = True, notes: dict | None = None) -> str:
     """The caption of figure ``name`` (a key of :data:`CAPTIONS`): with the paper's
-    statements for a reproduction of the paper (``paper``), else what the figure shows."""
+    statements for a reproduction of the paper (``paper``), else what the figure shows,
+    adapted to what its sidecar ``notes`` say is drawn (no synthetic pairs, no damped model:
+    no words for them)."""
     if name not in CAPTIONS:
         raise ValueError(f"figure must be one of {list(CAPTIONS)}, got {name!r}")
     if not paper and name in _PAPER_ONLY:
         raise ValueError(f"figure {name!r} is drawn only for a reproduction of the paper")
-    return CAPTIONS[name] if paper else STUDY_CAPTIONS[name]
+    if paper:
+        return CAPTIONS[name]
+    if name == "fig09_spectra" and notes is not None:
+        return _spectra_caption(notes)
+    return STUDY_CAPTIONS[name].replace(" (the same colours as in the spectra per motion)", "")
+
+
+def _spectra_caption(notes: dict) -> str:
+    """The caption of the spectra per motion from what is drawn: recorded motions and
+    synthetic pairs, the damped model, unresolved answers."""
+    labels = [str(c.get("label", "")) for c in (notes.get("colors") or {}).values()]
+    synthetic = sum(lab.startswith("synthetic") for lab in labels)
+    recorded = len(labels) - synthetic
+    damped = any(str(k).startswith("damping|") for k in (notes.get("measured") or {}))
+    who = (f"the {recorded} recorded motions" if recorded > 1 else "the record") + (
+        f" and {synthetic} synthetic pairs" if synthetic else "")
+    text = (f"Seismic performance rocking spectra of each of {who} (one colour each, "
+            "named in the legend) and their mean (thick black), one panel per limit state at "
+            "the slenderness in the title.")
+    if damped:
+        text += (" Undamped solid, damped dashed; below, the relative difference damped − "
+                 "undamped per motion and of the means, with the band of ± 2 standard errors.")
+    return f"{text} {UNRESOLVED} Right axis PGA in g."

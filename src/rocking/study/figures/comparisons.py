@@ -124,14 +124,39 @@ def rank_correlation(x, y) -> float | None:
     return float(spearmanr(*zip(*pairs, strict=True)).statistic)
 
 
+def notes_of(notes: Mapping[str, Mapping], name: str) -> list[tuple[str, Mapping]]:
+    """Every sidecar of figure ``name`` among ``notes``, as (file stem, notes) pairs.
+
+    A sidecar is found by the figure it names (its ``"figure"`` entry, written by
+    :func:`rocking.study.figures.render`), else by its key: the figure name itself or a file
+    stem that starts with it (``fig12_2d_vs_3d_elcentro+lomaprieta``). Keyed by the figure's
+    kind, not its file name, so that renaming a file cannot detach its verdicts.
+    """
+    out = []
+    for key, d in notes.items():
+        if not isinstance(d, Mapping):
+            continue
+        kind = d.get("figure")
+        if kind == name or (kind is None and (key == name or key.startswith(name + "_"))):
+            out.append((key, d))
+    return out
+
+
+def first_notes(notes: Mapping[str, Mapping], name: str) -> Mapping:
+    """The notes of figure ``name`` (the first sidecar of that kind; empty when none)."""
+    found = notes_of(notes, name)
+    return found[0][1] if found else {}
+
+
 def compare(notes: Mapping[str, Mapping], figures: list[str] | None = None) -> list[Comparison]:
     """Comparisons of the figures in ``figures`` (default all), from their sidecar notes.
 
     Parameters
     ----------
     notes : mapping
-        Figure file stem (``fig08_motions_elcentro``) or name → its JSON notes. A figure
-        without notes yields rows "not computed in this run".
+        Figure file stem (``fig08_motions_elcentro``) or name → its JSON notes; a figure's
+        notes are found by the kind they name (:func:`notes_of`), whatever the file is
+        called. A figure without notes yields rows "not computed in this run".
     figures : list of str, optional
         Figure names to compare, in order (default: every figure of
         :data:`rocking.study.figures.FIGURES`); each module's ``compare(notes)`` gives the rows.

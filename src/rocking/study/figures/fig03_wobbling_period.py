@@ -15,7 +15,7 @@ from matplotlib.figure import Figure
 
 from ...dynamics.bodies import Cylinder
 from ._style import new_figure, styled
-from .comparisons import REPRODUCED, Comparison, finite, judged
+from .comparisons import REPRODUCED, Comparison, finite, first_notes, judged
 
 TAN_ALPHAS = (0.1, 0.2, 1.0, 1000.0)
 """Slendernesses of the paper's Fig 3 (1000 is the Euler's-disk limit)."""
@@ -147,7 +147,7 @@ def _zoom(ax, d: dict) -> None:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig03_wobbling_period", {}).get("measured", {})
+    m = first_notes(notes, "fig03_wobbling_period").get("measured", {})
     ratios = {k.split("tan", 1)[1]: v for k, v in m.items() if k.startswith("ratio_to_housner")}
     rising = [v for k, v in m.items() if k.startswith("increasing_tan")]
     ok = (all(rising) and all(0.5 <= lo and hi <= 2.0 for lo, hi in ratios.values())

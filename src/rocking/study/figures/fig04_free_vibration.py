@@ -30,7 +30,7 @@ from scipy.signal import find_peaks
 
 from ...dynamics.bodies import Cylinder
 from ._style import styled
-from .comparisons import EQUATIONS, Comparison, close, finite, fmt, judged, value_range
+from .comparisons import EQUATIONS, Comparison, close, finite, first_notes, fmt, judged, value_range
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -416,7 +416,7 @@ def _first(models: dict) -> dict:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    d = notes.get("fig04_free_vibration", {})
+    d = first_notes(notes, "fig04_free_vibration")
     m, pred, body = d.get("measured", {}), d.get("predicted", {}), d.get("body", {})
     name = "fig04_free_vibration"
     turn = m.get("turn_angle_first")

@@ -22,7 +22,7 @@ from ...dynamics.bodies import Cylinder
 from ...motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, new_figure, styled
-from .comparisons import Comparison, close, finite, fmt, judged, value_range
+from .comparisons import Comparison, close, finite, first_notes, fmt, judged, value_range
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -223,9 +223,9 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    d = notes.get("fig06_el_centro", {})
+    d = first_notes(notes, "fig06_el_centro")
     m = d.get("measured", {})
-    sens = notes.get("fig06_theta_max_sensitivity", {}).get("measured", {})
+    sens = first_notes(notes, "fig06_theta_max_sensitivity").get("measured", {})
     name = "fig06_el_centro"
     rows = []
     for model, paper, kind in (("3d", 0.0838, "undamped"), ("3d-damped", 0.0668, "damped")):

@@ -21,7 +21,7 @@ from ...dynamics.bodies import Cylinder
 from ...motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, styled, with_legend_row
-from .comparisons import NOT_IN_PAPER, Comparison, fmt
+from .comparisons import NOT_IN_PAPER, Comparison, first_notes, fmt
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -232,7 +232,7 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig06_theta_max_sensitivity", {}).get("measured", {})
+    m = first_notes(notes, "fig06_theta_max_sensitivity").get("measured", {})
     check = m.get("rotation_check") or {}
     worst = max(check.values()) if check else None
     return [Comparison(

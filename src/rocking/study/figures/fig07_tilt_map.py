@@ -19,7 +19,7 @@ from matplotlib.figure import Figure
 from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import footnote, new_figure, pga_g_axis, styled
-from .comparisons import Comparison, finite, fmt, judged, rank_correlation
+from .comparisons import Comparison, finite, first_notes, fmt, judged, rank_correlation
 
 VARIABLE = "theta_max_over_alpha"
 MODEL_ORDER = ("3d", "3d-damped")
@@ -163,7 +163,7 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig07_tilt_map", {}).get("measured", {})
+    m = first_notes(notes, "fig07_tilt_map").get("measured", {})
     name = "fig07_tilt_map"
     firsts = {k.rsplit("_", 1)[1]: v for k, v in m.items()
               if k.startswith("first_intensity_theta_above_alpha_")}

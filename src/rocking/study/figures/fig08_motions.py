@@ -22,8 +22,16 @@ from ...constants import G
 from ...motions.motion import GroundMotion
 from ...motions.response_spectrum import pseudo_acceleration
 from ...motions.stochastic import quality
-from ._style import motion_styles, styled
-from .comparisons import NOT_COMPUTED, NOT_IN_PAPER, Comparison, finite, fmt, judged
+from ._style import motion_styles, paper_tag, styled
+from .comparisons import (
+    NOT_COMPUTED,
+    NOT_IN_PAPER,
+    Comparison,
+    finite,
+    fmt,
+    judged,
+    notes_of,
+)
 
 DAMPING = quality.DAMPING
 PERIODS = np.geomspace(0.05, 5.0, 100)
@@ -79,7 +87,7 @@ def _group(motions: Sequence[GroundMotion], periods: np.ndarray) -> dict:
 
 
 def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | None = None,
-         *, periods=PERIODS) -> dict:
+         *, periods=PERIODS, paper: bool = True) -> dict:
     """Traces [g] and PSA spectra [g] of the ensemble and, optionally, of a comparison.
 
     Parameters
@@ -135,7 +143,8 @@ def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | N
         missing.append("no comparison ensemble of the other identification method")
     record = {"x_azimuth": first.get("x_azimuth"), "y_azimuth": first.get("y_azimuth"),
               "label": first.get("label", motions[0].name)}
-    return {"motions": out, "groups": groups, "periods": periods, "damping": DAMPING,
+    return {"paper": paper, "motions": out, "groups": groups, "periods": periods,
+            "damping": DAMPING,
             "record": record, "measured": measured, "missing": missing,
             "colors": motion_styles([m["name"] for m in out])}
 
@@ -239,8 +248,8 @@ def plot(d: dict) -> Figure:
                             fontweight="bold", annotation_clip=False)
     # one legend below the spectra: inside a panel it covers the curves somewhere
     fig.legend(*ax.get_legend_handles_labels(), loc="outside lower right", ncols=4, fontsize=7)
-    fig.suptitle(f"Ground motions of the ensemble (Fig 8): {rec['label']} and its synthetic "
-                 "RDK pairs")
+    fig.suptitle(f"Ground motions of the ensemble{paper_tag(d, 'Fig 8')}: {rec['label']} and "
+                 "its synthetic RDK pairs")
     return fig
 
 
@@ -253,9 +262,8 @@ def _is_el_centro(*names) -> bool:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    found = {k: v for k, v in notes.items() if k.startswith("fig08_motions")}
     rows = []
-    for key, d in found.items():
+    for key, d in notes_of(notes, "fig08_motions"):
         m = d.get("measured", {})
         ens = key.removeprefix("fig08_motions").strip("_") or "ensemble"
         angle = m.get("principal_offset_deg")

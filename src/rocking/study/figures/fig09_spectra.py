@@ -27,11 +27,14 @@ from ._style import (
     limit_state_title,
     motion_styles,
     new_figure,
+    paper_tag,
     pga_g_axis,
+    r_axis,
     styled,
     suptitle_and_notes,
+    unresolved_suffix,
 )
-from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
+from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
 DAMPED = "3d-damped"
 """The damped mode, drawn beside the undamped "3d" where the study ran it."""
@@ -41,8 +44,10 @@ DAMPING_NOTE = "damping|"
 
 
 def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None,
-         modes: tuple[str, ...] | None = None, motions: str | Path | None = None) -> dict:
-    """Arrays of Fig 9 from the store and the aggregate.
+         modes: tuple[str, ...] | None = None, motions: str | Path | None = None,
+         paper: bool = True) -> dict:
+    """Arrays of Fig 9 from the store and the aggregate (``paper``: a reproduction of the
+    paper, whose title names the paper's figure).
 
     Parameters
     ----------
@@ -108,6 +113,8 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         "colors": motion_styles(motion_names, _load.labels(ds, "source_record") or None),
         "axes": _axes.from_ensemble(motions),
         "missing": sorted(set(missing)),
+        "paper": paper,
+        "title": _load.ensemble_title(dict(ds.attrs), Path(str(store)).parent.name),
     }
 
 
@@ -221,9 +228,10 @@ def plot(d: dict) -> Figure:
         if damped:
             _difference_panel(axes[1][col], d, panel, colors)
     modes = d.get("modes", ["3d", DAMPED])
-    styles = "; solid undamped, dashed damped" if damped else (
+    styles = "\nsolid undamped, dashed damped" if damped else (
         f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
-    title = f"Performance spectra, tan α = {d['tan_alpha']:g} (Fig 9){styles}"
+    title = (f"Performance spectra per motion, {d.get('title', 'ensemble')}, tan α = "
+             f"{d['tan_alpha']:g}{paper_tag(d, 'Fig 9')}{styles}")
     suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
                         "(vector), normalized by g tan α.")
     return fig
@@ -237,24 +245,28 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
     for mode, y in panel["means"].items():
         ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
                 label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
-    flagged = False
-    for mode, flags in panel.get("unresolved", {}).items():
-        for motion, f in flags.items():
-            y = panel["curves"][mode][motion]
-            ax.plot(d["R"][f], y[f], "o", mfc="none", mec=colors[motion], ms=6, mew=1.0)
-            flagged = True
+    # resolution in the legend: per motion, how many of its answers are flagged unresolved
+    counts = {m: sum(int(np.sum(f[m])) for f in panel.get("unresolved", {}).values() if m in f)
+              for m in d["motions"]}
+    n_points = {m: sum(int(np.isfinite(c[m]).sum()) for c in panel["curves"].values() if m in c)
+                for m in d["motions"]}
     ax.set_title(limit_state_title(panel["limit_state"]))
     ax.set_ylabel("PGA/(g tan α) [-]")
-    ax.set_xlim(left=0.0)
-    ax.set_ylim(bottom=0.0)
+    r_axis(ax, d["R"], label=DAMPED not in d.get("modes", ()))
     pga_g_axis(ax, d["tan_alpha"])
-    handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"])
+    handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"]
+                      + unresolved_suffix(counts[m], n_points[m]))
                for m in d["motions"]]
-    if flagged:
-        handles.append(Line2D([], [], ls="", marker="o", mfc="none", mec="0.3", ms=6,
-                              label="unresolved: may lie lower"))
-    ax.legend(handles=ax.get_legend_handles_labels()[0] + handles, loc="upper left",
-              ncols=2 if len(handles) > 6 else 1, fontsize=6.5)
+    handles = ax.get_legend_handles_labels()[0] + handles
+    ncols = 2 if len(handles) > 6 else 1
+    # room above the data for the legend (about 6 % of the panel per legend row)
+    top = max((float(np.nanmax(y)) for c in panel["curves"].values() for y in c.values()
+               if np.isfinite(y).any()), default=1.0)
+    rows = -(-len(handles) // ncols) + bool(any(counts.values()))
+    ax.set_ylim(0.0, top / max(0.35, 1.0 - 0.065 * rows))
+    ax.legend(handles=handles, loc="upper left", ncols=ncols, fontsize=6.5,
+              title="unresolved: the answer may lie lower" if any(counts.values()) else None,
+              title_fontsize=6.5)
 
 
 def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
@@ -282,7 +294,7 @@ def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig09_spectra", {}).get("measured", {})
+    m = first_notes(notes, "fig09_spectra").get("measured", {})
     rows = []
     for key, eff in m.items():
         if not key.startswith(DAMPING_NOTE):

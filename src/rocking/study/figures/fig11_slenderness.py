@@ -15,8 +15,16 @@ from matplotlib.figure import Figure
 
 from ...spectra.fragility import fit_line
 from . import _axes, _load
-from ._style import MODE_STYLE, limit_state_title, new_figure, styled, suptitle_and_notes
-from .comparisons import NOT_COMPUTED, Comparison, finite, fmt, judged
+from ._style import (
+    MODE_STYLE,
+    limit_state_title,
+    new_figure,
+    paper_tag,
+    r_axis,
+    styled,
+    suptitle_and_notes,
+)
+from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
 PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)
 """The slendernesses of the paper's Fig 11."""
@@ -65,7 +73,9 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] | None = None,
         missing.append("tan α = " + ", ".join(f"{t:g}" for t in absent) + " not computed")
     R = agg["R"].values.astype(float)
     return {"R": R, "panels": panels, "mode": mode, "missing": missing,
-            "measured": measurements(R, panels), "axes": _axes.from_ensemble(motions)}
+            "measured": measurements(R, panels), "axes": _axes.from_ensemble(motions),
+            "paper": paper, "title": _load.ensemble_title(dict(agg.attrs),
+                                                          Path(str(means)).parent.name)}
 
 
 def measurements(R: np.ndarray, panels: list[dict]) -> dict:
@@ -97,13 +107,13 @@ def plot(d: dict) -> Figure:
             color, marker = STYLES.get(t, (f"C{i % 10}", "d"))
             ax.plot(d["R"], y, color=color, lw=1.6, marker=marker, ms=3.5, label=f"tan α = {t:g}")
         ax.set_title(limit_state_title(panel["limit_state"]))
-        ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-]")
-        ax.set_xlim(left=0.0)
+        r_axis(ax, d["R"])
         ax.set_ylim(bottom=0.0)
         ax.legend(loc="upper left")
     suptitle_and_notes(
-        fig, d, f"Mean spectra per slenderness, {MODE_STYLE[d['mode']]['label']} model (Fig 11)")
+        fig, d, f"Mean spectra per slenderness, {d.get('title', 'ensemble')},\n"
+        f"{MODE_STYLE[d['mode']]['label']} model{paper_tag(d, 'Fig 11')}")
     return fig
 
 
@@ -112,7 +122,7 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig11_slenderness", {}).get("measured", {})
+    m = first_notes(notes, "fig11_slenderness").get("measured", {})
     rows = []
     for key, t in m.items():
         if not key.startswith(TAN_ALPHAS_NOTE):

@@ -26,14 +26,15 @@ from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
-    UNRESOLVED_LABEL,
     footnote,
     limit_state_title,
+    paper_tag,
     pga_g_axis,
+    r_axis,
     styled,
     with_legend_row,
 )
-from .comparisons import Comparison, finite, fmt, judged
+from .comparisons import Comparison, finite, first_notes, fmt, judged
 
 MODES = ("3d", "2d-x", "2d-y")
 REFERENCE_R = 10.0
@@ -183,6 +184,27 @@ def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
     return np.zeros(shape, bool)
 
 
+MODE_MARKERS = {"3d": "o", "2d-x": "s", "2d-y": "^"}
+"""Small markers per mode, so that line styles stay readable where curves cross."""
+
+
+def _write_ratios(ax, R: np.ndarray, curves: dict, color) -> None:
+    """Write 2D/3D at the largest R where both are finite, at the right end of each 2D curve."""
+    base = curves.get("3d")
+    if base is None:
+        return
+    for mode in ("2d-x", "2d-y"):
+        y = curves.get(mode)
+        if y is None:
+            continue
+        ok = np.isfinite(y) & np.isfinite(base)
+        if not ok.any():
+            continue
+        i = int(np.flatnonzero(ok)[-1])
+        ax.annotate(f"×{y[i] / base[i]:.2f} ({mode[-1]})", (R[i], y[i]), xytext=(4, 0),
+                    textcoords="offset points", color=color, fontsize=6.5, va="center")
+
+
 @styled
 def plot(d: dict) -> Figure:
     """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
@@ -191,7 +213,7 @@ def plot(d: dict) -> Figure:
                                             ncols=len(titles), legend_share=0.22)
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
-    unresolved = False  # any mean over answers flagged unresolved
+    unresolved: list[str] = []  # curves with means over answers flagged unresolved
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
@@ -201,41 +223,49 @@ def plot(d: dict) -> Figure:
                               label="\n".join(textwrap.wrap(label, 48))))
         notes.append(f"{ens['record']}: {ens['axes']['text']}.")
         for ax, title in zip(axes, titles, strict=True):
-            for mode, y in ens["panels"].get(title, {}).items():
-                ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.6,
-                        marker="o", ms=3, label=f"{label}: {MODE_LABELS.get(mode, mode)}")
+            curves = ens["panels"].get(title, {})
+            for mode, y in curves.items():
+                ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.4,
+                        marker=MODE_MARKERS.get(mode, "o"), ms=2.5,
+                        label=f"{label}: {MODE_LABELS.get(mode, mode)}")
                 few = fewer_motions(ens, title, mode)
                 if few.any():  # the mean leaves out motions not reached at the search bound
                     partial = True
-                    ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.2)
+                    ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.0,
+                            zorder=1)
                 flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_unresolved")
                 if flagged is not None and (np.nan_to_num(flagged) > 0).any():
-                    unresolved = True  # answers narrower windows may undercut: mean may be lower
-                    f = np.nan_to_num(flagged) > 0
-                    ax.plot(ens["R"][f], y[f], "D", ms=4.5, mfc="none", mec=color, mew=1.0)
+                    k = int((np.nan_to_num(flagged) > 0).sum())  # counted, not ringed
+                    unresolved.append(f"{ens['record']} {MODE_STYLE[mode]['label']} "
+                                      f"{title}: {k} of {int(np.isfinite(y).sum())}")
                 if mode not in modes_seen:
                     modes_seen.append(mode)
-    handles += [Line2D([], [], color="gray", lw=1.6, ls=MODE_STYLE[m]["linestyle"],
-                       label=MODE_LABELS.get(m, m)) for m in modes_seen]
+            _write_ratios(ax, ens["R"], curves, color)
+    handles += [Line2D([], [], color="gray", lw=1.4, ls=MODE_STYLE[m]["linestyle"],
+                       marker=MODE_MARKERS.get(m, "o"), ms=2.5, label=MODE_LABELS.get(m, m))
+                for m in modes_seen]
     if partial:
         handles.append(Line2D([], [], ls="", marker="o", ms=7, mfc="white", mec="gray",
                               label="open marker: mean over fewer motions than the ensemble\n"
                                     "(the others not reached at the search bound)"))
+    handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"))
     if unresolved:
-        handles.append(Line2D([], [], ls="", marker="D", ms=4.5, mfc="none", mec="gray",
-                              label=UNRESOLVED_LABEL))
+        notes.append("Means over answers flagged unresolved (they may lie lower), sizes R: "
+                     + "; ".join(unresolved) + ".")
     for ax, title in zip(axes, titles, strict=True):
         ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
                      if title in ("overturning", "excessive tilt") else title)
-        ax.set_xlabel("R [m]")
         ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
-        ax.set_xlim(left=0.0)
+        r_axis(ax, np.concatenate([e["R"] for e in d["ensembles"]] or [np.zeros(0)]))
+        left, right = ax.get_xlim()
+        ax.set_xlim(left, right + 0.1 * (right - left))  # room for the ratios written
         ax.set_ylim(0.0, ax.get_ylim()[1])  # the data's own top: the legend sits below
         pga_g_axis(ax, d["tan_alpha"])
     if handles:
         # One legend for both panels, in a row below them: colours are ensembles, styles are modes.
         legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7)
-    title = f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g} (Fig 12)"
+    title = (f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g}"
+             f"{paper_tag({'paper': d.get('reproduction', True)}, 'Fig 12')}")
     if d["missing"]:
         if d.get("reproduction", True):
             title += "\nreduced run: not everything the paper shows was computed (note below)"
@@ -252,7 +282,7 @@ def plot(d: dict) -> Figure:
 
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes."""
-    m = notes.get("fig12_2d_vs_3d", {}).get("measured", {})
+    m = first_notes(notes, "fig12_2d_vs_3d").get("measured", {})
     R = m.get("R", 10.0)
     names = sorted({k.split("|")[0] for k in m if k.count("|") >= 2})
     centro = next((n for n in names if "centro" in (n + m.get(f"{n}|label", "")).lower()), None)

@@ -104,7 +104,8 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float | None = 
             c["p"] = stats.norm.cdf(np.log(im / c["median"]) / c["beta"])
         panels.append({"limit_state": ls, "curves": curves})
     return {"panels": panels, "mode": mode, "tan_alpha": tan_alpha, "missing": missing,
-            "axes": axes, "record": record, "stand_in": stand_in, "upper": upper}
+            "axes": axes, "record": record, "stand_in": stand_in, "upper": upper,
+            "title": _load.ensemble_title(dict(ds.attrs), Path(str(store)).parent.name)}
 
 
 @styled
@@ -139,9 +140,10 @@ def plot(d: dict) -> Figure:
     else:
         axes[0].text(0.5, 0.5, "; ".join(d["missing"]), ha="center", transform=axes[0].transAxes)
     record = d.get("record", "")
-    who = f"{record}{' (stand-in)' if d.get('stand_in') and 'stand-in' not in record else ''}"
+    who = d.get("title") or (
+        f"{record}{' (stand-in)' if d.get('stand_in') and 'stand-in' not in record else ''}")
     bound = f"; search bound {d['upper']:g}" if d.get("upper") else ""
-    title = (f"Fragility curves, {who}{'' if who.startswith('suite ') else ' ensemble'}\n"
+    title = (f"Fragility curves, {who}\n"
              f"{MODE_STYLE.get(d['mode'], {}).get('label', d['mode'])} model, "
              f"tan α = {d['tan_alpha']:g}{bound}; medians {MEDIAN_SYMBOL} and dispersions β "
              "in the report's table")
