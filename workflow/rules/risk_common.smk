@@ -52,14 +52,15 @@ def stripe_fragility_csv(study):
 
 def risk_targets():
     """Exports, risk table and figure of every study with a hazard (and the stripe
-    fragility's exports where the study declares stripes)."""
+    fragility's exports where the study declares stripes in PGA: the NRML and pelicun
+    exports are functions of PGA; stripes in Sa(T) reach risk.csv only)."""
     out = []
     for s in risk_studies():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
         out += figure_files(out_path(f"{s}/figures/risk"))
-        if has_stripes(s):
+        if has_stripes(s) and study_spec(s).stripes.measure == "pga":
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out
