@@ -223,7 +223,7 @@ def test_damped_model_dissipates_a_squat_cylinders_rocking_at_the_first_quasi_im
                              omega_n=omega_n, zeta=zeta)
         assert res.status is Status.OK and res.extras["n_tension"] == 0
         e_rock = (0.5 * cyl.R**2 * (cyl.kappa_o * res.theta_dot**2
-                                    + cyl.mu(res.theta) * res.phi_dot**2)
+                                    + cyl.spin_inertia(res.theta) * res.phi_dot**2)
                   + G * cyl.R * (np.cos(a - res.theta) - np.cos(a)))
         t1 = res.quasi_impacts.t[0]
         i = np.searchsorted(res.t, t1 + 20.0 / omega_n)

@@ -2,7 +2,7 @@
 
 Equations of motion (docs/equations.md, "3D undamped model")::
 
-    θ̈ = −p² [sin(α − θ) + cos(α − θ) a_r/g] + μ'(θ) φ̇²/(2 κo)
+    θ̈ = −p² [(1 + a_z/g) sin(α − θ) + cos(α − θ) a_r/g] + μ'(θ) φ̇²/(2 κo)
     d/dt [μ(θ) φ̇] = (sin α + sin(θ − α)) a_t / R
 
 The second line is the φ equation multiplied by μ(θ): μφ̈ + μ'θ̇φ̇ is the derivative of the
@@ -10,7 +10,8 @@ spin momentum L = μ(θ)φ̇. The kernel integrates the state (θ, φ, θ̇, L) 
 (θ, φ, θ̇, φ̇) because L is smooth where φ̇ is not: in a quasi-impact θ drops to 1e-9 … 1e-11
 rad and φ̇ = L/μ(θ) ≈ L/(κt θ²) spikes to 1e8 … 1e9 rad/s, while L only changes through the
 ground acceleration (and not at all in free vibration, so the spin momentum is conserved to
-round-off). Inputs and outputs use (θ, φ, θ̇, φ̇). Differences of nearly equal numbers are
+round-off). The vertical ground acceleration a_z (positive up) only changes gravity to g + a_z
+(docs/equations.md, "Vertical ground motion"). Inputs and outputs use (θ, φ, θ̇, φ̇). Differences of nearly equal numbers are
 written cancellation-free: sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2) and μ from
 :mod:`.inertia`.
 
@@ -63,11 +64,13 @@ def to_state(body: Cylinder, y: np.ndarray) -> np.ndarray:
 
 @njit(cache=True, error_model="numpy")
 def rhs(tau, y, P, F, out):
-    """Right-hand side for the state (θ, φ, θ̇, L), ground acceleration F[0:2] + F[2:4] τ."""
+    """Right-hand side for the state (θ, φ, θ̇, L), ground acceleration F[0:2] + F[2:4] τ,
+    vertical F[4] + F[5] τ."""
     th, ph, thd, L = y[0], y[1], y[2], y[3]
     p2, s, c, kap, R, g = P[1], P[2], P[3], P[4], P[5], P[6]
     axg = F[0] + F[2] * tau
     ayg = F[1] + F[3] * tau
+    gr = 1.0 + (F[4] + F[5] * tau) / g  # (g + a_z)/g: exactly 1 without vertical motion
     st = math.sin(th)
     ct = math.cos(th)
     sh = math.sin(0.5 * th)
@@ -82,10 +85,51 @@ def rhs(tau, y, P, F, out):
     cam = c * ct + s * st  # cos(α − θ)
     out[0] = thd
     out[1] = phd
-    out[2] = -p2 * (sam + cam * a_r / g) + inertia.mu_prime_of(st, ct, omc, s, c) * phd * phd / (
+    out[2] = -p2 * (gr * sam + cam * a_r / g) + inertia.mu_prime_of(st, ct, omc, s, c) * phd * phd / (
         2.0 * kap)
     # sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2)
     out[3] = 2.0 * (c * ch + s * sh) * sh * a_t / R
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def support_force(th, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
+    """The force the support supplies, per unit weight (shared by the undamped and damped
+    3D models): ``cf = (N, |F_h|)`` with N from gravity, the vertical ground motion and the
+    centre of mass's vertical acceleration.
+
+    The centre of mass is at r_S = ρ(θ)(cos φ, sin φ, 0) + (0, 0, R cos(α − θ)) relative to
+    the ground (docs/equations.md, "Kinematics and Lagrangian"), ρ = R(sin α − sin(α − θ)),
+    ρ' = R cos(α − θ), ρ'' = R sin(α − θ); its acceleration along (cos φ, sin φ), along
+    (−sin φ, cos φ) and up is ρ'θ̈ + ρ''θ̇² − ρφ̇², ρφ̈ + 2ρ'θ̇φ̇ and
+    R sin(α − θ)θ̈ − R cos(α − θ)θ̇². Contact force = m (a_ground + r̈_S) + m g ẑ
+    (docs/equations.md, "Validity monitors"). ``s``, ``c`` are sin α, cos α.
+    """
+    st, ct = math.sin(th), math.cos(th)
+    sh, ch = math.sin(0.5 * th), math.cos(0.5 * th)
+    sam = s * ct - c * st
+    cam = c * ct + s * st
+    rho = 2.0 * R * sh * (c * ch + s * sh)  # R(sin α − sin(α − θ)) without cancellation
+    cph, sph = math.cos(ph), math.sin(ph)
+    axg = F[0] + F[2] * tau
+    ayg = F[1] + F[3] * tau
+    a_rad = axg * cph + ayg * sph + R * (cam * thdd + sam * thd * thd) - rho * phd * phd
+    a_tan = ayg * cph - axg * sph + rho * phdd + 2.0 * R * cam * thd * phd
+    cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
+    cf[1] = math.hypot(a_rad, a_tan) / g
+
+
+@njit(cache=True, error_model="numpy")
+def contact(tau, y, f, P, F, cf):
+    """Support force (N, |F_h|) per unit weight of the state (θ, φ, θ̇, L) with derivative
+    ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ)."""
+    th = y[0]
+    s, c = P[2], P[3]
+    st, ct = math.sin(th), math.cos(th)
+    omc = inertia.one_minus_cos(th)
+    mu_ = inertia.mu_of(st, omc, s, c)
+    phd = f[1]
+    phdd = (f[3] - inertia.mu_prime_of(st, ct, omc, s, c) * y[2] * phd) / mu_
+    support_force(th, y[1], y[2], phd, f[2], phdd, s, c, P[5], P[6], F, tau, cf)
 
 
 @njit(cache=True, error_model="numpy")
@@ -115,7 +159,7 @@ def rocking_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, driver.no_factor, driver.no_solve, rk_step, run)
+                            driver.no_observe, contact, driver.no_factor, driver.no_solve, rk_step, run)
 
 
 def energy(body: Cylinder, theta, theta_dot, phi_dot):
