@@ -11,9 +11,9 @@ spin momentum L = μ(θ)φ̇. The kernel integrates the state (θ, φ, θ̇, L) 
 rad and φ̇ = L/μ(θ) ≈ L/(κt θ²) spikes to 1e8 … 1e9 rad/s, while L only changes through the
 ground acceleration (and not at all in free vibration, so the spin momentum is conserved to
 round-off). The vertical ground acceleration a_z (positive up) only changes gravity to g + a_z
-(docs/equations.md, "Vertical ground motion"). Inputs and outputs use (θ, φ, θ̇, φ̇). Differences of nearly equal numbers are
-written cancellation-free: sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2) and μ from
-:mod:`.inertia`.
+(docs/equations.md, "Vertical ground motion"). Inputs and outputs use (θ, φ, θ̇, φ̇).
+Differences of nearly equal numbers are written cancellation-free:
+sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2) and μ from :mod:`.inertia`.
 
 Error control (:func:`tolerances`) is relative on θ (no absolute floor: a tolerance like
 1e-6 rad on θ would be meaningless at θ = 1e-11); θ ≤ 0 at a step end is a rejected step,
@@ -85,8 +85,8 @@ def rhs(tau, y, P, F, out):
     cam = c * ct + s * st  # cos(α − θ)
     out[0] = thd
     out[1] = phd
-    out[2] = -p2 * (gr * sam + cam * a_r / g) + inertia.mu_prime_of(st, ct, omc, s, c) * phd * phd / (
-        2.0 * kap)
+    out[2] = -p2 * (gr * sam + cam * a_r / g) \
+        + inertia.mu_prime_of(st, ct, omc, s, c) * phd * phd / (2.0 * kap)
     # sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2)
     out[3] = 2.0 * (c * ch + s * sh) * sh * a_t / R
 
@@ -159,7 +159,8 @@ def rocking_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, contact, driver.no_factor, driver.no_solve, rk_step, run)
+                            driver.no_observe, contact, driver.no_factor, driver.no_solve,
+                            rk_step, run)
 
 
 def energy(body: Cylinder, theta, theta_dot, phi_dot):

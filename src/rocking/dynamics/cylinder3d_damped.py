@@ -65,8 +65,8 @@ from .._validate import nonnegative_finite, positive_finite
 from ..constants import G
 from . import driver, inertia
 from ._rosenbrock import ros_step
-from .cylinder3d import support_force
 from .bodies import Cylinder
+from .cylinder3d import support_force
 
 STATE = ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
 """Output state; the kernel state appends the dissipated energy D."""
@@ -341,7 +341,8 @@ def total_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, total_energy, output,
-                            observe, contact, factor, solve, ros_step, run)
+                            observe, contact, factor, solve,
+                            ros_step, run)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -361,6 +362,7 @@ def energy(cylinder: Cylinder, y: np.ndarray, omega_n: float, g: float = G) -> n
     y = np.asarray(y, dtype=float)
     th, thd, phd, w, wd = y[..., 0], y[..., 3], y[..., 4], y[..., 2], y[..., 5]
     R, a = cylinder.R, cylinder.alpha
-    kin = 0.5 * (R * R * cylinder.kappa_o * thd**2 + R * R * cylinder.spin_inertia(th) * phd**2 + wd**2
+    kin = 0.5 * (R * R * cylinder.kappa_o * thd**2
+                 + R * R * cylinder.spin_inertia(th) * phd**2 + wd**2
                  + 2.0 * R * np.sin(a - th) * thd * wd)
     return kin + g * R * np.cos(a - th) + 0.5 * omega_n**2 * w**2

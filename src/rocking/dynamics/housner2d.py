@@ -113,7 +113,8 @@ def rocking_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, contact, driver.no_factor, driver.no_solve, rk_step, run)
+                            driver.no_observe, contact, driver.no_factor, driver.no_solve,
+                            rk_step, run)
 
 
 def restitution_extras(body: Block | Cylinder) -> dict:
