@@ -28,9 +28,10 @@ EXAMPLES = """\
       --motion el-centro-1940-rdk-000 --mode 3d-damped -o run"""
 
 HISTORY_COLUMNS = {
-    "3d": ("t", "theta", "theta_dot", "phi", "phi_dot"),
-    "3d-damped": ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot", "contact_force"),
-    "2d": ("t", "theta", "theta_dot"),
+    "3d": ("t", "theta", "theta_dot", "phi", "phi_dot", "normal_force", "mu_required"),
+    "3d-damped": ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot", "contact_force",
+                  "normal_force", "mu_required"),
+    "2d": ("t", "theta", "theta_dot", "normal_force", "mu_required"),
 }
 """Columns of history.csv per dynamics model (the 2D model has no phi, w)."""
 
@@ -55,6 +56,12 @@ def add_parser(subparsers) -> None:
     p.add_argument("--stop-at", type=float, default=None, help="stop once |theta| > this [rad]")
     p.add_argument("--omega-n", type=float, default=2000.0,
                    help="contact spring frequency of mode 3d-damped [rad/s]")
+    p.add_argument("--mu", type=float, default=None,
+                   help="friction coefficient of the support [-], > 0: the summary says "
+                   "whether the body needed more (slides)")
+    p.add_argument("--vertical", action="store_true",
+                   help="with --record: include its vertical component (UP/DWN file); three "
+                   "--files (x y z) imply it")
     p.add_argument("--zeta", type=float, default=5.0,
                    help="contact damping ratio of mode 3d-damped [-]")
     fv = p.add_argument_group("free vibration (when no ground motion is given)")
@@ -107,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     if args.body == "block" and model != "2d":
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
                          f"got --mode {args.mode}")
-    body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha)
+    body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha, mu=args.mu)
     common = dict(rtol=args.rtol, omega_n=args.omega_n, zeta=args.zeta)
     motion = _common.motion_from_args(args)
     out = Path(args.out)
@@ -193,5 +200,8 @@ SUMMARY_UNITS = {
     "restitution": "- (theta_dot after / before an impact)",
     "dissipated": "J/kg (energy dissipated by the contact dashpot, per unit mass)",
     "contact_force_min": "N/kg (smallest normal contact force per unit mass)",
+    "normal_force_min": "m g (smallest normal force the support supplies; < 0: lift-off)",
+    "t_normal_force_min": "s", "t_mu_required_max": "s", "mu": "-",
+    "mu_required_max": "- (largest friction coefficient the body needs, |F|/N)",
 }
 """Units of the summary fields (``summary.json`` → ``units``)."""
