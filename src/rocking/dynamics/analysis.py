@@ -267,6 +267,7 @@ class _Unscaled(NamedTuple):
     reserve: np.ndarray  # _reserve_of(|a_g|, dt), |a_g| with the vertical component if any
     unidirectional: bool
     az: np.ndarray | None  # vertical component (None: none, or identically zero)
+    zeros: np.ndarray  # the kernels' vertical input without one
 
 
 _UNSCALED: dict[tuple[int, bool, bool], _Unscaled] = {}
@@ -290,7 +291,8 @@ def _unscaled(motion: GroundMotion, planar: bool, vertical: bool = False) -> _Un
             _UNSCALED.pop(next(iter(_UNSCALED)))
         hit = _UNSCALED[key] = _Unscaled(motion.ax, motion.ay, motion.dt, a,
                                          _reserve_of(a_g, motion.dt),
-                                         motion.is_unidirectional, az)
+                                         motion.is_unidirectional, az,
+                                         np.zeros(motion.npts))
     return hit
 
 
@@ -347,12 +349,27 @@ class _Runner:
 
 # ----------------------------------------------------------------------------- assembly
 class _Ground(NamedTuple):
-    """The scaled ground motion an analysis runs on (for the monitors at rest)."""
+    """The ground motion an analysis runs on, for the monitors at rest: the scaled
+    components and the unscaled |a_h| (:class:`_Unscaled`) with the scale."""
 
     ax: np.ndarray
     ay: np.ndarray
     az: np.ndarray | None
     dt: float
+    a: np.ndarray
+    scale: float
+
+    def at(self, t: float) -> tuple[float, float]:
+        """(N, μ_req) of the body at rest at time ``t`` [s] (linear between samples)."""
+        n = self.ax.size
+        k = min(max(int(t // self.dt), 0), n - 2)
+        f = t / self.dt - k
+        hx = self.ax[k] + (self.ax[k + 1] - self.ax[k]) * f
+        hy = self.ay[k] + (self.ay[k + 1] - self.ay[k]) * f
+        nf = 1.0
+        if self.az is not None:
+            nf += (self.az[k] + (self.az[k + 1] - self.az[k]) * f) / G
+        return nf, (math.hypot(hx, hy) / (G * nf) if nf > 0.0 else math.inf)
 
 
 class _Acc:
@@ -415,24 +432,30 @@ class _Acc:
                 self.y.append(np.zeros((2, self.width + 2)))
             return
         gr = self.ground
-        tk = np.arange(gr.ax.size) * gr.dt
-        inside = np.flatnonzero((tk >= t0) & (tk <= t1))
-        ts = np.concatenate(([t0], tk[inside], [t1]))
-        ah = np.hypot(np.interp(ts, tk, gr.ax), np.interp(ts, tk, gr.ay))
-        nf = 1.0 + (np.interp(ts, tk, gr.az) / G if gr.az is not None else 0.0)
-        nf = np.broadcast_to(nf, ts.shape)
-        with np.errstate(divide="ignore"):
-            mu = np.where(nf > 0.0, ah / (G * nf), math.inf)
-        i = int(np.argmin(nf))
-        held = np.flatnonzero(nf > 0.0)
-        j = int(held[np.argmax(mu[held])]) if held.size else i
-        self._monitor(float(nf[i]), float(ts[i]), float(mu[j]) if held.size else 0.0,
-                      float(ts[j]))
+        n0, mu0 = gr.at(t0)
+        n1, mu1 = gr.at(t1)
+        self._monitor(n0, t0, mu0 if n0 > 0.0 else 0.0, t0)
+        self._monitor(n1, t1, mu1 if n1 > 0.0 else 0.0, t1)
+        i0 = int(math.ceil(t0 / gr.dt))
+        i1 = min(int(t1 // gr.dt), gr.ax.size - 1)
+        if i1 >= i0:  # the record samples inside the stretch
+            if gr.az is None:  # N = 1: μ_req is largest where |a_h| is
+                top = gr.scale * float(gr.a[i0:i1 + 1].max()) / G
+                if top > self.mu_max:  # its time only when it is a new maximum
+                    j = i0 + int(gr.a[i0:i1 + 1].argmax())
+                    self._monitor(1.0, t0, top, j * gr.dt)
+            else:
+                nf = 1.0 + gr.az[i0:i1 + 1] / G
+                i = int(np.argmin(nf))
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    mu = np.where(nf > 0.0, gr.scale * gr.a[i0:i1 + 1] / (G * nf), 0.0)
+                j = int(np.argmax(mu))
+                self._monitor(float(nf[i]), (i0 + i) * gr.dt, float(mu[j]), (i0 + j) * gr.dt)
         if self.history:
             self.t.append(np.array([t0, t1]))
             rows = np.zeros((2, self.width + 2))
-            rows[:, self.width] = nf[[0, -1]]
-            rows[:, self.width + 1] = mu[[0, -1]]
+            rows[:, self.width] = (n0, n1)
+            rows[:, self.width + 1] = (mu0, mu1)
             self.y.append(rows)
 
     def arrays(self):
@@ -690,7 +713,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
     az = None if unscaled.az is None else unscaled.az * scale
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
-    acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt))
+    acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt, unscaled.a, scale))
     if model == "2d":  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
     threshold = G * body.tan_alpha
@@ -700,7 +723,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     quiet = (_mark_liftable(scale * unscaled.reserve, above)
              if stop_when_decided and not history else None)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
-                                             threshold, stop_level, above, quiet, az)
+                                             threshold, stop_level, above, quiet, az,
+                                             unscaled.zeros)
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
         return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta, body)
@@ -712,7 +736,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
 
 
 def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level, above,
-              quiet=None, az=None):
+              quiet=None, az=None, zeros=None):
     """Rocking episodes: from each uplift until the body is back at rest, then the next one.
 
     ``above``: the samples where |a| > ``threshold``. ``quiet`` (:func:`energy_reserve`, or
@@ -736,7 +760,7 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
         acc.add_rest(t_rest, t_up)
         y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
         out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side, quiet=quiet,
-                     theta_before=acc.theta_max, az=az)
+                     theta_before=acc.theta_max, az=zeros if az is None else az)
         acc.add(out)
         code, t_stop = int(out.code), float(out.t_stop)
         if code != codes.AT_REST:

@@ -41,9 +41,9 @@ STATE = ("theta", "phi", "theta_dot", "phi_dot")
 
 
 def params(body: Cylinder) -> np.ndarray:
-    """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g]."""
+    """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g, 1/g]."""
     return np.array([1.0, G / (body.kappa_o * body.R), math.sin(body.alpha),
-                     math.cos(body.alpha), body.kappa_o, body.R, G])
+                     math.cos(body.alpha), body.kappa_o, body.R, G, 1.0 / G])
 
 
 def tolerances(body: Cylinder) -> tuple[np.ndarray, np.ndarray]:
@@ -70,7 +70,7 @@ def rhs(tau, y, P, F, out):
     p2, s, c, kap, R, g = P[1], P[2], P[3], P[4], P[5], P[6]
     axg = F[0] + F[2] * tau
     ayg = F[1] + F[3] * tau
-    gr = 1.0 + (F[4] + F[5] * tau) / g  # (g + a_z)/g: exactly 1 without vertical motion
+    gr = 1.0 + (F[4] + F[5] * tau) * P[7]  # (g + a_z)/g: exactly 1 without vertical motion
     st = math.sin(th)
     ct = math.cos(th)
     sh = math.sin(0.5 * th)
@@ -92,7 +92,7 @@ def rhs(tau, y, P, F, out):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def support_force(th, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
+def support_force(sh, ch, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
     """The force the support supplies, per unit weight (shared by the undamped and damped
     3D models): ``cf = (N, |F_h|)`` with N from gravity, the vertical ground motion and the
     centre of mass's vertical acceleration.
@@ -102,10 +102,12 @@ def support_force(th, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
     ρ' = R cos(α − θ), ρ'' = R sin(α − θ); its acceleration along (cos φ, sin φ), along
     (−sin φ, cos φ) and up is ρ'θ̈ + ρ''θ̇² − ρφ̇², ρφ̈ + 2ρ'θ̇φ̇ and
     R sin(α − θ)θ̈ − R cos(α − θ)θ̇². Contact force = m (a_ground + r̈_S) + m g ẑ
-    (docs/equations.md, "Validity monitors"). ``s``, ``c`` are sin α, cos α.
+    (docs/equations.md, "Validity monitors"). ``sh``, ``ch`` are sin(θ/2), cos(θ/2) (two
+    transcendental calls instead of four: this runs after every step), ``s``, ``c`` sin α,
+    cos α.
     """
-    st, ct = math.sin(th), math.cos(th)
-    sh, ch = math.sin(0.5 * th), math.cos(0.5 * th)
+    st = 2.0 * sh * ch
+    ct = 1.0 - 2.0 * sh * sh
     sam = s * ct - c * st
     cam = c * ct + s * st
     rho = 2.0 * R * sh * (c * ch + s * sh)  # R(sin α − sin(α − θ)) without cancellation
@@ -115,21 +117,21 @@ def support_force(th, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
     a_rad = axg * cph + ayg * sph + R * (cam * thdd + sam * thd * thd) - rho * phd * phd
     a_tan = ayg * cph - axg * sph + rho * phdd + 2.0 * R * cam * thd * phd
     cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
-    cf[1] = math.hypot(a_rad, a_tan) / g
+    cf[1] = math.sqrt(a_rad * a_rad + a_tan * a_tan) / g
 
 
 @njit(cache=True, error_model="numpy")
 def contact(tau, y, f, P, F, cf):
     """Support force (N, |F_h|) per unit weight of the state (θ, φ, θ̇, L) with derivative
     ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ)."""
-    th = y[0]
     s, c = P[2], P[3]
-    st, ct = math.sin(th), math.cos(th)
-    omc = inertia.one_minus_cos(th)
-    mu_ = inertia.mu_of(st, omc, s, c)
+    sh, ch = math.sin(0.5 * y[0]), math.cos(0.5 * y[0])
+    omc = 2.0 * sh * sh
+    st, ct = 2.0 * sh * ch, 1.0 - omc
     phd = f[1]
-    phdd = (f[3] - inertia.mu_prime_of(st, ct, omc, s, c) * y[2] * phd) / mu_
-    support_force(th, y[1], y[2], phd, f[2], phdd, s, c, P[5], P[6], F, tau, cf)
+    phdd = (f[3] - inertia.mu_prime_of(st, ct, omc, s, c) * y[2] * phd) \
+        / inertia.mu_of(st, omc, s, c)
+    support_force(sh, ch, y[1], y[2], phd, f[2], phdd, s, c, P[5], P[6], F, tau, cf)
 
 
 @njit(cache=True, error_model="numpy")

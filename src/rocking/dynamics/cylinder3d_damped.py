@@ -300,7 +300,8 @@ def contact(tau, y, f, P, F, cf):
     (:func:`contact`), the horizontal force from the centre of mass's acceleration as in
     the undamped model (:func:`rocking.dynamics.cylinder3d.support_force`; w moves S only
     vertically)."""
-    support_force(y[0], y[1], y[3], y[4], f[3], f[4], P[6], P[7], P[1], P[3], F, tau, cf)
+    sh, ch = math.sin(0.5 * y[0]), math.cos(0.5 * y[0])
+    support_force(sh, ch, y[1], y[3], y[4], f[3], f[4], P[6], P[7], P[1], P[3], F, tau, cf)
     cf[0] = contact_force_of(y, P) / P[3]
 
 

@@ -40,10 +40,10 @@ STATE = ("theta", "theta_dot")
 
 
 def params(body: Block | Cylinder, side: float = 1.0) -> np.ndarray:
-    """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R]."""
+    """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R, 1/g]."""
     return np.array([1.0 if side >= 0 else -1.0, G / (body.kappa_o * body.R),
                      math.sin(body.alpha), math.cos(body.alpha), G, body.e, body.kappa_o,
-                     body.R])
+                     body.R, 1.0 / G])
 
 
 def tolerances(body: Block | Cylinder) -> tuple[np.ndarray, np.ndarray]:
@@ -58,7 +58,7 @@ def rhs(tau, y, P, F, out):
     th = y[0]
     side, p2, s, c, g = P[0], P[1], P[2], P[3], P[4]
     a = F[0] + F[2] * tau
-    gr = 1.0 + (F[4] + F[5] * tau) / g  # (g + a_z)/g: exactly 1 without vertical motion
+    gr = 1.0 + (F[4] + F[5] * tau) * P[8]  # (g + a_z)/g: exactly 1 without vertical motion
     st = math.sin(th)
     ct = math.cos(th)
     sam = side * s * ct - c * st  # sin(α σ − θ)
