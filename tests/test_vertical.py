@@ -98,7 +98,7 @@ def test_free_rocking_support_force_matches_the_corner_closed_form():
     rate2 = 2.0 * (math.cos(body.alpha - th0) - np.cos(psi)) / k  # θ̇² R/g
     acc = -np.sin(psi) / k  # θ̈ R/g
     n_closed = 1.0 + np.sin(psi) * acc - np.cos(psi) * rate2
-    f_closed = -(np.cos(psi) * acc + np.sin(psi) * rate2)
+    f_closed = np.cos(psi) * acc + np.sin(psi) * rate2
     assert sel.sum() > 20
     np.testing.assert_allclose(r.normal_force[sel], n_closed, rtol=1e-8)
     np.testing.assert_allclose(r.mu_required[sel], np.abs(f_closed) / n_closed, rtol=1e-7,
@@ -113,15 +113,44 @@ def test_impact_impulse_ratio_is_the_momentum_change():
     b, h = body.b, body.h
     for t_imp, (th, thd) in zip(r.quasi_impacts.t, r.quasi_impacts.state, strict=True):
         assert th == 0.0
-        # the state before is on the pivot of the side it comes from; after, e θ̇ on the other
+        # before: on the corner (σb, 0) of the side it comes from; after, e θ̇ on the other.
+        # θ > 0 tilts towards +x (clockwise, ω = −θ̇); G − corner = (−σb, h)
         sigma = -math.copysign(1.0, thd)
         after = r.theta_dot[(r.t == t_imp)][-1]
-        v_before = thd * np.array([-h, sigma * b])  # ω ẑ × (G − corner), corner (−σb, 0)
-        v_after = after * np.array([-h, -sigma * b])
+
+        def v_g(rate, side):
+            return -rate * np.array([-h, -side * b])  # ω ẑ × (G − corner)
+
+        v_before, v_after = v_g(thd, sigma), v_g(after, -sigma)
         jx, jz = v_after - v_before
         assert jz > 0.0
         assert abs(jx) / jz == pytest.approx(impact_friction(body), rel=1e-9)
     assert r.mu_required_max >= impact_friction(body)
+
+
+def test_2d_support_force_under_ground_motion_matches_the_differentiated_centre():
+    ax, _, az, dt = _pulses(amp=2.4)
+    body = Block(1.0, 0.25)
+    m = GroundMotion(ax, None, dt, "v", az=az)
+    r = ground_response(body, m, model="2d", rtol=1e-11, free_tail=False)
+    assert r.uplifted and len(r.quasi_impacts) >= 2
+    from scipy.interpolate import CubicSpline
+
+    # between two impacts: one pivot, the corner (σb, 0); G at (σb − R sin ψ, R cos ψ)
+    t0, t1 = r.quasi_impacts.t[0], r.quasi_impacts.t[1]
+    sel = (r.t > t0) & (r.t < t1)
+    t, th = r.t[sel], r.theta[sel]
+    sigma = math.copysign(1.0, th[len(th) // 2])
+    psi = sigma * body.alpha - th
+    xg = sigma * body.b - body.R * np.sin(psi)
+    zg = body.R * np.cos(psi)
+    tu = np.linspace(t[3], t[-4], 2001)
+    gx = np.interp(tu, m.time, ax) + CubicSpline(t, xg)(tu, 2)
+    gz = np.interp(tu, m.time, az) + CubicSpline(t, zg)(tu, 2)
+    n_num = 1.0 + gz / G
+    np.testing.assert_allclose(np.interp(tu, t, r.normal_force[sel]), n_num, atol=2e-3)
+    np.testing.assert_allclose(np.interp(tu, t, r.mu_required[sel]), np.abs(gx) / G / n_num,
+                               atol=2e-3)
 
 
 # ----------------------------------------------------------------------------- 3D numerical

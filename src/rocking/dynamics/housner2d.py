@@ -79,10 +79,10 @@ def impact(y, P):
 def contact(tau, y, f, P, F, cf):
     """Support force per unit weight between impacts: ``cf = (N, |F|)``.
 
-    The centre of mass is at R(sin ψ, cos ψ) from the pivot, ψ = σα − θ, so its
-    acceleration relative to the ground is R(−cos ψ θ̈ − sin ψ θ̇², sin ψ θ̈ − cos ψ θ̇²);
-    the support supplies m (a_ground + that) + m g ẑ (docs/equations.md, "Validity
-    monitors")."""
+    The pivot is the corner (σb, 0) and the centre of mass is at R(−sin ψ, cos ψ) from it,
+    ψ = σα − θ (θ > 0 tilts towards +x, as a_x < 0 lifts the body), so its acceleration
+    relative to the ground is R(cos ψ θ̈ + sin ψ θ̇², sin ψ θ̈ − cos ψ θ̇²); the support
+    supplies m (a_ground + that) + m g ẑ (docs/equations.md, "Validity monitors")."""
     th, thd, thdd = y[0], y[1], f[1]
     side, s, c, g, R = P[0], P[2], P[3], P[4], P[7]
     st = math.sin(th)
@@ -90,7 +90,7 @@ def contact(tau, y, f, P, F, cf):
     sam = side * s * ct - c * st  # sin ψ
     cam = c * ct + side * s * st  # cos ψ
     cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
-    cf[1] = abs(F[0] + F[2] * tau - R * (cam * thdd + sam * thd * thd)) / g
+    cf[1] = abs(F[0] + F[2] * tau + R * (cam * thdd + sam * thd * thd)) / g
 
 
 @njit(cache=True, error_model="numpy")
@@ -130,9 +130,10 @@ def restitution_extras(body: Block | Cylinder) -> dict:
 def impact_friction(body: Block | Cylinder) -> float:
     """Friction an impact needs, |J_x|/J_z = (1 − e)/((1 + e) tan α) [-].
 
-    The impulse at the new corner is the change of momentum of the centre of mass: with
-    ω⁻ about the old corner and e ω⁻ about the new one, v_G jumps by
-    −θ̇⁻ [(e − 1) h, σ (e + 1) b] (docs/equations.md, "Validity monitors"). The ratio does
+    The impulse at the new corner is the change of momentum of the centre of mass: v_G =
+    θ̇ (h, σb) on the corner (σb, 0), so from θ̇⁻ about the old corner to e θ̇⁻ about the new
+    one v_G jumps by θ̇⁻ [(e − 1) h, −σ (1 + e) b] (docs/equations.md, "Validity
+    monitors"). The ratio does
     not depend on the impact's speed; e = 0 (squat body) gives 1/tan α.
     """
     return (1.0 - body.e) / ((1.0 + body.e) * body.tan_alpha)
