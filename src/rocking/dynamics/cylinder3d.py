@@ -41,9 +41,17 @@ STATE = ("theta", "phi", "theta_dot", "phi_dot")
 
 
 def params(body: Cylinder) -> np.ndarray:
-    """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g, 1/g]."""
-    return np.array([1.0, G / (body.kappa_o * body.R), math.sin(body.alpha),
-                     math.cos(body.alpha), body.kappa_o, body.R, G, 1.0 / G])
+    """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g, 1/g], then :data:`N_SCRATCH`
+    entries :func:`rhs` fills for :func:`contact`."""
+    return np.concatenate(([1.0, G / (body.kappa_o * body.R), math.sin(body.alpha),
+                            math.cos(body.alpha), body.kappa_o, body.R, G, 1.0 / G],
+                           np.zeros(N_SCRATCH)))
+
+
+N_SCRATCH = 10
+"""Entries after the parameters where :func:`rhs` leaves sin θ, cos θ, sin(θ/2), cos(θ/2),
+cos φ, sin φ, μ, μ', a_r, a_t of its last evaluation (:func:`contact` reads them: the
+monitors cost no trigonometry; nothing in :func:`rhs` reads them back)."""
 
 
 def tolerances(body: Cylinder) -> tuple[np.ndarray, np.ndarray]:
@@ -76,23 +84,27 @@ def rhs(tau, y, P, F, out):
     sh = math.sin(0.5 * th)
     ch = math.cos(0.5 * th)
     omc = 2.0 * sh * sh
-    phd = L / inertia.mu_of(st, omc, s, c)
+    mu_ = inertia.mu_of(st, omc, s, c)
+    phd = L / mu_
     cph = math.cos(ph)
     sph = math.sin(ph)
     a_r = axg * cph + ayg * sph
     a_t = axg * sph - ayg * cph
     sam = s * ct - c * st  # sin(α − θ)
     cam = c * ct + s * st  # cos(α − θ)
+    mup = inertia.mu_prime_of(st, ct, omc, s, c)
     out[0] = thd
     out[1] = phd
-    out[2] = -p2 * (gr * sam + cam * a_r / g) \
-        + inertia.mu_prime_of(st, ct, omc, s, c) * phd * phd / (2.0 * kap)
+    out[2] = -p2 * (gr * sam + cam * a_r / g) + mup * phd * phd / (2.0 * kap)
+    P[8], P[9], P[10], P[11], P[12] = st, ct, sh, ch, cph
+    P[13], P[14], P[15], P[16], P[17] = sph, mu_, mup, a_r, a_t
     # sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2)
     out[3] = 2.0 * (c * ch + s * sh) * sh * a_t / R
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def support_force(sh, ch, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
+def support_force(st, ct, sh, ch, cph, sph, a_r, a_t, thd, phd, thdd, phdd, s, c, R, g, F,
+                  tau, cf):
     """The force the support supplies, per unit weight (shared by the undamped and damped
     3D models): ``cf = (N, |F_h|)`` with N from gravity, the vertical ground motion and the
     centre of mass's vertical acceleration.
@@ -102,20 +114,15 @@ def support_force(sh, ch, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
     ρ' = R cos(α − θ), ρ'' = R sin(α − θ); its acceleration along (cos φ, sin φ), along
     (−sin φ, cos φ) and up is ρ'θ̈ + ρ''θ̇² − ρφ̇², ρφ̈ + 2ρ'θ̇φ̇ and
     R sin(α − θ)θ̈ − R cos(α − θ)θ̇². Contact force = m (a_ground + r̈_S) + m g ẑ
-    (docs/equations.md, "Validity monitors"). ``sh``, ``ch`` are sin(θ/2), cos(θ/2) (two
-    transcendental calls instead of four: this runs after every step), ``s``, ``c`` sin α,
-    cos α.
+    (docs/equations.md, "Validity monitors"). ``st``, ``ct``, ``sh``, ``ch``, ``cph``,
+    ``sph``: sin and cos of θ, θ/2 and φ; ``a_r``, ``a_t``: the horizontal ground
+    acceleration along and across the tilt (as in :func:`rhs`); ``s``, ``c``: sin α, cos α.
     """
-    st = 2.0 * sh * ch
-    ct = 1.0 - 2.0 * sh * sh
     sam = s * ct - c * st
     cam = c * ct + s * st
     rho = 2.0 * R * sh * (c * ch + s * sh)  # R(sin α − sin(α − θ)) without cancellation
-    cph, sph = math.cos(ph), math.sin(ph)
-    axg = F[0] + F[2] * tau
-    ayg = F[1] + F[3] * tau
-    a_rad = axg * cph + ayg * sph + R * (cam * thdd + sam * thd * thd) - rho * phd * phd
-    a_tan = ayg * cph - axg * sph + rho * phdd + 2.0 * R * cam * thd * phd
+    a_rad = a_r + R * (cam * thdd + sam * thd * thd) - rho * phd * phd
+    a_tan = -a_t + rho * phdd + 2.0 * R * cam * thd * phd
     cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
     cf[1] = math.sqrt(a_rad * a_rad + a_tan * a_tan) / g
 
@@ -123,15 +130,12 @@ def support_force(sh, ch, ph, thd, phd, thdd, phdd, s, c, R, g, F, tau, cf):
 @njit(cache=True, error_model="numpy")
 def contact(tau, y, f, P, F, cf):
     """Support force (N, |F_h|) per unit weight of the state (θ, φ, θ̇, L) with derivative
-    ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ)."""
-    s, c = P[2], P[3]
-    sh, ch = math.sin(0.5 * y[0]), math.cos(0.5 * y[0])
-    omc = 2.0 * sh * sh
-    st, ct = 2.0 * sh * ch, 1.0 - omc
+    ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ), from what :func:`rhs` left in
+    ``P[8:18]`` at ``y`` (the driver evaluates ``rhs`` at ``y`` just before)."""
     phd = f[1]
-    phdd = (f[3] - inertia.mu_prime_of(st, ct, omc, s, c) * y[2] * phd) \
-        / inertia.mu_of(st, omc, s, c)
-    support_force(sh, ch, y[1], y[2], phd, f[2], phdd, s, c, P[5], P[6], F, tau, cf)
+    phdd = (f[3] - P[15] * y[2] * phd) / P[14]
+    support_force(P[8], P[9], P[10], P[11], P[12], P[13], P[16], P[17], y[2], phd, f[2],
+                  phdd, P[2], P[3], P[5], P[6], F, tau, cf)
 
 
 @njit(cache=True, error_model="numpy")

@@ -300,8 +300,13 @@ def contact(tau, y, f, P, F, cf):
     (:func:`contact`), the horizontal force from the centre of mass's acceleration as in
     the undamped model (:func:`rocking.dynamics.cylinder3d.support_force`; w moves S only
     vertically)."""
-    sh, ch = math.sin(0.5 * y[0]), math.cos(0.5 * y[0])
-    support_force(sh, ch, y[1], y[3], y[4], f[3], f[4], P[6], P[7], P[1], P[3], F, tau, cf)
+    th, ph = y[0], y[1]
+    cph, sph = math.cos(ph), math.sin(ph)
+    axv = F[0] + F[2] * tau
+    ayv = F[1] + F[3] * tau
+    support_force(math.sin(th), math.cos(th), math.sin(0.5 * th), math.cos(0.5 * th), cph,
+                  sph, axv * cph + ayv * sph, axv * sph - ayv * cph, y[3], y[4], f[3], f[4],
+                  P[6], P[7], P[1], P[3], F, tau, cf)
     cf[0] = contact_force_of(y, P) / P[3]
 
 

@@ -20,7 +20,9 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
 - ``observe(y, P, diag)``: bookkeeping after each accepted step (e.g. contact force);
 - ``contact(tau, y, f, P, F, cf)``: the force the support supplies, from the state ``y``
   and its derivative ``f``: ``cf = (N, |F_h|)`` in units of the weight m g (the validity
-  monitors: N < 0 is lift-off, μ_req = |F_h|/N the friction needed; :func:`watch`);
+  monitors: N < 0 is lift-off, μ_req = |F_h|/N the friction needed; :func:`watch`). The
+  driver calls it right after ``rhs`` was evaluated at ``y`` (the last evaluation), so a
+  model may read trigonometry its ``rhs`` left in spare entries of ``P``;
 - ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`).
 
 The model's compiled entry point calls :func:`integrate` with its hooks as module-level
@@ -360,10 +362,10 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
     k, tau = k0, tau0
     set_forcing(F, ax, ay, az, k, dt)
     rhs(tau, y, P, F, f0)
+    theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
+    watch(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)  # right after rhs(y)
     h_min = 32.0 * EPS * dt
     h = initial_step(rhs, ctrl[C_ORDER], tau, y, f0, P, F, tol, dt, W[0], W[1])
-    theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
-    watch(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)
     if history:
         output(y, P, row)
         record(hist, t_theta_max, row)
@@ -461,6 +463,8 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
             continue
         if abs(y_new[0]) > theta_max:
             theta_max, t_theta_max = abs(y_new[0]), t0 + h_try
+        if n_ev > 0:  # the landings evaluated rhs elsewhere: back at the step end
+            rhs(tau + h_try, y_new, P, F, f_new)
         watch(contact, tau + h_try, y_new, f_new, P, F, cf, mon, t0 + h_try, row, nout)
         for i in range(n):
             y[i] = y_new[i]

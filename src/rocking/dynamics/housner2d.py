@@ -40,10 +40,12 @@ STATE = ("theta", "theta_dot")
 
 
 def params(body: Block | Cylinder, side: float = 1.0) -> np.ndarray:
-    """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R, 1/g]."""
+    """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R, 1/g], then two entries
+    where :func:`rhs` leaves sin(σα − θ), cos(σα − θ) of its last evaluation for
+    :func:`contact` (never read back by :func:`rhs`)."""
     return np.array([1.0 if side >= 0 else -1.0, G / (body.kappa_o * body.R),
                      math.sin(body.alpha), math.cos(body.alpha), G, body.e, body.kappa_o,
-                     body.R, 1.0 / G])
+                     body.R, 1.0 / G, 0.0, 0.0])
 
 
 def tolerances(body: Block | Cylinder) -> tuple[np.ndarray, np.ndarray]:
@@ -65,6 +67,8 @@ def rhs(tau, y, P, F, out):
     cam = c * ct + side * s * st  # cos(α σ − θ)
     out[0] = y[1]
     out[1] = -p2 * (gr * sam + cam * a / g)
+    P[9] = sam
+    P[10] = cam
 
 
 @njit(cache=True, error_model="numpy")
@@ -83,12 +87,9 @@ def contact(tau, y, f, P, F, cf):
     ψ = σα − θ (θ > 0 tilts towards +x, as a_x < 0 lifts the body), so its acceleration
     relative to the ground is R(cos ψ θ̈ + sin ψ θ̇², sin ψ θ̈ − cos ψ θ̇²); the support
     supplies m (a_ground + that) + m g ẑ (docs/equations.md, "Validity monitors")."""
-    th, thd, thdd = y[0], y[1], f[1]
-    side, s, c, g, R = P[0], P[2], P[3], P[4], P[7]
-    st = math.sin(th)
-    ct = math.cos(th)
-    sam = side * s * ct - c * st  # sin ψ
-    cam = c * ct + side * s * st  # cos ψ
+    thd, thdd = y[1], f[1]
+    g, R = P[4], P[7]
+    sam, cam = P[9], P[10]  # sin ψ, cos ψ left by rhs at y (the driver's last evaluation)
     cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
     cf[1] = abs(F[0] + F[2] * tau + R * (cam * thdd + sam * thd * thd)) / g
 
