@@ -85,8 +85,8 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
     g.add_argument("--record", metavar="NAME",
                    help=f"named record ({RECORD_NAMES}); with --files, read from those files")
     g.add_argument("--files", nargs="+", metavar="FILE",
-                   help="acceleration files, x then y (then z, vertical), in the order given "
-                   "(PEER AT2 or text; unit --units)")
+                   help="acceleration files, x then y, in the order given (PEER AT2 or "
+                   "text; unit --units); a third file is z, the vertical (up)")
     g.add_argument("--units", default="g", choices=UNITS,
                    help="unit of the values in --files (default: g; AT2 files are in g)")
     g.add_argument("--dt", type=float, metavar="SECONDS",
