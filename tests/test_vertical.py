@@ -270,3 +270,19 @@ def test_shipped_records_load_their_vertical_file():
     # the scale factor scales all three; the intensity stays horizontal
     s = elc.scaled(2.0)
     assert s.pga == pytest.approx(2.0 * elc.pga) and s.pga_vertical == 2.0 * elc.pga_vertical
+
+
+@pytest.mark.parametrize("model", ["3d", "2d"])
+def test_summary_monitors_equal_the_history_monitors(model):
+    """The summary-only path (rest stretches closed by tan α at each uplift) and the
+    history path (every rest sample) find the same extremes."""
+    ax, ay, _, dt = _pulses(amp=2.2)
+    m = GroundMotion(ax, None if model == "2d" else ay, dt, "h")
+    body = Cylinder(1.0, 0.2)
+    a = ground_response(body, m, model=model, history=True)
+    b = ground_response(body, m, model=model, history=False, stop_when_decided=False)
+    assert a.uplifted
+    assert b.mu_required_max == pytest.approx(a.mu_required_max, rel=1e-9)
+    assert b.normal_force_min == pytest.approx(a.normal_force_min, rel=1e-12)
+    assert np.nanmax(np.where(np.isfinite(a.mu_required), a.mu_required, np.nan)) == \
+        pytest.approx(a.mu_required_max, rel=1e-12)

@@ -358,6 +358,7 @@ class _Ground(NamedTuple):
     dt: float
     a: np.ndarray
     scale: float
+    tan_alpha: float
 
     def at(self, t: float) -> tuple[float, float]:
         """(N, μ_req) of the body at rest at time ``t`` [s] (linear between samples)."""
@@ -420,11 +421,14 @@ class _Acc:
         if mu_max > self.mu_max:
             self.mu_max, self.t_mu_max = mu_max, t_mu
 
-    def add_rest(self, t0: float, t1: float) -> None:
-        """A stretch at rest (zero state) from t0 to t1.
+    def add_rest(self, t0: float, t1: float, uplift: bool = False) -> None:
+        """A stretch at rest (zero state) from t0 to t1 (``uplift``: the body lifts at t1).
 
         At rest the support holds the body with the ground: N = (g + a_z)/g and
-        |F| = |a_h|/g, monitored at the record samples of the stretch and its ends.
+        μ_req = |a_h|/(g + a_z), monitored at the record samples of the stretch and its ends.
+        Without vertical motion N = 1 and μ_req ≤ tan α, with equality where the body lifts
+        (|a_h| = g tan α defines the uplift): a stretch that ends in an uplift needs no look
+        at its samples.
         """
         if t1 <= t0 or self.ground is None:
             if self.history and t1 > t0:
@@ -432,6 +436,12 @@ class _Acc:
                 self.y.append(np.zeros((2, self.width + 2)))
             return
         gr = self.ground
+        if gr.az is None and not self.history:
+            if self.n_min > 1.0:
+                self._monitor(1.0, t0, 0.0, t0)
+            if uplift:
+                self._monitor(1.0, t1, gr.tan_alpha, t1)
+                return
         n0, mu0 = gr.at(t0)
         n1, mu1 = gr.at(t1)
         self._monitor(n0, t0, mu0 if n0 > 0.0 else 0.0, t0)
@@ -713,7 +723,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
     az = None if unscaled.az is None else unscaled.az * scale
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
-    acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt, unscaled.a, scale))
+    acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt, unscaled.a, scale,
+                                       body.tan_alpha))
     if model == "2d":  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
     threshold = G * body.tan_alpha
@@ -757,7 +768,7 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
         t_up = k * dt + tau
         if math.isnan(t_first):
             t_first = t_up
-        acc.add_rest(t_rest, t_up)
+        acc.add_rest(t_rest, t_up, uplift=True)
         y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
         out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side, quiet=quiet,
                      theta_before=acc.theta_max, az=zeros if az is None else az)
