@@ -286,3 +286,32 @@ def test_summary_monitors_equal_the_history_monitors(model):
     assert b.normal_force_min == pytest.approx(a.normal_force_min, rel=1e-12)
     assert np.nanmax(np.where(np.isfinite(a.mu_required), a.mu_required, np.nan)) == \
         pytest.approx(a.mu_required_max, rel=1e-12)
+
+
+def test_damped_energy_balance_closes_with_the_vertical_work():
+    """3D damped: E_d(end) − E_d(uplift) + dissipated = −∫ a_g·v_S dt, v_S with ẇ."""
+    ax, ay, az, dt = _pulses(amp=2.6)
+    body = Cylinder(1.0, 0.2)
+    wn = 2000.0
+    m = GroundMotion(ax, ay, dt, "v", az=az)
+    r = ground_response(body, m, model="3d-damped", omega_n=wn, zeta=0.5)
+    i = np.flatnonzero(r.t >= r.t_uplift)[0]
+    assert r.theta_max > 0.2 * body.alpha and np.all(r.theta[i + 1:] > 0.0)  # one episode
+    t, th, ph, w, thd, phd, wd = (x[i:] for x in (r.t, r.theta, r.phi, r.w, r.theta_dot,
+                                                  r.phi_dot, r.w_dot))
+    a, R = body.alpha, body.R
+    e = 0.5 * (R * R * body.kappa_o * thd**2 + R * R * spin_inertia(th, a) * phd**2 + wd**2
+               + 2.0 * R * np.sin(a - th) * thd * wd) \
+        + G * R * np.cos(a - th) + 0.5 * wn**2 * w**2
+    rho = R * (math.sin(a) - np.sin(a - th))
+    rho_dot = R * np.cos(a - th) * thd
+    vx = rho_dot * np.cos(ph) - rho * phd * np.sin(ph)
+    vy = rho_dot * np.sin(ph) + rho * phd * np.cos(ph)
+    vz = wd + R * np.sin(a - th) * thd
+    gx, gy, gz = (np.interp(t, m.time, comp) for comp in (ax, ay, az))
+    p_z = -gz * vz
+    p = -(gx * vx + gy * vy) + p_z
+    work = np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(t))
+    work_z = np.sum(0.5 * (p_z[1:] + p_z[:-1]) * np.diff(t))
+    gap = e[-1] - e[0] + r.extras["dissipated"] - work
+    assert abs(gap) < 1e-5 * abs(work_z)
