@@ -431,9 +431,11 @@ class _Acc:
         at its samples.
         """
         if t1 <= t0 or self.ground is None:
-            if self.history and t1 > t0:
+            if self.history and t1 > t0:  # no ground motion: N = 1 weight, μ_req = 0
                 self.t.append(np.array([t0, t1]))
-                self.y.append(np.zeros((2, self.width + 2)))
+                rows = np.zeros((2, self.width + 2))
+                rows[:, self.width] = 1.0
+                self.y.append(rows)
             return
         gr = self.ground
         if gr.az is None and not self.history:
