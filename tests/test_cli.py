@@ -127,7 +127,8 @@ def test_simulate_outputs_have_units_and_strict_json(tmp_path, capsys):
     assert main(["simulate", "--R", "1", "--tan-alpha", "0.2", "--mode", "2d-x", "--record",
                  "el-centro-1940", "--pga-ratio", "2", "-o", str(tmp_path / "two")]) == 0
     hist = pd.read_csv(tmp_path / "two/history.csv")
-    assert list(hist.columns) == ["t [s]", "theta [rad]", "theta_dot [rad/s]"]
+    assert list(hist.columns) == ["t [s]", "theta [rad]", "theta_dot [rad/s]",
+                                  "normal_force [mg]", "mu_required [-]"]
     summary = strict_json(tmp_path / "two/summary.json")
     assert "n_impacts" in summary and "n_quasi_impacts" not in summary
     assert summary["n_impacts"] > 0
@@ -138,7 +139,8 @@ def test_simulate_outputs_have_units_and_strict_json(tmp_path, capsys):
                  "--theta0", "0.1", "--phi-dot0", "1e-3", "--duration", "0.2",
                  "-o", str(tmp_path / "damped")]) == 0
     cols = pd.read_csv(tmp_path / "damped/history.csv").columns
-    assert list(cols)[-3:] == ["w [m]", "w_dot [m/s]", "contact_force [N/kg]"]
+    assert list(cols)[-5:] == ["w [m]", "w_dot [m/s]", "contact_force [N/kg]",
+                               "normal_force [mg]", "mu_required [-]"]
     assert "J/kg" in strict_json(tmp_path / "damped/summary.json")["units"]["dissipated"]
 
 

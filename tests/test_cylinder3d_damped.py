@@ -44,7 +44,7 @@ def _run(y0, t_end, omega_n, zeta, rtol, ax=None, ay=None, dt=None, body=CYL, st
 
 def _rhs(y, P, ax=0.0, ay=0.0):
     f = np.empty(7)
-    cd.rhs(0.0, np.append(y[:6], 0.0), P, np.array([ax, ay, 0.0, 0.0]), f)
+    cd.rhs(0.0, np.append(y[:6], 0.0), P, np.array([ax, ay, 0.0, 0.0, 0.0, 0.0]), f)
     return f
 
 

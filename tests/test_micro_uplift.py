@@ -73,7 +73,7 @@ def test_an_episode_ends_only_below_the_rest_energy(el_centro):
     y0, side = analysis._start_state("3d", math.atan2(-ay, -ax))
     out = runner(a.ax, a.ay, a.dt, k, tau, 0.0, y0, a.duration, -1.0, side)
     assert int(out[0]) == codes.AT_REST
-    theta, _, theta_dot, phi_dot = out[2][-1]
+    theta, _, theta_dot, phi_dot = out[2][-1][:4]  # the row ends with the monitors (N, mu)
     mu = float(bodies.mu(theta, body.alpha))
     kinetic = 0.5 * body.R**2 * (body.kappa_o * theta_dot**2 + mu * phi_dot**2)
     potential = G * body.R * (math.cos(body.alpha - theta) - math.cos(body.alpha))

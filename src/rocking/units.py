@@ -109,6 +109,8 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "w": ("m", "m", "contact-spring displacement"),
     "w_dot": ("m s-1", "m/s", "contact-spring velocity"),
     "contact_force": ("N kg-1", "N/kg", "normal contact force per unit mass of the body"),
+    "normal_force": ("1", "mg", "normal force the support supplies, in weights (< 0: lift-off)"),
+    "mu_required": ("1", "-", "friction coefficient the body needs |F|/N (inf: N <= 0)"),
     # risk (rocking.risk): a fragility under a site's hazard curve
     "maf": ("year-1", "1/yr", "mean annual frequency of exceeding the limit state"),
     "return_period": ("year", "yr", "return period 1/maf of exceeding the limit state"),

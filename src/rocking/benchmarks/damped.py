@@ -111,7 +111,7 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
     ynew = np.empty(7)
     t = t0
     k = int(t0 / dt_rec)
-    F = np.empty(4)
+    F = np.zeros(6)
     _ground(t, ax, ay, dt_rec, scale, k, n, F)
     cd.rhs(0.0, y, par, F, K[0])
     h = 1e-6
@@ -205,13 +205,13 @@ def _scipy(method, y0, t0, t_end, motion, scale, body, wn, z, rtol):
     LA = np.empty(cd.LA_SHAPE)
 
     def rhs(t, y):
-        F = np.array([np.interp(t, tk, ax), np.interp(t, tk, ay), 0.0, 0.0])
+        F = np.array([np.interp(t, tk, ax), np.interp(t, tk, ay), 0.0, 0.0, 0.0, 0.0])
         cd.rhs(0.0, np.append(y, 0.0), P, F, f)
         return f[:6].copy()
 
     def jac(t, y):
         yy = np.append(y, 0.0)
-        F = np.array([np.interp(t, tk, ax), np.interp(t, tk, ay), 0.0, 0.0])
+        F = np.array([np.interp(t, tk, ax), np.interp(t, tk, ay), 0.0, 0.0, 0.0, 0.0])
         cd.rhs(0.0, yy, P, F, f)
         cd.jacobian(0.0, yy, P, F, f, LA)
         J = np.zeros((6, 6))

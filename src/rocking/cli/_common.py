@@ -124,7 +124,7 @@ def add_motion_source(p: argparse.ArgumentParser, *, ensemble: bool = True) -> N
                    "'rocking[fema]'); with --files, read from those files")
     g.add_argument("--files", nargs="+", metavar="FILE",
                    help="acceleration files, x then y, in the order given (PEER AT2 or "
-                   "text; unit --units)")
+                   "text; unit --units); a third file is z, the vertical (up)")
     g.add_argument("--units", default="g", choices=UNITS,
                    help="unit of the values in --files (default: g; AT2 files are in g)")
     g.add_argument("--dt", type=float, metavar="SECONDS",
@@ -184,7 +184,8 @@ def motion_from_args(args: argparse.Namespace, default_record: str | None = None
                          "--ensemble has its own")
     motion = load_motion(record, args.files, ensemble, getattr(args, "motion", None),
                          order_by_azimuth=getattr(args, "order_by_azimuth", False), dt=args.dt,
-                         units=getattr(args, "units", "g"))
+                         units=getattr(args, "units", "g"),
+                         vertical=getattr(args, "vertical", False))
     if ensemble is None and (any(v is not None for v in processing.values())
                              or highpass != "none"):
         motion = process_motion(motion, highpass=highpass, **processing)

@@ -29,9 +29,10 @@ EXAMPLES = """\
       --motion el-centro-1940-rdk-000 --mode 3d-damped -o run"""
 
 HISTORY_COLUMNS = {
-    "3d": ("t", "theta", "theta_dot", "phi", "phi_dot"),
-    "3d-damped": ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot", "contact_force"),
-    "2d": ("t", "theta", "theta_dot"),
+    "3d": ("t", "theta", "theta_dot", "phi", "phi_dot", "normal_force", "mu_required"),
+    "3d-damped": ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot", "contact_force",
+                  "normal_force", "mu_required"),
+    "2d": ("t", "theta", "theta_dot", "normal_force", "mu_required"),
 }
 """Columns of history.csv per dynamics model (the 2D model has no phi, w)."""
 
@@ -59,6 +60,12 @@ def add_parser(subparsers) -> None:
     p.add_argument("--stop-at", type=float, default=None, help="stop once |theta| > this [rad]")
     p.add_argument("--omega-n", type=float, default=2000.0,
                    help="contact spring frequency of mode 3d-damped [rad/s]")
+    p.add_argument("--mu", type=float, default=None,
+                   help="friction coefficient of the support [-], > 0: the summary says "
+                   "whether the body needed more (slides)")
+    p.add_argument("--vertical", action="store_true",
+                   help="with --record: include its vertical component (UP/DWN file); three "
+                   "--files (x y z) imply it")
     p.add_argument("--zeta", type=float, default=5.0,
                    help="contact damping ratio of mode 3d-damped [-]")
     fv = p.add_argument_group("free vibration (when no ground motion is given)")
@@ -120,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
     if args.body == "block" and model != "2d":
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
                          f"got --mode {args.mode}")
-    body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha)
+    body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha, mu=args.mu)
     common = dict(rtol=args.rtol, omega_n=args.omega_n, zeta=args.zeta)
     motion = _common.motion_from_args(args)
     out = Path(args.out)
@@ -195,6 +202,12 @@ def human(s: dict, alpha: float, out: Path, processing: str = "") -> str:
         rows.append(("dissipated", f"{_human.num(s['dissipated'])} J/kg (contact dashpot)"))
     if "contact_force_min" in s:
         rows.append(("min contact force", f"{_human.num(s['contact_force_min'])} N/kg"))
+    if s.get("mu_required_max") is not None:
+        held = "" if s.get("mu") is None else (
+            f"; μ = {_human.num(s['mu'])}: " + ("SLIDES" if s.get("slides") else "holds"))
+        jump = "; LIFTS OFF (N < 0)" if s.get("lifts_off") else ""
+        rows.append(("support", f"needs μ ≥ {_human.num(s['mu_required_max'])}, "
+                                f"N ≥ {_human.num(s['normal_force_min'])} mg{held}{jump}"))
     rows.append(("written", f"{out / 'history.csv'}, {out / 'summary.json'}"))
     return _human.block(rows)
 
@@ -206,5 +219,8 @@ SUMMARY_UNITS = {
     "restitution": "- (theta_dot after / before an impact)",
     "dissipated": "J/kg (energy dissipated by the contact dashpot, per unit mass)",
     "contact_force_min": "N/kg (smallest normal contact force per unit mass)",
+    "normal_force_min": "m g (smallest normal force the support supplies; < 0: lift-off)",
+    "t_normal_force_min": "s", "t_mu_required_max": "s", "mu": "-",
+    "mu_required_max": "- (largest friction coefficient the body needs, |F|/N)",
 }
 """Units of the summary fields (``summary.json`` → ``units``)."""

@@ -126,21 +126,28 @@ def recorded(rec, width):
 
 
 @njit(cache=True, error_model="numpy")
-def set_forcing(F, ax, ay, k, dt):
-    """Forcing of interval k: values at its start and slopes (linear between samples)."""
+def set_forcing(F, ax, ay, az, k, dt):
+    """Forcing of interval k: values at its start and slopes (linear between samples).
+
+    ``F = (a0x, a0y, slope_x, slope_y, a0z, slope_z)``; ``az`` is the vertical ground
+    acceleration (positive up; an all-zero array for a motion without one, which makes
+    every model's effective gravity g + 0 = g exactly).
+    """
     n = ax.size
     if k + 1 < n:
         F[0] = ax[k]
         F[1] = ay[k]
         F[2] = (ax[k + 1] - ax[k]) / dt
         F[3] = (ay[k + 1] - ay[k]) / dt
+        F[4] = az[k]
+        F[5] = (az[k + 1] - az[k]) / dt
     elif k < n:
         F[0] = ax[k]
         F[1] = ay[k]
         F[2] = 0.0
         F[3] = 0.0
+        F[4] = az[k]
+        F[5] = 0.0
     else:
-        F[0] = 0.0
-        F[1] = 0.0
-        F[2] = 0.0
-        F[3] = 0.0
+        for i in range(6):
+            F[i] = 0.0

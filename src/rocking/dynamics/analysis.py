@@ -29,7 +29,7 @@ import numpy as np
 from .._validate import finite, nonnegative_finite, positive_finite
 from ..constants import G
 from ..motions.motion import GroundMotion
-from . import codes, cylinder3d, cylinder3d_damped, housner2d, models
+from . import codes, cylinder3d, cylinder3d_damped, driver, housner2d, models
 from .bodies import Block, Cylinder
 from .result import QuasiImpacts, Response, Status
 
@@ -129,14 +129,21 @@ def _check_rest_tilt(rest_tilt, model: str, body) -> float:
 
 # ----------------------------------------------------------------------------- uplift
 def next_uplift(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float,
-                above: np.ndarray, k_from: int = 0,
-                tau_from: float = 0.0) -> tuple[int, float, float, float] | None:
+                above: np.ndarray, k_from: int = 0, tau_from: float = 0.0,
+                az: np.ndarray | None = None,
+                tan_alpha: float = 0.0) -> tuple[int, float, float, float] | None:
     """First time at or after (k_from, tau_from) where |a| > threshold [m/s²], |a| linear per
     interval of ``dt`` [s].
 
-    ``above`` holds the indices of the samples where |a| > threshold (sorted). Returns
-    ``(k, tau, a_x, a_y)`` (interval, time in it, acceleration there) or None.
+    ``above`` holds the indices of the samples where |a| > threshold (sorted). With a
+    vertical acceleration ``az`` [m/s², up] the threshold is (g + a_z) tan α =
+    ``threshold`` + a_z ``tan_alpha`` (never below 0), and ``above`` must hold the samples
+    above that (:func:`uplift_samples`). Returns ``(k, tau, a_x, a_y)`` (interval, time in
+    it, horizontal acceleration there) or None.
     """
+    if az is not None:
+        return _next_uplift_vertical(ax, ay, az, dt, threshold, tan_alpha, above, k_from,
+                                     tau_from)
     n = ax.size
     ak = (ax[k_from] + (ax[k_from + 1] - ax[k_from]) * tau_from / dt) if k_from + 1 < n else 0.0
     bk = (ay[k_from] + (ay[k_from + 1] - ay[k_from]) * tau_from / dt) if k_from + 1 < n else 0.0
@@ -159,6 +166,50 @@ def next_uplift(ax: np.ndarray, ay: np.ndarray, dt: float, threshold: float,
         tau = max(tau, tau_from)
     a = a0 + (tau / dt) * d
     return k, tau, float(a[0]), float(a[1])
+
+
+def uplift_samples(ax: np.ndarray, ay: np.ndarray, threshold: float,
+                   az: np.ndarray | None = None, tan_alpha: float = 0.0) -> np.ndarray:
+    """Indices of the samples where the horizontal |a| exceeds the uplift level: g tan α =
+    ``threshold`` [m/s²], or with vertical motion max(g tan α + a_z tan α, 0)."""
+    a = np.hypot(ax, ay)
+    if az is None:
+        return np.flatnonzero(a > threshold)
+    return np.flatnonzero(a > np.maximum(threshold + az * tan_alpha, 0.0))
+
+
+def _next_uplift_vertical(ax, ay, az, dt, threshold, tan_alpha, above, k_from, tau_from):
+    """:func:`next_uplift` under a varying level (g + a_z) tan α: |a_h| − level is convex in
+    the interval (a norm minus a linear function), so the crossing from below is its only
+    root there, found by bisection."""
+    n = ax.size
+
+    def gap(k, tau):  # |a_h| − level at (k, tau), and a_h there
+        if k + 1 >= n:
+            return -1.0, 0.0, 0.0
+        f = tau / dt
+        hx = ax[k] + (ax[k + 1] - ax[k]) * f
+        hy = ay[k] + (ay[k + 1] - ay[k]) * f
+        vz = az[k] + (az[k + 1] - az[k]) * f
+        return math.hypot(hx, hy) - max(threshold + vz * tan_alpha, 0.0), hx, hy
+
+    g0, hx, hy = gap(k_from, tau_from)
+    if g0 > 0.0:
+        return k_from, tau_from, hx, hy
+    i = int(np.searchsorted(above, k_from + 1))
+    if i == above.size:
+        return None
+    k = int(above[i]) - 1
+    lo = tau_from if k == k_from else 0.0
+    hi = dt
+    for _ in range(60):  # lo: at or below the level; hi: above it
+        mid = 0.5 * (lo + hi)
+        if gap(k, mid)[0] > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    _, hx, hy = gap(k, hi)
+    return k, hi, hx, hy
 
 
 def energy_reserve(ax: np.ndarray, ay: np.ndarray, dt: float,
@@ -212,27 +263,36 @@ class _Unscaled(NamedTuple):
     ax: np.ndarray
     ay: np.ndarray
     dt: float
-    a: np.ndarray  # |a| of the components the model sees [m/s²]
-    reserve: np.ndarray  # _reserve_of(a, dt)
+    a: np.ndarray  # |a| of the horizontal components the model sees [m/s²]
+    reserve: np.ndarray  # _reserve_of(|a_g|, dt), |a_g| with the vertical component if any
     unidirectional: bool
+    az: np.ndarray | None  # vertical component (None: none, or identically zero)
+    zeros: np.ndarray  # the kernels' vertical input without one
 
 
-_UNSCALED: dict[tuple[int, bool], _Unscaled] = {}
-"""Per (id of the motion's ax array, planar): a search analyses one motion at many scales.
+_UNSCALED: dict[tuple[int, bool, bool], _Unscaled] = {}
+"""Per (id of the motion's ax array, planar, vertical): a search analyses one motion at many scales.
 Entries hold the arrays themselves, so an id is never reused while its entry lives
 (GroundMotion arrays are read-only)."""
 
 
-def _unscaled(motion: GroundMotion, planar: bool) -> _Unscaled:
-    """The cached :class:`_Unscaled` of ``motion`` (x only if ``planar``)."""
-    key = (id(motion.ax), planar)
+def _unscaled(motion: GroundMotion, planar: bool, vertical: bool = False) -> _Unscaled:
+    """The cached :class:`_Unscaled` of ``motion`` (x only if ``planar``; with its vertical
+    component if ``vertical`` and it has one)."""
+    az = motion.az if (vertical and motion.has_vertical) else None
+    key = (id(motion.ax), planar, az is not None)
     hit = _UNSCALED.get(key)
-    if hit is None or hit.ax is not motion.ax or hit.ay is not motion.ay or hit.dt != motion.dt:
+    if (hit is None or hit.ax is not motion.ax or hit.ay is not motion.ay
+            or hit.dt != motion.dt or hit.az is not az):
         a = np.abs(motion.ax) if planar else np.hypot(motion.ax, motion.ay)
+        # The ground's work bound counts the whole acceleration vector (driver.decided).
+        a_g = a if az is None else np.hypot(a, az)
         if len(_UNSCALED) >= 16:
             _UNSCALED.pop(next(iter(_UNSCALED)))
         hit = _UNSCALED[key] = _Unscaled(motion.ax, motion.ay, motion.dt, a,
-                                         _reserve_of(a, motion.dt), motion.is_unidirectional)
+                                         _reserve_of(a_g, motion.dt),
+                                         motion.is_unidirectional, az,
+                                         np.zeros(motion.npts))
     return hit
 
 
@@ -241,7 +301,10 @@ def _above(unscaled: _Unscaled, ax: np.ndarray, ay: np.ndarray, scale: float,
     """``np.flatnonzero(np.hypot(ax, ay) > threshold)`` for ``ax, ay`` = the motion times
     ``scale``, evaluated only where the unscaled |a| comes within 1e-9 of ``threshold/scale``
     (a superset: the scaled hypot differs from scale × |a| by a few ulps), so the samples
-    found are exactly those of the full evaluation."""
+    found are exactly those of the full evaluation. With a vertical component the level
+    varies: :func:`uplift_samples`."""
+    if unscaled.az is not None:
+        return uplift_samples(ax, ay, threshold, scale * unscaled.az, threshold / G)
     near = np.flatnonzero(unscaled.a > (threshold / scale) * (1.0 - 1e-9))
     return near[np.hypot(ax[near], ay[near]) > threshold]
 
@@ -270,10 +333,11 @@ class _Runner:
                                    method=None if self.model.implicit else METHOD)
 
     def __call__(self, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, side=1.0,
-                 until_peak=False, quiet=None, theta_before=0.0) -> models.KernelResult:
+                 until_peak=False, quiet=None, theta_before=0.0,
+                 az=None) -> models.KernelResult:
         return models.run(self.prep, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level,
                           history=self.history, until_peak=until_peak, side=side,
-                          quiet=quiet, theta_before=theta_before)
+                          quiet=quiet, theta_before=theta_before, az=az)
 
     def free(self, t0: float, y0: np.ndarray, duration: float, stop_level: float,
              side: float = 1.0, until_peak: bool = False) -> models.KernelResult:
@@ -284,13 +348,42 @@ class _Runner:
 
 
 # ----------------------------------------------------------------------------- assembly
+class _Ground(NamedTuple):
+    """The ground motion an analysis runs on, for the monitors at rest: the scaled
+    components and the unscaled |a_h| (:class:`_Unscaled`) with the scale."""
+
+    ax: np.ndarray
+    ay: np.ndarray
+    az: np.ndarray | None
+    dt: float
+    a: np.ndarray
+    scale: float
+    tan_alpha: float
+
+    def at(self, t: float) -> tuple[float, float]:
+        """(N, μ_req) of the body at rest at time ``t`` [s] (linear between samples)."""
+        n = self.ax.size
+        k = min(max(int(t // self.dt), 0), n - 2)
+        f = t / self.dt - k
+        hx = self.ax[k] + (self.ax[k + 1] - self.ax[k]) * f
+        hy = self.ay[k] + (self.ay[k + 1] - self.ay[k]) * f
+        nf = 1.0
+        if self.az is not None:
+            nf += (self.az[k] + (self.az[k + 1] - self.az[k]) * f) / G
+        return nf, (math.hypot(hx, hy) / (G * nf) if nf > 0.0 else math.inf)
+
+
 class _Acc:
     """Accumulates kernel runs into one response."""
 
-    def __init__(self, model: str, history: bool):
+    def __init__(self, model: str, history: bool, ground: _Ground | None = None):
         self.model = model
         self.history = history
+        self.ground = ground
         self.width = len(models.MODELS[model].state)
+        # validity monitors (driver.watch): smallest N, largest μ_req and their times
+        self.n_min, self.t_n_min = math.inf, math.nan
+        self.mu_max, self.t_mu_max = 0.0, math.nan
         self.t: list[np.ndarray] = []
         self.y: list[np.ndarray] = []
         self.ev_t: list[np.ndarray] = []
@@ -310,6 +403,9 @@ class _Acc:
         self.ev_y.append(out.ev_y)
         self.n_steps += int(out.n_steps)
         self.n_rej += int(out.n_rejected)
+        mon = out.monitor
+        self._monitor(float(mon[driver.M_NMIN]), float(mon[driver.M_T_NMIN]),
+                      float(mon[driver.M_MUMAX]), float(mon[driver.M_T_MUMAX]))
         if abs(out.theta_max) > self.theta_max:
             self.theta_max = abs(float(out.theta_max))
             self.t_theta_max = float(out.t_theta_max)
@@ -319,28 +415,82 @@ class _Acc:
             ex["n_tension"] = ex.get("n_tension", 0) + int(out.diag[0])
             ex["contact_force_min"] = min(ex.get("contact_force_min", G), float(out.diag[1]))
 
-    def add_rest(self, t0: float, t1: float) -> None:
-        """A stretch at rest (zero state) from t0 to t1."""
-        if self.history and t1 > t0:
+    def _monitor(self, n_min: float, t_n: float, mu_max: float, t_mu: float) -> None:
+        if n_min < self.n_min:
+            self.n_min, self.t_n_min = n_min, t_n
+        if mu_max > self.mu_max:
+            self.mu_max, self.t_mu_max = mu_max, t_mu
+
+    def add_rest(self, t0: float, t1: float, uplift: bool = False) -> None:
+        """A stretch at rest (zero state) from t0 to t1 (``uplift``: the body lifts at t1).
+
+        At rest the support holds the body with the ground: N = (g + a_z)/g and
+        μ_req = |a_h|/(g + a_z), monitored at the record samples of the stretch and its ends.
+        Without vertical motion N = 1 and μ_req ≤ tan α, with equality where the body lifts
+        (|a_h| = g tan α defines the uplift): a stretch that ends in an uplift needs no look
+        at its samples.
+        """
+        if t1 <= t0 or self.ground is None:
+            if self.history and t1 > t0:  # no ground motion: N = 1 weight, μ_req = 0
+                self.t.append(np.array([t0, t1]))
+                rows = np.zeros((2, self.width + 2))
+                rows[:, self.width] = 1.0
+                self.y.append(rows)
+            return
+        gr = self.ground
+        if gr.az is None and not self.history:
+            if self.n_min > 1.0:
+                self._monitor(1.0, t0, 0.0, t0)
+            if uplift:
+                self._monitor(1.0, t1, gr.tan_alpha, t1)
+                return
+        n0, mu0 = gr.at(t0)
+        n1, mu1 = gr.at(t1)
+        self._monitor(n0, t0, mu0 if n0 > 0.0 else 0.0, t0)
+        self._monitor(n1, t1, mu1 if n1 > 0.0 else 0.0, t1)
+        i0 = int(math.ceil(t0 / gr.dt))
+        i1 = min(int(t1 // gr.dt), gr.ax.size - 1)
+        if i1 >= i0:  # the record samples inside the stretch
+            if gr.az is None:  # N = 1: μ_req is largest where |a_h| is
+                top = gr.scale * float(gr.a[i0:i1 + 1].max()) / G
+                if top > self.mu_max:  # its time only when it is a new maximum
+                    j = i0 + int(gr.a[i0:i1 + 1].argmax())
+                    self._monitor(1.0, t0, top, j * gr.dt)
+            else:
+                nf = 1.0 + gr.az[i0:i1 + 1] / G
+                i = int(np.argmin(nf))
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    mu = np.where(nf > 0.0, gr.scale * gr.a[i0:i1 + 1] / (G * nf), 0.0)
+                j = int(np.argmax(mu))
+                self._monitor(float(nf[i]), (i0 + i) * gr.dt, float(mu[j]), (i0 + j) * gr.dt)
+        if self.history:
             self.t.append(np.array([t0, t1]))
-            self.y.append(np.zeros((2, self.width)))
+            rows = np.zeros((2, self.width + 2))
+            rows[:, self.width] = (n0, n1)
+            rows[:, self.width + 1] = (mu0, mu1)
+            self.y.append(rows)
 
     def arrays(self):
+        """(t, state rows, event times, event state rows, monitor rows (N, μ_req))."""
         if self.t:
             t = np.concatenate(self.t)
             y = np.concatenate(self.y)
         else:
             t = np.zeros(0)
-            y = np.zeros((0, self.width))
+            y = np.zeros((0, self.width + 2))
         ev_t = np.concatenate(self.ev_t) if self.ev_t else np.zeros(0)
-        ev_y = np.concatenate(self.ev_y) if self.ev_y else np.zeros((0, self.width))
-        return t, y, ev_t, ev_y
+        ev_y = np.concatenate(self.ev_y) if self.ev_y else np.zeros((0, self.width + 2))
+        return t, y[:, :self.width], ev_t, ev_y[:, :self.width], y[:, self.width:]
 
 
 def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: float,
-              omega_n: float, zeta: float) -> Response:
+              omega_n: float, zeta: float, body: Cylinder | Block) -> Response:
     """The one :class:`Response` assembly of every model."""
-    t, y, ev_t, ev_y = acc.arrays()
+    t, y, ev_t, ev_y, mon = acc.arrays()
+    if acc.model == "2d" and ev_t.size:  # every impact needs the same friction
+        mu_imp = housner2d.impact_friction(body)
+        if mu_imp > acc.mu_max:
+            acc.mu_max, acc.t_mu_max = mu_imp, float(ev_t[0])
     theta_max = acc.theta_max
     if status is not Status.FAILED and not math.isfinite(theta_max):
         status, reason = Status.FAILED, f"non-finite peak tilt {theta_max!r}"
@@ -364,6 +514,10 @@ def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: 
         quasi_impacts=QuasiImpacts(ev_t, ev_y), n_steps=acc.n_steps, n_rejected=acc.n_rej,
         uplifted=uplifted, t_uplift=float(t_uplift), reason=reason, w=w, w_dot=w_dot,
         contact_force=force, extras=acc.extras,
+        normal_force=mon[:, 0], mu_required=mon[:, 1],
+        normal_force_min=float(acc.n_min), t_normal_force_min=float(acc.t_n_min),
+        mu_required_max=float(acc.mu_max), t_mu_required_max=float(acc.t_mu_max),
+        mu=body.mu,
     )
 
 
@@ -381,7 +535,7 @@ def _free_tail(body, acc: _Acc, runner: _Runner, y_end: np.ndarray, t_end: float
         # On θ = 0 right after an impact the body moves to the side of θ̇.
         side = math.copysign(1.0, y_end[0] if y_end[0] != 0.0 else y_end[1])
     else:
-        theta, _, theta_dot, phi_dot = (float(v) for v in y_end)
+        theta, _, theta_dot, phi_dot = (float(v) for v in y_end[:4])
         peak = cylinder3d.free_peak(body, theta, theta_dot, phi_dot)
         side = 1.0
     acc.extras["free_tail_peak"] = peak
@@ -477,7 +631,7 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     status, reason = codes.status_of(code, float(out.t_stop))
     if code == codes.AT_REST:
         acc.add_rest(float(out.t_stop), duration)
-    return _response(acc, status, reason, True, 0.0, omega_n, zeta)
+    return _response(acc, status, reason, True, 0.0, omega_n, zeta, body)
 
 
 def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str = "3d",
@@ -486,7 +640,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
                     rtol: float | None = None, omega_n: float = 2000.0, zeta: float = 5.0,
                     history: bool = True, free_tail: bool = True,
                     rest_tilt: float | None = None,
-                    stop_when_decided: bool = True) -> Response:
+                    stop_when_decided: bool = True, vertical: bool | None = None) -> Response:
     """Response of a body initially at rest to a (scaled) ground motion.
 
     Parameters
@@ -527,6 +681,12 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         (:func:`rocking.dynamics.driver.decided`). θmax, its time, the status and every
         limit-state decision are those of the run to the end, for fewer steps (a quiet
         coda, the zero padding of a high-passed record). False: always run to the end.
+        With vertical motion the bound counts the whole acceleration vector |a_g| (the
+        vertical component works on the body too) and stays valid.
+    vertical : bool, optional
+        Include the motion's vertical component (gravity becomes g + a_z(t) in every model,
+        scaled by the same ``scale`` as the horizontals). Default: whenever the motion has
+        one; True for a motion without one is a ValueError; False: horizontals only.
 
     Returns
     -------
@@ -535,6 +695,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     _check_model(model, body)
     rtol = _check_common(rtol, omega_n, zeta, model)
     rest_tilt = _check_rest_tilt(rest_tilt, model, body)
+    if vertical is not None and not isinstance(vertical, bool):
+        raise ValueError(f"vertical must be True, False or None, got {vertical!r}")
     if not isinstance(stop_when_decided, bool):
         raise ValueError(f"stop_when_decided must be True or False, got {stop_when_decided!r}")
     if not isinstance(motion, GroundMotion):
@@ -548,7 +710,11 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         scale = positive_finite("pga_ratio", pga_ratio) * G * body.tan_alpha / motion.pga
     scale = positive_finite("scale", 1.0 if scale is None else scale)
     stop_level = _check_stop(stop_at)
-    unscaled = _unscaled(motion, model == "2d")
+    if vertical and not motion.has_vertical:
+        raise ValueError(f"vertical=True but motion {motion.name!r} has no vertical component "
+                         "(give az, or load the record with vertical=True)")
+    use_vertical = motion.has_vertical if vertical is None else vertical
+    unscaled = _unscaled(motion, model == "2d", use_vertical)
     if model != "2d" and unscaled.unidirectional:
         live = "y" if motion.ay.any() else "x"
         raise ValueError(
@@ -557,8 +723,10 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
             f"use model='2d' (the 2D model under the {live} component)")
     ax = motion.ax * scale
     ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
+    az = None if unscaled.az is None else unscaled.az * scale
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
-    acc = _Acc(model, history)
+    acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt, unscaled.a, scale,
+                                       body.tan_alpha))
     if model == "2d":  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
     threshold = G * body.tan_alpha
@@ -568,19 +736,20 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     quiet = (_mark_liftable(scale * unscaled.reserve, above)
              if stop_when_decided and not history else None)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
-                                             threshold, stop_level, above, quiet)
+                                             threshold, stop_level, above, quiet, az,
+                                             unscaled.zeros)
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
-        return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta)
+        return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta, body)
     if (out is not None and int(out.code) == codes.OK and free_tail
             and model != "3d-damped"):
-        status, reason = _free_tail(body, acc, runner, out.y[-1], motion.duration,
+        status, reason = _free_tail(body, acc, runner, out.y[-1, :acc.width], motion.duration,
                                     stop_level)
-    return _response(acc, status, reason, True, t_first, omega_n, zeta)
+    return _response(acc, status, reason, True, t_first, omega_n, zeta, body)
 
 
 def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level, above,
-              quiet=None):
+              quiet=None, az=None, zeros=None):
     """Rocking episodes: from each uplift until the body is back at rest, then the next one.
 
     ``above``: the samples where |a| > ``threshold``. ``quiet`` (:func:`energy_reserve`, or
@@ -593,7 +762,7 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
     k, tau, t_rest, t_first = 0, 0.0, 0.0, math.nan
     stalls = 0
     while True:
-        up = next_uplift(ax, ay, dt, threshold, above, k, tau)
+        up = next_uplift(ax, ay, dt, threshold, above, k, tau, az, threshold / G)
         if up is None:
             acc.add_rest(t_rest, t_end)
             return None, t_first, Status.OK, ""
@@ -601,10 +770,10 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
         t_up = k * dt + tau
         if math.isnan(t_first):
             t_first = t_up
-        acc.add_rest(t_rest, t_up)
+        acc.add_rest(t_rest, t_up, uplift=True)
         y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
         out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side, quiet=quiet,
-                     theta_before=acc.theta_max)
+                     theta_before=acc.theta_max, az=zeros if az is None else az)
         acc.add(out)
         code, t_stop = int(out.code), float(out.t_stop)
         if code != codes.AT_REST:

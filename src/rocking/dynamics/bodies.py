@@ -48,6 +48,7 @@ class _RigidBody:
     R: float
     tan_alpha: float
     restitution: float | None = None
+    mu: float | None = None
     alpha: float = field(init=False)
     kappa_o: float = field(init=False)
     e: float = field(init=False)
@@ -60,6 +61,8 @@ class _RigidBody:
     def __post_init__(self) -> None:
         object.__setattr__(self, "R", positive_finite("R", self.R))
         object.__setattr__(self, "tan_alpha", positive_finite("tan_alpha", self.tan_alpha))
+        if self.mu is not None:
+            object.__setattr__(self, "mu", positive_finite("mu", self.mu))
         object.__setattr__(self, "alpha", math.atan(self.tan_alpha))
         object.__setattr__(self, "kappa_o", self._kappa_o())
         e_formula = 1.0 - self._impact_loss()
@@ -118,6 +121,9 @@ class Cylinder(_RigidBody):
     restitution : float, optional
         Coefficient of restitution for the 2D model [-], in [0, 1]; default Eq (31),
         1 − 2 sin²α/κo, clipped at 0 for tan α > 4/3 (module docstring).
+    mu : float, optional
+        Friction coefficient of the support [-], > 0: an analysis says whether the body
+        needed more (``Response.slides``). None: not given (the models assume no sliding).
 
     Attributes
     ----------
@@ -159,11 +165,12 @@ class Cylinder(_RigidBody):
         """Small-spin asymptotic turn of the contact point per quasi-impact, π√(κo/κt) [rad]."""
         return math.pi * math.sqrt(self.kappa_o / self.kappa_t)
 
-    def mu(self, theta):
-        """Spin inertia function μ(θ) (docs/equations.md, cancellation-free form) [-]."""
+    def spin_inertia(self, theta):
+        """Spin inertia function μ(θ) (docs/equations.md, cancellation-free form) [-].
+        (``mu`` is the support's friction coefficient.)"""
         return mu(theta, self.alpha)
 
-    def mu_prime(self, theta):
+    def spin_inertia_prime(self, theta):
         """Derivative μ'(θ) [-]."""
         return mu_prime(theta, self.alpha)
 
@@ -194,7 +201,10 @@ class Block(_RigidBody):
         Slenderness b/h [-].
     restitution : float, optional
         Coefficient of restitution [-], in [0, 1]; default Housner's 1 − 1.5 sin²α, clipped
-        at 0 for tan α > √2 (module docstring). Attributes as :class:`Cylinder`'s.
+        at 0 for tan α > √2 (module docstring).
+    mu : float, optional
+        Friction coefficient of the support [-], > 0 (as :class:`Cylinder`'s). Attributes
+        as :class:`Cylinder`'s.
     """
 
     SQUAT_TAN_ALPHA: ClassVar[float] = math.sqrt(2.0)

@@ -2,7 +2,7 @@
 
 Equations of motion (docs/equations.md, "3D undamped model")::
 
-    θ̈ = −p² [sin(α − θ) + cos(α − θ) a_r/g] + μ'(θ) φ̇²/(2 κo)
+    θ̈ = −p² [(1 + a_z/g) sin(α − θ) + cos(α − θ) a_r/g] + μ'(θ) φ̇²/(2 κo)
     d/dt [μ(θ) φ̇] = (sin α + sin(θ − α)) a_t / R
 
 The second line is the φ equation multiplied by μ(θ): μφ̈ + μ'θ̇φ̇ is the derivative of the
@@ -10,9 +10,10 @@ spin momentum L = μ(θ)φ̇. The kernel integrates the state (θ, φ, θ̇, L) 
 (θ, φ, θ̇, φ̇) because L is smooth where φ̇ is not: in a quasi-impact θ drops to 1e-9 … 1e-11
 rad and φ̇ = L/μ(θ) ≈ L/(κt θ²) spikes to 1e8 … 1e9 rad/s, while L only changes through the
 ground acceleration (and not at all in free vibration, so the spin momentum is conserved to
-round-off). Inputs and outputs use (θ, φ, θ̇, φ̇). Differences of nearly equal numbers are
-written cancellation-free: sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2) and μ from
-:mod:`.inertia`.
+round-off). The vertical ground acceleration a_z (positive up) only changes gravity to g + a_z
+(docs/equations.md, "Vertical ground motion"). Inputs and outputs use (θ, φ, θ̇, φ̇).
+Differences of nearly equal numbers are written cancellation-free:
+sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2) and μ from :mod:`.inertia`.
 
 Error control (:func:`tolerances`) is relative on θ (no absolute floor: a tolerance like
 1e-6 rad on θ would be meaningless at θ = 1e-11); θ ≤ 0 at a step end is a rejected step,
@@ -40,9 +41,17 @@ STATE = ("theta", "phi", "theta_dot", "phi_dot")
 
 
 def params(body: Cylinder) -> np.ndarray:
-    """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g]."""
-    return np.array([1.0, G / (body.kappa_o * body.R), math.sin(body.alpha),
-                     math.cos(body.alpha), body.kappa_o, body.R, G])
+    """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g, 1/g], then :data:`N_SCRATCH`
+    entries :func:`rhs` fills for :func:`contact`."""
+    return np.concatenate(([1.0, G / (body.kappa_o * body.R), math.sin(body.alpha),
+                            math.cos(body.alpha), body.kappa_o, body.R, G, 1.0 / G],
+                           np.zeros(N_SCRATCH)))
+
+
+N_SCRATCH = 10
+"""Entries after the parameters where :func:`rhs` leaves sin θ, cos θ, sin(θ/2), cos(θ/2),
+cos φ, sin φ, μ, μ', a_r, a_t of its last evaluation (:func:`contact` reads them: the
+monitors cost no trigonometry; nothing in :func:`rhs` reads them back)."""
 
 
 def tolerances(body: Cylinder) -> tuple[np.ndarray, np.ndarray]:
@@ -63,29 +72,70 @@ def to_state(body: Cylinder, y: np.ndarray) -> np.ndarray:
 
 @njit(cache=True, error_model="numpy")
 def rhs(tau, y, P, F, out):
-    """Right-hand side for the state (θ, φ, θ̇, L), ground acceleration F[0:2] + F[2:4] τ."""
+    """Right-hand side for the state (θ, φ, θ̇, L), ground acceleration F[0:2] + F[2:4] τ,
+    vertical F[4] + F[5] τ."""
     th, ph, thd, L = y[0], y[1], y[2], y[3]
     p2, s, c, kap, R, g = P[1], P[2], P[3], P[4], P[5], P[6]
     axg = F[0] + F[2] * tau
     ayg = F[1] + F[3] * tau
+    gr = 1.0 + (F[4] + F[5] * tau) * P[7]  # (g + a_z)/g: exactly 1 without vertical motion
     st = math.sin(th)
     ct = math.cos(th)
     sh = math.sin(0.5 * th)
     ch = math.cos(0.5 * th)
     omc = 2.0 * sh * sh
-    phd = L / inertia.mu_of(st, omc, s, c)
+    mu_ = inertia.mu_of(st, omc, s, c)
+    phd = L / mu_
     cph = math.cos(ph)
     sph = math.sin(ph)
     a_r = axg * cph + ayg * sph
     a_t = axg * sph - ayg * cph
     sam = s * ct - c * st  # sin(α − θ)
     cam = c * ct + s * st  # cos(α − θ)
+    mup = inertia.mu_prime_of(st, ct, omc, s, c)
     out[0] = thd
     out[1] = phd
-    out[2] = -p2 * (sam + cam * a_r / g) + inertia.mu_prime_of(st, ct, omc, s, c) * phd * phd / (
-        2.0 * kap)
+    out[2] = -p2 * (gr * sam + cam * a_r / g) + mup * phd * phd / (2.0 * kap)
+    P[8], P[9], P[10], P[11], P[12] = st, ct, sh, ch, cph
+    P[13], P[14], P[15], P[16], P[17] = sph, mu_, mup, a_r, a_t
     # sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2)
     out[3] = 2.0 * (c * ch + s * sh) * sh * a_t / R
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def support_force(st, ct, sh, ch, cph, sph, a_r, a_t, thd, phd, thdd, phdd, s, c, R, g, F,
+                  tau, cf):
+    """The force the support supplies, per unit weight (shared by the undamped and damped
+    3D models): ``cf = (N, |F_h|)`` with N from gravity, the vertical ground motion and the
+    centre of mass's vertical acceleration.
+
+    The centre of mass is at r_S = ρ(θ)(cos φ, sin φ, 0) + (0, 0, R cos(α − θ)) relative to
+    the ground (docs/equations.md, "Kinematics and Lagrangian"), ρ = R(sin α − sin(α − θ)),
+    ρ' = R cos(α − θ), ρ'' = R sin(α − θ); its acceleration along (cos φ, sin φ), along
+    (−sin φ, cos φ) and up is ρ'θ̈ + ρ''θ̇² − ρφ̇², ρφ̈ + 2ρ'θ̇φ̇ and
+    R sin(α − θ)θ̈ − R cos(α − θ)θ̇². Contact force = m (a_ground + r̈_S) + m g ẑ
+    (docs/equations.md, "Validity monitors"). ``st``, ``ct``, ``sh``, ``ch``, ``cph``,
+    ``sph``: sin and cos of θ, θ/2 and φ; ``a_r``, ``a_t``: the horizontal ground
+    acceleration along and across the tilt (as in :func:`rhs`); ``s``, ``c``: sin α, cos α.
+    """
+    sam = s * ct - c * st
+    cam = c * ct + s * st
+    rho = 2.0 * R * sh * (c * ch + s * sh)  # R(sin α − sin(α − θ)) without cancellation
+    a_rad = a_r + R * (cam * thdd + sam * thd * thd) - rho * phd * phd
+    a_tan = -a_t + rho * phdd + 2.0 * R * cam * thd * phd
+    cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
+    cf[1] = math.sqrt(a_rad * a_rad + a_tan * a_tan) / g
+
+
+@njit(cache=True, error_model="numpy")
+def contact(tau, y, f, P, F, cf):
+    """Support force (N, |F_h|) per unit weight of the state (θ, φ, θ̇, L) with derivative
+    ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ), from what :func:`rhs` left in
+    ``P[8:18]`` at ``y`` (the driver evaluates ``rhs`` at ``y`` just before)."""
+    phd = f[1]
+    phdd = (f[3] - P[15] * y[2] * phd) / P[14]
+    support_force(P[8], P[9], P[10], P[11], P[12], P[13], P[16], P[17], y[2], phd, f[2],
+                  phdd, P[2], P[3], P[5], P[6], F, tau, cf)
 
 
 @njit(cache=True, error_model="numpy")
@@ -115,7 +165,8 @@ def rocking_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, driver.no_factor, driver.no_solve, rk_step, run)
+                            driver.no_observe, contact, driver.no_factor, driver.no_solve,
+                            rk_step, run)
 
 
 def energy(body: Cylinder, theta, theta_dot, phi_dot):

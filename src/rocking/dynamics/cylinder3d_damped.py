@@ -66,6 +66,7 @@ from ..constants import G
 from . import driver, inertia
 from ._rosenbrock import ros_step
 from .bodies import Cylinder
+from .cylinder3d import support_force
 
 STATE = ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
 """Output state; the kernel state appends the dissipated energy D."""
@@ -142,11 +143,12 @@ def _terms(tau, y, P, F):
     S, C, Q, mu, mup = _geometry(th, P)
     axv = F[0] + F[2] * tau
     ayv = F[1] + F[3] * tau
+    azv = F[4] + F[5] * tau  # vertical: gravity acts as g + a_z, the spring sees −a_z
     cp, sp = math.cos(ph), math.sin(ph)
     ar = axv * cp + ayv * sp
     at = axv * sp - ayv * cp
-    b1 = -(g / R) * S - C * ar / R + 0.5 * mup * phd * phd
-    b2 = R * C * thd * thd - 2.0 * z * wn * wd - wn * wn * w
+    b1 = -((g + azv) / R) * S - C * ar / R + 0.5 * mup * phd * phd
+    b2 = R * C * thd * thd - 2.0 * z * wn * wd - wn * wn * w - azv
     return S, C, Q, mu, mup, cp, sp, ar, at, b1, b2, ko - S * S
 
 
@@ -177,7 +179,7 @@ def jacobian(tau, y, P, F, f, LA):
     S, C, Q, mu, mup, cp, sp, ar, at, b1, b2, det = _terms(tau, y, P, F)
     mupp = inertia.mu_second_of(math.sin(th), math.cos(th), s, c)
     # d/dθ: dS/dθ = −C, dC/dθ = S, d(det)/dθ = 2 S C.
-    b1_th = (g / R) * C - S * ar / R + 0.5 * mupp * phd * phd
+    b1_th = ((g + F[4] + F[5] * tau) / R) * C - S * ar / R + 0.5 * mupp * phd * phd
     b2_th = R * S * thd * thd
     det_th = 2.0 * S * C
     LA[0, 0] = (b1_th + (C / R) * b2 - (S / R) * b2_th - thdd * det_th) / det
@@ -207,10 +209,11 @@ def jacobian(tau, y, P, F, f, LA):
     # d/dt through the ground acceleration (piecewise linear: constant slope in a step).
     ar_t = F[2] * cp + F[3] * sp
     at_t = F[2] * sp - F[3] * cp
-    b1_t = -C * ar_t / R
-    LA[8, 0] = b1_t / det
+    b1_t = -C * ar_t / R - (F[5] / R) * S
+    b2_t = -F[5]
+    LA[8, 0] = (b1_t - (S / R) * b2_t) / det
     LA[8, 1] = Q * at_t / (R * mu)
-    LA[8, 2] = -R * S * b1_t / det
+    LA[8, 2] = (ko * b2_t - R * S * b1_t) / det
 
 
 @njit(cache=True, error_model="numpy")
@@ -277,7 +280,7 @@ def solve(LA, P, r, g):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def contact(y, P):
+def contact_force_of(y, P):
     """Contact force per unit mass N/m = g − ωn² w − 2ζωn ẇ [m/s²]."""
     return P[3] - P[4] * P[4] * y[2] - 2.0 * P[5] * P[4] * y[5]
 
@@ -285,10 +288,26 @@ def contact(y, P):
 @njit(cache=True, error_model="numpy")
 def observe(y, P, diag):
     """After each step: count tensile contact forces (diag[0]) and keep the smallest (diag[1])."""
-    nf = contact(y, P)
+    nf = contact_force_of(y, P)
     if nf < 0.0:
         diag[0] += 1.0
     diag[1] = min(diag[1], nf)
+
+
+@njit(cache=True, error_model="numpy")
+def contact(tau, y, f, P, F, cf):
+    """Support force per unit weight ``cf = (N, |F_h|)``: N from the spring and dashpot
+    (:func:`contact`), the horizontal force from the centre of mass's acceleration as in
+    the undamped model (:func:`rocking.dynamics.cylinder3d.support_force`; w moves S only
+    vertically)."""
+    th, ph = y[0], y[1]
+    cph, sph = math.cos(ph), math.sin(ph)
+    axv = F[0] + F[2] * tau
+    ayv = F[1] + F[3] * tau
+    support_force(math.sin(th), math.cos(th), math.sin(0.5 * th), math.cos(0.5 * th), cph,
+                  sph, axv * cph + ayv * sph, axv * sph - ayv * cph, y[3], y[4], f[3], f[4],
+                  P[6], P[7], P[1], P[3], F, tau, cf)
+    cf[0] = contact_force_of(y, P) / P[3]
 
 
 @njit(cache=True, error_model="numpy")
@@ -328,7 +347,8 @@ def total_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, total_energy, output,
-                            observe, factor, solve, ros_step, run)
+                            observe, contact, factor, solve,
+                            ros_step, run)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -348,6 +368,7 @@ def energy(cylinder: Cylinder, y: np.ndarray, omega_n: float, g: float = G) -> n
     y = np.asarray(y, dtype=float)
     th, thd, phd, w, wd = y[..., 0], y[..., 3], y[..., 4], y[..., 2], y[..., 5]
     R, a = cylinder.R, cylinder.alpha
-    kin = 0.5 * (R * R * cylinder.kappa_o * thd**2 + R * R * cylinder.mu(th) * phd**2 + wd**2
+    kin = 0.5 * (R * R * cylinder.kappa_o * thd**2
+                 + R * R * cylinder.spin_inertia(th) * phd**2 + wd**2
                  + 2.0 * R * np.sin(a - th) * thd * wd)
     return kin + g * R * np.cos(a - th) + 0.5 * omega_n**2 * w**2

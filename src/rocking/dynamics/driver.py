@@ -7,8 +7,9 @@ step loop, methods that differ only by their tableau (explicit Dormand–Prince 
 Hermite interpolant by small separate functions. A model is a set of compiled hooks:
 
 - ``rhs(tau, y, P, F, out)``: the right-hand side at time ``tau`` inside the current record
-  interval, whose forcing is ``F = (a0x, a0y, slope_x, slope_y)``: the ground acceleration
-  is ``a0 + slope * tau`` [m/s²];
+  interval, whose forcing is ``F = (a0x, a0y, slope_x, slope_y, a0z, slope_z)``: the ground
+  acceleration is ``a0 + slope * tau`` [m/s²], z vertical (positive up; gravity acts as
+  g + a_z in every model, docs/equations.md "Vertical ground motion");
 - ``impact(y, P)``: the impact map applied where the tilt crosses zero (2D: rate × e and the
   pivot changes side), for models whose layout asks for impacts;
 - ``energy(y, P)``: the rocking energy above rest per unit mass [J/kg] (rest criterion);
@@ -17,6 +18,11 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
   and vertical motion, the undamped models pass ``energy``);
 - ``output(y, P, row)``: the state the user sees (e.g. φ̇ from the spin momentum);
 - ``observe(y, P, diag)``: bookkeeping after each accepted step (e.g. contact force);
+- ``contact(tau, y, f, P, F, cf)``: the force the support supplies, from the state ``y``
+  and its derivative ``f``: ``cf = (N, |F_h|)`` in units of the weight m g (the validity
+  monitors: N < 0 is lift-off, μ_req = |F_h|/N the friction needed; :func:`watch`). The
+  driver calls it right after ``rhs`` was evaluated at ``y`` (the last evaluation), so a
+  model may read trigonometry its ``rhs`` left in spare entries of ``P``;
 - ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`).
 
 The model's compiled entry point calls :func:`integrate` with its hooks as module-level
@@ -218,13 +224,37 @@ def newton_fraction(s, ys, sigma, i_thd, lvl, h):
 @njit(cache=True, error_model="numpy")
 def at_rest(energy_now, F, tau, rest):
     """The rest criterion: rocking energy below the Zeno floor ``rest[0]``, or below the rest
-    energy ``rest[1]`` while the ground acceleration at ``tau`` is below ``rest[2]`` = g tan α
-    (the ground cannot lift the body again) [J/kg, m/s²]."""
+    energy ``rest[1]`` while the horizontal ground acceleration at ``tau`` is below
+    (g + a_z) tan α = ``rest[2]`` + a_z ``rest[3]`` (the ground cannot lift the body again)
+    [J/kg, m/s², -]."""
     if energy_now < rest[0]:
         return True
     if energy_now >= rest[1]:
         return False
-    return math.hypot(F[0] + F[2] * tau, F[1] + F[3] * tau) <= rest[2]
+    return math.hypot(F[0] + F[2] * tau, F[1] + F[3] * tau) <= \
+        rest[2] + (F[4] + F[5] * tau) * rest[3]
+
+
+# Entries of the ``mon`` array the driver returns (the validity monitors, :func:`watch`).
+M_NMIN, M_T_NMIN, M_MUMAX, M_T_MUMAX = 0, 1, 2, 3
+MON_SIZE = 4
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def watch(contact, tau, y, f, P, F, cf, mon, t, row, nout):
+    """The validity monitors at one state: contact force ``cf = (N, |F_h|)`` [weights]; the
+    smallest N and the largest μ_req = |F_h|/N (over N > 0) with their times [s] in ``mon``
+    (``M_*``); N and μ_req (inf where N ≤ 0: no friction holds a body that lifts off) in
+    ``row[nout]``, ``row[nout + 1]``."""
+    contact(tau, y, f, P, F, cf)
+    n_f = cf[0]
+    if n_f < mon[M_NMIN]:
+        mon[M_NMIN], mon[M_T_NMIN] = n_f, t
+    mu = cf[1] / n_f if n_f > 0.0 else math.inf
+    if n_f > 0.0 and mu > mon[M_MUMAX]:
+        mon[M_MUMAX], mon[M_T_MUMAX] = mu, t
+    row[nout] = n_f
+    row[nout + 1] = mu
 
 
 # Entries of the ``qpar`` array of the run tuple (the "decided" test, :func:`decided`).
@@ -291,11 +321,12 @@ def land(step, rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, ys, fs,
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve, step, run):
+def integrate(rhs, impact, energy, bound_energy, output, observe, contact, factor, solve, step,
+              run):
     """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
 
-    ``run = (P, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
-    rest, diag, quiet, qpar)`` is built by :func:`rocking.dynamics.models.run`; ``quiet``
+    ``run = (P, ax, ay, az, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl,
+    layout, rest, diag, quiet, qpar)`` is built by :func:`rocking.dynamics.models.run`; ``quiet``
     (empty: no such test) holds per record interval the energy reserve of the motion left
     from its start (:func:`decided`), ``qpar`` the ``Q_*`` entries: the tilt cap (α), the
     peak tilt of earlier episodes [rad] and the energy margin [-]. At a tilt minimum or an
@@ -303,32 +334,38 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve,
     integrating on could not change θmax nor any decision. It names the returned
     tuple (:class:`rocking.dynamics.models.KernelResult`, same order): ``(code,
     t_hist, y_hist, n_steps, n_rejected, theta_max, t_theta_max, ev_t, ev_y, t_stop, y_end,
-    diag)``, a code of :mod:`.codes`, the history of output rows (the final row only without
-    history), step counts, the largest |θ| [rad] and its time [s], the events (tilt minima
-    in 3D, the state before each impact in 2D), the end time [s], the final internal state
-    and the model's diagnostics.
+    diag, mon)``, a code of :mod:`.codes`, the history of output rows (the final row only
+    without history; each row ends with the contact force N and μ_req of :func:`watch`),
+    step counts, the largest |θ| [rad] and its time [s], the events (tilt minima in 3D, the
+    state before each impact in 2D), the end time [s], the final internal state, the model's
+    diagnostics and the validity monitors (``M_*``: smallest N, largest μ_req, their times,
+    at every accepted step end and every event).
     """
-    (P0, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
+    (P0, ax, ay, az, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl, layout,
      rest, diag0, quiet, qpar) = run
     P, diag, y = P0.copy(), diag0.copy(), y0.copy()
     n = y.size
     i_thd = layout[L_ITHD]
     history = layout[L_HISTORY] != 0
     f0, y_new, f_new, ys, fs = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    F = np.empty(4)
+    F = np.empty(6)
     W = np.empty((layout[L_WROWS], n))
     LA = np.empty((layout[L_LAROWS], layout[L_LACOLS]))
-    row = np.empty(layout[L_NOUT])
+    nout = layout[L_NOUT]
+    row = np.empty(nout + 2)
+    cf = np.empty(2)
+    mon = np.array([math.inf, math.nan, 0.0, math.nan])
     y_cap = np.zeros(n)  # the state at rest at the tilt cap of the "decided" test
     hist, events = recorder(), recorder()
     n_steps, n_rej, rejected = 0, 0, False
     k_last, tau_last = last_interval(ax.size, dt, t_offset, t_end)
     k, tau = k0, tau0
-    set_forcing(F, ax, ay, k, dt)
+    set_forcing(F, ax, ay, az, k, dt)
     rhs(tau, y, P, F, f0)
+    theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
+    watch(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)  # right after rhs(y)
     h_min = 32.0 * EPS * dt
     h = initial_step(rhs, ctrl[C_ORDER], tau, y, f0, P, F, tol, dt, W[0], W[1])
-    theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
     if history:
         output(y, P, row)
         record(hist, t_theta_max, row)
@@ -344,7 +381,7 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve,
             if k == k_last:
                 break
             k, tau = k + 1, 0.0
-            set_forcing(F, ax, ay, k, dt)
+            set_forcing(F, ax, ay, az, k, dt)
             rhs(tau, y, P, F, f0)
             continue
         if n_steps + n_rej >= layout[L_MAXSTEPS]:
@@ -379,6 +416,9 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve,
             s = land(step, rhs, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA, ys,
                      fs, kind, s_a if j == 0 else s_b, i_thd, lvl)
             t_ev = t0 + s * h_try
+            if ctrl[C_END_DERIVATIVE] == 0.0:
+                rhs(tau + s * h_try, ys, P, F, fs)
+            watch(contact, tau + s * h_try, ys, fs, P, F, cf, mon, t_ev, row, nout)
             rest_now = False
             if kind == _THRESHOLD:  # landed within rounding of the level: put it there
                 ys[0] = P[0] * lvl
@@ -410,17 +450,22 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve,
                     y[i] = ys[i]
                 tau += s * h_try
                 t_stop = t_ev
+                if action == 2:  # after the impact: the new pivot's derivative and force
+                    rhs(tau, y, P, F, f0)
+                    watch(contact, tau, y, f0, P, F, cf, mon, t_ev, row, nout)
                 if history:
                     output(y, P, row)
                     record(hist, t_ev, row)
                 break
         if action == 1:
             break
-        if action == 2:  # restart from the impact with the new pivot
-            rhs(tau, y, P, F, f0)
+        if action == 2:  # restart from the impact with the new pivot (f0 set above)
             continue
         if abs(y_new[0]) > theta_max:
             theta_max, t_theta_max = abs(y_new[0]), t0 + h_try
+        if n_ev > 0:  # the landings evaluated rhs elsewhere: back at the step end
+            rhs(tau + h_try, y_new, P, F, f_new)
+        watch(contact, tau + h_try, y_new, f_new, P, F, cf, mon, t0 + h_try, row, nout)
         for i in range(n):
             y[i] = y_new[i]
             f0[i] = f_new[i]
@@ -439,4 +484,4 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, factor, solve,
     t_hist, y_hist = recorded(hist, row.size)
     ev_t, ev_y = recorded(events, row.size)
     return (code, t_hist, y_hist, n_steps, n_rej, theta_max, t_theta_max, ev_t, ev_y, t_stop,
-            y, diag)
+            y, diag, mon)

@@ -3,7 +3,9 @@
 Equation of motion (docs/equations.md, "2D Housner model"), pivot on the base edge on the
 side σ = sgn θ::
 
-    θ̈ = −p² [sin(α σ − θ) + cos(α σ − θ) a_x/g]
+    θ̈ = −p² [(1 + a_z/g) sin(α σ − θ) + cos(α σ − θ) a_x/g]
+
+(a_z the vertical ground acceleration, positive up: gravity becomes g + a_z).
 
 At θ = 0 the pivot changes and the angular velocity is multiplied by the restitution
 coefficient e (Housner's impact, :func:`impact`). The pivot side is kept in the parameters
@@ -38,10 +40,12 @@ STATE = ("theta", "theta_dot")
 
 
 def params(body: Block | Cylinder, side: float = 1.0) -> np.ndarray:
-    """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R]."""
+    """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R, 1/g], then two entries
+    where :func:`rhs` leaves sin(σα − θ), cos(σα − θ) of its last evaluation for
+    :func:`contact` (never read back by :func:`rhs`)."""
     return np.array([1.0 if side >= 0 else -1.0, G / (body.kappa_o * body.R),
                      math.sin(body.alpha), math.cos(body.alpha), G, body.e, body.kappa_o,
-                     body.R])
+                     body.R, 1.0 / G, 0.0, 0.0])
 
 
 def tolerances(body: Block | Cylinder) -> tuple[np.ndarray, np.ndarray]:
@@ -51,16 +55,20 @@ def tolerances(body: Block | Cylinder) -> tuple[np.ndarray, np.ndarray]:
 
 @njit(cache=True, error_model="numpy")
 def rhs(tau, y, P, F, out):
-    """Right-hand side on pivot side P[0] = ±1, ground acceleration F[0] + F[2] τ."""
+    """Right-hand side on pivot side P[0] = ±1, ground acceleration F[0] + F[2] τ, vertical
+    F[4] + F[5] τ."""
     th = y[0]
     side, p2, s, c, g = P[0], P[1], P[2], P[3], P[4]
     a = F[0] + F[2] * tau
+    gr = 1.0 + (F[4] + F[5] * tau) * P[8]  # (g + a_z)/g: exactly 1 without vertical motion
     st = math.sin(th)
     ct = math.cos(th)
     sam = side * s * ct - c * st  # sin(α σ − θ)
     cam = c * ct + side * s * st  # cos(α σ − θ)
     out[0] = y[1]
-    out[1] = -p2 * (sam + cam * a / g)
+    out[1] = -p2 * (gr * sam + cam * a / g)
+    P[9] = sam
+    P[10] = cam
 
 
 @njit(cache=True, error_model="numpy")
@@ -69,6 +77,21 @@ def impact(y, P):
     leaves θ̇ = +0, not −0)."""
     y[1] = P[5] * y[1] + 0.0
     P[0] = -P[0]
+
+
+@njit(cache=True, error_model="numpy")
+def contact(tau, y, f, P, F, cf):
+    """Support force per unit weight between impacts: ``cf = (N, |F|)``.
+
+    The pivot is the corner (σb, 0) and the centre of mass is at R(−sin ψ, cos ψ) from it,
+    ψ = σα − θ (θ > 0 tilts towards +x, as a_x < 0 lifts the body), so its acceleration
+    relative to the ground is R(cos ψ θ̈ + sin ψ θ̇², sin ψ θ̈ − cos ψ θ̇²); the support
+    supplies m (a_ground + that) + m g ẑ (docs/equations.md, "Validity monitors")."""
+    thd, thdd = y[1], f[1]
+    g, R = P[4], P[7]
+    sam, cam = P[9], P[10]  # sin ψ, cos ψ left by rhs at y (the driver's last evaluation)
+    cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
+    cf[1] = abs(F[0] + F[2] * tau + R * (cam * thdd + sam * thd * thd)) / g
 
 
 @njit(cache=True, error_model="numpy")
@@ -91,7 +114,8 @@ def rocking_energy(y, P):
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
     return driver.integrate(rhs, impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, driver.no_factor, driver.no_solve, rk_step, run)
+                            driver.no_observe, contact, driver.no_factor, driver.no_solve,
+                            rk_step, run)
 
 
 def restitution_extras(body: Block | Cylinder) -> dict:
@@ -102,6 +126,18 @@ def restitution_extras(body: Block | Cylinder) -> dict:
     if body.restitution_clipped:
         out["restitution_note"] = body.restitution_note
     return out
+
+
+def impact_friction(body: Block | Cylinder) -> float:
+    """Friction an impact needs, |J_x|/J_z = (1 − e)/((1 + e) tan α) [-].
+
+    The impulse at the new corner is the change of momentum of the centre of mass: v_G =
+    θ̇ (h, σb) on the corner (σb, 0), so from θ̇⁻ about the old corner to e θ̇⁻ about the new
+    one v_G jumps by θ̇⁻ [(e − 1) h, −σ (1 + e) b] (docs/equations.md, "Validity
+    monitors"). The ratio does
+    not depend on the impact's speed; e = 0 (squat body) gives 1/tan α.
+    """
+    return (1.0 - body.e) / ((1.0 + body.e) * body.tan_alpha)
 
 
 def energy(body: Block | Cylinder, theta, theta_dot):

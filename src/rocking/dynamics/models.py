@@ -36,7 +36,8 @@ class KernelResult(NamedTuple):
     t : ndarray
         Times of the output rows [s] (only the final row without history).
     y : ndarray
-        Output rows, one per time, in the model's ``state`` layout.
+        Output rows, one per time, in the model's ``state`` layout followed by the two
+        monitor columns N [weights] and μ_req [-] (:func:`rocking.dynamics.driver.watch`).
     n_steps, n_rejected : int
         Accepted and rejected steps.
     theta_max : float
@@ -45,13 +46,16 @@ class KernelResult(NamedTuple):
         Its time [s].
     ev_t, ev_y : ndarray
         Events (tilt minima in 3D, the state before each impact in 2D): times [s] and output
-        rows.
+        rows (with the monitor columns).
     t_stop : float
         End time [s].
     y_end : ndarray
         Final internal (kernel) state.
     diag : ndarray
         The model's diagnostics (damped model: tension count, smallest contact force).
+    monitor : ndarray
+        Validity monitors (smallest N [weights], its time [s], largest μ_req [-], its time
+        [s]; indices ``driver.M_*``).
     """
 
     code: int
@@ -66,6 +70,7 @@ class KernelResult(NamedTuple):
     t_stop: float
     y_end: np.ndarray
     diag: np.ndarray
+    monitor: np.ndarray
 
 
 class Model(NamedTuple):
@@ -132,7 +137,7 @@ def _state_2d(body, y0, P):
 
 def _state_damped(body, y0, P):
     y = cylinder3d_damped.to_state(y0)
-    return y, np.array([0.0, float(cylinder3d_damped.contact(y, P))])
+    return y, np.array([0.0, float(cylinder3d_damped.contact_force_of(y, P))])
 
 
 _NO_DIAG = np.zeros(0)
@@ -150,7 +155,8 @@ MODELS: dict[str, Model] = {
 
 
 def rest_criterion(body: Block | Cylinder, theta_rest: float) -> np.ndarray:
-    """``[Zeno floor energy, rest energy, g tan α]`` of the driver's rest test [J/kg, m/s²].
+    """``[Zeno floor energy, rest energy, g tan α, tan α]`` of the driver's rest test
+    [J/kg, J/kg, m/s², -] (the uplift level is (g + a_z) tan α with vertical motion).
 
     The rest energy is what lifting the body from rest to the tilt ``theta_rest`` [rad]
     takes, gR[cos(α − θ_rest) − cos α] (docs/equations.md, "Back at rest"); the floor is the
@@ -160,7 +166,7 @@ def rest_criterion(body: Block | Cylinder, theta_rest: float) -> np.ndarray:
     e_rest = G * body.R * (math.sin(a) * math.sin(theta_rest)
                            - 2.0 * math.cos(a) * math.sin(0.5 * theta_rest) ** 2)
     e_floor = 0.5 * body.kappa_o * body.R**2 * (ZENO_RATE * body.p * a) ** 2
-    return np.array([e_floor, max(e_rest, 0.0), G * body.tan_alpha])
+    return np.array([e_floor, max(e_rest, 0.0), G * body.tan_alpha, body.tan_alpha])
 
 
 class Prepared(NamedTuple):
@@ -225,7 +231,7 @@ def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray,
 def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0: float,
         t_offset: float, y0: np.ndarray, t_end: float, stop_level: float, *, history: bool,
         until_peak: bool = False, side: float = 1.0, quiet: np.ndarray | None = None,
-        theta_before: float = 0.0) -> KernelResult:
+        theta_before: float = 0.0, az: np.ndarray | None = None) -> KernelResult:
     """Integrate a prepared model from record interval ``k0``, local time ``tau0`` [s].
 
     Parameters
@@ -256,6 +262,9 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
         None: never (every undamped analysis without history passes it).
     theta_before : float
         Peak tilt of the analysis' earlier episodes [rad] (the ``quiet`` test's cap).
+    az : ndarray, optional
+        Vertical ground acceleration [m/s², up] (already scaled), on the samples of ``ax``;
+        None: zeros (gravity exactly g).
 
     Returns
     -------
@@ -268,7 +277,9 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
     layout = prep.layout.copy()
     layout[driver.L_HISTORY] = history
     layout[driver.L_UNTIL_PEAK] = until_peak
-    out = prep.model.kernel((P, ax, ay, float(dt), int(k0), float(tau0), float(t_offset), y,
+    if az is None:
+        az = np.zeros(ax.size)
+    out = prep.model.kernel((P, ax, ay, az, float(dt), int(k0), float(tau0), float(t_offset), y,
                              float(t_end), float(stop_level), prep.tol, prep.tab, prep.ctrl,
                              layout, prep.rest, diag0,
                              _NO_QUIET if quiet is None else quiet,

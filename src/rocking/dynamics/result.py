@@ -78,6 +78,21 @@ class Response:
         The body left its rest position at least once.
     t_uplift : float
         First uplift time [s] (NaN if never).
+    normal_force, mu_required : ndarray
+        Validity monitors along the history: the normal force the support supplies in units
+        of the weight, N/(m g) [-] (N < 0: the body would lift off), and the friction it
+        needs, μ_req = |F_h|/N [-] (inf where N ≤ 0); docs/equations.md, "Validity
+        monitors". At rest: (g + a_z)/g and |a_h|/(g + a_z).
+    normal_force_min, t_normal_force_min : float
+        Smallest N/(m g) [-] over the analysis and when [s] (every accepted step end,
+        every event, the record samples at rest; inf/NaN if nothing was monitored).
+    mu_required_max, t_mu_required_max : float
+        Largest μ_req [-] over the instants with N > 0 (in 2D including every impact's
+        impulse ratio, :func:`rocking.dynamics.housner2d.impact_friction`) and when [s].
+        An analysis ended early (``stop_when_decided``) or a free tail decided by
+        invariants without integration is monitored up to where it was integrated.
+    mu : float or None
+        Support friction coefficient of the body [-] (None: not given).
     extras : dict
         Model-specific numbers: ``free_tail_peak`` [rad]; for "3d-damped" ``dissipated``
         (energy dissipated by the contact dashpot per unit mass of the body [J/kg]),
@@ -107,6 +122,24 @@ class Response:
     w_dot: np.ndarray | None = None
     contact_force: np.ndarray | None = None
     extras: dict = field(default_factory=dict)
+    normal_force: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mu_required: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    normal_force_min: float = float("inf")
+    t_normal_force_min: float = float("nan")
+    mu_required_max: float = 0.0
+    t_mu_required_max: float = float("nan")
+    mu: float | None = None
+
+    @property
+    def slides(self) -> bool | None:
+        """The body needs more friction than it has somewhere in the analysis
+        (``mu_required_max`` > ``mu``); None when no ``mu`` was given."""
+        return None if self.mu is None else bool(self.mu_required_max > self.mu)
+
+    @property
+    def lifts_off(self) -> bool:
+        """The support would have to pull (N < 0) somewhere: the body would jump."""
+        return bool(self.normal_force_min < 0.0)
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -136,5 +169,12 @@ class Response:
             "n_quasi_impacts": len(self.quasi_impacts),
             "n_steps": int(self.n_steps),
             "n_rejected": int(self.n_rejected),
+            "normal_force_min": float(self.normal_force_min),
+            "t_normal_force_min": float(self.t_normal_force_min),
+            "mu_required_max": float(self.mu_required_max),
+            "t_mu_required_max": float(self.t_mu_required_max),
+            "mu": self.mu,
+            "slides": self.slides,
+            "lifts_off": self.lifts_off,
             **{k: v for k, v in self.extras.items() if isinstance(v, (int, float, str, bool))},
         }

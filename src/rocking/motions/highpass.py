@@ -341,7 +341,8 @@ def highpass_motion(
     order: int = 4,
     pad: float | None = None,
 ) -> GroundMotion:
-    """High-pass both components of a motion; the padding is kept.
+    """High-pass both components of a motion (and the vertical one, alike, if present); the
+    padding is kept.
 
     Parameters
     ----------
@@ -365,8 +366,8 @@ def highpass_motion(
     """
     if fc_hz is None:
         raise ValueError("fc_hz is required (e.g. rocking.motions.highpass.brune_corner(mw))")
-    out, front = highpass_rows(np.vstack([motion.ax, motion.ay]), motion.dt, kind, fc_hz,
-                               order, pad)
+    rows = [motion.ax, motion.ay] + ([] if motion.az is None else [motion.az])
+    out, front = highpass_rows(np.vstack(rows), motion.dt, kind, fc_hz, order, pad)
     info_order = int(order) if kind == "butterworth" else None
     res = [residuals(row, motion.dt) for row in out]
     step: dict[str, Any] = {
@@ -382,4 +383,5 @@ def highpass_motion(
     meta = dict(motion.metadata)
     meta["processing"] = [*meta.get("processing", []), step]
     meta["highpass"] = {k: step[k] for k in ("kind", "fc_hz", "order")}
-    return GroundMotion(out[0], out[1], motion.dt, motion.name, meta)
+    return GroundMotion(out[0], out[1], motion.dt, motion.name, meta,
+                        None if motion.az is None else out[2])

@@ -64,6 +64,8 @@ def identity(motion: GroundMotion) -> dict[str, Any]:
             words.append(f"high-passed ({step['kind']}, fc {fc:.4g} Hz)")
         elif kind == "truncate":
             words.append(f"cut to {float(step['max_duration']):g} s")
+        elif kind == "vertical":
+            words.append(f"with its vertical component ({step['sign']})")
     if synthetic:
         head = (f"RDK synthetic pair {meta.get('realization')} of {source} "
                 f"(seed {meta.get('seed')})")

@@ -166,7 +166,7 @@ def rotate(motion: GroundMotion, angle_deg: float) -> GroundMotion:
         {"step": "rotation", "angle_deg": float(angle_deg)},
     ]
     meta.update(_azimuth_after(motion.metadata, angle_deg))
-    return GroundMotion(bx, by, motion.dt, motion.name, meta)
+    return GroundMotion(bx, by, motion.dt, motion.name, meta, motion.az)  # z: about it
 
 
 def to_principal_axes(
@@ -239,4 +239,4 @@ def to_principal_axes(
         "principal_angle_deg": computed,
         "forced_angle_deg": forced,
     }
-    return GroundMotion(out.ax, out.ay, out.dt, out.name, meta), applied
+    return GroundMotion(out.ax, out.ay, out.dt, out.name, meta, out.az), applied

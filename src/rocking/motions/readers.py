@@ -41,6 +41,7 @@ __all__ = [
     "read_pair",
     "read_record",
     "read_text",
+    "with_vertical",
 ]
 
 UNIT_FACTORS: dict[str, float] = {
@@ -587,3 +588,55 @@ def read_pair(
         Different time steps (names both files and both dt values), or a malformed file.
     """
     return pair_from_records(read_record(path_x, units), read_record(path_y, units), name)
+
+
+VERTICAL_LENGTH_SLACK = 0.01
+"""Largest relative difference of sample counts between a vertical file and the horizontal
+pair it joins [-]: the components of one NGA station differ by a few samples (El Centro:
+5378 against 5372), another record's file by far more."""
+
+
+def _points_down(rec: Record) -> bool:
+    """The component is positive downwards: ``DWN``/``DOWN`` ends the component label of an
+    AT2 header's second line (Pacoima Dam's vertical file)."""
+    header = rec.meta.get("header") or []
+    if len(header) < 2:
+        return False
+    m = _AZIMUTH.search(str(header[1]).strip())
+    return bool(m) and m.group("az").upper() in ("DWN", "DOWN")
+
+
+def with_vertical(motion: GroundMotion, rec_z: Record) -> GroundMotion:
+    """A horizontal pair with a vertical component read by :func:`read_record`.
+
+    The vertical is put positive up: a file labelled ``DWN`` has its sign turned, and the
+    processing line says so. The three components share one time axis, the shorter ones
+    zero-padded at the end (as :func:`pair_from_records` pads the pair).
+
+    Raises
+    ------
+    ValueError
+        A vertical file with another dt than the pair, or whose length differs by more than
+        :data:`VERTICAL_LENGTH_SLACK` (one line naming the file and both values).
+    """
+    name = rec_z.meta.get("file", "vertical file")
+    if not math.isclose(rec_z.dt, motion.dt, rel_tol=1e-9):
+        raise ValueError(f"vertical file {name}: dt {rec_z.dt!r} s differs from the "
+                         f"horizontal pair's {motion.dt!r} s")
+    n_h, n_z = motion.npts, rec_z.acc.size
+    if abs(n_z - n_h) > VERTICAL_LENGTH_SLACK * max(n_h, n_z):
+        raise ValueError(f"vertical file {name}: {n_z} samples against {n_h} of the "
+                         "horizontal pair (another record?)")
+    n = max(n_h, n_z)
+    ax, ay, az = np.zeros(n), np.zeros(n), np.zeros(n)
+    ax[:n_h], ay[:n_h] = motion.ax, motion.ay
+    down = _points_down(rec_z)
+    az[:n_z] = -rec_z.acc if down else rec_z.acc
+    meta = dict(motion.metadata)
+    meta["components"] = {**meta.get("components", {}), "z": _component_meta(rec_z.meta, n)}
+    meta["vertical"] = {"file": name, "sha256": rec_z.meta.get("sha256"),
+                        "sign": "turned (DWN file, now positive up)" if down else "up"}
+    meta["processing"] = [*meta.get("processing", []),
+                          {"step": "vertical", "file": name,
+                           "sign": "DWN file: sign turned to up" if down else "UP file"}]
+    return GroundMotion(ax, ay, motion.dt, motion.name, meta, az)

@@ -29,7 +29,7 @@ __all__ = ["describe_processing", "identity", "load_motion", "process_motion"]
 def load_motion(record: str | None = None, files=None, ensemble: str | Path | None = None,
                 motion: str | None = None, *, name: str | None = None,
                 order_by_azimuth: bool = False, dt: float | None = None,
-                units: str = "g") -> GroundMotion:
+                units: str = "g", vertical: bool = False) -> GroundMotion:
     """A ground motion from a named record, acceleration files or an ensemble file.
 
     Parameters
@@ -37,9 +37,10 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     record : str, optional
         Named record (:data:`rocking.motions.catalogue.RECORDS`); with ``files``, the files
         of that record.
-    files : sequence of one or two paths, optional
-        Acceleration files, x then y (AT2 or text, in g). One file gives a motion with only
-        an x component (for the 2D modes).
+    files : sequence of one, two or three paths, optional
+        Acceleration files, x then y (AT2 or text, in g), then z (vertical, positive up; a
+        ``DWN`` AT2 file is turned). One file gives a motion with only an x component (for
+        the 2D modes).
     ensemble : str or Path, optional
         Ensemble file (NetCDF of :mod:`rocking.motions.ensemble_io`).
     motion : str, optional
@@ -55,6 +56,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     units : str
         Unit of the values in ``files``: ``"g"`` (default), ``"m/s2"``, ``"cm/s2"`` or
         ``"gal"`` (:func:`rocking.motions.readers.read_record`).
+    vertical : bool
+        With the vertical component: the named record's shipped ``UP``/``DWN`` file
+        (:func:`rocking.motions.catalogue.load_record`); implied by three ``files``.
 
     Returns
     -------
@@ -68,6 +72,12 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
     FileNotFoundError
         A file that does not exist.
     """
+    files = list(files or [])
+    if vertical and ensemble is not None:
+        raise ValueError("vertical=True: the motions of an ensemble file carry no vertical "
+                         "component (synthetic pairs are horizontal)")
+    if vertical and files and len(files) != 3:
+        raise ValueError(f"vertical=True needs three files (x, y, z), got {len(files)}")
     if ensemble is not None:
         if record is not None or files:
             raise ValueError("give an ensemble file or a record/files, not both")
@@ -79,12 +89,20 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
     from .catalogue import load_record, loma_prieta_pair
 
-    files = list(files or [])
     if not files:
         if record is None:
             raise ValueError("give a record name, acceleration files or an ensemble file")
         # the paper's SJTE record is not redistributable: its labelled stand-in
-        return loma_prieta_pair() if record == "loma-prieta-sjte" else load_record(record)
+        if record == "loma-prieta-sjte":
+            if vertical:
+                raise ValueError("vertical=True: record 'loma-prieta-sjte' ships no files; "
+                                 "give its three files")
+            return loma_prieta_pair()
+        return load_record(record, vertical=vertical)
+    if len(files) == 3:
+        stems = "+".join(Path(f).stem for f in files[:2])
+        return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth,
+                           dt=dt, units=units)
     if len(files) == 2:
         if record == "loma-prieta-sjte":
             return loma_prieta_pair(files, order_by_azimuth=order_by_azimuth)
@@ -97,7 +115,8 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         rec = read_record(files[0], units, dt=dt)
         return GroundMotion(rec.acc, None, rec.dt, name or Path(files[0]).stem,
                             {**rec.meta, "source": "file", "components": {"x": rec.meta}})
-    raise ValueError(f"files must be one or two paths (x, y), got {len(files)}: {files!r}")
+    raise ValueError(f"files must be one, two or three paths (x, y, z), got {len(files)}: "
+                     f"{files!r}")
 
 
 def _from_ensemble(path: Path, name: str | None) -> GroundMotion:
