@@ -645,7 +645,7 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     # motions are no record (the stand-in store has none): headers only
     (wd / "results/synth/records.csv").write_text(
         "motion,source_record,mode,tan_alpha [-],limit_state,R [m],pga_g [g],"
-        "pga_crit_g [g],scale_factor [-],survives_as_recorded\n")
+        "pga_crit_g [g],scale_factor [-],exceeds_as_recorded,as_recorded_disagrees\n")
     (wd / "results/synth/suite_fragility.csv").write_text(
         "motions,mode,tan_alpha,limit_state,R,measure,unit,median,beta,n,n_censored,status\n")
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))

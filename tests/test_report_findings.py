@@ -221,16 +221,17 @@ def test_findings_quote_lambda_with_its_interval_and_the_most_dangerous_record(t
     records = tmp_path / "records.csv"
     records.write_text(
         "motion,mode,tan_alpha [-],limit_state,R [m],pga_crit_g [g],scale_factor [-],"
-        "survives_as_recorded\n"
-        "a,3d,0.2,overturning,8,0.6,2.0,True\n"
-        "b,3d,0.2,overturning,8,0.3,0.8,False\n"
-        "c,3d,0.2,overturning,8,,,True\n"
-        "a,3d,0.2,overturning,2,0.2,0.7,False\n")
+        "exceeds_as_recorded,as_recorded_disagrees\n"
+        "a,3d,0.2,overturning,8,0.6,2.0,False,False\n"
+        "b,3d,0.2,overturning,8,0.3,0.8,False,True\n"
+        "c,3d,0.2,overturning,8,,,False,False\n"
+        "a,3d,0.2,overturning,2,0.2,0.7,True,False\n")
     text = [f.text for f in study_findings(risk=risk, records=records)]
     # the three records count, though one never reached overturning at R = 8 m; b needs the
     # smallest scale at the largest size
     assert any(t.startswith("The most dangerous of the 3 records is b") and "0.80" in t
-               and "already as recorded" in t for t in text), text
+               and "as recorded (scale 1) it does not although the scale factor says otherwise"
+               in t for t in text), text
     lam = next(t for t in text if t.startswith("Annual frequency"))
     assert "0.002 /yr at R = 2 m (5–95 %: 0.001–0.004)" in lam
     assert "0.0001 /yr at R = 8 m (5–95 %: 5e-05–0.0003)" in lam
