@@ -85,7 +85,7 @@ def resolve_body(args: argparse.Namespace, command: str, *, many: bool) -> None:
     before any work (:func:`rocking.study.dimensions.body_size`)."""
     import sys
 
-    from ..study.dimensions import body_line, body_size
+    from ..dynamics.dimensions import body_line, body_size
 
     R = args.R if args.R is None or many else [args.R]
     size = body_size(args.height, args.diameter, R=R, tan_alpha=args.tan_alpha,

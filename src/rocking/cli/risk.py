@@ -127,7 +127,7 @@ def _body_rows(rows, args):
     stderr), or a line saying which bodies the table has."""
     import sys
 
-    from ..study.dimensions import AGREE_RTOL, body_line, body_size
+    from ..dynamics.dimensions import AGREE_RTOL, body_line, body_size
 
     size = body_size(args.height, args.diameter, tan_alpha=args.tan_alpha,
                      names=("--height", "--diameter", "--R", "--tan-alpha"))
