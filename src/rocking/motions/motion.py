@@ -111,6 +111,19 @@ class GroundMotion:
         """Peak vertical acceleration max |a_z| [m/s²] (0 without a vertical component)."""
         return 0.0 if self.az is None else float(np.max(np.abs(self.az)))
 
+    @property
+    def samples_sha256(self) -> str:
+        """sha256 (hex) of what an analysis reads: dt and the samples of every component, as
+        float64. Equal digests are equal inputs to the bit; the answers of two motions that
+        differ in the last bit may differ much more (rocking near a goal is chaotic in its
+        input), so a comparison of answers across machines is exact only where this agrees."""
+        import hashlib
+
+        h = hashlib.sha256(np.float64(self.dt).tobytes())
+        for a in (self.ax, self.ay) + (() if self.az is None else (self.az,)):
+            h.update(np.ascontiguousarray(a, dtype="<f8").tobytes())
+        return h.hexdigest()
+
     def horizontal(self) -> GroundMotion:
         """The motion without its vertical component."""
         if self.az is None:
