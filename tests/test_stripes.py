@@ -213,8 +213,8 @@ def test_from_outcomes_counts_and_failures():
 def test_cli_stripes_table_with_units(capsys):
     from rocking.cli import main
 
-    code = main(["stripes", "--R", "2", "--record", "el-centro-1940", "--intensities",
-                 "1.5,2.5,4", "--limit-states", "overturning,tilt:1/3", "-q"])
+    code = main(["stripes", "--R", "2", "--tan-alpha", "0.2", "--record", "el-centro-1940",
+                 "--intensities", "1.5,2.5,4", "--limit-states", "overturning,tilt:1/3", "-q"])
     out = capsys.readouterr().out
     assert code == 0
     assert "median PGA/(g tan α) [-]" in out and "median PGA [g]" in out and "β [-]" in out
@@ -224,8 +224,8 @@ def test_cli_stripes_table_with_units(capsys):
 def test_cli_stripes_bad_input(capsys):
     from rocking.cli import main
 
-    assert main(["stripes", "--R", "2", "--record", "el-centro-1940", "--intensities",
-                 "3,2"]) == 2
+    assert main(["stripes", "--R", "2", "--tan-alpha", "0.2", "--record", "el-centro-1940",
+                 "--intensities", "3,2"]) == 2
     assert "strictly increasing" in capsys.readouterr().err
 
 
@@ -243,8 +243,8 @@ def test_cli_stripes_csv_and_strict_json(tmp_path):
 
     from rocking.cli import main
 
-    args = ["stripes", "--R", "2", "--record", "el-centro-1940", "--intensities", "1.5,2.5",
-            "--limit-states", "overturning", "--refine", "0", "-q"]
+    args = ["stripes", "--R", "2", "--tan-alpha", "0.2", "--record", "el-centro-1940",
+            "--intensities", "1.5,2.5", "--limit-states", "overturning", "--refine", "0", "-q"]
     assert main([*args, "-o", str(tmp_path / "s.csv")]) == 0
     import pandas as pd
 
