@@ -21,10 +21,11 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_3D_DAMPED
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
-    limit_state_title,
     motion_styles,
     new_figure,
     paper_tag,
@@ -36,7 +37,7 @@ from ._style import (
 )
 from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
-DAMPED = "3d-damped"
+DAMPED = MODE_3D_DAMPED
 """The damped mode, drawn beside the undamped "3d" where the study ran it."""
 LINESTYLES = {"3d": "-", "3d-damped": "--"}
 DAMPING_NOTE = "damping|"

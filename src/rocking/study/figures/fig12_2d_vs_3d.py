@@ -22,21 +22,14 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_3D, PLANAR_MODES
 from ..spec import decode_attrs
 from . import _axes, _load
-from ._style import (
-    MODE_STYLE,
-    footnote,
-    limit_state_title,
-    paper_tag,
-    pga_g_axis,
-    r_axis,
-    styled,
-    with_legend_row,
-)
+from ._style import MODE_STYLE, footnote, paper_tag, pga_g_axis, r_axis, styled, with_legend_row
 from .comparisons import Comparison, finite, first_notes, fmt, judged
 
-MODES = ("3d", "2d-x", "2d-y")
+MODES = (MODE_3D, *PLANAR_MODES)
 REFERENCE_R = 10.0
 """Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice 2D) [m]."""
 ENSEMBLE_COLORS = ("black", "tab:red", "tab:blue", "tab:green")
@@ -193,7 +186,7 @@ def _write_ratios(ax, R: np.ndarray, curves: dict, color) -> None:
     base = curves.get("3d")
     if base is None:
         return
-    for mode in ("2d-x", "2d-y"):
+    for mode in PLANAR_MODES:
         y = curves.get(mode)
         if y is None:
             continue
