@@ -21,6 +21,7 @@ import yaml
 from rocking import Cylinder, GroundMotion
 from rocking.constants import G
 from rocking.motions.principal import rotate
+from rocking.spectra.limit_states import limit_state_title
 from rocking.study import figures
 from rocking.study.figures import (
     _axes,
@@ -37,7 +38,6 @@ from rocking.study.figures import (
     fig12_2d_vs_3d,
     render,
 )
-from rocking.study.figures._style import limit_state_title
 from rocking.study.figures.captions import CAPTIONS
 from rocking.study.prepare import keyed
 from rocking.study.spec import StudySpec

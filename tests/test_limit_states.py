@@ -4,13 +4,24 @@ import math
 
 import pytest
 
+from rocking.dynamics.result import Status
 from rocking.spectra.accuracy import PRESETS, Accuracy, get_accuracy
 from rocking.spectra.limit_states import (
     DEFAULT_LIMIT_STATES,
     LimitState,
+    classify,
+    limit_state_title,
+    match_limit_state,
     parse_limit_state,
     parse_limit_states,
+    severity,
+    stop_for,
 )
+from rocking.spectra.search import Outcome
+
+
+def peaks(theta_max: float, overturned: bool) -> dict:
+    return {"theta_max": theta_max, "overturned": overturned}
 
 
 def test_parse_names_and_ratios():
@@ -52,14 +63,52 @@ def test_thresholds_and_exceedance():
     tilt = parse_limit_state("tilt:1/3")
     assert tilt.threshold(alpha) == pytest.approx(alpha / 3, rel=1e-15)
     assert parse_limit_state("overturning").threshold(alpha) == math.pi / 2
-    assert tilt.exceeded(alpha / 3 * 1.0001, False, alpha)
-    assert not tilt.exceeded(alpha / 3 * 0.9999, False, alpha)
-    assert tilt.exceeded(0.0, True, alpha)  # overturning passes every tilt goal
+    assert tilt.exceeded(peaks(alpha / 3 * 1.0001, False), alpha)
+    assert not tilt.exceeded(peaks(alpha / 3 * 0.9999, False), alpha)
+    assert tilt.exceeded(peaks(0.0, True), alpha)  # overturning passes every tilt goal
     over = parse_limit_state("overturning")
-    assert not over.exceeded(1.5, False, alpha) and over.exceeded(1.5, True, alpha)
+    assert not over.exceeded(peaks(1.5, False), alpha) and over.exceeded(peaks(1.5, True), alpha)
     # A goal beyond π/2 can only be met by overturning: refused, naming the limit state.
     with pytest.raises(ValueError, match="tilt:9"):
         parse_limit_state("tilt:9").threshold(alpha)
+
+
+def test_an_outcome_is_read_through_its_named_peaks():
+    alpha = math.atan(0.2)
+    tilt, over = parse_limit_state("tilt:1/3"), parse_limit_state("overturning")
+    out = Outcome(alpha / 2, False, Status.OK, other_peaks={"mu_required_max": 0.3})
+    assert out.peaks == {"theta_max": alpha / 2, "overturned": False, "mu_required_max": 0.3}
+    assert tilt.exceeded(out, alpha) and not over.exceeded(out, alpha)
+    assert (tilt.quantity, over.quantity) == ("theta_max", "overturned")
+    with pytest.raises(ValueError, match="unknown quantity name.*'sliding'"):
+        Outcome(0.0, False, Status.OK, other_peaks={"sliding": 1.0})
+
+
+def test_severity_title_and_stops_belong_to_the_limit_state():
+    alpha = math.atan(0.2)
+    names = ["overturning", "tilt:0.5", "tilt:1/3", "tilt:0.1"]
+    assert sorted(names, key=severity) == ["tilt:0.1", "tilt:1/3", "tilt:0.5", "overturning"]
+    assert limit_state_title("tilt:2/6") == "Tilt θ > α/3 (excessive tilt)"
+    assert limit_state_title("overturning") == "Overturning"
+    states = parse_limit_states(["tilt:0.1", "tilt:0.5"])
+    assert stop_for(states, alpha) == 0.5 * alpha  # the largest goal decides them all
+    assert stop_for(parse_limit_states(["tilt:0.1", "overturning"]), alpha) is None
+    assert match_limit_state("tilt:0.3333", ["tilt:1/3", "overturning"]) == "tilt:1/3"
+    assert match_limit_state("tilt:0.75", ["tilt:1/3"], missing_ok=True) is None
+    with pytest.raises(KeyError, match="tilt:0.75"):
+        match_limit_state("tilt:0.75", ["tilt:1/3"])
+
+
+def test_a_run_stopped_past_a_goal_decides_the_goals_up_to_it():
+    alpha = math.atan(0.2)
+    states = parse_limit_states(["tilt:0.1", "tilt:0.5", "tilt:1", "overturning"])
+    # stopped exactly on 0.5·α: 0.1 and 0.5 passed, 1 and overturning unknown
+    known, exc = classify(peaks(0.5 * alpha, False), states, alpha, 0.5 * alpha, stopped=True)
+    assert known.tolist() == [True, True, False, False]
+    assert exc.tolist() == [True, True, False, False]
+    # ran to its end below 0.5·α: everything known, only 0.1 exceeded
+    known, exc = classify(peaks(0.3 * alpha, False), states, alpha, None, stopped=False)
+    assert known.all() and exc.tolist() == [True, False, False, False]
 
 
 def test_presets_ordered_by_cost_and_accuracy():

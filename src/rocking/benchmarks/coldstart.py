@@ -32,9 +32,9 @@ import time
 
 import pandas as pd
 
+from ..spectra.modes import MODES
 from ._io import write_table
 
-MODES = ("3d", "3d-damped", "2d-x", "2d-y")
 R = 2.0
 TAN_ALPHA = 0.2
 LIMIT_STATES = ("overturning", "tilt:1/3")
@@ -61,7 +61,7 @@ def scenario(warm: bool) -> dict:
     t0 = time.time()
     warm_seconds = 0.0
     if warm:
-        warm_numba_cache(MODES, processes=os.cpu_count() or 1)
+        warm_numba_cache(tuple(MODES), processes=os.cpu_count() or 1)
         warm_seconds = time.time() - t0
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                       dashboard_address=":0") as cluster, Client(cluster) as client:

@@ -28,7 +28,12 @@ import pandas as pd
 from ..dynamics.analysis import ground_response
 from ..dynamics.bodies import Cylinder
 from ..spectra.accuracy import PRESETS
-from ..spectra.limit_states import DEFAULT_LIMIT_STATES, parse_limit_state
+from ..spectra.limit_states import (
+    DEFAULT_LIMIT_STATES,
+    OVERTURNED,
+    THETA_MAX,
+    parse_limit_state,
+)
 from ._io import write_table
 from .inputs import benchmark_records, with_synthetic
 from .spectra import ADAPTIVE, FIXED, solve_point
@@ -67,7 +72,8 @@ def _side(row: dict, goal: str, alpha: float) -> str:
     """Which treatment the damped model sides with at the disputed intensity."""
     ls = parse_limit_state(goal)
     th = {k: row[f"theta_over_alpha_{k}"] * alpha for k in ("exact", "rest", "damped")}
-    exceeded = {k: ls.exceeded(v, v >= 0.5 * math.pi - 1e-12, alpha) for k, v in th.items()}
+    exceeded = {k: ls.exceeded({THETA_MAX: v, OVERTURNED: v >= 0.5 * math.pi - 1e-12}, alpha)
+                for k, v in th.items()}
     if exceeded["exact"] == exceeded["rest"]:
         return "both agree at this intensity"
     return "exact" if exceeded["damped"] == exceeded["exact"] else "rest criterion"

@@ -51,8 +51,15 @@ from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
 from ..spectra.accuracy import PRESETS, Accuracy
 from ..spectra.critical import MODES, make_analysis, uplift_intensity
-from ..spectra.limit_states import DEFAULT_LIMIT_STATES, parse_limit_states
-from ..spectra.search import search_critical
+from ..spectra.limit_states import (
+    DEFAULT_LIMIT_STATES,
+    OVERTURNED,
+    THETA_MAX,
+    classify,
+    parse_limit_states,
+)
+from ..spectra.modes import is_damped
+from ..spectra.search import RETRY_RTOL_FACTOR, search_critical
 from ._io import results_dir, write_table
 
 LATTICE_LOG_STEP = math.log(1.01) / 100
@@ -119,21 +126,18 @@ def lattice_periods(mode: str, finest: str = "0.02%") -> tuple[int, ...]:
     at the 0.05 % grid."""
     if finest not in ("0.02%", "0.05%"):
         raise ValueError(f"finest must be '0.02%' or '0.05%', got {finest!r}")
-    return (5,) if MODES[mode][0] == "3d-damped" or finest == "0.05%" else (5, 2)
+    return (5,) if is_damped(mode) or finest == "0.05%" else (5, 2)
 
 
-def _goal_status(out: dict, taus: np.ndarray, alpha: float, states) -> tuple[np.ndarray,
-                                                                            np.ndarray]:
-    """(known, exceeded) per goal of one traced analysis (as the search classifies it)."""
-    status = Status(out["status"])
+def _goal_status(row: dict, alpha: float, states) -> tuple[np.ndarray, np.ndarray]:
+    """(known, exceeded) per goal of one traced analysis, as the search classifies it
+    (:func:`rocking.spectra.limit_states.classify`; a failed analysis decides nothing)."""
+    status = Status(row["status"])
     if status is Status.FAILED:
-        return np.zeros(taus.size, bool), np.zeros(taus.size, bool)
-    exc = np.array([ls.exceeded(out["theta"], out["overturned"], alpha) for ls in states])
-    if status is Status.STOPPED_AT_LIMIT:
-        stop = math.inf if out["stop_at"] is None else out["stop_at"]
-        known = taus <= stop
-        return known, (exc | known) & known
-    return np.ones(taus.size, bool), exc
+        return np.zeros(len(states), bool), np.zeros(len(states), bool)
+    peaks = {THETA_MAX: row["theta"], OVERTURNED: row["overturned"]}
+    return classify(peaks, states, alpha, row["stop_at"],
+                    stopped=status is Status.STOPPED_AT_LIMIT)
 
 
 def trace_point(motion: GroundMotion, mode: str, R: float, tan_alpha: float,
@@ -174,14 +178,14 @@ def trace_point(motion: GroundMotion, mode: str, R: float, tan_alpha: float,
             truncated = True
             break
         top = int(np.flatnonzero(open_1)[-1])
-        stop_at = None if states[top].is_overturning else float(taus[top])
+        stop_at = states[top].stop_at(body.alpha)
         out = analyze(intensity, stop_at, rtol)
         if out.status is Status.FAILED:
-            out = analyze(intensity, stop_at, rtol * 0.1)
+            out = analyze(intensity, stop_at, rtol * RETRY_RTOL_FACTOR)
         row = {"n": n, "theta": float(out.theta_max), "overturned": bool(out.overturned),
                "status": Status(out.status).value, "stop_at": stop_at}
         rows.append(row)
-        known, exc = _goal_status(row, taus, body.alpha, states)
+        known, exc = _goal_status(row, body.alpha, states)
         hit = known & exc
         for p in on:
             new = hit & open_f[p]
@@ -269,7 +273,7 @@ class Trace:
         taus = np.array(tr["taus"])
         rows = tr["analyses"]
         n = np.array([r["n"] for r in rows], dtype=int)
-        ke = [_goal_status(r, taus, tr["alpha"], states) for r in rows]
+        ke = [_goal_status(r, tr["alpha"], states) for r in rows]
         known = np.array([k for k, _ in ke], dtype=bool).reshape(len(rows), taus.size)
         exc = np.array([e for _, e in ke], dtype=bool).reshape(len(rows), taus.size)
         theta = np.array([math.pi / 2 if r["overturned"] else r["theta"] for r in rows])

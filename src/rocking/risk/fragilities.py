@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..spectra.limit_states import parse_limit_state
+from ..spectra.limit_states import parse_limit_state, severity, sort_limit_states
 from ..units import strip_units
 from .bootstrap import BootstrapSamples
 
@@ -121,16 +121,6 @@ class Fragilities:
         where = f" of {self.source}" if self.source else ""
         return (f"{len(items)} row(s){where} without a fit (NaN median), no λ integrated: "
                 + "; ".join(items))
-
-
-def severity(limit_state: str) -> float:
-    """Sort key: the tilt goal r of ``tilt:<r>``, infinity for overturning."""
-    return parse_limit_state(limit_state).ratio
-
-
-def sort_limit_states(names) -> list[str]:
-    """Canonical names in increasing severity."""
-    return sorted({parse_limit_state(n).name for n in names}, key=severity)
 
 
 def _plain_columns(frame: pd.DataFrame) -> pd.DataFrame:
@@ -307,5 +297,4 @@ def median_beta(mean: float, stddev: float) -> tuple[float, float]:
 
 __all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "STRIPES", "SUITE_GROUPS",
            "Fragilities",
-           "fragility_kind", "lognormal_moments", "median_beta", "read_fragilities", "severity",
-           "sort_limit_states"]
+           "fragility_kind", "lognormal_moments", "median_beta", "read_fragilities"]

@@ -44,8 +44,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..spectra.limit_states import parse_limit_state
-from .fragilities import KINDS, Fragilities, lognormal_moments, sort_limit_states
+from ..spectra.limit_states import parse_limit_state, sort_limit_states
+from .fragilities import KINDS, Fragilities, lognormal_moments
 
 NAMESPACE = "http://openquake.org/xmlns/nrml/0.5"
 MAX_IML_SIGMAS = 4.0

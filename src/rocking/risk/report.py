@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..spectra.limit_states import parse_limit_state
+from ..spectra.limit_states import EXCESSIVE_TILT, OVERTURNING, parse_limit_state, severity
+from ..spectra.modes import MODES
 from ..units import strip_units
 from .fragilities import FIRST_EXCEEDANCE, STRIPES
 
-MODES = ("3d", "3d-damped", "2d-x", "2d-y")
-PAPER_LIMIT_STATES = ("overturning", "tilt:1/3")
+PAPER_LIMIT_STATES = (OVERTURNING, EXCESSIVE_TILT)
 """The limit states shown when a study has them (the paper's overturning and θ > α/3)."""
 
 
@@ -211,7 +211,7 @@ def shown_limit_states(frame: pd.DataFrame) -> list[str]:
     limit states, most severe first (at most two)."""
     present = list(dict.fromkeys(frame["limit_state"]))
     paper = [ls for ls in PAPER_LIMIT_STATES if ls in present]
-    own = sorted(present, key=lambda ls: -parse_limit_state(ls).ratio)
+    own = sorted(present, key=lambda ls: -severity(ls))
     return paper if len(paper) == len(PAPER_LIMIT_STATES) else (paper + [
         ls for ls in own if ls not in paper])[:2]
 

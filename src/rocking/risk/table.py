@@ -124,7 +124,7 @@ def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
 
 
 def _sorted(table: pd.DataFrame) -> pd.DataFrame:
-    from .fragilities import severity
+    from ..spectra.limit_states import severity
 
     key = table.assign(_sev=[severity(s) for s in table["limit_state"]])
     return (key.sort_values(["mode", "tan_alpha", "R", "_sev"], kind="stable")

@@ -21,7 +21,7 @@ from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .limit_states import parse_limit_states
-from .modes import MODES, check_mode
+from .modes import MODE_3D, MODES, check_mode, is_damped
 from .search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, search_critical
 
 __all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batch",
@@ -46,7 +46,7 @@ def uplift_intensity(motion: GroundMotion, mode: str) -> float:
 
 def _model_kwargs(mode: str, omega_n: float | None, zeta: float | None) -> dict:
     """Contact-model parameters, passed only to the damped model (ignored otherwise)."""
-    if MODES[mode][0] != "3d-damped":
+    if not is_damped(mode):
         return {}
     kw = {}
     if omega_n is not None:
@@ -59,7 +59,7 @@ def _model_kwargs(mode: str, omega_n: float | None, zeta: float | None) -> dict:
 def make_analysis(
     body: Cylinder | Block,
     motion: GroundMotion,
-    mode: str = "3d",
+    mode: str = MODE_3D,
     *,
     omega_n: float | None = None,
     zeta: float | None = None,
@@ -92,7 +92,7 @@ def critical_intensity(
     body: Cylinder | Block,
     motion: GroundMotion,
     limit_states=None,
-    mode: str = "3d",
+    mode: str = MODE_3D,
     *,
     accuracy: str | Accuracy | dict = "default",
     upper: float = DEFAULT_UPPER,

@@ -1,6 +1,13 @@
-"""Performance limit states of a rocking body, as data.
+"""Performance limit states of a rocking body: the one place that knows what a goal means.
 
-A limit state is exceeded the first time the tilt passes a goal. Two kinds exist:
+An analysis reports its response as named peak quantities (:data:`QUANTITIES`: the largest
+tilt ``theta_max``, ``overturned``, and room for the peaks other models add). A limit state
+owns the quantity it watches, its threshold for a body, whether an analysis exceeded it
+(:meth:`LimitState.exceeded`), when an analysis may stop once it is decided
+(:meth:`LimitState.stop_at`), its severity order (:attr:`LimitState.severity`) and its title
+(:attr:`LimitState.title`); it parses (:func:`parse_limit_state`) and prints (``str``)
+itself. The search, the stripes, the study plan, the figures, the risk tables and the
+configuration checks ask only these. Two kinds exist:
 
 - ``"overturning"``: θ reaches π/2 (the analysis reports ``overturned``);
 - ``"tilt:<r>"``: |θ| > r·α, with r > 0 given as a decimal (``"tilt:0.5"``) or a fraction
@@ -12,16 +19,51 @@ decimal are written as decimals (``"tilt:1/2"`` → ``"tilt:0.5"``), others as r
 fractions (``"tilt:2/6"`` → ``"tilt:1/3"``). :func:`match_limit_state` finds a limit state
 among labels in any spelling, including rounded decimals (``"tilt:0.3333"``).
 
-Limit states are compared through their tilt threshold in radians, which depends on the
-body's slenderness α; overturning has the largest threshold, π/2.
+Limit states are ordered by severity: increasing tilt goal, overturning last. An analysis
+that overturned exceeds every limit state.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Protocol
+
+import numpy as np
+
+THETA_MAX = "theta_max"
+"""Largest |θ| reached by an analysis [rad]."""
+
+OVERTURNED = "overturned"
+"""Whether θ reached π/2 (1.0 or True if it did)."""
+
+QUANTITIES: dict[str, str] = {
+    THETA_MAX: "largest |θ| reached [rad]",
+    OVERTURNED: "θ reached π/2 [bool]",
+    "mu_required_max": "largest friction coefficient the contact needed [-]",
+    "normal_force_min": "smallest normal contact force, over the weight [-]",
+}
+"""The named peak quantities an analysis may report (:attr:`HasPeaks.peaks`); the last two
+are reserved for the contact models that will report them."""
+
+
+class HasPeaks(Protocol):
+    """What a limit state reads of an analysis: its named peak quantities."""
+
+    @property
+    def peaks(self) -> Mapping[str, float]:
+        """Peak quantities by name (keys of :data:`QUANTITIES`)."""
+        ...
+
+
+def check_peaks(peaks: Mapping[str, float]) -> Mapping[str, float]:
+    """Return ``peaks`` if every name is one of :data:`QUANTITIES`, else raise ValueError."""
+    unknown = sorted(set(peaks) - set(QUANTITIES))
+    if unknown:
+        raise ValueError(f"peaks: unknown quantity name(s) {unknown}; known {list(QUANTITIES)}")
+    return peaks
 
 OVERTURNING = "overturning"
 """Name of the overturning limit state."""
@@ -64,6 +106,34 @@ class LimitState:
         """True for the overturning limit state."""
         return math.isinf(self.ratio)
 
+    @property
+    def quantity(self) -> str:
+        """Name of the peak quantity this limit state watches (:data:`QUANTITIES`)."""
+        return OVERTURNED if self.is_overturning else THETA_MAX
+
+    @property
+    def severity(self) -> float:
+        """Sort key, mildest first: the tilt goal r, infinity for overturning."""
+        return self.ratio
+
+    @property
+    def title(self) -> str:
+        """Human title: ``"Overturning"``, ``"Tilt θ > α/3 (excessive tilt)"``.
+
+        Ratios within 1e-3 of a fraction with a denominator up to 12 are written as one.
+        """
+        if self.is_overturning:
+            return "Overturning"
+        frac = Fraction(self.ratio).limit_denominator(12)
+        if frac == 1 and abs(self.ratio - 1.0) <= 1e-3:
+            return "Tilt θ > α"
+        if frac.denominator == 1 or abs(float(frac) - self.ratio) > 1e-3:
+            return f"Tilt θ > {self.ratio:.3g}·α"
+        if frac.numerator == 1:
+            return f"Tilt θ > α/{frac.denominator}" + (
+                " (excessive tilt)" if frac == Fraction(1, 3) else "")
+        return f"Tilt θ > {frac.numerator}α/{frac.denominator}"
+
     def threshold(self, alpha: float) -> float:
         """Tilt whose first exceedance defines the limit state [rad].
 
@@ -88,18 +158,44 @@ class LimitState:
         tau = self.ratio * alpha
         if tau >= 0.5 * math.pi:
             raise ValueError(
-                f"limit state {self.name!r}: r·α = {tau!r} rad is not below π/2 for "
-                f"alpha={alpha!r}; use 'overturning'"
+                f"limit state {self.name!r}: r·α = {tau:.4g} rad is not below π/2 for "
+                f"alpha={alpha!r} (a body tilted that far has overturned); use 'overturning' "
+                f"or r < {0.5 * math.pi / alpha:.4g}"
             )
         return tau
 
-    def exceeded(self, theta_max: float, overturned: bool, alpha: float) -> bool:
-        """Whether an analysis that reached ``theta_max`` [rad] exceeded this limit state."""
-        if overturned:
-            return True
+    def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
+        """Whether an analysis exceeded this limit state.
+
+        Parameters
+        ----------
+        outcome : HasPeaks or mapping
+            The analysis (anything with ``peaks``) or its peaks by name.
+        alpha : float
+            Slenderness angle of the body [rad].
+        """
+        peaks = outcome if isinstance(outcome, Mapping) else outcome.peaks
+        if peaks[OVERTURNED]:
+            return True  # an overturned body has passed every goal
         if self.is_overturning:
             return False
-        return bool(theta_max > self.threshold(alpha))
+        return bool(peaks[self.quantity] > self.threshold(alpha))
+
+    def scan_goal(self, alpha: float) -> float:
+        """Tilt the search measures the response's closeness to this limit state against
+        [rad]: the threshold, but never above α: no tilt beyond α (and no overturning) is
+        reached without first passing α, where the restoring moment of the weight vanishes."""
+        return min(self.threshold(alpha), alpha)
+
+    def passed_at_tilt(self, tilt: float, alpha: float) -> bool:
+        """Whether an analysis that went past ``tilt`` [rad] has certainly exceeded this
+        limit state (how a run stopped on purpose decides the goals below its stop)."""
+        return self.threshold(alpha) <= tilt
+
+    def stop_at(self, alpha: float) -> float | None:
+        """Tilt past which an analysis may end with this limit state decided [rad]; None
+        when the analysis must run to its end (overturning may come at any time)."""
+        return None if self.is_overturning else float(self.threshold(alpha))
 
     def __str__(self) -> str:
         return self.name
@@ -212,12 +308,64 @@ def parse_limit_states(specs: str | LimitState | Iterable[str | LimitState] | No
     parsed = {}
     for s in specs:
         ls = parse_limit_state(s)
-        parsed.setdefault(ls.ratio, ls)
+        parsed.setdefault(ls.name, ls)
     if not parsed:
         raise ValueError(f"limit_states must name at least one limit state, got {specs!r}")
     if not sort:
         return tuple(parsed.values())
-    return tuple(parsed[r] for r in sorted(parsed))
+    return tuple(sorted(parsed.values(), key=severity))
+
+
+def severity(limit_state: str | LimitState) -> float:
+    """:attr:`LimitState.severity` of any spelling: the sort key from mildest to overturning."""
+    return parse_limit_state(limit_state).severity
+
+
+def limit_state_title(limit_state: str | LimitState) -> str:
+    """:attr:`LimitState.title` of any spelling (``"tilt:1/3"``, ``"tilt:0.3333"``)."""
+    return parse_limit_state(limit_state).title
+
+
+def sort_limit_states(names: Iterable[str | LimitState]) -> list[str]:
+    """Canonical names, once each, in increasing severity."""
+    return sorted({parse_limit_state(n).name for n in names}, key=severity)
+
+
+def stop_for(states: Sequence[LimitState], alpha: float) -> float | None:
+    """Tilt past which one analysis has decided every one of ``states`` [rad]: the largest
+    :meth:`LimitState.stop_at`, None when any must run to the end."""
+    stops = [ls.stop_at(alpha) for ls in states]
+    return None if any(s is None for s in stops) else max(stops)
+
+
+def classify(outcome: HasPeaks | Mapping[str, float], states: Sequence[LimitState],
+             alpha: float, stop_at: float | None, *,
+             stopped: bool) -> tuple[np.ndarray, np.ndarray]:
+    """What one successful analysis decides: (known, exceeded) per limit state.
+
+    Parameters
+    ----------
+    outcome : HasPeaks or mapping
+        The analysis or its peaks.
+    states : sequence of LimitState
+    alpha : float
+        Slenderness angle of the body [rad].
+    stop_at : float or None
+        Tilt the analysis was allowed to stop at [rad] (None: run to the end).
+    stopped : bool
+        The analysis ended on purpose past ``stop_at``: the goals up to ``stop_at`` are
+        passed even if the reported peak sits exactly on it; those above are unknown.
+
+    Returns
+    -------
+    known, exceeded : ndarray of bool
+    """
+    exceeded = np.array([ls.exceeded(outcome, alpha) for ls in states])
+    if not stopped:
+        return np.ones(len(states), dtype=bool), exceeded
+    limit = math.inf if stop_at is None else stop_at
+    known = np.array([ls.passed_at_tilt(limit, alpha) for ls in states], dtype=bool)
+    return known, (exceeded | known) & known
 
 
 MATCH_TOLERANCE = 1e-3
@@ -225,7 +373,8 @@ MATCH_TOLERANCE = 1e-3
 their canonical names differ: a rounded decimal ("tilt:0.3333") selects "tilt:1/3"."""
 
 
-def match_limit_state(wanted: str | LimitState, available: Iterable[str]) -> str:
+def match_limit_state(wanted: str | LimitState, available: Iterable[str], *,
+                      missing_ok: bool = False) -> str | None:
     """The label among ``available`` that denotes the limit state ``wanted``.
 
     Every spelling is accepted on both sides: ``"tilt:1/3"``, ``"tilt:2/6"``,
@@ -238,16 +387,19 @@ def match_limit_state(wanted: str | LimitState, available: Iterable[str]) -> str
         Any accepted spelling.
     available : iterable of str
         Labels, e.g. the ``limit_state`` coordinate of a store.
+    missing_ok : bool
+        Return None, instead of raising, when no label matches.
 
     Returns
     -------
-    str
+    str or None
         The label as it appears in ``available``.
 
     Raises
     ------
     KeyError
-        Naming ``wanted`` and the labels, when none (or more than one) matches.
+        Naming ``wanted`` and the labels, when none (unless ``missing_ok``) or more than one
+        matches.
     """
     labels = [str(a) for a in available]
     want = parse_limit_state(wanted)
@@ -263,6 +415,8 @@ def match_limit_state(wanted: str | LimitState, available: Iterable[str]) -> str
              and not want.is_overturning and not p.is_overturning
              and abs(p.ratio - want.ratio) <= MATCH_TOLERANCE]
     hits = exact or close
+    if not hits and missing_ok:
+        return None
     if len(hits) != 1:
         why = "matches several" if hits else "is not one"
         raise KeyError(f"limit_state {str(wanted)!r} {why} of {labels}")

@@ -6,13 +6,33 @@ the dynamics engine.
 
 from __future__ import annotations
 
+MODE_3D = "3d"
+"""The undamped 3D rocking/wobbling cylinder under both components."""
+
+MODE_3D_DAMPED = "3d-damped"
+"""The 3D cylinder on a damped contact (spring ωn, damping ratio ζ) under both components."""
+
+MODE_2D_X = "2d-x"
+"""The 2D Housner block under the x (major principal axis) component alone."""
+
+MODE_2D_Y = "2d-y"
+"""The 2D Housner block under the y (minor principal axis) component alone."""
+
+PLANAR_MODES: tuple[str, ...] = (MODE_2D_X, MODE_2D_Y)
+"""The 2D modes, one per component."""
+
 MODES: dict[str, tuple[str, str | None]] = {
-    "3d": ("3d", None),
-    "3d-damped": ("3d-damped", None),
-    "2d-x": ("2d", "x"),
-    "2d-y": ("2d", "y"),
+    MODE_3D: ("3d", None),
+    MODE_3D_DAMPED: ("3d-damped", None),
+    MODE_2D_X: ("2d", "x"),
+    MODE_2D_Y: ("2d", "y"),
 }
 """Mode → (dynamics model, component exciting the 2D model or None for the pair)."""
+
+
+def is_damped(mode: str) -> bool:
+    """Whether ``mode`` runs the damped contact model (which takes ωn and ζ)."""
+    return MODES[check_mode(mode)][0] == "3d-damped"
 
 
 def check_mode(mode: str) -> str:

@@ -23,7 +23,7 @@ This module only sees an analysis function ``analyze(intensity, stop_at, rtol) -
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -32,7 +32,14 @@ import pandas as pd
 from .._validate import positive_finite
 from ..dynamics.result import Status
 from .accuracy import Accuracy, get_accuracy
-from .limit_states import LimitState, parse_limit_states
+from .limit_states import (
+    OVERTURNED,
+    THETA_MAX,
+    LimitState,
+    check_peaks,
+    classify,
+    parse_limit_states,
+)
 
 DEFAULT_UPPER = 20.0
 """Default highest normalized intensity searched, PGA/(g tan α) [-]."""
@@ -57,12 +64,26 @@ class Outcome:
     status : Status
     reason : str
         Why the analysis failed, if it did.
+    other_peaks : mapping of str to float
+        Further named peaks the analysis reports (names of
+        :data:`~rocking.spectra.limit_states.QUANTITIES`), for the limit states that watch
+        them.
     """
 
     theta_max: float
     overturned: bool
     status: Status
     reason: str = ""
+    other_peaks: Mapping[str, float] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        check_peaks(self.other_peaks)
+
+    @property
+    def peaks(self) -> dict[str, float]:
+        """Every peak by name, what limit states read
+        (:meth:`~rocking.spectra.limit_states.LimitState.exceeded`)."""
+        return {**self.other_peaks, THETA_MAX: self.theta_max, OVERTURNED: self.overturned}
 
 
 AnalysisFn = Callable[[float, float | None, float], Outcome]
@@ -340,28 +361,12 @@ def window_warning(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENES
     return bool(np.any(fell & ((here >= threshold) | (here >= drop * after))))
 
 
-def _classify(
-    out: Outcome, states: Sequence[LimitState], tau: np.ndarray, alpha: float,
-    stop_at: float | None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """(known, exceeded) per limit state from one successful analysis."""
-    stopped = out.status is Status.STOPPED_AT_LIMIT
-    exceeded = np.array([ls.exceeded(out.theta_max, out.overturned, alpha) for ls in states])
-    if stopped:
-        # The run ended on purpose once |θ| > stop_at: goals up to stop_at are passed even if
-        # the reported θ_max sits exactly on stop_at; goals above it are unknown.
-        limit = math.inf if stop_at is None else stop_at
-        known = tau <= limit
-        exceeded |= known
-        return known, exceeded & known
-    return np.ones(tau.size, dtype=bool), exceeded
-
-
 def _checked(out: Outcome) -> Outcome:
     """Turn a non-finite θ_max of a supposedly successful run into an explicit failure."""
     if out.status is not Status.FAILED and not math.isfinite(out.theta_max):
         return Outcome(out.theta_max, out.overturned, Status.FAILED,
-                       f"non-finite theta_max {out.theta_max!r} with status {out.status.value}")
+                       f"non-finite theta_max {out.theta_max!r} with status {out.status.value}",
+                       out.other_peaks)
     return out
 
 
@@ -375,6 +380,7 @@ class _Search:
         self.states = states
         self.alpha = alpha
         self.tau = np.array([ls.threshold(alpha) for ls in states])
+        self.goal = np.array([ls.scan_goal(alpha) for ls in states])  # closeness measure
         self.lower = lower
         self.upper = upper
         self.acc = acc
@@ -403,15 +409,17 @@ class _Search:
         informative = self.know.informative(intensity)
         if not informative.any():
             return 0.0
+        # the highest goal still undecided decides where the analysis may stop
         top = int(np.flatnonzero(informative)[-1])
-        stop_at = None if self.states[top].is_overturning else float(self.tau[top])
+        stop_at = self.states[top].stop_at(self.alpha)
         out = self._call(intensity, stop_at, self.rtol)
         if out.status is Status.FAILED:
             out = self._call(intensity, stop_at, self.rtol * RETRY_RTOL_FACTOR)
         if out.status is Status.FAILED:
             self.know.failed_at.append(intensity)
             return math.nan
-        known, exceeded = _classify(out, self.states, self.tau, self.alpha, stop_at)
+        known, exceeded = classify(out, self.states, self.alpha, stop_at,
+                                   stopped=out.status is Status.STOPPED_AT_LIMIT)
         theta = math.pi / 2 if out.overturned else float(out.theta_max)
         self.know.add(intensity, known, exceeded, theta)
         return theta
@@ -422,10 +430,8 @@ class _Search:
         if self.acc.scan == "fixed":
             return self.acc.scan_point(self.lower, j)
         _, hi = self.know.brackets()
-        # The lowest goal not yet exceeded, but never above α: no tilt beyond α (and no
-        # overturning) is reached without first passing α, where the restoring moment of
-        # the body's weight vanishes, so closeness to α is what warns of them.
-        goal = min(float(np.min(self.tau[np.isnan(hi)])), self.alpha)
+        # the closeness goal (LimitState.scan_goal) of the mildest state not yet exceeded
+        goal = float(np.min(self.goal[np.isnan(hi)]))
         if self.acc.scan == "seek":
             return previous * (1.0 + self.acc.seek_step(theta, goal))
         return previous * (1.0 + self.acc.adaptive_step(theta, goal))
@@ -477,7 +483,7 @@ class _Search:
             hit = known[:, k] & exc[:, k]
             first = np.min(intens[hit]) if hit.any() else np.inf
             below = [i for i in order if intens[i] < first and known[i, k]]
-            out[k] = window_warning(theta[below] / min(self.tau[k], self.alpha))
+            out[k] = window_warning(theta[below] / self.goal[k])
         return out
 
     def result(self) -> CriticalResult:

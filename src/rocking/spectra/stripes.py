@@ -53,8 +53,8 @@ from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .critical import make_analysis, uplift_intensity
-from .limit_states import LimitState, parse_limit_states
-from .modes import MODES, check_mode
+from .limit_states import LimitState, classify, parse_limit_states, stop_for
+from .modes import MODE_3D, MODES, check_mode
 
 __all__ = ["BOOTSTRAP_SEED", "DEFAULT_BOOTSTRAP", "DEFAULT_REFINE", "DEFAULT_STRIPES",
            "MEASURE_COLUMNS",
@@ -464,7 +464,7 @@ class StripeFragility:
     exceeded: np.ndarray
     failed: np.ndarray
     fits: Mapping[str, StripeFit] = field(repr=False)
-    mode: str = "3d"
+    mode: str = MODE_3D
     accuracy: str = "default"
     R: float = math.nan
     tan_alpha: float = math.nan
@@ -621,8 +621,7 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
     if ratio != 1.0:  # the PGA/(g tan α) each stripe of the measure gives this motion
         intensities = np.asarray(intensities, dtype=float) * ratio
     rtol = acc.rtol_for(MODES[mode][0])
-    tau = np.array([ls.threshold(body.alpha) for ls in states])
-    stop_at = None if any(ls.is_overturning for ls in states) else float(tau.max())
+    stop_at = stop_for(states, body.alpha)
     lower = uplift_intensity(motion, mode)
     exceeded = np.zeros((intensities.size, len(states)), dtype=bool)
     failed = np.zeros(intensities.size, dtype=bool)
@@ -636,11 +635,9 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
                 runs += 1
             if out.status is Status.FAILED or not math.isfinite(out.theta_max):
                 failed[i] = True
-            elif out.status is Status.STOPPED_AT_LIMIT:
-                exceeded[i] = True  # stopped past the largest goal: every goal is passed
-            else:
-                exceeded[i] = [ls.exceeded(out.theta_max, out.overturned, body.alpha)
-                               for ls in states]
+            else:  # a run stopped past the largest goal has passed every goal
+                exceeded[i] = classify(out, states, body.alpha, stop_at,
+                                       stopped=out.status is Status.STOPPED_AT_LIMIT)[1]
         if progress is not None:
             progress.update()
     return exceeded, failed, runs
@@ -651,7 +648,7 @@ def stripe_fragility(
     motions: GroundMotion | Sequence[GroundMotion],
     limit_states=None,
     *,
-    mode: str = "3d",
+    mode: str = MODE_3D,
     intensities=None,
     accuracy: str | Accuracy | dict = "default",
     omega_n: float | None = None,
@@ -716,7 +713,7 @@ def stripe_fragility(
 
 
 def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, failed, *,
-                  mode: str = "3d", accuracy: str = "default", R: float = math.nan,
+                  mode: str = MODE_3D, accuracy: str = "default", R: float = math.nan,
                   tan_alpha: float = math.nan, n_analyses: int = 0, measure: str = "pga",
                   n_refined: int = 0) -> StripeFragility:
     """A :class:`StripeFragility` (fits included) from per-analysis outcomes, e.g. read back
@@ -745,7 +742,7 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
 
 
 def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], limit_states, *,
-                    mode: str = "3d", accuracy: str | Accuracy | dict = "default",
+                    mode: str = MODE_3D, accuracy: str | Accuracy | dict = "default",
                     omega_n: float | None = None, zeta: float | None = None,
                     measure: str = "pga") -> Callable[[float], tuple]:
     """``analyze(x)``: every motion at one more stripe ``x`` [measure/(g tan α)], as

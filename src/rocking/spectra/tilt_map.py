@@ -16,7 +16,7 @@ from ..motions.motion import GroundMotion
 from ..units import attrs
 from .accuracy import Accuracy, get_accuracy
 from .critical import make_analysis, uplift_intensity
-from .modes import MODES, check_mode
+from .modes import MODE_3D, MODES, check_mode
 from .search import RETRY_RTOL_FACTOR, checked
 
 
@@ -25,7 +25,7 @@ def tilt_map(
     tan_alpha: float,
     motion: GroundMotion,
     intensities: Sequence[float],
-    mode: str = "3d",
+    mode: str = MODE_3D,
     *,
     accuracy: str | Accuracy | dict = "default",
     omega_n: float | None = None,

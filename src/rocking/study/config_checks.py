@@ -451,13 +451,9 @@ def _check_tilt_goals(key: str, limit_states, tan_alphas: list[float]) -> None:
 
     for text in limit_states:
         ls = parse_limit_state(text)
-        if ls.is_overturning:
-            continue
         for tan_alpha in tan_alphas:
-            alpha = math.atan(tan_alpha)
-            if ls.ratio * alpha >= 0.5 * math.pi:
-                raise ValueError(
-                    f"{key}.limit_states: {text!r} with tan_alpha={tan_alpha:g} asks for "
-                    f"theta > r*alpha = {ls.ratio * alpha:.4g} rad, not below pi/2 (a body "
-                    f"tilted that far has overturned); use 'overturning' or a smaller r "
-                    f"(r < {0.5 * math.pi / alpha:.4g} for this tan_alpha)")
+            try:  # a goal at or beyond π/2 can only be met by overturning
+                ls.threshold(math.atan(tan_alpha))
+            except ValueError as exc:
+                raise ValueError(f"{key}.limit_states: {text!r} with tan_alpha={tan_alpha:g}: "
+                                 f"{exc}") from None

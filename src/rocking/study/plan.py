@@ -23,6 +23,7 @@ import numpy as np
 
 from ..spectra.critical import MODES
 from ..spectra.limit_states import parse_limit_states
+from ..spectra.modes import MODE_3D, PLANAR_MODES
 
 
 @dataclass(frozen=True)
@@ -94,16 +95,16 @@ class StudyPlan:
         and the fragility curves."""
         if not self.modes:
             return []
-        mode = "3d" if "3d" in self.modes else self.modes[0]
+        mode = MODE_3D if MODE_3D in self.modes else self.modes[0]
         shared = [t for t in self.tan_alpha if self.limit_states_of(mode, t)]
         return ["fig09_spectra", "fig10_goals",
                 *(["fig11_slenderness"] if len(shared) > 1 else []), "fragility_curves"]
 
     def compares_2d_with_3d(self) -> bool:
         """Whether the plan runs "3d" and a 2D mode at a common tan α (Fig 12)."""
-        flat = [m for m in ("2d-x", "2d-y") if m in self.modes]
-        return "3d" in self.modes and any(
-            self.limit_states_of("3d", t) and any(self.limit_states_of(m, t) for m in flat)
+        flat = [m for m in PLANAR_MODES if m in self.modes]
+        return MODE_3D in self.modes and any(
+            self.limit_states_of(MODE_3D, t) and any(self.limit_states_of(m, t) for m in flat)
             for t in self.tan_alpha)
 
     def to_dict(self) -> dict:
@@ -198,13 +199,12 @@ def plan_study(runs: Sequence[Mapping | Run], field: str = "runs") -> StudyPlan:
     modes = tuple(m for m in MODES if any(m in r.modes for r in parsed))
     # one name per tilt goal ("tilt:1/2" and "tilt:0.5" are one)
     union = parse_limit_states([ls for r in parsed for ls in r.limit_states])
-    ratios = [s.ratio for s in union]
     states = tuple(s.name for s in union)
     tan_alpha = tuple(sorted({t for r in parsed for t in r.tan_alpha}))
     requested = np.zeros((len(modes), len(states), len(tan_alpha)), dtype=bool)
     for r in parsed:
         i = [modes.index(m) for m in r.modes]
-        j = [ratios.index(s.ratio) for s in parse_limit_states(r.limit_states)]
+        j = [states.index(s.name) for s in parse_limit_states(r.limit_states)]
         k = [tan_alpha.index(t) for t in r.tan_alpha]
         requested[np.ix_(i, j, k)] = True
     return StudyPlan(parsed, modes, states, tan_alpha, requested)

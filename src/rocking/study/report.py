@@ -24,9 +24,11 @@ import numpy as np
 import pandas as pd
 
 from ..risk.report import risk_section_html
+from ..spectra.limit_states import limit_state_title, severity
+from ..spectra.modes import MODE_3D, PLANAR_MODES
 from ..units import read_table
 from .figures import FIGURES, _load, figure_name, module
-from .figures._style import MODE_STYLE, limit_state_sort_key, limit_state_title
+from .figures._style import MODE_STYLE
 from .figures.captions import EXTRA_CAPTIONS, caption
 from .figures.comparisons import Comparison, compare, finite, fmt
 from .spec import SpectraSpec, TiltMapSpec, decode_attrs
@@ -865,7 +867,7 @@ def paper_findings(entries: Sequence[FigureEntry],
                 key = "excessive tilt" if ls != "overturning" else ls
                 base = m12.get(f"{ens}|{key}|3d")
                 parts = [f"{c[-1]} {m12[f'{ens}|{key}|{c}'] / base:.2f}×" for c in
-                         ("2d-x", "2d-y") if finite(m12.get(f"{ens}|{key}|{c}"), base)]
+                         PLANAR_MODES if finite(m12.get(f"{ens}|{key}|{c}"), base)]
                 if parts:
                     ratios.append(f"{key} " + ", ".join(parts))
             who = _ensemble_title(m12, ens)
@@ -935,7 +937,7 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
     if records is not None and Path(records).exists():
         df = pd.read_csv(records)
         if len(df):
-            mode = _main(df, "mode", ["3d"])
+            mode = _main(df, "mode", [MODE_3D])
             df = df[df["mode"] == mode]
             ta = next(c for c in df.columns if c.startswith("tan_alpha"))
             ls = _main(df, "limit_state", ["overturning"])
@@ -963,12 +965,12 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
         if len(df):
             ta = next(c for c in df.columns if c.startswith("tan_alpha"))
             r = next(c for c in df.columns if c.startswith("R"))
-            mode = _main(df, "mode", ["3d"])
+            mode = _main(df, "mode", [MODE_3D])
             t = _main(df[df["mode"] == mode], ta, [0.2])
             sub = df[(df["mode"] == mode) & (df[ta] == t)]
             present = list(dict.fromkeys(sub["limit_state"]))
             shown = [ls for ls in ("overturning", "tilt:1/3") if ls in present] or sorted(
-                present, key=lambda s: -limit_state_sort_key(s))[:2]
+                present, key=lambda s: -severity(s))[:2]
             texts = []
             for ls in shown:
                 rows = sub[sub["limit_state"] == ls].sort_values(r)
@@ -984,7 +986,7 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
         frame = read_risk_table(risk)
         df = frame[(frame["fragility"] == "first_exceedance") & np.isfinite(frame["maf"])]
         if len(df):
-            mode = _main(df, "mode", ["3d"])
+            mode = _main(df, "mode", [MODE_3D])
             t = main_tan_alpha(df[df["mode"] == mode])
             ls = _main(df, "limit_state", ["overturning"])
             stripes_df = frame[(frame["fragility"] != "first_exceedance")

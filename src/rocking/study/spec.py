@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from .._json import json_default
+from ..spectra.modes import is_damped
 from .plan import StudyPlan, plan_study
 
 __all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "RecordSpec", "SpectraSpec", "StripesSpec",
@@ -234,7 +235,7 @@ class Damping:
     @staticmethod
     def of_modes(config: Mapping[str, Any], modes: Sequence[str]) -> Damping | None:
         """The contact model, only when a damped model runs (else it cannot matter)."""
-        return Damping.from_config(config) if "3d-damped" in modes else None
+        return Damping.from_config(config) if any(is_damped(m) for m in modes) else None
 
     @staticmethod
     def from_options(options: Mapping[str, Any]) -> Damping | None:

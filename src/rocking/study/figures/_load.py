@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -10,7 +9,14 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ...spectra.limit_states import parse_limit_state
+from ...spectra.limit_states import (
+    EXCESSIVE_TILT,
+    OVERTURNING,
+    match_limit_state,
+    parse_limit_state,
+    severity,
+)
+from ...spectra.modes import MODE_3D
 from ..spec import decode_attrs
 
 
@@ -59,38 +65,19 @@ def labels(da: xr.DataArray | xr.Dataset, dim: str) -> list[str]:
     return [v.decode() if isinstance(v, bytes) else str(v) for v in da[dim].values]
 
 
-def tilt_ratio(limit_state: str) -> float | None:
-    """r of ``"tilt:<r>"`` (decimal or fraction), None for overturning."""
-    ratio = parse_limit_state(limit_state).ratio
-    return None if math.isinf(ratio) else ratio
-
-
-def find_limit_state(available: list[str], wanted: str) -> str | None:
-    """The available limit state matching ``wanted`` (tilt ratios compared to 1e-3)."""
-    if wanted in available:
-        return wanted
-    r = tilt_ratio(wanted)
-    if r is None:
-        return None
-    for ls in available:
-        q = tilt_ratio(ls)
-        if q is not None and abs(q - r) < 1e-3:
-            return ls
-    return None
-
-
 def excessive_tilt(available: list[str]) -> str | None:
     """The store's name of the paper's excessive-tilt limit state (θ > α/3), if computed.
 
     The exact ``"tilt:1/3"`` wins over a rounded spelling such as ``"tilt:0.3333"``.
     """
-    return find_limit_state(available, "tilt:1/3")
+    return match_limit_state(EXCESSIVE_TILT, available, missing_ok=True)
 
 
 def _paper_limit_states(available: list[str], missing: list[str],
                         prefix: str = "") -> Iterator[tuple[str, str]]:
     """(title, store name) of the paper's overturning and excessive tilt, those computed."""
-    for title, ls in (("overturning", find_limit_state(available, "overturning")),
+    for title, ls in (("overturning", match_limit_state(OVERTURNING, available,
+                                                        missing_ok=True)),
                       ("excessive tilt", excessive_tilt(available))):
         if ls is None:
             # a generator, so this note lands between the notes of the panels, as it did inline
@@ -106,11 +93,11 @@ def panel_limit_states(available: list[str]) -> list[str]:
     severe other goals in their place: a study's own goals get panels, and no panel is left
     empty for a goal the study did not ask for.
     """
-    order = sorted(available, key=lambda ls: -parse_limit_state(ls).ratio)
-    chosen = [ls for ls in (find_limit_state(available, "overturning"),
+    order = sorted(available, key=lambda ls: -severity(ls))
+    chosen = [ls for ls in (match_limit_state(OVERTURNING, available, missing_ok=True),
                             excessive_tilt(available)) if ls is not None]
     chosen += [ls for ls in order if ls not in chosen][:2 - len(chosen)]
-    return sorted(chosen, key=lambda ls: -parse_limit_state(ls).ratio)
+    return sorted(chosen, key=lambda ls: -severity(ls))
 
 
 def requested_cells(ds: xr.Dataset) -> xr.DataArray:
@@ -131,7 +118,7 @@ def primary_mode(ds: xr.Dataset) -> str | None:
     computed mode (None when nothing was computed)."""
     cells = requested_cells(ds)
     done = [m for m in labels(ds, "mode") if bool(cells.sel(mode=m).any())]
-    return "3d" if "3d" in done else (done[0] if done else None)
+    return MODE_3D if MODE_3D in done else (done[0] if done else None)
 
 
 def main_tan_alpha(ds: xr.Dataset, modes: list[str]) -> float | None:

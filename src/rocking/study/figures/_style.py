@@ -9,14 +9,14 @@ from __future__ import annotations
 import functools
 import textwrap
 from collections.abc import Callable, Sequence
-from fractions import Fraction
 from pathlib import Path
 from typing import ParamSpec
 
 import matplotlib
 
 from ... import _json
-from ...spectra.limit_states import parse_limit_state
+from ...spectra.limit_states import severity
+from ...spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 
 # Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
 matplotlib.use("Agg")
@@ -40,16 +40,12 @@ RC = {
 }
 
 MODE_STYLE = {
-    "3d": {"color": "black", "linestyle": "-", "label": "3D"},
-    "3d-damped": {"color": "black", "linestyle": "--", "label": "3D damped"},
-    "2d-x": {"color": "tab:blue", "linestyle": "-.", "label": "2D, x component"},
-    "2d-y": {"color": "tab:orange", "linestyle": ":", "label": "2D, y component"},
+    MODE_3D: {"color": "black", "linestyle": "-", "label": "3D"},
+    MODE_3D_DAMPED: {"color": "black", "linestyle": "--", "label": "3D damped"},
+    MODE_2D_X: {"color": "tab:blue", "linestyle": "-.", "label": "2D, x component"},
+    MODE_2D_Y: {"color": "tab:orange", "linestyle": ":", "label": "2D, y component"},
 }
 """Line style per analysis mode, used wherever modes are compared."""
-
-LIMIT_STATE_TITLES = {"overturning": "Overturning"}
-
-
 
 GOAL_COLORS = {0.1: "#9ecae1", 0.2: "#e6ab02", 1 / 3: "#2ca02c", 0.5: "#1f77b4",
                0.75: "#9467bd", 1.0: "#d62728", float("inf"): "black"}
@@ -60,31 +56,11 @@ figure that colours by goal."""
 def goal_color(limit_state: str) -> str:
     """The colour of a performance goal, the same in every figure and study: the paper's
     goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r."""
-    r = parse_limit_state(limit_state).ratio
+    r = severity(limit_state)
     for ratio, color in GOAL_COLORS.items():
         if abs(r - ratio) <= 1e-3 or r == ratio:
             return color
     return matplotlib.colors.to_hex(matplotlib.colormaps["plasma"](min(r, 1.0) * 0.85))
-
-
-def limit_state_title(limit_state: str) -> str:
-    """Human title of a limit state in either spelling (``"tilt:1/3"``, ``"tilt:0.3333"``).
-
-    Ratios within 1e-3 of a fraction with a denominator up to 12 are written as one
-    (``θ > α/3``, the paper's excessive tilt).
-    """
-    ls = parse_limit_state(limit_state)
-    if ls.is_overturning:
-        return LIMIT_STATE_TITLES["overturning"]
-    frac = Fraction(ls.ratio).limit_denominator(12)
-    if frac == 1 and abs(ls.ratio - 1.0) <= 1e-3:
-        return "Tilt θ > α"
-    if frac.denominator == 1 or abs(float(frac) - ls.ratio) > 1e-3:
-        return f"Tilt θ > {ls.ratio:.3g}·α"
-    if frac.numerator == 1:
-        return f"Tilt θ > α/{frac.denominator}" + (" (excessive tilt)" if frac == Fraction(1, 3)
-                                                    else "")
-    return f"Tilt θ > {frac.numerator}α/{frac.denominator}"
 
 
 def paper_tag(d: dict, figure: str) -> str:
@@ -113,11 +89,6 @@ def unresolved_suffix(k: int, n: int, what: str = "answers") -> str:
     unresolved"``), empty when none: the count a reader can use, instead of a ring on
     every point."""
     return f"; {k} of {n} {what} unresolved" if k else ""
-
-
-def limit_state_sort_key(limit_state: str) -> float:
-    """Order limit states from the mildest tilt to overturning (ratio r; inf for overturning)."""
-    return parse_limit_state(limit_state).ratio
 
 
 def styled(plot: Callable[P, Figure]) -> Callable[P, Figure]:

@@ -16,13 +16,14 @@ from matplotlib import colormaps
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 
+from ...spectra.modes import MODE_3D, MODE_3D_DAMPED
 from ..spec import decode_attrs
 from . import _axes, _load
 from ._style import footnote, new_figure, pga_g_axis, styled
 from .comparisons import Comparison, finite, first_notes, fmt, judged, rank_correlation
 
 VARIABLE = "theta_max_over_alpha"
-MODEL_ORDER = ("3d", "3d-damped")
+MODEL_ORDER = (MODE_3D, MODE_3D_DAMPED)
 LEVELS = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
 """Contour levels of θmax/α [-]; above 1 the cylinder has passed its static stability limit."""
 TOP = 1.2
@@ -30,7 +31,7 @@ TOP = 1.2
 TOP_COLOR = "#e8e8e8"
 """The class θmax > α (incl. overturning): a pale grey, so the area it covers does
 not outshine the classes below α, where the paper's contours are."""
-TITLES = {"3d": "Undamped 3D model", "3d-damped": "Damped 3D model"}
+TITLES = {MODE_3D: "Undamped 3D model", MODE_3D_DAMPED: "Damped 3D model"}
 
 
 def record_label(attrs: dict) -> str:
@@ -95,12 +96,12 @@ def measurements(R: np.ndarray, intensity: np.ndarray, maps: dict) -> dict:
         out[f"first_intensity_theta_above_alpha_{m}"] = firsts[m].tolist()
         steps = np.diff(firsts[m][np.isfinite(firsts[m])])
         out[f"fraction_rising_{m}"] = float(np.mean(steps >= 0)) if steps.size else None
-    if "3d" in maps and "3d-damped" in maps:
-        a, b = firsts["3d"], firsts["3d-damped"]
+    if MODE_3D in maps and MODE_3D_DAMPED in maps:
+        a, b = firsts[MODE_3D], firsts[MODE_3D_DAMPED]
         both = np.isfinite(a) & np.isfinite(b)
         out["max_rel_gap_first_intensity"] = (float(np.max(np.abs(b[both] - a[both]) / a[both]))
                                               if both.any() else None)
-        za, zb = maps["3d"], maps["3d-damped"]
+        za, zb = maps[MODE_3D], maps[MODE_3D_DAMPED]
         below = (za < 1.0) & (zb < 1.0) & np.isfinite(za) & np.isfinite(zb)
         out["mean_abs_gap_below_alpha"] = (float(np.mean(np.abs(za - zb)[below]))
                                            if below.any() else None)

@@ -21,10 +21,11 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_3D, MODE_3D_DAMPED
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
-    limit_state_title,
     motion_styles,
     new_figure,
     paper_tag,
@@ -36,9 +37,9 @@ from ._style import (
 )
 from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
-DAMPED = "3d-damped"
+DAMPED = MODE_3D_DAMPED
 """The damped mode, drawn beside the undamped "3d" where the study ran it."""
-LINESTYLES = {"3d": "-", "3d-damped": "--"}
+LINESTYLES = {MODE_3D: "-", MODE_3D_DAMPED: "--"}
 DAMPING_NOTE = "damping|"
 """Prefix of the measured key of the damped − undamped comparison of one limit state."""
 
@@ -75,7 +76,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         primary = _load.primary_mode(ds)
         if primary is None:
             raise ValueError(f"the store {str(store)!r} holds no computed cell")
-        damped = primary == "3d" and DAMPED in _load.labels(ds, "mode") and bool(
+        damped = primary == MODE_3D and DAMPED in _load.labels(ds, "mode") and bool(
             _load.requested_cells(ds).sel(mode=DAMPED).any())
         modes = (primary, DAMPED) if damped else (primary,)
     if tan_alpha is None:
@@ -144,10 +145,11 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
             missing.append(f"mean of mode {mode} not aggregated")
         else:
             mean[mode] = m
-    std = _load.mean_curve(agg, "3d", ls, "std") if "3d" in modes else None
+    std = _load.mean_curve(agg, MODE_3D, ls, "std") if MODE_3D in modes else None
     effect = None
-    if {"3d", DAMPED} <= set(curves) and {"3d", DAMPED} <= set(mean):
-        effect = damping_effect(curves["3d"], curves[DAMPED], mean["3d"], mean[DAMPED], std)
+    if {MODE_3D, DAMPED} <= set(curves) and {MODE_3D, DAMPED} <= set(mean):
+        effect = damping_effect(curves[MODE_3D], curves[DAMPED], mean[MODE_3D], mean[DAMPED],
+                                std)
     return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
             "unresolved": unresolved}
 
@@ -216,7 +218,7 @@ def plot(d: dict) -> Figure:
     damped − undamped below."""
     panels = d["panels"]
     ncols = max(len(panels), 1)
-    damped = DAMPED in d.get("modes", ("3d", DAMPED))
+    damped = DAMPED in d.get("modes", (MODE_3D, DAMPED))
     if damped:
         fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
                                height_ratios=(2.2, 1.0))
@@ -227,7 +229,7 @@ def plot(d: dict) -> Figure:
         _spectra_panel(axes[0][col], d, panel, colors)
         if damped:
             _difference_panel(axes[1][col], d, panel, colors)
-    modes = d.get("modes", ["3d", DAMPED])
+    modes = d.get("modes", [MODE_3D, DAMPED])
     styles = "\nsolid undamped, dashed damped" if damped else (
         f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
     title = (f"Performance spectra per motion, {d.get('title', 'ensemble')}, tan α = "

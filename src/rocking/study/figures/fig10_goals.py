@@ -18,14 +18,17 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ...spectra.fragility import fit_line
-from ...spectra.limit_states import DEFAULT_LIMIT_STATES
+from ...spectra.limit_states import (
+    DEFAULT_LIMIT_STATES,
+    limit_state_title,
+    match_limit_state,
+    severity,
+)
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
     _missing_and_axes_note,
     goal_color,
-    limit_state_sort_key,
-    limit_state_title,
     new_figure,
     paper_tag,
     pga_g_axis,
@@ -94,14 +97,15 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
         missing.append(f"mode {mode} not computed")
     else:
         agg = _load.select_value(agg, "tan_alpha", tan_alpha)
-        for ls in sorted(_load.labels(agg, "limit_state"), key=limit_state_sort_key):
+        for ls in sorted(_load.labels(agg, "limit_state"), key=severity):
             y = _load.mean_curve(agg, mode, ls)
             if y is not None:
                 curves[ls] = y
                 flag = _load.unresolved_means(agg, mode, ls)
                 if flag is not None:
                     unresolved[ls] = flag
-    absent = [g for g in PAPER_GOALS if _load.find_limit_state(list(curves), g) is None]
+    absent = [g for g in PAPER_GOALS
+              if match_limit_state(g, list(curves), missing_ok=True) is None]
     if absent and not missing and paper:
         missing.append(f"{len(absent)} of the paper's {len(PAPER_GOALS)} goals not computed: "
                        + ", ".join(limit_state_title(g) for g in absent))
@@ -163,7 +167,7 @@ def coinciding(agg, mode: str, states: list[str]) -> list[dict]:
     """
     stats = [s for s in ("mean", "median", "std", "count") if s in agg]
     out = []
-    ordered = sorted(states, key=limit_state_sort_key)
+    ordered = sorted(states, key=severity)
     for a, b in zip(ordered, ordered[1:], strict=False):
         va = [_load.mean_curve(agg, mode, a, s) for s in stats]
         vb = [_load.mean_curve(agg, mode, b, s) for s in stats]

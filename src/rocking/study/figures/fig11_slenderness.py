@@ -14,16 +14,9 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ...spectra.fragility import fit_line
+from ...spectra.limit_states import limit_state_title
 from . import _axes, _load
-from ._style import (
-    MODE_STYLE,
-    limit_state_title,
-    new_figure,
-    paper_tag,
-    r_axis,
-    styled,
-    suptitle_and_notes,
-)
+from ._style import MODE_STYLE, new_figure, paper_tag, r_axis, styled, suptitle_and_notes
 from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
 PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)

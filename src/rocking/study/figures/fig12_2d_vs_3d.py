@@ -22,26 +22,19 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, PLANAR_MODES
 from ..spec import decode_attrs
 from . import _axes, _load
-from ._style import (
-    MODE_STYLE,
-    footnote,
-    limit_state_title,
-    paper_tag,
-    pga_g_axis,
-    r_axis,
-    styled,
-    with_legend_row,
-)
+from ._style import MODE_STYLE, footnote, paper_tag, pga_g_axis, r_axis, styled, with_legend_row
 from .comparisons import Comparison, finite, first_notes, fmt, judged
 
-MODES = ("3d", "2d-x", "2d-y")
+MODES = (MODE_3D, *PLANAR_MODES)
 REFERENCE_R = 10.0
 """Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice 2D) [m]."""
 ENSEMBLE_COLORS = ("black", "tab:red", "tab:blue", "tab:green")
-MODE_LABELS = {"3d": "3D, both components", "2d-x": "2D, x (major axis) component only",
-               "2d-y": "2D, y (minor axis) component only"}
+MODE_LABELS = {MODE_3D: "3D, both components", MODE_2D_X: "2D, x (major axis) component only",
+               MODE_2D_Y: "2D, y (minor axis) component only"}
 
 
 def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
@@ -184,16 +177,16 @@ def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
     return np.zeros(shape, bool)
 
 
-MODE_MARKERS = {"3d": "o", "2d-x": "s", "2d-y": "^"}
+MODE_MARKERS = {MODE_3D: "o", MODE_2D_X: "s", MODE_2D_Y: "^"}
 """Small markers per mode, so that line styles stay readable where curves cross."""
 
 
 def _write_ratios(ax, R: np.ndarray, curves: dict, color) -> None:
     """Write 2D/3D at the largest R where both are finite, at the right end of each 2D curve."""
-    base = curves.get("3d")
+    base = curves.get(MODE_3D)
     if base is None:
         return
-    for mode in ("2d-x", "2d-y"):
+    for mode in PLANAR_MODES:
         y = curves.get(mode)
         if y is None:
             continue
@@ -322,13 +315,14 @@ def _ratio_rows(m: Mapping, ens: str | None, R: float, who: str, title: str,
                 bounds: tuple[float, float], statement: str, paper: str) -> list[Comparison]:
     v3 = m.get(f"{ens}|{title}|3d") if ens else None
     rows = []
-    for mode, axis in (("2d-x", "x, major principal axis"), ("2d-y", "y, minor principal axis")):
+    for mode, axis in ((MODE_2D_X, "x, major principal axis"),
+                       (MODE_2D_Y, "y, minor principal axis")):
         v2 = m.get(f"{ens}|{title}|{mode}") if ens else None
         ratio = v2 / v3 if finite(v2, v3) and v3 > 0 else None
         lo, hi = bounds
         tol = f"ratio in [{lo:g}, {hi:g}]" if math.isfinite(hi) else f"ratio ≥ {lo:g}"
         stand_in = " (stand-in record)" if ens and m.get(f"{ens}|stand_in") else ""
-        counts = _counts(m, ens, title, ("3d", mode))
+        counts = _counts(m, ens, title, (MODE_3D, mode))
         rows.append(judged(
             "fig12_2d_vs_3d", f"{who}{stand_in}, {title}, R = {R:g} m: 2D under the {axis} "
             f"component against 3D — {statement}", paper,
@@ -377,7 +371,7 @@ def _counts(m: Mapping, ens: str | None, title: str, modes) -> str:
 def _ratio_reason(m: Mapping, ens: str | None, title: str, mode: str, who: str) -> str:
     """Why a 2D/3D ratio differs: censored means when motions were not reached, else the
     ensemble and the direction of x."""
-    short = _short(m, ens, title, ("3d", mode))
+    short = _short(m, ens, title, (MODE_3D, mode))
     if any(v > 0 for v in short.values()):
         upper = m.get(f"{ens}|upper")
         bound = f" PGA/(g tan α) = {fmt(upper)}" if finite(upper) else ""

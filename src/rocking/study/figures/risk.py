@@ -23,7 +23,9 @@ from matplotlib.figure import Figure
 from ...risk.fragilities import FIRST_EXCEEDANCE
 from ...risk.fragilities import STRIPES as STRIPE_FRAGILITY
 from ...risk.report import main_tan_alpha, read_risk_table, shown_limit_states
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import PLANAR_MODES
+from ._style import MODE_STYLE, footnote, new_figure, styled
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -122,7 +124,7 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
                 hit = sel[np.isclose(sel["R"], R)]
                 if not hit.empty and np.isfinite(hit["maf"].iloc[0]):
                     measured[f"{mode} {ls} R={R:g} m [1/yr]"] = float(hit["maf"].iloc[0])
-        for two in ("2d-x", "2d-y"):
+        for two in PLANAR_MODES:
             for R in R_NOTES:
                 a = measured.get(f"{two} {ls} R={R:g} m [1/yr]")
                 b = measured.get(f"3d {ls} R={R:g} m [1/yr]")

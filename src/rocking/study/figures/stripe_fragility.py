@@ -21,7 +21,8 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
-from ._style import MODE_STYLE, footnote, limit_state_title, new_figure, styled
+from ...spectra.limit_states import limit_state_title
+from ._style import MODE_STYLE, footnote, new_figure, styled
 
 CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stripes added "
            "where the fit separated); solid: its binomial maximum-likelihood lognormal, "
