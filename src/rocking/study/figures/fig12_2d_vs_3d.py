@@ -181,6 +181,19 @@ MODE_MARKERS = {MODE_3D: "o", MODE_2D_X: "s", MODE_2D_Y: "^"}
 """Small markers per mode, so that line styles stay readable where curves cross."""
 
 
+def _unresolved_note(counts: list[tuple[str, int, int]]) -> str:
+    """One line on the means that include answers flagged unresolved (they may lie lower):
+    the exceptions only, when most curves have them at every size."""
+    short = [(label, k, n) for label, k, n in counts if k < n]
+    head = "Means that include answers flagged unresolved (they may lie lower): "
+    if not short:
+        return head + f"every size of all {len(counts)} curves."
+    if len(short) * 2 < len(counts):
+        return head + f"every size of {len(counts) - len(short)} of {len(counts)} curves; " \
+            + "; ".join(f"{label}: {k} of {n} sizes" for label, k, n in short) + "."
+    return head + "; ".join(f"{label}: {k} of {n} sizes" for label, k, n in counts) + "."
+
+
 def _write_ratios(ax, R: np.ndarray, curves: dict, color) -> None:
     """Write 2D/3D at the largest R where both are finite, at the right end of each 2D curve."""
     base = curves.get(MODE_3D)
@@ -229,8 +242,8 @@ def plot(d: dict) -> Figure:
                 flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_unresolved")
                 if flagged is not None and (np.nan_to_num(flagged) > 0).any():
                     k = int((np.nan_to_num(flagged) > 0).sum())  # counted, not ringed
-                    unresolved.append(f"{ens['record']} {MODE_STYLE[mode]['label']} "
-                                      f"{title}: {k} of {int(np.isfinite(y).sum())}")
+                    unresolved.append((f"{ens['record']} {MODE_STYLE[mode]['label']} "
+                                       f"{title}", k, int(np.isfinite(y).sum())))
                 if mode not in modes_seen:
                     modes_seen.append(mode)
             _write_ratios(ax, ens["R"], curves, color)
@@ -243,8 +256,7 @@ def plot(d: dict) -> Figure:
                                     "(the others not reached at the search bound)"))
     handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"))
     if unresolved:
-        notes.append("Means over answers flagged unresolved (they may lie lower), sizes R: "
-                     + "; ".join(unresolved) + ".")
+        notes.append(_unresolved_note(unresolved))
     for ax, title in zip(axes, titles, strict=True):
         ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
                      if title in ("overturning", "excessive tilt") else title)
