@@ -291,3 +291,34 @@ def test_stripes_in_sa(tmp_path):
             "stripes": {**config["studies"]["t"]["stripes"], "refine": 3, "bootstrap": 0}}
     other = StudySpec.from_config({**config, "studies": {"t": more}}, "t").stripes
     assert other.digest == spec.digest and (other.refine, other.bootstrap) == (3, 0)
+
+
+def test_a_stripes_store_held_by_another_run_is_left_alone(filled):
+    """Two working directories starting one study: the second stops naming the holder and
+    neither replaces nor deletes the stripes store (as for the spectra, test_probes.py)."""
+    import os
+    import subprocess
+    import sys
+    import textwrap
+
+    path, ens = filled
+    hold = textwrap.dedent("""
+        import sys, time
+        from rocking.study import store
+        with store.locked(sys.argv[1]):
+            print("held", flush=True)
+            time.sleep(30)
+    """)
+    proc = subprocess.Popen([sys.executable, "-c", hold, str(path)], stdout=subprocess.PIPE,
+                            text=True, env={**os.environ,
+                                            "PYTHONPATH": os.pathsep.join(sys.path)})
+    try:
+        assert proc.stdout.readline().strip() == "held"
+        before = store.done_mask(path).copy()
+        # another configuration's hash: a run that held the lock would replace the store
+        with pytest.raises(RuntimeError, match=rf"{path.name}' is in use by pid {proc.pid}"):
+            st.compute(path, SPEC, "other-hash", ens, n_workers=1)
+        assert (store.done_mask(path) == before).all() and before.all()
+    finally:
+        proc.kill()
+        proc.wait()

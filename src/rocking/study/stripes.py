@@ -161,9 +161,11 @@ def compute(path: str | Path, spec: Any, config_digest: str, motions: str | Path
     :func:`rocking.study.cluster.fill_store`); returns its summary with ``store_state``."""
     from . import cluster
 
-    state = prepare_store(path, spec, config_digest, motions)
-    summary = cluster.fill_store(path, fill_stripes_region, motions,
-                                 config_digest=config_digest, **fill_kw)
+    # one run at a time per store, as for the spectra (rocking.study.prepare.compute)
+    with store.locked(path):
+        state = prepare_store(path, spec, config_digest, motions)
+        summary = cluster.fill_store(path, fill_stripes_region, motions,
+                                     config_digest=config_digest, **fill_kw)
     return {**summary, "store_state": state}
 
 
