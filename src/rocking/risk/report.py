@@ -45,8 +45,10 @@ def assumptions(hazard: str = "") -> list[str]:
         "its first and last log-log slopes are extrapolated beyond them (share_extrapolated "
         "in risk.csv: the part of λ that rests on the last slope). Exceedances are Poisson: "
         "P(50 years) = 1 − exp(−50 λ).",
-        "Fragility: record-to-record variability of the study's ensemble only (one record and "
-        "its synthetic pairs); no modelling or hazard uncertainty.",
+        "Fragility: record-to-record variability of the study's motions only (its records, "
+        "and their synthetic pairs where it has them), with the 90 % bootstrap interval "
+        "saying how far another set of as many motions could move λ; no modelling or hazard "
+        "uncertainty.",
     ]
 
 
