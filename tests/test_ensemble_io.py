@@ -78,3 +78,23 @@ def test_bad_input(tmp_path: Path) -> None:
         load_ensemble(tmp_path / "other.nc")
     with pytest.raises(FileNotFoundError):
         load_ensemble(tmp_path / "absent.nc")
+
+
+def test_a_vertical_component_is_refused_not_dropped(tmp_path):
+    """The ensemble format holds the horizontal pair: a motion with a vertical component is
+    refused in one line (saving it would silently change every answer that uses az)."""
+    import numpy as np
+    import pytest
+
+    from rocking.motions.ensemble_io import load_ensemble, save_ensemble
+    from rocking.motions.motion import GroundMotion
+
+    t = np.arange(200) * 0.01
+    m = GroundMotion(np.sin(t), np.cos(t), 0.01, "v", az=0.5 * np.sin(3 * t))
+    with pytest.raises(ValueError, match="'v' has a vertical component"):
+        save_ensemble(tmp_path / "e.nc", [m])
+    assert not (tmp_path / "e.nc").exists()
+    save_ensemble(tmp_path / "e.nc", [m.horizontal()])
+    (back,) = load_ensemble(tmp_path / "e.nc")
+    np.testing.assert_array_equal(back.ax, m.ax)
+    assert back.az is None

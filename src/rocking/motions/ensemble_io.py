@@ -170,8 +170,9 @@ def save_ensemble(
     Raises
     ------
     ValueError
-        No motions, a non-GroundMotion item, duplicate names, or metadata that JSON cannot
-        encode (naming the motion).
+        No motions, a non-GroundMotion item, duplicate names, metadata that JSON cannot
+        encode (naming the motion), or a motion with a vertical component (the format holds
+        the horizontal pair only: it is refused rather than silently dropped).
     """
     motions = list(motions)
     if not motions:
@@ -179,6 +180,10 @@ def save_ensemble(
     for i, m in enumerate(motions):
         if not isinstance(m, GroundMotion):
             raise ValueError(f"motions[{i}] must be a GroundMotion, got {type(m).__name__}")
+        if m.has_vertical:
+            raise ValueError(f"motion {m.name!r} has a vertical component, which an ensemble "
+                             f"file ({FORMAT}) does not hold; save m.horizontal() to keep the "
+                             "horizontal pair only")
     names = [m.name for m in motions]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
