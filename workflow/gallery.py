@@ -26,7 +26,7 @@ import yaml
 
 from rocking import __version__
 from rocking.study.aggregate import critical_frame
-from rocking.study.figures.captions import CAPTIONS
+from rocking.study.figures.captions import CAPTIONS, EXTRA_CAPTIONS
 from rocking.study.prepare import keyed
 from rocking.study.report import link_images, relink_docs
 from rocking.study.spec import EnsembleSpec, StudySpec
@@ -135,6 +135,21 @@ def package_versions() -> dict[str, str]:
     return out
 
 
+def figure_caption(stem: str) -> str:
+    """A gallery figure's caption: the paper figures' (captions.CAPTIONS), else
+    captions.EXTRA_CAPTIONS, else the figure module's own CAPTION (the risk figure)."""
+    from importlib import import_module
+
+    key = next((k for k in CAPTIONS if stem.startswith(k)), None)
+    if key:
+        return CAPTIONS[key]
+    name = next((k for k in EXTRA_CAPTIONS if stem.startswith(k)), None)
+    if name is None:
+        raise ValueError(f"gallery figure {stem!r} has no caption (captions.py)")
+    own = getattr(import_module(f"rocking.study.figures.{name}"), "CAPTION", "")
+    return EXTRA_CAPTIONS[name] or own
+
+
 def readme(manifest: dict, out: Path) -> str:
     """The gallery's README: how it was made, where each figure and table is."""
     minutes = manifest["elapsed_seconds"] / 60.0
@@ -171,9 +186,8 @@ def readme(manifest: dict, out: Path) -> str:
     for f in manifest["files"]:
         if f.endswith(".png"):
             stem = Path(f).stem
-            key = next((k for k in CAPTIONS if stem.startswith(k)), None)
-            text = CAPTIONS[key].split(". ")[0].rstrip(".") + "." if key else ""
-            lines.append(f"- [{f}]({f}) — {text}")
+            text = figure_caption(stem).split(". ")[0].rstrip(".")
+            lines.append(f"- [{f}]({f}) — {text}.")
     lines += [
         "", "## Tables (CSV, headers with units)", "",
         "- `<study>/critical.csv`: every answer of the study, one row per (mode, limit state, "
