@@ -176,7 +176,7 @@ def test_analytic_jacobian_matches_finite_differences():
         y = np.array([rng.uniform(1e-3, 1.0), rng.uniform(-4, 4), rng.normal(0, 1e-5),
                       rng.normal(0, 0.3), rng.normal(0, 5), rng.normal(0, 1e-2), 0.0])
         f = _rhs(y, P, axv, ayv)
-        cd.jacobian(0.0, y, P, np.array([axv, ayv, dax, day]), f, LA)
+        cd.jacobian(0.0, y, P, np.array([axv, ayv, dax, day, 0.0, 0.0]), f, LA)
         jac = np.hstack([LA[0:3], LA[3:6]])
         for j in range(6):
             h = 1e-6 * max(abs(y[j]), 1e-6 if j in (2, 5) else 1e-2)
