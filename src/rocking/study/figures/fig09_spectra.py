@@ -223,7 +223,9 @@ def plot(d: dict) -> Figure:
         fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
                                height_ratios=(2.2, 1.0))
     else:
-        fig, axes = new_figure(10.0 if ncols > 1 else 6.4, 5.0, ncols=ncols, squeeze=False)
+        # wide enough for a two-column legend per panel (the record and ten pairs, each
+        # with its count of unresolved answers) beside the right-hand PGA [g] axis
+        fig, axes = new_figure(12.5 if ncols > 1 else 7.0, 6.0, ncols=ncols, squeeze=False)
     colors = {m: st["color"] for m, st in d["colors"].items()}
     for col, panel in enumerate(panels):
         _spectra_panel(axes[0][col], d, panel, colors)
@@ -231,7 +233,7 @@ def plot(d: dict) -> Figure:
             _difference_panel(axes[1][col], d, panel, colors)
     modes = d.get("modes", [MODE_3D, DAMPED])
     styles = "\nsolid undamped, dashed damped" if damped else (
-        f"; {MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
+        f"\n{MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
     title = (f"Performance spectra per motion, {d.get('title', 'ensemble')}, tan α = "
              f"{d['tan_alpha']:g}{paper_tag(d, 'Fig 9')}{styles}")
     suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
