@@ -53,6 +53,7 @@ from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .critical import make_analysis, uplift_intensity
+from .fragility import bootstrap_indices
 from .limit_states import LimitState, classify, parse_limit_states, stop_for
 from .modes import MODE_3D, MODES, check_mode
 
@@ -853,7 +854,7 @@ def bootstrap_stripes(result: StripeFragility, resamples: int = DEFAULT_BOOTSTRA
             or resamples < 1:
         raise ValueError(f"resamples must be an integer >= 1, got {resamples!r}")
     n_mot = len(result.motions)
-    idx = np.random.default_rng(seed).integers(0, n_mot, size=(int(resamples), n_mot))
+    idx = bootstrap_indices(n_mot, int(resamples), seed)  # the draws every fragility uses
     # times each motion is drawn, per resample: the counts are weighted sums
     w = np.zeros((int(resamples), n_mot), dtype=np.int64)
     np.add.at(w, (np.arange(int(resamples))[:, None], idx), 1)
