@@ -219,13 +219,14 @@ def plot(d: dict) -> Figure:
     panels = d["panels"]
     ncols = max(len(panels), 1)
     damped = DAMPED in d.get("modes", (MODE_3D, DAMPED))
+    # wide enough for a two-column legend per panel (the record and ten pairs, each with its
+    # count of unresolved answers) beside the right-hand PGA [g] axis
+    width = 12.5 if ncols > 1 else 7.0
     if damped:
-        fig, axes = new_figure(10.0, 7.2, nrows=2, ncols=ncols, squeeze=False, sharex="col",
+        fig, axes = new_figure(width, 8.0, nrows=2, ncols=ncols, squeeze=False, sharex="col",
                                height_ratios=(2.2, 1.0))
     else:
-        # wide enough for a two-column legend per panel (the record and ten pairs, each
-        # with its count of unresolved answers) beside the right-hand PGA [g] axis
-        fig, axes = new_figure(12.5 if ncols > 1 else 7.0, 6.0, ncols=ncols, squeeze=False)
+        fig, axes = new_figure(width, 6.0, ncols=ncols, squeeze=False)
     colors = {m: st["color"] for m, st in d["colors"].items()}
     for col, panel in enumerate(panels):
         _spectra_panel(axes[0][col], d, panel, colors)
