@@ -18,8 +18,8 @@ from rocking import Status, free_vibration
 from rocking.constants import G
 from rocking.dynamics import codes, inertia, models
 from rocking.dynamics import cylinder3d_damped as cd
-from rocking.dynamics.analysis import THETA_REST
 from rocking.dynamics.bodies import Cylinder, mu, mu_prime
+from rocking.dynamics.models import THETA_REST_DAMPED
 
 CYL = Cylinder(6.0, 0.2)  # the paper's Fig 4 cylinder
 GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]
@@ -32,7 +32,7 @@ def _run(y0, t_end, omega_n, zeta, rtol, ax=None, ay=None, dt=None, body=CYL, st
     no ground motion is given). Returns the kernel's
     :class:`~rocking.dynamics.models.KernelResult`."""
     prep = models.prepare(models.MODELS["3d-damped"], body, rtol,
-                          models.rest_criterion(body, THETA_REST["3d-damped"]),
+                          models.rest_criterion(body, THETA_REST_DAMPED),
                           omega_n=omega_n, zeta=zeta, max_steps=max_steps)
     if ax is None:
         dt = 0.1 / body.p
@@ -307,7 +307,7 @@ def test_quasi_rocking_decays_to_rest():
     energy = np.array([cd.rocking_energy(np.append(y, 0.0), P) for y in ev_y])
     k = np.arange(energy.size)
     np.testing.assert_allclose(energy[:41] / energy[0], CYL.e ** (2 * k[:41]), rtol=2e-3)
-    e_rest = G * CYL.R * (math.cos(CYL.alpha - THETA_REST["3d-damped"]) - math.cos(CYL.alpha))
+    e_rest = G * CYL.R * (math.cos(CYL.alpha - THETA_REST_DAMPED) - math.cos(CYL.alpha))
     assert energy[-1] < e_rest < energy[-2]
     # impacts from θ0 = 0.05 down to the rest threshold at e² per impact: 89.7
     e_start = G * CYL.R * (math.cos(CYL.alpha - 0.05) - math.cos(CYL.alpha))

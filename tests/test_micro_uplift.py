@@ -30,10 +30,10 @@ def test_default_rest_tilt_is_the_stated_rim_lift(R, tan_alpha):
     theta = analysis.default_rest_tilt("3d", body)
     # rim of the base (diameter 2R sin α) lifted by the chord of θ
     lift = 2.0 * body.R * math.sin(body.alpha) * math.sin(theta)
-    assert lift == pytest.approx(analysis.REST_LIFT, rel=1e-9)
+    assert lift == pytest.approx(models.REST_LIFT, rel=1e-9)
     assert theta < 1e-3 * body.alpha  # far below the smallest limit state (0.1 α)
-    assert analysis.default_rest_tilt("3d-damped", body) == analysis.THETA_REST["3d-damped"]
-    assert analysis.default_rest_tilt("2d", body) == analysis.THETA_REST["2d"]
+    assert analysis.default_rest_tilt("3d-damped", body) == models.THETA_REST_DAMPED
+    assert analysis.default_rest_tilt("2d", body) == models.THETA_REST_2D
 
 
 def test_micro_uplift_keeps_the_exact_peak_at_a_fraction_of_the_cost(el_centro):

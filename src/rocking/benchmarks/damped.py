@@ -40,8 +40,8 @@ from ..constants import G
 from ..dynamics import cylinder3d_damped as cd
 from ..dynamics import models
 from ..dynamics._rosenbrock import TABLEAUX
-from ..dynamics.analysis import THETA_REST
 from ..dynamics.bodies import Cylinder
+from ..dynamics.names import MODEL_3D_DAMPED
 from ..motions.motion import GroundMotion
 from ._io import best_of, write_table
 
@@ -189,8 +189,8 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
 # ---------------------------------------------------------------------------------------------
 def _kernel(tab_name, y0, t0, t_end, motion, scale, body, wn, z, rtol):
     """The damped model through the driver with Rosenbrock method ``tab_name``."""
-    prep = models.prepare(models.MODELS["3d-damped"], body, rtol,
-                          models.rest_criterion(body, THETA_REST["3d-damped"]), omega_n=wn,
+    prep = models.prepare(models.MODELS[MODEL_3D_DAMPED], body, rtol,
+                          models.rest_criterion(body, models.THETA_REST_DAMPED), omega_n=wn,
                           zeta=z, max_steps=50_000_000, method=tab_name)
     k0 = int(t0 // motion.dt)
     return models.run(prep, motion.ax * scale, motion.ay * scale, motion.dt, k0,

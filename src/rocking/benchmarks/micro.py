@@ -3,7 +3,7 @@
 ``python -m rocking.benchmarks micro [--quick]`` writes ``results/benchmarks/micro.csv`` /
 ``.md``: on (R, tan α, motion) points of the undamped 3D mode, the critical intensities of the
 seven limit states with the "default" preset (fixed 1 % scan; an episode ends below a 5 µm
-rim lift, :data:`rocking.dynamics.analysis.REST_LIFT`) and with the adaptive scan, each against
+rim lift, :data:`rocking.dynamics.models.REST_LIFT`) and with the adaptive scan, each against
 the same settings with the exact treatment (``rest_tilt=0``: every micro-uplift followed to
 its end). Per point: analyses, seconds and
 the slowest analysis over the median one of both searches. The summary gives the median and

@@ -58,7 +58,7 @@ def floats(text: str) -> list[float]:
 def add_cylinders(p: argparse.ArgumentParser) -> None:
     """``--R``, ``--tan-alpha`` (or ``--height``/``--diameter``) and ``--mode``: the cylinders
     and the model of a command that runs many sizes (``spectra``, ``stripes``)."""
-    from ..spectra.modes import MODES
+    from ..spectra.modes import MODE_3D, MODES
 
     p.add_argument("--R", dest="R", type=floats, action="extend", default=None,
                    help="cylinder semi-diagonals [m], comma-separated or repeated (or "
@@ -66,8 +66,22 @@ def add_cylinders(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tan-alpha", type=float, default=None,
                    help="slenderness b/h [-] (no default: give it, or --height and --diameter)")
     add_dimensions(p)
-    p.add_argument("--mode", choices=list(MODES), default="3d",
+    p.add_argument("--mode", choices=list(MODES), default=MODE_3D,
                    help="model and excitation: 3d, 3d-damped, or the 2D model under x or y")
+
+
+def add_contact(p: argparse.ArgumentParser) -> None:
+    """``--omega-n``, ``--zeta``: the damped mode's contact spring–dashpot (None: the model's
+    defaults, which the help states)."""
+    from ..dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
+    from ..spectra.modes import MODE_3D_DAMPED
+
+    p.add_argument("--omega-n", type=float, default=None,
+                   help=f"contact spring frequency of mode {MODE_3D_DAMPED} [rad/s] "
+                   f"(default: {DAMPED_OMEGA_N:g})")
+    p.add_argument("--zeta", type=float, default=None,
+                   help=f"contact damping ratio of mode {MODE_3D_DAMPED} [-] "
+                   f"(default: {DAMPED_ZETA:g})")
 
 
 def add_dimensions(p: argparse.ArgumentParser) -> None:

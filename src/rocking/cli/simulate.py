@@ -16,7 +16,8 @@ import math
 import sys
 from pathlib import Path
 
-from ..spectra.modes import MODES
+from ..dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
+from ..spectra.modes import MODE_3D, MODES
 from . import _common, _human
 
 EXAMPLES = """\
@@ -29,10 +30,10 @@ EXAMPLES = """\
       --motion el-centro-1940-rdk-000 --mode 3d-damped -o run"""
 
 HISTORY_COLUMNS = {
-    "3d": ("t", "theta", "theta_dot", "phi", "phi_dot", "normal_force", "mu_required"),
-    "3d-damped": ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot", "contact_force",
-                  "normal_force", "mu_required"),
-    "2d": ("t", "theta", "theta_dot", "normal_force", "mu_required"),
+    MODEL_3D: ("t", "theta", "theta_dot", "phi", "phi_dot", "normal_force", "mu_required"),
+    MODEL_3D_DAMPED: ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot",
+                      "contact_force", "normal_force", "mu_required"),
+    MODEL_2D: ("t", "theta", "theta_dot", "normal_force", "mu_required"),
 }
 """Columns of history.csv per dynamics model (the 2D model has no phi, w)."""
 
@@ -52,13 +53,13 @@ def add_parser(subparsers) -> None:
     _common.add_dimensions(p)
     p.add_argument("--body", choices=("cylinder", "block"), default="cylinder",
                    help="rigid body (a block only in the 2D modes)")
-    p.add_argument("--mode", choices=list(MODES), default="3d",
+    p.add_argument("--mode", choices=list(MODES), default=MODE_3D,
                    help="model and excitation: 3d, 3d-damped, or the 2D model under the x or "
                    "y component (in free vibration 2d-x and 2d-y are the same)")
     p.add_argument("--rtol", type=float, default=None,
                    help="relative tolerance (default: the model's, 1e-8)")
     p.add_argument("--stop-at", type=float, default=None, help="stop once |theta| > this [rad]")
-    p.add_argument("--omega-n", type=float, default=2000.0,
+    p.add_argument("--omega-n", type=float, default=DAMPED_OMEGA_N,
                    help="contact spring frequency of mode 3d-damped [rad/s]")
     p.add_argument("--mu", type=float, default=None,
                    help="friction coefficient of the support [-], > 0: the summary says "
@@ -66,7 +67,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--vertical", action="store_true",
                    help="with --record: include its vertical component (UP/DWN file); three "
                    "--files (x y z) imply it")
-    p.add_argument("--zeta", type=float, default=5.0,
+    p.add_argument("--zeta", type=float, default=DAMPED_ZETA,
                    help="contact damping ratio of mode 3d-damped [-]")
     fv = p.add_argument_group("free vibration (when no ground motion is given)")
     fv.add_argument("--theta0", type=float, help="initial tilt [rad]")
@@ -124,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         if value is not None and not (math.isfinite(value) and value > 0):
             raise ValueError(f"{option} must be a finite number > 0, got {value!r}")
     model, component = MODES[args.mode]
-    if args.body == "block" and model != "2d":
+    if args.body == "block" and model != MODEL_2D:
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
                          f"got --mode {args.mode}")
     body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha, mu=args.mu)
@@ -151,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
                    comments="")
     summary = {**res.summary(), "mode": args.mode, "R": body.R, "tan_alpha": body.tan_alpha,
                "body": args.body, **meta}
-    if model == "2d":  # the 2D model has impacts, not quasi-impacts
+    if model == MODEL_2D:  # the 2D model has impacts, not quasi-impacts
         summary["n_impacts"] = summary.pop("n_quasi_impacts")
     summary["units"] = {k: u for k, u in SUMMARY_UNITS.items() if k in summary} | {
         c: QUANTITIES[c][1] for c in cols}

@@ -52,10 +52,7 @@ def add_parser(subparsers) -> None:
                    help="search and ODE tolerances preset")
     p.add_argument("--upper", type=float, default=UPPER_DEFAULT,
                    help="highest PGA/(g tan alpha) searched [-]")
-    p.add_argument("--omega-n", type=float, default=None,
-                   help="contact spring frequency of mode 3d-damped [rad/s] (default: 2000)")
-    p.add_argument("--zeta", type=float, default=None,
-                   help="contact damping ratio of mode 3d-damped [-] (default: 5)")
+    _common.add_contact(p)
     _common.add_motion_source(p)
     _common.add_processing(p)
     p.add_argument("-o", "--out", type=Path, default=None,

@@ -71,10 +71,7 @@ def add_parser(subparsers) -> None:
                    "(median_p05, median_p95), 0 for none (default)")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="ODE tolerances preset (the scan settings do not apply)")
-    p.add_argument("--omega-n", type=float, default=None,
-                   help="contact spring frequency of mode 3d-damped [rad/s] (default: 2000)")
-    p.add_argument("--zeta", type=float, default=None,
-                   help="contact damping ratio of mode 3d-damped [-] (default: 5)")
+    _common.add_contact(p)
     _common.add_motion_source(p)
     _common.add_processing(p)
     p.add_argument("-o", "--out", type=Path, default=None,

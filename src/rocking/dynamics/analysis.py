@@ -31,47 +31,16 @@ from ..constants import G
 from ..motions.motion import GroundMotion
 from . import codes, cylinder3d, cylinder3d_damped, driver, housner2d, models
 from .bodies import Block, Cylinder
+from .names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 from .result import QuasiImpacts, Response, Status
 
 MODELS = tuple(models.MODELS)
-
-DEFAULT_RTOL = {"3d": 1e-8, "2d": 1e-8, "3d-damped": cylinder3d_damped.DEFAULT_RTOL}
-"""Default relative tolerance per model [-].
-
-From ``python -m rocking.benchmarks dynamics``: in every benchmark case the θmax error is
-≤ 1e-3 with the right limit-state decision from rtol 1e-6 on ("3d" El Centro: 1.6e-4 at 1e-6,
-1.1e-2 at 1e-5; "2d": < 1e-10 at any rtol, the record dt caps its steps). The undamped 3D
-default is tighter, 1e-8 (θmax error 9e-6, +24 % steps), because releases at 0.999α must
-survive: the energy margin to the barrier at θ = α is only gR(0.001α)²/2 ≈ 2e-8 gR for
-tan α = 0.2, and the energy drift through quasi-impacts is ~1e-7 at rtol 1e-6 but ~1e-9 at
-1e-8 (tests/test_cylinder3d.py). The 2D default follows for consistency of comparisons. The
-damped default, 1e-8, comes from ``python -m rocking.benchmarks damped``: θmax error ≤ 5e-5 on
-the paper's whole (ωn, ζ) grid, where 1e-6 reaches 1e-2 at ωn = 2000, ζ = 0.5."""
 
 METHOD = "dp5"
 """Runge–Kutta pair of the undamped models (see :mod:`._rk` for the measurement)."""
 
 THETA_EPS = 1e-7
 """Tilt at which a 3D analysis starts from rest at uplift [rad] (docs/equations.md)."""
-
-THETA_REST = {"2d": 0.0, "3d-damped": 1e-6}
-"""Default rest tilt [rad] of the 2D and the damped model: the tilt whose potential energy is
-the rest energy (:func:`rocking.dynamics.models.rest_criterion`). The 2D model loses energy
-at every impact and ends its episodes at the Zeno floor; the damped model dissipates its
-micro-rocking in the contact dashpot, and 1e-6 rad only ends what is left of it."""
-
-REST_LIFT = 5e-6
-"""Rim lift [m] below which an episode of the undamped 3D model ends (docs/equations.md,
-"Micro-uplift: when a rocking episode ends"): the default rest tilt of "3d" is the tilt that
-lifts the rim of the base, of diameter 2R sin α, by this much, REST_LIFT/(2R sin α).
-
-The undamped model conserves energy exactly, so a body lifted by a sub-threshold pulse keeps
-rocking by micrometres, with ever faster quasi-impacts, until the next strong pulse: up to
-1.5 M steps (1.3 s) for one analysis whose peak tilt is 1e-6 rad. Any real contact (and the
-damped model) dissipates that energy, and no rigid contact model means anything below the
-roughness of the contact surfaces (tens of µm for dressed stone or concrete). The value is
-the measured trade (``python -m rocking.benchmarks micro``): the cost of the slowest
-analysis near uplift against how many critical intensities move."""
 
 MAX_STEPS = 20_000_000
 """Budget of integration steps of one kernel call."""
@@ -85,7 +54,7 @@ def _check_model(model: str, body) -> str:
         raise ValueError(f"model must be one of {list(MODELS)}, got {model!r}")
     if not isinstance(body, (Cylinder, Block)):
         raise ValueError(f"body must be a Cylinder or a Block, got {type(body).__name__}")
-    if model != "2d" and not isinstance(body, Cylinder):
+    if model != MODEL_2D and not isinstance(body, Cylinder):
         raise ValueError(f"model={model!r} needs a Cylinder, got a {type(body).__name__} "
                          "(a rectangular block only has the 2D model, model='2d')")
     return model
@@ -95,7 +64,7 @@ def _check_common(rtol, omega_n, zeta, model) -> float:
     positive_finite("omega_n", omega_n)
     nonnegative_finite("zeta", zeta)
     if rtol is None:
-        return DEFAULT_RTOL[model]
+        return models.MODELS[model].rtol
     r = positive_finite("rtol", rtol)
     if r >= 1e-2:
         raise ValueError(f"rtol must be below 1e-2, got {rtol!r}")
@@ -109,11 +78,9 @@ def _check_stop(stop_at) -> float:
 
 
 def default_rest_tilt(model: str, body: Cylinder | Block) -> float:
-    """Rest tilt [rad] of ``model`` on ``body`` when none is given: :data:`REST_LIFT` at the
-    rim for "3d", :data:`THETA_REST` otherwise."""
-    if model == "3d":
-        return REST_LIFT / (2.0 * body.R * math.sin(body.alpha))
-    return THETA_REST[model]
+    """Rest tilt [rad] of ``model`` on ``body`` when none is given: the registry entry's
+    (:attr:`rocking.dynamics.models.Model.rest_tilt`)."""
+    return models.MODELS[model].rest_tilt(body)
 
 
 def _check_rest_tilt(rest_tilt, model: str, body) -> float:
@@ -311,7 +278,7 @@ def _above(unscaled: _Unscaled, ax: np.ndarray, ay: np.ndarray, scale: float,
 
 def _start_state(model: str, phi0: float) -> tuple[np.ndarray, float]:
     """State at uplift along the D'Alembert direction φ0, and the 2D pivot side."""
-    if model == "2d":
+    if model == MODEL_2D:
         return np.zeros(2), (1.0 if math.cos(phi0) >= 0.0 else -1.0)
     y0 = np.zeros(len(models.MODELS[model].state))
     y0[0], y0[1] = THETA_EPS, phi0
@@ -409,7 +376,7 @@ class _Acc:
         if abs(out.theta_max) > self.theta_max:
             self.theta_max = abs(float(out.theta_max))
             self.t_theta_max = float(out.t_theta_max)
-        if self.model == "3d-damped":
+        if self.model == MODEL_3D_DAMPED:
             ex = self.extras
             ex["dissipated"] = ex.get("dissipated", 0.0) + float(out.y_end[6])
             ex["n_tension"] = ex.get("n_tension", 0) + int(out.diag[0])
@@ -487,7 +454,7 @@ def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: 
               omega_n: float, zeta: float, body: Cylinder | Block) -> Response:
     """The one :class:`Response` assembly of every model."""
     t, y, ev_t, ev_y, mon = acc.arrays()
-    if acc.model == "2d" and ev_t.size:  # every impact needs the same friction
+    if acc.model == MODEL_2D and ev_t.size:  # every impact needs the same friction
         mu_imp = housner2d.impact_friction(body)
         if mu_imp > acc.mu_max:
             acc.mu_max, acc.t_mu_max = mu_imp, float(ev_t[0])
@@ -497,11 +464,11 @@ def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: 
     if status is not Status.FAILED and y.size and not np.all(np.isfinite(y)):
         status, reason = Status.FAILED, "non-finite state in the history"
     w = w_dot = force = None
-    if acc.model == "3d-damped":
+    if acc.model == MODEL_3D_DAMPED:
         th, ph, thd, phd = y[:, 0], y[:, 1], y[:, 3], y[:, 4]
         w, w_dot = y[:, 2], y[:, 5]
         force = cylinder3d_damped.contact_force(y, omega_n, zeta)
-    elif acc.model == "2d":
+    elif acc.model == MODEL_2D:
         th, thd = y[:, 0], y[:, 1]
         ph = np.zeros_like(th)
         phd = np.zeros_like(th)
@@ -530,7 +497,7 @@ def _free_tail(body, acc: _Acc, runner: _Runner, y_end: np.ndarray, t_end: float
     overturning, the stop level or rest. The decision and θmax come from the invariants; the
     run only supplies the time (and the history). Returns (status, reason).
     """
-    if acc.model == "2d":
+    if acc.model == MODEL_2D:
         peak = housner2d.free_peak(body, float(y_end[0]), float(y_end[1]))
         # On θ = 0 right after an impact the body moves to the side of θ̇.
         side = math.copysign(1.0, y_end[0] if y_end[0] != 0.0 else y_end[1])
@@ -565,8 +532,9 @@ def _free_tail(body, acc: _Acc, runner: _Runner, y_end: np.ndarray, t_end: float
 # ----------------------------------------------------------------------------- public API
 def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0, *,
                    theta_dot0: float = 0.0, phi0: float = 0.0, duration: float,
-                   model: str = "3d", rtol: float | None = None, omega_n: float = 2000.0,
-                   zeta: float = 5.0, history: bool = True,
+                   model: str = MODEL_3D, rtol: float | None = None,
+                   omega_n: float = DAMPED_OMEGA_N, zeta: float = DAMPED_ZETA,
+                   history: bool = True,
                    rest_tilt: float | None = None) -> Response:
     """Free rocking (2D) or rocking and wobbling (3D) from an initial state.
 
@@ -584,7 +552,7 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
         Length of the analysis [s], > 0.
     model : {"3d", "3d-damped", "2d"}
     rtol : float, optional
-        Relative tolerance; default :data:`DEFAULT_RTOL` of the model.
+        Relative tolerance; default the model's (:attr:`rocking.dynamics.models.Model.rtol`).
     omega_n, zeta : float
         Contact spring–dashpot of "3d-damped" [rad/s], [-] (validated for all models); the
         damped model starts at rest on the spring (w = ẇ = 0).
@@ -608,21 +576,21 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     phi_dot0 = finite("phi_dot0", phi_dot0)
     theta_dot0 = finite("theta_dot0", theta_dot0)
     phi0 = finite("phi0", phi0)
-    if model == "2d":
+    if model == MODEL_2D:
         if abs(theta0) >= _HALF_PI:
             raise ValueError(f"theta0 must satisfy |theta0| < pi/2, got {theta0!r}")
         y0 = np.array([theta0, theta_dot0])
         side = 1.0 if theta0 > 0 or (theta0 == 0 and theta_dot0 >= 0) else -1.0
     elif not 0.0 < theta0 < _HALF_PI:
         raise ValueError(f"theta0 must lie in (0, pi/2) for model={model!r}, got {theta0!r}")
-    elif model == "3d-damped":
+    elif model == MODEL_3D_DAMPED:
         y0, side = np.array([theta0, phi0, 0.0, theta_dot0, phi_dot0, 0.0]), 1.0
     else:
         y0, side = np.array([theta0, phi0, theta_dot0, phi_dot0]), 1.0
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
     out = runner.free(0.0, y0, duration, -1.0, side)
     acc = _Acc(model, history)
-    if model == "2d":  # the restitution used, and whether a squat body's was clipped
+    if model == MODEL_2D:  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
     acc.theta_max = abs(theta0)
     acc.t_theta_max = 0.0
@@ -634,10 +602,11 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     return _response(acc, status, reason, True, 0.0, omega_n, zeta, body)
 
 
-def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str = "3d",
+def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str = MODEL_3D,
                     scale: float | None = None, pga_ratio: float | None = None,
                     stop_at: float | None = None,
-                    rtol: float | None = None, omega_n: float = 2000.0, zeta: float = 5.0,
+                    rtol: float | None = None, omega_n: float = DAMPED_OMEGA_N,
+                    zeta: float = DAMPED_ZETA,
                     history: bool = True, free_tail: bool = True,
                     rest_tilt: float | None = None,
                     stop_when_decided: bool = True, vertical: bool | None = None) -> Response:
@@ -659,7 +628,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     stop_at : float, optional
         End as soon as |θ| > stop_at [rad] (status STOPPED_AT_LIMIT).
     rtol : float, optional
-        Relative tolerance; default :data:`DEFAULT_RTOL` of the model.
+        Relative tolerance; default the model's (:attr:`rocking.dynamics.models.Model.rtol`).
     omega_n, zeta : float
         Contact spring–dashpot of "3d-damped" [rad/s], [-].
     history : bool
@@ -714,20 +683,20 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         raise ValueError(f"vertical=True but motion {motion.name!r} has no vertical component "
                          "(give az, or load the record with vertical=True)")
     use_vertical = motion.has_vertical if vertical is None else vertical
-    unscaled = _unscaled(motion, model == "2d", use_vertical)
-    if model != "2d" and unscaled.unidirectional:
+    unscaled = _unscaled(motion, model == MODEL_2D, use_vertical)
+    if model != MODEL_2D and unscaled.unidirectional:
         live = "y" if motion.ay.any() else "x"
         raise ValueError(
             f"motion {motion.name!r} has a zero component: unidirectional excitation of the 3D "
             "model is exactly planar and reaches theta = 0 where the model is undefined; "
             f"use model='2d' (the 2D model under the {live} component)")
     ax = motion.ax * scale
-    ay = np.zeros_like(ax) if model == "2d" else motion.ay * scale
+    ay = np.zeros_like(ax) if model == MODEL_2D else motion.ay * scale
     az = None if unscaled.az is None else unscaled.az * scale
     runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
     acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt, unscaled.a, scale,
                                        body.tan_alpha))
-    if model == "2d":  # the restitution used, and whether a squat body's was clipped
+    if model == MODEL_2D:  # the restitution used, and whether a squat body's was clipped
         acc.extras.update(housner2d.restitution_extras(body))
     threshold = G * body.tan_alpha
     above = _above(unscaled, ax, ay, scale, threshold)
@@ -742,7 +711,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         acc.t_theta_max = 0.0
         return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta, body)
     if (out is not None and int(out.code) == codes.OK and free_tail
-            and model != "3d-damped"):
+            and model != MODEL_3D_DAMPED):
         status, reason = _free_tail(body, acc, runner, out.y[-1, :acc.width], motion.duration,
                                     stop_level)
     return _response(acc, status, reason, True, t_first, omega_n, zeta, body)

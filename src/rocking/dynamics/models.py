@@ -17,6 +17,7 @@ import numpy as np
 from ..constants import G
 from . import _rk, _rosenbrock, cylinder3d, cylinder3d_damped, driver, housner2d
 from .bodies import Block, Cylinder
+from .names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 
 ZENO_RATE = 1e-6
 """Impact rate, as a fraction of p α, below which a 2D body is back at rest whatever the rest
@@ -79,7 +80,7 @@ class Model(NamedTuple):
     Attributes
     ----------
     name : str
-        ``"3d"``, ``"3d-damped"`` or ``"2d"``.
+        One of :data:`.names.MODEL_NAMES`.
     kernel : callable
         Compiled entry point ``kernel(run)``.
     state : tuple of str
@@ -99,6 +100,15 @@ class Model(NamedTuple):
     kernel_state : callable
         ``kernel_state(body, y0, P) -> (y, diag0)``: kernel state of an output state and the
         initial diagnostics.
+    rtol : float
+        Default relative tolerance [-] (:data:`DEFAULT_RTOL`).
+    rest_tilt : callable
+        ``rest_tilt(body) -> float``: default rest tilt [rad], the tilt whose potential energy
+        is the rest energy of :func:`rest_criterion` (:data:`REST_LIFT` at the rim in "3d",
+        :data:`THETA_REST_2D`, :data:`THETA_REST_DAMPED`).
+    contact : (float, float) or None
+        Default contact spring frequency ωn [rad/s] and damping ratio ζ [-] of a model on a
+        contact spring–dashpot; None for a rigid contact.
     """
 
     name: str
@@ -111,6 +121,9 @@ class Model(NamedTuple):
     la_shape: tuple[int, int]
     params: Callable
     kernel_state: Callable
+    rtol: float
+    rest_tilt: Callable
+    contact: tuple[float, float] | None
 
 
 def _params_3d(body, omega_n, zeta):
@@ -142,14 +155,64 @@ def _state_damped(body, y0, P):
 
 _NO_DIAG = np.zeros(0)
 
+DEFAULT_RTOL = 1e-8
+"""Default relative tolerance of the undamped models [-] (the damped one's is
+:data:`.cylinder3d_damped.DEFAULT_RTOL`).
+
+From ``python -m rocking.benchmarks dynamics``: in every benchmark case the θmax error is
+≤ 1e-3 with the right limit-state decision from rtol 1e-6 on ("3d" El Centro: 1.6e-4 at 1e-6,
+1.1e-2 at 1e-5; "2d": < 1e-10 at any rtol, the record dt caps its steps). The undamped 3D
+default is tighter, 1e-8 (θmax error 9e-6, +24 % steps), because releases at 0.999α must
+survive: the energy margin to the barrier at θ = α is only gR(0.001α)²/2 ≈ 2e-8 gR for
+tan α = 0.2, and the energy drift through quasi-impacts is ~1e-7 at rtol 1e-6 but ~1e-9 at
+1e-8 (tests/test_cylinder3d.py). The 2D default follows for consistency of comparisons. The
+damped default, 1e-8, comes from ``python -m rocking.benchmarks damped``: θmax error ≤ 5e-5 on
+the paper's whole (ωn, ζ) grid, where 1e-6 reaches 1e-2 at ωn = 2000, ζ = 0.5."""
+
+REST_LIFT = 5e-6
+"""Rim lift [m] below which an episode of the undamped 3D model ends (docs/equations.md,
+"Micro-uplift: when a rocking episode ends"): the default rest tilt of "3d" is the tilt that
+lifts the rim of the base, of diameter 2R sin α, by this much, REST_LIFT/(2R sin α).
+
+The undamped model conserves energy exactly, so a body lifted by a sub-threshold pulse keeps
+rocking by micrometres, with ever faster quasi-impacts, until the next strong pulse: up to
+1.5 M steps (1.3 s) for one analysis whose peak tilt is 1e-6 rad. Any real contact (and the
+damped model) dissipates that energy, and no rigid contact model means anything below the
+roughness of the contact surfaces (tens of µm for dressed stone or concrete). The value is
+the measured trade (``python -m rocking.benchmarks micro``): the cost of the slowest
+analysis near uplift against how many critical intensities move."""
+
+THETA_REST_2D = 0.0
+"""Default rest tilt of the 2D model [rad]: it loses energy at every impact and ends its
+episodes at the Zeno floor (:data:`ZENO_RATE`)."""
+
+THETA_REST_DAMPED = 1e-6
+"""Default rest tilt of the damped model [rad]: it dissipates its micro-rocking in the contact
+dashpot, and 1e-6 rad only ends what is left of it."""
+
+
+def _rest_3d(body):
+    return REST_LIFT / (2.0 * body.R * math.sin(body.alpha))
+
+
+def _rest_2d(body):
+    return THETA_REST_2D
+
+
+def _rest_damped(body):
+    return THETA_REST_DAMPED
+
+
 MODELS: dict[str, Model] = {
-    "3d": Model("3d", cylinder3d.integrate, cylinder3d.STATE, 2, False, False, 0, (1, 1),
-                _params_3d, _state_3d),
-    "3d-damped": Model("3d-damped", cylinder3d_damped.integrate, cylinder3d_damped.STATE, 3,
-                       False, True, 2, cylinder3d_damped.LA_SHAPE, _params_damped,
-                       _state_damped),
-    "2d": Model("2d", housner2d.integrate, housner2d.STATE, 1, True, False, 0, (1, 1),
-                _params_2d, _state_2d),
+    MODEL_3D: Model(MODEL_3D, cylinder3d.integrate, cylinder3d.STATE, 2, False, False, 0,
+                    (1, 1), _params_3d, _state_3d, DEFAULT_RTOL, _rest_3d, None),
+    MODEL_3D_DAMPED: Model(MODEL_3D_DAMPED, cylinder3d_damped.integrate,
+                           cylinder3d_damped.STATE, 3, False, True, 2,
+                           cylinder3d_damped.LA_SHAPE, _params_damped, _state_damped,
+                           cylinder3d_damped.DEFAULT_RTOL, _rest_damped,
+                           (DAMPED_OMEGA_N, DAMPED_ZETA)),
+    MODEL_2D: Model(MODEL_2D, housner2d.integrate, housner2d.STATE, 1, True, False, 0, (1, 1),
+                    _params_2d, _state_2d, DEFAULT_RTOL, _rest_2d, None),
 }
 """The models by name."""
 
@@ -185,7 +248,7 @@ class Prepared(NamedTuple):
 
 
 def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray, *,
-            omega_n: float = 2000.0, zeta: float = 5.0, max_steps: int = 20_000_000,
+            omega_n: float = DAMPED_OMEGA_N, zeta: float = DAMPED_ZETA, max_steps: int = 20_000_000,
             method: str | None = None) -> Prepared:
     """Parameters, tolerances, stepper and layout of the runs of ``model`` on ``body``.
 

@@ -1,10 +1,14 @@
 """Analysis modes of the spectra and tilt maps: which model, under which excitation.
 
-Kept free of heavy imports: the command line lists the modes in its help without loading
-the dynamics engine.
+A mode's name is its own constant (``MODE_*``), distinct from the name of the dynamics model
+it runs (:mod:`rocking.dynamics.names`, ``MODEL_*``) even where the two spell the same
+("3d-damped"). Kept free of heavy imports: the command line lists the modes in its help
+without loading the dynamics engine.
 """
 
 from __future__ import annotations
+
+from ..dynamics.names import MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 
 MODE_3D = "3d"
 """The undamped 3D rocking/wobbling cylinder under both components."""
@@ -22,17 +26,17 @@ PLANAR_MODES: tuple[str, ...] = (MODE_2D_X, MODE_2D_Y)
 """The 2D modes, one per component."""
 
 MODES: dict[str, tuple[str, str | None]] = {
-    MODE_3D: ("3d", None),
-    MODE_3D_DAMPED: ("3d-damped", None),
-    MODE_2D_X: ("2d", "x"),
-    MODE_2D_Y: ("2d", "y"),
+    MODE_3D: (MODEL_3D, None),
+    MODE_3D_DAMPED: (MODEL_3D_DAMPED, None),
+    MODE_2D_X: (MODEL_2D, "x"),
+    MODE_2D_Y: (MODEL_2D, "y"),
 }
 """Mode → (dynamics model, component exciting the 2D model or None for the pair)."""
 
 
 def is_damped(mode: str) -> bool:
     """Whether ``mode`` runs the damped contact model (which takes ωn and ζ)."""
-    return MODES[check_mode(mode)][0] == "3d-damped"
+    return MODES[check_mode(mode)][0] == MODEL_3D_DAMPED
 
 
 def check_mode(mode: str) -> str:

@@ -32,7 +32,8 @@ from typing import Any
 import numpy as np
 
 from .._json import json_default
-from ..spectra.modes import is_damped
+from ..dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
+from ..spectra.modes import MODE_3D, MODE_3D_DAMPED, is_damped
 from .plan import StudyPlan, plan_study
 
 __all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "RecordSpec", "SpectraSpec", "StripesSpec",
@@ -41,15 +42,16 @@ __all__ = ["DEFAULTS", "Damping", "EnsembleSpec", "RecordSpec", "SpectraSpec", "
 DEFAULTS: dict[str, Any] = {
     "accuracy": "default",
     "search": {"upper": 20.0},
-    "damped": {"omega_n": 2000.0, "zeta": 5.0},
+    "damped": {"omega_n": DAMPED_OMEGA_N, "zeta": DAMPED_ZETA},
     "motions": {"max_duration": None},
     "dask": {"min_task_seconds": 0.1},
     "ensemble": {"paths": None, "units": "g", "dt": None, "n_synthetic": 10, "seed": 2017,
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
                  "fit_method": "spectrum"},
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"]},
-    "tilt_map": {"motion": None, "modes": ["3d", "3d-damped"], "tan_alpha": 0.2, "chunk_R": 1},
-    "stripes": {"modes": ["3d"], "tan_alpha": 0.2,
+    "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,
+                 "chunk_R": 1},
+    "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,
                 "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1, "measure": "pga",
                 "refine": 8, "bootstrap": 1000},
 }
@@ -219,7 +221,8 @@ class Damping:
 
     @classmethod
     def from_config(cls, config: Mapping[str, Any]) -> Damping:
-        """The configuration's ``damped`` section (defaults 2000 rad/s, 5)."""
+        """The configuration's ``damped`` section (defaults the damped model's,
+        :data:`rocking.dynamics.names.DAMPED_OMEGA_N` and ``DAMPED_ZETA``)."""
         d = _section(config, "damped")
         return cls(_positive(d["omega_n"], "damped.omega_n"), _positive(d["zeta"], "damped.zeta"))
 
