@@ -34,6 +34,7 @@ import yaml
 
 from rocking.benchmarks._io import write_table
 from rocking.spectra.accuracy import get_accuracy
+from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 from rocking.study import cluster, store, tasks
 from rocking.study.layout import region_coords
 from rocking.study.spec import Damping, SpectraSpec, StudySpec
@@ -118,7 +119,7 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
     ensemble = _paper_ensemble(workdir)
     layout = tasks.spectra_layout(modes, plan.limit_states, motions, [0.2], R, 1)
     options = {"upper": spec.upper,
-               **(Damping.options(spec.damping) if "3d-damped" in modes else {})}
+               **(Damping.options(spec.damping) if MODE_3D_DAMPED in modes else {})}
     attrs = {"tolerances": get_accuracy(spec.accuracy).to_dict(), "search_options": options,
              "ensemble": tasks.ensemble_attrs(ensemble, "elcentro")}
     path = workdir / f"{name}.zarr"
@@ -129,7 +130,7 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
 def paper_point_cost(rows: list[dict], workdir: Path) -> None:
     ensemble = _paper_ensemble(workdir)
     names = [m["name"] for m in tasks.ensemble_attrs(ensemble, "elcentro")["motions"]]
-    modes = ["3d", "3d-damped", "2d-x", "2d-y"]
+    modes = [MODE_3D, MODE_3D_DAMPED, MODE_2D_X, MODE_2D_Y]
     path = _paper_store(workdir, modes, SAMPLE_R, names[:2], "paper-sample")
     layout = store.open_layout(path)
     per_mode: dict[str, list[float]] = {m: [] for m in modes}
@@ -173,7 +174,8 @@ def speedup(rows: list[dict], workdir: Path) -> None:
     names = [m["name"] for m in tasks.ensemble_attrs(ensemble, "elcentro")["motions"]]
     walls = {}
     for n_workers in (1, 2):
-        path = _paper_store(workdir, ["3d", "2d-x"], SPEEDUP_R, names[:1], f"speedup-{n_workers}")
+        path = _paper_store(workdir, [MODE_3D, MODE_2D_X], SPEEDUP_R, names[:1],
+                            f"speedup-{n_workers}")
         layout = store.open_layout(path)
         t0 = time.perf_counter()
         with cluster.dask_client(cluster.Target("local"), n_workers) as client:

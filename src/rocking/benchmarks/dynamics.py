@@ -24,6 +24,7 @@ from ..constants import G
 from ..dynamics import analysis
 from ..dynamics.analysis import free_vibration, ground_response, next_uplift
 from ..dynamics.bodies import Cylinder
+from ..dynamics.names import MODEL_2D, MODEL_3D
 from ._io import write_table
 
 RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12)
@@ -39,8 +40,8 @@ def _cases():
         body = Cylinder(R, 0.2)
         scale = ratio * G * body.tan_alpha / elc.pga
         name = f"El Centro R={R:g} m tan a=0.2 PGA/(g tan a)={ratio:g}"
-        cases.append((name, "3d", body, elc, scale))
-        cases.append((name + " (x only)", "2d", body, elc.component("x"), scale))
+        cases.append((name, MODEL_3D, body, elc, scale))
+        cases.append((name + " (x only)", MODEL_2D, body, elc.component("x"), scale))
     qr = Cylinder(6.0, 0.2)
     cases.append(("free quasi-rocking R=6 m, theta0=a/2, spin 1e-8, 20 s", "3d-free", qr, None,
                   None))
@@ -156,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
                     "rhs_evals": (res.n_steps + res.n_rejected) * (6 if method == "dp5" else 12),
                     "ms_median": 1e3 * wall,
                 })
-        if model == "3d" and not args.no_scipy and body.R == 6.0:
+        if model == MODEL_3D and not args.no_scipy and body.R == 6.0:
             for method in ("RK45", "DOP853", "LSODA"):
                 for rtol in (1e-6, 1e-8, 1e-10):
                     th, wall, nfev, msg = _scipy_3d(body, motion, scale, method, rtol,

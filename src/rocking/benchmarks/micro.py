@@ -27,6 +27,7 @@ import pandas as pd
 
 from ..dynamics.analysis import ground_response
 from ..dynamics.bodies import Cylinder
+from ..dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from ..spectra.accuracy import PRESETS
 from ..spectra.limit_states import (
     DEFAULT_LIMIT_STATES,
@@ -34,6 +35,7 @@ from ..spectra.limit_states import (
     THETA_MAX,
     parse_limit_state,
 )
+from ..spectra.modes import MODE_3D
 from ._io import write_table
 from .inputs import benchmark_records, with_synthetic
 from .spectra import ADAPTIVE, FIXED, solve_point
@@ -59,8 +61,8 @@ def _slowest_over_median(seconds) -> float:
 def _peaks(body: Cylinder, motion, intensity: float) -> dict:
     """θmax/α of the three treatments at one intensity (the evidence for one difference)."""
     out = {}
-    for label, model, rest in (("exact", "3d", 0.0), ("rest", "3d", None),
-                               ("damped", "3d-damped", None)):
+    for label, model, rest in (("exact", MODEL_3D, 0.0), ("rest", MODEL_3D, None),
+                               ("damped", MODEL_3D_DAMPED, None)):
         r = ground_response(body, motion, model=model, pga_ratio=intensity, history=False,
                             rest_tilt=rest)
         out[f"theta_over_alpha_{label}"] = (0.5 * math.pi if r.overturned
@@ -83,8 +85,8 @@ def point_rows(motion, R: float, tan_alpha: float, scan: str) -> tuple[dict, lis
     """Both searches of one point: the point's cost row and one row per limit state."""
     body = Cylinder(R, tan_alpha)
     rest, exact = PAIRS[scan]
-    new = solve_point(body, motion, DEFAULT_LIMIT_STATES, "3d", rest)
-    old = solve_point(body, motion, DEFAULT_LIMIT_STATES, "3d", exact)
+    new = solve_point(body, motion, DEFAULT_LIMIT_STATES, MODE_3D, rest)
+    old = solve_point(body, motion, DEFAULT_LIMIT_STATES, MODE_3D, exact)
     cost = {"scan": scan, "motion": motion.name, "R": R, "tan_alpha": tan_alpha,
             "analyses_exact": old.n_analyses, "analyses_rest": new.n_analyses,
             "seconds_exact": old.seconds, "seconds_rest": new.seconds,
@@ -141,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
         motions = motions[:1]
     Rs = (0.5, 2.0, 10.0) if args.quick else R_VALUES
     tans = (0.2,) if args.quick else TAN_ALPHAS
-    solve_point(Cylinder(5.0, 0.2), motions[0], ["tilt:0.1"], "3d", DEFAULT)  # compile
+    solve_point(Cylinder(5.0, 0.2), motions[0], ["tilt:0.1"], MODE_3D, DEFAULT)  # compile
     costs, answers = [], []
     t0 = time.perf_counter()
     for scan in PAIRS:

@@ -58,7 +58,7 @@ from ..spectra.limit_states import (
     classify,
     parse_limit_states,
 )
-from ..spectra.modes import is_damped
+from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED, is_damped
 from ..spectra.search import RETRY_RTOL_FACTOR, search_critical
 from ._io import results_dir, write_table
 
@@ -83,21 +83,21 @@ BASE = PRESETS["default"]
 
 # (motion, mode, R [m], tan α): ordered so that any prefix mixes modes, sizes and motions
 POINTS: tuple[tuple[str, str, float, float], ...] = (
-    ("ec", "3d", 6.0, 0.2), ("ec", "2d-x", 2.0, 0.2), ("ec", "3d", 1.0, 0.2),
-    ("ec", "2d-y", 6.0, 0.2), ("ec", "3d-damped", 4.0, 0.2), ("syn1", "3d", 4.0, 0.2),
-    ("ec", "2d-x", 10.0, 0.2), ("ec", "3d", 10.0, 0.2), ("syn1", "2d-x", 2.0, 0.2),
-    ("ec", "3d", 2.0, 0.1), ("corr", "3d", 2.0, 0.2), ("ec", "2d-y", 1.0, 0.2),
-    ("syn2", "3d", 1.0, 0.2), ("ec", "3d", 0.5, 0.2), ("ec", "2d-x", 0.5, 0.2),
-    ("ec", "3d-damped", 1.0, 0.2), ("ec", "3d", 4.0, 0.3), ("syn2", "2d-y", 4.0, 0.2),
-    ("corr", "2d-x", 3.0, 0.2), ("ec", "2d-x", 6.0, 0.2), ("syn1", "3d", 10.0, 0.2),
-    ("ec", "2d-y", 10.0, 0.2), ("ec", "3d", 2.0, 0.2), ("syn1", "3d-damped", 6.0, 0.2),
-    ("ec", "2d-x", 4.0, 0.3), ("corr", "3d", 8.0, 0.2), ("ec", "2d-y", 3.0, 0.2),
-    ("syn2", "3d", 6.0, 0.2), ("ec", "2d-x", 1.0, 0.2), ("ec", "3d", 8.0, 0.1),
-    ("syn1", "2d-x", 8.0, 0.2), ("ec", "2d-y", 5.0, 0.1), ("ec", "3d", 1.0, 0.3),
-    ("syn2", "2d-y", 10.0, 0.2), ("corr", "2d-x", 10.0, 0.2), ("ec", "3d-damped", 10.0, 0.2),
-    ("syn1", "3d", 2.0, 0.2), ("ec", "2d-x", 3.0, 0.1), ("syn2", "2d-x", 6.0, 0.2),
-    ("ec", "3d", 3.0, 0.2), ("syn1", "2d-y", 2.0, 0.2), ("corr", "2d-y", 5.0, 0.2),
-    ("syn2", "3d-damped", 2.0, 0.2), ("ec", "2d-y", 8.0, 0.3),
+    ("ec", MODE_3D, 6.0, 0.2), ("ec", MODE_2D_X, 2.0, 0.2), ("ec", MODE_3D, 1.0, 0.2),
+    ("ec", MODE_2D_Y, 6.0, 0.2), ("ec", MODE_3D_DAMPED, 4.0, 0.2), ("syn1", MODE_3D, 4.0, 0.2),
+    ("ec", MODE_2D_X, 10.0, 0.2), ("ec", MODE_3D, 10.0, 0.2), ("syn1", MODE_2D_X, 2.0, 0.2),
+    ("ec", MODE_3D, 2.0, 0.1), ("corr", MODE_3D, 2.0, 0.2), ("ec", MODE_2D_Y, 1.0, 0.2),
+    ("syn2", MODE_3D, 1.0, 0.2), ("ec", MODE_3D, 0.5, 0.2), ("ec", MODE_2D_X, 0.5, 0.2),
+    ("ec", MODE_3D_DAMPED, 1.0, 0.2), ("ec", MODE_3D, 4.0, 0.3), ("syn2", MODE_2D_Y, 4.0, 0.2),
+    ("corr", MODE_2D_X, 3.0, 0.2), ("ec", MODE_2D_X, 6.0, 0.2), ("syn1", MODE_3D, 10.0, 0.2),
+    ("ec", MODE_2D_Y, 10.0, 0.2), ("ec", MODE_3D, 2.0, 0.2), ("syn1", MODE_3D_DAMPED, 6.0, 0.2),
+    ("ec", MODE_2D_X, 4.0, 0.3), ("corr", MODE_3D, 8.0, 0.2), ("ec", MODE_2D_Y, 3.0, 0.2),
+    ("syn2", MODE_3D, 6.0, 0.2), ("ec", MODE_2D_X, 1.0, 0.2), ("ec", MODE_3D, 8.0, 0.1),
+    ("syn1", MODE_2D_X, 8.0, 0.2), ("ec", MODE_2D_Y, 5.0, 0.1), ("ec", MODE_3D, 1.0, 0.3),
+    ("syn2", MODE_2D_Y, 10.0, 0.2), ("corr", MODE_2D_X, 10.0, 0.2),
+    ("ec", MODE_3D_DAMPED, 10.0, 0.2), ("syn1", MODE_3D, 2.0, 0.2), ("ec", MODE_2D_X, 3.0, 0.1),
+    ("syn2", MODE_2D_X, 6.0, 0.2), ("ec", MODE_3D, 3.0, 0.2), ("syn1", MODE_2D_Y, 2.0, 0.2),
+    ("corr", MODE_2D_Y, 5.0, 0.2), ("syn2", MODE_3D_DAMPED, 2.0, 0.2), ("ec", MODE_2D_Y, 8.0, 0.3),
 )
 
 MOTION_LABELS = {
@@ -590,8 +590,8 @@ def accuracy_rows(keys, runs: list[list[dict]], res: pd.DataFrame) -> list[dict]
     return rows
 
 
-PAPER_POINTS = {("3d", 7): 220, ("3d", 2): 660, ("3d-damped", 2): 220, ("2d-x", 2): 440,
-                ("2d-y", 2): 440}
+PAPER_POINTS = {(MODE_3D, 7): 220, (MODE_3D, 2): 660, (MODE_3D_DAMPED, 2): 220,
+                (MODE_2D_X, 2): 440, (MODE_2D_Y, 2): 440}
 """Spectrum points of config/paper.yaml per (mode, goals): 1980 in all."""
 
 PAPER_SEARCH_SECONDS = 888.0

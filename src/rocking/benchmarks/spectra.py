@@ -40,10 +40,12 @@ import pandas as pd
 
 from .. import __version__
 from ..dynamics.bodies import Cylinder
+from ..dynamics.names import MODEL_3D
 from ..motions.motion import GroundMotion
 from ..spectra.accuracy import PRESETS, Accuracy
 from ..spectra.critical import MODES, make_analysis, uplift_intensity
 from ..spectra.limit_states import DEFAULT_LIMIT_STATES
+from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 from ..spectra.search import search_critical
 from ._io import results_dir, write_table
 from .inputs import benchmark_records, with_synthetic
@@ -100,7 +102,7 @@ def _rest_tilt(acc: Accuracy, mode: str) -> float | None:
     """The rest tilt of ``acc`` in ``mode``. :data:`FIXED` stands for the engine before the
     micro-uplift criterion, which only changed the undamped 3D model: its other models keep
     their own (unchanged) rest tilts."""
-    if acc == FIXED and MODES[mode][0] != "3d":
+    if acc == FIXED and MODES[mode][0] != MODEL_3D:
         return None
     return acc.rest_tilt
 
@@ -223,10 +225,10 @@ def _label(varied: str, acc: Accuracy) -> str:
 
 def _accuracy_points(quick: bool) -> list[tuple[float, str]]:
     if quick:
-        return [(R, m) for m in ("3d", "2d-x") for R in (1.0, 5.0)]
+        return [(R, m) for m in (MODE_3D, MODE_2D_X) for R in (1.0, 5.0)]
     many, few = (0.5, 1.0, 2.0, 3.0, 5.0, 10.0), (1.0, 3.0, 10.0)
-    return ([(R, "3d") for R in many] + [(R, "2d-x") for R in many]
-            + [(R, "2d-y") for R in few] + [(R, "3d-damped") for R in few])
+    return ([(R, MODE_3D) for R in many] + [(R, MODE_2D_X) for R in many]
+            + [(R, MODE_2D_Y) for R in few] + [(R, MODE_3D_DAMPED) for R in few])
 
 
 def _run(points, motion, states, acc: Accuracy) -> list[Point]:
@@ -424,7 +426,7 @@ def main(argv: list[str] | None = None) -> int:
     records = benchmark_records()
     motion, label = next(iter(records.values()))
     # Warm-up: compile (or load cached) kernels outside the timed runs.
-    for mode in ("3d", "3d-damped", "2d-x"):
+    for mode in (MODE_3D, MODE_3D_DAMPED, MODE_2D_X):
         solve_point(Cylinder(5.0, TAN_ALPHA), motion, ["tilt:0.1"], mode, PRESETS["fast"])
     if args.only in (None, "accuracy"):
         print("accuracy study", flush=True)

@@ -34,6 +34,7 @@ from ..spectra.accuracy import get_accuracy
 from ..spectra.critical import critical_intensity
 from ..spectra.fragility import fit_lognormal
 from ..spectra.limit_states import parse_limit_states
+from ..spectra.modes import MODE_3D
 from ..spectra.stripes import fit_stripes, stripe_intensities, stripe_outcomes
 from ._io import write_table
 
@@ -69,7 +70,7 @@ def main(argv: list[str] | None = None) -> int:
     motions = _ensemble(args.synthetic)
     x = stripe_intensities(args.stripes)
     t0 = time.perf_counter()
-    outs = [stripe_outcomes(body, m, states, x, "3d", acc) for m in motions]
+    outs = [stripe_outcomes(body, m, states, x, MODE_3D, acc) for m in motions]
     t_stripes = time.perf_counter() - t0
     exceeded = np.stack([o[0] for o in outs], axis=1)  # (stripes, motions, states)
     if any(o[1].any() for o in outs):
@@ -114,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
                          "median_rel_change": float(np.nanmedian(np.abs(meds / ref.median - 1))),
                          "status": f"sd ln median {spread:.3f}, fit se {np.nanmedian(ses):.3f}"})
     t1 = time.perf_counter()
-    crit = [critical_intensity(body, m, list(STATES), "3d", accuracy=acc) for m in motions]
+    crit = [critical_intensity(body, m, list(STATES), MODE_3D, accuracy=acc) for m in motions]
     t_search = time.perf_counter() - t1
     for j, name in enumerate(STATES):
         vals = np.array([c.intensity[j] for c in crit])

@@ -7,6 +7,8 @@ from enum import StrEnum
 
 import numpy as np
 
+from .names import MODEL_2D, MODEL_3D_DAMPED
+
 
 class Status(StrEnum):
     """How an analysis ended."""
@@ -144,9 +146,9 @@ class Response:
     @property
     def state_names(self) -> tuple[str, ...]:
         """Column names of :attr:`QuasiImpacts.state`."""
-        if self.model == "3d-damped":
+        if self.model == MODEL_3D_DAMPED:
             return ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
-        if self.model == "2d":
+        if self.model == MODEL_2D:
             return ("theta", "theta_dot")
         return ("theta", "phi", "theta_dot", "phi_dot")
 

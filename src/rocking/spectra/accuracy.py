@@ -60,6 +60,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from ..dynamics.names import MODEL_3D_DAMPED
+
 SCANS = ("fixed", "adaptive", "seek")
 """Kinds of coarse scan (:attr:`Accuracy.scan`)."""
 
@@ -149,7 +151,7 @@ class Accuracy:
 
     def rtol_for(self, model: str) -> float:
         """ODE relative tolerance of a dynamics model ("3d", "3d-damped" or "2d") [-]."""
-        return self.rtol_damped if model == "3d-damped" else self.rtol
+        return self.rtol_damped if model == MODEL_3D_DAMPED else self.rtol
 
     def scan_point(self, lower: float, j: int) -> float:
         """The j-th point of the fixed scan starting at ``lower`` (j = 0 is ``lower``)."""

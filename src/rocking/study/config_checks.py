@@ -22,6 +22,8 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+from ..spectra.modes import MODE_3D, MODE_3D_DAMPED
+
 __all__ = ["check_config", "check_ensemble_size", "check_magnitude", "coerce_strings",
            "schema_error", "validate_config"]
 
@@ -384,7 +386,8 @@ def _check_study_size(key: str, s: Mapping[str, Any], n_motions: int) -> None:
             f"CPU-days); use coarser grids or fewer motions")
     t = s.get("tilt_map")
     if t is not None:
-        n = (len(t.get("modes", ["3d", "3d-damped"])) * _grid_size(f"{key}.tilt_map.R", t["R"])
+        n = (len(t.get("modes", [MODE_3D, MODE_3D_DAMPED]))
+             * _grid_size(f"{key}.tilt_map.R", t["R"])
              * _grid_size(f"{key}.tilt_map.intensity", t["intensity"]))
         if n > MAX_TILT_MAP_POINTS:
             raise ValueError(f"{key}.tilt_map: {n} analyses exceed the bound of "
