@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from ..risk.report import risk_section_html
 from ..spectra.limit_states import limit_state_title, severity
 from ..spectra.modes import MODE_3D, PLANAR_MODES
@@ -908,7 +909,7 @@ def paper_findings(entries: Sequence[FigureEntry],
                           "uplift intensity at small R, then rising"),
             _stem(entries, "fig10_goals") or ""))
     m6 = _notes(entries, "fig06_el_centro")
-    u, d = m6.get("theta_max_3d"), m6.get("theta_max_3d-damped")
+    u, d = m6.get(f"theta_max_{MODEL_3D}"), m6.get(f"theta_max_{MODEL_3D_DAMPED}")
     if finite(u, d):
         out.append(Finding(
             f"El Centro, R = 6 m, tan α = 0.2 (Fig 6): peak tilt θmax {u:.4f} rad undamped and "

@@ -29,6 +29,7 @@ from matplotlib.lines import Line2D
 from scipy.signal import find_peaks
 
 from ...dynamics.bodies import Cylinder
+from ...dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_3D, MODEL_3D_DAMPED
 from ._style import styled
 from .comparisons import EQUATIONS, Comparison, close, finite, first_notes, fmt, judged, value_range
 
@@ -38,7 +39,7 @@ THETA0 = 0.1
 QUASI_ROCKING_SPIN = 1e-8
 MIXED_FRACTION = 0.5
 CASES = ("quasi-rocking", "wobbling", "mixed")
-MODELS = ("3d", "3d-damped")
+MODELS = (MODEL_3D, MODEL_3D_DAMPED)
 PAIRS = tuple((wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0))
 """The paper's eight contact parameters (ωn [rad/s], ζ [-]) of the damped model (§3)."""
 
@@ -130,7 +131,7 @@ def restitution(theta, theta_dot, n_impacts: int = 5) -> float:
 
 def damped_key(omega_n: float, zeta: float) -> str:
     """Name of a damped run in ``runs[case]``: ``"3d-damped ωn=2000 ζ=5"``."""
-    return f"3d-damped ωn={omega_n:g} ζ={zeta:g}"
+    return f"{MODEL_3D_DAMPED} ωn={omega_n:g} ζ={zeta:g}"
 
 
 def data(
@@ -142,8 +143,8 @@ def data(
     cases: tuple[str, ...] = CASES,
     models: tuple[str, ...] = MODELS,
     pairs: tuple[tuple[float, float], ...] = PAIRS,
-    omega_n: float = 2000.0,
-    zeta: float = 5.0,
+    omega_n: float = DAMPED_OMEGA_N,
+    zeta: float = DAMPED_ZETA,
     rtol: float | None = None,
 ) -> dict:
     """Run the free-vibration analyses of Fig 4 and return the histories and measurements.
@@ -183,13 +184,13 @@ def data(
     for case in cases:
         spin = initial_spin(body, case, theta0)
         runs[case] = {}
-        if "3d" in models:
-            runs[case]["3d"] = _run(body, theta0, spin, duration, "3d", rtol)
-        if "3d-damped" in models:
+        if MODEL_3D in models:
+            runs[case][MODEL_3D] = _run(body, theta0, spin, duration, MODEL_3D, rtol)
+        if MODEL_3D_DAMPED in models:
             for wn, z in runs_pairs:
-                runs[case][damped_key(wn, z)] = _run(body, theta0, spin, duration, "3d-damped",
+                runs[case][damped_key(wn, z)] = _run(body, theta0, spin, duration, MODEL_3D_DAMPED,
                                                      rtol, omega_n=wn, zeta=z)
-    reference = damped_key(omega_n, zeta) if "3d-damped" in models else None
+    reference = damped_key(omega_n, zeta) if MODEL_3D_DAMPED in models else None
     return {
         "runs": runs,
         "reference": reference,
@@ -247,15 +248,15 @@ def measurements(runs: dict, reference: str | None = None) -> dict:
     different contact parameters and the undamped run are, per case [rad]."""
     out: dict = {}
     quasi = runs.get("quasi-rocking", {})
-    if "3d" in quasi:
-        r = quasi["3d"]
+    if MODEL_3D in quasi:
+        r = quasi[MODEL_3D]
         angles = turn_angles(r["theta"], r["phi"])
         if angles.size:
             out["turn_angle_first"] = float(angles[0])
             out["turn_angle_mean"] = float(np.mean(angles))
             out["n_turns"] = int(angles.size)
         out["restitution_undamped"] = _safe_restitution(r)
-    damped_quasi = {k: r for k, r in quasi.items() if r["model"] == "3d-damped"}
+    damped_quasi = {k: r for k, r in quasi.items() if r["model"] == MODEL_3D_DAMPED}
     if damped_quasi:
         rest = {k: _safe_restitution(r) for k, r in damped_quasi.items()}
         found = [v for v in rest.values() if v is not None]
@@ -264,11 +265,11 @@ def measurements(runs: dict, reference: str | None = None) -> dict:
         out["restitution_damped"] = _safe_restitution(ref)
         out["approach_speeds_damped"] = approach_speeds(ref["theta"], ref["theta_dot"])[:6].tolist()
     for case, models in runs.items():
-        damped = [r for r in models.values() if r["model"] == "3d-damped"]
+        damped = [r for r in models.values() if r["model"] == MODEL_3D_DAMPED]
         if len(damped) > 1:
             out[f"max_gap_theta_damped_pairs_{case}"] = max_gap(damped)
-        if damped and "3d" in models:
-            out[f"max_gap_theta_damped_undamped_{case}"] = max_gap([models["3d"], *damped])
+        if damped and MODEL_3D in models:
+            out[f"max_gap_theta_damped_undamped_{case}"] = max_gap([models[MODEL_3D], *damped])
     return out
 
 
@@ -292,7 +293,7 @@ def run_style(key: str, run: dict, index: int = 0, count: int = 1) -> dict:
     :data:`DASH` per period of ``count`` dashes, shifted by its ``index``, so that where the
     curves lie on one another every run's colour still shows.
     """
-    if run["model"] == "3d":
+    if run["model"] == MODEL_3D:
         return {"color": "black", "ls": "-", "lw": 1.6, "label": "undamped", "zorder": 1}
     shade = {0.05: 0.45, 0.5: 0.6, 5.0: 0.75, 50.0: 0.9}.get(run["zeta"], 0.7)
     cmap = mpl.colormaps["Blues" if run["omega_n"] < 1000.0 else "Reds"]
@@ -335,7 +336,7 @@ def plot(d: dict) -> Figure:
              ("phi_dot", "φ̇ [rad/s]"))
     for row, case in enumerate(cases):
         axes = _case_axes(fig, grid, row)
-        damped = [k for k, r in runs[case].items() if r["model"] == "3d-damped"]
+        damped = [k for k, r in runs[case].items() if r["model"] == MODEL_3D_DAMPED]
         for key, run in runs[case].items():
             k = damped.index(key) if key in damped else 0
             style = run_style(key, run, k, len(damped))
@@ -393,7 +394,7 @@ def _label_case(axes: list, case: str, models: dict, names, measured: dict) -> N
                      bbox={"facecolor": "white", "alpha": 0.8, "lw": 0})
     gap = measured.get(f"max_gap_theta_damped_pairs_{case}")
     if gap is not None and np.isfinite(gap):
-        n = sum(r["model"] == "3d-damped" for r in models.values())
+        n = sum(r["model"] == MODEL_3D_DAMPED for r in models.values())
         hist[0].set_title(f"{n} damped runs (interleaved dashes) coincide: max |Δθ| = "
                           f"{gap:.2g} rad", fontsize=6.5, loc="right")
 

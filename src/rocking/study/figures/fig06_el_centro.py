@@ -19,6 +19,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from ...dynamics.bodies import Cylinder
+from ...dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from ...motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, new_figure, styled
@@ -26,11 +27,11 @@ from .comparisons import Comparison, close, finite, first_notes, fmt, judged, va
 
 R = 6.0
 TAN_ALPHA = 0.2
-MODELS = ("3d", "3d-damped")
-PAPER_THETA_MAX = {"3d": 0.0838, "3d-damped": 0.0668}
+MODELS = (MODEL_3D, MODEL_3D_DAMPED)
+PAPER_THETA_MAX = {MODEL_3D: 0.0838, MODEL_3D_DAMPED: 0.0668}
 """Peak tilts printed in §4 [rad]."""
-COLORS = {"3d": "black", "3d-damped": "tab:red"}
-NAMES = {"3d": "undamped", "3d-damped": "damped"}
+COLORS = {MODEL_3D: "black", MODEL_3D_DAMPED: "tab:red"}
+NAMES = {MODEL_3D: "undamped", MODEL_3D_DAMPED: "damped"}
 
 _KEYS = ("t", "theta", "theta_dot", "phi", "phi_dot", "w", "w_dot")
 
@@ -96,10 +97,10 @@ def data(
         runs[model] = run
     measured = {f"theta_max_{m}": runs[m]["theta_max"] for m in runs}
     measured.update({f"t_theta_max_{m}": runs[m]["t_theta_max"] for m in runs})
-    if "3d" in runs and "3d-damped" in runs:
+    if MODEL_3D in runs and MODEL_3D_DAMPED in runs:
         # "Visibly apart": by 5 % of the larger peak tilt (the paper's "barely visible")
-        peak = max(runs["3d"]["theta_max"], runs["3d-damped"]["theta_max"])
-        measured["t_part_theta"] = parting_time(runs["3d"], runs["3d-damped"], 0.05 * peak)
+        peak = max(runs[MODEL_3D]["theta_max"], runs[MODEL_3D_DAMPED]["theta_max"])
+        measured["t_part_theta"] = parting_time(runs[MODEL_3D], runs[MODEL_3D_DAMPED], 0.05 * peak)
     sens = json.loads(Path(sensitivity).read_text()) if sensitivity is not None else None
     meta = motion.metadata
     return {
@@ -126,8 +127,8 @@ def parting_time(a: dict, b: dict, tol: float) -> float | None:
 
 def explanation(measured: dict, meta: dict, sensitivity: dict | None) -> str:
     """Why θmax differs from the paper's, one paragraph for the figure (numbers measured)."""
-    ours = " / ".join(f"{measured[k]:.4f}" for k in ("theta_max_3d", "theta_max_3d-damped")
-                      if k in measured)
+    ours = " / ".join(f"{measured[f'theta_max_{m}']:.4f}" for m in MODELS
+                      if f"theta_max_{m}" in measured)
     hp = meta.get("highpass") or {}
     text = (f"θmax undamped / damped {ours} rad; paper 0.0838 / 0.0668 (§4): record version, "
             f"high-pass (fc = {hp.get('fc_hz', float('nan')):.3f} Hz), chaotic sensitivity")
@@ -228,13 +229,14 @@ def compare(notes: Mapping) -> list[Comparison]:
     sens = first_notes(notes, "fig06_theta_max_sensitivity").get("measured", {})
     name = "fig06_el_centro"
     rows = []
-    for model, paper, kind in (("3d", 0.0838, "undamped"), ("3d-damped", 0.0668, "damped")):
+    for model, paper, kind in ((MODEL_3D, 0.0838, "undamped"),
+                              (MODEL_3D_DAMPED, 0.0668, "damped")):
         ours = m.get(f"theta_max_{model}")
         rows.append(judged(
             name, f"Peak tilt θmax, {kind}, R = 6 m, tan α = 0.2, El Centro (§4)",
             f"{paper} rad", f"{fmt(ours)} rad", close(ours, paper, 0.10), "|Δ| ≤ 10 %",
             _theta_reason(sens, model, paper), "model not run"))
-    u, dmp = m.get("theta_max_3d"), m.get("theta_max_3d-damped")
+    u, dmp = m.get(f"theta_max_{MODEL_3D}"), m.get(f"theta_max_{MODEL_3D_DAMPED}")
     ratio = dmp / u if finite(u, dmp) and u > 0 else None
     band = {k.split("|", 1)[1]: v for k, v in sens.items()
             if k.startswith("damped_over_undamped_band|")}

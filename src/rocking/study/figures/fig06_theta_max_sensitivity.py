@@ -18,6 +18,7 @@ from matplotlib.figure import Figure
 
 from ...constants import G
 from ...dynamics.bodies import Cylinder
+from ...dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from ...motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, styled, with_legend_row
@@ -25,14 +26,14 @@ from .comparisons import NOT_IN_PAPER, Comparison, first_notes, fmt
 
 R = 6.0
 TAN_ALPHA = 0.2
-MODELS = ("3d", "3d-damped")
+MODELS = (MODEL_3D, MODEL_3D_DAMPED)
 SCALES = tuple(np.round(np.linspace(0.75, 1.25, 51), 4))
 """Scale factors on both components [-]."""
 BAND = 0.05
 """Half-width of the scale band whose θmax range the report quotes [-]."""
 PAPER_ANGLE_DEG = 22.33
 """The paper's rotation of El Centro to uncorrelated axes (§5.1) [deg]."""
-PAPER_THETA_MAX = {"3d": 0.0838, "3d-damped": 0.0668}
+PAPER_THETA_MAX = {MODEL_3D: 0.0838, MODEL_3D_DAMPED: 0.0668}
 COMPONENT_PGA_NOTE = "component_pga_g|"
 """Prefix of the measured key of a record version's component peaks [g]."""
 PGA_NOTE = "pga_g|"
@@ -43,7 +44,8 @@ AS_RECORDED = "as recorded (x E–W, y N–S), unfiltered"
 STUDY = "principal axes, high-passed (this study)"
 PAPER_ROTATION = "rotated 22.33° (paper) + high-pass"
 VERSION_STYLE = {AS_RECORDED: "tab:blue", STUDY: "black"}
-MODEL_STYLE = {"3d": {"ls": "-", "marker": "o"}, "3d-damped": {"ls": "--", "marker": "s"}}
+MODEL_STYLE = {MODEL_3D: {"ls": "-", "marker": "o"},
+               MODEL_3D_DAMPED: {"ls": "--", "marker": "s"}}
 
 
 def record_versions(record: GroundMotion, *, mw: float | None = None, seed: int = 0,
@@ -164,8 +166,8 @@ def measurements(scales: np.ndarray, theta: dict, pga_g: dict) -> dict:
             out[f"theta_max|{version}|{model}"] = float(values[at_one])
             out[f"band_range|{version}|{model}"] = [float(np.min(band)), float(np.max(band))]
             out[f"full_range|{version}|{model}"] = [float(np.min(values)), float(np.max(values))]
-        if "3d" in models and "3d-damped" in models:
-            ratio = models["3d-damped"][near] / models["3d"][near]
+        if MODEL_3D in models and MODEL_3D_DAMPED in models:
+            ratio = models[MODEL_3D_DAMPED][near] / models[MODEL_3D][near]
             out[f"damped_over_undamped_band|{version}"] = [float(np.min(ratio)),
                                                            float(np.max(ratio))]
     return out
@@ -184,7 +186,7 @@ def plot(d: dict) -> Figure:
         color = VERSION_STYLE.get(version, None)
         for model, values in models.items():
             style = MODEL_STYLE.get(model, {})
-            kind = "damped" if model == "3d-damped" else "undamped"
+            kind = "damped" if model == MODEL_3D_DAMPED else "undamped"
             # markers only: θmax is chaotic in the scale, a line between points would
             # suggest values in between that no run computed
             ax.plot(s, np.where(values < top, values, np.nan), color=color, ls="none",
@@ -196,12 +198,12 @@ def plot(d: dict) -> Figure:
                 ax.plot(s[over], np.full(over.sum(), 0.985 * top), "^", color=color, ms=6,
                         clip_on=False)
     for model, value in d.get("rotated_theta_max", {}).items():
-        kind = "damped" if model == "3d-damped" else "undamped"
+        kind = "damped" if model == MODEL_3D_DAMPED else "undamped"
         ax.plot([1.0], [value], ls="none", marker="+" if kind == "undamped" else "x", ms=11,
                 mew=1.6, color="tab:orange", zorder=5,
                 label=f"{kind}, {PAPER_ROTATION} (scale 1 only): {value:.4f} rad")
     for model, value in PAPER_THETA_MAX.items():
-        kind = "damped" if model == "3d-damped" else "undamped"
+        kind = "damped" if model == MODEL_3D_DAMPED else "undamped"
         ax.axhline(value, color="tab:red", lw=1.2, ls=MODEL_STYLE[model]["ls"],
                    label=f"paper, {kind}: {value} rad")
     ax.axvspan(1.0 - BAND, 1.0 + BAND, color="0.88", zorder=0)

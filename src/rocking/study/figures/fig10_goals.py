@@ -24,6 +24,7 @@ from ...spectra.limit_states import (
     match_limit_state,
     severity,
 )
+from ...spectra.modes import MODE_3D
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,
@@ -84,7 +85,7 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     goals the run did not compute.
     """
     agg = _load.open_means(means)
-    mode = mode or _load.primary_mode(agg) or "3d"
+    mode = mode or _load.primary_mode(agg) or MODE_3D
     if tan_alpha is None:
         tan_alpha = _load.main_tan_alpha(agg, [mode]) or float(agg["tan_alpha"].values[0])
     missing = []

@@ -15,6 +15,7 @@ from matplotlib.figure import Figure
 
 from ...spectra.fragility import fit_line
 from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_3D
 from . import _axes, _load
 from ._style import MODE_STYLE, new_figure, paper_tag, r_axis, styled, suptitle_and_notes
 from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
@@ -39,7 +40,7 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] | None = None,
     else to those the study computed for ``mode`` (default its primary mode).
     """
     agg = _load.open_means(means)
-    mode = mode or _load.primary_mode(agg) or "3d"
+    mode = mode or _load.primary_mode(agg) or MODE_3D
     if tan_alphas is None:
         cells = _load.requested_cells(agg)
         own = tuple(float(t) for t in agg["tan_alpha"].values

@@ -20,6 +20,7 @@ from matplotlib.lines import Line2D
 from scipy import stats
 
 from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_3D
 from . import _axes, _load
 from ._style import MODE_STYLE, new_figure, pga_g_axis, styled, suptitle_and_notes
 from .comparisons import NOT_IN_PAPER, Comparison
@@ -47,7 +48,7 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float | None = 
         frag = _load.canonical(f.load())
     axes = _axes.from_ensemble(motions)
     ds = _load.open_store(store)
-    mode = mode or _load.primary_mode(ds) or "3d"
+    mode = mode or _load.primary_mode(ds) or MODE_3D
     if tan_alpha is None:
         tan_alpha = _load.main_tan_alpha(ds, [mode]) or float(ds["tan_alpha"].values[0])
     record, stand_in = _load.ensemble_label(dict(ds.attrs), Path(str(store)).parent.name)

@@ -22,6 +22,7 @@ from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
 from ...spectra.limit_states import limit_state_title
+from ...spectra.modes import MODE_3D
 from ._style import MODE_STYLE, footnote, new_figure, styled
 
 CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stripes added "
@@ -34,7 +35,7 @@ CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stri
 """What the figure shows (the footnote; workflow/report/stripe_fragility.rst says the same)."""
 
 
-def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = "3d",
+def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_3D,
          table: str | Path | None = None) -> dict:
     """Stripe fractions, fits, brackets and intervals for every (limit state, R) of ``mode``.
 
