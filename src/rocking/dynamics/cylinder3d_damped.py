@@ -39,7 +39,7 @@ Integrator: RODAS4 (:mod:`._rosenbrock`; 6 stages, order 4(3), L-stable, stiffly
 with the analytic Jacobian, through the driver (:mod:`.driver`). The fast eigenvalue is
 ≈ −2ζωn when ζ > 1 and a lightly damped pair −ζωn ± iωn otherwise, so explicit methods are
 stability-limited; a Rosenbrock step needs no Newton iteration (which converges badly in
-quasi-impacts where φ̇ reaches 1e8–1e9 rad/s). The choice and :data:`DEFAULT_RTOL` were
+quasi-impacts where φ̇ reaches 1e8–1e9 rad/s). The choice and its rtol (in :mod:`.models`) were
 measured with ``python -m rocking.benchmarks damped``. The 7×7 stage systems reduce to 3×3
 ones because the state is (q, q̇, D): with c = 1/(hγ), (c² I − c A_v − A_q) k_v =
 c r_v + A_q r_q, k_q = (r_q + k_v)/c and k_D = (r_D + ∂Ḋ/∂ẇ k_ẇ)/c, where A_q and A_v are
@@ -70,10 +70,6 @@ from .cylinder3d import support_force
 
 STATE = ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
 """Output state; the kernel state appends the dissipated energy D."""
-
-DEFAULT_RTOL = 1e-8
-"""Measured default relative tolerance: θmax error ≤ 5e-5 on the paper's (ωn, ζ) grid for the
-40 s El Centro case (``python -m rocking.benchmarks damped``)."""
 
 LA_SHAPE = (9, 3)
 """Rows of the linear-algebra work array of :func:`factor` and :func:`solve`."""
