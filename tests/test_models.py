@@ -42,6 +42,7 @@ def test_only_the_damped_model_has_a_contact_whose_defaults_the_schema_states():
     wn, z = models.MODELS[names.MODEL_3D_DAMPED].contact
     assert (wn, z) == (props["omega_n"]["default"], props["zeta"]["default"]) == (2000.0, 5.0)
     assert DEFAULTS["damped"] == {"omega_n": wn, "zeta": z}
+    assert (wn, z) in names.PAPER_CONTACT_GRID and len(set(names.PAPER_CONTACT_GRID)) == 8
 
 
 @pytest.mark.parametrize("command", ["spectra", "stripes"])

@@ -41,11 +41,11 @@ from ..dynamics import cylinder3d_damped as cd
 from ..dynamics import models
 from ..dynamics._rosenbrock import TABLEAUX
 from ..dynamics.bodies import Cylinder
-from ..dynamics.names import MODEL_3D_DAMPED
+from ..dynamics.names import MODEL_3D_DAMPED, PAPER_CONTACT_GRID
 from ..motions.motion import GroundMotion
 from ._io import best_of, write_table
 
-GRID = [(wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0)]
+GRID = list(PAPER_CONTACT_GRID)
 REFERENCE_RTOL = 1e-11
 NO_STOP = -1.0
 

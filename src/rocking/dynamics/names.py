@@ -22,9 +22,15 @@ MODEL_NAMES: tuple[str, ...] = (MODEL_3D, MODEL_3D_DAMPED, MODEL_2D)
 
 DAMPED_OMEGA_N = 2000.0
 """Default contact spring frequency ωn of :data:`MODEL_3D_DAMPED` [rad/s], with
-:data:`DAMPED_ZETA` one pair of the paper's grid ωn ∈ {200, 2000} rad/s × ζ ∈ {0.05, 0.5, 5,
-50}; ``damped.omega_n`` of the configuration schema holds the same (tests/test_spec.py)."""
+:data:`DAMPED_ZETA` one pair of :data:`PAPER_CONTACT_GRID`; ``damped.omega_n`` of the
+configuration schema holds the same (tests/test_spec.py)."""
 
 DAMPED_ZETA = 5.0
 """Default contact damping ratio ζ of :data:`MODEL_3D_DAMPED` [-] (``damped.zeta`` of the
 configuration schema holds the same)."""
+
+PAPER_CONTACT_GRID: tuple[tuple[float, float], ...] = tuple(
+    (wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0))
+"""The paper's eight contact parameters (ωn [rad/s], ζ [-]) of the damped model (§3; the
+paper's values, not tied to the defaults above): Fig 4 overlays them,
+``python -m rocking.benchmarks damped`` measures the tolerance on them."""

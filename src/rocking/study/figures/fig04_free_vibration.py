@@ -29,7 +29,13 @@ from matplotlib.lines import Line2D
 from scipy.signal import find_peaks
 
 from ...dynamics.bodies import Cylinder
-from ...dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_3D, MODEL_3D_DAMPED
+from ...dynamics.names import (
+    DAMPED_OMEGA_N,
+    DAMPED_ZETA,
+    MODEL_3D,
+    MODEL_3D_DAMPED,
+    PAPER_CONTACT_GRID,
+)
 from ._style import styled
 from .comparisons import EQUATIONS, Comparison, close, finite, first_notes, fmt, judged, value_range
 
@@ -40,7 +46,7 @@ QUASI_ROCKING_SPIN = 1e-8
 MIXED_FRACTION = 0.5
 CASES = ("quasi-rocking", "wobbling", "mixed")
 MODELS = (MODEL_3D, MODEL_3D_DAMPED)
-PAIRS = tuple((wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0))
+PAIRS = PAPER_CONTACT_GRID
 """The paper's eight contact parameters (ωn [rad/s], ζ [-]) of the damped model (§3)."""
 
 
