@@ -12,11 +12,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from rocking.plot import _load, _style, fig08_motions, fig09_spectra, fig10_goals, render, report
+from rocking.plot import comparisons as cmp
+from rocking.plot.captions import CAPTIONS
 from rocking.spectra import fragility
-from rocking.study import report
-from rocking.study.figures import _load, _style, fig08_motions, fig09_spectra, fig10_goals, render
-from rocking.study.figures import comparisons as cmp
-from rocking.study.figures.captions import CAPTIONS
 
 
 def _quality(ratio: float, inside: float) -> dict:
@@ -358,7 +357,7 @@ def test_fit_quality_of_fig08_is_tabulated(outputs):
 
 
 def test_link_images_replaces_every_embedded_png_and_nothing_else():
-    from rocking.study.report import link_images
+    from rocking.plot.report import link_images
 
     page = ("<p>x</p><figure id='fig03_wobbling_period'><img alt='fig03_wobbling_period' "
             "src='data:image/png;base64,iVBORw0KGgo='><figcaption>c</figcaption></figure>"

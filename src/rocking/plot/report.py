@@ -26,12 +26,12 @@ import pandas as pd
 from ..risk.report import risk_section_html
 from ..spectra.limit_states import limit_state_title, severity
 from ..spectra.modes import MODE_3D, PLANAR_MODES
+from ..study.spec import SpectraSpec, TiltMapSpec, decode_attrs
 from ..units import read_table
-from .figures import FIGURES, _load, figure_name, module
-from .figures._style import MODE_STYLE
-from .figures.captions import EXTRA_CAPTIONS, caption
-from .figures.comparisons import Comparison, compare, finite, fmt
-from .spec import SpectraSpec, TiltMapSpec, decode_attrs
+from . import FIGURES, _load, figure_name, module
+from ._style import MODE_STYLE
+from .captions import EXTRA_CAPTIONS, caption
+from .comparisons import Comparison, compare, finite, fmt
 
 SHOWN = 10
 """Grids with at most this many values are listed in full, longer ones as a range."""
@@ -602,7 +602,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         parts += stripes_section(stripes)
         parts += [_extra_figure_html(p) for p in stripe_figures]
     if risk is not None:
-        from .figures.risk import CAPTION as RISK_CAPTION
+        from .risk import CAPTION as RISK_CAPTION
 
         parts.append(risk_section_html(risk, hazard=hazard))
         parts.append(_extra_figure_html(Path(risk).parent / "figures" / "risk.png",
@@ -624,7 +624,7 @@ def el_centro_only(row: Comparison) -> bool:
     """Whether a verdict row states what the paper reports for El Centro only: every row of
     :data:`EL_CENTRO_FIGURES` but Fig 10's linearity in R, which the paper states of rocking
     spectra in general (§6) and which is judged by one criterion in every study."""
-    from .figures.fig10_goals import LINEAR_STATEMENT
+    from .fig10_goals import LINEAR_STATEMENT
 
     if row.figure == "fig10_goals":
         return not row.statement.startswith(LINEAR_STATEMENT)
@@ -801,7 +801,7 @@ def linear_fit_rows(path: str | Path) -> pd.DataFrame:
     """Linear fits of the mean spectra over enough sizes to mean something (at least
     :data:`.figures.fig10_goals.MIN_FIT_SIZES`; rows without a fit dropped), limit states
     in words."""
-    from .figures.fig10_goals import MIN_FIT_SIZES
+    from .fig10_goals import MIN_FIT_SIZES
 
     df = pd.read_csv(path)
     n = next((c for c in df.columns if c == "n"), None)
@@ -892,7 +892,7 @@ def paper_findings(entries: Sequence[FigureEntry],
                 f"the ensemble means differ by at most {100 * worst:.1f} %{at}"
                 + (f" — {row.verdict}" if row else "")
                 + " (paper: essentially identical)", a9))
-    from .figures.fig10_goals import LINEAR_STATEMENT, LINEARITY_TOLERANCE
+    from .fig10_goals import LINEAR_STATEMENT, LINEARITY_TOLERANCE
 
     rows10 = [c for c in verdicts.get("fig10_goals", [])
               if c.statement.startswith(LINEAR_STATEMENT)]
