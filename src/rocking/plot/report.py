@@ -1,11 +1,11 @@
 """A self-contained HTML report: what was run, every figure with its caption, and for every
 figure the paper's statements set against this run's numbers with a verdict.
 
-Inputs are the figure PNGs with their JSON sidecars (written by :func:`.figures.render`), the
+Inputs are the figure PNGs with their JSON sidecars (written by :func:`.render`), the
 linear fits of the mean spectra, the fragility table and, for the "what was run" section, the
 configuration and the stores and summaries the run wrote. Images are embedded (base64), so
-the page can be moved or mailed alone. Captions come from :mod:`.figures.captions`, verdicts
-from :mod:`.figures.comparisons`.
+the page can be moved or mailed alone. Captions come from :mod:`.captions`, verdicts
+from :mod:`.comparisons`.
 """
 
 from __future__ import annotations
@@ -632,7 +632,7 @@ def el_centro_only(row: Comparison) -> bool:
 
 
 def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
-    """A figure beyond :data:`.figures.FIGURES` (the stripe and the risk figures): embedded
+    """A figure beyond :data:`.FIGURES` (the stripe and the risk figures): embedded
     with ``text`` as caption, else the ``caption`` of its JSON sidecar, else its module's
     ``CAPTION`` (the same markup as the other figures, so a gallery links it instead)."""
     png = Path(png)
@@ -646,7 +646,7 @@ def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
             kind = str(notes.get("figure") or re.sub(r"_(3d|2d).*$", "", png.stem))
             try:
                 text = getattr(module(kind), "CAPTION", "")
-            except ValueError:  # not a module of .figures: the report's own caption
+            except ValueError:  # not a module of rocking.plot: the report's own caption
                 text = ""
             text = text or EXTRA_CAPTIONS.get(kind, "")
     img = base64.b64encode(png.read_bytes()).decode("ascii")
@@ -799,7 +799,7 @@ def fragility_pivot(path: str | Path) -> pd.DataFrame:
 
 def linear_fit_rows(path: str | Path) -> pd.DataFrame:
     """Linear fits of the mean spectra over enough sizes to mean something (at least
-    :data:`.figures.fig10_goals.MIN_FIT_SIZES`; rows without a fit dropped), limit states
+    :data:`.fig10_goals.MIN_FIT_SIZES`; rows without a fit dropped), limit states
     in words."""
     from .fig10_goals import MIN_FIT_SIZES
 
