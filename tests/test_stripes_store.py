@@ -267,7 +267,7 @@ def test_stripes_in_sa(tmp_path):
     assert table["first_median"].isna().all()
     np.testing.assert_allclose(ds["im"].values, [0.3, 0.6, 1.2])
     # the report's section names the measure and gives each row its answer or its bracket
-    from rocking.plot.report import stripes_section
+    from rocking.plot.tables import stripes_section
 
     csv = tmp_path / "s.csv"
     table = st.write_stripe_fragility(path, csv, tmp_path / "s.nc", motions=ens, refine=0,
