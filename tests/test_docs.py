@@ -169,6 +169,88 @@ def test_library_never_imports_snakemake():
     assert not offenders, "the library imports Snakemake: " + ", ".join(offenders)
 
 
+# Layers of docs/design.md, "Layers", from the ground up; packages on one floor do not import
+# each other. A module of src/rocking outside these packages is a shared helper (floor 0).
+LAYERS = (("motions",), ("dynamics",), ("spectra",), ("risk",), ("study",), ("plot",),
+          ("cli", "benchmarks"))
+
+
+def _import_graph() -> dict[str, set[str]]:
+    """Module -> the modules of src/rocking it imports (at the top or inside a function)."""
+    src = ROOT / "src"
+    files = {}
+    for f in _files("src/rocking"):
+        if f.suffix == ".py":
+            parts = f.relative_to(src).with_suffix("").parts
+            files[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = f
+    graph = {}
+    for name, f in files.items():
+        package = name if f.name == "__init__.py" else name.rpartition(".")[0]
+        graph[name] = set()
+        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    up = package.split(".")[:len(package.split(".")) - node.level + 1]
+                    base = ".".join(up + ([node.module] if node.module else []))
+                # `from pkg import mod` imports the module pkg.mod, `from mod import name` mod
+                targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in files else base
+                           for a in node.names]
+            else:
+                continue
+            for t in targets:
+                while t not in files and "." in t:
+                    t = t.rpartition(".")[0]
+                if t in files and t != name:
+                    graph[name].add(t)
+    return graph
+
+
+def _floor(module: str) -> int:
+    package = module.split(".")[1] if module.count(".") else ""
+    return next((i + 1 for i, floor in enumerate(LAYERS) if package in floor), 0)
+
+
+def test_layers_import_only_downward():
+    """Every import of a module of another package goes to a lower floor (docs/design.md,
+    "Layers"), the library's face ``rocking/__init__.py`` aside (it imports on first use)."""
+    upward = [f"{a} -> {b}" for a, targets in _import_graph().items() if a != "rocking"
+              for b in targets if a.split(".")[:2] != b.split(".")[:2]
+              and _floor(a) <= _floor(b) and _floor(b) > 0]
+    assert not upward, "imports that do not go down a layer:\n" + "\n".join(sorted(upward))
+
+
+def test_no_import_circle():
+    """No module reaches itself through imports (inside functions too)."""
+    graph = _import_graph()
+    state: dict[str, int] = {}  # 1 = on the current path, 2 = done
+
+    def visit(m: str, path: list[str]) -> list[str] | None:
+        state[m] = 1
+        for t in sorted(graph[m]):
+            if state.get(t) == 1:
+                return path + [m, t]
+            if t not in state and (circle := visit(t, path + [m])):
+                return circle
+        state[m] = 2
+        return None
+
+    for m in sorted(graph):
+        if m not in state and (circle := visit(m, [])):
+            raise AssertionError("import circle: " + " -> ".join(circle))
+
+
+def test_design_lists_the_layers():
+    """The diagram of docs/design.md, "Layers", names the packages in the order of LAYERS."""
+    text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    block = text.split("## Layers", 1)[1].split("```", 2)[1]
+    drawn = re.findall(r"^\s*(rocking\.\w+(?:\s+rocking\.\w+)*)", block, re.M)
+    floors = [tuple(n.removeprefix("rocking.") for n in line.split()) for line in drawn]
+    assert floors == list(reversed(LAYERS))
+
+
 # ----------------------------------------------------------------------------- README and pages
 README = ROOT / "README.md"
 MOVED = {  # page: headings that left the README for it

@@ -19,11 +19,10 @@ import xarray as xr
 import yaml
 
 from rocking import Cylinder, GroundMotion
+from rocking import plot as figures
 from rocking.constants import G
 from rocking.motions.principal import rotate
-from rocking.spectra.limit_states import limit_state_title
-from rocking.study import figures
-from rocking.study.figures import (
+from rocking.plot import (
     _axes,
     _style,
     fig03_wobbling_period,
@@ -38,7 +37,8 @@ from rocking.study.figures import (
     fig12_2d_vs_3d,
     render,
 )
-from rocking.study.figures.captions import CAPTIONS
+from rocking.plot.captions import CAPTIONS
+from rocking.spectra.limit_states import limit_state_title
 from rocking.study.prepare import keyed
 from rocking.study.spec import StudySpec
 
@@ -769,8 +769,8 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
 
 
 def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study, tmp_path):
+    from rocking.plot import _load, fragility_curves
     from rocking.spectra import fragility
-    from rocking.study.figures import _load, fragility_curves
 
     table = fragility.fragility_table(_load.open_store(study["store"]), upper=fs.UPPER)
     table.to_netcdf(tmp_path / "f.nc")
@@ -790,7 +790,7 @@ def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(st
     """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is
     counted per motion (its answers in every mode drawn) in the legend, not ringed on every
     point; a store without the flag counts none."""
-    from rocking.study.figures import _load
+    from rocking.plot import _load
 
     ds = _load.open_store(study["store"])
     flag = xr.zeros_like(ds["not_reached"], dtype=bool)
@@ -818,8 +818,8 @@ def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(st
 def test_a_suite_is_labelled_by_its_records_not_as_record_and_synthetics():
     """A suite's recorded motions (each its own source record) keep their names in the
     legends, and the suite is named after itself, not after its first record."""
-    from rocking.study.figures import _load
-    from rocking.study.figures._style import motion_styles
+    from rocking.plot import _load
+    from rocking.plot._style import motion_styles
 
     names = ["site-a", "site-b", "site-b-rdk-000", "sylmar"]
     sources = ["site-a", "site-b", "site-b", "sylmar"]

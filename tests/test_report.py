@@ -12,11 +12,23 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from rocking.plot import (
+    FIGURES,
+    _load,
+    _style,
+    entries,
+    fig08_motions,
+    fig09_spectra,
+    fig10_goals,
+    figure_name,
+    render,
+    report,
+    run_summary,
+    tables,
+)
+from rocking.plot import comparisons as cmp
+from rocking.plot.captions import CAPTIONS
 from rocking.spectra import fragility
-from rocking.study import report
-from rocking.study.figures import _load, _style, fig08_motions, fig09_spectra, fig10_goals, render
-from rocking.study.figures import comparisons as cmp
-from rocking.study.figures.captions import CAPTIONS
 
 
 def _quality(ratio: float, inside: float) -> dict:
@@ -92,7 +104,7 @@ def outputs(tmp_path_factory):
     done = root / "study" / "spectra.done.json"
     done.write_text(json.dumps({"wall_seconds": 638.4, "chunks": 48, "computed": 48,
                                 "cluster": "local", "done_before": 0}))
-    run = report.what_was_run(
+    run = run_summary.what_was_run(
         stores=[paths["store"]], tilt_maps=[paths["tilt_map"]], ensembles=[ensemble_json],
         done=[done], elapsed_seconds=840.0)
     page = report.build(root / "report.html", title="synthetic study", figures=pngs,
@@ -142,7 +154,7 @@ def test_what_was_run_says_config_grids_modes_contact_seeds_version_and_time(out
 
 
 def test_fig09_damping_is_quantified_per_R(outputs):
-    entry = next(e for e in report.load_figures(outputs["pngs"]) if e.name == "fig09_spectra")
+    entry = next(e for e in entries.load_figures(outputs["pngs"]) if e.name == "fig09_spectra")
     tables = dict(fig09_spectra.report_tables(entry.notes))
     assert len(tables) == 2
     tilt = next(df for title, df in tables.items() if "α/3" in title)
@@ -160,18 +172,18 @@ def test_fig09_damping_is_quantified_per_R(outputs):
 def test_modes_per_tan_alpha_of_a_partial_store(tmp_path):
     paths = fs.write_study(tmp_path, requested={"3d-damped": [0.2], "2d-x": [0.2],
                                                 "2d-y": [0.2]}, with_tilt_map=False)
-    text = report.modes_text(_load.open_store(paths["store"]))
+    text = run_summary.modes_text(_load.open_store(paths["store"]))
     assert text.startswith("tan α = 0.1: 3d; tan α = 0.2: 3d, 3d-damped, 2d-x, 2d-y; "
                            "tan α = 0.3: 3d")
     # 3 modes × 2 slendernesses × 4 limit states × 4 motions × 5 sizes left empty
     assert f"{3 * 2 * 4 * 4 * 5} of {4 * 3 * 4 * 4 * 5} cells not computed" in text
-    assert report.grid_text([0.5 + 0.5 * i for i in range(20)], "m") == (
+    assert run_summary.grid_text([0.5 + 0.5 * i for i in range(20)], "m") == (
         "20 values, 0.5–10 m (step 0.5)")
 
 
 def test_every_figure_has_a_verdict(outputs):
-    figures = report.load_figures(outputs["pngs"])
-    verdicts = report.figure_comparisons(figures)
+    figures = entries.load_figures(outputs["pngs"])
+    verdicts = entries.figure_comparisons(figures)
     assert set(verdicts) == set(CAPTIONS)
     for name, rows in verdicts.items():
         assert rows, name
@@ -182,7 +194,7 @@ def test_every_figure_has_a_verdict(outputs):
 
 
 def test_verdicts_follow_from_the_numbers(outputs):
-    figures = report.load_figures(outputs["pngs"])
+    figures = entries.load_figures(outputs["pngs"])
     rows = {(r.figure, r.statement): r for r in cmp.compare({f.stem: f.notes for f in figures})}
 
     def find(figure, words):
@@ -307,7 +319,7 @@ def test_report_on_the_paper_run_is_small():
     study = root / "elcentro"
     # the report's own figures: the risk and stripe figures sit beside them in the folder
     pngs = sorted(p for p in [*root.glob("figures/*.png"), *study.glob("figures/*.png")]
-                  if p.stem.startswith(tuple(report.FIGURES)))
+                  if p.stem.startswith(tuple(FIGURES)))
     assert len(pngs) >= 11, "the committed paper gallery is incomplete"
     out = Path(report.build(Path("/tmp") / f"paper_report_{id(root)}.html", title="paper",
                             figures=pngs, linear_fit=study / "linear_fit.csv",
@@ -316,12 +328,12 @@ def test_report_on_the_paper_run_is_small():
     out.unlink()
     assert len(page.encode()) < 150 * 1024
     # the numbers that matter are still there: every computed fragility median, every fit
-    frag = report.fragility_pivot(study / "fragility.csv")
+    frag = tables.fragility_pivot(study / "fragility.csv")
     computed = int((~frag.iloc[:, 3:].isna()).to_numpy().sum())
     table = pd.read_csv(study / "fragility.csv")
     assert computed == int(table.iloc[:, 4].notna().sum())
     assert ">not-computed<" not in page  # the empty fragility points are left out
-    assert page.count("<a href='#verdicts'>") == len({report.figure_name(p) for p in pngs})
+    assert page.count("<a href='#verdicts'>") == len({figure_name(p) for p in pngs})
 
 
 def test_missing_figures_are_said_not_invented(outputs):
@@ -339,13 +351,13 @@ def test_a_comparison_refuses_an_unknown_verdict_and_figure():
 
 def test_bad_inputs_name_the_file(tmp_path):
     with pytest.raises(ValueError, match="must start with"):
-        report.load_figures([tmp_path / "plot.png"])
+        entries.load_figures([tmp_path / "plot.png"])
     with pytest.raises(ValueError, match="does not exist"):
-        report.load_figures([tmp_path / "fig03_wobbling_period.png"])
+        entries.load_figures([tmp_path / "fig03_wobbling_period.png"])
 
 
 def test_fit_quality_of_fig08_is_tabulated(outputs):
-    entry = next(e for e in report.load_figures(outputs["pngs"]) if e.name == "fig08_motions")
+    entry = next(e for e in entries.load_figures(outputs["pngs"]) if e.name == "fig08_motions")
     table = fig08_motions.fit_quality_table(entry.notes)
     assert len(table) == 4  # 2 methods × 2 components
     used = table[table["identification"] == "spectrum *"]
@@ -358,7 +370,7 @@ def test_fit_quality_of_fig08_is_tabulated(outputs):
 
 
 def test_link_images_replaces_every_embedded_png_and_nothing_else():
-    from rocking.study.report import link_images
+    from rocking.plot.report import link_images
 
     page = ("<p>x</p><figure id='fig03_wobbling_period'><img alt='fig03_wobbling_period' "
             "src='data:image/png;base64,iVBORw0KGgo='><figcaption>c</figcaption></figure>"
@@ -416,7 +428,7 @@ def test_a_suite_is_reported_record_by_record(tmp_path):
                   "seed": 7, "highpass": {"kind": "none"}}]}
     path = tmp_path / "mine-0123.json"
     path.write_text(json.dumps(suite))
-    rows = dict(report.ensemble_rows(path))
+    rows = dict(run_summary.ensemble_rows(path))
     assert rows["ensemble mine"] == "suite of 2 records: a, b"
     assert "rotated by 48.63° to principal axes" in rows["ensemble mine: record a"]
     # no synthetic pairs: no words for them

@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 import yaml
 
-from rocking.study.figures import comparisons as cmp
-from rocking.study.figures import fig10_goals
-from rocking.study.figures._style import GOAL_COLORS, goal_color
+from rocking.plot import comparisons as cmp
+from rocking.plot import fig10_goals
+from rocking.plot._style import GOAL_COLORS, goal_color
 
 REPO = Path(__file__).resolve().parents[1]
 GALLERY = REPO / "results" / "paper"
@@ -86,7 +86,7 @@ REPORTS = sorted(GALLERY.glob("*/report.html"))
 
 @pytest.mark.parametrize("report", REPORTS, ids=[p.parent.name for p in REPORTS])
 def test_gallery_every_figure_present_has_every_verdict_computed(report):
-    from rocking.study.figures import figure_name
+    from rocking.plot import figure_name
 
     page = report.read_text(encoding="utf-8")
     present = set()
@@ -210,7 +210,7 @@ def test_config_readme_lists_every_schema_key_and_no_other():
 
 
 def test_findings_quote_lambda_with_its_interval_and_the_most_dangerous_record(tmp_path):
-    from rocking.study.report import study_findings
+    from rocking.plot.findings import study_findings
 
     risk = tmp_path / "risk.csv"
     risk.write_text(

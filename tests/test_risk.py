@@ -395,8 +395,8 @@ def test_report_section_states_the_assumptions_and_tabulates_lambda():
 def test_risk_figure_data_plot_and_sidecar(tmp_path):
     import json
 
-    from rocking.study.figures import render
-    from rocking.study.figures import risk as fig
+    from rocking.plot import render
+    from rocking.plot import risk as fig
 
     t = risk_table(fragilities.read_fragilities(table(ROWS)),
                    HazardCurve.from_power_law(1e-4, 2.5))
@@ -583,9 +583,9 @@ def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path)
 
 
 def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
+    from rocking.plot import risk as fig
     from rocking.risk.report import WHICH_TO_USE, comparison_table, risk_section_html
     from rocking.risk.table import risk_tables
-    from rocking.study.figures import risk as fig
 
     h = HazardCurve.from_openquake_csv(EXAMPLE)
     risk = risk_tables([table(ROWS), stripe_csv], h)

@@ -100,8 +100,8 @@ def test_incomplete_store_refused(tmp_path):
 
 
 def test_figure_per_mode(filled, tmp_path):
-    from rocking.study.figures import stripe_fragility as fig
-    from rocking.study.figures._style import save
+    from rocking.plot import stripe_fragility as fig
+    from rocking.plot._style import save
 
     path, _ = filled
     d = fig.data(path, None, mode="2d-x")
@@ -202,7 +202,7 @@ def test_refinement_resumes_after_a_kill_and_gives_the_same_bytes(filled, tmp_pa
 def test_figure_draws_a_row_without_fit_as_its_bracket(filled, tmp_path):
     from matplotlib.patches import Polygon, Rectangle
 
-    from rocking.study.figures import stripe_fragility as fig
+    from rocking.plot import stripe_fragility as fig
 
     path, ens = filled
     csv = tmp_path / "s.csv"
@@ -267,7 +267,7 @@ def test_stripes_in_sa(tmp_path):
     assert table["first_median"].isna().all()
     np.testing.assert_allclose(ds["im"].values, [0.3, 0.6, 1.2])
     # the report's section names the measure and gives each row its answer or its bracket
-    from rocking.study.report import stripes_section
+    from rocking.plot.tables import stripes_section
 
     csv = tmp_path / "s.csv"
     table = st.write_stripe_fragility(path, csv, tmp_path / "s.nc", motions=ens, refine=0,

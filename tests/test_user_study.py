@@ -92,14 +92,14 @@ def own_run(tmp_path_factory) -> Path:
 
 def _figures(run: Path) -> dict[str, Path]:
     pngs = [*run.glob("results/figures/*.png"), *run.glob("results/column/figures/*.png")]
-    from rocking.study.figures import figure_name
+    from rocking.plot import figure_name
 
     return {figure_name(p): p for p in pngs}
 
 
 @pytest.mark.slow
 def test_own_study_draws_no_empty_figure(own_run):
-    from rocking.study.figures import fig09_spectra, fig10_goals, fragility_curves
+    from rocking.plot import fig09_spectra, fig10_goals, fragility_curves
 
     assert set(_figures(own_run)) == OWN_FIGURES
     for name, png in _figures(own_run).items():
@@ -174,7 +174,7 @@ def test_a_suite_study_speaks_its_own_language(tmp_path):
     """Shipped records, no synthetic pairs: no paper numbering in a title or caption, no
     caption describing what is not drawn, x axes on the study's sizes, the per-record table
     and the findings in the report."""
-    from rocking.study.figures import fig09_spectra, fig10_goals
+    from rocking.plot import fig09_spectra, fig10_goals
 
     wd = tmp_path / "suite"
     snakemake(wd, write(tmp_path / "suite.yaml", SUITE), "results/column/report.html")
@@ -222,7 +222,7 @@ def test_reproduces_is_checked_and_decides_no_store():
 def test_panels_and_slenderness_follow_the_study():
     import xarray as xr
 
-    from rocking.study.figures import _load
+    from rocking.plot import _load
 
     # the paper's two panels where computed, else the study's own most severe goals
     assert _load.panel_limit_states(["tilt:0.1", "tilt:1/3", "overturning"]) == [
@@ -270,7 +270,7 @@ def test_figs_10_and_12_count_means_over_unresolved_answers(tmp_path):
     import figures_synthetic as fs
     import xarray as xr
 
-    from rocking.study.figures import fig10_goals, fig12_2d_vs_3d
+    from rocking.plot import fig10_goals, fig12_2d_vs_3d
 
     paths = fs.write_study(tmp_path / "s", with_tilt_map=False)
     agg = xr.open_dataset(paths["means"]).load()
@@ -307,7 +307,7 @@ def test_figs_10_and_12_count_means_over_unresolved_answers(tmp_path):
 def test_fig11_of_a_study_of_ones_own_draws_its_own_slendernesses(tmp_path):
     import figures_synthetic as fs
 
-    from rocking.study.figures import fig11_slenderness
+    from rocking.plot import fig11_slenderness
 
     paths = fs.write_study(tmp_path, requested={"3d": [0.1, 0.3]}, with_tilt_map=False)
     own = fig11_slenderness.data(paths["means"], paper=False)

@@ -25,10 +25,10 @@ import xarray as xr
 import yaml
 
 from rocking import __version__
+from rocking.plot.captions import CAPTIONS, EXTRA_CAPTIONS
+from rocking.plot.report import link_images, relink_docs
 from rocking.study.aggregate import critical_frame
-from rocking.study.figures.captions import CAPTIONS, EXTRA_CAPTIONS
 from rocking.study.prepare import keyed
-from rocking.study.report import link_images, relink_docs
 from rocking.study.spec import EnsembleSpec, StudySpec
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
@@ -146,7 +146,7 @@ def figure_caption(stem: str) -> str:
     name = next((k for k in EXTRA_CAPTIONS if stem.startswith(k)), None)
     if name is None:
         raise ValueError(f"gallery figure {stem!r} has no caption (captions.py)")
-    own = getattr(import_module(f"rocking.study.figures.{name}"), "CAPTION", "")
+    own = getattr(import_module(f"rocking.plot.{name}"), "CAPTION", "")
     return EXTRA_CAPTIONS[name] or own
 
 

@@ -7,10 +7,11 @@ earthquakes", Earthquake Engng Struct. Dyn. 46:2261–2280.
 Subpackages, from the bottom up: :mod:`rocking.motions` (records, principal axes, filters,
 stochastic ensembles), :mod:`rocking.dynamics` (bodies, models, analyses; it takes a
 :class:`GroundMotion`),
-:mod:`rocking.spectra` (limit states, critical-intensity search, fragility) and
-:mod:`rocking.study` (zarr store, Dask cluster, aggregates, figures, report), and
-:mod:`rocking.risk` (hazard curves, mean annual frequency, NRML and pelicun exports). The
-names below are the public API; each is imported on first use.
+:mod:`rocking.spectra` (limit states, critical-intensity search, fragility),
+:mod:`rocking.risk` (hazard curves, mean annual frequency, NRML and pelicun exports),
+:mod:`rocking.study` (zarr store, Dask cluster, aggregates) and :mod:`rocking.plot` (the
+figures and the report, which read the study's outputs). The names below are the public API;
+each is imported on first use.
 """
 
 from ._lazy import lazy_exports

@@ -1,6 +1,6 @@
 # Rules of the paper's figures, the fragility curves and the HTML report; helpers in
-# figures_common.smk. Each rule is named after its figure: module rocking.study.figures.<name>,
-# script ../scripts/<name>.py, caption rocking.study.figures.captions.CAPTIONS[<name>] (handed
+# figures_common.smk. Each rule is named after its figure: module rocking.plot.<name>,
+# script ../scripts/<name>.py, caption rocking.plot.captions.CAPTIONS[<name>] (handed
 # to ../report/figure.rst as params.caption; a function, so its braces are not wildcards).
 
 

@@ -3,10 +3,10 @@
 # global_stem), the others to <root>/<study>/figures/; every figure is a PNG, a PDF and a JSON
 # sidecar of the numbers it measured, which <root>/<study>/report.html sets against the
 # paper's. A figure's name is its
-# module in rocking.study.figures, its rule, its script and its caption key.
+# module in rocking.plot, its rule, its script and its caption key.
 
-from rocking.study.figures import figure_name
-from rocking.study.figures.captions import caption
+from rocking.plot import figure_name
+from rocking.plot.captions import caption
 
 FIGURES_DIR = out_path("figures")
 FIG04_DURATION = 15.0  # [s]: six quasi-impacts of the quasi-rocking case (Eq 32 needs five)

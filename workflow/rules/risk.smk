@@ -8,7 +8,7 @@
 # first-exceedance rows from suite_fragility.csv (the suite's fits in Sa(T)). Every requested
 # row is written, with its status where there is no fit. Helpers in risk_common.smk.
 
-from rocking.study.figures.risk import CAPTION as RISK_CAPTION
+from rocking.plot.risk import CAPTION as RISK_CAPTION
 
 
 rule risk:

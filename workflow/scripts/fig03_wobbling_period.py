@@ -1,6 +1,6 @@
 """Fig 3 (Snakemake script): wobbling period versus tilt, closed forms only."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

@@ -1,7 +1,7 @@
 """Fig 4 (Snakemake script): free vibration of the R = 6 m, tan α = 0.2 cylinder,
 undamped and damped for the paper's eight contact parameters."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

@@ -1,7 +1,7 @@
 """Fig 6 (Snakemake script): El Centro response, the ensemble's first motion (the record)."""
 
 from rocking.motions.ensemble_io import load_ensemble
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

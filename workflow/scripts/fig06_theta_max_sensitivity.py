@@ -2,7 +2,7 @@
 El Centro record, read as recorded and processed like the ensemble."""
 
 from rocking.motions.build import read_motion
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

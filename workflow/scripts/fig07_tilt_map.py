@@ -1,6 +1,6 @@
 """Fig 7 (Snakemake script): θmax/α contours from results/<study>/tilt_map.zarr."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

@@ -2,7 +2,7 @@
 pairs of the other identification method beside it."""
 
 from rocking.motions.ensemble_io import load_ensemble
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

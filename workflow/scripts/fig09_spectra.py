@@ -1,6 +1,6 @@
 """Fig 9 (Snakemake script): per-motion performance spectra, their means, damped − undamped."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

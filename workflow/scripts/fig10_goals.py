@@ -1,6 +1,6 @@
 """Fig 10 (Snakemake script): mean spectra for every performance goal."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

@@ -1,6 +1,6 @@
 """Fig 11 (Snakemake script): mean spectra for tan α = 0.1, 0.2, 0.3."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

@@ -1,6 +1,6 @@
 """Fig 12 (Snakemake script): 3D versus 2D mean spectra of every configured study."""
 
-from rocking.study.figures import render
+from rocking.plot import render
 from rocking.study.logs import log_to
 
 

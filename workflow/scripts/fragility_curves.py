@@ -2,9 +2,9 @@
 
 import time
 
+from rocking.plot import open_means, open_store, render
 from rocking.risk.bootstrap import write_bootstrap
 from rocking.spectra import fragility
-from rocking.study.figures import open_means, open_store, render
 from rocking.study.logs import log_to
 
 

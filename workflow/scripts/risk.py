@@ -3,9 +3,9 @@ rows in the hazard's measure, and stripe rows when the study has stripes), risk 
 
 import json
 
+from rocking.plot import render
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import parse_hazard
-from rocking.study.figures import render
 from rocking.study.logs import log_to
 
 

@@ -1,7 +1,7 @@
 """Stripe against first-exceedance fragility of one mode (Snakemake script)."""
 
-from rocking.study.figures import stripe_fragility as fig
-from rocking.study.figures._style import save, write_notes
+from rocking.plot import stripe_fragility as fig
+from rocking.plot._style import save, write_notes
 from rocking.study.logs import log_to
 
 

@@ -1,7 +1,7 @@
 """The risk section of a study's HTML report: assumptions, then λ of the main limit states.
 
 :func:`risk_section_html` returns the section as an HTML fragment (``<h2>`` … tables) for
-:func:`rocking.study.report.build` to append; :func:`assumptions` its statements as text.
+:func:`rocking.plot.report.build` to append; :func:`assumptions` its statements as text.
 """
 
 from __future__ import annotations

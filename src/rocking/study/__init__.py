@@ -1,7 +1,7 @@
 """A study: the zarr store of a spectrum grid (:mod:`.store`), the Dask cluster that fills it
-(:mod:`.cluster`), ensemble statistics (:mod:`.aggregate`), the paper's figures
-(:mod:`.figures`) and the HTML report (:mod:`.report`); :func:`select` is ``.sel`` for
-their outputs accepting every spelling of a limit state."""
+(:mod:`.cluster`), ensemble statistics (:mod:`.aggregate`); :func:`select` is ``.sel`` for
+its outputs accepting every spelling of a limit state. The figures and the report, which
+only read these outputs, are :mod:`rocking.plot`."""
 
 from .._lazy import lazy_exports
 

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ...spectra.fragility import fit_line
-from ...spectra.limit_states import limit_state_title
-from ...spectra.modes import MODE_3D
+from ..spectra.fragility import fit_line
+from ..spectra.limit_states import limit_state_title
+from ..spectra.modes import MODE_3D
 from . import _axes, _load
 from ._style import MODE_STYLE, new_figure, paper_tag, r_axis, styled, suptitle_and_notes
 from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged

@@ -1,4 +1,5 @@
-"""The paper's figures (and the fragility curves), one module per figure.
+"""The paper's figures (and the fragility curves), one module per figure, and the study's HTML
+report (:mod:`.report`): what reads the study's stores and tables and draws or writes them.
 
 Every module has ``data(...)``, which extracts exactly the arrays to plot (plain dicts of numpy
 arrays, from the study store, its aggregates or fresh analyses), and ``plot(data) -> Figure``.

@@ -19,8 +19,8 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from scipy import stats
 
-from ...spectra.limit_states import limit_state_title
-from ...spectra.modes import MODE_3D
+from ..spectra.limit_states import limit_state_title
+from ..spectra.modes import MODE_3D
 from . import _axes, _load
 from ._style import MODE_STYLE, new_figure, pga_g_axis, styled, suptitle_and_notes
 from .comparisons import NOT_IN_PAPER, Comparison

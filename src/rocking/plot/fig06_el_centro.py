@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ...dynamics.bodies import Cylinder
-from ...dynamics.names import MODEL_3D, MODEL_3D_DAMPED
-from ...motions.motion import GroundMotion
+from ..dynamics.bodies import Cylinder
+from ..dynamics.names import MODEL_3D, MODEL_3D_DAMPED
+from ..motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, new_figure, styled
 from .comparisons import Comparison, close, finite, first_notes, fmt, judged, value_range
@@ -83,7 +83,7 @@ def data(
         and ``t_end`` (end of the record) [s]; ``measured``: peak tilt per model [rad] and
         the time the two models' tilts part; ``axes``; ``explanation``.
     """
-    from ...dynamics.analysis import ground_response  # imported late: figures stay light to import
+    from ..dynamics.analysis import ground_response  # imported late: figures stay light to import
 
     if motion.is_unidirectional:
         raise ValueError(f"motion {motion.name!r} has a zero component; Fig 6 needs a pair")

@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from ...dynamics.bodies import Cylinder
+from ..dynamics.bodies import Cylinder
 from ._style import new_figure, styled
 from .comparisons import REPRODUCED, Comparison, finite, first_notes, judged
 

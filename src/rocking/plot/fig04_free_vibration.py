@@ -28,8 +28,8 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from scipy.signal import find_peaks
 
-from ...dynamics.bodies import Cylinder
-from ...dynamics.names import (
+from ..dynamics.bodies import Cylinder
+from ..dynamics.names import (
     DAMPED_OMEGA_N,
     DAMPED_ZETA,
     MODEL_3D,
@@ -217,7 +217,7 @@ def data(
 def _run(body: Cylinder, theta0: float, spin: float, duration: float, model: str,
          rtol: float | None, **contact) -> dict:
     """One free-vibration history with the densified centre-of-mass orbit."""
-    from ...dynamics.analysis import free_vibration  # imported late: figures stay light to import
+    from ..dynamics.analysis import free_vibration  # imported late: figures stay light to import
 
     res = free_vibration(body, theta0, spin, duration=duration, model=model, rtol=rtol,
                          **contact)

@@ -21,8 +21,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ...spectra.limit_states import limit_state_title
-from ...spectra.modes import MODE_3D, MODE_3D_DAMPED
+from ..spectra.limit_states import limit_state_title
+from ..spectra.modes import MODE_3D, MODE_3D_DAMPED
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,

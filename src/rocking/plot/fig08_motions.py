@@ -18,10 +18,10 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ...constants import G
-from ...motions.motion import GroundMotion
-from ...motions.response_spectrum import pseudo_acceleration
-from ...motions.stochastic import quality
+from ..constants import G
+from ..motions.motion import GroundMotion
+from ..motions.response_spectrum import pseudo_acceleration
+from ..motions.stochastic import quality
 from ._style import motion_styles, paper_tag, styled
 from .comparisons import (
     NOT_COMPUTED,

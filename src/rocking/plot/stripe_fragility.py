@@ -21,8 +21,8 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
-from ...spectra.limit_states import limit_state_title
-from ...spectra.modes import MODE_3D
+from ..spectra.limit_states import limit_state_title
+from ..spectra.modes import MODE_3D
 from ._style import MODE_STYLE, footnote, new_figure, styled
 
 CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stripes added "
@@ -59,9 +59,9 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``first``: (median, beta, status) [measure unit]}], ``measured``, ``missing``,
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
-    from ...units import read_table
-    from .. import stripes as st
-    from ..spec import decode_attrs
+    from ..study import stripes as st
+    from ..study.spec import decode_attrs
+    from ..units import read_table
 
     ds = xr.open_zarr(stripes, consolidated=True)
     if mode not in [str(m) for m in ds["mode"].values]:

@@ -2,7 +2,7 @@
 
 A study that reproduces the paper gets :data:`CAPTIONS` (what a figure shows and what the
 paper states of it), a study of one's own :data:`STUDY_CAPTIONS` (what it shows). The one
-source of caption text: the HTML report (:mod:`rocking.study.report`) prints them under
+source of caption text: the HTML report (:mod:`rocking.plot.report`) prints them under
 the figures and the workflow's Snakemake report renders them through
 ``workflow/report/figure.rst`` (``{{ snakemake.params.caption }}``). Keys are the figure names,
 which are also the module, rule and script names.

@@ -82,7 +82,7 @@ def from_ensemble(path: str | Path | None) -> dict[str, str]:
     """:func:`describe` of the first motion (the record) of an ensemble file; unknown if None."""
     if path is None:
         return describe(None)
-    from ...motions.ensemble_io import load_ensemble  # imported late: netCDF reading is heavy
+    from ..motions.ensemble_io import load_ensemble  # imported late: netCDF reading is heavy
 
     motions = load_ensemble(path)
     return describe(motions[0].metadata if motions else None)

@@ -1,6 +1,6 @@
 """Verdicts of the paper against a run: the row type, the verdicts and shared helpers.
 
-Every figure writes what it measured into its JSON sidecar (:func:`rocking.study.figures.render`)
+Every figure writes what it measured into its JSON sidecar (:func:`rocking.plot.render`)
 and owns its comparison with the paper: ``compare(notes)`` in its module, beside ``data`` and
 ``plot``, turns the notes into :class:`Comparison` rows (the paper's words or number, this
 run's number, and a verdict that follows from the two and a stated tolerance). :func:`compare`
@@ -38,7 +38,7 @@ class Comparison:
     Attributes
     ----------
     figure : str
-        Figure name (a key of :data:`rocking.study.figures.captions.CAPTIONS`).
+        Figure name (a key of :data:`rocking.plot.captions.CAPTIONS`).
     statement : str
         What is compared, with where the paper says it.
     paper : str
@@ -128,7 +128,7 @@ def notes_of(notes: Mapping[str, Mapping], name: str) -> list[tuple[str, Mapping
     """Every sidecar of figure ``name`` among ``notes``, as (file stem, notes) pairs.
 
     A sidecar is found by the figure it names (its ``"figure"`` entry, written by
-    :func:`rocking.study.figures.render`), else by its key: the figure name itself or a file
+    :func:`rocking.plot.render`), else by its key: the figure name itself or a file
     stem that starts with it (``fig12_2d_vs_3d_elcentro+lomaprieta``). Keyed by the figure's
     kind, not its file name, so that renaming a file cannot detach its verdicts.
     """
@@ -159,7 +159,7 @@ def compare(notes: Mapping[str, Mapping], figures: list[str] | None = None) -> l
         called. A figure without notes yields rows "not computed in this run".
     figures : list of str, optional
         Figure names to compare, in order (default: every figure of
-        :data:`rocking.study.figures.FIGURES`); each module's ``compare(notes)`` gives the rows.
+        :data:`rocking.plot.FIGURES`); each module's ``compare(notes)`` gives the rows.
     """
     from . import FIGURES
 

@@ -17,14 +17,14 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ...spectra.fragility import fit_line
-from ...spectra.limit_states import (
+from ..spectra.fragility import fit_line
+from ..spectra.limit_states import (
     DEFAULT_LIMIT_STATES,
     limit_state_title,
     match_limit_state,
     severity,
 )
-from ...spectra.modes import MODE_3D
+from ..spectra.modes import MODE_3D
 from . import _axes, _load
 from ._style import (
     MODE_STYLE,

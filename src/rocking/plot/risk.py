@@ -20,11 +20,11 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ...risk.fragilities import FIRST_EXCEEDANCE
-from ...risk.fragilities import STRIPES as STRIPE_FRAGILITY
-from ...risk.report import main_tan_alpha, read_risk_table, shown_limit_states
-from ...spectra.limit_states import limit_state_title
-from ...spectra.modes import PLANAR_MODES
+from ..risk.fragilities import FIRST_EXCEEDANCE
+from ..risk.fragilities import STRIPES as STRIPE_FRAGILITY
+from ..risk.report import main_tan_alpha, read_risk_table, shown_limit_states
+from ..spectra.limit_states import limit_state_title
+from ..spectra.modes import PLANAR_MODES
 from ._style import MODE_STYLE, footnote, new_figure, styled
 
 CAPTION = (

@@ -16,10 +16,10 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from ...constants import G
-from ...dynamics.bodies import Cylinder
-from ...dynamics.names import MODEL_3D, MODEL_3D_DAMPED
-from ...motions.motion import GroundMotion
+from ..constants import G
+from ..dynamics.bodies import Cylinder
+from ..dynamics.names import MODEL_3D, MODEL_3D_DAMPED
+from ..motions.motion import GroundMotion
 from . import _axes
 from ._style import footnote, styled, with_legend_row
 from .comparisons import NOT_IN_PAPER, Comparison, first_notes, fmt
@@ -66,7 +66,7 @@ def record_versions(record: GroundMotion, *, mw: float | None = None, seed: int 
         Keep the first ``max_duration`` seconds, as a run with ``motions.max_duration`` does
         with every motion [s].
     """
-    from ...motions.build import build_ensemble  # imported late: figures stay light to import
+    from ..motions.build import build_ensemble  # imported late: figures stay light to import
 
     def processed(rotation):
         return build_ensemble(record, 0, seed, rotation=rotation, mw=mw,
@@ -114,7 +114,7 @@ def data(record: GroundMotion | None = None, *,
         PGA at scale 1) [g]; ``measured``: θmax at scale 1 and its range within ±:data:`BAND`
         of scale per version and model; ``paper``.
     """
-    from ...dynamics.analysis import ground_response  # imported late: figures stay light
+    from ..dynamics.analysis import ground_response  # imported late: figures stay light
 
     if versions is None:
         if record is None:

@@ -1,0 +1,189 @@
+"""The report's tables read from the study's CSV files: the per-record answers and the
+fragility over a suite (:func:`records_section`), multiple-stripe against first-exceedance
+medians (:func:`stripes_section`), the fragility table by size (:func:`fragility_pivot`) and
+the linear fits of the mean spectra (:func:`linear_fit_rows`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..spectra.limit_states import limit_state_title
+from ..units import read_table
+from ._style import MODE_STYLE
+
+MODE_LABEL = {m: s["label"] for m, s in MODE_STYLE.items()}
+"""Reader's name of each analysis mode ("3D", "2D, x component")."""
+
+
+def as_recorded_word(value) -> str:
+    """records.csv's ``exceeds_as_recorded`` (one analysis at scale 1) in a table cell."""
+    if pd.isna(value):
+        return "analysis failed"
+    return "yes" if str(value).lower() in ("true", "1") else "no"
+
+
+def table_html(df: pd.DataFrame) -> str:
+    """``df`` as an HTML table: no index, text escaped, missing values as a dash."""
+    return df.to_html(index=False, escape=True, border=0, na_rep="—",
+                      float_format=lambda v: f"{v:.4g}")
+
+
+def records_section(records: str | Path, suite_fragility: str | Path | None = None
+                    ) -> list[str]:
+    """HTML of the per-record answers (``records.csv``) at the study's main mode and
+    slenderness, largest and smallest R, and of the fragility over the suite in each
+    intensity measure (``suite_fragility.csv``; fits only)."""
+    df = pd.read_csv(records)
+    parts = ["<h2 id='records'>The recorded motions one by one</h2>"]
+    if df.empty:
+        return parts + ["<p>No recorded motion in this study.</p>"]
+    ta = next(c for c in df.columns if c.startswith("tan_alpha"))
+    r = next(c for c in df.columns if c.startswith("R"))
+    sf = next(c for c in df.columns if c.startswith("scale_factor"))
+    crit = next(c for c in df.columns if c.startswith("pga_crit_g"))
+    rec = next(c for c in df.columns if c.startswith("pga_g"))
+    sizes = sorted(set(df[r]))
+    keep = df[df[r].isin({sizes[0], sizes[len(sizes) // 2], sizes[-1]})]
+    table = pd.DataFrame({
+        "record": keep["motion"], "mode": keep["mode"].map(lambda m: MODE_LABEL.get(m, m)),
+        "tan α": keep[ta], "limit state": keep["limit_state"].map(limit_state_title),
+        "R [m]": keep[r], "PGA processed [g]": keep[rec], "critical PGA [g]": keep[crit],
+        "scale factor to exceed": keep[sf],
+        "exceeds as recorded": keep["exceeds_as_recorded"].map(as_recorded_word),
+    })
+    parts.append(f"<p>Per record: the factor its processed version must be scaled by to "
+                 f"exceed each limit state, at R = {sizes[0]:g}, {sizes[len(sizes) // 2]:g} "
+                 f"and {sizes[-1]:g} m (every size, Sa(T) and PGV: records.csv).</p>")
+    parts.append(table_html(table))
+    if suite_fragility is not None and Path(suite_fragility).exists():
+        fr = pd.read_csv(suite_fragility)
+        fr = fr[np.isfinite(pd.to_numeric(fr["median"], errors="coerce"))]
+        if fr.empty:
+            parts.append("<p>Fragility over the suite: no fit (too few records reached the "
+                         "limit states).</p>")
+        else:
+            out = pd.DataFrame({
+                "motions": fr["motions"], "mode": fr["mode"].map(lambda m: MODE_LABEL.get(m, m)),
+                "tan α": fr["tan_alpha"], "limit state": fr["limit_state"].map(
+                    limit_state_title), "R [m]": fr["R"],
+                "measure": fr["measure"] + " [" + fr["unit"].astype(str) + "]",
+                "median IM₅₀": fr["median"], "β": fr["beta"], "n": fr["n"],
+                "censored": fr["n_censored"]})
+            parts.append("<p id='suite-fragility'>Lognormal fragility over the suite in each "
+                         "intensity measure (median IM₅₀ in the measure's unit; recorded "
+                         "motions and synthetic pairs fitted separately).</p>")
+            parts.append(table_html(out))
+    return parts
+
+
+def stripes_section(path: str | Path) -> list[str]:
+    """HTML of the report's stripe-fragility section: what each answer means, then one row
+    per (mode, limit state, tan α, R) with both medians and their ratio."""
+    df = read_table(path)
+    ok = df[np.isfinite(df["ratio"].to_numpy(dtype=float))]
+    parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": first "
+             "exceedance and multiple-stripe fragility</h2>",
+             "<p>The answer of the spectra and of the fragility curves above (and the "
+             "paper's) is the <em>first exceedance</em>: per "
+             "motion, the smallest PGA/(g tan α) found to exceed the limit state, then the "
+             "lognormal fit over motions. Rocking near a limit state is chaotic in the "
+             "intensity: a motion exceeds it in narrow windows and the body survives stronger "
+             "scalings of the same motion, so the first exceedance is where exceedance "
+             "<em>starts</em>, not where it becomes likely. The <em>multiple-stripe</em> "
+             "fragility analyses every motion once at each of a fixed set of intensities and "
+             "fits the share exceeding by binomial maximum likelihood: its median is the "
+             "intensity at which half the motions exceed (95 % interval in brackets). It "
+             "converges as stripes are added; the first exceedance depends on where a scan "
+             "falls among the windows (docs/performance.md).</p>"]
+    measure = str(df["measure"].iloc[0]) if "measure" in df and len(df) else "pga"
+    name = "PGA" if measure == "pga" else measure
+    if ok.empty:
+        parts.append("<p>No (mode, limit state, R) has both fits in this run"
+                     + ("" if measure == "pga" else f" (the stripes are in {name}, the first "
+                        "exceedance in PGA)") + ".</p>")
+        if measure == "pga" or df.empty:
+            return parts
+    else:
+        ratio = ok["ratio"].to_numpy(dtype=float)
+        parts.append(f"<p>Over the {len(ok)} cells with both fits, the stripe median is "
+                     f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the first-exceedance "
+                     f"median (median ratio {np.median(ratio):.2f}): a column designed with "
+                     "the first exceedance is designed for the onset of exceedance, with the "
+                     "stripe median as its 50 % point.</p>")
+    nan = pd.Series(np.nan, index=df.index)
+    rows = pd.DataFrame({
+        "mode": df["mode"], "limit state": df["limit_state"].map(limit_state_title),
+        "tan α": df["tan_alpha"], "R [m]": df["R"],
+        f"stripe median [{name}/(g tan α)]": [
+            f"{m:.3g} ({lo:.3g}–{hi:.3g})" if np.isfinite(m) else f"— ({st})"
+            for m, lo, hi, st in zip(df["median"], df["median_lo"], df["median_hi"],
+                                     df["status"], strict=True)],
+        # in the measure's unit: the bootstrap's 90 % interval, or where no lognormal fits
+        # the stripes that bracket the median (never a number for a missing fit)
+        f"stripe median [{name}, g], 90 % over motions": [
+            f"{m:.3g} ({a:.3g}–{b:.3g})" if np.isfinite(m) and np.isfinite(a)
+            else f"{m:.3g}" if np.isfinite(m)
+            else f"between {lo:.3g} and {hi:.3g}" if np.isfinite(lo) else "—"
+            for m, a, b, lo, hi in zip(df.get("median_im", nan), df.get("median_p05", nan),
+                                       df.get("median_p95", nan), df.get("bracket_lo", nan),
+                                       df.get("bracket_hi", nan), strict=True)],
+        "stripe β": df["beta"].map(lambda b: f"{b:.2f}" if np.isfinite(b) else "—"),
+        "first-exceedance median": df["first_median"].map(
+            lambda m: f"{m:.3g}" if np.isfinite(m) else "—"),
+        "ratio": df["ratio"].map(lambda r: f"{r:.2f}" if np.isfinite(r) else "—"),
+        "motions × stripes": [f"{n} × {k}" + (f" + {int(a)} added" if a > 0 else "")
+                              for n, k, a in zip(df["n_motions"], df["stripes"],
+                                                 df.get("n_refined", nan).fillna(0),
+                                                 strict=True)],
+    })
+    parts.append(table_html(rows))
+    return parts
+
+
+def fragility_pivot(path: str | Path) -> pd.DataFrame:
+    """The fragility table as one row per (mode, limit state, tan α) and one column per R.
+
+    Each cell is ``"median (β)"`` with the median in PGA/(g tan α) (× tan α for g) and, when
+    motions were right-censored at the search bound, ``"+k>"`` for the k of them. Points not
+    computed (no fit) are left out: a reader wants the fits, not the empty grid.
+    """
+    df = pd.read_csv(path)
+    med = next(c for c in df.columns if c.startswith("median [") or c == "median")
+    ta = next(c for c in df.columns if c.startswith("tan_alpha"))
+    r = next(c for c in df.columns if c.startswith("R"))
+    df = df[np.isfinite(pd.to_numeric(df[med], errors="coerce"))]
+    if df.empty:
+        return pd.DataFrame()
+    beta = next(c for c in df.columns if c.startswith("beta"))
+    cens = "n_censored" if "n_censored" in df.columns else None
+
+    def cell(row) -> str:
+        text = f"{row[med]:.3g} ({row[beta]:.2f})"
+        if cens and row[cens] > 0:
+            text += f" {int(row[cens])}>"
+        return text
+
+    df = df.assign(cell=df.apply(cell, axis=1))
+    out = df.pivot_table(index=["mode", "limit_state", ta], columns=r, values="cell",
+                         aggfunc="first", sort=False)
+    out.columns = [f"R = {c:g}" for c in out.columns]
+    out = out.reset_index().rename(columns={"limit_state": "limit state", ta: "tan α"})
+    return out.assign(**{"limit state": out["limit state"].map(limit_state_title)})
+
+
+def linear_fit_rows(path: str | Path) -> pd.DataFrame:
+    """Linear fits of the mean spectra over enough sizes to mean something (at least
+    :data:`.fig10_goals.MIN_FIT_SIZES`; rows without a fit dropped), limit states
+    in words."""
+    from .fig10_goals import MIN_FIT_SIZES
+
+    df = pd.read_csv(path)
+    n = next((c for c in df.columns if c == "n"), None)
+    df = df[df[n] >= MIN_FIT_SIZES] if n is not None else df
+    if "limit_state" in df:
+        df = df.assign(limit_state=df["limit_state"].map(limit_state_title))
+    return df
