@@ -133,11 +133,10 @@ def _error_norm(T, ns, method, K, h, y, y_new, rtol, SC, n):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def rk_step(rhs, rhs_end, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, y_new, f_new):
+def rk_step(rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, y_new, f_new):
     """One explicit Runge–Kutta step of length ``h`` from ``(tau, y)`` with ``f0 = rhs(tau, y)``.
 
-    Fills ``y_new`` and its derivative ``f_new`` (by ``rhs_end``, the stages by ``rhs``:
-    :mod:`.driver`); returns the scaled error norm (NaN when the
+    Fills ``y_new`` and its derivative ``f_new``; returns the scaled error norm (NaN when the
     step is not finite). ``W`` is the work array (:data:`WORK_ROWS` rows).
     """
     T, method = tab
@@ -160,7 +159,7 @@ def rk_step(rhs, rhs_end, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, y
         for j in range(ns):
             acc += T[ns, j] * K[j, i]
         y_new[i] = y[i] + h * acc
-    rhs_end(tau + h, y_new, P, F, f_new)  # the step end: what the monitors read (driver)
+    rhs(tau + h, y_new, P, F, f_new)
     for i in range(n):
         K[ns, i] = f_new[i]
     return _error_norm(T, ns, method, K, h, y, y_new, tol[0], tol[1], tol[2])

@@ -183,12 +183,11 @@ def work_rows(method: str = "rodas4") -> int:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def ros_step(rhs, rhs_end, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, y_new, f_new):
+def ros_step(rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, y_new, f_new):
     """One Rosenbrock step of length ``h`` from ``(tau, y)`` with ``f0 = rhs(tau, y)``.
 
     Fills ``y_new`` (``f_new`` is scratch: the derivative at the step end is not part of the
-    method, the driver evaluates it with ``rhs_end`` once a step is accepted, so ``rhs_end``
-    is not called here); returns the scaled RMS error
+    method, the driver evaluates it once a step is accepted); returns the scaled RMS error
     norm (NaN when the step is not finite or the stage matrix is singular). The stages are
     the rows of ``W``; no array is sliced or rebound here, which keeps the compiled step free
     of reference counting.

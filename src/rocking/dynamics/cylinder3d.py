@@ -42,14 +42,14 @@ STATE = ("theta", "phi", "theta_dot", "phi_dot")
 
 def params(body: Cylinder) -> np.ndarray:
     """Kernel parameters [side = 1, p², sin α, cos α, κo, R, g, 1/g], then :data:`N_SCRATCH`
-    entries :func:`rhs_end` fills for :func:`contact`."""
+    entries :func:`rhs` fills for :func:`contact`."""
     return np.concatenate(([1.0, G / (body.kappa_o * body.R), math.sin(body.alpha),
                             math.cos(body.alpha), body.kappa_o, body.R, G, 1.0 / G],
                            np.zeros(N_SCRATCH)))
 
 
 N_SCRATCH = 10
-"""Entries after the parameters where :func:`rhs_end` leaves sin θ, cos θ, sin(θ/2), cos(θ/2),
+"""Entries after the parameters where :func:`rhs` leaves sin θ, cos θ, sin(θ/2), cos(θ/2),
 cos φ, sin φ, μ, μ', a_r, a_t of its last evaluation (:func:`contact` reads them: the
 monitors cost no trigonometry; nothing in :func:`rhs` reads them back)."""
 
@@ -70,11 +70,10 @@ def to_state(body: Cylinder, y: np.ndarray) -> np.ndarray:
     return np.array([y[0], y[1], y[2], float(mu(y[0], body.alpha)) * y[3]])
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def _rhs(tau, y, P, F, out, keep):
+@njit(cache=True, error_model="numpy")
+def rhs(tau, y, P, F, out):
     """Right-hand side for the state (θ, φ, θ̇, L), ground acceleration F[0:2] + F[2:4] τ,
-    vertical F[4] + F[5] τ; ``keep`` (a constant of each compiled caller) leaves the
-    trigonometry in ``P`` for :func:`contact`."""
+    vertical F[4] + F[5] τ."""
     th, ph, thd, L = y[0], y[1], y[2], y[3]
     p2, s, c, kap, R, g = P[1], P[2], P[3], P[4], P[5], P[6]
     axg = F[0] + F[2] * tau
@@ -97,24 +96,10 @@ def _rhs(tau, y, P, F, out, keep):
     out[0] = thd
     out[1] = phd
     out[2] = -p2 * (gr * sam + cam * a_r / g) + mup * phd * phd / (2.0 * kap)
-    if keep:
-        P[8], P[9], P[10], P[11], P[12] = st, ct, sh, ch, cph
-        P[13], P[14], P[15], P[16], P[17] = sph, mu_, mup, a_r, a_t
+    P[8], P[9], P[10], P[11], P[12] = st, ct, sh, ch, cph
+    P[13], P[14], P[15], P[16], P[17] = sph, mu_, mup, a_r, a_t
     # sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2)
     out[3] = 2.0 * (c * ch + s * sh) * sh * a_t / R
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(tau, y, P, F, out):
-    """Right-hand side (:func:`_rhs`) at an inner stage of a step: nothing kept."""
-    _rhs(tau, y, P, F, out, False)
-
-
-@njit(cache=True, error_model="numpy")
-def rhs_end(tau, y, P, F, out):
-    """Right-hand side (:func:`_rhs`) where the monitors look next (the driver's
-    ``rhs_end``): its trigonometry kept in ``P[8:18]`` for :func:`contact`."""
-    _rhs(tau, y, P, F, out, True)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -142,11 +127,11 @@ def support_force(st, ct, sh, ch, cph, sph, a_r, a_t, thd, phd, thdd, phdd, s, c
     cf[1] = math.sqrt(a_rad * a_rad + a_tan * a_tan) / g
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def contact(tau, y, f, P, F, cf):
     """Support force (N, |F_h|) per unit weight of the state (θ, φ, θ̇, L) with derivative
-    ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ), from what :func:`rhs_end` left in
-    ``P[8:18]`` at ``y`` (the driver evaluates ``rhs_end`` at ``y`` just before)."""
+    ``f`` (:func:`support_force`; φ̈ = (L̇ − μ'θ̇φ̇)/μ), from what :func:`rhs` left in
+    ``P[8:18]`` at ``y`` (the driver evaluates ``rhs`` at ``y`` just before)."""
     phd = f[1]
     phdd = (f[3] - P[15] * y[2] * phd) / P[14]
     support_force(P[8], P[9], P[10], P[11], P[12], P[13], P[16], P[17], y[2], phd, f[2],
@@ -179,7 +164,7 @@ def rocking_energy(y, P):
 @njit(cache=True, error_model="numpy")
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
-    return driver.integrate(rhs, rhs_end, driver.no_impact, rocking_energy, rocking_energy, output,
+    return driver.integrate(rhs, driver.no_impact, rocking_energy, rocking_energy, output,
                             driver.no_observe, contact, driver.no_factor, driver.no_solve,
                             rk_step, run)
 

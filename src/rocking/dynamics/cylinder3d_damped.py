@@ -346,7 +346,7 @@ def total_energy(y, P):
 @njit(cache=True, error_model="numpy")
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
-    return driver.integrate(rhs, rhs, driver.no_impact, rocking_energy, total_energy, output,
+    return driver.integrate(rhs, driver.no_impact, rocking_energy, total_energy, output,
                             observe, contact, factor, solve,
                             ros_step, run)
 

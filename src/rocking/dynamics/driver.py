@@ -10,11 +10,6 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
   interval, whose forcing is ``F = (a0x, a0y, slope_x, slope_y, a0z, slope_z)``: the ground
   acceleration is ``a0 + slope * tau`` [m/s²], z vertical (positive up; gravity acts as
   g + a_z in every model, docs/equations.md "Vertical ground motion");
-- ``rhs_end(tau, y, P, F, out)``: the same right-hand side, which also leaves in spare
-  entries of ``P`` what ``contact`` reads (trigonometry of the state): called for the
-  derivative at a step end (the stepper's last evaluation, FSAL), at an event and after an
-  impact, the states the monitors see; the inner stages call ``rhs``, which stores
-  nothing (the monitors cost no stores there);
 - ``impact(y, P)``: the impact map applied where the tilt crosses zero (2D: rate × e and the
   pivot changes side), for models whose layout asks for impacts;
 - ``energy(y, P)``: the rocking energy above rest per unit mass [J/kg] (rest criterion);
@@ -26,8 +21,8 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
 - ``contact(tau, y, f, P, F, cf)``: the force the support supplies, from the state ``y``
   and its derivative ``f``: ``cf = (N, |F_h|)`` in units of the weight m g (the validity
   monitors: N < 0 is lift-off, μ_req = |F_h|/N the friction needed; :func:`watch`). The
-  driver calls it right after ``rhs_end`` was evaluated at ``y`` (the last evaluation), so
-  a model may read trigonometry ``rhs_end`` left in spare entries of ``P``;
+  driver calls it right after ``rhs`` was evaluated at ``y`` (the last evaluation), so a
+  model may read trigonometry its ``rhs`` left in spare entries of ``P``;
 - ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`).
 
 The model's compiled entry point calls :func:`integrate` with its hooks as module-level
@@ -310,12 +305,12 @@ def outcome(kind, rest_now, until_peak, lvl_code):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def land(step, rhs, rhs_end, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, ys, fs, kind, s,
+def land(step, rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, ys, fs, kind, s,
          i_thd, lvl):
     """State ``ys`` at fraction ``s`` of the step by a genuine step of length s·h; a threshold
     is refined by up to three Newton steps. Returns the final fraction."""
     for _ in range(4):
-        step(rhs, rhs_end, factor, solve, tab, tau, y, f0, s * h, P, F, tol, W, LA, ys, fs)
+        step(rhs, factor, solve, tab, tau, y, f0, s * h, P, F, tol, W, LA, ys, fs)
         if kind != _THRESHOLD:
             return s
         s_next = newton_fraction(s, ys, P[0], i_thd, lvl, h)
@@ -326,8 +321,8 @@ def land(step, rhs, rhs_end, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, contact, factor,
-              solve, step, run):
+def integrate(rhs, impact, energy, bound_energy, output, observe, contact, factor, solve, step,
+              run):
     """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
 
     ``run = (P, ax, ay, az, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl,
@@ -366,9 +361,9 @@ def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, conta
     k_last, tau_last = last_interval(ax.size, dt, t_offset, t_end)
     k, tau = k0, tau0
     set_forcing(F, ax, ay, az, k, dt)
-    rhs_end(tau, y, P, F, f0)
+    rhs(tau, y, P, F, f0)
     theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
-    watch(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)  # right after rhs_end(y)
+    watch(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)  # right after rhs(y)
     h_min = 32.0 * EPS * dt
     h = initial_step(rhs, ctrl[C_ORDER], tau, y, f0, P, F, tol, dt, W[0], W[1])
     if history:
@@ -394,8 +389,7 @@ def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, conta
             break
         last = h >= tau_end - tau
         h_try = tau_end - tau if last else h
-        err = step(rhs, rhs_end, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA, y_new,
-                   f_new)
+        err = step(rhs, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA, y_new, f_new)
         fail = step_failure(err, y_new[0], layout[L_POSITIVE])
         if fail != 0:
             n_rej += 1
@@ -408,7 +402,7 @@ def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, conta
             continue
         n_steps += 1
         if ctrl[C_END_DERIVATIVE] == 0.0:  # the stepper does not return the end derivative
-            rhs_end(tau + h_try, y_new, P, F, f_new)
+            rhs(tau + h_try, y_new, P, F, f_new)
         observe(y_new, P, diag)
         t0 = t_offset + k * dt + tau
         sg = P[0]
@@ -419,11 +413,11 @@ def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, conta
         action = 0
         for j in range(n_ev):
             kind = k_a if j == 0 else k_b
-            s = land(step, rhs, rhs_end, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA,
-                     ys, fs, kind, s_a if j == 0 else s_b, i_thd, lvl)
+            s = land(step, rhs, factor, solve, tab, tau, y, f0, h_try, P, F, tol, W, LA, ys,
+                     fs, kind, s_a if j == 0 else s_b, i_thd, lvl)
             t_ev = t0 + s * h_try
             if ctrl[C_END_DERIVATIVE] == 0.0:
-                rhs_end(tau + s * h_try, ys, P, F, fs)
+                rhs(tau + s * h_try, ys, P, F, fs)
             watch(contact, tau + s * h_try, ys, fs, P, F, cf, mon, t_ev, row, nout)
             rest_now = False
             if kind == _THRESHOLD:  # landed within rounding of the level: put it there
@@ -457,7 +451,7 @@ def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, conta
                 tau += s * h_try
                 t_stop = t_ev
                 if action == 2:  # after the impact: the new pivot's derivative and force
-                    rhs_end(tau, y, P, F, f0)
+                    rhs(tau, y, P, F, f0)
                     watch(contact, tau, y, f0, P, F, cf, mon, t_ev, row, nout)
                 if history:
                     output(y, P, row)
@@ -470,7 +464,7 @@ def integrate(rhs, rhs_end, impact, energy, bound_energy, output, observe, conta
         if abs(y_new[0]) > theta_max:
             theta_max, t_theta_max = abs(y_new[0]), t0 + h_try
         if n_ev > 0:  # the landings evaluated rhs elsewhere: back at the step end
-            rhs_end(tau + h_try, y_new, P, F, f_new)
+            rhs(tau + h_try, y_new, P, F, f_new)
         watch(contact, tau + h_try, y_new, f_new, P, F, cf, mon, t0 + h_try, row, nout)
         for i in range(n):
             y[i] = y_new[i]

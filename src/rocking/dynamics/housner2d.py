@@ -41,7 +41,7 @@ STATE = ("theta", "theta_dot")
 
 def params(body: Block | Cylinder, side: float = 1.0) -> np.ndarray:
     """Kernel parameters [side σ, p², sin α, cos α, g, e, κo, R, 1/g], then two entries
-    where :func:`rhs_end` leaves sin(σα − θ), cos(σα − θ) of its last evaluation for
+    where :func:`rhs` leaves sin(σα − θ), cos(σα − θ) of its last evaluation for
     :func:`contact` (never read back by :func:`rhs`)."""
     return np.array([1.0 if side >= 0 else -1.0, G / (body.kappa_o * body.R),
                      math.sin(body.alpha), math.cos(body.alpha), G, body.e, body.kappa_o,
@@ -53,11 +53,10 @@ def tolerances(body: Block | Cylinder) -> tuple[np.ndarray, np.ndarray]:
     return np.array([1e-6 * body.alpha, 1e-6 * body.p * body.alpha]), np.zeros(2)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def _rhs(tau, y, P, F, out, keep):
+@njit(cache=True, error_model="numpy")
+def rhs(tau, y, P, F, out):
     """Right-hand side on pivot side P[0] = ±1, ground acceleration F[0] + F[2] τ, vertical
-    F[4] + F[5] τ; ``keep`` (a constant of each compiled caller) leaves sin(σα − θ),
-    cos(σα − θ) in ``P[9:11]`` for :func:`contact`."""
+    F[4] + F[5] τ."""
     th = y[0]
     side, p2, s, c, g = P[0], P[1], P[2], P[3], P[4]
     a = F[0] + F[2] * tau
@@ -68,22 +67,8 @@ def _rhs(tau, y, P, F, out, keep):
     cam = c * ct + side * s * st  # cos(α σ − θ)
     out[0] = y[1]
     out[1] = -p2 * (gr * sam + cam * a / g)
-    if keep:
-        P[9] = sam
-        P[10] = cam
-
-
-@njit(cache=True, error_model="numpy")
-def rhs(tau, y, P, F, out):
-    """Right-hand side (:func:`_rhs`) at an inner stage of a step: nothing kept."""
-    _rhs(tau, y, P, F, out, False)
-
-
-@njit(cache=True, error_model="numpy")
-def rhs_end(tau, y, P, F, out):
-    """Right-hand side (:func:`_rhs`) where the monitors look next (the driver's
-    ``rhs_end``): sin ψ, cos ψ kept for :func:`contact`."""
-    _rhs(tau, y, P, F, out, True)
+    P[9] = sam
+    P[10] = cam
 
 
 @njit(cache=True, error_model="numpy")
@@ -94,7 +79,7 @@ def impact(y, P):
     P[0] = -P[0]
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def contact(tau, y, f, P, F, cf):
     """Support force per unit weight between impacts: ``cf = (N, |F|)``.
 
@@ -104,7 +89,7 @@ def contact(tau, y, f, P, F, cf):
     supplies m (a_ground + that) + m g ẑ (docs/equations.md, "Validity monitors")."""
     thd, thdd = y[1], f[1]
     g, R = P[4], P[7]
-    sam, cam = P[9], P[10]  # sin ψ, cos ψ left by rhs_end at y (the driver's last call)
+    sam, cam = P[9], P[10]  # sin ψ, cos ψ left by rhs at y (the driver's last evaluation)
     cf[0] = (g + F[4] + F[5] * tau + R * (sam * thdd - cam * thd * thd)) / g
     cf[1] = abs(F[0] + F[2] * tau + R * (cam * thdd + sam * thd * thd)) / g
 
@@ -128,7 +113,7 @@ def rocking_energy(y, P):
 @njit(cache=True, error_model="numpy")
 def integrate(run):
     """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
-    return driver.integrate(rhs, rhs_end, impact, rocking_energy, rocking_energy, output,
+    return driver.integrate(rhs, impact, rocking_energy, rocking_energy, output,
                             driver.no_observe, contact, driver.no_factor, driver.no_solve,
                             rk_step, run)
 
