@@ -58,7 +58,8 @@ for line in sys.stdin:
 of case ``i`` per line read; written against the API every compared tree has."""
 
 
-def _this_tree() -> str:
+def this_tree() -> str:
+    """The ``src`` folder this package is imported from."""
     return str(Path(__file__).resolve().parents[2])
 
 
@@ -123,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
         if not sep or not Path(path, "rocking").is_dir():
             parser.error(f"--tree must be NAME=DIR with DIR/rocking a package, got {spec!r}")
         trees[name] = path
-    trees.setdefault("this", _this_tree())
+    trees.setdefault("this", this_tree())
     df, loads = measure(trees, args.rounds, args.repeats)
     when = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     notes = (
