@@ -10,7 +10,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in {"-h", "--help"}:
         print("usage: python -m rocking.benchmarks "
-              "{dynamics,damped,motions,spectra,resolution,micro,coldstart,paper_cost} [options]")
+              "{dynamics,damped,motions,spectra,resolution,micro,coldstart,paper_cost,"
+              "monitors} [options]")
         return 0 if argv else 2
     name, rest = argv[0], argv[1:]
     try:
