@@ -134,3 +134,22 @@ def test_the_motions_digest_covers_the_vertical(tmp_path):
     digest_path(b).write_text(digest_path(a).read_text().replace("a.nc", "b.nc"))
     with pytest.raises(MotionsDigestError, match="b.nc"):
         load_ensemble(b)
+
+
+def test_load_motion_of_an_ensemble_keeps_its_vertical_and_refuses_one_for_a_synthetic_pair(
+        tmp_path):
+    """A motion of an ensemble comes as stored (the record with its vertical); asking for
+    the vertical of a synthetic pair, whose horizontals are simulated, is one line."""
+    from rocking.motions.source import load_motion
+
+    motions = _vertical_motions()
+    path = save_ensemble(tmp_path / "v.nc", motions)
+    got = load_motion(ensemble=path)
+    assert got.samples_sha256 == motions[0].samples_sha256 and got.has_vertical
+    assert load_motion(ensemble=path, vertical=True).samples_sha256 == got.samples_sha256
+    assert load_motion(ensemble=path, motion="syn-001").az is None
+    with pytest.raises(ValueError, match="'syn-001' .* is a synthetic pair, whose horizontals "
+                                         "are simulated: it has no vertical component"):
+        load_motion(ensemble=path, motion="syn-001", vertical=True)
+    with pytest.raises(ValueError, match="not both"):
+        load_motion(ensemble=path, motion="syn-001", files=["z.AT2"])
