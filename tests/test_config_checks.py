@@ -226,3 +226,72 @@ def test_bad_dimensions_are_one_line(study, message):
     with pytest.raises(ValueError) as err:
         validate_config(_column(**study), REPO / "workflow/schemas/config.schema.yaml", validate)
     assert str(err.value).startswith(message) and "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("given", "message"),
+    [
+        ({"record": "loma-prieta-sjte", "vertical": True},
+         "ensembles.elcentro.vertical: true for record 'loma-prieta-sjte', which ships no "
+         "files"),
+        ({"records": [{"record": "el-centro-1940"},
+                      {"record": "fema-p695:far-field:1", "vertical": True}]},
+         "ensembles.elcentro.records[1].vertical: true for FEMA P-695 record"),
+        ({"record": "site", "mw": 6.0, "vertical": True, "paths": ["x", "y"]},
+         "ensembles.elcentro.vertical: true but ensembles.elcentro.paths=['x', 'y'] has no "
+         "vertical file"),
+        ({"record": "site", "mw": 6.0, "paths": ["x", "y", "z"]},
+         "ensembles.elcentro.paths=['x', 'y', 'z']: the third file is the vertical "
+         "component; set ensembles.elcentro.vertical: true"),
+        ({"record": "site", "mw": 6.0, "vertical": True, "paths": ["x", "y", "z2"]},
+         "vertical file z2.AT2: dt 0.02 s differs from the horizontal pair's 0.01 s"),
+        ({"record": "site", "mw": 6.0, "vertical": True, "paths": ["x", "y", "zlong"]},
+         "vertical file zlong.AT2: 12 samples against 3 of the horizontal pair"),
+        ({"record": "site", "mw": 6.0, "vertical": "yes", "paths": ["x", "y", "z"]},
+         "ensembles.elcentro.vertical must be true or false, got 'yes'"),
+    ],
+    ids=["record-without-vertical-file", "fema-without-vertical", "two-paths",
+         "three-paths-not-vertical", "vertical-other-dt", "vertical-other-length",
+         "not-a-boolean"],
+)
+def test_vertical_bad_input_is_one_line_before_work(given, message, tmp_path):
+    """``vertical: true`` for a record with no vertical file, three files without it, and a
+    third file of another time step or length: one line naming the key, in the checks
+    every dry run makes (the third file is read as the motions rule reads it)."""
+    files = {"x": _at2(tmp_path / "x.AT2", [0.1, 0.2, 0.3]),
+             "y": _at2(tmp_path / "y.AT2", [0.2, 0.1, 0.3]),
+             "z": _at2(tmp_path / "z.AT2", [0.01, 0.05, 0.02]),
+             "z2": _at2(tmp_path / "z2.AT2", [0.01, 0.05, 0.02], dt=".0200"),
+             "zlong": _at2(tmp_path / "zlong.AT2", [0.01] * 12)}
+    if "paths" in given:
+        given = {**given, "paths": [files[k] for k in given["paths"]]}
+        message = message.replace("['x', 'y']", repr([files["x"], files["y"]])).replace(
+            "['x', 'y', 'z']", repr([files["x"], files["y"], files["z"]]))
+    cfg = _cfg(lambda c: None)
+    cfg["ensembles"]["elcentro"] = given
+    with pytest.raises(ValueError) as err:
+        check_config(cfg)
+    assert message in str(err.value) and "\n" not in str(err.value)
+
+
+def test_vertical_true_passes_for_the_shipped_records_and_three_files(tmp_path):
+    """The four shipped records have their UP/DWN file; three files of one dt and length
+    pass; the spec keeps the flag per record of a suite."""
+    from rocking.study.spec import EnsembleSpec
+
+    cfg = _cfg(lambda c: None)
+    cfg["ensembles"]["elcentro"] = {
+        "records": ["el-centro-1940", "loma-prieta-corralitos", "northridge-05-sylmar-1994",
+                    {"record": "site", "highpass": "none", "vertical": False,
+                     "paths": [_at2(tmp_path / "x.AT2", [0.1, 0.2, 0.3]),
+                               _at2(tmp_path / "y.AT2", [0.2, 0.1, 0.3])]},
+                    {"record": "site-v", "highpass": "none",
+                     "paths": [_at2(tmp_path / "x.AT2", [0.1, 0.2, 0.3]),
+                               _at2(tmp_path / "y.AT2", [0.2, 0.1, 0.3]),
+                               _at2(tmp_path / "z.AT2", [0.0, 0.1, 0.0])]},
+                    "san-fernando-pacoima-dam-1971"],
+        "vertical": True, "n_synthetic": 0}
+    check_config(cfg)
+    spec = EnsembleSpec.from_config(cfg, "elcentro")
+    assert [r.vertical for r in spec.records] == [True, True, True, False, True, True]
+    assert EnsembleSpec.from_attrs(spec.to_attrs()) == spec

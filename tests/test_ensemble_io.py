@@ -80,21 +80,76 @@ def test_bad_input(tmp_path: Path) -> None:
         load_ensemble(tmp_path / "absent.nc")
 
 
-def test_a_vertical_component_is_refused_not_dropped(tmp_path):
-    """The ensemble format holds the horizontal pair: a motion with a vertical component is
-    refused in one line (saving it would silently change every answer that uses az)."""
-    import numpy as np
-    import pytest
+def _vertical_motions() -> list[GroundMotion]:
+    """A record with its vertical (El Centro's UP file, rotated), a horizontal pair (as a
+    synthetic pair is), and a shorter motion whose vertical is all zeros (not None)."""
+    record, _ = to_principal_axes(load_record("el-centro-1940", vertical=True))
+    t = np.arange(301) * 0.01
+    pair = GroundMotion(np.sin(t), np.cos(2 * t), 0.01, "syn-001", {"generator": "rdk"})
+    flat = GroundMotion(np.sin(t[:50]), None, 0.01, "flat", {}, np.zeros(50))
+    return [record, pair, flat]
 
-    from rocking.motions.ensemble_io import load_ensemble, save_ensemble
-    from rocking.motions.motion import GroundMotion
 
-    t = np.arange(200) * 0.01
-    m = GroundMotion(np.sin(t), np.cos(t), 0.01, "v", az=0.5 * np.sin(3 * t))
-    with pytest.raises(ValueError, match="'v' has a vertical component"):
-        save_ensemble(tmp_path / "e.nc", [m])
-    assert not (tmp_path / "e.nc").exists()
-    save_ensemble(tmp_path / "e.nc", [m.horizontal()])
-    (back,) = load_ensemble(tmp_path / "e.nc")
-    np.testing.assert_array_equal(back.ax, m.ax)
-    assert back.az is None
+def test_vertical_component_round_trips_bit_for_bit(tmp_path):
+    """The format holds az where a motion has one, and None stays None (a synthetic pair
+    is horizontal); every motion reads back with the samples_sha256 it was written with."""
+    motions = _vertical_motions()
+    assert motions[0].has_vertical
+    path = save_ensemble(tmp_path / "v.nc", motions)
+    loaded = load_ensemble(path)
+    for got, want in zip(loaded, motions, strict=True):
+        assert (got.az is None) == (want.az is None), want.name
+        if want.az is not None:
+            np.testing.assert_array_equal(got.az, want.az)
+        assert got.samples_sha256 == want.samples_sha256
+    with xr.open_dataset(path) as ds:
+        assert ds["az"].attrs["units"] == "m s-2"
+        assert list(ds["has_az"].values) == [1, 0, 1]
+        assert "vertical component" in str(ds["processing"].values[0])
+
+
+def test_horizontal_ensembles_keep_their_layout(tmp_path):
+    """A file of horizontal motions has no az: its bytes are what they always were, and
+    an older reader's layout is the layout."""
+    path = save_ensemble(tmp_path / "h.nc", _motions())
+    with xr.open_dataset(path) as ds:
+        assert "az" not in ds and "has_az" not in ds
+    assert all(m.az is None for m in load_ensemble(path))
+
+
+def test_the_motions_digest_covers_the_vertical(tmp_path):
+    """Two ensembles that differ only in the last bit of one vertical sample are two files
+    with two digests; a file whose az was changed after it was made is refused."""
+    from rocking.motions.ensemble_io import MotionsDigestError, digest_path
+
+    motions = _vertical_motions()
+    record = motions[0]
+    az = record.az.copy()
+    k = int(np.argmax(np.abs(az)))
+    az[k] = np.nextafter(az[k], np.inf)
+    nudged = GroundMotion(record.ax, record.ay, record.dt, record.name, record.metadata, az)
+    a = save_ensemble(tmp_path / "a.nc", motions)
+    b = save_ensemble(tmp_path / "b.nc", [nudged, *motions[1:]])
+    assert digest_path(a).read_text().split()[0] != digest_path(b).read_text().split()[0]
+    digest_path(b).write_text(digest_path(a).read_text().replace("a.nc", "b.nc"))
+    with pytest.raises(MotionsDigestError, match="b.nc"):
+        load_ensemble(b)
+
+
+def test_load_motion_of_an_ensemble_keeps_its_vertical_and_refuses_one_for_a_synthetic_pair(
+        tmp_path):
+    """A motion of an ensemble comes as stored (the record with its vertical); asking for
+    the vertical of a synthetic pair, whose horizontals are simulated, is one line."""
+    from rocking.motions.source import load_motion
+
+    motions = _vertical_motions()
+    path = save_ensemble(tmp_path / "v.nc", motions)
+    got = load_motion(ensemble=path)
+    assert got.samples_sha256 == motions[0].samples_sha256 and got.has_vertical
+    assert load_motion(ensemble=path, vertical=True).samples_sha256 == got.samples_sha256
+    assert load_motion(ensemble=path, motion="syn-001").az is None
+    with pytest.raises(ValueError, match="'syn-001' .* is a synthetic pair, whose horizontals "
+                                         "are simulated: it has no vertical component"):
+        load_motion(ensemble=path, motion="syn-001", vertical=True)
+    with pytest.raises(ValueError, match="not both"):
+        load_motion(ensemble=path, motion="syn-001", files=["z.AT2"])

@@ -76,3 +76,19 @@ def test_bad_arguments(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="fit_method"):
         build_ensemble(motion, 0, 1, fit_method="zeros")
     assert main(["motions", "-o", str(tmp_path / "x.csv")]) == 2
+
+
+def test_cli_vertical_keeps_the_records_vertical(tmp_path: Path) -> None:
+    """``--vertical``: the record is stored with its UP file, rotated about z and high-passed
+    like x and y (checked against the same steps done here); three files say the same."""
+    out = tmp_path / "v.nc"
+    assert main(["motions", "--record", "el-centro-1940", "--vertical", "-n", "0",
+                 "--max-duration", "3", "-q", "-o", str(out)]) == 0
+    (record,) = load_ensemble(out)
+    rotated, _ = to_principal_axes(load_record("el-centro-1940", vertical=True))
+    expected = highpass_motion(rotated, "oscillator", brune_corner(6.95))
+    n = record.npts
+    np.testing.assert_array_equal(record.az, expected.az[:n])
+    np.testing.assert_array_equal(record.ax, expected.ax[:n])
+    with pytest.raises(ValueError, match="three files"):
+        read_motion("el-centro-1940", ["x.AT2", "y.AT2"], vertical=True)

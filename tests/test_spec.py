@@ -70,8 +70,11 @@ def _legacy_spectra_spec(config: dict, study: str) -> dict:
     if "3d-damped" in plan.modes:
         options.update(omega_n=float(config["damped"]["omega_n"]),
                        zeta=float(config["damped"]["zeta"]))
+    # the schema's later default vertical: false was never hashed (only vertical: true is)
+    ensemble = {k: v for k, v in config["ensembles"][name].items()
+                if not (k == "vertical" and v is False)}
     return {"study": study,
-            "ensemble": {"name": name, **config["ensembles"][name],
+            "ensemble": {"name": name, **ensemble,
                          "max_duration": config["motions"]["max_duration"]},
             "R": _legacy_grid(s["R"], ""), **plan.to_dict(), "tan_alpha": list(plan.tan_alpha),
             "limit_states": list(plan.limit_states), "modes": list(plan.modes),

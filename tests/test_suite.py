@@ -82,6 +82,7 @@ def test_one_record_is_a_suite_of_one():
 @pytest.mark.parametrize("path, value", [
     ("highpass", "none"), ("fc_hz", 0.3), ("records.1.highpass", "oscillator"),
     ("records.2.fc_hz", 0.5), ("records.0.n_synthetic", 3), ("records.2.rotation_deg", 10.0),
+    ("vertical", True), ("records.1.vertical", True),
 ])
 def test_every_processing_setting_changes_the_stores_hash(path, value):
     before = StudySpec.from_config(_suite_config(), "st").spectra.digest
@@ -549,3 +550,22 @@ def test_suite_fragility_censors_at_the_bound_in_every_measure():
     # one synthetic motion: no fit, said so
     syn = frag[frag.motions == "synthetic"]
     assert set(syn["status"]) == {"too-few-observed"} and set(syn["n"]) == {1}
+
+
+def test_a_suite_carries_the_vertical_of_the_records_that_ask_for_it(tmp_path):
+    """Per-record vertical: the motions rule's reading (read_motion) and build_suite keep
+    the vertical of the records built with it, processed like x and y, and none elsewhere;
+    the ensemble file round-trips both."""
+    from rocking.motions.build import read_motion
+    from rocking.motions.ensemble_io import load_ensemble, save_ensemble
+
+    settings = {"n_synthetic": 0, "seed": 1, "mw": None, "rotation_deg": "auto",
+                "highpass": "oscillator", "fc_hz": None}
+    sfe = read_motion("san-fernando-pacoima-dam-1971", vertical=True)
+    elc = read_motion("el-centro-1940")
+    build = build_suite([(sfe, settings), (elc, settings)], max_duration=5.0)
+    alone = build_ensemble(sfe, 0, 1, max_duration=5.0).motions[0]
+    assert alone.has_vertical and build.motions[1].az is None
+    np.testing.assert_array_equal(build.motions[0].az, alone.az)
+    back = load_ensemble(save_ensemble(tmp_path / "s.nc", build.motions))
+    assert [m.samples_sha256 for m in back] == [m.samples_sha256 for m in build.motions]

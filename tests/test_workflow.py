@@ -337,11 +337,20 @@ def test_dry_run_plans_every_rule(config, tmp_path):
         (lambda c: c["ensembles"]["tiny"].update(
             record="my-pair", paths=[str(package_record(ELC180)), str(package_record(ELC270))]),
          "ensembles.tiny.mw is needed: record 'my-pair' is not in the catalogue"),
+        (lambda c: c["ensembles"]["tiny"].update(record="loma-prieta-sjte", vertical=True),
+         "ensembles.tiny.vertical: true for record 'loma-prieta-sjte', which ships no files"),
+        (lambda c: c["ensembles"]["tiny"].update(
+            record="my-pair", vertical=True,
+            paths=[str(package_record(f)) for f in (ELC180, ELC270,
+                                                    "RSN753_LOMAP_CLS-UP.AT2")]),
+         "vertical file RSN753_LOMAP_CLS-UP.AT2: dt 0.005 s differs from the horizontal "
+         "pair's 0.01 s"),
     ],
     ids=["unknown-key", "unknown-top-level-key", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
          "missing-ensemble", "missing-hazard-file", "hazard-measure-not-fitted", "nan-grid",
-         "inf-grid", "tilt-map-motion", "max-duration", "huge-grid", "user-record-without-mw"],
+         "inf-grid", "tilt-map-motion", "max-duration", "huge-grid", "user-record-without-mw",
+         "vertical-without-file", "vertical-other-dt"],
 )
 def test_invalid_config_stops_before_any_work(change, message, tmp_path):
     cfg = json.loads(json.dumps(TINY))

@@ -86,6 +86,8 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     # ground motions
     "ax": ("m s-2", "m/s2", "ground acceleration along x"),
     "ay": ("m s-2", "m/s2", "ground acceleration along y"),
+    "az": ("m s-2", "m/s2", "vertical ground acceleration, positive up"),
+    "has_az": ("1", "", "1 where the motion carries a vertical component (az), 0 where not"),
     "dt": ("s", "s", "time step"),
     "npts": ("1", "", "samples of the motion (the rest of the row is padding)"),
     "metadata": ("1", "", "provenance of the motion as JSON text"),

@@ -42,13 +42,14 @@ def main(snakemake):
             say(message)
 
         if spec.get("records"):
-            records = [(read_motion(r["record"], r["paths"], units=r["units"], dt=r["dt"]),
+            records = [(read_motion(r["record"], r["paths"], units=r["units"], dt=r["dt"],
+                                    vertical=r.get("vertical", False)),
                         {k: r[k] for k in SUITE_RECORD_KEYS}) for r in spec["records"]]
             build = build_suite(records, fit_method=spec["fit_method"],
                                 max_duration=spec["max_duration"], progress=said)
         else:
             motion = read_motion(spec["record"], spec["paths"], units=spec["units"],
-                                 dt=spec["dt"])
+                                 dt=spec["dt"], vertical=spec.get("vertical", False))
             build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
                                    rotation=spec["rotation_deg"], highpass=spec["highpass"],
                                    fc_hz=spec["fc_hz"], mw=spec["mw"],

@@ -33,6 +33,9 @@ def add_parser(subparsers) -> None:
     _common.add_motion_source(p, ensemble=False)
     p.add_argument("--name", default=None,
                    help="motion name for --files without --record (default: the file stems)")
+    p.add_argument("--vertical", action="store_true",
+                   help="with --record: keep its vertical component (UP/DWN file) in the "
+                   "record; three --files (x y z) imply it. Synthetic pairs stay horizontal")
     p.add_argument("-n", "--n-synthetic", type=int, default=10, help="synthetic pairs")
     p.add_argument("--seed", type=int, default=2017, help="root seed")
     _common.add_processing(p, rotation_default="auto", highpass_default="oscillator")
@@ -76,7 +79,8 @@ def run(args) -> int:
                          "(its fit needs them); give 'auto' or the forced offset [deg]")
     record = args.record if (args.record or args.files) else "el-centro-1940"
     motion = load_motion(record, args.files, name=args.name,
-                         order_by_azimuth=args.order_by_azimuth, dt=args.dt, units=args.units)
+                         order_by_azimuth=args.order_by_azimuth, dt=args.dt, units=args.units,
+                         vertical=args.vertical)
     from ..study.config_checks import check_ensemble_size, check_magnitude
 
     check_ensemble_size("--n-synthetic", args.n_synthetic, motion.npts)

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from .._validate import positive_finite
+from ..constants import G
 from .catalogue import load_record, loma_prieta_pair
 from .highpass import brune_corner, highpass_motion
 from .motion import GroundMotion
@@ -70,21 +71,31 @@ class EnsembleBuild:
 
 def read_motion(
     record: str | None = None, paths: list[str | Path] | None = None, name: str | None = None,
-    *, units: str = "g", dt: float | None = None,
+    *, units: str = "g", dt: float | None = None, vertical: bool = False,
 ) -> GroundMotion:
     """The recorded pair: a named record, or two files (x, y) in ``units`` (one-column
-    text files need their time step ``dt`` [s]).
+    text files need their time step ``dt`` [s]); with ``vertical``, also its vertical
+    component (the named record's ``UP``/``DWN`` file, or the third of three ``paths``).
 
     ``"loma-prieta-sjte"`` without ``paths`` gives the labelled Corralitos stand-in
-    (:func:`rocking.motions.catalogue.loma_prieta_pair`).
+    (:func:`rocking.motions.catalogue.loma_prieta_pair`), which has no vertical.
     """
+    if paths is not None and len(paths) == 3 and not vertical:
+        raise ValueError(f"three files {list(paths)!r}: the third is the vertical component; "
+                         "give vertical=True, or two files")
+    if vertical and paths is not None and len(paths) != 3:
+        raise ValueError(f"vertical=True needs three files (x, y, z), got {list(paths)!r}")
     if record == "loma-prieta-sjte":
+        if vertical and paths is None:
+            raise ValueError("vertical=True: record 'loma-prieta-sjte' ships no files (its "
+                             "stand-in is horizontal); give its three files x, y, z")
         return loma_prieta_pair(paths)
     if record is None:
         if not paths:
             raise ValueError("give a record name or two component files")
-        return load_record(name or Path(paths[0]).stem, paths, units=units, dt=dt)
-    return load_record(record, paths, units=units, dt=dt)
+        return load_record(name or Path(paths[0]).stem, paths, units=units, dt=dt,
+                           vertical=vertical)
+    return load_record(record, paths, units=units, dt=dt, vertical=vertical)
 
 
 def build_ensemble(
@@ -179,6 +190,9 @@ def build_ensemble(
     # the record's own PGA before any processing: the per-record table's "as recorded"
     rotated = GroundMotion(rotated.ax, rotated.ay, rotated.dt, rotated.name,
                            {**rotated.metadata, "recorded_pga_g": motion.pga_g}, rotated.az)
+    if rotated.az is not None:
+        say(f"{motion.name}: with its vertical component (peak {motion.pga_vertical / G:.3f} g)"
+            + ("; its synthetic pairs are horizontal" if n > 0 else ""))
     record = rotated
     if highpass != "none":
         record = highpass_motion(rotated, highpass, fc_hz, order)

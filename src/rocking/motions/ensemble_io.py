@@ -6,6 +6,13 @@ the longest motion, ``npts`` (motion) giving each motion's own length, ``dt`` (m
 ``motion`` with the names (unique). Float64 values are stored as they are, so the round trip
 is lossless; metadata comes back as JSON does (tuples as lists, numpy scalars as numbers).
 
+A file whose motions include one with a vertical component (a record of an ensemble with
+``vertical: true``; synthetic pairs stay horizontal) also holds ``az`` (motion, time) [m/s²,
+positive up] and ``has_az`` (motion, 1 where the motion carries a vertical component, 0
+where it has none: its row of ``az`` is zeros). A file without them is read as before
+(every motion horizontal), and a file of horizontal motions is written without them, byte
+for byte as before. The file's digest (below) covers ``az`` like every other variable.
+
 Each motion's identity is also stored in plain variables over ``motion``, readable without
 parsing JSON (:func:`rocking.motions.identity.identity`): ``source_record`` (the recorded pair
 it comes from: in a suite, which record), ``kind`` (``record`` or ``synthetic``), ``processing``
@@ -171,8 +178,7 @@ def save_ensemble(
     ------
     ValueError
         No motions, a non-GroundMotion item, duplicate names, metadata that JSON cannot
-        encode (naming the motion), or a motion with a vertical component (the format holds
-        the horizontal pair only: it is refused rather than silently dropped).
+        encode (naming the motion).
     """
     motions = list(motions)
     if not motions:
@@ -180,10 +186,6 @@ def save_ensemble(
     for i, m in enumerate(motions):
         if not isinstance(m, GroundMotion):
             raise ValueError(f"motions[{i}] must be a GroundMotion, got {type(m).__name__}")
-        if m.has_vertical:
-            raise ValueError(f"motion {m.name!r} has a vertical component, which an ensemble "
-                             f"file ({FORMAT}) does not hold; save m.horizontal() to keep the "
-                             "horizontal pair only")
     names = [m.name for m in motions]
     dupes = sorted({n for n in names if names.count(n) > 1})
     if dupes:
@@ -211,6 +213,7 @@ def save_ensemble(
             **{k: ("motion", np.array([i[k] for i in ids],
                                       dtype=object if k in _TEXT else float), _attrs(k))
                for k in IDENTITY},
+            **_vertical_variables(motions, n_max),
         },
         coords={"motion": ("motion", np.array(names, dtype=object), _attrs("motion"))},
         attrs={
@@ -233,6 +236,20 @@ def save_ensemble(
     return out
 
 
+def _vertical_variables(motions: Sequence[GroundMotion], n_max: int) -> dict[str, Any]:
+    """``az`` and ``has_az`` when some motion carries a vertical component, else nothing
+    (a horizontal ensemble's file stays as it was)."""
+    if all(m.az is None for m in motions):
+        return {}
+    az = np.zeros((len(motions), n_max))
+    for i, m in enumerate(motions):
+        if m.az is not None:
+            az[i, : m.npts] = m.az
+    has = np.array([m.az is not None for m in motions], dtype=np.int8)
+    return {"az": (("motion", "time"), az, _attrs("az")),
+            "has_az": ("motion", has, _attrs("has_az"))}
+
+
 def load_ensemble(path: str | Path) -> list[GroundMotion]:
     """Read motions written by :func:`save_ensemble`, in the stored order.
 
@@ -244,7 +261,8 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
     Returns
     -------
     list of GroundMotion
-        Each cut to its own ``npts``, with its ``dt``, name and metadata.
+        Each cut to its own ``npts``, with its ``dt``, name and metadata, and its vertical
+        component where the file holds one for it (``has_az``).
 
     Raises
     ------
@@ -265,6 +283,11 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
         dts = ds["dt"].values
         metas = ds["metadata"].values
         names = ds["motion"].values
+        # files written before the format held a vertical component: every motion horizontal
+        az = ds["az"].values if "az" in ds else None
+        has_az = ds["has_az"].values if "has_az" in ds else np.zeros(len(names), np.int8)
+    if az is not None and az.shape != ax.shape:
+        raise ValueError(f"{p}: az has shape {az.shape}, ax {ax.shape}")
     out = []
     for i, name in enumerate(names):
         n = int(npts[i])
@@ -273,7 +296,8 @@ def load_ensemble(path: str | Path) -> list[GroundMotion]:
         if not math.isfinite(float(dts[i])):
             raise ValueError(f"{p}: dt of motion {name!r} is {dts[i]!r}")
         out.append(
-            GroundMotion(ax[i, :n], ay[i, :n], float(dts[i]), str(name), json.loads(metas[i]))
+            GroundMotion(ax[i, :n], ay[i, :n], float(dts[i]), str(name), json.loads(metas[i]),
+                         az[i, :n] if az is not None and has_az[i] else None)
         )
     return out
 

@@ -58,7 +58,9 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         ``"gal"`` (:func:`rocking.motions.readers.read_record`).
     vertical : bool
         With the vertical component: the named record's shipped ``UP``/``DWN`` file
-        (:func:`rocking.motions.catalogue.load_record`); implied by three ``files``.
+        (:func:`rocking.motions.catalogue.load_record`); implied by three ``files``. A
+        motion of an ``ensemble`` comes as stored (with the vertical component of a record
+        built with ``vertical: true``); True there requires one (a synthetic pair has none).
 
     Returns
     -------
@@ -73,9 +75,6 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         A file that does not exist.
     """
     files = list(files or [])
-    if vertical and ensemble is not None:
-        raise ValueError("vertical=True: the motions of an ensemble file carry no vertical "
-                         "component (synthetic pairs are horizontal)")
     if vertical and files and len(files) != 3:
         raise ValueError(f"vertical=True needs three files (x, y, z), got {len(files)}")
     if ensemble is not None:
@@ -84,7 +83,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         if units != "g":
             raise ValueError(f"units={units!r} is the unit of acceleration files; a motion of "
                              "an ensemble file is stored in m/s²")
-        return _from_ensemble(Path(ensemble), motion)
+        return _from_ensemble(Path(ensemble), motion, vertical)
     if motion is not None:
         raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
     from .catalogue import load_record, loma_prieta_pair
@@ -119,17 +118,24 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
                      f"{files!r}")
 
 
-def _from_ensemble(path: Path, name: str | None) -> GroundMotion:
+def _from_ensemble(path: Path, name: str | None, vertical: bool = False) -> GroundMotion:
     from .ensemble_io import load_ensemble
 
     motions = load_ensemble(path)
-    if name is None:
-        return motions[0]
     by_name = {m.name: m for m in motions}
-    if name not in by_name:
+    if name is not None and name not in by_name:
         raise ValueError(f"motion {name!r} is not in ensemble {str(path)!r}; it holds "
                          f"{list(by_name)}")
-    return by_name[name]
+    found = motions[0] if name is None else by_name[name]
+    if vertical and found.az is None:
+        if identity(found)["kind"] == "synthetic":
+            raise ValueError(f"vertical=True: motion {found.name!r} of {str(path)!r} is a "
+                             "synthetic pair, whose horizontals are simulated: it has no "
+                             "vertical component (synthetic pairs stay horizontal)")
+        raise ValueError(f"vertical=True: motion {found.name!r} of {str(path)!r} was stored "
+                         "without a vertical component (build the ensemble with vertical: "
+                         "true)")
+    return found
 
 
 def process_motion(motion: GroundMotion, *, rotation: float | str | None = None,

