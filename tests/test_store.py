@@ -85,14 +85,15 @@ def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
                         point = dict(mode=mode, motion=name, tan_alpha=ta, R=R,
                                      limit_state=s.name)
                         got = float(ds["pga_crit"].sel(point))
-                        want = standin.expected_intensity(R, ta, motion, mode, s.ratio)
+                        want = standin.expected_intensity(R, ta, motion, mode, s.severity[1])
                         if math.isnan(want):
                             n_nan += 1
                             assert math.isnan(got) and bool(ds["not_reached"].sel(point))
                         else:
                             assert got == want
                             assert not bool(ds["not_reached"].sel(point))
-                        assert bool(ds["non_monotonic"].sel(point)) == (R == 2.0 and s.ratio < 1)
+                        assert bool(ds["non_monotonic"].sel(point)) == (
+                            R == 2.0 and s.severity[1] < 1)
                         assert int(ds["n_analyses"].sel(point)) == int(3 + 2 * R)
     assert n_nan == 2 * 2 * 2  # overturning at R = 9 for every mode, motion and tan_alpha
     attrs = store.read_attrs(path)

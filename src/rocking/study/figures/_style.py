@@ -15,7 +15,7 @@ from typing import ParamSpec
 import matplotlib
 
 from ... import _json
-from ...spectra.limit_states import severity
+from ...spectra.limit_states import TILT_AXIS, severity
 from ...spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 
 # Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
@@ -55,8 +55,12 @@ figure that colours by goal."""
 
 def goal_color(limit_state: str) -> str:
     """The colour of a performance goal, the same in every figure and study: the paper's
-    goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r."""
-    r = severity(limit_state)
+    goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r; a goal
+    of the sliding axis a shade of brown by μ."""
+    axis, r = severity(limit_state)
+    if axis != TILT_AXIS:
+        return matplotlib.colors.to_hex(matplotlib.colormaps["copper"](
+            0.3 + 0.6 * min(r, 1.0)))
     for ratio, color in GOAL_COLORS.items():
         if abs(r - ratio) <= 1e-3 or r == ratio:
             return color
