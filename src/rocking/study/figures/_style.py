@@ -95,6 +95,15 @@ def unresolved_suffix(k: int, n: int, what: str = "answers") -> str:
     return f"; {k} of {n} {what} unresolved" if k else ""
 
 
+def validity_suffix(slides: int, n: int) -> str:
+    """Legend suffix counting a curve's answers whose analyses up to them needed more
+    friction than the study's μ (``"; 2 of 20 slide"``), empty when none or without μ
+    (docs/models.md, the validity flags). ``lifts_off`` is not counted here: nearly every
+    overturning answer carries it (a body falling over leaves its support), so in a legend it
+    would say nothing."""
+    return f"; {slides} of {n} slide" if slides else ""
+
+
 def styled(plot: Callable[P, Figure]) -> Callable[P, Figure]:
     """Decorator: run a ``plot`` function under the project's rc settings.
 
