@@ -212,3 +212,23 @@ def test_a_store_with_a_sliding_goal_carries_the_flags_to_its_tables(tmp_path):
     n = stats["n_slides"].sel(mode="2d-x", limit_state="sliding:0.22", tan_alpha=TAN_ALPHA,
                               R=1.0)
     assert int(n) == 1
+
+
+def test_the_report_counts_the_answers_that_slide_or_lift_off():
+    import xarray as xr
+
+    from rocking.study.report import validity_text
+
+    dims = ("mode", "limit_state", "motion")
+    lifts = np.zeros((2, 2, 3), dtype=bool)
+    lifts[0, 1, :] = True  # 3d overturning: every motion
+    slides = np.zeros((2, 2, 3))
+    slides[1, 0, 0] = 1.0
+    ds = xr.Dataset({"lifts_off": (dims, lifts), "slides": (dims, slides)},
+                    coords={"mode": ["3d", "2d-x"], "limit_state": ["tilt:1/3", "overturning"],
+                            "motion": ["a", "b", "c"]})
+    text = validity_text(ds, 0.6)
+    assert "μ = 0.6" in text and "3d: slides 0, lifts off 3 of 6" in text
+    assert "2d-x: slides 1, lifts off 0 of 6" in text
+    plain = validity_text(ds.assign(slides=xr.full_like(ds["slides"], np.nan)), None)
+    assert "sliding not checked" in plain and "slides" not in plain.split("—")[1]
