@@ -226,9 +226,11 @@ class CriticalResult:
                 f"{self.n_analyses} analyses)")
         rows = []
         for k, name in enumerate(self.limit_states):
+            # slides where μ was given (NaN says nothing); lifts_off is left to the tables
+            # (nearly every overturning answer carries it: a body falling leaves its support)
             flags = [f for f in ("not_reached", "non_monotonic", "failed", "unresolved",
-                                 "slides", "lifts_off")
-                     if getattr(self, f)[k] == 1]  # a NaN slides flag says nothing
+                                 "slides")
+                     if getattr(self, f)[k] == 1]
             rows.append(f"  {name}: PGA/(g tan alpha) = {float(self.intensity[k]):.6g}, "
                         f"PGA = {float(self.pga_g[k]):.6g} g"
                         + (f" [{', '.join(flags)}]" if flags else ""))
