@@ -232,3 +232,23 @@ def test_the_report_counts_the_answers_that_slide_or_lift_off():
     assert "2d-x: slides 1, lifts off 0 of 6" in text
     plain = validity_text(ds.assign(slides=xr.full_like(ds["slides"], np.nan)), None)
     assert "sliding not checked" in plain and "slides" not in plain.split("—")[1]
+
+
+def test_stripes_mu_adds_the_sliding_fragility_and_refuses_zero(capsys, monkeypatch):
+    import rocking.spectra.stripes as stripes
+    from rocking.cli import main
+
+    seen = {}
+
+    def record(body, motions, states, **kw):
+        seen["states"] = [s.name for s in states]
+        raise RuntimeError("stop before the analyses")
+
+    monkeypatch.setattr(stripes, "stripe_fragility", record)
+    argv = ["stripes", "--R", "1", "--tan-alpha", "0.2", "--record", "el-centro-1940", "-q"]
+    with pytest.raises(RuntimeError, match="stop before"):
+        main([*argv, "--mu", "0.6"])
+    assert seen["states"] == ["overturning", "tilt:1/3", "sliding:0.6"]
+    assert main([*argv, "--mu", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--mu must be a finite number > 0, got 0.0" in err[0]
