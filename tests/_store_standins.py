@@ -46,11 +46,11 @@ def batch(tasks, limit_states, *, accuracy="default", upper=20.0, omega_n=None, 
     states = parse_limit_states(limit_states)
     out = []
     for R, tan_alpha, motion, mode in tasks:
-        values = np.array([expected_intensity(R, tan_alpha, motion, mode, s.ratio)
+        values = np.array([expected_intensity(R, tan_alpha, motion, mode, s.severity[1])
                            for s in states])
         out.append(FakeResult(
             tuple(s.name for s in states), values, np.isnan(values),
-            np.array([R == 2.0 and s.ratio < 1 for s in states]),
+            np.array([R == 2.0 and s.severity[1] < 1 for s in states]),
             np.zeros(len(states), dtype=bool), int(3 + 2 * R),
         ))
     return out

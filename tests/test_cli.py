@@ -263,6 +263,10 @@ def test_full_disk_names_the_file_and_leaves_no_partial_output(tmp_path, capsys,
         (["--R", "nan"], "--R must hold finite sizes > 0"),
         (["--R", "1", "--upper", "1"], "--upper must be a finite number > 1"),
         (["--R", "1", "--upper", "0.5"], "--upper must be a finite number > 1"),
+        (["--R", "1", "--mu", "0"], "--mu must be a finite number > 0, got 0.0"),
+        (["--R", "1", "--mu", "-1"], "--mu must be a finite number > 0, got -1.0"),
+        (["--R", "1", "--limit-states", "sliding:abc"], "'sliding:abc'"),
+        (["--R", "1", "--limit-states", "sliding:0"], "'sliding:0'"),
     ],
 )
 def test_spectra_rejects_bad_lists_and_bounds_before_work(argv, message, capsys, monkeypatch):

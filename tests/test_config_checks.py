@@ -30,6 +30,10 @@ def test_shipped_configurations_pass():
 @pytest.mark.parametrize(
     ("change", "message"),
     [
+        (lambda c: c["studies"]["elcentro"].update(mu=0),
+         "config key studies.elcentro.mu=0"),
+        (lambda c: c["studies"]["elcentro"]["runs"][0].update(limit_states=["sliding:abc"]),
+         "config key studies.elcentro.runs[0].limit_states[0]='sliding:abc'"),
         (lambda c: c.update(foo=1), "unknown config key 'foo' at the top level; allowed: "),
         (lambda c: c["studies"]["elcentro"].update(Rr=[1]),
          "unknown config key 'Rr' in studies.elcentro"),
@@ -37,7 +41,7 @@ def test_shipped_configurations_pass():
          "config key studies.elcentro.runs[0].modes[1]='4d': must be one of"),
         (lambda c: c["studies"]["elcentro"].update(modes=["3d"]),
          "unknown config key 'modes' in studies.elcentro; allowed: R, chunk_R, diameter, "
-         "ensemble, hazard, height, intensity_measures, reproduces, runs, stripes, "
+         "ensemble, hazard, height, intensity_measures, mu, reproduces, runs, stripes, "
          "tilt_map, upper"),
         (lambda c: c.update(accuracy="fastest"), "config key accuracy='fastest'"),
     ],

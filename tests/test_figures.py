@@ -815,6 +815,31 @@ def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(st
     assert all(not p["unresolved"] for p in plain["panels"])
 
 
+def test_fig09_counts_answers_that_slide_when_the_study_gave_mu(study, tmp_path):
+    """``slides`` (an analysis up to the answer needed more friction than the study's μ) is
+    counted per motion in the legend; NaN (no μ) counts none."""
+    from rocking.plot import _load
+
+    ds = _load.open_store(study["store"])
+    reached = ~ds["not_reached"].astype(bool)
+    slides = xr.zeros_like(ds["pga_crit"])
+    slides.loc[{"mode": "3d", "motion": fs.MOTIONS[1], "tan_alpha": 0.2}] = 1.0
+    path = tmp_path / "slides.zarr"
+    ds.assign(slides=slides.where(reached, 0.0)).to_zarr(path, mode="w", consolidated=False)
+    d = fig09_spectra.data(path, study["means"])
+    panel = d["panels"][0]
+    assert list(panel["slides"]["3d"]) == [fs.MOTIONS[1]]
+    k = int(panel["slides"]["3d"][fs.MOTIONS[1]].sum())
+    n = sum(int(np.isfinite(c[fs.MOTIONS[1]]).sum()) for c in panel["curves"].values())
+    legend = [t.get_text() for t in fig09_spectra.plot(d).axes[0].get_legend().get_texts()]
+    assert f"{d['colors'][fs.MOTIONS[1]]['label']}; {k} of {n} slide" in legend
+    assert sum("slide" in t for t in legend) == 1
+    nothing = tmp_path / "no_mu.zarr"
+    ds.assign(slides=xr.full_like(ds["pga_crit"], np.nan)).to_zarr(nothing, mode="w",
+                                                                   consolidated=False)
+    assert not any(fig09_spectra.data(nothing, study["means"])["panels"][0]["slides"].values())
+
+
 def test_a_suite_is_labelled_by_its_records_not_as_record_and_synthetics():
     """A suite's recorded motions (each its own source record) keep their names in the
     legends, and the suite is named after itself, not after its first record."""

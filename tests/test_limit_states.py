@@ -8,7 +8,8 @@ from rocking.dynamics.result import Status
 from rocking.spectra.accuracy import PRESETS, Accuracy, get_accuracy
 from rocking.spectra.limit_states import (
     DEFAULT_LIMIT_STATES,
-    LimitState,
+    Overturning,
+    TiltGoal,
     classify,
     limit_state_title,
     match_limit_state,
@@ -25,9 +26,9 @@ def peaks(theta_max: float, overturned: bool) -> dict:
 
 
 def test_parse_names_and_ratios():
-    assert parse_limit_state("overturning") == LimitState("overturning", math.inf)
-    assert parse_limit_state(" Tilt:0.5 ") == LimitState("tilt:0.5", 0.5)
-    assert parse_limit_state("tilt:1") == LimitState("tilt:1", 1.0)
+    assert parse_limit_state("overturning") == Overturning()
+    assert parse_limit_state(" Tilt:0.5 ") == TiltGoal("tilt:0.5", 0.5)
+    assert parse_limit_state("tilt:1") == TiltGoal("tilt:1", 1.0)
     third = parse_limit_state("tilt:1/3")
     assert third.name == "tilt:1/3" and third.ratio == 1.0 / 3.0
     assert parse_limit_state("excessive-tilt") == third
@@ -46,9 +47,9 @@ def test_parse_rejects_with_the_text(bad):
 def test_default_set_sorted_and_complete():
     states = parse_limit_states(None)
     assert [s.name for s in states] == list(DEFAULT_LIMIT_STATES)
-    ratios = [s.ratio for s in states]
-    assert ratios == sorted(ratios) and ratios[-1] == math.inf
-    assert ratios[:-1] == [0.1, 0.2, 1 / 3, 0.5, 0.75, 1.0]
+    keys = [s.severity for s in states]
+    assert keys == sorted(keys) and keys[-1] == (0, math.inf)
+    assert [r for _, r in keys[:-1]] == [0.1, 0.2, 1 / 3, 0.5, 0.75, 1.0]
 
 
 def test_set_from_string_sorts_and_dedups():

@@ -137,7 +137,7 @@ def flagged_batch(tasks, limit_states, **kw):
     """The store stand-in, with ``unresolved`` set where R = 4 and the goal is a tilt."""
     out = []
     for r, (R, *_rest) in zip(standin.batch(tasks, limit_states, **kw), tasks, strict=True):
-        flags = np.array([R == 4.0 and not s.is_overturning
+        flags = np.array([R == 4.0 and s.name != "overturning"
                           for s in parse_limit_states(r.limit_states)])
         out.append(FlaggedResult(*(getattr(r, f) for f in (
             "limit_states", "intensity", "not_reached", "non_monotonic", "failed",

@@ -138,7 +138,7 @@ def test_store_computes_only_requested_cells(planned_store):
     np.testing.assert_array_equal(ds[store.REQUESTED].transpose(*store.REQUESTED_DIMS).values,
                                   plan.requested)
     motions = {m.name: m for m in standin.motions()}
-    ratio = {s.name: s.ratio for s in parse_limit_states(plan.limit_states)}
+    ratio = {s.name: s.severity[1] for s in parse_limit_states(plan.limit_states)}
     for idx in np.ndindex(plan.requested.shape):
         mode, ls, ta = (plan.modes[idx[0]], plan.limit_states[idx[1]], plan.tan_alpha[idx[2]])
         cell = ds.sel(mode=mode, limit_state=ls, tan_alpha=ta)

@@ -85,14 +85,15 @@ def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
                         point = dict(mode=mode, motion=name, tan_alpha=ta, R=R,
                                      limit_state=s.name)
                         got = float(ds["pga_crit"].sel(point))
-                        want = standin.expected_intensity(R, ta, motion, mode, s.ratio)
+                        want = standin.expected_intensity(R, ta, motion, mode, s.severity[1])
                         if math.isnan(want):
                             n_nan += 1
                             assert math.isnan(got) and bool(ds["not_reached"].sel(point))
                         else:
                             assert got == want
                             assert not bool(ds["not_reached"].sel(point))
-                        assert bool(ds["non_monotonic"].sel(point)) == (R == 2.0 and s.ratio < 1)
+                        assert bool(ds["non_monotonic"].sel(point)) == (
+                            R == 2.0 and s.severity[1] < 1)
                         assert int(ds["n_analyses"].sel(point)) == int(3 + 2 * R)
     assert n_nan == 2 * 2 * 2  # overturning at R = 9 for every mode, motion and tan_alpha
     attrs = store.read_attrs(path)
@@ -158,9 +159,13 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
     good = {"pga_crit": np.ones(shape), "pga_crit_g": np.full(shape, 0.2),
             "not_reached": np.zeros(shape, bool),
             "non_monotonic": np.zeros(shape, bool), "failed": np.zeros(shape, bool),
-            "unresolved": np.zeros(shape, bool), "n_analyses": np.ones(shape, np.int32)}
+            "unresolved": np.zeros(shape, bool), "n_analyses": np.ones(shape, np.int32),
+            "slides": np.zeros(shape), "lifts_off": np.zeros(shape, bool)}
     with pytest.raises(ValueError, match="unexplained NaN"):
         store.write_region(path, layout, 0, {**good, "pga_crit": np.full(shape, np.nan)})
+    # slides may say nothing (NaN) only where the writer says why (no mu)
+    with pytest.raises(ValueError, match="slides holds an unexplained NaN"):
+        store.write_region(path, layout, 0, {**good, "slides": np.full(shape, np.nan)})
     with pytest.raises(ValueError, match=r"pga_crit has shape \(1, 3\)"):
         store.write_region(path, layout, 0, {**good, "pga_crit": np.ones((1, 3))})
     with pytest.raises(ValueError, match=r"missing variables \['failed'\]"):

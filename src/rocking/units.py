@@ -27,7 +27,8 @@ outputs keep every bit."""
 QUANTITIES: dict[str, tuple[str, str, str]] = {
     # labels and grid coordinates
     "mode": ("1", "", "analysis mode: dynamics model and excitation (3d, 3d-damped, 2d-x, 2d-y)"),
-    "limit_state": ("1", "", "performance limit state (overturning or tilt:r, theta > r alpha)"),
+    "limit_state": ("1", "", "performance limit state (overturning, tilt:r: theta > r alpha, "
+                    "sliding:mu: mu_required_max > mu)"),
     "motion": ("1", "", "ground-motion name"),
     "tan_alpha": ("1", "-", "slenderness tan(alpha) = b/h"),
     "R": ("m", "m", "semi-diagonal R = sqrt(b^2 + h^2)"),
@@ -41,6 +42,10 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
     "failed": ("1", "", "an analysis failed even after a retry"),
     "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer"),
+    "slides": ("1", "", "an analysis up to the answer needed more friction than mu "
+               "(NaN: no mu given)"),
+    "lifts_off": ("1", "", "an analysis up to the answer had a normal force N < 0"),
+    "mu": ("1", "-", "support friction coefficient the slides flag compares with"),
     "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
     "done": ("1", "", "chunk computed and written"),
     "requested": ("1", "", "some run of the study asks for this cell (false: not computed)"),
@@ -60,6 +65,9 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "count": ("1", "", "motions whose limit state was reached"),
     "n_not_reached": ("1", "", "motions left out: limit state not reached"),
     "n_unresolved": ("1", "", "motions whose answer a finer scan may move lower (unresolved)"),
+    "n_slides": ("1", "", "motions whose analyses up to the answer needed more friction "
+                 "than mu"),
+    "n_lifts_off": ("1", "", "motions whose analyses up to the answer had N < 0"),
     "median_all": ("1", "g tan(alpha)", "median over all motions, those not reached counted "
                    "above the search bound (Kaplan-Meier; NaN: above the bound)"),
     "censoring": ("1", "", "how the statistics treat motions not reached at the search bound"),

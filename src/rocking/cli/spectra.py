@@ -29,8 +29,9 @@ UPPER_DEFAULT = 20.0
 checked equal in the tests; the search module is not imported to print the help)."""
 
 COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "pga_crit", "pga_crit_g",
-           "not_reached", "non_monotonic", "failed", "unresolved", "n_analyses", "bracket_lo",
-           "bracket_hi", "lower", "upper", "accuracy", "source_record", "processing")
+           "not_reached", "non_monotonic", "failed", "unresolved", "slides", "lifts_off",
+           "n_analyses", "bracket_lo", "bracket_hi", "lower", "upper", "accuracy", "mu",
+           "source_record", "processing")
 """Columns of the CSV (titles with units) and keys of the JSON results."""
 
 
@@ -46,8 +47,13 @@ def add_parser(subparsers) -> None:
     _common.add_cylinders(p)
     p.add_argument("--limit-states", default="default",
                    help="comma-separated, in the order wanted: overturning, tilt:<r> "
-                   "(theta > r alpha, e.g. tilt:1/3); 'default' = tilt:0.1,0.2,1/3,0.5,0.75,1 "
+                   "(theta > r alpha, e.g. tilt:1/3), sliding:<mu> (the body needs more "
+                   "friction than mu); 'default' = tilt:0.1,0.2,1/3,0.5,0.75,1 "
                    "and overturning")
+    p.add_argument("--mu", type=float, default=None,
+                   help="friction coefficient of the support [-], > 0: each answer says "
+                   "whether an analysis up to it needed more (slides); every analysis is "
+                   "then monitored to the end of its record")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="search and ODE tolerances preset")
     p.add_argument("--upper", type=float, default=UPPER_DEFAULT,
@@ -84,6 +90,10 @@ FLAG_NOTES = {
                   "window of exceedance narrower than the scan step may lie there "
                   "(docs/performance.md)",
     "failed": "failed: an analysis failed (the answer is not usable)",
+    "slides": "slides: an analysis up to the answer needed more friction than --mu (the "
+              "body would have slid: the rocking answer does not describe it)",
+    "lifts_off": "lifts_off: an analysis up to the answer had a normal force N < 0 (the "
+                 "body would have jumped)",
 }
 """One line per flag, printed under the table when the flag appears."""
 
@@ -98,10 +108,13 @@ def human(table, motion, args, accuracy: str) -> str:
         ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
         ("search", f"accuracy {accuracy}, from uplift up to PGA/(g tan α) = "
                    f"{args.upper:g} (PGA {args.upper * ta:.4g} g)"),
+        ("support", "no friction coefficient given (slides not checked)" if args.mu is None
+         else f"friction coefficient μ = {args.mu:g}"),
     ])
     body, seen = [], []
     for r in table.itertuples(index=False):
-        flags = [f for f in FLAG_NOTES if bool(getattr(r, f))]
+        # a flag that says nothing (slides without --mu: None or NaN) is not shown
+        flags = [f for f in FLAG_NOTES if getattr(r, f) is True or getattr(r, f) == 1]
         seen += [f for f in flags if f not in seen]
         if r.not_reached:
             crit, crit_g = f"> {args.upper:g}", f"> {args.upper * ta:.4g}"
@@ -134,6 +147,8 @@ def _check_numbers(args) -> None:
     if not (math.isfinite(args.upper) and args.upper > 1):
         raise ValueError(f"--upper must be a finite number > 1 (the search starts at "
                          f"PGA/(g tan alpha) = 1), got {args.upper!r}")
+    if args.mu is not None and not (math.isfinite(args.mu) and args.mu > 0):
+        raise ValueError(f"--mu must be a finite number > 0, got {args.mu!r}")
 
 
 def run(args) -> int:
@@ -158,7 +173,7 @@ def run(args) -> int:
     tasks = [(R, args.tan_alpha, motion, args.mode) for R in args.R]
     t0 = time.perf_counter()
     results = critical_intensity_batch(tasks, states, accuracy=acc, upper=args.upper,
-                                       omega_n=args.omega_n, zeta=args.zeta,
+                                       omega_n=args.omega_n, zeta=args.zeta, mu=args.mu,
                                        progress=not args.quiet)
     seconds = time.perf_counter() - t0
     table = pd.DataFrame(rows(results, motion), columns=list(COLUMNS))
@@ -170,6 +185,7 @@ def run(args) -> int:
         "limit_states": [s.name for s in states],
         "accuracy": acc.to_dict(),
         "upper": args.upper,
+        "mu": args.mu,
         "seconds": seconds,
         "units": {k: QUANTITIES[k][1] for k in COLUMNS if QUANTITIES[k][1]},
         # a not-reached intensity (NaN) is written as null: strict JSON

@@ -8,6 +8,7 @@ motions' processing, each stripe's count) or as JSON (``--json``); ``-o`` writes
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from pathlib import Path
@@ -49,8 +50,12 @@ def add_parser(subparsers) -> None:
     )
     _common.add_cylinders(p)
     p.add_argument("--limit-states", default="overturning,tilt:1/3",
-                   help="comma-separated: overturning, tilt:<r> (theta > r alpha); "
+                   help="comma-separated: overturning, tilt:<r> (theta > r alpha), "
+                   "sliding:<mu> (the body needs more friction than mu); "
                    "'default' = the seven goals of Fig 10")
+    p.add_argument("--mu", type=float, default=None,
+                   help="friction coefficient of the support [-], > 0: adds the fragility "
+                   "of sliding:<mu> (the body needs more friction than mu, or lifts off)")
     g = p.add_argument_group("stripes (PGA/(g tan alpha))")
     g.add_argument("--stripes", type=int, default=DEFAULT_STRIPES,
                    help="number of stripes, geometric in (--lower, --upper]")
@@ -211,6 +216,10 @@ def run(args) -> int:
     if out is not None:
         _common.check_output(out, (".csv", ".json"))
     states = parse_limit_states(args.limit_states, sort=False)
+    if args.mu is not None:  # the stripes' answer about sliding is its own fragility
+        if not (math.isfinite(args.mu) and args.mu > 0):
+            raise ValueError(f"--mu must be a finite number > 0, got {args.mu!r}")
+        states = parse_limit_states([*states, f"sliding:{args.mu!r}"], sort=False)
     x = (stripe_intensities(args.stripes, args.lower, args.upper) if args.intensities is None
          else args.intensities)
     acc = get_accuracy(args.accuracy)

@@ -93,11 +93,11 @@ def panel_limit_states(available: list[str]) -> list[str]:
     severe other goals in their place: a study's own goals get panels, and no panel is left
     empty for a goal the study did not ask for.
     """
-    order = sorted(available, key=lambda ls: -severity(ls))
+    order = sorted(available, key=severity, reverse=True)
     chosen = [ls for ls in (match_limit_state(OVERTURNING, available, missing_ok=True),
                             excessive_tilt(available)) if ls is not None]
     chosen += [ls for ls in order if ls not in chosen][:2 - len(chosen)]
-    return sorted(chosen, key=lambda ls: -severity(ls))
+    return sorted(chosen, key=severity, reverse=True)
 
 
 def requested_cells(ds: xr.Dataset) -> xr.DataArray:

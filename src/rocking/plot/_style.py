@@ -15,7 +15,7 @@ from typing import ParamSpec
 import matplotlib
 
 from .. import _json
-from ..spectra.limit_states import severity
+from ..spectra.limit_states import TILT_AXIS, severity
 from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 
 # Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
@@ -55,8 +55,12 @@ figure that colours by goal."""
 
 def goal_color(limit_state: str) -> str:
     """The colour of a performance goal, the same in every figure and study: the paper's
-    goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r."""
-    r = severity(limit_state)
+    goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r; a goal
+    of the sliding axis a shade of brown by μ."""
+    axis, r = severity(limit_state)
+    if axis != TILT_AXIS:
+        return matplotlib.colors.to_hex(matplotlib.colormaps["copper"](
+            0.3 + 0.6 * min(r, 1.0)))
     for ratio, color in GOAL_COLORS.items():
         if abs(r - ratio) <= 1e-3 or r == ratio:
             return color
@@ -89,6 +93,15 @@ def unresolved_suffix(k: int, n: int, what: str = "answers") -> str:
     unresolved"``), empty when none: the count a reader can use, instead of a ring on
     every point."""
     return f"; {k} of {n} {what} unresolved" if k else ""
+
+
+def validity_suffix(slides: int, n: int) -> str:
+    """Legend suffix counting a curve's answers whose analyses up to them needed more
+    friction than the study's μ (``"; 2 of 20 slide"``), empty when none or without μ
+    (docs/models.md, the validity flags). ``lifts_off`` is not counted here: nearly every
+    overturning answer carries it (a body falling over leaves its support), so in a legend it
+    would say nothing."""
+    return f"; {slides} of {n} slide" if slides else ""
 
 
 def styled(plot: Callable[P, Figure]) -> Callable[P, Figure]:

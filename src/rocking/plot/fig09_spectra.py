@@ -34,6 +34,7 @@ from ._style import (
     styled,
     suptitle_and_notes,
     unresolved_suffix,
+    validity_suffix,
 )
 from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 
@@ -124,6 +125,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
     """Curves per motion and means per mode of one limit state."""
     curves: dict[str, dict[str, np.ndarray]] = {}
     unresolved: dict[str, dict[str, np.ndarray]] = {}
+    validity: dict[str, dict[str, dict[str, np.ndarray]]] = {"slides": {}}
     mean: dict[str, np.ndarray] = {}
     for mode in modes:
         if mode not in _load.labels(ds, "mode"):
@@ -140,6 +142,11 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
         if "unresolved" in sel:  # critical intensities that narrow windows may undercut
             flag = sel["unresolved"].transpose("motion", "R").values.astype(bool) & reached
             unresolved[mode] = {m: flag[i] for i, m in enumerate(motion_names) if flag[i].any()}
+        for name, per_mode in validity.items():  # the model's validity up to each answer
+            if name in sel:  # slides is NaN (nothing said) without the study's mu: == 1
+                flag = (sel[name].transpose("motion", "R").values == 1) & reached
+                per_mode[mode] = {m: flag[i] for i, m in enumerate(motion_names)
+                                  if flag[i].any()}
         m = _load.mean_curve(agg, mode, ls)
         if m is None:
             missing.append(f"mean of mode {mode} not aggregated")
@@ -151,7 +158,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
         effect = damping_effect(curves[MODE_3D], curves[DAMPED], mean[MODE_3D], mean[DAMPED],
                                 std)
     return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
-            "unresolved": unresolved}
+            "unresolved": unresolved, **validity}
 
 
 def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.ndarray,
@@ -255,12 +262,15 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
               for m in d["motions"]}
     n_points = {m: sum(int(np.isfinite(c[m]).sum()) for c in panel["curves"].values() if m in c)
                 for m in d["motions"]}
+    slides = {m: sum(int(np.sum(v[m])) for v in panel.get("slides", {}).values() if m in v)
+              for m in d["motions"]}
     ax.set_title(limit_state_title(panel["limit_state"]))
     ax.set_ylabel("PGA/(g tan α) [-]")
     r_axis(ax, d["R"], label=DAMPED not in d.get("modes", ()))
     pga_g_axis(ax, d["tan_alpha"])
     handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"]
-                      + unresolved_suffix(counts[m], n_points[m]))
+                      + unresolved_suffix(counts[m], n_points[m])
+                      + validity_suffix(slides[m], n_points[m]))
                for m in d["motions"]]
     handles = ax.get_legend_handles_labels()[0] + handles
     ncols = 2 if len(handles) > 6 else 1

@@ -190,7 +190,7 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
             sub = df[(df["mode"] == mode) & (df[ta] == t)]
             present = list(dict.fromkeys(sub["limit_state"]))
             shown = [ls for ls in ("overturning", "tilt:1/3") if ls in present] or sorted(
-                present, key=lambda s: -severity(s))[:2]
+                present, key=severity, reverse=True)[:2]
             texts = []
             for ls in shown:
                 rows = sub[sub["limit_state"] == ls].sort_values(r)

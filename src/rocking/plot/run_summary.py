@@ -73,6 +73,8 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
                      "ζ ∈ {0.05, 0.5, 5, 50})"))
     if "unresolved" in ds:
         rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
+    if "lifts_off" in ds:
+        rows.append((f"{p}: validity of the answers", validity_text(ds, spec.mu)))
     rows.append((f"{p}: package version", f"rocking {attrs['rocking_version']}"))
     return rows
 
@@ -123,6 +125,29 @@ def resolution_text(ds) -> str:
             + "; ".join(per) + ". On the resolution benchmark the 1 % scan's answer is "
             "0.9–1.6 % too high at the median and 14–15 % at the 90th percentile, never too "
             "low (docs/performance.md).")
+
+
+def validity_text(ds, mu: float | None) -> str:
+    """How many computed answers per mode were reached by analyses that needed more friction
+    than the study's μ (``slides``) or lifted off (``lifts_off``), and what that means."""
+    requested = np.ones(ds["lifts_off"].shape, dtype=bool)
+    if "requested" in ds:
+        requested = ds["requested"].broadcast_like(ds["lifts_off"]).transpose(
+            *ds["lifts_off"].dims).values.astype(bool)
+    axis = ds["lifts_off"].dims.index("mode")
+    flags = {"lifts off": ds["lifts_off"].values.astype(bool) & requested}
+    if mu is not None and "slides" in ds:
+        flags = {"slides": (ds["slides"].values == 1) & requested, **flags}
+    per = [f"{m}: " + ", ".join(f"{name} {int(np.take(f, i, axis).sum())}"
+                                for name, f in flags.items())
+           + f" of {int(np.take(requested, i, axis).sum())}"
+           for i, m in enumerate(_load.labels(ds, "mode"))]
+    head = ("no support friction coefficient given (sliding not checked); "
+            if mu is None else f"support friction coefficient μ = {fmt(mu)}; ")
+    return (head + "answers whose analyses up to them " + (
+        "needed more friction than μ (slides) or " if mu is not None else "")
+        + "had a normal force N < 0 (lifts off: nearly every overturning answer, a body "
+        "falling over leaves its support) — " + "; ".join(per) + " (docs/models.md).")
 
 
 def modes_text(ds) -> str:

@@ -275,9 +275,11 @@ def _samples(source, bootstrap, n_rows: int):
 
 
 def _sorted(frame: pd.DataFrame) -> pd.DataFrame:
-    key = frame.assign(_sev=[severity(s) for s in frame["limit_state"]])
-    return (key.sort_values(["mode", "tan_alpha", "R", "_sev"], kind="stable")
-            .drop(columns="_sev").reset_index(drop=True))
+    axis, level = zip(*[severity(s) for s in frame["limit_state"]], strict=True) \
+        if len(frame) else ((), ())
+    key = frame.assign(_axis=list(axis), _sev=list(level))
+    return (key.sort_values(["mode", "tan_alpha", "R", "_axis", "_sev"], kind="stable")
+            .drop(columns=["_axis", "_sev"]).reset_index(drop=True))
 
 
 def lognormal_moments(median: float, beta: float) -> tuple[float, float]:

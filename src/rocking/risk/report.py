@@ -213,7 +213,7 @@ def shown_limit_states(frame: pd.DataFrame) -> list[str]:
     limit states, most severe first (at most two)."""
     present = list(dict.fromkeys(frame["limit_state"]))
     paper = [ls for ls in PAPER_LIMIT_STATES if ls in present]
-    own = sorted(present, key=lambda ls: -severity(ls))
+    own = sorted(present, key=severity, reverse=True)
     return paper if len(paper) == len(PAPER_LIMIT_STATES) else (paper + [
         ls for ls in own if ls not in paper])[:2]
 

@@ -126,9 +126,11 @@ def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
 def _sorted(table: pd.DataFrame) -> pd.DataFrame:
     from ..spectra.limit_states import severity
 
-    key = table.assign(_sev=[severity(s) for s in table["limit_state"]])
-    return (key.sort_values(["mode", "tan_alpha", "R", "_sev"], kind="stable")
-            .drop(columns="_sev").reset_index(drop=True))
+    axis, level = zip(*[severity(s) for s in table["limit_state"]], strict=True) \
+        if len(table) else ((), ())
+    key = table.assign(_axis=list(axis), _sev=list(level))
+    return (key.sort_values(["mode", "tan_alpha", "R", "_axis", "_sev"], kind="stable")
+            .drop(columns=["_axis", "_sev"]).reset_index(drop=True))
 
 
 def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:

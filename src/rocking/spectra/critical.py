@@ -20,7 +20,7 @@ from ..dynamics.bodies import Block, Cylinder
 from ..dynamics.result import Status
 from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
-from .limit_states import parse_limit_states
+from .limit_states import MU_REQUIRED_MAX, NORMAL_FORCE_MIN, parse_limit_states, whole_record
 from .modes import MODE_3D, MODES, check_mode, is_damped
 from .search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, search_critical
 
@@ -64,12 +64,17 @@ def make_analysis(
     omega_n: float | None = None,
     zeta: float | None = None,
     rest_tilt: float | None = None,
+    whole: bool = False,
 ) -> AnalysisFn:
     """Bind :func:`rocking.dynamics.analysis.ground_response` to ``analyze(I, stop_at, rtol)``.
 
     The motion is scaled so that the pair's vector PGA equals I·g·tan α; the 2D modes are
     excited by one component (``motion.component``) scaled by the same factor;
-    ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact).
+    ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact). The
+    outcome carries the validity monitors ``mu_required_max`` and ``normal_force_min`` in
+    its ``other_peaks``; ``whole`` monitors the whole record (no early end once the peak
+    tilt is decided, ``stop_when_decided=False``), as a limit state watching a monitor
+    (:func:`rocking.spectra.limit_states.whole_record`) or an exact ``slides`` flag needs.
     """
     from ..dynamics.analysis import ground_response  # the engine is imported only when needed
 
@@ -82,8 +87,10 @@ def make_analysis(
     def analyze(intensity: float, stop_at: float | None, rtol: float) -> Outcome:
         r = ground_response(body, excitation, model=model, scale=intensity * unit_scale,
                             stop_at=stop_at, rtol=rtol, history=False,
-                            rest_tilt=rest_tilt, **kw)
-        return Outcome(float(r.theta_max), bool(r.overturned), Status(r.status), r.reason)
+                            rest_tilt=rest_tilt, stop_when_decided=not whole, **kw)
+        return Outcome(float(r.theta_max), bool(r.overturned), Status(r.status), r.reason,
+                       {MU_REQUIRED_MAX: float(r.mu_required_max),
+                        NORMAL_FORCE_MIN: float(r.normal_force_min)})
 
     return analyze
 
@@ -125,7 +132,12 @@ def critical_intensity(
     -------
     CriticalResult
         Per limit state, in the order asked: ``intensity`` = PGA/(g tan α) [-] and
-        ``pga_g`` = PGA [g] of the smallest exceeding motion, with the search's flags.
+        ``pga_g`` = PGA [g] of the smallest exceeding motion, with the search's flags;
+        ``slides`` compares the analyses up to each answer with ``body.mu`` (NaN without
+        it), ``lifts_off`` says whether one had N < 0.
+
+    With ``body.mu`` or a limit state watching a monitor (``"sliding:<mu>"``) every analysis
+    is monitored to the end of the record (no early end once its peak tilt is decided).
     """
     check_mode(mode)
     if motion.pga <= 0.0:
@@ -133,17 +145,19 @@ def critical_intensity(
     asked = parse_limit_states(limit_states, sort=False)
     lower = uplift_intensity(motion, mode)
     acc = get_accuracy(accuracy)
+    mu = body.mu
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
-                            rest_tilt=acc.rest_tilt)
+                            rest_tilt=acc.rest_tilt,
+                            whole=whole_record(asked) or mu is not None)
     res = search_critical(analyze, asked, body.alpha, lower=lower, upper=upper,
-                          accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]))
+                          accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]), mu=mu)
     res = _in_order(res, [ls.name for ls in asked])
     return replace(res, mode=mode, motion=motion.name, R=float(body.R),
                    tan_alpha=float(body.tan_alpha))
 
 
 _PER_LIMIT_STATE = ("intensity", "bracket_lo", "bracket_hi", "not_reached", "non_monotonic",
-                    "failed", "unresolved")
+                    "failed", "unresolved", "slides", "lifts_off")
 
 
 def _in_order(res: CriticalResult, names: list[str]) -> CriticalResult:
@@ -169,6 +183,7 @@ def critical_intensity_batch(
     upper: float = DEFAULT_UPPER,
     omega_n: float | None = None,
     zeta: float | None = None,
+    mu: float | None = None,
     progress=False,
 ) -> list[CriticalResult]:
     """:func:`critical_intensity` of a cylinder for each task, in order (one Dask task).
@@ -178,6 +193,9 @@ def critical_intensity_batch(
     tasks : iterable of (R, tan_alpha, motion, mode)
     limit_states, accuracy, upper, omega_n, zeta
         As in :func:`critical_intensity`, shared by all tasks.
+    mu : float, optional
+        Support friction coefficient of every body [-] (``Cylinder(..., mu=)``: the
+        ``slides`` flags).
     progress : bool or rocking._progress.Progress
         True: report points done / total, rate and ETA on stderr (a live bar on a
         terminal, a line every few seconds otherwise).
@@ -195,7 +213,7 @@ def critical_intensity_batch(
     bar = _progress(progress, len(tasks), "spectra")
     out = []
     for R, tan_alpha, motion, mode in tasks:
-        out.append(critical_intensity(Cylinder(R, tan_alpha), motion, states, mode,
+        out.append(critical_intensity(Cylinder(R, tan_alpha, mu=mu), motion, states, mode,
                                       accuracy=acc, upper=upper, omega_n=omega_n, zeta=zeta))
         if bar is not None:
             bar.update()

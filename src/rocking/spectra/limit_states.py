@@ -1,35 +1,52 @@
 """Performance limit states of a rocking body: the one place that knows what a goal means.
 
 An analysis reports its response as named peak quantities (:data:`QUANTITIES`: the largest
-tilt ``theta_max``, ``overturned``, and room for the peaks other models add). A limit state
-owns the quantity it watches, its threshold for a body, whether an analysis exceeded it
-(:meth:`LimitState.exceeded`), when an analysis may stop once it is decided
-(:meth:`LimitState.stop_at`), its severity order (:attr:`LimitState.severity`) and its title
-(:attr:`LimitState.title`); it parses (:func:`parse_limit_state`) and prints (``str``)
-itself. The search, the stripes, the study plan, the figures, the risk tables and the
-configuration checks ask only these. Two kinds exist:
+tilt ``theta_max``, ``overturned``, the largest friction the contact needed
+``mu_required_max`` and the smallest normal force ``normal_force_min``). A limit state
+(:class:`LimitState`, the protocol every kind implements) owns the quantity it watches, its
+threshold for a body, whether an analysis exceeded it (:meth:`LimitState.exceeded`), the
+measure of the scan's closeness to it (:meth:`LimitState.measure`,
+:meth:`LimitState.scan_goal`), when an analysis may stop once it is decided
+(:meth:`LimitState.stop_at`, :meth:`LimitState.decided_when_stopped`), whether a body at
+rest can exceed it (:attr:`LimitState.at_rest`) and whether it needs the whole record
+monitored (:attr:`LimitState.whole_record`), its severity order
+(:attr:`LimitState.severity`) and its title (:attr:`LimitState.title`); it parses
+(:func:`parse_limit_state`) and prints (``str``) itself. The search, the stripes, the study
+plan, the figures, the risk tables and the configuration checks ask only these. Three kinds
+exist:
 
-- ``"overturning"``: θ reaches π/2 (the analysis reports ``overturned``);
-- ``"tilt:<r>"``: |θ| > r·α, with r > 0 given as a decimal (``"tilt:0.5"``) or a fraction
-  (``"tilt:1/3"``). The paper's "excessive tilt" (θ > α/3, §5.2) is ``"tilt:1/3"``, also
-  accepted as ``"excessive-tilt"``.
+- ``"overturning"`` (:class:`Overturning`): θ reaches π/2 (the analysis reports
+  ``overturned``);
+- ``"tilt:<r>"`` (:class:`TiltGoal`): |θ| > r·α, with r > 0 given as a decimal
+  (``"tilt:0.5"``) or a fraction (``"tilt:1/3"``). The paper's "excessive tilt" (θ > α/3,
+  §5.2) is ``"tilt:1/3"``, also accepted as ``"excessive-tilt"``;
+- ``"sliding:<μ>"`` (:class:`Sliding`): the body needs more friction than the support's
+  coefficient μ > 0 somewhere in the analysis, ``mu_required_max`` > μ; a body that lifts
+  off (``normal_force_min`` < 0) needs unbounded friction and exceeds it too. A body at rest
+  needs |a_h|/(g + a_z), so a sliding goal may be exceeded below uplift (μ below about
+  tan α).
 
 Each limit state has one canonical name, used in every output: ratios with a short exact
 decimal are written as decimals (``"tilt:1/2"`` → ``"tilt:0.5"``), others as reduced
-fractions (``"tilt:2/6"`` → ``"tilt:1/3"``). :func:`match_limit_state` finds a limit state
-among labels in any spelling, including rounded decimals (``"tilt:0.3333"``).
+fractions (``"tilt:2/6"`` → ``"tilt:1/3"``); μ as a decimal (``"sliding:0.60"`` →
+``"sliding:0.6"``). :func:`match_limit_state` finds a limit state among labels in any
+spelling, including rounded decimals (``"tilt:0.3333"``).
 
-Limit states are ordered by severity: increasing tilt goal, overturning last. An analysis
-that overturned exceeds every limit state.
+Limit states are ordered by severity, a pair (axis, level): the tilt axis first (increasing
+tilt goal, overturning last), then the sliding axis (increasing μ: a smaller μ is exceeded
+first). The two axes are not nested: an analysis that overturned exceeds every tilt goal,
+but a sliding goal only by its own monitors (where the sliding answer lies above the
+overturning one, overturning governs).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Protocol
+from typing import ClassVar, Protocol
 
 import numpy as np
 
@@ -39,14 +56,19 @@ THETA_MAX = "theta_max"
 OVERTURNED = "overturned"
 """Whether θ reached π/2 (1.0 or True if it did)."""
 
+MU_REQUIRED_MAX = "mu_required_max"
+"""Largest friction coefficient the contact needed, |F_h|/N over N > 0 [-]."""
+
+NORMAL_FORCE_MIN = "normal_force_min"
+"""Smallest normal contact force, over the weight [-] (< 0: the body would lift off)."""
+
 QUANTITIES: dict[str, str] = {
     THETA_MAX: "largest |θ| reached [rad]",
     OVERTURNED: "θ reached π/2 [bool]",
-    "mu_required_max": "largest friction coefficient the contact needed [-]",
-    "normal_force_min": "smallest normal contact force, over the weight [-]",
+    MU_REQUIRED_MAX: "largest friction coefficient the contact needed [-]",
+    NORMAL_FORCE_MIN: "smallest normal contact force, over the weight [-]",
 }
-"""The named peak quantities an analysis may report (:attr:`HasPeaks.peaks`); the last two
-are reserved for the contact models that will report them."""
+"""The named peak quantities an analysis may report (:attr:`HasPeaks.peaks`)."""
 
 
 class HasPeaks(Protocol):
@@ -64,6 +86,7 @@ def check_peaks(peaks: Mapping[str, float]) -> Mapping[str, float]:
     if unknown:
         raise ValueError(f"peaks: unknown quantity name(s) {unknown}; known {list(QUANTITIES)}")
     return peaks
+
 
 OVERTURNING = "overturning"
 """Name of the overturning limit state."""
@@ -85,45 +108,170 @@ overturning."""
 
 _ALIASES = {"excessive-tilt": EXCESSIVE_TILT, "excessive_tilt": EXCESSIVE_TILT}
 
+TILT_AXIS, SLIDING_AXIS = 0, 1
+"""First entry of :attr:`LimitState.severity`: the tilt axis (tilt goals, overturning last)
+and the sliding axis. Limit states of different axes are not nested."""
 
-@dataclass(frozen=True)
-class LimitState:
-    """One performance limit state.
+_KINDS_TEXT = "'overturning', 'tilt:<r>' or 'sliding:<mu>'"
+
+
+def _peaks_of(outcome: HasPeaks | Mapping[str, float]) -> Mapping[str, float]:
+    return outcome if isinstance(outcome, Mapping) else outcome.peaks
+
+
+def _peak(peaks: Mapping[str, float], name: str, who: str) -> float:
+    """``peaks[name]``, or a ValueError naming the limit state that needs it."""
+    if name not in peaks:
+        raise ValueError(f"limit state {who!r} reads the peak {name!r}, which the analysis "
+                         f"did not report (it reported {sorted(peaks)})")
+    return peaks[name]
+
+
+class LimitState(ABC):
+    """The protocol of a performance limit state (one subclass per kind).
 
     Attributes
     ----------
     name : str
-        Canonical name, ``"overturning"`` or ``"tilt:<r>"``.
+        Canonical name (``str(limit_state)``).
+    at_rest : bool
+        A body at rest (below uplift) can exceed it: the search looks below the uplift
+        intensity for it.
+    whole_record : bool
+        Its quantity can grow after the tilt is decided: an analysis deciding it may not end
+        early once its peak tilt is decided (``stop_when_decided``), and it never stops at a
+        tilt.
+    warns_of_windows : bool
+        The search's ``unresolved`` warning (:func:`rocking.spectra.search.window_warning`,
+        calibrated on the peak tilt) applies to it; False: its answers are never flagged
+        unresolved.
+    """
+
+    name: str
+    at_rest: ClassVar[bool] = False
+    whole_record: ClassVar[bool] = False
+    warns_of_windows: ClassVar[bool] = True
+
+    @property
+    @abstractmethod
+    def quantity(self) -> str:
+        """Name of the peak quantity this limit state watches (:data:`QUANTITIES`)."""
+
+    @property
+    @abstractmethod
+    def severity(self) -> tuple[int, float]:
+        """Sort key, mildest first: (axis, level), :data:`TILT_AXIS` or
+        :data:`SLIDING_AXIS` and the level along it."""
+
+    @property
+    @abstractmethod
+    def title(self) -> str:
+        """Human title, e.g. ``"Tilt θ > α/3 (excessive tilt)"``."""
+
+    @abstractmethod
+    def threshold(self, alpha: float) -> float:
+        """Value of :attr:`quantity` whose first exceedance defines the limit state, for a
+        body of slenderness angle ``alpha`` [rad] (tilts in [rad], μ in [-]); a ValueError
+        where the goal is meaningless for that body."""
+
+    @abstractmethod
+    def measure(self, peaks: Mapping[str, float]) -> float:
+        """The value of an analysis the scan compares with :meth:`scan_goal` (its closeness
+        to the limit state)."""
+
+    @abstractmethod
+    def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
+        """Whether an analysis (anything with ``peaks``, or its peaks by name) exceeded this
+        limit state, for a body of slenderness angle ``alpha`` [rad]."""
+
+    def scan_goal(self, alpha: float) -> float:
+        """What :meth:`measure` is compared with for the scan's closeness (default: the
+        threshold)."""
+        return self.threshold(alpha)
+
+    @abstractmethod
+    def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
+                             alpha: float) -> bool:
+        """Whether an analysis that ended on purpose past ``tilt`` [rad] has certainly
+        exceeded this limit state (how such a run decides it)."""
+
+    def stop_at(self, alpha: float) -> float | None:
+        """Tilt past which an analysis may end with this limit state decided [rad]; None
+        (the default) when the analysis must run to its end."""
+        return None
+
+    def near(self, other: LimitState) -> bool:
+        """``other`` is of the same axis with a level within :data:`MATCH_TOLERANCE` (a
+        rounded spelling of this limit state)."""
+        (a, x), (b, y) = self.severity, other.severity
+        return a == b and math.isfinite(x) and math.isfinite(y) \
+            and abs(x - y) <= MATCH_TOLERANCE
+
+    def __str__(self) -> str:
+        return self.name
+
+
+def _tilt_measure(peaks: Mapping[str, float]) -> float:
+    """Peak tilt of an analysis [rad], π/2 if it overturned."""
+    return math.pi / 2 if peaks[OVERTURNED] else float(peaks[THETA_MAX])
+
+
+@dataclass(frozen=True)
+class Overturning(LimitState):
+    """θ reaches π/2. An analysis must run to its end to decide it (it may come at any
+    time)."""
+
+    name: str = field(default=OVERTURNING, init=False)
+
+    quantity = property(lambda self: OVERTURNED,
+                        doc="``overturned``.")
+    severity = property(lambda self: (TILT_AXIS, math.inf),
+                        doc="Last on the tilt axis.")
+    title = property(lambda self: "Overturning", doc="``\"Overturning\"``.")
+
+    def threshold(self, alpha: float) -> float:
+        """π/2 [rad]."""
+        return 0.5 * math.pi
+
+    def measure(self, peaks: Mapping[str, float]) -> float:
+        """Peak tilt [rad], π/2 if overturned."""
+        return _tilt_measure(peaks)
+
+    def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
+        return bool(_peaks_of(outcome)[OVERTURNED])
+
+    def scan_goal(self, alpha: float) -> float:
+        """α [rad]: nothing beyond α is reached without passing α, where the restoring
+        moment of the weight vanishes."""
+        return min(self.threshold(alpha), alpha)
+
+    def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
+                             alpha: float) -> bool:
+        return self.threshold(alpha) <= tilt
+
+
+@dataclass(frozen=True)
+class TiltGoal(LimitState):
+    """|θ| > r·α.
+
+    Attributes
+    ----------
+    name : str
+        Canonical name ``"tilt:<r>"``.
     ratio : float
-        r of ``"tilt:<r>"`` [-]; ``inf`` for overturning.
+        r [-], > 0.
     """
 
     name: str
     ratio: float
 
-    @property
-    def is_overturning(self) -> bool:
-        """True for the overturning limit state."""
-        return math.isinf(self.ratio)
-
-    @property
-    def quantity(self) -> str:
-        """Name of the peak quantity this limit state watches (:data:`QUANTITIES`)."""
-        return OVERTURNED if self.is_overturning else THETA_MAX
-
-    @property
-    def severity(self) -> float:
-        """Sort key, mildest first: the tilt goal r, infinity for overturning."""
-        return self.ratio
+    quantity = property(lambda self: THETA_MAX, doc="``theta_max``.")
+    severity = property(lambda self: (TILT_AXIS, self.ratio), doc="(tilt axis, r).")
 
     @property
     def title(self) -> str:
-        """Human title: ``"Overturning"``, ``"Tilt θ > α/3 (excessive tilt)"``.
-
-        Ratios within 1e-3 of a fraction with a denominator up to 12 are written as one.
-        """
-        if self.is_overturning:
-            return "Overturning"
+        """``"Tilt θ > α/3 (excessive tilt)"``: ratios within 1e-3 of a fraction with a
+        denominator up to 12 are written as one."""
         frac = Fraction(self.ratio).limit_denominator(12)
         if frac == 1 and abs(self.ratio - 1.0) <= 1e-3:
             return "Tilt θ > α"
@@ -135,26 +283,8 @@ class LimitState:
         return f"Tilt θ > {frac.numerator}α/{frac.denominator}"
 
     def threshold(self, alpha: float) -> float:
-        """Tilt whose first exceedance defines the limit state [rad].
-
-        Parameters
-        ----------
-        alpha : float
-            Slenderness angle of the body [rad].
-
-        Returns
-        -------
-        float
-            r·α for a tilt goal, π/2 for overturning.
-
-        Raises
-        ------
-        ValueError
-            If r·α ≥ π/2: such a tilt can only be passed by overturning, so the goal is
-            meaningless (use ``"overturning"``).
-        """
-        if self.is_overturning:
-            return 0.5 * math.pi
+        """r·α [rad]; a ValueError if r·α ≥ π/2: such a tilt can only be passed by
+        overturning, so the goal is meaningless (use ``"overturning"``)."""
         tau = self.ratio * alpha
         if tau >= 0.5 * math.pi:
             raise ValueError(
@@ -164,41 +294,100 @@ class LimitState:
             )
         return tau
 
-    def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
-        """Whether an analysis exceeded this limit state.
+    def measure(self, peaks: Mapping[str, float]) -> float:
+        """Peak tilt [rad], π/2 if overturned."""
+        return _tilt_measure(peaks)
 
-        Parameters
-        ----------
-        outcome : HasPeaks or mapping
-            The analysis (anything with ``peaks``) or its peaks by name.
-        alpha : float
-            Slenderness angle of the body [rad].
-        """
-        peaks = outcome if isinstance(outcome, Mapping) else outcome.peaks
+    def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
+        peaks = _peaks_of(outcome)
         if peaks[OVERTURNED]:
-            return True  # an overturned body has passed every goal
-        if self.is_overturning:
-            return False
-        return bool(peaks[self.quantity] > self.threshold(alpha))
+            return True  # an overturned body has passed every tilt goal
+        return bool(peaks[THETA_MAX] > self.threshold(alpha))
 
     def scan_goal(self, alpha: float) -> float:
-        """Tilt the search measures the response's closeness to this limit state against
-        [rad]: the threshold, but never above α: no tilt beyond α (and no overturning) is
-        reached without first passing α, where the restoring moment of the weight vanishes."""
+        """The threshold, but never above α: no tilt beyond α (and no overturning) is
+        reached without first passing α, where the restoring moment of the weight
+        vanishes."""
         return min(self.threshold(alpha), alpha)
 
-    def passed_at_tilt(self, tilt: float, alpha: float) -> bool:
-        """Whether an analysis that went past ``tilt`` [rad] has certainly exceeded this
-        limit state (how a run stopped on purpose decides the goals below its stop)."""
+    def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
+                             alpha: float) -> bool:
+        """Goals up to the stop are passed even if the reported peak sits exactly on it."""
         return self.threshold(alpha) <= tilt
 
-    def stop_at(self, alpha: float) -> float | None:
-        """Tilt past which an analysis may end with this limit state decided [rad]; None
-        when the analysis must run to its end (overturning may come at any time)."""
-        return None if self.is_overturning else float(self.threshold(alpha))
+    def stop_at(self, alpha: float) -> float:
+        """The threshold: past it the goal is decided [rad]."""
+        return float(self.threshold(alpha))
 
-    def __str__(self) -> str:
-        return self.name
+    @staticmethod
+    def parse(text: str, original: str) -> TiltGoal:
+        """From the part after ``tilt:``."""
+        r, canon = _parse_ratio(text, original)
+        return TiltGoal(f"tilt:{canon}", r)
+
+
+@dataclass(frozen=True)
+class Sliding(LimitState):
+    """The body needs more friction than μ: ``mu_required_max`` > μ, or it lifts off
+    (``normal_force_min`` < 0: no friction holds a body the support would have to pull).
+
+    Its quantity is monitored along the whole analysis and can grow after the tilt is
+    decided (and at rest: |a_h|/(g + a_z)), so an analysis deciding it runs to its end and
+    the search looks for it below uplift too. Its exceedance need not grow with the
+    intensity (as a tilt goal's); the search reports the smallest exceeding intensity it
+    found, like for any goal, and never flags it unresolved (that warning is calibrated on
+    the peak tilt). An overturned analysis exceeds it only by its own monitors.
+
+    Attributes
+    ----------
+    name : str
+        Canonical name ``"sliding:<μ>"``.
+    mu : float
+        Support friction coefficient μ [-], > 0.
+    """
+
+    name: str
+    mu: float
+    at_rest: ClassVar[bool] = True
+    whole_record: ClassVar[bool] = True
+    warns_of_windows: ClassVar[bool] = False
+
+    quantity = property(lambda self: MU_REQUIRED_MAX, doc="``mu_required_max``.")
+    severity = property(lambda self: (SLIDING_AXIS, self.mu), doc="(sliding axis, μ).")
+    title = property(lambda self: f"Sliding at μ = {self.mu:.3g}",
+                     doc="``\"Sliding at μ = 0.6\"``.")
+
+    def threshold(self, alpha: float) -> float:
+        """μ [-], whatever the body."""
+        return self.mu
+
+    def measure(self, peaks: Mapping[str, float]) -> float:
+        """``mu_required_max`` [-]; inf where the body lifts off."""
+        if _peak(peaks, NORMAL_FORCE_MIN, self.name) < 0.0:
+            return math.inf
+        return float(_peak(peaks, MU_REQUIRED_MAX, self.name))
+
+    def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
+        return bool(self.measure(_peaks_of(outcome)) > self.mu)
+
+    def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
+                             alpha: float) -> bool:
+        """Only if already exceeded: a peak over μ stays over, a run cut short says
+        nothing of what it would have needed later."""
+        return self.exceeded(outcome, alpha)
+
+    @staticmethod
+    def parse(text: str, original: str) -> Sliding:
+        """From the part after ``sliding:``."""
+        try:
+            mu = float(text.strip())
+        except ValueError:
+            raise ValueError(f"limit_state must be 'sliding:<mu>' with a number mu > 0, "
+                             f"got {original!r}") from None
+        if not math.isfinite(mu) or mu <= 0.0:
+            raise ValueError(f"limit_state sliding friction coefficient mu must be a finite "
+                             f"number > 0, got {original!r}")
+        return Sliding(f"sliding:{mu:.15g}", mu)
 
 
 def _canonical_ratio(frac: Fraction) -> str:
@@ -227,7 +416,7 @@ def _parse_ratio(text: str, original: str) -> tuple[float, str]:
             frac = None
     except (ValueError, ZeroDivisionError):
         raise ValueError(
-            f"limit_state must be 'overturning' or 'tilt:<r>' with a number r > 0, "
+            f"limit_state must be 'tilt:<r>' with a number r > 0, "
             f"got {original!r}"
         ) from None
     if not math.isfinite(r) or r <= 0.0:
@@ -243,14 +432,22 @@ def _parse_ratio(text: str, original: str) -> tuple[float, str]:
     return r, _canonical_ratio(frac)
 
 
+_KINDS: dict[str, Callable[[str, str], LimitState]] = {
+    "tilt": TiltGoal.parse,
+    "sliding": Sliding.parse,
+}
+"""The kinds written ``<kind>:<value>``, each parsing its value (the text after the colon
+and the whole text, for the message)."""
+
+
 def parse_limit_state(spec: str | LimitState) -> LimitState:
     """Parse one limit state.
 
     Parameters
     ----------
     spec : str or LimitState
-        ``"overturning"``, ``"tilt:<r>"`` (decimal or fraction), ``"excessive-tilt"``;
-        case and surrounding blanks are ignored.
+        ``"overturning"``, ``"tilt:<r>"`` (decimal or fraction), ``"excessive-tilt"``,
+        ``"sliding:<mu>"``; case and surrounding blanks are ignored.
 
     Returns
     -------
@@ -268,12 +465,11 @@ def parse_limit_state(spec: str | LimitState) -> LimitState:
     text = spec.strip().lower()
     text = _ALIASES.get(text, text)
     if text == OVERTURNING:
-        return LimitState(OVERTURNING, math.inf)
+        return Overturning()
     kind, sep, rest = text.partition(":")
-    if kind != "tilt" or not sep:
-        raise ValueError(f"limit_state must be 'overturning' or 'tilt:<r>', got {spec!r}")
-    r, canon = _parse_ratio(rest, spec)
-    return LimitState(f"tilt:{canon}", r)
+    if kind not in _KINDS or not sep:
+        raise ValueError(f"limit_state must be {_KINDS_TEXT}, got {spec!r}")
+    return _KINDS[kind](rest, spec)
 
 
 def parse_limit_states(specs: str | LimitState | Iterable[str | LimitState] | None, *,
@@ -286,7 +482,7 @@ def parse_limit_states(specs: str | LimitState | Iterable[str | LimitState] | No
         A comma-separated string, one limit state, or a sequence; None or ``"default"``
         gives :data:`DEFAULT_LIMIT_STATES`.
     sort : bool
-        Order by increasing tilt goal, overturning last (the search's order); False keeps
+        Order by increasing severity (:attr:`LimitState.severity`); False keeps
         the order given.
 
     Returns
@@ -316,8 +512,9 @@ def parse_limit_states(specs: str | LimitState | Iterable[str | LimitState] | No
     return tuple(sorted(parsed.values(), key=severity))
 
 
-def severity(limit_state: str | LimitState) -> float:
-    """:attr:`LimitState.severity` of any spelling: the sort key from mildest to overturning."""
+def severity(limit_state: str | LimitState) -> tuple[int, float]:
+    """:attr:`LimitState.severity` of any spelling: the sort key (axis, level), mildest
+    first, the tilt axis before the sliding axis."""
     return parse_limit_state(limit_state).severity
 
 
@@ -338,6 +535,12 @@ def stop_for(states: Sequence[LimitState], alpha: float) -> float | None:
     return None if any(s is None for s in stops) else max(stops)
 
 
+def whole_record(states: Iterable[LimitState]) -> bool:
+    """Whether analyses deciding ``states`` must be monitored to the end of the record
+    (:attr:`LimitState.whole_record` of any)."""
+    return any(ls.whole_record for ls in states)
+
+
 def classify(outcome: HasPeaks | Mapping[str, float], states: Sequence[LimitState],
              alpha: float, stop_at: float | None, *,
              stopped: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -353,8 +556,9 @@ def classify(outcome: HasPeaks | Mapping[str, float], states: Sequence[LimitStat
     stop_at : float or None
         Tilt the analysis was allowed to stop at [rad] (None: run to the end).
     stopped : bool
-        The analysis ended on purpose past ``stop_at``: the goals up to ``stop_at`` are
-        passed even if the reported peak sits exactly on it; those above are unknown.
+        The analysis ended on purpose past ``stop_at``: each limit state decides what that
+        says (:meth:`LimitState.decided_when_stopped`: the tilt goals up to ``stop_at`` are
+        passed even if the reported peak sits exactly on it, those above unknown).
 
     Returns
     -------
@@ -364,13 +568,15 @@ def classify(outcome: HasPeaks | Mapping[str, float], states: Sequence[LimitStat
     if not stopped:
         return np.ones(len(states), dtype=bool), exceeded
     limit = math.inf if stop_at is None else stop_at
-    known = np.array([ls.passed_at_tilt(limit, alpha) for ls in states], dtype=bool)
+    known = np.array([ls.decided_when_stopped(outcome, limit, alpha) for ls in states],
+                     dtype=bool)
     return known, (exceeded | known) & known
 
 
 MATCH_TOLERANCE = 1e-3
-"""Largest difference of tilt ratios r [-] at which two labels denote one limit state when
-their canonical names differ: a rounded decimal ("tilt:0.3333") selects "tilt:1/3"."""
+"""Largest difference of levels (tilt ratio r, friction μ) [-] at which two labels of one
+axis denote one limit state when their canonical names differ: a rounded decimal
+("tilt:0.3333") selects "tilt:1/3"."""
 
 
 def match_limit_state(wanted: str | LimitState, available: Iterable[str], *,
@@ -379,7 +585,8 @@ def match_limit_state(wanted: str | LimitState, available: Iterable[str], *,
 
     Every spelling is accepted on both sides: ``"tilt:1/3"``, ``"tilt:2/6"``,
     ``"excessive-tilt"`` and ``"tilt:0.3333"`` select the same entry. The canonical name
-    wins; otherwise the tilt goal whose ratio r lies within :data:`MATCH_TOLERANCE`.
+    wins; otherwise the limit state of the same axis within :data:`MATCH_TOLERANCE`
+    (:meth:`LimitState.near`).
 
     Parameters
     ----------
@@ -412,8 +619,7 @@ def match_limit_state(wanted: str | LimitState, available: Iterable[str], *,
     exact = [lab for lab, p in zip(labels, parsed, strict=True) if p is not None
              and p.name == want.name]
     close = [lab for lab, p in zip(labels, parsed, strict=True) if p is not None
-             and not want.is_overturning and not p.is_overturning
-             and abs(p.ratio - want.ratio) <= MATCH_TOLERANCE]
+             and want.near(p)]
     hits = exact or close
     if not hits and missing_ok:
         return None

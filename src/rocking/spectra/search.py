@@ -13,7 +13,14 @@ exceeding intensity it found.
 One analysis decides every limit state whose tilt goal lies below the largest tilt it
 reached, so a single search serves all limit states of (body, motion, mode): each analysis
 stops (``stop_at``) at the largest goal still undecided at its intensity, the cheapest run
-that still answers every open question.
+that still answers every open question. A limit state a body at rest can exceed (sliding,
+:attr:`~rocking.spectra.limit_states.LimitState.at_rest`) is also looked for below uplift:
+the search analyses the uplift intensity first and, if it is exceeded there, bisects
+between 0 and it.
+
+Each answer carries what the analyses up to it saw of the validity monitors: ``lifts_off``
+(some analysis at or below the answer had a normal force N < 0) and, given the support's
+friction coefficient μ, ``slides`` (some needed μ_req > μ; NaN without μ).
 
 
 This module only sees an analysis function ``analyze(intensity, stop_at, rtol) -> Outcome``
@@ -33,12 +40,15 @@ from .._validate import positive_finite
 from ..dynamics.result import Status
 from .accuracy import Accuracy, get_accuracy
 from .limit_states import (
+    MU_REQUIRED_MAX,
+    NORMAL_FORCE_MIN,
     OVERTURNED,
     THETA_MAX,
     LimitState,
     check_peaks,
     classify,
     parse_limit_states,
+    stop_for,
 )
 
 DEFAULT_UPPER = 20.0
@@ -109,6 +119,8 @@ class Evaluation:
     status : str
         :class:`~rocking.dynamics.result.Status` value.
     reason : str
+    mu_required_max, normal_force_min : float
+        The analysis's validity monitors [-] (NaN where it did not report them).
     """
 
     intensity: float
@@ -118,6 +130,8 @@ class Evaluation:
     overturned: bool
     status: str
     reason: str = ""
+    mu_required_max: float = float("nan")
+    normal_force_min: float = float("nan")
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,7 +159,14 @@ class CriticalResult:
     unresolved : ndarray of bool
         Windows of exceedance narrower than the scan step may lie below this answer: below
         its first exceeding scan point the peak tilt came close to the goal and fell back,
-        or spiked (:func:`window_warning`). A finer scan may answer lower.
+        or spiked (:func:`window_warning`). A finer scan may answer lower. Never set for a
+        limit state that does not watch the tilt (sliding).
+    slides : ndarray of float
+        1.0 where an analysis at or below the answer (up to :attr:`upper` where not
+        reached) needed more friction than :attr:`mu` (``mu_required_max`` > μ), 0.0 where
+        none did, NaN without μ: the answer then says nothing about sliding.
+    lifts_off : ndarray of bool
+        An analysis at or below the answer had a normal force N < 0 (the body would jump).
     n_analyses : int
         Analyses run (retries included), shared by all limit states.
     lower, upper : float
@@ -156,6 +177,12 @@ class CriticalResult:
     mode, motion : str
     R, tan_alpha : float
         Body size [m] and slenderness [-] (NaN when the search ran on a bare function).
+    mu : float or None
+        Support friction coefficient the ``slides`` flags compare with [-].
+
+    The flags see each analysis as far as it was monitored: an analysis ended at a tilt
+    goal is monitored up to there; with μ or a limit state that needs the whole record
+    (sliding), no analysis ends early once its tilt is decided.
     """
 
     limit_states: tuple[str, ...]
@@ -175,11 +202,18 @@ class CriticalResult:
     motion: str = ""
     R: float = float("nan")
     tan_alpha: float = float("nan")
+    slides: np.ndarray | None = None
+    lifts_off: np.ndarray | None = None
+    mu: float | None = None
 
     def __post_init__(self) -> None:
+        n = len(self.limit_states)
         if self.unresolved is None:  # a result built without the flag: nothing was seen
-            object.__setattr__(self, "unresolved",
-                               np.zeros(len(self.limit_states), dtype=bool))
+            object.__setattr__(self, "unresolved", np.zeros(n, dtype=bool))
+        if self.lifts_off is None:  # built without monitors: nothing was seen
+            object.__setattr__(self, "lifts_off", np.zeros(n, dtype=bool))
+        if self.slides is None:  # nothing to say about sliding
+            object.__setattr__(self, "slides", np.full(n, np.nan))
 
     @property
     def pga_g(self) -> np.ndarray:
@@ -192,8 +226,11 @@ class CriticalResult:
                 f"{self.n_analyses} analyses)")
         rows = []
         for k, name in enumerate(self.limit_states):
-            flags = [f for f in ("not_reached", "non_monotonic", "failed", "unresolved")
-                     if bool(getattr(self, f)[k])]
+            # slides where μ was given (NaN says nothing); lifts_off is left to the tables
+            # (nearly every overturning answer carries it: a body falling leaves its support)
+            flags = [f for f in ("not_reached", "non_monotonic", "failed", "unresolved",
+                                 "slides")
+                     if getattr(self, f)[k] == 1]
             rows.append(f"  {name}: PGA/(g tan alpha) = {float(self.intensity[k]):.6g}, "
                         f"PGA = {float(self.pga_g[k]):.6g} g"
                         + (f" [{', '.join(flags)}]" if flags else ""))
@@ -232,6 +269,9 @@ class CriticalResult:
                     "non_monotonic": bool(self.non_monotonic[k]),
                     "failed": bool(self.failed[k]),
                     "unresolved": bool(self.unresolved[k]),
+                    "slides": _flag(self.slides[k]),
+                    "lifts_off": bool(self.lifts_off[k]),
+                    "mu": self.mu,
                     "n_analyses": int(self.n_analyses),
                     "lower": float(self.lower),
                     "upper": float(self.upper),
@@ -245,6 +285,11 @@ class CriticalResult:
         return pd.DataFrame(self.to_records())
 
 
+def _flag(value: float) -> bool | None:
+    """A flag that may say nothing (NaN) as True, False or None."""
+    return None if math.isnan(value) else bool(value)
+
+
 # --------------------------------------------------------------------------------------
 # The search on an abstract analysis function
 # --------------------------------------------------------------------------------------
@@ -255,22 +300,24 @@ class _Knowledge:
     """What the analyses run so far say about each limit state (rows: analyses)."""
 
     tau: np.ndarray
-    lower: float
+    lower: np.ndarray  # per limit state: the intensity below which it is known not exceeded
     intensities: list[float] = field(default_factory=list)
     known: list[np.ndarray] = field(default_factory=list)
     exceeded: list[np.ndarray] = field(default_factory=list)
-    theta: list[float] = field(default_factory=list)
+    measures: list[np.ndarray] = field(default_factory=list)  # LimitState.measure per state
+    monitors: list[tuple[float, float]] = field(default_factory=list)  # (μ_req max, N min)
     failed_at: list[float] = field(default_factory=list)
     # brackets() of the analyses so far: asked two or three times per analysis, and each
     # call rereads every row, so it is kept until the next add()
     _brackets: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
     def add(self, intensity: float, known: np.ndarray, exceeded: np.ndarray,
-            theta: float) -> None:
+            measures: np.ndarray, monitors: tuple[float, float]) -> None:
         self.intensities.append(intensity)
         self.known.append(known)
         self.exceeded.append(exceeded)
-        self.theta.append(theta)
+        self.measures.append(measures)
+        self.monitors.append(monitors)
         self._brackets = None
 
     def brackets(self) -> tuple[np.ndarray, np.ndarray]:
@@ -284,7 +331,7 @@ class _Knowledge:
     def _compute_brackets(self) -> tuple[np.ndarray, np.ndarray]:
         n = self.tau.size
         hi = np.full(n, np.nan)
-        lo = np.full(n, self.lower)
+        lo = self.lower.copy()
         if not self.intensities:
             return lo, hi
         intens = np.asarray(self.intensities)[:, None]
@@ -295,6 +342,20 @@ class _Knowledge:
         below = known & ~exc & ((intens < hi) | np.isnan(hi))
         lo = np.maximum(self.lower, np.max(np.where(below, intens, -np.inf), axis=0))
         return lo, hi
+
+    def monitor_flags(self, limit: np.ndarray, mu: float | None) -> tuple[np.ndarray,
+                                                                          np.ndarray]:
+        """(slides, lifts_off) per limit state over the analyses at intensities up to
+        ``limit`` (per limit state): slides 1.0/0.0 (NaN without ``mu``), lifts_off bool."""
+        n = self.tau.size
+        if not self.intensities:
+            return (np.full(n, np.nan) if mu is None else np.zeros(n)), np.zeros(n, bool)
+        up_to = np.asarray(self.intensities)[:, None] <= limit[None, :]
+        mon = np.asarray(self.monitors, dtype=float)
+        lifts_off = (up_to & (mon[:, 1:2] < 0.0)).any(axis=0)
+        if mu is None:
+            return np.full(n, np.nan), lifts_off
+        return (up_to & (mon[:, 0:1] > mu)).any(axis=0).astype(float), lifts_off
 
     def non_monotonic(self) -> np.ndarray:
         """Exceeded at some I and known not exceeded at a larger I."""
@@ -370,6 +431,12 @@ def _checked(out: Outcome) -> Outcome:
     return out
 
 
+def _monitors(out: Outcome) -> tuple[float, float]:
+    """(μ_req max, N min) of an analysis [-], NaN where it did not report them."""
+    return (float(out.other_peaks.get(MU_REQUIRED_MAX, math.nan)),
+            float(out.other_peaks.get(NORMAL_FORCE_MIN, math.nan)))
+
+
 class _Search:
     """State of one search: analyses run so far and the rules choosing the next one."""
 
@@ -384,7 +451,9 @@ class _Search:
         self.lower = lower
         self.upper = upper
         self.acc = acc
-        self.know = _Knowledge(self.tau, lower)
+        # a limit state a body at rest can exceed is looked for from 0, the others from uplift
+        at_rest = np.array([ls.at_rest for ls in states], dtype=bool) & math.isfinite(lower)
+        self.know = _Knowledge(self.tau, np.where(at_rest, 0.0, lower))
         self.evaluations: list[Evaluation] = []
         self.stuck = np.zeros(len(states), dtype=bool)  # a failure blocks the bracket
         self.resolved = np.zeros(len(states), dtype=bool)  # bracket at float resolution
@@ -396,56 +465,67 @@ class _Search:
         out = _checked(self.analyze(intensity, stop_at, rtol))
         self.evaluations.append(
             Evaluation(float(intensity), stop_at, float(rtol), float(out.theta_max),
-                       bool(out.overturned), Status(out.status).value, out.reason)
+                       bool(out.overturned), Status(out.status).value, out.reason,
+                       *_monitors(out))
         )
         return out
 
-    def run(self, intensity: float) -> float:
+    def run(self, intensity: float) -> np.ndarray:
         """Analyse at ``intensity`` if it can teach anything.
 
-        Returns the peak tilt reached [rad]: 0.0 if no analysis was needed, NaN if it failed
-        twice (nothing was learnt there).
+        Returns :meth:`LimitState.measure` of each limit state (the peak tilt [rad] for the
+        tilt goals): 0.0 if no analysis was needed, NaN if it failed twice (nothing was
+        learnt there).
         """
         informative = self.know.informative(intensity)
         if not informative.any():
-            return 0.0
+            return np.zeros(len(self.states))
         # the highest goal still undecided decides where the analysis may stop
-        top = int(np.flatnonzero(informative)[-1])
-        stop_at = self.states[top].stop_at(self.alpha)
+        stop_at = stop_for([ls for ls, i in zip(self.states, informative, strict=True) if i],
+                           self.alpha)
         out = self._call(intensity, stop_at, self.rtol)
         if out.status is Status.FAILED:
             out = self._call(intensity, stop_at, self.rtol * RETRY_RTOL_FACTOR)
         if out.status is Status.FAILED:
             self.know.failed_at.append(intensity)
-            return math.nan
+            return np.full(len(self.states), np.nan)
         known, exceeded = classify(out, self.states, self.alpha, stop_at,
                                    stopped=out.status is Status.STOPPED_AT_LIMIT)
-        theta = math.pi / 2 if out.overturned else float(out.theta_max)
-        self.know.add(intensity, known, exceeded, theta)
-        return theta
+        peaks = out.peaks
+        measures = np.array([ls.measure(peaks) for ls in self.states], dtype=float)
+        self.know.add(intensity, known, exceeded, measures, _monitors(out))
+        return measures
 
-    def _next_scan_point(self, previous: float, j: int, theta: float) -> float:
-        """Scan point after ``previous`` (the j-th), given the peak tilt ``theta`` reached
-        there [rad] (0 at uplift, NaN after a failure)."""
+    def _next_scan_point(self, previous: float, j: int, measures: np.ndarray) -> float:
+        """Scan point after ``previous`` (the j-th), given the measures of each limit state
+        there (:meth:`run`: 0 at uplift, NaN after a failure)."""
         if self.acc.scan == "fixed":
             return self.acc.scan_point(self.lower, j)
         _, hi = self.know.brackets()
-        # the closeness goal (LimitState.scan_goal) of the mildest state not yet exceeded
-        goal = float(np.min(self.goal[np.isnan(hi)]))
+        # the state not yet exceeded closest to its scan goal (LimitState.scan_goal): for
+        # tilt goals the mildest, whose goal is the smallest
+        open_ = np.flatnonzero(np.isnan(hi))
+        closeness = measures[open_] / self.goal[open_]
+        k = int(open_[0] if np.isnan(closeness).any() else open_[np.argmax(closeness)])
+        value, goal = float(measures[k]), float(self.goal[k])
         if self.acc.scan == "seek":
-            return previous * (1.0 + self.acc.seek_step(theta, goal))
-        return previous * (1.0 + self.acc.adaptive_step(theta, goal))
+            return previous * (1.0 + self.acc.seek_step(value, goal))
+        return previous * (1.0 + self.acc.adaptive_step(value, goal))
 
     def scan(self) -> None:
-        """Step upward from uplift until every limit state is exceeded or ``upper`` is done."""
-        j, intensity, theta = 1, self.lower, 0.0
+        """Step upward from uplift until every limit state is exceeded or ``upper`` is done
+        (first the uplift intensity itself, for limit states a body at rest can exceed)."""
+        j, intensity = 1, self.lower
+        measures = np.zeros(len(self.states))
+        if (self.know.lower < self.lower).any():
+            measures = self.run(self.lower)
         while self.lower < self.upper:
             _, hi = self.know.brackets()
             if not np.isnan(hi).any():
                 return
-            intensity = self._next_scan_point(intensity, j, theta)
+            intensity = self._next_scan_point(intensity, j, measures)
             last = intensity >= self.upper * (1.0 - 1e-9)
-            theta = self.run(self.upper if last else intensity)
+            measures = self.run(self.upper if last else intensity)
             if last:
                 return
             j += 1
@@ -463,7 +543,7 @@ class _Search:
             if not lo[k] < mid < hi[k]:  # float resolution reached: nothing left to halve
                 self.resolved[k] = True
                 continue
-            if math.isnan(self.run(mid)):
+            if np.isnan(self.run(mid)).all():
                 # Cannot learn anything here: stop refining every bracket around this point.
                 self.stuck |= (lo < mid) & (mid < hi)
 
@@ -477,23 +557,26 @@ class _Search:
         intens = np.asarray(self.know.intensities[:n])
         known = np.asarray(self.know.known[:n])
         exc = np.asarray(self.know.exceeded[:n])
-        theta = np.asarray(self.know.theta[:n])
+        measures = np.asarray(self.know.measures[:n])
         order = np.argsort(intens, kind="stable")
         for k in range(self.tau.size):
+            if not self.states[k].warns_of_windows:
+                continue
             hit = known[:, k] & exc[:, k]
             first = np.min(intens[hit]) if hit.any() else np.inf
             below = [i for i in order if intens[i] < first and known[i, k]]
-            out[k] = window_warning(theta[below] / self.goal[k])
+            out[k] = window_warning(measures[below, k] / self.goal[k])
         return out
 
-    def result(self) -> CriticalResult:
+    def result(self, mu: float | None = None) -> CriticalResult:
         lo, hi = self.know.brackets()
         not_reached = np.isnan(hi)
         failed_at = np.asarray(self.know.failed_at, dtype=float)
         failed = self.stuck.copy()
+        limit = np.where(not_reached, np.inf, hi)
         if failed_at.size:
-            limit = np.where(not_reached, np.inf, hi)
             failed |= (failed_at[:, None] < limit[None, :]).any(axis=0)
+        slides, lifts_off = self.know.monitor_flags(limit, mu)
         return CriticalResult(
             limit_states=tuple(ls.name for ls in self.states),
             intensity=hi.copy(),
@@ -508,6 +591,9 @@ class _Search:
             upper=float(self.upper),
             accuracy=self.acc,
             evaluations=tuple(self.evaluations),
+            slides=slides,
+            lifts_off=lifts_off,
+            mu=mu,
         )
 
 
@@ -520,6 +606,7 @@ def search_critical(
     upper: float = DEFAULT_UPPER,
     accuracy: str | Accuracy | dict = "default",
     rtol: float | None = None,
+    mu: float | None = None,
 ) -> CriticalResult:
     """Smallest exceeding intensity of each limit state, for any analysis function.
 
@@ -539,6 +626,9 @@ def search_critical(
         Preset name or tolerances (:func:`rocking.spectra.accuracy.get_accuracy`).
     rtol : float, optional
         ODE tolerance handed to ``analyze`` [-]; default ``accuracy.rtol``.
+    mu : float, optional
+        Support friction coefficient the ``slides`` flags compare the analyses'
+        ``mu_required_max`` with [-], > 0 (None: the flags say nothing about sliding).
 
     Returns
     -------
@@ -553,11 +643,12 @@ def search_critical(
     if math.isnan(lower) or lower <= 0.0:
         raise ValueError(f"lower must be > 0, got {lower!r}")
     rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
+    mu = None if mu is None else positive_finite("mu", mu)
     search = _Search(analyze, states, alpha, lower, upper, acc, rtol)
     search.scan()
     search.scan_rows = len(search.know.intensities)
     search.bisect()
-    return search.result()
+    return search.result(mu)
 
 
 checked = _checked  # the public name (tilt_map uses it)

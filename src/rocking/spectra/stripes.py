@@ -54,7 +54,7 @@ from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .critical import make_analysis, uplift_intensity
 from .fragility import bootstrap_indices
-from .limit_states import LimitState, classify, parse_limit_states, stop_for
+from .limit_states import LimitState, classify, parse_limit_states, stop_for, whole_record
 from .modes import MODE_3D, MODES, check_mode
 
 __all__ = ["BOOTSTRAP_SEED", "DEFAULT_BOOTSTRAP", "DEFAULT_REFINE", "DEFAULT_STRIPES",
@@ -613,11 +613,14 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
 
     ``intensities`` are ``measure``/(g tan α): the motion is scaled so that its measure
     equals each (:func:`measure_ratio`). Each analysis stops once the largest tilt goal is
-    passed (runs to its end when overturning is asked); below the uplift intensity the body
-    stays at rest and nothing is run.
+    passed (runs to its end when overturning is asked, and to the end of the record when a
+    limit state watches a monitor, :func:`~rocking.spectra.limit_states.whole_record`);
+    below the uplift intensity the body stays at rest and nothing is run, unless a limit
+    state a body at rest can exceed is asked (sliding).
     """
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
-                            rest_tilt=acc.rest_tilt)
+                            rest_tilt=acc.rest_tilt, whole=whole_record(states))
+    at_rest = any(ls.at_rest for ls in states)
     ratio = measure_ratio(motion, measure)
     if ratio != 1.0:  # the PGA/(g tan α) each stripe of the measure gives this motion
         intensities = np.asarray(intensities, dtype=float) * ratio
@@ -628,7 +631,7 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
     failed = np.zeros(intensities.size, dtype=bool)
     runs = 0
     for i, im in enumerate(intensities):
-        if im > lower:
+        if im > lower or at_rest:
             out = analyze(float(im), stop_at, rtol)
             runs += 1
             if out.status is Status.FAILED or not math.isfinite(out.theta_max):

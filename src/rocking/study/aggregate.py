@@ -92,11 +92,26 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
         # to trust a mean that rests on them (docs/performance.md, resolution)
         flag = ds["unresolved"].load().astype(bool) & reached
         out["n_unresolved"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
+    out.update(validity_counts(ds, requested))
     for name in out.variables:
         out[name].attrs = attrs(str(name))
     out["std"].attrs["ddof"] = 1
     out.attrs = {k: v for k, v in ds.attrs.items() if k != "layout"}
     out.attrs["motions"] = ", ".join(map(str, ds["motion"].values))
+    return out
+
+
+def validity_counts(ds: xr.Dataset, requested: xr.DataArray) -> dict[str, xr.DataArray]:
+    """``n_lifts_off`` and, where the study gave μ, ``n_slides``: per cell, the motions whose
+    analyses up to the answer had N < 0 or needed more friction than μ (reached or not;
+    left out for a store made before these flags, ``n_slides`` without μ)."""
+    out = {}
+    if "lifts_off" in ds:
+        flag = ds["lifts_off"].load().astype(bool) & requested
+        out["n_lifts_off"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
+    if "slides" in ds and bool(ds["slides"].notnull().any()):
+        flag = (ds["slides"].load() == 1.0) & requested
+        out["n_slides"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
     return out
 
 
@@ -148,14 +163,14 @@ def censoring_notes(stats: xr.Dataset) -> xr.DataArray:
 def to_frame(stats: xr.Dataset) -> pd.DataFrame:
     """Long table, one row per (mode, limit_state, tan_alpha, R); headers with units."""
     cols = ["mean", "mean_pga_g", "std", "median", "median_all", "count", "n_not_reached",
-            "n_unresolved", "censoring", "requested"]
+            "n_unresolved", "n_slides", "n_lifts_off", "censoring", "requested"]
     cols = [c for c in cols if c in stats]
     df = stats[cols].to_dataframe().reset_index()[[*STAT_DIMS, *cols]]
     return df.rename(columns=header)
 
 
 CRITICAL_COLUMNS = ("pga_crit", "pga_crit_g", "not_reached", "non_monotonic", "failed",
-                    "unresolved", "n_analyses")
+                    "unresolved", "slides", "lifts_off", "n_analyses")
 """Per-motion results of a spectra store, as :func:`critical_frame` lists them."""
 
 

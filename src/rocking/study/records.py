@@ -56,9 +56,13 @@ RECORD_COLUMNS = {
     "unresolved": ("", "the response came close to the goal below the answer"),
     "non_monotonic": ("", "exceeded at one intensity and not at a higher one"),
     "failed": ("", "an analysis failed"),
+    "slides": ("", "an analysis up to the answer needed more friction than the study's mu "
+                   "(empty without mu)"),
+    "lifts_off": ("", "an analysis up to the answer had a normal force N < 0 (would jump)"),
     "processing": ("", "source record and processing, in order"),
 }
-"""Columns of ``records.csv`` always present: name → (unit, meaning)."""
+"""Columns of ``records.csv`` always present (``slides`` and ``lifts_off`` from a store that
+has them): name → (unit, meaning)."""
 
 
 def measure_column(measure: str, critical: bool = False) -> tuple[str, str]:
@@ -78,6 +82,7 @@ def motion_measures(motion: GroundMotion, measures: Sequence[str]) -> dict[str, 
 
 
 _FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
+_VALIDITY = ("slides", "lifts_off")  # slides stays float: NaN says nothing (no mu)
 _ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
           "pga_recorded_g", "pga_g"]
 
@@ -102,7 +107,8 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
                            "pga_g": motion.pga_g, **motion_measures(motion, ims),
                            "processing": who["processing"]})
     info = pd.DataFrame(per_motion)
-    table = requested_answers(store, ["pga_crit", "pga_crit_g", *_FLAGS])
+    validity = [f for f in _VALIDITY if f in store]
+    table = requested_answers(store, ["pga_crit", "pga_crit_g", *_FLAGS, *validity])
     table = table.merge(info, on="motion", how="left", sort=False)
     # the store's order: motions as in the ensemble file, limit states by severity
     labels = {"motion": stored, "mode": [str(v) for v in store["mode"].values],
@@ -115,13 +121,15 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
         table[column] = table[column].astype(str)
     for flag in _FLAGS:
         table[flag] = table[flag].astype(bool)
+    if "lifts_off" in table:
+        table["lifts_off"] = table["lifts_off"].astype(bool)
     scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
     table["scale_factor"] = scale
     for m in ims:
         column = measure_column(m)[0]
         table[measure_column(m, critical=True)[0]] = scale * table[column]
     head = [*_ORDER, *(measure_column(m)[0] for m in ims), "pga_crit", "pga_crit_g",
-            "scale_factor", *_FLAGS,
+            "scale_factor", *_FLAGS, *validity,
             *(measure_column(m, critical=True)[0] for m in ims), "processing"]
     return table[head]
 

@@ -48,7 +48,8 @@ DEFAULTS: dict[str, Any] = {
     "ensemble": {"paths": None, "units": "g", "dt": None, "n_synthetic": 10, "seed": 2017,
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
                  "fit_method": "spectrum", "vertical": False},
-    "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"]},
+    "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"],
+              "mu": None},
     "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,
                  "chunk_R": 1},
     "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,
@@ -586,6 +587,9 @@ class SpectraSpec(_Hashed):
         Highest PGA/(g tan α) searched [-].
     damping : Damping or None
         The contact model, when ``3d-damped`` runs.
+    mu : float or None
+        Support friction coefficient of every body [-]: the ``slides`` flag of each answer
+        (None: the flags say nothing about sliding).
 
     Two specs are equal when their :meth:`to_attrs` are (run purposes are labels only).
     """
@@ -599,6 +603,7 @@ class SpectraSpec(_Hashed):
     accuracy: str | dict[str, Any]
     upper: float
     damping: Damping | None
+    mu: float | None = None
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, SpectraSpec) and self.to_attrs() == other.to_attrs()
@@ -606,8 +611,10 @@ class SpectraSpec(_Hashed):
     __hash__ = None  # mutable-looking fields (the plan's mask): not hashable
 
     def search_options(self) -> dict[str, float]:
-        """Keyword arguments of the searches: ``upper`` and the contact model."""
-        return {"upper": self.upper, **Damping.options(self.damping)}
+        """Keyword arguments of the searches: ``upper``, the contact model and ``mu`` (only
+        when given, so that the stores of studies without it keep their digests)."""
+        mu = {} if self.mu is None else {"mu": self.mu}
+        return {"upper": self.upper, **Damping.options(self.damping), **mu}
 
     def to_attrs(self) -> dict[str, Any]:
         return {
@@ -631,7 +638,7 @@ class SpectraSpec(_Hashed):
         return cls(attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]),
                    tuple(attrs["R"]), plan_study(attrs["runs"], "runs"), attrs["chunk_R"],
                    attrs["min_task_seconds"], attrs["accuracy"], opts["upper"],
-                   Damping.from_options(opts))
+                   Damping.from_options(opts), opts.get("mu"))
 
 
 @dataclass(frozen=True)
@@ -822,9 +829,10 @@ class StudySpec(_Hashed):
         where = f"{field}.upper" if s["upper"] is not None else "search.upper"
         if _number(upper, where) <= 1.0:
             raise ValueError(f"{where} must be > 1 (the intensity that uplifts), got {upper!r}")
+        mu = None if s["mu"] is None else _positive(s["mu"], f"{field}.mu")
         spectra = SpectraSpec(name, ensemble, tuple(expand_grid(s["R"], f"{field}.R")), plan,
                               chunk_R, min_task, accuracy, float(upper),
-                              Damping.of_modes(config, plan.modes))
+                              Damping.of_modes(config, plan.modes), mu)
         tilt_map = None if s["tilt_map"] is None else _tilt_map(
             config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
         stripes = None if s["stripes"] is None else _stripes(

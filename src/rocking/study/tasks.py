@@ -44,6 +44,9 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
                    tan_alpha: Sequence[float], R: Sequence[float], chunk_R: int) -> Layout:
     """Layout of a performance-spectra store (``docs/design.md``, "Study store").
 
+    The validity flags of each answer: ``slides`` (float: 1/0, NaN where the study gave no
+    ``mu`` or the cell was not requested) and ``lifts_off`` (bool).
+
     Besides the results it holds the static ``requested`` (mode, limit_state, tan_alpha):
     which cells the study's runs ask for (:mod:`rocking.study.plan`); cells not requested
     are never computed and keep the fill values (NaN, flags false).
@@ -78,6 +81,8 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
         "failed": Variable(SPECTRA_DIMS, "bool", False),
         "unresolved": Variable(SPECTRA_DIMS, "bool", False),
         "n_analyses": Variable(SPECTRA_DIMS, "int32", 0),
+        "slides": Variable(SPECTRA_DIMS, "float64", np.nan),
+        "lifts_off": Variable(SPECTRA_DIMS, "bool", False),
     }
     # fill True: a store made without a study plan computes every cell
     static = {REQUESTED: Variable(REQUESTED_DIMS, "bool", True)}
@@ -340,8 +345,11 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
     values = {k: v[None, :, None, None, :] for k, v in flat.items() if k in layout.variables}
     # NaN is an answer where the limit state was not reached, or where nobody asked
     nan_ok = values["not_reached"] | ~wanted[None, :, None, None, None]
+    # slides says nothing (NaN) without the study's mu, or where nobody asked
+    no_mu = attrs.get("search_options", {}).get("mu") is None
+    nan_slides = ~wanted[None, :, None, None, None] | no_mu
     write_region(path, layout, index, values,
-                 nan_allowed={"pga_crit": nan_ok, "pga_crit_g": nan_ok})
+                 nan_allowed={"pga_crit": nan_ok, "pga_crit_g": nan_ok, "slides": nan_slides})
     return {"index": index, "points": len(tasks), "seconds": time.perf_counter() - t0}
 
 
@@ -362,6 +370,8 @@ def _unrequested_values(n_ls: int, n: int) -> dict[str, np.ndarray]:
         "failed": np.zeros((n_ls, n), dtype=bool),
         "unresolved": np.zeros((n_ls, n), dtype=bool),
         "n_analyses": np.zeros((n_ls, n), dtype=np.int32),
+        "slides": np.full((n_ls, n), np.nan),
+        "lifts_off": np.zeros((n_ls, n), dtype=bool),
     }
 
 
@@ -375,7 +385,8 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
         One per point, as returned by :func:`rocking.spectra.critical.critical_intensity_batch`:
         ``limit_states`` (names), arrays ``intensity`` (PGA/(g tan α) [-], NaN where not
         reached), ``not_reached``, ``non_monotonic``, ``failed``, ``unresolved`` (false
-        where a result has none) and the count ``n_analyses``.
+        where a result has none), ``slides`` (NaN where none), ``lifts_off`` (false where
+        none) and the count ``n_analyses``.
     limit_states : sequence of str
         Order of the first axis (canonical names, as in the store).
     computed : sequence of str, optional
@@ -405,6 +416,9 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
             out["failed"][i, j] = res.failed[k]
             unresolved = getattr(res, "unresolved", None)
             out["unresolved"][i, j] = False if unresolved is None else unresolved[k]
+            slides, lifts_off = (getattr(res, f, None) for f in ("slides", "lifts_off"))
+            out["slides"][i, j] = np.nan if slides is None else slides[k]
+            out["lifts_off"][i, j] = False if lifts_off is None else lifts_off[k]
             out["n_analyses"][i, j] = res.n_analyses
     bad = np.isnan(out["pga_crit"]) & ~out["not_reached"]
     bad &= np.isin(np.asarray(limit_states, dtype=object), list(computed))[:, None]

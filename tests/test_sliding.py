@@ -1,0 +1,254 @@
+"""The sliding limit state and the slides / lifts_off flags of every answer (issues 32, 33),
+checked against direct runs of the engine (ground_response), not against the search."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+from rocking.constants import G
+from rocking.dynamics.analysis import ground_response
+from rocking.dynamics.bodies import Cylinder
+from rocking.motions.motion import GroundMotion
+from rocking.spectra.accuracy import get_accuracy
+from rocking.spectra.critical import critical_intensity, uplift_intensity
+from rocking.spectra.limit_states import (
+    Sliding,
+    match_limit_state,
+    parse_limit_state,
+    parse_limit_states,
+    severity,
+)
+
+TAN_ALPHA = 0.2
+
+
+def _pulse() -> GroundMotion:
+    """A smooth two-second burst: the friction the body needs grows with the intensity."""
+    dt = 0.005
+    t = np.arange(0.0, 4.0, dt)
+    env = np.where(t < 2.0, np.sin(np.pi * t / 2.0) ** 2, 0.0)
+    return GroundMotion(env * np.sin(2 * np.pi * 1.5 * t),
+                        0.6 * env * np.cos(2 * np.pi * 1.1 * t), dt, name="burst")
+
+
+def _direct(body, motion, intensity):
+    """ground_response of the 2D model under x at normalized intensity I, with its defaults
+    (history kept: the run is never ended early)."""
+    return ground_response(body, motion.component("x"), model="2d",
+                           scale=intensity * G * body.tan_alpha / motion.pga)
+
+
+# --- parsing, printing, order ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("text", ["sliding:0.6", " Sliding:0.60 ", "sliding:6e-1"])
+def test_sliding_parses_and_prints_one_canonical_name(text):
+    ls = parse_limit_state(text)
+    assert ls == Sliding("sliding:0.6", 0.6)
+    assert str(ls) == "sliding:0.6" and parse_limit_state(str(ls)) == ls
+    assert ls.title == "Sliding at μ = 0.6"
+    assert ls.quantity == "mu_required_max" and ls.threshold(math.atan(0.2)) == 0.6
+    assert match_limit_state("sliding:0.6001", ["tilt:0.6", "sliding:0.6"]) == "sliding:0.6"
+
+
+def test_sliding_is_its_own_severity_axis_after_the_tilt_goals():
+    names = ["sliding:0.6", "overturning", "sliding:0.3", "tilt:1/3"]
+    assert [s.name for s in parse_limit_states(names)] == [
+        "tilt:1/3", "overturning", "sliding:0.3", "sliding:0.6"]
+    assert severity("sliding:0.3") < severity("sliding:0.6")  # a smaller μ slides first
+
+
+@pytest.mark.parametrize("bad", ["sliding:0", "sliding:-1", "sliding:abc", "sliding:",
+                                 "sliding:inf", "sliding:nan"])
+def test_bad_friction_is_one_line_naming_the_text(bad):
+    with pytest.raises(ValueError) as err:
+        parse_limit_state(bad)
+    message = str(err.value)
+    assert "limit_state" in message and repr(bad) in message and "\n" not in message
+
+
+def test_exceedance_reads_the_monitors_and_lift_off_counts():
+    ls, alpha = parse_limit_state("sliding:0.6"), math.atan(0.2)
+    peaks = {"theta_max": 0.01, "overturned": False, "normal_force_min": 0.9}
+    assert ls.exceeded({**peaks, "mu_required_max": 0.61}, alpha)
+    assert not ls.exceeded({**peaks, "mu_required_max": 0.59}, alpha)
+    # the support would have to pull: no friction coefficient holds the body
+    assert ls.exceeded({**peaks, "mu_required_max": 0.1, "normal_force_min": -0.01}, alpha)
+    # overturning alone does not decide it: its own monitors do
+    assert not ls.exceeded({**peaks, "overturned": True, "mu_required_max": 0.3}, alpha)
+    with pytest.raises(ValueError, match="sliding:0.6.*'normal_force_min'"):
+        ls.exceeded({"theta_max": 0.0, "overturned": False, "mu_required_max": 0.0}, alpha)
+
+
+# --- the search against direct runs ----------------------------------------------------------
+
+
+def test_sliding_answer_is_the_first_intensity_needing_more_friction():
+    """Critical intensity of sliding:0.22 = the smallest intensity at which
+    ground_response's mu_required_max exceeds 0.22, found here by a direct scan; and below
+    uplift (μ = 0.15), the closed form of a body at rest, μ_req = I·tan α·max|a_x|/PGA."""
+    motion, body = _pulse(), Cylinder(1.0, TAN_ALPHA)
+    res = critical_intensity(body, motion, ["overturning", "sliding:0.22", "sliding:0.15"],
+                             "2d-x", accuracy="fast")
+    tol = get_accuracy("fast").bisection_tol  # relative width of a final bracket
+    # at rest: the body needs |a_x|·s/g, linear in I: the crossing lies in the bracket
+    ax = np.max(np.abs(motion.ax))
+    rest = 0.15 * motion.pga / (TAN_ALPHA * ax)
+    assert rest < uplift_intensity(motion, "2d-x")
+    low = res["sliding:0.15"]
+    assert low["bracket_lo"] <= rest < low["bracket_hi"] == low["intensity"]
+    assert low["bracket_hi"] - low["bracket_lo"] <= tol * low["bracket_hi"]
+    # rocking: a direct scan of the engine, where mu_required_max grows with I
+    grid = np.arange(1.0, 2.0, 0.05)  # it grows steadily here; not above 2.3
+    mu = np.array([_direct(body, motion, i).mu_required_max for i in grid])
+    assert np.all(np.diff(mu) > 0)  # one crossing, between first - 0.05 and first
+    first = grid[np.argmax(mu > 0.22)]
+    answer = res["sliding:0.22"]
+    assert answer["bracket_lo"] < first and answer["intensity"] > first - 0.05
+    assert answer["intensity"] - answer["bracket_lo"] <= tol * answer["intensity"]
+    assert _direct(body, motion, answer["intensity"]).mu_required_max > 0.22
+    assert _direct(body, motion, answer["bracket_lo"]).mu_required_max <= 0.22
+    assert not answer["unresolved"]  # the window warning is the tilt's, never sliding's
+
+
+def test_flags_are_those_of_direct_runs_at_the_search_intensities():
+    """slides / lifts_off of each answer = whether a direct run at one of the search's
+    intensities up to the answer needed μ_req > μ / had N < 0; slides is NaN without μ."""
+    motion = _pulse()
+    states = ["tilt:1/3", "overturning", "sliding:0.22"]
+    with_mu = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.22), motion, states, "2d-x",
+                                 accuracy="fast")
+    body = Cylinder(1.0, TAN_ALPHA)
+    direct = {e.intensity: _direct(body, motion, e.intensity) for e in with_mu.evaluations
+              if e.status != "failed"}
+    for name in states:
+        row = with_mu[name]
+        upto = [r for i, r in direct.items() if i <= row["intensity"]]
+        assert row["slides"] == any(r.mu_required_max > 0.22 for r in upto), name
+        assert row["lifts_off"] == any(r.normal_force_min < 0.0 for r in upto), name
+    # the sliding answer of μ = the body's μ slides by definition, milder answers below it not
+    assert with_mu["sliding:0.22"]["slides"]
+    assert with_mu["overturning"]["lifts_off"]  # near π/2 the support would have to pull
+    # without μ: nothing said about sliding, lift-off still; the answers do not move
+    without = critical_intensity(body, motion, states, "2d-x", accuracy="fast")
+    assert np.isnan(without.slides).all() and without["tilt:1/3"]["slides"] is None
+    np.testing.assert_array_equal(without.lifts_off, with_mu.lifts_off)
+    np.testing.assert_array_equal(without.intensity, with_mu.intensity)
+
+
+# --- a study with a sliding goal and mu ------------------------------------------------------
+
+
+def _study_config(mu=0.6):
+    return {"ensembles": {"e": {"record": "el-centro-1940", "n_synthetic": 2}},
+            "studies": {"s": {"ensemble": "e", "R": [1.0, 2.0], "mu": mu,
+                              "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
+                                        "limit_states": ["overturning", "tilt:1/3",
+                                                         "sliding:0.6"]}]}}}
+
+
+def test_a_study_with_a_sliding_goal_and_mu_passes_the_config_checks():
+    import yaml
+
+    from rocking.study.config_checks import schema_error
+    from rocking.study.spec import StudySpec
+
+    schema_path = __file__.replace("tests/test_sliding.py", "workflow/schemas/config.schema.yaml")
+    schema = yaml.safe_load(open(schema_path, encoding="utf-8"))
+    config = _study_config()
+    assert schema_error(config, schema) is None
+    spec = StudySpec.from_config(config, "s").spectra
+    assert "sliding:0.6" in spec.plan.limit_states
+    assert spec.search_options()["mu"] == 0.6
+    assert type(spec).from_attrs(spec.to_attrs()) == spec
+    # without mu the store's description (its hash) is as before: no mu key
+    plain = copy.deepcopy(config)
+    del plain["studies"]["s"]["mu"]
+    assert "mu" not in StudySpec.from_config(plain, "s").spectra.search_options()
+
+
+@pytest.mark.parametrize("mu", [0, -1, float("inf")])
+def test_a_study_mu_at_or_below_zero_is_one_line_naming_the_key(mu):
+    from rocking.study.spec import StudySpec
+
+    with pytest.raises(ValueError) as err:
+        StudySpec.from_config(_study_config(mu), "s")
+    assert str(err.value) == f"studies.s.mu must be a finite number > 0, got {mu!r}"
+
+
+def test_a_store_with_a_sliding_goal_carries_the_flags_to_its_tables(tmp_path):
+    """A small spectra store filled by the real search: slides / lifts_off per answer in the
+    store, critical.csv's frame and mean_spectra's counts, equal to the library's answers."""
+    import xarray as xr
+
+    from rocking.motions.ensemble_io import save_ensemble
+    from rocking.study import aggregate, store, tasks
+
+    motion = _pulse()
+    ensemble = tmp_path / "motions.nc"
+    save_ensemble(ensemble, [motion])
+    states = ["tilt:1/3", "overturning", "sliding:0.22"]
+    layout = tasks.spectra_layout(["2d-x"], states, [motion.name], [TAN_ALPHA], [1.0], 1)
+    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0, "mu": 0.22},
+             "ensemble": tasks.ensemble_attrs(ensemble, "test")}
+    path = tmp_path / "s.zarr"
+    store.create_store(path, layout, attrs, "d1")
+    tasks.fill_spectra_region(path, 0, ensemble)
+    ds = xr.open_zarr(path, consolidated=False)
+    want = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.22), motion, states, "2d-x",
+                              accuracy="fast")
+    for name in states:
+        cell = ds.sel(mode="2d-x", limit_state=name, motion=motion.name, tan_alpha=TAN_ALPHA,
+                      R=1.0)
+        assert float(cell["slides"]) == float(want[name]["slides"])
+        assert bool(cell["lifts_off"]) == want[name]["lifts_off"]
+    frame = aggregate.critical_frame(ds)
+    assert {"slides", "lifts_off"} <= set(frame.columns)
+    stats = aggregate.ensemble_statistics(ds)
+    n = stats["n_slides"].sel(mode="2d-x", limit_state="sliding:0.22", tan_alpha=TAN_ALPHA,
+                              R=1.0)
+    assert int(n) == 1
+
+
+def test_the_report_counts_the_answers_that_slide_or_lift_off():
+    import xarray as xr
+
+    from rocking.plot.run_summary import validity_text
+
+    dims = ("mode", "limit_state", "motion")
+    lifts = np.zeros((2, 2, 3), dtype=bool)
+    lifts[0, 1, :] = True  # 3d overturning: every motion
+    slides = np.zeros((2, 2, 3))
+    slides[1, 0, 0] = 1.0
+    ds = xr.Dataset({"lifts_off": (dims, lifts), "slides": (dims, slides)},
+                    coords={"mode": ["3d", "2d-x"], "limit_state": ["tilt:1/3", "overturning"],
+                            "motion": ["a", "b", "c"]})
+    text = validity_text(ds, 0.6)
+    assert "μ = 0.6" in text and "3d: slides 0, lifts off 3 of 6" in text
+    assert "2d-x: slides 1, lifts off 0 of 6" in text
+    plain = validity_text(ds.assign(slides=xr.full_like(ds["slides"], np.nan)), None)
+    assert "sliding not checked" in plain and "slides" not in plain.split("—")[1]
+
+
+def test_stripes_mu_adds_the_sliding_fragility_and_refuses_zero(capsys, monkeypatch):
+    import rocking.spectra.stripes as stripes
+    from rocking.cli import main
+
+    seen = {}
+
+    def record(body, motions, states, **kw):
+        seen["states"] = [s.name for s in states]
+        raise RuntimeError("stop before the analyses")
+
+    monkeypatch.setattr(stripes, "stripe_fragility", record)
+    argv = ["stripes", "--R", "1", "--tan-alpha", "0.2", "--record", "el-centro-1940", "-q"]
+    with pytest.raises(RuntimeError, match="stop before"):
+        main([*argv, "--mu", "0.6"])
+    assert seen["states"] == ["overturning", "tilt:1/3", "sliding:0.6"]
+    assert main([*argv, "--mu", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--mu must be a finite number > 0, got 0.0" in err[0]
