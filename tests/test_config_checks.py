@@ -180,7 +180,7 @@ def test_height_and_diameter_become_R_and_tan_alpha_printed(capsys):
     from snakemake.utils import validate
 
     from rocking.study.config_checks import validate_config
-    from rocking.study.spec import StudySpec
+    from rocking.study.study_spec import StudySpec
 
     R = (0.33**2 + 3.0**2) ** 0.5  # sqrt(b² + h²), written out
     cfg = _column()

@@ -40,7 +40,7 @@ from rocking.study.figures import (
 )
 from rocking.study.figures.captions import CAPTIONS
 from rocking.study.prepare import keyed
-from rocking.study.spec import StudySpec
+from rocking.study.study_spec import StudySpec
 
 ROOT = Path(__file__).parents[1]
 

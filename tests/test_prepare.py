@@ -9,7 +9,8 @@ import pytest
 
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.study import prepare, store, tasks
-from rocking.study.spec import StudySpec, config_hash
+from rocking.study.store_attrs import config_hash
+from rocking.study.study_spec import StudySpec
 
 
 def _spec(upper: float) -> dict:

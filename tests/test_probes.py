@@ -40,7 +40,7 @@ from rocking.study import cluster, integrity, prepare, store, tasks
 from rocking.study.aggregate import ensemble_statistics, requested_answers, write_statistics
 from rocking.study.config_checks import check_config
 from rocking.study.records import write_record_tables
-from rocking.study.spec import StudySpec
+from rocking.study.study_spec import StudySpec
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIG = {"accuracy": "fast", "search": {"upper": 20.0},

@@ -19,7 +19,7 @@ from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.study import integrity, store, tasks
 from rocking.study.layout import region_coords
-from rocking.study.spec import config_hash
+from rocking.study.store_attrs import config_hash
 
 MODES = ["3d", "2d-x"]
 LIMIT_STATES = [s.name for s in parse_limit_states(["overturning", "tilt:1/3", "tilt:0.5"])]

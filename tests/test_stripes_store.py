@@ -15,7 +15,7 @@ from rocking.spectra.stripes import stripe_fragility
 from rocking.study import store
 from rocking.study import stripes as st
 from rocking.study.layout import region_coords
-from rocking.study.spec import StudySpec
+from rocking.study.study_spec import StudySpec
 
 SPEC = StudySpec.from_config({
     "ensembles": {"test": {"record": "el-centro-1940"}},

@@ -1,5 +1,5 @@
 # Shared helpers: the validated configuration turned into store specifications (one
-# rocking.study.spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
+# rocking.study.study_spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
 # functions of `config`; no work happens here.
 
 import posixpath
@@ -7,7 +7,10 @@ import re
 from functools import cache
 
 from rocking.study.prepare import keyed
-from rocking.study.spec import Damping, EnsembleSpec, StudySpec, config_hash
+from rocking.study.damping import Damping
+from rocking.study.ensemble_spec import EnsembleSpec
+from rocking.study.store_attrs import config_hash
+from rocking.study.study_spec import StudySpec
 from snakemake.exceptions import WorkflowError
 
 
@@ -58,7 +61,7 @@ def planned_ensemble(name, digest):
 
 @cache
 def study_spec(study):
-    """The study as one checked object (rocking.study.spec.StudySpec)."""
+    """The study as one checked object (rocking.study.study_spec.StudySpec)."""
     return StudySpec.from_config(config, study)
 
 

@@ -30,7 +30,9 @@ from typing import Any
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from . import store, tasks
-from .spec import Damping, SpectraSpec, StudySpec, TiltMapSpec
+from .damping import Damping
+from .product_specs import SpectraSpec, TiltMapSpec
+from .study_spec import StudySpec
 
 log = logging.getLogger(__name__)
 

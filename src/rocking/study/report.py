@@ -31,7 +31,8 @@ from .figures import FIGURES, _load, figure_name, module
 from .figures._style import MODE_STYLE
 from .figures.captions import EXTRA_CAPTIONS, caption
 from .figures.comparisons import Comparison, compare, finite, fmt
-from .spec import SpectraSpec, TiltMapSpec, decode_attrs
+from .product_specs import SpectraSpec, TiltMapSpec
+from .store_attrs import decode_attrs
 
 SHOWN = 10
 """Grids with at most this many values are listed in full, longer ones as a range."""
@@ -149,7 +150,7 @@ def _motions_text(motions: Sequence[Mapping], spec: SpectraSpec) -> str:
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
     """What a spectra store says was run: ensemble, grids, limit states, modes per tan α,
     accuracy, contact parameters, version (its ``config`` read as a
-    :class:`~rocking.study.spec.SpectraSpec`)."""
+    :class:`~rocking.study.product_specs.SpectraSpec`)."""
     ds = _load.open_store(path)
     attrs = decode_attrs(ds.attrs)
     spec = SpectraSpec.from_attrs(attrs["config"])
@@ -239,7 +240,7 @@ def modes_text(ds) -> str:
 
 def tilt_map_rows(path: str | Path) -> list[tuple[str, str]]:
     """Grid and models of a Fig 7 tilt-map store (its ``config`` read as a
-    :class:`~rocking.study.spec.TiltMapSpec`)."""
+    :class:`~rocking.study.product_specs.TiltMapSpec`)."""
     ds = _load.open_store(path)
     attrs = decode_attrs(ds.attrs)
     spec = TiltMapSpec.from_attrs(attrs["config"])

@@ -44,7 +44,7 @@ from .. import _json
 from ..units import QUANTITIES
 from ..units import attrs as cf_attrs
 from .layout import Layout, Variable
-from .spec import decode_attrs
+from .store_attrs import decode_attrs
 
 DONE = "done"
 """Name of the completion mask."""
@@ -81,8 +81,8 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         Attributes; values that are not strings are stored as JSON text (``config``,
         ``tolerances``, ``ensemble``...), readable with ``json.loads``.
     config_digest : str
-        :func:`rocking.study.spec.config_hash` of the result-affecting configuration (the
-        ``digest`` of a :class:`~rocking.study.spec.SpectraSpec` or its kin).
+        :func:`rocking.study.store_attrs.config_hash` of the result-affecting configuration (the
+        ``digest`` of a :class:`~rocking.study.product_specs.SpectraSpec` or its kin).
     coords : dict, optional
         Auxiliary coordinates ``{name: (dim, values)}``, e.g. each motion's source record
         and processing (:func:`identity_coords`).

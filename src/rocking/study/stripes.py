@@ -28,9 +28,11 @@ from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from ..spectra.stripes import MEASURE_COLUMNS, measure_scale
 from . import store, tasks
+from .damping import Damping
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .prepare import ready_store
-from .spec import Damping, StripesSpec, decode_attrs
+from .product_specs import StripesSpec
+from .store_attrs import decode_attrs
 
 log = logging.getLogger(__name__)
 
@@ -77,7 +79,7 @@ def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_d
                   motions: str | Path) -> str:
     """Make (or keep, or replace) the stripes store of a study.
 
-    ``spec``: a :class:`~rocking.study.spec.StripesSpec` or its ``to_attrs()`` (the
+    ``spec``: a :class:`~rocking.study.product_specs.StripesSpec` or its ``to_attrs()`` (the
     workflow's ``stripes_spec``). Returns ``"created"``, ``"resumed"`` or ``"replaced"``.
     """
     from ..spectra.limit_states import parse_limit_states

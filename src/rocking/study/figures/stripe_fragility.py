@@ -60,7 +60,7 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = "3d",
     """
     from ...units import read_table
     from .. import stripes as st
-    from ..spec import decode_attrs
+    from ..store_attrs import decode_attrs
 
     ds = xr.open_zarr(stripes, consolidated=True)
     if mode not in [str(m) for m in ds["mode"].values]:
