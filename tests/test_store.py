@@ -174,14 +174,15 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
 def test_other_configuration_or_ensemble_is_refused(tmp_path, ensemble):
     path = tmp_path / "s.zarr"
     make_spectra_store(path, ensemble, digest="aaaa")
-    store.check_config_hash(path, "aaaa")
+    handle = store.StoreHandle.open(path)
+    handle.check_config_hash("aaaa")
     with pytest.raises(ValueError, match="config_hash='aaaa'.*config_hash='bbbb'"):
-        store.check_config_hash(path, "bbbb")
+        handle.check_config_hash("bbbb")
     other = tmp_path / "other.nc"
     save_ensemble(other, standin.motions(npts=150))
-    tasks.check_ensemble(path, ensemble)
+    tasks.check_ensemble(handle, ensemble)
     with pytest.raises(ValueError, match="other.nc.*made from sha256.*delete the store"):
-        tasks.check_ensemble(path, other)
+        tasks.check_ensemble(handle, other)
 
 
 def test_config_hash_is_canonical():
@@ -294,12 +295,12 @@ def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensem
     chunk = integrity.chunk_file(hurt, group[name], layout.selection(dims, region))
     hurt_it(chunk)
     said = []
-    assert integrity.verify_store(hurt, say=said.append) == [2]
+    assert integrity.verify_store(integrity.open_checked(hurt, "r+"), say=said.append) == [2]
     assert "chunk 2 damaged" in said[0] and str(hurt) in said[0]
     assert store.pending_regions(hurt) == [2]
     fill(hurt, ensemble, [2])
     store.finalize(hurt)
-    assert integrity.verify_store(hurt) == []
+    assert integrity.verify_store(integrity.open_checked(hurt, "r+")) == []
     assert _chunk_bytes(hurt) == _chunk_bytes(full)
     assert _bits(hurt) == _bits(full)
 
@@ -312,7 +313,7 @@ def test_verification_finds_pga_crit_g_inconsistent_with_pga_crit(tmp_path, ense
     sel = layout.selection(tasks.SPECTRA_DIMS, layout.region(5))
     group["pga_crit_g"][sel] = group["pga_crit_g"][sel] * 1.01  # a valid chunk, wrong values
     said = []
-    assert integrity.verify_store(path, say=said.append) == [5]
+    assert integrity.verify_store(integrity.open_checked(path, "r+"), say=said.append) == [5]
     assert "pga_crit_g differs from pga_crit" in said[0]
 
 
@@ -338,7 +339,7 @@ def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, 
     sel = layout.selection(tasks.SPECTRA_DIMS, layout.region(3))
     group["pga_crit"][sel] = np.nan  # what a damaged old chunk decodes to, unflagged
     said = []
-    assert integrity.verify_store(path, say=said.append) == [3]
+    assert integrity.verify_store(integrity.open_checked(path, "r+"), say=said.append) == [3]
     assert "without chunk checksums" in said[0] and "rebuild" in said[0]
 
 
