@@ -128,6 +128,12 @@ def product_complete(kind, study):
     return expand(getattr(rules, kind).output.done, study=study)[0]
 
 
+def product_param(helper, kind):
+    """A rule parameter ``helper(kind, study)`` of the product ``kind`` (one function per
+    product: a lambda in the loop of products.smk would see only the last kind)."""
+    return lambda wildcards: helper(kind, wildcards.study)
+
+
 def mean_spectra(study):
     return expand(rules.mean_spectra.output.nc, study=study)[0]
 

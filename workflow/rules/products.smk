@@ -24,12 +24,6 @@ rule numba_cache:
         "../scripts/numba_cache.py"
 
 
-def _product_param(helper, kind):
-    """A rule parameter of the product ``kind`` (one function per product: a lambda in the
-    loop below would see only the last kind)."""
-    return lambda wildcards: helper(kind, wildcards.study)
-
-
 for kind in PRODUCTS:
 
     rule:
@@ -42,13 +36,13 @@ for kind in PRODUCTS:
             done=out_path(f"{{study}}/{kind}.done.json"),
         params:
             kind=kind,
-            store=_product_param(product_store, kind),
+            store=product_param(product_store, kind),
             # a change of any result-affecting setting changes the hash and the store's name:
             # the rule reruns in another store (or resumes an earlier one) instead of mixing
             # results. Short parameters only (the script rebuilds the spec from the config and
             # checks its hash); no dask options: they cannot change a number, and a changed
             # param reruns
-            config_hash=_product_param(product_hash, kind),
+            config_hash=product_param(product_hash, kind),
         threads: compute_threads()
         conda:
             "../envs/rocking.yaml"
