@@ -70,7 +70,7 @@ def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
     path = tmp_path / "s.zarr"
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     assert list(ds["pga_crit"].dims) == list(tasks.SPECTRA_DIMS)
     assert bool(ds["done"].all())
@@ -148,7 +148,7 @@ def test_failed_task_leaves_region_pending(tmp_path, ensemble):
         fill(path, ensemble, failing[:1], batch=standin.failing_batch)
     assert failing[0] in store.pending_regions(path)
     with pytest.raises(ValueError, match="points not done"):
-        store.finalize(path)
+        store.StoreHandle.open(path).finalize()
 
 
 def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
@@ -228,7 +228,7 @@ def test_tilt_map_store_matches_direct_evaluation(tmp_path, ensemble):
     fill_one = partial(tasks.fill_tilt_map_region, tilt_map=standin.tilt_map)
     for i in store.pending_regions(path):
         fill_one(path, i, ensemble)
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     assert ds["theta_max_over_alpha"].dims == tasks.TILT_MAP_DIMS
     want = np.array([[[standin.expected_theta(r, i, m, 0.2) for i in intensity] for r in R]
@@ -284,7 +284,7 @@ def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensem
     make_spectra_store(hurt, ensemble)
     for p in (full, hurt):
         fill(p, ensemble, range(layout.n_regions))
-        store.finalize(p)
+        store.StoreHandle.open(p).finalize()
     assert integrity.has_checksums(hurt)
     name, hurt_it = DAMAGES[damage]
     # region 2 is (3d, m0, 0.1, R = 9): overturning not reached there, so its not_reached
@@ -299,7 +299,7 @@ def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensem
     assert "chunk 2 damaged" in said[0] and str(hurt) in said[0]
     assert store.pending_regions(hurt) == [2]
     fill(hurt, ensemble, [2])
-    store.finalize(hurt)
+    store.StoreHandle.open(hurt).finalize()
     assert integrity.verify_store(integrity.open_checked(hurt, "r+")) == []
     assert _chunk_bytes(hurt) == _chunk_bytes(full)
     assert _bits(hurt) == _bits(full)
@@ -349,7 +349,7 @@ def test_a_damaged_store_is_refused_before_its_numbers_are_read(tmp_path, ensemb
     path = tmp_path / "s.zarr"
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     integrity.require_intact(path)  # an intact store passes
     group = zarr.open_group(path, mode="r")
     chunk = integrity.chunk_file(path, group["pga_crit"],

@@ -38,7 +38,7 @@ def filled(tmp_path):
     for i in store.pending_regions(path, layout):
         rep = st.fill_stripes_region(path, i, ens)
         assert rep["points"] == len(region_coords(layout, i)["R"]) * 4
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     assert products.prepare_store("stripes", path, SPEC, "h1", ens) == "resumed"
     return path, ens
 
@@ -254,7 +254,7 @@ def test_stripes_in_sa(tmp_path):
     layout = store.open_layout(path)
     for i in store.pending_regions(path, layout):
         st.fill_stripes_region(path, i, ens)
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     for R in (1.0, 2.0):
         direct = stripe_fragility(Cylinder(R, 0.2), motions, list(spec.limit_states),

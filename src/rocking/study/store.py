@@ -480,20 +480,6 @@ def consolidate(path: str | Path) -> None:
         zarr.consolidate_metadata(str(path), zarr_format=3)
 
 
-def finalize(path: str | Path) -> None:
-    """Check that every region is done, then consolidate the metadata
-    (:meth:`StoreHandle.finalize`)."""
-    _finalize(open_group(path, "r"), path)
-
-
-def _finalize(group: zarr.Group, path: str | Path) -> None:
-    done = _done_of(group, path)
-    if not done.all():
-        raise ValueError(f"store {str(path)!r} has {int((~done).sum())} of {done.size} "
-                         f"points not done")
-    consolidate(path)
-
-
 @dataclass(frozen=True, eq=False)
 class StoreHandle:
     """A store opened once: its path, zarr group, layout and decoded attributes.
@@ -579,4 +565,8 @@ class StoreHandle:
         ValueError
             If some region is not done (naming how many).
         """
-        _finalize(self.group, self.path)
+        done = self.done_mask()
+        if not done.all():
+            raise ValueError(f"store {str(self.path)!r} has {int((~done).sum())} of "
+                             f"{done.size} points not done")
+        consolidate(self.path)
