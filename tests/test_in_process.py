@@ -14,7 +14,7 @@ import _store_standins as standin
 import pytest
 from test_cluster import _spectra_store, _values
 
-from rocking.study import cluster, products, store, tasks
+from rocking.study import cluster, integrity, products, store, tasks
 
 
 def test_small_store_is_filled_in_process_with_the_serial_values(tmp_path, caplog):
@@ -91,3 +91,33 @@ def test_store_metadata_is_read_once_and_never_stale(tmp_path):
     store.create_store(path, other, {"tolerances": {"name": "fast"}, "search_options": {},
                                      "ensemble": tasks.ensemble_attrs(ensemble, "test")}, "d2")
     assert tasks.store_metadata(path)[0].n_regions == other.n_regions == 3
+
+
+def test_the_driver_of_a_fill_opens_its_store_once(tmp_path, monkeypatch):
+    """fill_store works on the handle it is given: besides the task bodies (which take the
+    path and write their regions), nothing reopens the store; the handle refuses to repair
+    when opened read-only."""
+    import traceback
+
+    import zarr
+
+    path, ensemble, layout = _spectra_store(tmp_path)
+    opened = []
+    real = zarr.open_group
+
+    def counting(*args, **kwargs):
+        in_task = any(f.name == "fill_spectra_region" for f in traceback.extract_stack())
+        opened.append("task" if in_task else "driver")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(zarr, "open_group", counting)
+    handle = store.StoreHandle.open(path, "r+")
+    assert opened == ["driver"]
+    fn = partial(tasks.fill_spectra_region, batch=standin.batch)
+    summary = cluster.fill_store(handle, fn, ensemble, config_digest="d1",
+                                 in_process_analyses=10**6)
+    assert summary["computed"] == layout.n_regions
+    assert opened.count("driver") == 1  # the handle's own opening, before the fill
+    assert opened.count("task") >= layout.n_regions  # each region written through its path
+    with pytest.raises(ValueError, match="open read-only: open it with mode 'r\\+'"):
+        integrity.verify_store(store.StoreHandle.open(path))
