@@ -35,8 +35,7 @@ validate_config(config, Path(workflow.basedir, "workflow/schemas/config.schema.y
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/records.smk"
-include: "workflow/rules/spectra.smk"
-include: "workflow/rules/tilt_map.smk"
+include: "workflow/rules/products.smk"
 include: "workflow/rules/aggregate.smk"
 include: "workflow/rules/records_table.smk"
 include: "workflow/rules/figures_common.smk"

@@ -68,7 +68,8 @@ def test_store_filled_by_worker_processes_equals_serial_fill(tmp_path, caplog):
         tasks.fill_spectra_region(serial, i, ensemble, batch=standin.batch)
     fn = partial(tasks.fill_spectra_region, batch=standin.batch)
     with caplog.at_level(logging.INFO, logger="rocking.study.cluster"):
-        summary = cluster.fill_store(path, fn, ensemble, config_digest="d1", n_workers=2,
+        summary = cluster.fill_store(store.StoreHandle.open(path, "r+"), fn, ensemble,
+                                     config_digest="d1", n_workers=2,
                                      progress_interval=0.0, scheduler_address=None)
     assert summary["cluster"] == "local"
     assert summary["chunks"] == layout.n_regions == 8
@@ -82,10 +83,11 @@ def test_store_filled_by_worker_processes_equals_serial_fill(tmp_path, caplog):
     assert _values(path) == _values(serial)
     assert (path / "zarr.json").read_text().count("consolidated_metadata") == 1
     # a second run finds every chunk done and starts no cluster at all
-    again = cluster.fill_store(path, fn, ensemble, config_digest="d1", n_workers=2)
+    again = cluster.fill_store(store.StoreHandle.open(path, "r+"), fn, ensemble,
+                               config_digest="d1", n_workers=2)
     assert again["computed"] == 0 and again["done_before"] == 8
     with pytest.raises(ValueError, match="config_hash='d1'.*config_hash='other'"):
-        cluster.fill_store(path, fn, ensemble, config_digest="other")
+        cluster.fill_store(store.StoreHandle.open(path, "r+"), fn, ensemble, config_digest="other")
 
 
 def test_failing_chunk_is_reported_by_name(tmp_path):

@@ -184,7 +184,7 @@ def test_height_and_diameter_become_R_and_tan_alpha_printed(capsys):
     from snakemake.utils import validate
 
     from rocking.study.config_checks import validate_config
-    from rocking.study.spec import StudySpec
+    from rocking.study.study_spec import StudySpec
 
     R = (0.33**2 + 3.0**2) ** 0.5  # sqrt(b² + h²), written out
     cfg = _column()
@@ -281,7 +281,7 @@ def test_vertical_bad_input_is_one_line_before_work(given, message, tmp_path):
 def test_vertical_true_passes_for_the_shipped_records_and_three_files(tmp_path):
     """The four shipped records have their UP/DWN file; three files of one dt and length
     pass; the spec keeps the flag per record of a suite."""
-    from rocking.study.spec import EnsembleSpec
+    from rocking.study.ensemble_spec import EnsembleSpec
 
     cfg = _cfg(lambda c: None)
     cfg["ensembles"]["elcentro"] = {

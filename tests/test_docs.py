@@ -377,7 +377,7 @@ def test_own_records_config_is_valid():
     import yaml
 
     from rocking.study.config_checks import schema_error
-    from rocking.study.spec import StudySpec
+    from rocking.study.study_spec import StudySpec
 
     blocks = [yaml.safe_load(b) for b in _fenced(README.read_text(encoding="utf-8"), "yaml")]
     def reads_files(e: dict) -> bool:

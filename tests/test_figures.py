@@ -40,7 +40,7 @@ from rocking.plot import (
 from rocking.plot.captions import CAPTIONS
 from rocking.spectra.limit_states import limit_state_title
 from rocking.study.prepare import keyed
-from rocking.study.spec import StudySpec
+from rocking.study.study_spec import StudySpec
 
 ROOT = Path(__file__).parents[1]
 

@@ -17,7 +17,7 @@ from rocking.cli import build_parser
 from rocking.dynamics import analysis, models, names
 from rocking.dynamics.bodies import Block, Cylinder
 from rocking.spectra import modes
-from rocking.study.spec import DEFAULTS
+from rocking.study.config_fields import DEFAULTS
 
 SCHEMA = yaml.safe_load((Path(__file__).parents[1]
                          / "workflow/schemas/config.schema.yaml").read_text())

@@ -159,7 +159,7 @@ def _store(tmp_path, drop_unresolved: bool):
     store.create_store(path, layout, attrs, "h0")
     for i in range(layout.n_regions):
         tasks.fill_spectra_region(path, i, ensemble, batch=flagged_batch)
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     return path
 
 

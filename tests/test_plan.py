@@ -133,7 +133,7 @@ def test_store_computes_only_requested_cells(planned_store):
     # each search is handed only the limit states requested for its mode and tan α
     for mode, tan_alpha, states in asked:
         assert states == plan.limit_states_of(mode, tan_alpha)
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     np.testing.assert_array_equal(ds[store.REQUESTED].transpose(*store.REQUESTED_DIMS).values,
                                   plan.requested)

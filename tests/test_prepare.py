@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study import prepare, store, tasks
-from rocking.study.spec import StudySpec, config_hash
+from rocking.study import prepare, products, store, tasks
+from rocking.study.store_attrs import config_hash
+from rocking.study.study_spec import StudySpec
 
 
 def _spec(upper: float) -> dict:
@@ -27,18 +28,18 @@ def test_store_is_created_resumed_and_replaced(tmp_path):
     path = tmp_path / "spectra.zarr"
     spec = _spec(20.0)
     digest = config_hash(spec)
-    assert prepare.spectra_store(path, spec, digest, motions) == "created"
+    assert products.prepare_store("spectra", path, spec, digest, motions) == "created"
     layout = store.open_layout(path)
     tasks.fill_spectra_region(path, 0, motions, batch=standin.batch)
     before = store.done_mask(path).copy()
     assert before.sum() == 1
     # the same configuration (a killed run started again): the finished chunk is kept
-    assert prepare.spectra_store(path, spec, digest, motions) == "resumed"
+    assert products.prepare_store("spectra", path, spec, digest, motions) == "resumed"
     np.testing.assert_array_equal(store.done_mask(path), before)
     assert store.pending_regions(path, layout) == list(range(1, layout.n_regions))
     # another configuration: a fresh store, nothing done, the new hash recorded
     other = _spec(10.0)
-    assert prepare.spectra_store(path, other, config_hash(other), motions) == "replaced"
+    assert products.prepare_store("spectra", path, other, config_hash(other), motions) == "replaced"
     assert not store.done_mask(path).any()
     assert store.read_attrs(path)["config_hash"] == config_hash(other)
 
@@ -50,7 +51,7 @@ def test_a_directory_that_is_not_a_store_is_replaced(tmp_path):
     path.mkdir()
     (path / "junk").write_text("not zarr")
     spec = _spec(20.0)
-    assert prepare.spectra_store(path, spec, config_hash(spec), motions) == "replaced"
+    assert products.prepare_store("spectra", path, spec, config_hash(spec), motions) == "replaced"
     assert not (path / "junk").exists()
 
 
@@ -65,14 +66,14 @@ def test_keyed_stores_are_added_not_replaced_and_found_again(tmp_path):
     b = prepare.keyed(alias, config_hash(second))
     assert a.name == f"spectra-{config_hash(first)}.zarr" and a != b
     assert prepare.unkeyed(a, config_hash(first)) == alias
-    assert prepare.spectra_store(a, first, config_hash(first), motions) == "created"
+    assert products.prepare_store("spectra", a, first, config_hash(first), motions) == "created"
     tasks.fill_spectra_region(a, 0, motions, batch=standin.batch)
     done = store.done_mask(a).copy()
     assert alias.is_symlink() and alias.resolve() == a.resolve()
-    assert prepare.spectra_store(b, second, config_hash(second), motions) == "created"
+    assert products.prepare_store("spectra", b, second, config_hash(second), motions) == "created"
     assert alias.resolve() == b.resolve()
     assert store.read_attrs(a)["config_hash"] == config_hash(first)  # kept, untouched
-    assert prepare.spectra_store(a, first, config_hash(first), motions) == "resumed"
+    assert products.prepare_store("spectra", a, first, config_hash(first), motions) == "resumed"
     np.testing.assert_array_equal(store.done_mask(a), done)
     assert alias.resolve() == a.resolve()
     assert not alias.readlink().is_absolute()  # the folder can be moved or copied
@@ -84,10 +85,10 @@ def test_a_store_made_before_keyed_names_is_moved_and_resumed(tmp_path):
     alias = tmp_path / "spectra.zarr"
     spec = _spec(20.0)
     digest = config_hash(spec)
-    prepare.spectra_store(alias, spec, digest, motions)  # the old, unkeyed name
+    products.prepare_store("spectra", alias, spec, digest, motions)  # the old, unkeyed name
     tasks.fill_spectra_region(alias, 0, motions, batch=standin.batch)
     keyed = prepare.keyed(alias, digest)
-    assert prepare.spectra_store(keyed, spec, digest, motions) == "resumed"
+    assert products.prepare_store("spectra", keyed, spec, digest, motions) == "resumed"
     assert store.done_mask(keyed).sum() == 1 and alias.is_symlink()
     # a real directory at the alias that is not a store is never deleted nor linked over
     other = tmp_path / "other"
@@ -109,9 +110,9 @@ def test_planned_spec_is_rebuilt_from_the_config_and_checked():
                                 "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
                                           "limit_states": ["overturning"]}]}}}
     spec = StudySpec.from_config(config, "s").spectra
-    assert prepare.planned_spec(config, "s", "spectra", spec.digest) == spec
+    assert products.planned_spec(config, "s", "spectra", spec.digest) == spec
     with pytest.raises(ValueError, match="studies.s: the spectra settings of this "
                                          "configuration hash to"):
-        prepare.planned_spec(config, "s", "spectra", "0" * 16)
+        products.planned_spec(config, "s", "spectra", "0" * 16)
     with pytest.raises(ValueError, match="tilt_map settings of this configuration hash to None"):
-        prepare.planned_spec(config, "s", "tilt_map", "0" * 16)
+        products.planned_spec(config, "s", "tilt_map", "0" * 16)

@@ -36,11 +36,11 @@ from rocking.motions.ensemble_io import (
     save_ensemble,
 )
 from rocking.motions.readers import RecordFormatError, read_at2, read_text
-from rocking.study import cluster, integrity, prepare, store, tasks
+from rocking.study import cluster, integrity, prepare, products, store, tasks
 from rocking.study.aggregate import ensemble_statistics, requested_answers, write_statistics
 from rocking.study.config_checks import check_config
 from rocking.study.records import write_record_tables
-from rocking.study.spec import StudySpec
+from rocking.study.study_spec import StudySpec
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIG = {"accuracy": "fast", "search": {"upper": 20.0},
@@ -66,8 +66,8 @@ class Study:
     def spectra(self) -> dict:
         """The spectra rule: prepare the store (lock, resume or create), verify, fill."""
         with store.locked(self.store):
-            prepare.spectra_store(self.store, SPEC, SPEC.digest, self.motions)
-            return cluster.fill_store(self.store, FILL, self.motions,
+            products.prepare_store("spectra", self.store, SPEC, SPEC.digest, self.motions)
+            return cluster.fill_store(integrity.open_checked(self.store, "r+"), FILL, self.motions,
                                       config_digest=SPEC.digest, in_process_analyses=10**9)
 
     def tables(self) -> dict[str, bytes]:
@@ -334,7 +334,7 @@ def test_damaged_done_chunk_is_repaired_to_identical_tables(study, baseline):
 def test_interrupted_fill_resumes_to_identical_tables(tmp_path, baseline):
     s = Study(tmp_path)
     s.make_motions()
-    prepare.spectra_store(s.store, SPEC, SPEC.digest, s.motions)
+    products.prepare_store("spectra", s.store, SPEC, SPEC.digest, s.motions)
     for i in (0, 5, 7):  # a run killed after three regions
         FILL(s.store, i, motions=s.motions)
     with pytest.raises(ValueError, match="chunks not computed"):
@@ -365,7 +365,8 @@ def test_damaged_coordinate_is_named_then_repaired_to_identical_tables(study, ba
 def test_deleted_coordinate_chunk_is_restored_not_read_as_fill_values(study):
     study.coord_chunk("R").unlink()  # reads back as the fill value, with no error
     assert not np.array_equal(store.open_layout(study.store).coords["R"], SPEC.R)
-    assert prepare.spectra_store(study.store, SPEC, SPEC.digest, study.motions) == "resumed"
+    state = products.prepare_store("spectra", study.store, SPEC, SPEC.digest, study.motions)
+    assert state == "resumed"
     np.testing.assert_array_equal(store.open_layout(study.store).coords["R"], SPEC.R)
 
 

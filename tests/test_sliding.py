@@ -155,7 +155,7 @@ def test_a_study_with_a_sliding_goal_and_mu_passes_the_config_checks():
     import yaml
 
     from rocking.study.config_checks import schema_error
-    from rocking.study.spec import StudySpec
+    from rocking.study.study_spec import StudySpec
 
     schema_path = __file__.replace("tests/test_sliding.py", "workflow/schemas/config.schema.yaml")
     schema = yaml.safe_load(open(schema_path, encoding="utf-8"))
@@ -173,7 +173,7 @@ def test_a_study_with_a_sliding_goal_and_mu_passes_the_config_checks():
 
 @pytest.mark.parametrize("mu", [0, -1, float("inf")])
 def test_a_study_mu_at_or_below_zero_is_one_line_naming_the_key(mu):
-    from rocking.study.spec import StudySpec
+    from rocking.study.study_spec import StudySpec
 
     with pytest.raises(ValueError) as err:
         StudySpec.from_config(_study_config(mu), "s")

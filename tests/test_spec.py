@@ -1,7 +1,7 @@
-"""The study as one typed object (rocking.study.spec): built from a configuration with the
-schema's defaults, grids expanded as the workflow always did, round-tripped through store
-attributes, and hashed so that what decides the numbers changes the hash and nothing else
-does."""
+"""The study as one typed object (rocking.study.study_spec and its parts): built from a
+configuration with the schema's defaults, grids expanded as the workflow always did,
+round-tripped through store attributes, and hashed so that what decides the numbers changes
+the hash and nothing else does."""
 
 from __future__ import annotations
 
@@ -13,17 +13,11 @@ import numpy as np
 import pytest
 import yaml
 
-from rocking.study.spec import (
-    DEFAULTS,
-    EnsembleSpec,
-    SpectraSpec,
-    StripesSpec,
-    StudySpec,
-    TiltMapSpec,
-    config_hash,
-    decode_attrs,
-    expand_grid,
-)
+from rocking.study.config_fields import DEFAULTS, expand_grid
+from rocking.study.ensemble_spec import EnsembleSpec
+from rocking.study.product_specs import SpectraSpec, StripesSpec, TiltMapSpec
+from rocking.study.store_attrs import config_hash, decode_attrs
+from rocking.study.study_spec import StudySpec
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = ["config/config.yaml", "config/paper.yaml"]

@@ -19,7 +19,7 @@ from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.study import integrity, store, tasks
 from rocking.study.layout import region_coords
-from rocking.study.spec import config_hash
+from rocking.study.store_attrs import config_hash
 
 MODES = ["3d", "2d-x"]
 LIMIT_STATES = [s.name for s in parse_limit_states(["overturning", "tilt:1/3", "tilt:0.5"])]
@@ -70,7 +70,7 @@ def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
     path = tmp_path / "s.zarr"
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     assert list(ds["pga_crit"].dims) == list(tasks.SPECTRA_DIMS)
     assert bool(ds["done"].all())
@@ -149,7 +149,7 @@ def test_failed_task_leaves_region_pending(tmp_path, ensemble):
         fill(path, ensemble, failing[:1], batch=standin.failing_batch)
     assert failing[0] in store.pending_regions(path)
     with pytest.raises(ValueError, match="points not done"):
-        store.finalize(path)
+        store.StoreHandle.open(path).finalize()
 
 
 def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
@@ -179,14 +179,15 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
 def test_other_configuration_or_ensemble_is_refused(tmp_path, ensemble):
     path = tmp_path / "s.zarr"
     make_spectra_store(path, ensemble, digest="aaaa")
-    store.check_config_hash(path, "aaaa")
+    handle = store.StoreHandle.open(path)
+    handle.check_config_hash("aaaa")
     with pytest.raises(ValueError, match="config_hash='aaaa'.*config_hash='bbbb'"):
-        store.check_config_hash(path, "bbbb")
+        handle.check_config_hash("bbbb")
     other = tmp_path / "other.nc"
     save_ensemble(other, standin.motions(npts=150))
-    tasks.check_ensemble(path, ensemble)
+    tasks.check_ensemble(handle, ensemble)
     with pytest.raises(ValueError, match="other.nc.*made from sha256.*delete the store"):
-        tasks.check_ensemble(path, other)
+        tasks.check_ensemble(handle, other)
 
 
 def test_config_hash_is_canonical():
@@ -232,7 +233,7 @@ def test_tilt_map_store_matches_direct_evaluation(tmp_path, ensemble):
     fill_one = partial(tasks.fill_tilt_map_region, tilt_map=standin.tilt_map)
     for i in store.pending_regions(path):
         fill_one(path, i, ensemble)
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     assert ds["theta_max_over_alpha"].dims == tasks.TILT_MAP_DIMS
     want = np.array([[[standin.expected_theta(r, i, m, 0.2) for i in intensity] for r in R]
@@ -288,7 +289,7 @@ def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensem
     make_spectra_store(hurt, ensemble)
     for p in (full, hurt):
         fill(p, ensemble, range(layout.n_regions))
-        store.finalize(p)
+        store.StoreHandle.open(p).finalize()
     assert integrity.has_checksums(hurt)
     name, hurt_it = DAMAGES[damage]
     # region 2 is (3d, m0, 0.1, R = 9): overturning not reached there, so its not_reached
@@ -299,12 +300,12 @@ def test_verification_repairs_a_damaged_chunk_to_identical_bytes(tmp_path, ensem
     chunk = integrity.chunk_file(hurt, group[name], layout.selection(dims, region))
     hurt_it(chunk)
     said = []
-    assert integrity.verify_store(hurt, say=said.append) == [2]
+    assert integrity.verify_store(integrity.open_checked(hurt, "r+"), say=said.append) == [2]
     assert "chunk 2 damaged" in said[0] and str(hurt) in said[0]
     assert store.pending_regions(hurt) == [2]
     fill(hurt, ensemble, [2])
-    store.finalize(hurt)
-    assert integrity.verify_store(hurt) == []
+    store.StoreHandle.open(hurt).finalize()
+    assert integrity.verify_store(integrity.open_checked(hurt, "r+")) == []
     assert _chunk_bytes(hurt) == _chunk_bytes(full)
     assert _bits(hurt) == _bits(full)
 
@@ -317,7 +318,7 @@ def test_verification_finds_pga_crit_g_inconsistent_with_pga_crit(tmp_path, ense
     sel = layout.selection(tasks.SPECTRA_DIMS, layout.region(5))
     group["pga_crit_g"][sel] = group["pga_crit_g"][sel] * 1.01  # a valid chunk, wrong values
     said = []
-    assert integrity.verify_store(path, say=said.append) == [5]
+    assert integrity.verify_store(integrity.open_checked(path, "r+"), say=said.append) == [5]
     assert "pga_crit_g differs from pga_crit" in said[0]
 
 
@@ -343,7 +344,7 @@ def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, 
     sel = layout.selection(tasks.SPECTRA_DIMS, layout.region(3))
     group["pga_crit"][sel] = np.nan  # what a damaged old chunk decodes to, unflagged
     said = []
-    assert integrity.verify_store(path, say=said.append) == [3]
+    assert integrity.verify_store(integrity.open_checked(path, "r+"), say=said.append) == [3]
     assert "without chunk checksums" in said[0] and "rebuild" in said[0]
 
 
@@ -353,7 +354,7 @@ def test_a_damaged_store_is_refused_before_its_numbers_are_read(tmp_path, ensemb
     path = tmp_path / "s.zarr"
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     integrity.require_intact(path)  # an intact store passes
     group = zarr.open_group(path, mode="r")
     chunk = integrity.chunk_file(path, group["pga_crit"],

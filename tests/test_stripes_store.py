@@ -12,10 +12,10 @@ import xarray as xr
 from rocking.dynamics.bodies import Cylinder
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.stripes import stripe_fragility
-from rocking.study import store
+from rocking.study import products, store
 from rocking.study import stripes as st
 from rocking.study.layout import region_coords
-from rocking.study.spec import StudySpec
+from rocking.study.study_spec import StudySpec
 
 SPEC = StudySpec.from_config({
     "ensembles": {"test": {"record": "el-centro-1940"}},
@@ -32,14 +32,14 @@ def filled(tmp_path):
     ens = tmp_path / "motions.nc"
     save_ensemble(ens, standin.motions(3, npts=300))
     path = tmp_path / "stripes.zarr"
-    assert st.prepare_store(path, SPEC, "h1", ens) == "created"
+    assert products.prepare_store("stripes", path, SPEC, "h1", ens) == "created"
     layout = store.open_layout(path)
     assert layout.n_regions == 2 * 3 * 2  # modes x motions x ceil(3 R / 2)
     for i in store.pending_regions(path, layout):
         rep = st.fill_stripes_region(path, i, ens)
         assert rep["points"] == len(region_coords(layout, i)["R"]) * 4
-    store.finalize(path)
-    assert st.prepare_store(path, SPEC, "h1", ens) == "resumed"
+    store.StoreHandle.open(path).finalize()
+    assert products.prepare_store("stripes", path, SPEC, "h1", ens) == "resumed"
     return path, ens
 
 
@@ -92,7 +92,7 @@ def test_incomplete_store_refused(tmp_path):
     ens = tmp_path / "motions.nc"
     save_ensemble(ens, standin.motions(2, npts=200))
     path = tmp_path / "stripes.zarr"
-    st.prepare_store(path, SPEC, "h1", ens)
+    products.prepare_store("stripes", path, SPEC, "h1", ens)
     with pytest.raises(ValueError, match="incomplete"):
         st.stripe_fits(xr.open_zarr(path, consolidated=False))
     with pytest.raises(ValueError, match="strictly increasing"):
@@ -122,7 +122,7 @@ def test_verification_reads_a_stripes_store_and_finds_a_damaged_chunk(filled):
 
     path, _ = filled
     said = []
-    assert integrity.verify_store(path, say=said.append) == []
+    assert integrity.verify_store(integrity.open_checked(path, "r+"), say=said.append) == []
     assert said == []
     layout = store.open_layout(path)
     group = store.open_group(path, "r")
@@ -132,7 +132,7 @@ def test_verification_reads_a_stripes_store_and_finds_a_damaged_chunk(filled):
     data = bytearray(chunk.read_bytes())
     data[len(data) // 2] ^= 0x10
     chunk.write_bytes(bytes(data))
-    assert integrity.verify_store(path, say=said.append) == [0]
+    assert integrity.verify_store(integrity.open_checked(path, "r+"), say=said.append) == [0]
     assert "chunk 0 damaged" in said[0]
 
 
@@ -250,11 +250,11 @@ def test_stripes_in_sa(tmp_path):
     motions = standin.motions(2, npts=300)
     save_ensemble(ens, motions)
     path = tmp_path / "stripes.zarr"
-    st.prepare_store(path, spec, "h2", ens)
+    products.prepare_store("stripes", path, spec, "h2", ens)
     layout = store.open_layout(path)
     for i in store.pending_regions(path, layout):
         st.fill_stripes_region(path, i, ens)
-    store.finalize(path)
+    store.StoreHandle.open(path).finalize()
     ds = xr.open_zarr(path, consolidated=True)
     for R in (1.0, 2.0):
         direct = stripe_fragility(Cylinder(R, 0.2), motions, list(spec.limit_states),
@@ -317,7 +317,7 @@ def test_a_stripes_store_held_by_another_run_is_left_alone(filled):
         before = store.done_mask(path).copy()
         # another configuration's hash: a run that held the lock would replace the store
         with pytest.raises(RuntimeError, match=rf"{path.name}' is in use by pid {proc.pid}"):
-            st.compute(path, SPEC, "other-hash", ens, n_workers=1)
+            products.compute("stripes", path, SPEC, "other-hash", ens, n_workers=1)
         assert (store.done_mask(path) == before).all() and before.all()
     finally:
         proc.kill()

@@ -24,9 +24,10 @@ from rocking.motions.measures import (
 from rocking.motions.motion import GroundMotion
 from rocking.motions.principal import rotate
 from rocking.motions.response_spectrum import pseudo_acceleration
-from rocking.study import spec as spec_module
+from rocking.study import ensemble_spec as spec_module
 from rocking.study.config_checks import check_config
-from rocking.study.spec import EnsembleSpec, RecordSpec, StudySpec
+from rocking.study.ensemble_spec import EnsembleSpec, RecordSpec
+from rocking.study.study_spec import StudySpec
 
 
 def _suite_config() -> dict:
@@ -152,7 +153,7 @@ def test_mw_is_checked_only_where_the_highpass_needs_it(tmp_path):
 
     from rocking.study.config_checks import validate_config
 
-    schema = spec_module.__file__.replace("src/rocking/study/spec.py",
+    schema = spec_module.__file__.replace("src/rocking/study/ensemble_spec.py",
                                           "workflow/schemas/config.schema.yaml")
     cfg = _suite_config()
     # the ensemble's fc_hz is every record's default: this one asks for the Brune corner
@@ -311,7 +312,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     from rocking.motions.ensemble_io import load_ensemble
     from rocking.spectra.accuracy import get_accuracy
     from rocking.spectra.critical import critical_intensity
-    from rocking.study.spec import EnsembleSpec
+    from rocking.study.ensemble_spec import EnsembleSpec
     from rocking.units import read_table
 
     snakemake(tmp_path, "results/three/records.csv", configfile=_write(tmp_path, SUITE))
@@ -392,7 +393,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
 
 # --- docs/records.md ----------------------------------------------------------------------
 
-DOC = spec_module.__file__.replace("src/rocking/study/spec.py", "docs/records.md")
+DOC = spec_module.__file__.replace("src/rocking/study/ensemble_spec.py", "docs/records.md")
 
 
 def test_records_page_config_is_valid_and_its_columns_are_the_tables():
@@ -406,7 +407,7 @@ def test_records_page_config_is_valid_and_its_columns_are_the_tables():
     text = open(DOC, encoding="utf-8").read()
     blocks = [yaml.safe_load(b) for b in re.findall(r"```yaml\n(.*?)```", text, re.S)]
     assert blocks
-    schema_path = spec_module.__file__.replace("src/rocking/study/spec.py",
+    schema_path = spec_module.__file__.replace("src/rocking/study/ensemble_spec.py",
                                                "workflow/schemas/config.schema.yaml")
     schema = yaml.safe_load(open(schema_path, encoding="utf-8"))
     for config in blocks:

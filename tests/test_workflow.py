@@ -31,7 +31,8 @@ from rocking.dynamics.bodies import Cylinder
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.tilt_map import tilt_map
-from rocking.study.spec import EnsembleSpec, StudySpec
+from rocking.study.ensemble_spec import EnsembleSpec
+from rocking.study.study_spec import StudySpec
 from rocking.units import read_table
 
 pytestmark = pytest.mark.slow

@@ -34,7 +34,7 @@ from rocking.spectra.critical import critical_intensity
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.spectra.stripes import stripe_outcomes
 from rocking.spectra.tilt_map import tilt_map
-from rocking.study.spec import EnsembleSpec
+from rocking.study.ensemble_spec import EnsembleSpec
 from rocking.units import read_table
 
 pytestmark = pytest.mark.slow

@@ -36,8 +36,10 @@ from rocking.benchmarks._io import write_table
 from rocking.spectra.accuracy import get_accuracy
 from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 from rocking.study import cluster, store, tasks
+from rocking.study.damping import Damping
 from rocking.study.layout import region_coords
-from rocking.study.spec import Damping, SpectraSpec, StudySpec
+from rocking.study.product_specs import SpectraSpec
+from rocking.study.study_spec import StudySpec
 
 REPO = Path(__file__).resolve().parents[1]
 SAMPLE_R = [0.5, 3.0, 6.0, 10.0]

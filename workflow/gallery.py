@@ -28,8 +28,9 @@ from rocking import __version__
 from rocking.plot.captions import CAPTIONS, EXTRA_CAPTIONS
 from rocking.plot.report import link_images, relink_docs
 from rocking.study.aggregate import critical_frame
+from rocking.study.ensemble_spec import EnsembleSpec
 from rocking.study.prepare import keyed
-from rocking.study.spec import EnsembleSpec, StudySpec
+from rocking.study.study_spec import StudySpec
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",

@@ -14,7 +14,7 @@ rule mean_spectra:
             labels={"study": "{study}", "table": "ensemble statistics"},
         ),
     params:
-        store=lambda wildcards: spectra_store(wildcards.study),
+        store=lambda wildcards: product_store("spectra", wildcards.study),
     conda:
         "../envs/rocking.yaml"
     log:

@@ -1,5 +1,5 @@
 # Shared helpers: the validated configuration turned into store specifications (one
-# rocking.study.spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
+# rocking.study.study_spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
 # functions of `config`; no work happens here.
 
 import posixpath
@@ -7,7 +7,11 @@ import re
 from functools import cache
 
 from rocking.study.prepare import keyed
-from rocking.study.spec import Damping, EnsembleSpec, StudySpec, config_hash
+from rocking.study.products import PRODUCTS
+from rocking.study.damping import Damping
+from rocking.study.ensemble_spec import EnsembleSpec
+from rocking.study.store_attrs import config_hash
+from rocking.study.study_spec import StudySpec
 from snakemake.exceptions import WorkflowError
 
 
@@ -58,7 +62,7 @@ def planned_ensemble(name, digest):
 
 @cache
 def study_spec(study):
-    """The study as one checked object (rocking.study.spec.StudySpec)."""
+    """The study as one checked object (rocking.study.study_spec.StudySpec)."""
     return StudySpec.from_config(config, study)
 
 
@@ -73,48 +77,29 @@ def study_plan(study):
     return study_spec(study).spectra.plan
 
 
-def spectra_spec(study):
-    """The result-affecting description of a spectra store (its hash invalidates the store).
-
-    ``runs`` say what is computed; ``modes``, ``tan_alpha`` and ``limit_states`` are their
-    union, the store's grid (cells of the grid no run asks for stay NaN, requested = false).
-    """
-    return study_spec(study).spectra.to_attrs()
-
-
 def search_upper(study):
     """Highest PGA/(g tan α) searched in a study: its own ``upper``, else ``search.upper``."""
     return study_spec(study).spectra.upper
 
 
-def spectra_hash(study):
-    return study_spec(study).spectra.digest
+# A study's products (rocking.study.products.PRODUCTS: spectra, tilt_map, stripes) by name:
+# each is a part of the study (None when not configured) with its own store and compute rule.
+def has_product(kind, study):
+    return getattr(study_spec(study), kind) is not None
 
 
-def has_tilt_map(study):
-    return study_spec(study).tilt_map is not None
+def product_spec(kind, study):
+    """The result-affecting description of a product's store (its hash names the store).
+
+    For the spectra, ``runs`` say what is computed; ``modes``, ``tan_alpha`` and
+    ``limit_states`` are their union, the store's grid (cells of the grid no run asks for
+    stay NaN, requested = false).
+    """
+    return getattr(study_spec(study), kind).to_attrs()
 
 
-def tilt_map_spec(study):
-    """The result-affecting description of a Fig 7 tilt-map store."""
-    return study_spec(study).tilt_map.to_attrs()
-
-
-def tilt_map_hash(study):
-    return study_spec(study).tilt_map.digest
-
-
-def has_stripes(study):
-    return study_spec(study).stripes is not None
-
-
-def stripes_spec(study):
-    """The result-affecting description of a study's stripes store."""
-    return study_spec(study).stripes.to_attrs()
-
-
-def stripes_hash(study):
-    return study_spec(study).stripes.digest
+def product_hash(kind, study):
+    return getattr(study_spec(study), kind).digest
 
 
 def compute_threads():
@@ -130,28 +115,23 @@ NUMBA_CACHE = out_path("numba_cache.json")
 
 
 # The stores are prepared and filled by their compute rule and are not Snakemake outputs (see
-# spectra.smk); other rules take the rule's completion marker as input and the store path as
+# products.smk); other rules take the rule's completion marker as input and the store path as
 # a parameter. Everything else is named by the rule that writes it (rules.<name>.output).
 # A store's name holds the digest of what decides its numbers (rocking.study.prepare.keyed):
 # a changed setting adds a store, changing it back finds the earlier one.
-def spectra_store(study):
-    return str(keyed(out_path(f"{study}/spectra.zarr"), spectra_hash(study)))
+def product_store(kind, study):
+    return str(keyed(out_path(f"{study}/{kind}.zarr"), product_hash(kind, study)))
 
 
-def tilt_map_store(study):
-    return str(keyed(out_path(f"{study}/tilt_map.zarr"), tilt_map_hash(study)))
+def product_complete(kind, study):
+    """The completion marker of a product's compute rule (its output)."""
+    return expand(getattr(rules, kind).output.done, study=study)[0]
 
 
-def stripes_store(study):
-    return str(keyed(out_path(f"{study}/stripes.zarr"), stripes_hash(study)))
-
-
-def spectra_complete(study):
-    return expand(rules.spectra.output.done, study=study)[0]
-
-
-def tilt_map_complete(study):
-    return expand(rules.tilt_map.output.done, study=study)[0]
+def product_param(helper, kind):
+    """A rule parameter ``helper(kind, study)`` of the product ``kind`` (one function per
+    product: a lambda in the loop of products.smk would see only the last kind)."""
+    return lambda wildcards: helper(kind, wildcards.study)
 
 
 def mean_spectra(study):
@@ -168,8 +148,8 @@ def all_targets():
     for study in config["studies"]:
         targets += expand(rules.mean_spectra.output, study=study)
         targets.append(run_config_file(study))
-        if has_tilt_map(study):
-            targets.append(tilt_map_complete(study))
+        if has_product("tilt_map", study):
+            targets.append(product_complete("tilt_map", study))
     targets += list(figure_targets())
     return targets
 
@@ -178,7 +158,7 @@ def stripe_targets():
     """Tables and figures of every study that declares stripes."""
     out = []
     for study in config["studies"]:
-        if has_stripes(study):
+        if has_product("stripes", study):
             out.append(out_path(f"{study}/stripe_fragility.csv"))
             out += [out_path(f"{study}/figures/stripe_fragility_{mode}.{ext}")
                     for mode in study_spec(study).stripes.modes
@@ -190,9 +170,9 @@ def _check_config():
     """Grids and specs build without error (the cross-field checks of
     rocking.study.config_checks ran in the Snakefile); each error names the key and value."""
     for study in config["studies"]:
-        spectra_spec(study)
-        if has_tilt_map(study):
-            tilt_map_spec(study)
+        for kind in PRODUCTS:
+            if has_product(kind, study):
+                product_spec(kind, study)
     if config["dask"]["scheduler_address"] and config["dask"]["scheduler_file"]:
         raise ValueError("dask.scheduler_address and dask.scheduler_file are both set; "
                          "give one")

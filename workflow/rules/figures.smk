@@ -84,7 +84,7 @@ rule fig07_tilt_map:
                          figure="Fig 7", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig07_tilt_map", reproduces_paper(wildcards.study)),
-        store=lambda wildcards: tilt_map_store(wildcards.study),
+        store=lambda wildcards: product_store("tilt_map", wildcards.study),
     log:
         out_path("logs/{study}/fig07_tilt_map.log"),
     script:
@@ -121,7 +121,7 @@ rule fig09_spectra:
                          figure="Fig 9", study="{study}"),
     params:
         caption=lambda wildcards: caption("fig09_spectra", reproduces_paper(wildcards.study)),
-        store=lambda wildcards: spectra_store(wildcards.study),
+        store=lambda wildcards: product_store("spectra", wildcards.study),
         paper=lambda wildcards: reproduces_paper(wildcards.study),
     log:
         out_path("logs/{study}/fig09_spectra.log"),
@@ -170,14 +170,14 @@ rule fig12_2d_vs_3d:
         "../envs/rocking.yaml"
     input:
         means=[mean_spectra(s) for s in fig12_studies()],
-        complete=[spectra_complete(s) for s in fig12_studies()],
+        complete=[product_complete("spectra", s) for s in fig12_studies()],
         motions=[study_motions(s) for s in fig12_studies()],
     output:
         **_figure_output(global_stem("fig12_2d_vs_3d"), "Paper figures", figure="Fig 12"),
     params:
         caption=lambda wildcards: caption("fig12_2d_vs_3d", reproduces_paper()),
         studies=fig12_studies(),
-        stores=[spectra_store(s) for s in fig12_studies()],
+        stores=[product_store("spectra", s) for s in fig12_studies()],
         paper=reproduces_paper(),
     log:
         global_log("fig12_2d_vs_3d"),
@@ -207,7 +207,7 @@ rule fragility_curves:
                          figure="fragility", study="{study}"),
     params:
         caption=lambda wildcards: caption("fragility_curves", reproduces_paper(wildcards.study)),
-        store=lambda wildcards: spectra_store(wildcards.study),
+        store=lambda wildcards: product_store("spectra", wildcards.study),
         upper=lambda wildcards: search_upper(wildcards.study),
     log:
         out_path("logs/{study}/fragility_curves.log"),

@@ -101,7 +101,7 @@ def global_figure_stems():
 def study_figure_stems(study):
     """The study's figures that its runs have data for (StudyPlan.figures), and Fig 7."""
     names = study_plan(study).figures()
-    if has_tilt_map(study):
+    if has_product("tilt_map", study):
         names.insert(0, "fig07_tilt_map")
     return [out_path(f"{study}/figures/{n}") for n in names]
 
@@ -126,16 +126,17 @@ def report_run_files(study):
     """What the report's "what was run" section reads: the completion summaries and the
     ensemble parameters of every study (Fig 12 uses them all)."""
     files = {"ensembles": [ensemble_files(e, "params") for e in study_ensembles()],
-             "done": [spectra_complete(s) for s in config["studies"]]}
-    if has_tilt_map(study):
-        files["done"].append(tilt_map_complete(study))
+             "done": [product_complete("spectra", s) for s in config["studies"]]}
+    if has_product("tilt_map", study):
+        files["done"].append(product_complete("tilt_map", study))
     return files
 
 
 def report_stores(study):
     """The stores the report reads (parameters: they are not Snakemake outputs)."""
-    return {"stores": [spectra_store(s) for s in config["studies"]],
-            "tilt_maps": [tilt_map_store(study)] if has_tilt_map(study) else []}
+    return {"stores": [product_store("spectra", s) for s in config["studies"]],
+            "tilt_maps": [product_store("tilt_map", study)]
+            if has_product("tilt_map", study) else []}
 
 
 def report_inputs(study):
@@ -149,7 +150,7 @@ def report_inputs(study):
             **({"stripes": out_path(f"{study}/stripe_fragility.csv"),
                 "stripe_figures": [out_path(f"{study}/figures/stripe_fragility_{mode}.png")
                                    for mode in study_spec(study).stripes.modes]}
-               if has_stripes(study) else {}),
+               if has_product("stripes", study) else {}),
             "records": out_path(f"{study}/records.csv"),
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}

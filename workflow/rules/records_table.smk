@@ -25,7 +25,7 @@ rule records_table:
         ),
         bootstrap=out_path("{study}/suite_fragility_bootstrap.nc"),
     params:
-        store=lambda wildcards: spectra_store(wildcards.study),
+        store=lambda wildcards: product_store("spectra", wildcards.study),
         measures=lambda wildcards: list(study_spec(wildcards.study).intensity_measures),
     conda:
         "../envs/rocking.yaml"

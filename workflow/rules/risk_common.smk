@@ -47,7 +47,9 @@ def risk_studies():
 
 def stripe_fragility_csv(study):
     """The stripe fragility table the risk rule adds to risk.csv ([] without stripes)."""
-    return [rules.stripe_fragility.output.csv.format(study=study)] if has_stripes(study) else []
+    if not has_product("stripes", study):
+        return []
+    return [rules.stripe_fragility.output.csv.format(study=study)]
 
 
 def risk_targets():
@@ -60,7 +62,7 @@ def risk_targets():
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
         out += figure_files(out_path(f"{s}/figures/risk"))
-        if has_stripes(s) and study_spec(s).stripes.measure == "pga":
+        if has_product("stripes", s) and study_spec(s).stripes.measure == "pga":
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out

@@ -1,26 +1,8 @@
 # Multiple-stripe fragility (beyond the paper): every motion of a study analysed once at each
-# stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (prepared and
-# resumed like the spectra store, spectra.smk; the output is the completion marker), then
+# stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (by the compute
+# rule of every product, products.smk; the output is the completion marker), then
 # fitted and set beside the first-exceedance fragility: stripe_fragility.csv and one figure
 # per mode. The stripes are in the study's `stripes.measure` (PGA by default).
-
-
-rule stripes:
-    input:
-        numba=ancient(rules.numba_cache.output[0]),
-        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
-    output:
-        done=out_path("{study}/stripes.done.json"),
-    params:
-        store=lambda wildcards: stripes_store(wildcards.study),
-        config_hash=lambda wildcards: stripes_hash(wildcards.study),
-    threads: compute_threads()
-    conda:
-        "../envs/rocking.yaml"
-    log:
-        out_path("logs/{study}/stripes.log"),
-    script:
-        "../scripts/compute_stripes.py"
 
 
 # Separated fits are refined here, in-process (a few stripes: their analyses are kept in
@@ -37,7 +19,7 @@ rule stripe_fragility:
                    labels={"study": "{study}", "table": "stripe fragility"}),
         samples=out_path("{study}/stripe_fragility_bootstrap.nc"),
     params:
-        store=lambda wildcards: stripes_store(wildcards.study),
+        store=lambda wildcards: product_store("stripes", wildcards.study),
         refine=lambda wildcards: study_spec(wildcards.study).stripes.refine,
         bootstrap=lambda wildcards: study_spec(wildcards.study).stripes.bootstrap,
     conda:
@@ -61,7 +43,7 @@ rule stripe_fragility_figure:
     wildcard_constraints:
         mode="3d|3d-damped|2d-x|2d-y",
     params:
-        store=lambda wildcards: stripes_store(wildcards.study),
+        store=lambda wildcards: product_store("stripes", wildcards.study),
     conda:
         "../envs/rocking.yaml"
     log:

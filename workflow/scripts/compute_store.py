@@ -1,8 +1,9 @@
-"""Spectra or tilt-map rule: prepare the study's store (resume in it, or make it anew for a
-new configuration), fill it on Dask, write the completion marker (the rule's output)."""
+"""Compute rule of a product (spectra, tilt map, stripes: rocking.study.products): prepare the
+study's store (resume in it, or make it anew for a new configuration), fill it on Dask, write
+the completion marker (the rule's output)."""
 
 from rocking import _json
-from rocking.study import logs, prepare
+from rocking.study import logs, products
 from rocking.study.cluster import dask_options
 
 
@@ -10,8 +11,8 @@ def main(snakemake):
     p = snakemake.params
     study = snakemake.wildcards.study
     with logs.log_to(snakemake.log[0]):
-        spec = prepare.planned_spec(snakemake.config, study, p.kind, p.config_hash)
-        summary = prepare.compute(
+        spec = products.planned_spec(snakemake.config, study, p.kind, p.config_hash)
+        summary = products.compute(
             p.kind, p.store, spec, p.config_hash, snakemake.input.motions,
             n_workers=snakemake.threads, key=f"{p.kind}-{study}",
             label=f"{p.kind.replace('_', ' ')} {study}", **dask_options(snakemake.config))

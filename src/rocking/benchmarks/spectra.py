@@ -312,7 +312,7 @@ def paper_goal_sets(path: str | Path) -> tuple[dict, dict[str, dict[tuple[str, s
     """
     import yaml
 
-    from ..study.spec import StudySpec
+    from ..study.study_spec import StudySpec
 
     cfg = yaml.safe_load(Path(path).read_text())
     sets: dict[str, list[tuple[str, ...]]] = {}

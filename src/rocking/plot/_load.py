@@ -17,7 +17,7 @@ from ..spectra.limit_states import (
     severity,
 )
 from ..spectra.modes import MODE_3D
-from ..study.spec import decode_attrs
+from ..study.store_attrs import decode_attrs
 
 
 def open_store(path: str | Path) -> xr.Dataset:

@@ -17,7 +17,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 
 from ..spectra.modes import MODE_3D, MODE_3D_DAMPED
-from ..study.spec import decode_attrs
+from ..study.store_attrs import decode_attrs
 from . import _axes, _load
 from ._style import footnote, new_figure, pga_g_axis, styled
 from .comparisons import Comparison, finite, first_notes, fmt, judged, rank_correlation

@@ -24,7 +24,7 @@ from matplotlib.lines import Line2D
 
 from ..spectra.limit_states import limit_state_title
 from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, PLANAR_MODES
-from ..study.spec import decode_attrs
+from ..study.store_attrs import decode_attrs
 from . import _axes, _load
 from ._style import MODE_STYLE, footnote, paper_tag, pga_g_axis, r_axis, styled, with_legend_row
 from .comparisons import Comparison, finite, first_notes, fmt, judged

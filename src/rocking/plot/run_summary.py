@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from ..spectra.limit_states import limit_state_title
-from ..study.spec import SpectraSpec, TiltMapSpec, decode_attrs
+from ..study.product_specs import SpectraSpec, TiltMapSpec
+from ..study.store_attrs import decode_attrs
 from . import _load
 from .comparisons import fmt
 
@@ -48,7 +49,7 @@ def _motions_text(motions: Sequence[Mapping], spec: SpectraSpec) -> str:
 def study_rows(path: str | Path) -> list[tuple[str, str]]:
     """What a spectra store says was run: ensemble, grids, limit states, modes per tan α,
     accuracy, contact parameters, version (its ``config`` read as a
-    :class:`~rocking.study.spec.SpectraSpec`)."""
+    :class:`~rocking.study.product_specs.SpectraSpec`)."""
     ds = _load.open_store(path)
     attrs = decode_attrs(ds.attrs)
     spec = SpectraSpec.from_attrs(attrs["config"])
@@ -163,7 +164,7 @@ def modes_text(ds) -> str:
 
 def tilt_map_rows(path: str | Path) -> list[tuple[str, str]]:
     """Grid and models of a Fig 7 tilt-map store (its ``config`` read as a
-    :class:`~rocking.study.spec.TiltMapSpec`)."""
+    :class:`~rocking.study.product_specs.TiltMapSpec`)."""
     ds = _load.open_store(path)
     attrs = decode_attrs(ds.attrs)
     spec = TiltMapSpec.from_attrs(attrs["config"])

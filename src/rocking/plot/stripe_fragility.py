@@ -60,7 +60,7 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
     from ..study import stripes as st
-    from ..study.spec import decode_attrs
+    from ..study.store_attrs import decode_attrs
     from ..units import read_table
 
     ds = xr.open_zarr(stripes, consolidated=True)

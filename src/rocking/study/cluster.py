@@ -28,12 +28,15 @@ import warnings
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from distributed import Client, LocalCluster, wait
 
 from .._progress import Progress
 from .logs import terminal
+
+if TYPE_CHECKING:  # the store module loads zarr: only its type is needed here
+    from .store import StoreHandle
 
 log = logging.getLogger("rocking.study.cluster")
 
@@ -68,20 +71,13 @@ stripes rule of the paper run: 27 s, 14.6 s of them chunks on 2 workers), while 
 analyses take 2–6 s in one process (5–15 ms each): the default run's Fig 7 map (168
 analyses) and stripes (120) run faster without Dask, the paper run's (1560 and 1320) do not."""
 
-SPECTRA_ANALYSES_PER_POINT = 70
-"""Typical analyses of one critical-intensity search (the paper run: 73–231 per point on
-average per mode; small sizes R need fewer) for the in-process estimate."""
-
-
-def estimated_analyses(fn: Callable[..., dict], layout, indices: Sequence[int]) -> int:
-    """Analyses the regions ``indices`` are expected to run: a spectrum point is a search
-    (:data:`SPECTRA_ANALYSES_PER_POINT`), a tilt-map or stripe point one analysis."""
-    from . import tasks
+def estimated_analyses(layout, indices: Sequence[int], per_point: int = 1) -> int:
+    """Analyses the regions ``indices`` are expected to run: ``per_point`` per point (a
+    spectrum point is a search, :data:`rocking.study.products.Product.analyses_per_point`;
+    a tilt-map or stripe point one analysis)."""
     from .layout import region_points
 
-    points = sum(region_points(layout, i) for i in indices)
-    body = getattr(fn, "func", fn)  # a functools.partial of a task body
-    return points * (SPECTRA_ANALYSES_PER_POINT if body is tasks.fill_spectra_region else 1)
+    return per_point * sum(region_points(layout, i) for i in indices)
 
 
 @dataclass(frozen=True)
@@ -458,11 +454,12 @@ def run_in_process(fn: Callable[..., dict], indices: Sequence[int], path: str, m
     return reports
 
 
-def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *,
+def fill_store(store: StoreHandle, fn: Callable[..., dict], motions: str | Path, *,
                config_digest: str, n_workers: int = 1, scheduler_address: str | None = None,
                scheduler_file: str | None = None, progress_interval: float = 10.0,
                key: str = "region", worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
-               label: str | None = None, in_process_analyses: int = 0) -> dict[str, Any]:
+               label: str | None = None, in_process_analyses: int = 0,
+               analyses_per_point: int = 1) -> dict[str, Any]:
     """Verify the finished regions of a store, compute the others on Dask, consolidate it.
 
     Every finished region is re-read first (:func:`rocking.study.integrity.verify_store`):
@@ -471,8 +468,9 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
 
     Parameters
     ----------
-    path : str or Path
-        A store made by :func:`rocking.study.store.create_store`.
+    store : StoreHandle
+        A store made by :func:`rocking.study.store.create_store`, opened once with mode
+        ``"r+"`` (:func:`rocking.study.integrity.open_checked`); the task bodies get its path.
     fn : callable
         Task body ``fn(path, index, motions=...)``, e.g.
         :func:`rocking.study.tasks.fill_spectra_region`.
@@ -498,6 +496,9 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         (:func:`estimated_analyses`) are computed one after the other in this process, with
         no cluster started (0: always a cluster; the workflow passes
         :data:`IN_PROCESS_ANALYSES`). The results are the same: the same task bodies run.
+    analyses_per_point : int
+        Analyses a point of the store costs, for that estimate (the product's
+        :attr:`~rocking.study.products.Product.analyses_per_point`).
 
     Returns
     -------
@@ -505,18 +506,18 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
         Summary: regions in total, already done before this run, computed now, per-chunk
         compute seconds (min, median, max), wall seconds, where it ran.
     """
-    from . import integrity, store, tasks
+    from . import integrity, tasks
     from .layout import region_points
 
     t0 = time.perf_counter()
     # absolute paths: workers of an external cluster may run in another directory
-    path, motions = Path(path).resolve(), Path(motions).resolve()
-    store.check_config_hash(path, config_digest)
-    tasks.check_ensemble(path, motions)
-    layout = store.open_layout(path)
+    path, motions = store.path.resolve(), Path(motions).resolve()
+    store.check_config_hash(config_digest)
+    tasks.check_ensemble(store, motions)
+    layout = store.layout
     # every run re-reads what earlier runs finished: damaged chunks become pending again
-    damaged = integrity.verify_store(path, layout, say=log.warning)
-    pending = tasks.costliest_first(layout, store.pending_regions(path, layout))
+    damaged = integrity.verify_store(store, say=log.warning)
+    pending = tasks.costliest_first(layout, store.pending_regions())
     n = layout.n_regions
     log.info("store %s: %d chunks, %d already done and verified, %d damaged, %d to compute",
              path, n, n - len(pending), len(damaged), len(pending))
@@ -528,7 +529,7 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                       interval=progress_interval) as bar:
             bar.message(f"{label or key}: {total} points in {len(pending)} chunks to compute "
                         f"({n - len(pending)} of {n} chunks already done)")
-            work = estimated_analyses(fn, layout, pending)
+            work = estimated_analyses(layout, pending, analyses_per_point)
             if target.kind == "local" and work <= in_process_analyses:
                 bar.message(f"{label or key}: about {work} analyses, computed in this "
                             f"process (starting a Dask cluster would cost more)")
@@ -543,7 +544,7 @@ def fill_store(path: str | Path, fn: Callable[..., dict], motions: str | Path, *
                                           key=f"{key}-{config_digest}",
                                           interval=progress_interval, progress=bar,
                                           worker_timeout=worker_timeout)
-    store.finalize(path)
+    store.finalize()
     seconds = sorted(r["seconds"] for r in reports)
     summary = {
         "store": str(path),

@@ -145,7 +145,7 @@ def check_config(config: Mapping[str, Any]) -> None:
     """
     _check_finite(config)
     from .dimensions import resolve_dimensions
-    from .spec import EnsembleSpec
+    from .ensemble_spec import EnsembleSpec
 
     config = resolve_dimensions(config)
 
@@ -187,8 +187,8 @@ def _record_keys(key: str, ens):
 
 
 def _check_record(key: str, rec):
-    """The record of ``rec`` (a :class:`rocking.study.spec.RecordSpec`), read as the motions
-    rule reads it (header, dt of both files, every value), or the SJTE stand-in."""
+    """The record of ``rec`` (a :class:`rocking.study.ensemble_spec.RecordSpec`), read as the
+    motions rule reads it (header, dt of both files, every value), or the SJTE stand-in."""
     from ..motions.catalogue import RECORDS, load_record
     from ..motions.fema_p695 import is_fema_name
 

@@ -21,18 +21,19 @@ from .store import (
     DONE,
     REPAIR,
     REQUESTED_DIMS,
-    describing_arrays,
+    StoreHandle,
     every_chunk,
     open_group,
-    open_layout,
-    read_requested,
 )
 
 
 def has_checksums(path: str | Path) -> bool:
     """Whether every result array of a store carries :data:`CHECKSUM_CODEC` (stores made
     before checksums were introduced do not, and must be rebuilt to get them)."""
-    group = open_group(path, "r")
+    return _checksummed(open_group(path, "r"))
+
+
+def _checksummed(group: zarr.Group) -> bool:
     return all(any(getattr(c, "to_dict", lambda: {})().get("name") == CHECKSUM_CODEC
                    for c in group[k].metadata.codecs) for k in group.array_keys())
 
@@ -111,9 +112,8 @@ def _region_problem(path: Path, group: zarr.Group, layout: Layout, index: int,
     return None
 
 
-def verify_store(path: str | Path, layout: Layout | None = None,
-                 say: Callable[[str], None] | None = None, repair: bool = True,
-                 not_done: list[int] | None = None) -> list[int]:
+def verify_store(store: StoreHandle, say: Callable[[str], None] | None = None,
+                 repair: bool = True, not_done: list[int] | None = None) -> list[int]:
     """Re-read every finished region; mark the damaged ones not done, to be recomputed.
 
     A region counts as damaged when its done flag is unreadable, when a chunk of its results
@@ -124,15 +124,13 @@ def verify_store(path: str | Path, layout: Layout | None = None,
 
     Parameters
     ----------
-    path : str or Path
-        Store directory.
-    layout : Layout, optional
-        Its layout (read when not given).
+    store : StoreHandle
+        The open store (:func:`open_checked`), mode ``"r+"`` to repair.
     say : callable, optional
         Where the per-region lines go (default: a warning).
     repair : bool
-        Reset the done flag of damaged regions (False: only report them; the store is
-        opened read-only).
+        Reset the done flag of damaged regions (False: only report them; a store opened
+        read-only is enough).
     not_done : list, optional
         Receives the regions not marked done (read on the way: no second read of the mask).
 
@@ -144,29 +142,28 @@ def verify_store(path: str | Path, layout: Layout | None = None,
     Raises
     ------
     ValueError
-        Naming the store and the remedy, when the metadata or coordinates are unreadable.
+        Naming the store and the remedy, when the metadata or coordinates are unreadable;
+        when ``repair`` is asked of a store opened read-only.
     """
-    path = Path(path)
+    path, layout, group = store.path, store.layout, store.group
+    if repair and store.mode != "r+":
+        raise ValueError(f"store {str(path)!r} is open read-only: open it with mode 'r+' to "
+                         "repair it")
     say = say or (lambda text: warnings.warn(text, stacklevel=2))
     try:
-        layout = open_layout(path) if layout is None else layout
         # the mask (mode, limit_state, tan_alpha) belongs to spectra stores; a stripes store
         # (one tan α, no such dimension) or a tilt map has none and asks for every cell
         spectra_like = all(d in layout.coords for d in REQUESTED_DIMS)
-        requested = read_requested(path, layout) if spectra_like else None
-        checksums = has_checksums(path)
-        group = open_group(path, "r")
-        for name in describing_arrays(path):  # auxiliary coordinates too (source_record)
+        requested = store.requested() if spectra_like else None
+        checksums = _checksummed(group)
+        for name in store.describing_arrays():  # auxiliary coordinates too (source_record)
             group[name][...]
     except Exception as exc:
-        raise ValueError(f"store {str(path)!r}: metadata or coordinates are unreadable "
-                         f"({exc}); {REPAIR} (coordinates are restored from the "
-                         f"configuration), or delete the store") from exc
+        raise _unreadable(path, exc) from exc
     if not checksums:
         say(f"store {path} was made without chunk checksums (by an older version): a "
             f"flipped bit cannot be detected, only values that contradict each other; "
             f"delete the store to rebuild it with checksums")
-    group = open_group(path, "r+" if repair else "r")
     reader = _Reader(path, group, [DONE, *layout.variables])
     damaged = []
     for index in range(layout.n_regions):
@@ -191,6 +188,26 @@ def verify_store(path: str | Path, layout: Layout | None = None,
     return damaged
 
 
+def open_checked(path: str | Path, mode: str = "r") -> StoreHandle:
+    """The store at ``path`` opened once (:class:`~rocking.study.store.StoreHandle`).
+
+    Raises
+    ------
+    ValueError
+        Naming the store and the remedy, when its metadata or coordinates are unreadable.
+    """
+    try:
+        return StoreHandle.open(path, mode)
+    except Exception as exc:
+        raise _unreadable(path, exc) from exc
+
+
+def _unreadable(path: str | Path, exc: Exception) -> ValueError:
+    return ValueError(f"store {str(path)!r}: metadata or coordinates are unreadable ({exc}); "
+                      f"{REPAIR} (coordinates are restored from the configuration), or delete "
+                      f"the store")
+
+
 def require_intact(path: str | Path, say: Callable[[str], None] | None = None) -> None:
     """Check a store before its numbers are read into others (aggregates, tables): every
     region complete (done, whether the study asked for it or not) and every finished one
@@ -206,9 +223,10 @@ def require_intact(path: str | Path, say: Callable[[str], None] | None = None) -
         and the remedy; the store is not changed (opened read-only), so a damaged chunk is
         never tabulated.
     """
-    layout = open_layout(path)
+    store = open_checked(path, "r")
+    layout = store.layout
     missing: list[int] = []
-    damaged = verify_store(path, layout, say=say, repair=False, not_done=missing)
+    damaged = verify_store(store, say=say, repair=False, not_done=missing)
     if damaged:
         raise ValueError(f"store {str(path)!r}: {len(damaged)} damaged chunks {damaged}; "
                          f"{REPAIR}")

@@ -23,14 +23,13 @@ from __future__ import annotations
 import logging
 import os
 import shutil
-from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
 
 from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from . import store, tasks
-from .spec import Damping, SpectraSpec, StudySpec, TiltMapSpec
+from .damping import Damping
+from .product_specs import SpectraSpec, TiltMapSpec
 
 log = logging.getLogger(__name__)
 
@@ -43,24 +42,6 @@ def _state(path: Path, config_digest: str) -> str:
         return "same" if store.read_attrs(path).get("config_hash") == config_digest else "other"
     except Exception:  # a directory that is not a readable store: replace it too
         return "other"
-
-
-def planned_spec(config: Mapping[str, Any], study: str, kind: str, digest: str) -> Any:
-    """The part ``kind`` (``"spectra"``, ``"tilt_map"`` or ``"stripes"``) of study ``study``,
-    rebuilt from the workflow configuration, checked against the ``digest`` the job was
-    planned with (a rule's parameters carry only that hash, so its "reason" lines stay short).
-
-    Raises
-    ------
-    ValueError
-        If the study has no such part or its digest differs (naming both digests).
-    """
-    spec = getattr(StudySpec.from_config(config, study), kind)
-    got = None if spec is None else spec.digest
-    if got != digest:
-        raise ValueError(f"studies.{study}: the {kind} settings of this configuration hash to "
-                         f"{got}, the job was planned for {digest}; run snakemake again")
-    return spec
 
 
 def keyed(path: str | Path, digest: str) -> Path:
@@ -176,117 +157,80 @@ def repair_coordinates(path: str | Path, create) -> list[str]:
     return damaged
 
 
-def spectra_store(path: str | Path, spec: SpectraSpec | dict[str, Any], config_digest: str,
-                  motions: str | Path) -> str:
-    """Prepare the spectra store of a study.
+def create_spectra_store(path: Path, s: SpectraSpec, config_digest: str,
+                         motions: str | Path) -> None:
+    """Create the empty spectra store of a study at ``path`` (the spectra's
+    :attr:`~rocking.study.products.Product.create`).
 
     Parameters
     ----------
-    path : str or Path
-        ``<root>/<study>/spectra-<digest>.zarr`` (:func:`keyed`).
-    spec : SpectraSpec or dict
-        The study's result-affecting description, or its ``to_attrs()`` mapping (the
-        workflow's ``spectra_spec``).
+    path : Path
+        Where (:func:`ready_store` chooses: the keyed name, or a reference beside it).
+    s : SpectraSpec
+        The study's result-affecting description.
     config_digest : str
-        ``spec.digest``.
+        ``s.digest``.
     motions : str or Path
         The ensemble file.
-
-    Returns
-    -------
-    str
-        ``"created"``, ``"resumed"`` or ``"replaced"``.
     """
-
-    s = spec if isinstance(spec, SpectraSpec) else SpectraSpec.from_attrs(spec)
-
-    def create(p: Path) -> None:
-        ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
-        names = [m["name"] for m in ensemble["motions"]]
-        chunk_R = s.chunk_R
-        if chunk_R == "auto":
-            npts = min(m["npts"] for m in ensemble["motions"])
-            chunk_R = tasks.auto_chunk_R(len(s.R), npts, s.min_task_seconds)
-        plan = s.plan
-        layout = tasks.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
-                                      s.R, chunk_R)
-        attrs = {
-            "title": f"Seismic performance rocking spectra, study {s.study}",
-            "config": s.to_attrs(),
-            "tolerances": get_accuracy(s.accuracy).to_dict(),
-            "search_options": s.search_options(),
-            "rocking_version": __version__,
-            "ensemble": ensemble,
-            "pga_crit_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair; "
-                                   "pga_crit_g = pga_crit * tan_alpha is the same PGA in g",
-        }
-        store.create_store(p, layout, attrs, config_digest,
-                           coords=tasks.identity_coords(ensemble),
-                           static={store.REQUESTED: plan.requested})
-        skipped = len(store.regions_not_requested(layout, plan.requested))
-        log.info("created %s: %d chunks of %d sizes R (%d not requested by any run, marked "
-                 "done), motions %s; points per mode %s", p, layout.n_regions, chunk_R, skipped,
-                 names, plan.points(len(names), len(s.R)))
-
-    return ready_store(path, config_digest, create)
+    ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
+    names = [m["name"] for m in ensemble["motions"]]
+    chunk_R = s.chunk_R
+    if chunk_R == "auto":
+        npts = min(m["npts"] for m in ensemble["motions"])
+        chunk_R = tasks.auto_chunk_R(len(s.R), npts, s.min_task_seconds)
+    plan = s.plan
+    layout = tasks.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
+                                  s.R, chunk_R)
+    attrs = {
+        "title": f"Seismic performance rocking spectra, study {s.study}",
+        "config": s.to_attrs(),
+        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "search_options": s.search_options(),
+        "rocking_version": __version__,
+        "ensemble": ensemble,
+        "pga_crit_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair; "
+                               "pga_crit_g = pga_crit * tan_alpha is the same PGA in g",
+    }
+    store.create_store(path, layout, attrs, config_digest,
+                       coords=tasks.identity_coords(ensemble),
+                       static={store.REQUESTED: plan.requested})
+    skipped = len(store.regions_not_requested(layout, plan.requested))
+    log.info("created %s: %d chunks of %d sizes R (%d not requested by any run, marked "
+             "done), motions %s; points per mode %s", path, layout.n_regions, chunk_R, skipped,
+             names, plan.points(len(names), len(s.R)))
 
 
-def tilt_map_store(path: str | Path, spec: TiltMapSpec | dict[str, Any], config_digest: str,
-                   motions: str | Path) -> str:
-    """Prepare the Fig 7 tilt-map store of a study (``spec``: a :class:`TiltMapSpec` or its
-    ``to_attrs()``, the workflow's ``tilt_map_spec``); returns ``"created"``, ``"resumed"``
-    or ``"replaced"``."""
-    s = spec if isinstance(spec, TiltMapSpec) else TiltMapSpec.from_attrs(spec)
+def create_tilt_map_store(path: Path, s: TiltMapSpec, config_digest: str,
+                          motions: str | Path) -> None:
+    """Create the empty Fig 7 tilt-map store of a study at ``path`` (as
+    :func:`create_spectra_store`).
 
-    def create(p: Path) -> None:
-        ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
-        names = [m["name"] for m in ensemble["motions"]]
-        motion = s.motion or names[0]  # the record comes first in an ensemble
-        if motion not in names:
-            raise ValueError(f"studies.{s.study}.tilt_map.motion={motion!r} is not a "
-                             f"motion of ensemble {s.ensemble.name!r}: {names}")
-        layout = tasks.tilt_map_layout(s.modes, s.R, s.intensity, s.chunk_R)
-        who = next(m for m in ensemble["motions"] if m["name"] == motion)
-        attrs = {
-            "title": f"Peak tilt over size and intensity (Fig 7), study {s.study}",
-            "config": s.to_attrs(),
-            "motion": motion,
-            "tan_alpha": s.tan_alpha,
-            "tolerances": get_accuracy(s.accuracy).to_dict(),
-            "model_options": Damping.options(s.damping),
-            "rocking_version": __version__,
-            "ensemble": ensemble,
-            "motion_processing": who["processing"],
-            "motion_PGA_g": who["PGA"],
-        }
-        pga_g = ("intensity", [i * s.tan_alpha for i in s.intensity])
-        store.create_store(p, layout, attrs, config_digest, coords={"pga_g": pga_g})
-        log.info("created %s: %d chunks, motion %s", p, layout.n_regions, motion)
-
-    return ready_store(path, config_digest, create)
-
-
-KINDS = {"spectra": spectra_store, "tilt_map": tilt_map_store}
-"""Store kind → its preparation function."""
-
-
-def compute(kind: str, path: str | Path, spec: Any, config_digest: str,
-            motions: str | Path, **fill_kw) -> dict[str, Any]:
-    """Prepare a store of ``kind`` (``"spectra"`` or ``"tilt_map"``) and fill it on Dask.
-
-    ``fill_kw`` go to :func:`rocking.study.cluster.fill_store` (workers, scheduler, progress,
-    task key and label). Returns its summary with ``"store_state"`` added (created, resumed or
-    replaced).
+    Raises
+    ------
+    ValueError
+        When the map's motion is not a motion of the ensemble.
     """
-    from . import cluster
-
-    if kind not in KINDS:
-        raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
-    # one run at a time per store: another working directory starting the same study waits
-    # for nothing and deletes nothing, it stops naming the run that holds the store
-    with store.locked(path):
-        state = KINDS[kind](path, spec, config_digest, motions)
-        fill = tasks.fill_spectra_region if kind == "spectra" else tasks.fill_tilt_map_region
-        summary = cluster.fill_store(path, fill, motions, config_digest=config_digest,
-                                     **fill_kw)
-    return {**summary, "store_state": state}
+    ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
+    names = [m["name"] for m in ensemble["motions"]]
+    motion = s.motion or names[0]  # the record comes first in an ensemble
+    if motion not in names:
+        raise ValueError(f"studies.{s.study}.tilt_map.motion={motion!r} is not a "
+                         f"motion of ensemble {s.ensemble.name!r}: {names}")
+    layout = tasks.tilt_map_layout(s.modes, s.R, s.intensity, s.chunk_R)
+    who = next(m for m in ensemble["motions"] if m["name"] == motion)
+    attrs = {
+        "title": f"Peak tilt over size and intensity (Fig 7), study {s.study}",
+        "config": s.to_attrs(),
+        "motion": motion,
+        "tan_alpha": s.tan_alpha,
+        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "model_options": Damping.options(s.damping),
+        "rocking_version": __version__,
+        "ensemble": ensemble,
+        "motion_processing": who["processing"],
+        "motion_PGA_g": who["PGA"],
+    }
+    pga_g = ("intensity", [i * s.tan_alpha for i in s.intensity])
+    store.create_store(path, layout, attrs, config_digest, coords={"pga_g": pga_g})
+    log.info("created %s: %d chunks, motion %s", path, layout.n_regions, motion)

@@ -17,10 +17,11 @@ rewritten whole by the next run), so a restarted run computes only the missing r
 ends with the same bytes as an uninterrupted one.
 
 The store also records a hash of the configuration that produced it: a run whose
-configuration differs refuses to add to it (:func:`check_config_hash`) instead of mixing
-results. Its grid is a :class:`~rocking.study.layout.Layout`; every chunk carries a checksum
-(:func:`chunk_codecs`) that :func:`rocking.study.integrity.verify_store` checks. What the
-study's stores hold and how a worker fills a region: :mod:`rocking.study.tasks`.
+configuration differs refuses to add to it (:meth:`StoreHandle.check_config_hash`) instead of
+mixing results. The driver of a fill opens a store once (:class:`StoreHandle`). Its grid is a
+:class:`~rocking.study.layout.Layout`; every chunk carries a checksum (:func:`chunk_codecs`)
+that :func:`rocking.study.integrity.verify_store` checks. What the study's stores hold and how
+a worker fills a region: :mod:`rocking.study.tasks`.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ import os
 import shutil
 import warnings
 from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -44,7 +46,7 @@ from .. import _json
 from ..units import QUANTITIES
 from ..units import attrs as cf_attrs
 from .layout import Layout, Variable
-from .spec import decode_attrs
+from .store_attrs import decode_attrs
 
 DONE = "done"
 """Name of the completion mask."""
@@ -81,8 +83,8 @@ def create_store(path: str | Path, layout: Layout, attrs: dict[str, Any],
         Attributes; values that are not strings are stored as JSON text (``config``,
         ``tolerances``, ``ensemble``...), readable with ``json.loads``.
     config_digest : str
-        :func:`rocking.study.spec.config_hash` of the result-affecting configuration (the
-        ``digest`` of a :class:`~rocking.study.spec.SpectraSpec` or its kin).
+        :func:`rocking.study.store_attrs.config_hash` of the result-affecting configuration (the
+        ``digest`` of a :class:`~rocking.study.product_specs.SpectraSpec` or its kin).
     coords : dict, optional
         Auxiliary coordinates ``{name: (dim, values)}``, e.g. each motion's source record
         and processing (:func:`identity_coords`).
@@ -204,7 +206,11 @@ def regions_not_requested(layout: Layout, requested: np.ndarray | None) -> list[
 
 def open_layout(path: str | Path) -> Layout:
     """Read the layout of an existing store."""
-    group = open_group(path, "r")
+    return _layout_of(open_group(path, "r"), path)
+
+
+def _layout_of(group: zarr.Group, path: str | Path) -> Layout:
+    """The layout of the open store ``group`` (``path`` names it in errors)."""
     chunking = json.loads(group.attrs["layout"])
     names = list(group.array_keys())
     dims_of = {k: tuple(group[k].metadata.dimension_names) for k in names}
@@ -237,16 +243,23 @@ def read_requested(path: str | Path, layout: Layout | None = None) -> np.ndarray
     """The ``requested`` mask (mode, limit_state, tan_alpha) of a spectra store; all True
     for a store without one."""
     layout = open_layout(path) if layout is None else layout
+    return _requested_of(open_group(path, "r"), layout)
+
+
+def _requested_of(group: zarr.Group, layout: Layout) -> np.ndarray:
     if REQUESTED not in layout.static:
         return np.ones(layout.shape(REQUESTED_DIMS), dtype=bool)
-    return np.asarray(open_group(path, "r")[REQUESTED][...], dtype=bool)
+    return np.asarray(group[REQUESTED][...], dtype=bool)
 
 
 def describing_arrays(path: str | Path) -> list[str]:
     """The arrays of a store that describe its grid rather than hold results: coordinates,
     auxiliary coordinates (a motion's source record) and static variables (``requested``);
     every array but ``done`` and those spanning every task dimension."""
-    group = open_group(path, "r")
+    return _describing_of(open_group(path, "r"))
+
+
+def _describing_of(group: zarr.Group) -> list[str]:
     task_dims = set(json.loads(group.attrs["layout"])["task_dims"])
     return sorted(k for k in group.array_keys() if k != DONE
                   and not task_dims <= set(group[k].metadata.dimension_names))
@@ -342,25 +355,8 @@ def open_group(path: str | Path, mode: str) -> zarr.Group:
 
 
 def read_attrs(path: str | Path) -> dict[str, Any]:
-    """Store attributes, with JSON-encoded values decoded (:func:`.spec.decode_attrs`)."""
+    """Store attributes, with JSON-encoded values decoded (:func:`.store_attrs.decode_attrs`)."""
     return decode_attrs(open_group(path, "r").attrs)
-
-
-def check_config_hash(path: str | Path, expected: str) -> None:
-    """Refuse to continue a store built for another configuration.
-
-    Raises
-    ------
-    ValueError
-        Naming both hashes, when the store's ``config_hash`` differs from ``expected``.
-    """
-    found = open_group(path, "r").attrs.get("config_hash")
-    if found != expected:
-        raise ValueError(
-            f"store {str(path)!r} has config_hash={found!r} but this run's configuration has "
-            f"config_hash={expected!r}; rebuild the store (its rule reruns when the "
-            f"configuration changes) instead of mixing results"
-        )
 
 
 def done_mask(path: str | Path) -> np.ndarray:
@@ -371,8 +367,12 @@ def done_mask(path: str | Path) -> np.ndarray:
     ValueError
         Naming the store and the remedy, when a chunk of the mask cannot be read.
     """
+    return _done_of(open_group(path, "r"), path)
+
+
+def _done_of(group: zarr.Group, path: str | Path) -> np.ndarray:
     try:
-        return np.asarray(open_group(path, "r")[DONE][...], dtype=bool)
+        return np.asarray(group[DONE][...], dtype=bool)
     except Exception as exc:
         raise ValueError(f"store {str(path)!r}: the done mask is unreadable ({exc}); "
                          f"{REPAIR}") from exc
@@ -381,7 +381,10 @@ def done_mask(path: str | Path) -> np.ndarray:
 def pending_regions(path: str | Path, layout: Layout | None = None) -> list[int]:
     """Indices of the task regions not yet marked done, in order."""
     layout = open_layout(path) if layout is None else layout
-    done = done_mask(path)
+    return _pending(layout, done_mask(path))
+
+
+def _pending(layout: Layout, done: np.ndarray) -> list[int]:
     return [i for i in range(layout.n_regions)
             if not np.all(done[layout.selection(layout.task_dims, layout.region(i))])]
 
@@ -477,16 +480,93 @@ def consolidate(path: str | Path) -> None:
         zarr.consolidate_metadata(str(path), zarr_format=3)
 
 
-def finalize(path: str | Path) -> None:
-    """Check that every region is done, then consolidate the metadata.
+@dataclass(frozen=True, eq=False)
+class StoreHandle:
+    """A store opened once: its path, zarr group, layout and decoded attributes.
 
-    Raises
-    ------
-    ValueError
-        If some region is not done (naming how many).
+    The driver of a fill (:func:`rocking.study.cluster.fill_store`) and the verification of
+    a store (:func:`rocking.study.integrity.verify_store`) take one instead of a path, so the
+    store's metadata is read once, not by every step. Task bodies in worker processes still
+    take the path (a handle is not sent between processes).
+
+    Attributes
+    ----------
+    path : Path
+        Store directory.
+    group : zarr.Group
+        The open root group (mode ``mode``).
+    layout : Layout
+        Coordinates, variables and task regions.
+    attrs : dict
+        Attributes with JSON-text values decoded (:func:`read_attrs`).
+    mode : str
+        ``"r"`` (read only) or ``"r+"`` (results and done flags may be written).
     """
-    done = done_mask(path)
-    if not done.all():
-        raise ValueError(f"store {str(path)!r} has {int((~done).sum())} of {done.size} "
-                         f"points not done")
-    consolidate(path)
+
+    path: Path
+    group: zarr.Group
+    layout: Layout
+    attrs: dict[str, Any]
+    mode: str
+
+    @classmethod
+    def open(cls, path: str | Path, mode: str = "r") -> StoreHandle:
+        """Open the store at ``path`` and read its layout and attributes.
+
+        Raises
+        ------
+        ValueError
+            When ``path`` is not a zarr v3 store, or a coordinate is unreadable (naming the
+            store and the remedy).
+        """
+        if mode not in ("r", "r+"):
+            raise ValueError(f"mode must be 'r' or 'r+', got {mode!r}")
+        path = Path(path)
+        group = open_group(path, mode)
+        return cls(path, group, _layout_of(group, path), decode_attrs(group.attrs), mode)
+
+    def check_config_hash(self, expected: str) -> None:
+        """Refuse to continue a store built for another configuration.
+
+        Raises
+        ------
+        ValueError
+            Naming both hashes, when the store's ``config_hash`` differs from ``expected``.
+        """
+        found = self.group.attrs.get("config_hash")
+        if found != expected:
+            raise ValueError(
+                f"store {str(self.path)!r} has config_hash={found!r} but this run's "
+                f"configuration has config_hash={expected!r}; rebuild the store (its rule "
+                f"reruns when the configuration changes) instead of mixing results"
+            )
+
+    def requested(self) -> np.ndarray:
+        """The ``requested`` mask (:func:`read_requested`)."""
+        return _requested_of(self.group, self.layout)
+
+    def describing_arrays(self) -> list[str]:
+        """The arrays describing the grid (:func:`describing_arrays`)."""
+        return _describing_of(self.group)
+
+    def done_mask(self) -> np.ndarray:
+        """The completion mask over the task dimensions (:func:`done_mask`)."""
+        return _done_of(self.group, self.path)
+
+    def pending_regions(self) -> list[int]:
+        """Indices of the task regions not yet marked done, in order."""
+        return _pending(self.layout, self.done_mask())
+
+    def finalize(self) -> None:
+        """Check that every region is done, then consolidate the metadata.
+
+        Raises
+        ------
+        ValueError
+            If some region is not done (naming how many).
+        """
+        done = self.done_mask()
+        if not done.all():
+            raise ValueError(f"store {str(self.path)!r} has {int((~done).sum())} of "
+                             f"{done.size} points not done")
+        consolidate(self.path)

@@ -28,9 +28,10 @@ from .. import __version__
 from ..spectra.accuracy import get_accuracy
 from ..spectra.stripes import MEASURE_COLUMNS, measure_scale
 from . import store, tasks
+from .damping import Damping
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
-from .prepare import ready_store
-from .spec import Damping, StripesSpec, decode_attrs
+from .product_specs import StripesSpec
+from .store_attrs import decode_attrs
 
 log = logging.getLogger(__name__)
 
@@ -73,47 +74,40 @@ def stripes_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
     return Layout(coords, variables, STRIPES_TASK_DIMS, {"R": int(chunk_R)})
 
 
-def prepare_store(path: str | Path, spec: StripesSpec | dict[str, Any], config_digest: str,
-                  motions: str | Path) -> str:
-    """Make (or keep, or replace) the stripes store of a study.
-
-    ``spec``: a :class:`~rocking.study.spec.StripesSpec` or its ``to_attrs()`` (the
-    workflow's ``stripes_spec``). Returns ``"created"``, ``"resumed"`` or ``"replaced"``.
-    """
+def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
+                         motions: str | Path) -> None:
+    """Create the empty stripes store of a study at ``path`` (the stripes'
+    :attr:`~rocking.study.products.Product.create`; as
+    :func:`rocking.study.prepare.create_spectra_store`)."""
     from ..spectra.limit_states import parse_limit_states
 
-    s = spec if isinstance(spec, StripesSpec) else StripesSpec.from_attrs(spec)
-
-    def create(p: Path) -> None:
-        ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
-        names = [m["name"] for m in ensemble["motions"]]
-        states = [ls.name for ls in parse_limit_states(list(s.limit_states), sort=False)]
-        layout = stripes_layout(s.modes, states, names, s.R, s.intensity, s.chunk_R)
-        attrs = {
-            "title": f"Multiple-stripe analyses, study {s.study}",
-            "config": s.to_attrs(),
-            "tan_alpha": float(s.tan_alpha),
-            "tolerances": get_accuracy(s.accuracy).to_dict(),
-            "model_options": Damping.options(s.damping),
-            "rocking_version": __version__,
-            "ensemble": ensemble,
-            "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
-        }
-        if s.measure == "pga":
-            extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
-        else:  # every motion scaled so that its measure equals the stripe's
-            scale = measure_scale(s.measure, s.tan_alpha)
-            attrs["measure"] = s.measure
-            attrs["intensity_definition"] = (
-                f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, vector peak of the "
-                "pair): each motion scaled so that its measure equals the stripe's")
-            extra = {"im": ("intensity", [i * scale for i in s.intensity])}
-        store.create_store(p, layout, attrs, config_digest,
-                           coords={**tasks.identity_coords(ensemble), **extra})
-        log.info("created %s: %d chunks, %d motions x %d stripes", p, layout.n_regions,
-                 len(names), len(s.intensity))
-
-    return ready_store(path, config_digest, create)
+    ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
+    names = [m["name"] for m in ensemble["motions"]]
+    states = [ls.name for ls in parse_limit_states(list(s.limit_states), sort=False)]
+    layout = stripes_layout(s.modes, states, names, s.R, s.intensity, s.chunk_R)
+    attrs = {
+        "title": f"Multiple-stripe analyses, study {s.study}",
+        "config": s.to_attrs(),
+        "tan_alpha": float(s.tan_alpha),
+        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "model_options": Damping.options(s.damping),
+        "rocking_version": __version__,
+        "ensemble": ensemble,
+        "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
+    }
+    if s.measure == "pga":
+        extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
+    else:  # every motion scaled so that its measure equals the stripe's
+        scale = measure_scale(s.measure, s.tan_alpha)
+        attrs["measure"] = s.measure
+        attrs["intensity_definition"] = (
+            f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, vector peak of the "
+            "pair): each motion scaled so that its measure equals the stripe's")
+        extra = {"im": ("intensity", [i * scale for i in s.intensity])}
+    store.create_store(path, layout, attrs, config_digest,
+                       coords={**tasks.identity_coords(ensemble), **extra})
+    log.info("created %s: %d chunks, %d motions x %d stripes", path, layout.n_regions,
+             len(names), len(s.intensity))
 
 
 def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSource,
@@ -153,20 +147,6 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     store.write_region(path, layout, index, values)
     return {"index": index, "points": len(rc["R"]) * x.size,
             "seconds": time.perf_counter() - t0}
-
-
-def compute(path: str | Path, spec: Any, config_digest: str, motions: str | Path,
-            **fill_kw) -> dict[str, Any]:
-    """Prepare the stripes store and fill it on Dask (``fill_kw``: as
-    :func:`rocking.study.cluster.fill_store`); returns its summary with ``store_state``."""
-    from . import cluster
-
-    # one run at a time per store, as for the spectra (rocking.study.prepare.compute)
-    with store.locked(path):
-        state = prepare_store(path, spec, config_digest, motions)
-        summary = cluster.fill_store(path, fill_stripes_region, motions,
-                                     config_digest=config_digest, **fill_kw)
-    return {**summary, "store_state": state}
 
 
 def store_measure(attrs) -> str:
@@ -497,8 +477,8 @@ def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
 
 
 __all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS",
-           "RefineCache", "bootstrap_dataset", "bootstrap_rows", "compute",
-           "fill_stripes_region", "measure_label", "prepare_store", "refine_cache_path",
+           "RefineCache", "bootstrap_dataset", "bootstrap_rows", "create_stripes_store",
+           "fill_stripes_region", "measure_label", "refine_cache_path",
            "store_measure", "stripe_fits", "stripe_rows", "stripe_table", "stripes_layout",
            "table_headers", "write_stripe_fragility"]
 

@@ -25,7 +25,15 @@ from ..motions.ensemble_io import verify_digest
 from ..motions.motion import GroundMotion
 from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
-from .store import REQUESTED, REQUESTED_DIMS, open_layout, read_attrs, read_requested, write_region
+from .store import (
+    REQUESTED,
+    REQUESTED_DIMS,
+    StoreHandle,
+    open_layout,
+    read_attrs,
+    read_requested,
+    write_region,
+)
 
 SPECTRA_DIMS = ("mode", "limit_state", "motion", "tan_alpha", "R")
 """Dimensions of the spectra variables, in storage order."""
@@ -164,7 +172,7 @@ def ensemble_attrs(motions_path: str | Path, name: str) -> dict[str, Any]:
     }
 
 
-def check_ensemble(path: str | Path, motions_path: str | Path) -> None:
+def check_ensemble(store: StoreHandle, motions_path: str | Path) -> None:
     """Refuse to fill a store from another ensemble file than the one it was made for.
 
     Raises
@@ -176,11 +184,11 @@ def check_ensemble(path: str | Path, motions_path: str | Path) -> None:
     """
     # the file against its own digest first: a damaged file is rebuilt, not a store made of it
     found = verify_digest(motions_path)
-    expected = read_attrs(path)["ensemble"]["file_sha256"]
+    expected = store.attrs["ensemble"]["file_sha256"]
     if found != expected:
         raise ValueError(f"ensemble file {str(motions_path)!r} has sha256 {found} but store "
-                         f"{str(path)!r} was made from sha256 {expected}: the motions were "
-                         f"made anew with other numbers; delete the store, its rule makes "
+                         f"{str(store.path)!r} was made from sha256 {expected}: the motions "
+                         f"were made anew with other numbers; delete the store, its rule makes "
                          f"it anew from these motions")
 
 

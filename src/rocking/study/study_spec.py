@@ -1,0 +1,178 @@
+"""What a study is: its ensemble, grids, runs, accuracy, damping and search bound, typed.
+
+A workflow configuration (``config/config.yaml``, ``config/paper.yaml``; schema
+``workflow/schemas/config.schema.yaml``) is turned into a :class:`StudySpec` once, by
+:meth:`StudySpec.from_config`: the values checked (errors name the key and the value), the
+schema's defaults filled in where a configuration read without the workflow lacks them, and
+every grid expanded (:func:`rocking.study.config_fields.expand_grid`). A study has up to three
+stores, each described by its own part (:mod:`rocking.study.product_specs`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from .config_fields import (
+    DEFAULTS,
+    _accuracy,
+    _chunk_R,
+    _mapping,
+    _number,
+    _positive,
+    _section,
+    expand_grid,
+)
+from .damping import Damping
+from .ensemble_spec import EnsembleSpec
+from .plan import plan_study
+from .product_specs import SpectraSpec, StripesSpec, TiltMapSpec, _Hashed, _stripes, _tilt_map
+
+__all__ = ["PAPERS", "StudySpec"]
+
+PAPERS = ("vassiliou2017",)
+"""Papers a study can reproduce (``studies.<name>.reproduces``): Vassiliou et al. (2017)."""
+
+
+@dataclass(frozen=True)
+class StudySpec(_Hashed):
+    """A study: its spectra and, if configured, its tilt map and stripes.
+
+    Attributes
+    ----------
+    spectra : SpectraSpec
+    tilt_map : TiltMapSpec or None
+    stripes : StripesSpec or None
+    hazard : str, dict or None
+        The site's hazard as configured (``studies.<name>.hazard``: a hazard-curve file,
+        ``{file, site, im_factor}`` or ``{k0, k, im_factor}``; read by
+        :func:`rocking.risk.parse_hazard`), None without risk outputs. It decides no store.
+    intensity_measures : tuple of str
+        What the per-record table and the suite's fragility give beside the critical PGA
+        (``studies.<name>.intensity_measures``): ``"pga"``, ``"pgv"``, ``"sa:<T>"`` (5 %
+        damped pseudo-acceleration at period T [s]). It decides no store.
+    reproduces : str or None
+        The paper the study reproduces (one of :data:`PAPERS`), None for a study of one's
+        own: it decides which figures and verdicts are drawn, no store.
+    """
+
+    spectra: SpectraSpec
+    tilt_map: TiltMapSpec | None = None
+    stripes: StripesSpec | None = None
+    hazard: str | dict[str, Any] | None = None
+    intensity_measures: tuple[str, ...] = ("pga", "pgv")
+    reproduces: str | None = None
+
+    @property
+    def name(self) -> str:
+        return self.spectra.study
+
+    @property
+    def ensemble(self) -> EnsembleSpec:
+        return self.spectra.ensemble
+
+    @classmethod
+    def from_config(cls, config: Mapping[str, Any], name: str) -> StudySpec:
+        """Study ``name`` of a workflow configuration, checked, defaults filled, grids expanded.
+
+        Parameters
+        ----------
+        config : mapping
+            The configuration (validated by the workflow, or read from YAML as it is).
+        name : str
+            Key of the study in ``studies``.
+
+        Raises
+        ------
+        ValueError
+            Naming the key and the value of the first bad setting.
+        """
+        from .dimensions import resolve_dimensions
+
+        config = resolve_dimensions(config)  # height/diameter -> R, tan_alpha
+        studies = config.get("studies") or {}
+        if name not in studies:
+            raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
+        field = f"studies.{name}"
+        s = _mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
+                                            "stripes": None, "hazard": None,
+                                            "reproduces": None},
+                     ["ensemble", "R", "runs"])
+        ensemble = EnsembleSpec.from_config(config, s["ensemble"])
+        accuracy = _accuracy(config.get("accuracy", DEFAULTS["accuracy"]))
+        runs = s["runs"]
+        if isinstance(runs, (list, tuple)):
+            runs = [{**r, "tan_alpha": expand_grid(r["tan_alpha"], f"{field}.runs[{i}].tan_alpha")}
+                    if isinstance(r, Mapping) and "tan_alpha" in r else r
+                    for i, r in enumerate(runs)]
+        plan = plan_study(runs, f"{field}.runs")
+        chunk_R = _chunk_R(s["chunk_R"], f"{field}.chunk_R", auto=True)
+        min_task = _section(config, "dask")["min_task_seconds"] if chunk_R == "auto" else None
+        if min_task is not None:
+            _positive(min_task, "dask.min_task_seconds")
+        upper = s["upper"] if s["upper"] is not None else _section(config, "search")["upper"]
+        where = f"{field}.upper" if s["upper"] is not None else "search.upper"
+        if _number(upper, where) <= 1.0:
+            raise ValueError(f"{where} must be > 1 (the intensity that uplifts), got {upper!r}")
+        mu = None if s["mu"] is None else _positive(s["mu"], f"{field}.mu")
+        spectra = SpectraSpec(name, ensemble, tuple(expand_grid(s["R"], f"{field}.R")), plan,
+                              chunk_R, min_task, accuracy, float(upper),
+                              Damping.of_modes(config, plan.modes), mu)
+        tilt_map = None if s["tilt_map"] is None else _tilt_map(
+            config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
+        stripes = None if s["stripes"] is None else _stripes(
+            config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy)
+        measures = _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures")
+        if stripes is not None and stripes.measure != "pga" and stripes.measure not in measures:
+            raise ValueError(f"{field}.stripes.measure={stripes.measure!r} is not one of the "
+                             f"study's intensity_measures {list(measures)} (or pga)")
+        hazard = s["hazard"]
+        if hazard is not None and not isinstance(hazard, (str, Mapping)):
+            raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
+        if s["reproduces"] is not None and s["reproduces"] not in PAPERS:
+            raise ValueError(f"{field}.reproduces must be one of {list(PAPERS)} or null, got "
+                             f"{s['reproduces']!r}")
+        return cls(spectra, tilt_map, stripes,
+                   dict(hazard) if isinstance(hazard, Mapping) else hazard,
+                   measures, s["reproduces"])
+
+    def to_attrs(self) -> dict[str, Any]:
+        """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures",
+        "reproduces"}``: each part's mapping (None when absent)."""
+        return {"spectra": self.spectra.to_attrs(),
+                "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
+                "stripes": None if self.stripes is None else self.stripes.to_attrs(),
+                "hazard": self.hazard, "intensity_measures": list(self.intensity_measures),
+                "reproduces": self.reproduces}
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
+        """Inverse of :meth:`to_attrs`."""
+        t, s = attrs.get("tilt_map"), attrs.get("stripes")
+        return cls(SpectraSpec.from_attrs(attrs["spectra"]),
+                   None if t is None else TiltMapSpec.from_attrs(t),
+                   None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"),
+                   tuple(attrs.get("intensity_measures", DEFAULTS["study"]
+                                   ["intensity_measures"])),
+                   attrs.get("reproduces"))
+
+
+def _intensity_measures(value: Any, field: str) -> tuple[str, ...]:
+    """The study's intensity measures, checked by
+    :func:`rocking.motions.measures.parse_measure`."""
+    from ..motions.measures import parse_measure
+
+    if not isinstance(value, (list, tuple)) or not value:
+        raise ValueError(f"{field} must be a non-empty list such as [pga, pgv, 'sa:1.0'], "
+                         f"got {value!r}")
+    out = []
+    for i, im in enumerate(value):
+        try:
+            parse_measure(im)
+        except ValueError as exc:
+            raise ValueError(f"{field}[{i}]={im!r}: {exc}") from None
+        out.append(im)
+    if len(set(out)) != len(out):
+        raise ValueError(f"{field}: repeated measures {out!r}")
+    return tuple(out)
