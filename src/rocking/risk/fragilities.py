@@ -216,9 +216,9 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
                          f"{r.beta!r} at {r['mode']} tan_alpha={r.tan_alpha:g} R={r.R:g} "
                          f"{r.limit_state}")
     not_computed = ~fitted & (out["status"] == NOT_COMPUTED)
-    rows = _sorted(out[fitted])
+    rows = sort_rows(out[fitted])
     rows["status"] = rows["status"].replace("", "ok")
-    skipped = _sorted(out[~fitted & ~not_computed])
+    skipped = sort_rows(out[~fitted & ~not_computed])
     skipped["status"] = skipped["status"].replace("", "no fit")
     return Fragilities(rows, skipped, int(not_computed.sum()), kind, measure,
                        _samples(source, bootstrap, n_total),
@@ -274,7 +274,9 @@ def _samples(source, bootstrap, n_rows: int):
     return read_bootstrap(bootstrap, n_rows)
 
 
-def _sorted(frame: pd.DataFrame) -> pd.DataFrame:
+def sort_rows(frame: pd.DataFrame) -> pd.DataFrame:
+    """Rows by mode, tan α, R, then limit state by :func:`severity` (tilt axis first, each
+    axis mildest first)."""
     axis, level = zip(*[severity(s) for s in frame["limit_state"]], strict=True) \
         if len(frame) else ((), ())
     key = frame.assign(_axis=list(axis), _sev=list(level))

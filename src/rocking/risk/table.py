@@ -32,7 +32,7 @@ import pandas as pd
 
 from ..units import header
 from .annual_frequency import annual_frequency_interval, annual_frequency_parts, probability_in
-from .fragilities import Fragilities, read_fragilities
+from .fragilities import Fragilities, read_fragilities, sort_rows
 from .hazard import HazardCurve, same_measure
 
 YEARS = 50.0
@@ -79,7 +79,7 @@ def risk_table(fragility, hazard: HazardCurve, *, preset: str = "") -> pd.DataFr
     out += [_unfitted_row(r, frag, hazard) for r in frag.skipped.itertuples()]
     table = pd.DataFrame(out, columns=list(COLUMNS))
     table["preset"] = preset
-    table = _sorted(table).rename(columns=header)
+    table = sort_rows(table).rename(columns=header)
     table.attrs["skipped"] = frag.skipped_note()
     table.attrs["hazard"] = hazard.source
     table.attrs["fragility"] = frag.kind
@@ -121,16 +121,6 @@ def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
             "lambda_p95": math.nan, "lambda_lo": lam_lo, "lambda_hi": lam_hi,
             "return_period": math.nan, "p_50yr": math.nan, "share_extrapolated": math.nan,
             "share_dropped": math.nan}
-
-
-def _sorted(table: pd.DataFrame) -> pd.DataFrame:
-    from ..spectra.limit_states import severity
-
-    axis, level = zip(*[severity(s) for s in table["limit_state"]], strict=True) \
-        if len(table) else ((), ())
-    key = table.assign(_axis=list(axis), _sev=list(level))
-    return (key.sort_values(["mode", "tan_alpha", "R", "_axis", "_sev"], kind="stable")
-            .drop(columns=["_axis", "_sev"]).reset_index(drop=True))
 
 
 def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:
