@@ -106,7 +106,9 @@ def counted_analyses(decided: bool) -> Iterator[dict]:
 
     @functools.wraps(original)
     def wrapped(*args, **kwargs):
-        r = original(*args, stop_when_decided=decided, **kwargs)
+        # the search asks for whole records where a goal needs them (a sliding goal): keep it
+        kwargs["stop_when_decided"] = decided and kwargs.get("stop_when_decided", True)
+        r = original(*args, **kwargs)
         count["analyses"] += 1
         count["steps"] += int(r.n_steps) + int(r.n_rejected)
         return r
