@@ -94,7 +94,7 @@ def test_ends_of_the_curve_are_extrapolated_with_their_slopes():
 def test_on_a_curved_hazard_it_is_the_expected_rate_at_the_capacity():
     # Independent check off the closed form: Monte Carlo of capacities C ~ LN(θ, β),
     # λ_LS = E[λ(C)] (integration by parts of ∫ P(LS|im)|dλ|).
-    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
     rng = np.random.default_rng(1)
     c = 0.4 * np.exp(0.3 * rng.standard_normal(400_000))
     mc = float(np.mean(h.rate(c)))
@@ -102,18 +102,18 @@ def test_on_a_curved_hazard_it_is_the_expected_rate_at_the_capacity():
 
 
 def test_openquake_csv_gives_annual_rates_per_site():
-    h = HazardCurve.from_openquake_csv(OQ_TEST)
+    h = HazardCurve.from_openquake_csv(OQ_TEST, site=0)
     assert h.im_g.tolist() == [0.05, 0.1, 0.2, 0.4, 0.8]
     assert h.annual_rate == pytest.approx([2e-2, 5e-3, 1e-3, 1.5e-4, 1.2e-5], rel=1e-9)
     site1 = HazardCurve.from_openquake_csv(OQ_TEST, site=1)
     assert site1.annual_rate == pytest.approx(0.5 * h.annual_rate, rel=1e-9)
-    assert "site 1" in site1.source
+    assert site1.site == "row 1 (lon 10.1, lat 45)" and site1.site in site1.source
     # between levels: log-log interpolation, e.g. halfway in log between 0.1 and 0.2 g
     assert h.rate(math.sqrt(0.02)) == pytest.approx(math.sqrt(5e-3 * 1e-3), rel=1e-12)
 
 
 def test_example_hazard_curve_is_what_its_readme_says():
-    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
     # 10 % in 50 years (475 yr) at 0.25 g, 2 % in 50 years (2475 yr) at 0.5 g
     assert h.rate(0.25) == pytest.approx(1 / 475, rel=1e-4)
     assert h.rate(0.5) == pytest.approx(1 / 2475, rel=1e-3)
@@ -148,7 +148,7 @@ def test_bad_openquake_files_are_refused_with_the_reason(tmp_path, text, match):
 
 
 def test_a_site_beyond_the_file_is_refused():
-    with pytest.raises(ValueError, match=r"site must be in 0\.\.1"):
+    with pytest.raises(ValueError, match=r"site row 2 is not in the file: .* rows 0\.\.1"):
         HazardCurve.from_openquake_csv(OQ_TEST, site=2)
 
 
@@ -201,7 +201,8 @@ def test_risk_table_columns_units_and_values():
                                "limit_state", "median_im [g]", "median_pga_g [g]", "beta [-]",
                                "n", "maf [1/yr]", "lambda_p05 [1/yr]", "lambda_p95 [1/yr]",
                                "lambda_lo [1/yr]", "lambda_hi [1/yr]", "return_period [yr]",
-                               "p_50yr [-]", "share_extrapolated [-]", "share_dropped [-]",
+                               "p_50yr [-]", "share_extrapolated [-]",
+                               "share_below_first [-]", "hazard_site", "hazard_kind",
                                "preset", "status"]
     assert set(t["fragility"]) == {"first_exceedance"} and set(t["measure"]) == {"pga"}
     # every requested row is present: the one without a fit with its status and λ NaN
@@ -214,7 +215,8 @@ def test_risk_table_columns_units_and_values():
         assert r["maf [1/yr]"] == pytest.approx(lam, rel=1e-3)
         assert r["return_period [yr]"] == pytest.approx(1 / r["maf [1/yr]"])
         assert r["p_50yr [-]"] == pytest.approx(1 - math.exp(-50 * r["maf [1/yr]"]))
-        assert r["share_dropped [-]"] == 0.0
+        # the power law is tabulated from 1e-3 g: nothing below it reaches these capacities
+        assert 0.0 <= r["share_below_first [-]"] < 1e-9
     assert "too-few-observed" in t.attrs["skipped"]
 
 
@@ -367,8 +369,8 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     assert f"{lam:.4g}" in out
     # the median in g and as PGA/(g tan α)
     assert "0.3123" in out and f"{0.31234567891234 / 0.2:.4g}" in out
-    assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "-o",
-                 str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
+    assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "--site", "0",
+                 "-o", str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
                  "--pelicun", str(tmp_path / "f.p.csv")]) == 0
     written = pd.read_csv(tmp_path / "r.csv")
     assert len(written) == 10  # 9 fits and the row without one, with its status
@@ -382,7 +384,7 @@ def test_report_section_states_the_assumptions_and_tabulates_lambda():
     from rocking.risk.report import risk_section_html, summary_table
 
     t = risk_table(fragilities.read_fragilities(table(ROWS)),
-                   HazardCurve.from_openquake_csv(EXAMPLE))
+                   HazardCurve.from_openquake_csv(EXAMPLE, site=0))
     s = summary_table(t)
     assert list(s.columns) == ["R [m]", "overturning, 3d [1/yr]", "overturning, 2d-x [1/yr]",
                                "tilt θ > α/3, 3d [1/yr]", "tilt θ > α/3, 2d-x [1/yr]"]
@@ -519,7 +521,7 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
 
     first = tmp_path / "fragility.csv"
     table(ROWS).to_csv(first, index=False)
-    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
     summary = write_risk_outputs(first, h, nrml=tmp_path / "f.xml", pelicun=tmp_path / "f.csv",
                                  table=tmp_path / "risk.csv", search_upper=20.0,
                                  study="mine", stripes=stripe_csv)
@@ -587,7 +589,7 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
     from rocking.risk.report import WHICH_TO_USE, comparison_table, risk_section_html
     from rocking.risk.table import risk_tables
 
-    h = HazardCurve.from_openquake_csv(EXAMPLE)
+    h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
     risk = risk_tables([table(ROWS), stripe_csv], h)
     both = comparison_table(risk)
     assert len(both) == 4  # 3d, tan α 0.2, R 2 and 6 m, two limit states: in both tables
@@ -623,7 +625,7 @@ def test_docs_quote_the_two_mafs_of_the_committed_gallery():
 
     gallery = ROOT / "results/paper/elcentro"
     risk = risk_tables([gallery / "fragility.csv", gallery / "stripe_fragility.csv"],
-                       HazardCurve.from_openquake_csv(EXAMPLE))
+                       HazardCurve.from_openquake_csv(EXAMPLE, site=0))
     both = comparison_table(risk).set_index(["mode", "tan α [-]", "R [m]", "limit state"])
     text = " ".join((ROOT / "docs/risk.md").read_text(encoding="utf-8").split())
     for ls, quoted in (("overturning", ("0.80×", "0.51×", "0.36×")),

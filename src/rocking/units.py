@@ -127,8 +127,8 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "p_50yr": ("1", "-", "probability of exceeding the limit state in 50 years (Poisson)"),
     "share_extrapolated": ("1", "-",
                            "share of maf resting on the hazard curve's extrapolated tail"),
-    "share_dropped": ("1", "-", "share of maf from below the hazard's first level kept (where "
-                                "levels with probability of exceedance 1 were dropped)"),
+    "share_below_first": ("1", "-", "share of maf from below the hazard's first level (its "
+                                    "first log-log slope extrapolated)"),
     "lambda_p05": ("year-1", "1/yr", "5th percentile of maf over bootstrap resamples of the "
                                      "motions"),
     "lambda_p95": ("year-1", "1/yr", "95th percentile of maf over bootstrap resamples of the "

@@ -26,8 +26,9 @@ def main(snakemake):
                                      stripes=_one(snakemake.input.get("stripes")),
                                      suite=_one(snakemake.input.get("suite")),
                                      preset=params.preset)
-        if summary["preset_warning"]:
-            print(summary["preset_warning"])
+        for warning in (summary["preset_warning"], summary["below_first_warning"]):
+            if warning:
+                print(warning)
         print(json.dumps(summary, indent=1, ensure_ascii=False))
         render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source,
                study=f"study {params.study} (ensemble {params.ensemble})")

@@ -20,13 +20,14 @@ from . import _common, _human
 
 EXAMPLES = """\
   rocking risk --fragility results/paper/elcentro/fragility.csv \\
-      --hazard config/hazard/example_hazard_curve.csv
+      --hazard config/hazard/example_hazard_curve.csv --site-lon 0 --site-lat 0
   rocking risk --fragility results/elcentro/fragility.csv --hazard 1e-4,2.5 --mode 3d \\
       --limit-states overturning -o risk.csv
   rocking risk --fragility results/elcentro/fragility.csv --hazard hazard_curve-mean-PGA.csv \\
-      --site 3 --im-factor 1.1 --nrml fragility.nrml.xml --pelicun fragility.pelicun.csv
+      --site-id ATH --im-factor 1.1 --nrml fragility.nrml.xml --pelicun fragility.pelicun.csv
   rocking risk --fragility results/mysuite/suite_fragility.csv \\
-      --hazard "hazard_curve-mean-SA(1.0).csv" --measure sa:1.0"""
+      --hazard "hazard_curve-quantile_0.85-SA(1.0).csv" --measure sa:1.0 \\
+      --site-lon 23.73 --site-lat 37.98 --kind quantile-0.85"""
 
 HEADER = ("mode", "tan α [-]", "R [m]", "limit state", "median [g]",
           "median PGA/(g tan α) [-]", "β [-]", "n",
@@ -56,7 +57,26 @@ def add_parser(subparsers) -> None:
     p.add_argument("--measure", default=None,
                    help="intensity measure: pga or sa:<T> (default: the hazard file's; pga "
                    "for a power law)")
-    p.add_argument("--site", type=int, default=0, help="row of the hazard CSV")
+    site = p.add_argument_group(
+        "site and curve of an OpenQuake hazard file of several sites (studies: hazard.site, "
+        "hazard.kind)")
+    site.add_argument("--site-id", default=None,
+                      help="the site whose custom_site_id is this")
+    site.add_argument("--site-lon", type=float, default=None,
+                      help="the site nearest this longitude [deg] (with --site-lat)")
+    site.add_argument("--site-lat", type=float, default=None,
+                      help="the site nearest this latitude [deg] (with --site-lon)")
+    site.add_argument("--max-distance-km", type=float, default=None,
+                      help="farthest the nearest site may be from --site-lon/--site-lat "
+                      "(great-circle) [km] (default 5)")
+    site.add_argument("--site", type=int, default=None, help="the site of this row (0 = first)")
+    site.add_argument("--kind", default=None,
+                      help="the curve's statistic when it is not the mean: quantile-<q> or "
+                      "rlz-<n>, as the file's kind= says (a quantile is never taken as the "
+                      "mean)")
+    p.add_argument("--hazard-unit", default=None,
+                   help="unit of the hazard's levels when the file does not say: g, m/s2, "
+                   "cm/s2 or gal (default g, OpenQuake's unit of PGA and SA)")
     p.add_argument("--investigation-time", type=float, default=None,
                    help="investigation time of a two-column table's poe [yr]")
     p.add_argument("--im-factor", type=float, default=1.0,
@@ -79,17 +99,48 @@ def add_parser(subparsers) -> None:
 
 
 def _hazard(args):
-    from ..risk.hazard import HazardCurve, parse_hazard, same_measure
+    from ..risk.hazard import parse_hazard, same_measure
 
+    spec = {"file": args.hazard}
+    site = _site(args)
+    for key, value in (("site", site), ("investigation_time", args.investigation_time),
+                       ("kind", args.kind), ("unit", args.hazard_unit)):
+        if value is not None:
+            spec[key] = value
     if Path(args.hazard).exists():
-        curve = HazardCurve.from_file(args.hazard, site=args.site,
-                                      investigation_time=args.investigation_time)
+        curve = parse_hazard(spec)
         if args.measure is not None and not same_measure(args.measure, curve.measure):
             raise ValueError(f"--measure {args.measure} does not match the hazard "
                              f"{args.hazard}, which is of {curve.imt}")
+    elif len(spec) > 1:
+        raise ValueError(f"--hazard {args.hazard!r} is no file: --site*, --kind, "
+                         "--hazard-unit and --investigation-time apply to a hazard file")
     else:
         curve = parse_hazard(args.hazard, measure=args.measure)
     return curve.scaled(args.im_factor) if args.im_factor != 1.0 else curve
+
+
+def _site(args):
+    """The hazard.site mapping (or row) of the --site* options; None without them."""
+    near = args.site_lon is not None or args.site_lat is not None
+    given = [name for name, there in (("--site-id", args.site_id is not None),
+                                      ("--site-lon/--site-lat", near),
+                                      ("--site", args.site is not None)) if there]
+    if len(given) > 1:
+        raise ValueError(f"give one of --site-id, --site-lon/--site-lat, --site, got "
+                         f"{' and '.join(given)}")
+    if (args.site_lon is None) != (args.site_lat is None):
+        raise ValueError("--site-lon and --site-lat go together")
+    if args.max_distance_km is not None and args.site_lon is None:
+        raise ValueError("--max-distance-km applies to --site-lon/--site-lat")
+    if args.site_id is not None:
+        return {"id": args.site_id}
+    if args.site_lon is not None:
+        near = {"lon": args.site_lon, "lat": args.site_lat}
+        if args.max_distance_km is not None:
+            near["max_distance_km"] = args.max_distance_km
+        return near
+    return args.site
 
 
 def _select(frag, args):
@@ -176,8 +227,13 @@ def run(args) -> int:
         from ..units import strip_units
 
         plain = table.rename(columns={c: strip_units(c) for c in table.columns})
+        from ..risk.report import below_first_warning
+
         print(_json.dumps({"hazard": hazard.source, "fragility": frag.kind,
                            "measure": hazard.measure, "hazard_note": hazard.note,
+                           "hazard_site": hazard.site, "hazard_kind": hazard.kind,
+                           "hazard_unit": hazard.unit,
+                           "below_first_warning": below_first_warning(table),
                            "skipped": frag.skipped_note(),
                            "units": {strip_units(c): c.split(" [", 1)[1].rstrip("]")
                                      for c in table.columns if " [" in c},
@@ -190,11 +246,15 @@ def run(args) -> int:
 def human(table, frag, hazard, args) -> str:
     """The risk table for people: the hazard, which fragility, then one row per fit."""
     from ..risk.fragilities import KINDS
+    from ..risk.report import below_first_warning
     from ..units import strip_units
 
     what = hazard.source if hazard.imt in hazard.source else f"{hazard.source} ({hazard.imt})"
-    head = _human.block([("hazard", what),
-                         ("fragility", f"{args.fragility}: {KINDS[frag.kind]}")])
+    said = [("hazard", what)]
+    said += [(name, value) for name, value in (("site", hazard.site), ("kind", hazard.kind),
+                                               ("levels in", hazard.unit if hazard.unit != "g"
+                                                else "")) if value]
+    head = _human.block([*said, ("fragility", f"{args.fragility}: {KINDS[frag.kind]}")])
     plain = table.rename(columns={c: strip_units(c) for c in table.columns})
     rows = []
     for r in plain.to_dict(orient="records"):
@@ -208,6 +268,9 @@ def human(table, frag, hazard, args) -> str:
     lines = [head]
     if hazard.note:
         lines.append(hazard.note)
+    warning = below_first_warning(table)
+    if warning:
+        lines.append(warning)
     if frag.skipped_note():
         lines.append(frag.skipped_note())
     if frag.samples is None:

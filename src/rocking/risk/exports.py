@@ -94,9 +94,10 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
     -------
     dict
         What was written: counts, the NRML limit states, the functions left out of the NRML,
-        the rows without a fit (``skipped``) and the preset's warning, for the rule's log.
+        the rows without a fit (``skipped``), the hazard's site, kind and unit, and the
+        preset's and the hazard's first level's warnings, for the rule's log.
     """
-    from .report import preset_warning
+    from .report import below_first_warning, preset_warning
 
     pga = read_fragilities(fragility)
     summary = write_fragility_exports(pga, nrml=nrml, pelicun=pelicun,
@@ -116,6 +117,8 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
     return {**summary, "risk_rows": len(risk), "risk_fragilities": [f.kind for f in tables],
             "risk_measure": hazard.measure, "risk_skipped": risk.attrs["skipped"],
             "hazard": hazard.source, "hazard_note": hazard.note,
+            "hazard_site": hazard.site, "hazard_kind": hazard.kind,
+            "hazard_unit": hazard.unit, "below_first_warning": below_first_warning(risk),
             "preset_warning": preset_warning(preset)}
 
 

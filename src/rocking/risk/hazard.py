@@ -15,12 +15,22 @@ of a 50-year curve read ``1.000000E+00``: an infinite rate. Those levels are dro
 once, in one line, and kept on the curve as :attr:`HazardCurve.n_dropped` and
 :attr:`HazardCurve.dropped_up_to`); the part of λ_LS that rests on the intensities below the
 first kept level is ``below_first`` of :func:`rocking.risk.annual_frequency.annual_frequency_parts`
-(``share_dropped`` in the risk table).
+(``share_below_first`` in the risk table, with a warning when it is large).
+
+Regional runs write many sites to one file: :func:`select_site` picks one by ``custom_site_id``,
+by the nearest lon/lat within :data:`MAX_DISTANCE_KM` (great-circle) or by row, and refuses a
+file of several sites when none is named. The file's ``kind`` (``mean``, ``quantile-0.85``,
+``rlz-000``) is read from its comment line; anything but the mean is used only when the
+configuration names it. Levels are read in the file's unit (a header ``pga [cm/s2]``, the
+configuration's ``unit``, else g: the unit OpenQuake writes PGA and SA in) and converted to g;
+levels implausible in g are refused in one line (:func:`check_plausible`). A UTF-8 byte-order
+mark is stripped.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import logging
 import math
 import re
@@ -39,6 +49,37 @@ POWER_LAW_IML = np.geomspace(1e-3, 10.0, 41)
 _TIME = re.compile(r"investigation_time\s*=\s*['\"]?([0-9.eE+-]+)")
 _IMT = re.compile(r"\bimt\s*=\s*['\"]?([A-Za-z0-9().:]+)")
 _SA = re.compile(r"^SA\(\s*([0-9.eE+-]+)\s*\)$", re.IGNORECASE)
+_KIND = re.compile(r"\bkind\s*=\s*['\"]?([A-Za-z0-9_.-]+)")
+_KIND_NAME = re.compile(r"^(mean|quantile-(0?\.[0-9]+)|rlz-[0-9]+)$")
+_HEADER_UNIT = re.compile(r"^(.*?)\s*\[([^\]]*)\]\s*$")
+
+STANDARD_GRAVITY = 9.80665
+"""g [m/s²] (the conventional value, ISO 80000-3)."""
+
+UNITS = {"g": 1.0, "m/s2": 1.0 / STANDARD_GRAVITY, "cm/s2": 0.01 / STANDARD_GRAVITY,
+         "gal": 0.01 / STANDARD_GRAVITY}
+"""Units a hazard's acceleration levels may be given in → factor to g."""
+
+MAX_PLAUSIBLE_G = 10.0
+"""No PGA or Sa above this [g] is exceeded more often than :data:`MIN_RATE_ABOVE_MAX`: the
+largest recorded PGAs are 3–4 g. Levels beyond it at a higher rate are refused (levels in
+cm/s² or m/s² read as g)."""
+
+MIN_RATE_ABOVE_MAX = 1e-6
+"""Annual rate [1/yr] above which a level beyond :data:`MAX_PLAUSIBLE_G` is implausible."""
+
+MIN_PLAUSIBLE_TOP_G = 0.01
+"""A hazard curve whose highest level is below this [g] is refused (levels in g declared
+as cm/s²): it says nothing at intensities that move a rocking body."""
+
+MAX_DISTANCE_KM = 5.0
+"""Default greatest distance [km] from a requested lon/lat to the site taken (great-circle)."""
+
+EARTH_RADIUS_KM = 6371.0
+"""Mean Earth radius [km] of the great-circle distance (haversine)."""
+
+SITES_LISTED = 5
+"""Sites named in the one line that refuses a file of several sites without ``site``."""
 
 RATE_COLUMNS = ("annual_rate", "rate", "lambda", "maf")
 """Names the second column of a two-column table may have when it holds annual rates."""
@@ -108,6 +149,14 @@ class HazardCurve:
         infinite rate), all below the first level kept.
     dropped_up_to : float
         The highest such level [g] (NaN when none was dropped).
+    site : str
+        The site of a file of sites, in words (its ``custom_site_id`` or row, its lon/lat, and
+        how far it is from a requested point); '' for a table or a power law.
+    kind : str
+        The curve's statistic as the file states it or the configuration names it
+        (``mean``, ``quantile-0.85``, ``rlz-000``); '' when neither says.
+    unit : str
+        The unit the file gave its levels in (:data:`UNITS`); :attr:`im_g` is in g always.
     """
 
     im_g: np.ndarray
@@ -116,6 +165,9 @@ class HazardCurve:
     source: str = ""
     n_dropped: int = 0
     dropped_up_to: float = math.nan
+    site: str = ""
+    kind: str = ""
+    unit: str = "g"
 
     def __post_init__(self) -> None:
         im = np.asarray(self.im_g, dtype=float).ravel()
@@ -179,63 +231,52 @@ class HazardCurve:
                    source=f"power law k0={k0:g}/yr, k={k:g} ({measure_imt(imt)})")
 
     @classmethod
-    def from_openquake_csv(cls, path: str | Path, site: int = 0) -> HazardCurve:
+    def from_openquake_csv(cls, path: str | Path, site=None, *, kind: str | None = None,
+                           unit: str | None = None,
+                           max_distance_km: float | None = None) -> HazardCurve:
         """Read one site of an OpenQuake ``hazard_curve-*.csv``.
 
-        The file has a comment line holding ``investigation_time`` T [yr] and ``imt``
-        (``PGA`` or ``SA(T)``), then a header ``[custom_site_id,]lon,lat[,depth],poe-<iml>,...``
-        and one row per site of probabilities of exceedance in T. They become annual rates
-        by λ = −ln(1 − poe)/T (Poisson). Levels with poe = 0 are dropped (no rate to
-        interpolate in log-log); levels with poe = 1 (the lowest levels of a long
-        investigation time written with six significant digits) are dropped too, said once
-        in one line (logged, and :attr:`note`). Probabilities that increase with the level,
-        fewer than two levels left, or a missing ``investigation_time``/``imt`` are refused
-        with one line naming the file.
+        The file has a comment line holding ``investigation_time`` T [yr], ``imt`` (``PGA``
+        or ``SA(T)``) and ``kind`` (``mean``, ``quantile-0.85``, ``rlz-000``), then a header
+        ``[custom_site_id,]lon,lat[,depth],poe-<iml>,...`` and one row per site of
+        probabilities of exceedance in T. They become annual rates by λ = −ln(1 − poe)/T
+        (Poisson). Levels with poe = 0 are dropped (no rate to interpolate in log-log);
+        levels with poe = 1 (the lowest levels of a long investigation time written with six
+        significant digits) are dropped too, said once in one line (logged, and
+        :attr:`note`). Probabilities that increase with the level, fewer than two levels
+        left, a missing ``investigation_time``/``imt``, a site not in the file, a file of
+        several sites without ``site``, a kind other than the mean not named by ``kind``,
+        or levels implausible in their unit are refused with one line naming the file.
 
         Parameters
         ----------
         path : path
             The CSV file.
-        site : int
-            Row of the site (0 = first).
+        site : int, dict or None
+            Which site (:func:`select_site`): a row (0 = first), ``{"id": ...}``
+            (``custom_site_id``) or ``{"lon", "lat"[, "max_distance_km"]}`` [deg, km]; None
+            only for a file of one site.
+        kind : str, optional
+            The statistic to use: needed for any file kind but ``mean``, and must match it.
+        unit : str, optional
+            The unit of the levels (:data:`UNITS`; default g, the engine's unit of PGA and SA).
+        max_distance_km : float, optional
+            Overrides :data:`MAX_DISTANCE_KM` for a lon/lat ``site`` [km].
         """
         path = Path(path)
-        comments, rows = _read_csv(path)
-        meta = " ".join(comments)
-        time, imt = _TIME.search(meta), _IMT.search(meta)
-        if time is None or imt is None:
-            missing = " and ".join(n for n, m in (("investigation_time", time), ("imt", imt))
-                                   if m is None)
-            raise ValueError(f"{path}: no {missing} in a comment line (an OpenQuake "
-                             "hazard_curve CSV starts with one)")
-        years = _positive(f"{path}: investigation_time", time.group(1))
-        measure = _file_measure(path, imt.group(1))
-        if len(rows) < 2:
-            raise ValueError(f"{path}: expected a header and at least one site row")
-        header, sites = rows[0], rows[1:]
-        cols = [i for i, name in enumerate(header) if name.strip().startswith("poe-")]
-        if not cols:
-            raise ValueError(f"{path}: no poe-<iml> columns in the header {header}")
-        if not 0 <= site < len(sites):
-            raise ValueError(f"site must be in 0..{len(sites) - 1} for {path}, got {site!r}")
-        try:
-            iml = np.array([float(header[i].strip()[4:]) for i in cols])
-            poe = np.array([float(sites[site][i]) for i in cols])
-        except (ValueError, IndexError) as exc:
-            raise ValueError(f"{path}: site {site}: unreadable level or probability "
-                             f"({exc})") from None
-        return _from_poe(iml, poe, years, measure, f"{path} (site {site})")
+        return _openquake(path, *_read_csv(path), site, kind, unit, max_distance_km)
 
     @classmethod
-    def from_table(cls, path: str | Path, investigation_time: float | None = None
-                   ) -> HazardCurve:
+    def from_table(cls, path: str | Path, investigation_time: float | None = None, *,
+                   kind: str | None = None, unit: str | None = None) -> HazardCurve:
         """Read a plain two-column hazard table.
 
         A header names the columns: the intensity measure first (``pga``, ``PGA``,
-        ``sa:1.0``, ``SA(1.0)``, with or without a unit ``[g]``), then ``annual_rate``
-        (or ``rate``, ``lambda``: λ [1/yr]) or ``poe`` (probability of exceedance in the
-        investigation time, given here or in a comment line ``# investigation_time=50``).
-        Lines starting with ``#`` are comments.
+        ``sa:1.0``, ``SA(1.0)``, with or without a unit ``[g]``, ``[m/s2]``, ``[cm/s2]``,
+        ``[gal]``; without one the levels are in g), then ``annual_rate`` (or ``rate``,
+        ``lambda``: λ [1/yr]) or ``poe`` (probability of exceedance in the investigation
+        time, given here or in a comment line ``# investigation_time=50``). Lines starting
+        with ``#`` are comments (one may say ``kind=quantile-0.85``).
 
         Parameters
         ----------
@@ -243,55 +284,31 @@ class HazardCurve:
             The CSV file.
         investigation_time : float, optional
             T [yr] of a ``poe`` column (overrides a comment line).
+        kind : str, optional
+            The curve's statistic (must match a ``kind=`` comment where there is one).
+        unit : str, optional
+            The unit of the levels when the header gives none (it must agree where it does).
         """
         path = Path(path)
-        comments, rows = _read_csv(path)
-        if len(rows) < 2 or len(rows[0]) != 2:
-            raise ValueError(f"{path}: a hazard table has a header of two columns "
-                             "(intensity measure, annual_rate or poe) and one row per level")
-        first, second = (c.split("[", 1)[0].strip() for c in rows[0])
-        measure = _file_measure(path, first)
-        try:
-            data = np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
-        except ValueError as exc:
-            raise ValueError(f"{path}: unreadable number ({exc})") from None
-        if data.ndim != 2 or data.shape[1] != 2:
-            raise ValueError(f"{path}: every row must have two numbers")
-        im, value = data[:, 0], data[:, 1]
-        if second.lower() in RATE_COLUMNS:
-            if investigation_time is not None:
-                raise ValueError(f"{path}: investigation_time is given but the table holds "
-                                 "annual rates (column "
-                                 f"{second!r}); it applies to a poe column only")
-            return cls(im, value, imt=measure, source=str(path))
-        if second.lower() != "poe":
-            raise ValueError(f"{path}: the second column must be annual_rate (or rate, "
-                             f"lambda) or poe, got {second!r}")
-        if investigation_time is None:
-            hit = _TIME.search(" ".join(comments))
-            if hit is None:
-                raise ValueError(f"{path}: a poe column needs its investigation time: "
-                                 "hazard {file, investigation_time} or a comment line "
-                                 "'# investigation_time=50'")
-            investigation_time = hit.group(1)
-        years = _positive(f"{path}: investigation_time", investigation_time)
-        return _from_poe(im, value, years, measure, str(path))
+        return _table(path, *_read_csv(path), investigation_time, kind, unit)
 
     @classmethod
-    def from_file(cls, path: str | Path, site: int = 0,
-                  investigation_time: float | None = None) -> HazardCurve:
-        """An OpenQuake CSV (its header has ``poe-<iml>`` columns) or a two-column table."""
+    def from_file(cls, path: str | Path, site=None, investigation_time: float | None = None,
+                  *, kind: str | None = None, unit: str | None = None,
+                  max_distance_km: float | None = None) -> HazardCurve:
+        """An OpenQuake CSV (its header has ``poe-<iml>`` columns) or a two-column table,
+        read once (arguments as :meth:`from_openquake_csv` and :meth:`from_table`)."""
         path = Path(path)
-        _, rows = _read_csv(path)
+        comments, rows = _read_csv(path)
         if rows and any(c.strip().startswith("poe-") for c in rows[0]):
             if investigation_time is not None:
                 raise ValueError(f"{path}: an OpenQuake hazard curve states its own "
                                  "investigation_time; leave it out of the hazard entry")
-            return cls.from_openquake_csv(path, site)
-        if site != 0:
-            raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV, this "
-                             "is a two-column table")
-        return cls.from_table(path, investigation_time)
+            return _openquake(path, comments, rows, site, kind, unit, max_distance_km)
+        if site is not None or max_distance_km is not None:
+            raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV of "
+                             f"sites, this is a two-column table (got site {site!r})")
+        return _table(path, comments, rows, investigation_time, kind, unit)
 
     def rate(self, im_g) -> np.ndarray:
         """λ(im) [1/yr]: log-log interpolation, end slopes extrapolated."""
@@ -318,11 +335,290 @@ class HazardCurve:
         """
         factor = _positive("factor", factor)
         note = f", levels x{factor:g}" if factor != 1.0 else ""
-        return HazardCurve(self.im_g * factor, self.annual_rate, self.imt, self.source + note,
-                           self.n_dropped, self.dropped_up_to * factor)
+        # replace() carries every metadata field (site, kind, unit, ...) unchanged
+        return dataclasses.replace(self, im_g=self.im_g * factor, source=self.source + note,
+                                   dropped_up_to=self.dropped_up_to * factor)
 
 
-HAZARD_KEYS = {"file", "site", "investigation_time", "im_factor"}
+@dataclass(frozen=True)
+class Site:
+    """One site (row) of an OpenQuake hazard-curve file."""
+
+    row: int
+    id: str  # custom_site_id ('' when the file has none)
+    lon: float  # [deg]
+    lat: float  # [deg]
+
+    @property
+    def label(self) -> str:
+        """``"b (lon 10.1, lat 45)"`` or ``"row 1 (lon 10.1, lat 45)"``."""
+        name = f"id {self.id}" if self.id else f"row {self.row}"
+        return f"{name} (lon {self.lon:g}, lat {self.lat:g})"
+
+
+def great_circle_km(lon1, lat1, lon2, lat2) -> np.ndarray:
+    """Great-circle distance [km] between points given in degrees (haversine, sphere of
+    :data:`EARTH_RADIUS_KM`)."""
+    p1, p2 = np.radians(lat1), np.radians(lat2)
+    dp, dl = p2 - p1, np.radians(np.asarray(lon2, dtype=float) - lon1)
+    h = np.sin(dp / 2) ** 2 + np.cos(p1) * np.cos(p2) * np.sin(dl / 2) ** 2
+    return 2.0 * EARTH_RADIUS_KM * np.arcsin(np.sqrt(np.clip(h, 0.0, 1.0)))
+
+
+SITE_FORMS = ("a row (0 = first), {id: <custom_site_id>} or {lon, lat[, max_distance_km]}")
+
+
+def select_site(sites: list[Site], site, where: str,
+                max_distance_km: float | None = None) -> tuple[Site, str]:
+    """The site asked for, and its description (:attr:`HazardCurve.site`).
+
+    Parameters
+    ----------
+    sites : list of Site
+        The file's sites.
+    site : int, dict or None
+        A row, ``{"id": ...}``, or ``{"lon", "lat"[, "max_distance_km"]}`` [deg, km] (the
+        nearest site, great-circle, within :data:`MAX_DISTANCE_KM` unless given); None
+        only for a file of one site.
+    where : str
+        The file, for the one-line errors.
+    max_distance_km : float, optional
+        Overrides the mapping's or the default greatest distance [km].
+    """
+    if site is None:
+        if max_distance_km is not None:
+            raise ValueError(f"{where}: max_distance_km applies to a site given by lon and "
+                             "lat; give the site's lon and lat")
+        if len(sites) == 1:
+            return sites[0], sites[0].label
+        shown = ", ".join(s.label for s in sites[:SITES_LISTED])
+        more = f", ... ({len(sites) - SITES_LISTED} more)" if len(sites) > SITES_LISTED else ""
+        raise ValueError(f"{where} has {len(sites)} sites: choose one with site: {{id: ...}} "
+                         f"or site: {{lon: ..., lat: ...}} (rocking risk --site-id or "
+                         f"--site-lon/--site-lat): {shown}{more}")
+    if isinstance(site, bool) or not isinstance(site, int | dict):
+        raise ValueError(f"{where}: site must be {SITE_FORMS}, got {site!r}")
+    if isinstance(site, int):
+        if not 0 <= site < len(sites):
+            raise ValueError(f"{where}: site row {site} is not in the file: it has "
+                             f"{len(sites)} site(s), rows 0..{len(sites) - 1}")
+        return sites[site], sites[site].label
+    keys = set(site)
+    if keys == {"id"}:
+        want = str(site["id"]).strip()
+        if not any(s.id for s in sites):
+            raise ValueError(f"{where}: site id {want!r} asked for but the file has no "
+                             "custom_site_id column; give the site's lon and lat")
+        hit = [s for s in sites if s.id == want]
+        if not hit:
+            ids = ", ".join(s.id for s in sites[:SITES_LISTED])
+            more = f", ... ({len(sites)} in all)" if len(sites) > SITES_LISTED else ""
+            raise ValueError(f"{where}: site id {want!r} is not in the file (its ids: "
+                             f"{ids}{more})")
+        return hit[0], hit[0].label
+    if {"lon", "lat"} <= keys <= {"lon", "lat", "max_distance_km"}:
+        lon, lat = _number("site.lon", site["lon"]), _number("site.lat", site["lat"])
+        if not (-180.0 <= lon <= 360.0 and -90.0 <= lat <= 90.0):
+            raise ValueError(f"{where}: site lon {lon:g}, lat {lat:g} is not a point on Earth "
+                             "(lon in [-180, 360], lat in [-90, 90] degrees)")
+        limit = max_distance_km if max_distance_km is not None else site.get(
+            "max_distance_km", MAX_DISTANCE_KM)
+        limit = _positive(f"{where}: site.max_distance_km", limit)
+        located = [s for s in sites if math.isfinite(s.lon) and math.isfinite(s.lat)]
+        if not located:
+            raise ValueError(f"{where}: the file has no lon and lat columns; choose the site "
+                             "by row or id")
+        dist = great_circle_km(lon, lat, [s.lon for s in located], [s.lat for s in located])
+        i = int(np.argmin(dist))
+        best, d = located[i], float(dist[i])
+        if d > limit:
+            raise ValueError(f"{where}: no site within {limit:g} km of lon {lon:g}, lat "
+                             f"{lat:g}: the nearest is {best.label}, {d:.3g} km away (to take it, "
+                             f"set site.max_distance_km to {math.ceil(d * 10) / 10:g})")
+        return best, f"{best.label}, {d:.3g} km from lon {lon:g}, lat {lat:g}"
+    raise ValueError(f"{where}: site must be {SITE_FORMS}, got keys {sorted(keys)}")
+
+
+def file_kind(comments: list[str]) -> str:
+    """The ``kind='...'`` a hazard file's comment lines state ('' when none)."""
+    hit = _KIND.search(" ".join(comments))
+    return hit.group(1) if hit else ""
+
+
+def check_kind(stated: str, asked: str | None, where: str) -> str:
+    """The kind used: the file's ``mean`` (or none stated) without ``asked``; any other
+    only when ``asked`` names it. Refused in one line otherwise."""
+    if asked is None:
+        if stated in ("", "mean"):
+            return stated
+        raise ValueError(f"{where} holds the {stated!r} hazard curve, not the mean: to use it, "
+                         f"name it (hazard.kind: {stated}, or rocking risk --kind {stated})")
+    name = str(asked).strip()
+    if not _KIND_NAME.match(name) or (name.startswith("quantile-")
+                                       and not 0.0 < float(name[9:]) < 1.0):
+        raise ValueError(f"{where}: kind must be mean, quantile-<q> (0 < q < 1) or rlz-<n>, "
+                         f"got {asked!r}")
+    if stated and _kind_key(stated) != _kind_key(name):
+        raise ValueError(f"{where} holds the {stated!r} hazard curve, the hazard entry names "
+                         f"kind {name!r}")
+    return stated or name
+
+
+def _kind_key(kind: str):
+    return ("quantile", float(kind[9:])) if kind.startswith("quantile-") else kind
+
+
+def unit_factor(unit: str, where: str = "") -> tuple[str, float]:
+    """The canonical name of an acceleration unit and its factor to g (:data:`UNITS`):
+    ``"cm/s²"``, ``"cm/s^2"``, ``"Gal"`` ... Refused in one line for any other."""
+    text = str(unit).strip().lower().replace(" ", "").replace("²", "2").replace("^2", "2")
+    text = {"m/s/s": "m/s2", "ms-2": "m/s2", "cm/s/s": "cm/s2", "cms-2": "cm/s2"}.get(text,
+                                                                                    text)
+    if text not in UNITS:
+        pre = f"{where}: " if where else ""
+        raise ValueError(f"{pre}unit {unit!r} is not an acceleration unit of a hazard curve: "
+                         f"use one of {', '.join(UNITS)}")
+    return text, UNITS[text]
+
+
+def check_plausible(curve: HazardCurve, declared: bool, what: str = "") -> HazardCurve:
+    """``curve`` unchanged, or one line refusing levels implausible in g.
+
+    Refused: a level above :data:`MAX_PLAUSIBLE_G` exceeded more often than
+    :data:`MIN_RATE_ABOVE_MAX` per year (levels in cm/s² or m/s² read as g), or a highest
+    level below :data:`MIN_PLAUSIBLE_TOP_G` (levels in g declared in cm/s²).
+
+    Parameters
+    ----------
+    curve : HazardCurve
+        Levels converted to g.
+    declared : bool
+        Whether the unit was stated (a header or the configuration) rather than assumed.
+    what : str
+        Where g was assumed from (e.g. "OpenQuake writes PGA and SA in g").
+    """
+    im, lam = curve.im_g, curve.annual_rate
+    high = (im > MAX_PLAUSIBLE_G) & (lam > MIN_RATE_ABOVE_MAX)
+    given = f"the levels were given in {curve.unit}" if declared else (
+        f"the levels were taken as g{' (' + what + ')' if what else ''}")
+    fix = ("; check the unit declared" if declared else
+           "; if they are in cm/s2 or m/s2, say so: hazard.unit: cm/s2 (rocking risk "
+           "--hazard-unit) or a header such as 'pga [cm/s2]'")
+    if high.any():
+        i = int(np.flatnonzero(high)[0])
+        raise ValueError(f"{curve.source}: {im[i]:.4g} g exceeded {lam[i]:.3g} times a year "
+                         f"is implausible (levels {im[0]:.4g}–{im[-1]:.4g} g; nothing above "
+                         f"{MAX_PLAUSIBLE_G:g} g is exceeded more often than once in "
+                         f"{1 / MIN_RATE_ABOVE_MAX:.0e} years): {given}{fix}")
+    if im[-1] < MIN_PLAUSIBLE_TOP_G:
+        raise ValueError(f"{curve.source}: the highest level is {im[-1]:.3g} g, implausibly "
+                         f"small for a hazard curve (below {MIN_PLAUSIBLE_TOP_G:g} g): "
+                         f"{given}{fix}")
+    return curve
+
+
+def _sites(header: list[str], body: list[list[str]], where: str) -> list[Site]:
+    names = [c.strip().lower() for c in header]
+    col = {n: names.index(n) for n in ("custom_site_id", "lon", "lat") if n in names}
+    sites = []
+    for row, values in enumerate(body):
+        def get(name, values=values, row=row):
+            if name not in col:
+                return math.nan
+            try:
+                return float(values[col[name]])
+            except (ValueError, IndexError):
+                raise ValueError(f"{where}: site row {row}: unreadable {name} "
+                                 f"{values[col[name]] if col[name] < len(values) else ''!r}"
+                                 ) from None
+
+        sid = values[col["custom_site_id"]].strip() if "custom_site_id" in col and \
+            col["custom_site_id"] < len(values) else ""
+        sites.append(Site(row, sid, get("lon"), get("lat")))
+    return sites
+
+
+def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kind, unit,
+               max_distance_km) -> HazardCurve:
+    """One site of an OpenQuake hazard-curve file already read (:meth:`from_openquake_csv`)."""
+    meta = " ".join(comments)
+    time, imt = _TIME.search(meta), _IMT.search(meta)
+    if time is None or imt is None:
+        missing = " and ".join(n for n, m in (("investigation_time", time), ("imt", imt))
+                               if m is None)
+        raise ValueError(f"{path}: no {missing} in a comment line (an OpenQuake "
+                         "hazard_curve CSV starts with one)")
+    years = _positive(f"{path}: investigation_time", time.group(1))
+    measure = _file_measure(path, imt.group(1))
+    used_kind = check_kind(file_kind(comments), kind, str(path))
+    name, factor = unit_factor(unit, str(path)) if unit is not None else ("g", 1.0)
+    if len(rows) < 2:
+        raise ValueError(f"{path}: expected a header and at least one site row")
+    header, body = rows[0], rows[1:]
+    cols = [i for i, c in enumerate(header) if c.strip().startswith("poe-")]
+    if not cols:
+        raise ValueError(f"{path}: no poe-<iml> columns in the header {header}")
+    chosen, label = select_site(_sites(header, body, str(path)), site, str(path),
+                                max_distance_km)
+    try:
+        iml = np.array([float(header[i].strip()[4:]) for i in cols]) * factor
+        poe = np.array([float(body[chosen.row][i]) for i in cols])
+    except (ValueError, IndexError) as exc:
+        raise ValueError(f"{path}: site {chosen.label}: unreadable level or probability "
+                         f"({exc})") from None
+    curve = _from_poe(iml, poe, years, measure, f"{path} (site {label})")
+    curve = dataclasses.replace(curve, site=label, kind=used_kind, unit=name)
+    return check_plausible(curve, unit is not None, "OpenQuake writes PGA and SA in g")
+
+
+def _table(path: Path, comments: list[str], rows: list[list[str]], investigation_time, kind,
+           unit) -> HazardCurve:
+    """A two-column hazard table already read (:meth:`from_table`)."""
+    if len(rows) < 2 or len(rows[0]) != 2:
+        raise ValueError(f"{path}: a hazard table has a header of two columns "
+                         "(intensity measure, annual_rate or poe) and one row per level")
+    first, second = (c.split("[", 1)[0].strip() for c in rows[0])
+    measure = _file_measure(path, first)
+    hit = _HEADER_UNIT.match(rows[0][0])
+    stated = hit.group(2) if hit else None
+    if stated is not None and unit is not None and \
+            unit_factor(stated, str(path))[0] != unit_factor(unit, str(path))[0]:
+        raise ValueError(f"{path}: the header gives the levels in {stated!r}, the hazard "
+                         f"entry in {unit!r}")
+    given = stated if stated is not None else unit
+    name, factor = unit_factor(given, str(path)) if given is not None else ("g", 1.0)
+    used_kind = check_kind(file_kind(comments), kind, str(path))
+    try:
+        data = np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
+    except ValueError as exc:
+        raise ValueError(f"{path}: unreadable number ({exc})") from None
+    if data.ndim != 2 or data.shape[1] != 2:
+        raise ValueError(f"{path}: every row must have two numbers")
+    im, value = data[:, 0] * factor, data[:, 1]
+    if second.lower() in RATE_COLUMNS:
+        if investigation_time is not None:
+            raise ValueError(f"{path}: investigation_time is given but the table holds "
+                             f"annual rates (column {second!r}); it applies to a poe column "
+                             "only")
+        curve = HazardCurve(im, value, imt=measure, source=str(path))
+    elif second.lower() != "poe":
+        raise ValueError(f"{path}: the second column must be annual_rate (or rate, lambda) "
+                         f"or poe, got {second!r}")
+    else:
+        if investigation_time is None:
+            hit = _TIME.search(" ".join(comments))
+            if hit is None:
+                raise ValueError(f"{path}: a poe column needs its investigation time: "
+                                 "hazard {file, investigation_time} or a comment line "
+                                 "'# investigation_time=50'")
+            investigation_time = hit.group(1)
+        years = _positive(f"{path}: investigation_time", investigation_time)
+        curve = _from_poe(im, value, years, measure, str(path))
+    curve = dataclasses.replace(curve, kind=used_kind, unit=name)
+    return check_plausible(curve, given is not None, "no unit in the header")
+
+
+HAZARD_KEYS = {"file", "site", "investigation_time", "kind", "unit", "im_factor"}
 """Keys of a hazard mapping that names a file."""
 
 POWER_LAW_KEYS = {"k0", "k", "measure", "im_factor"}
@@ -338,8 +634,10 @@ def parse_hazard(spec, *, base: str | Path | None = None,
     spec : str, path or dict
         ``"k0,k"`` (a power law), a path to an OpenQuake hazard-curve CSV or a two-column
         table (:meth:`HazardCurve.from_file`), or a mapping ``{k0, k[, measure]}`` or
-        ``{file[, site][, investigation_time]}``; either mapping may add ``im_factor`` (see
-        :meth:`HazardCurve.scaled`, default 1).
+        ``{file[, site][, kind][, unit][, investigation_time]}`` (``site``: a row,
+        ``{id}`` or ``{lon, lat[, max_distance_km]}``, :func:`select_site`; ``kind``: the
+        statistic to use when the file's is not the mean; ``unit``: of the levels, default
+        g); either mapping may add ``im_factor`` (see :meth:`HazardCurve.scaled`, default 1).
     base : path, optional
         Directory a relative file path is taken from.
     measure : str, optional
@@ -354,13 +652,13 @@ def parse_hazard(spec, *, base: str | Path | None = None,
             curve = HazardCurve.from_power_law(spec["k0"], spec["k"],
                                                imt=spec.get("measure", measure or "pga"))
         elif "file" in spec and set(spec) <= HAZARD_KEYS:
-            curve = HazardCurve.from_file(_resolve(spec["file"], base),
-                                          int(spec.get("site", 0)),
-                                          spec.get("investigation_time"))
+            curve = HazardCurve.from_file(_resolve(spec["file"], base), spec.get("site"),
+                                          spec.get("investigation_time"),
+                                          kind=spec.get("kind"), unit=spec.get("unit"))
         else:
-            raise ValueError("hazard must be {k0, k[, measure]} or {file[, site]"
-                             "[, investigation_time]} (optionally im_factor), got keys "
-                             f"{sorted(spec)}")
+            raise ValueError("hazard must be {k0, k[, measure]} or {file[, site][, kind]"
+                             "[, unit][, investigation_time]} (optionally im_factor), got "
+                             f"keys {sorted(spec)}")
     elif isinstance(spec, str | Path):
         text = str(spec)
         path = _resolve(text, base)
@@ -386,10 +684,14 @@ def parse_hazard(spec, *, base: str | Path | None = None,
 def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
     """Comment lines (``#``) and the other non-empty rows of a CSV file."""
     try:
-        with path.open(newline="") as fh:
+        # utf-8-sig strips a byte-order mark (spreadsheets write one) from the header
+        with path.open(newline="", encoding="utf-8-sig") as fh:
             lines = fh.read().splitlines()
     except OSError as exc:
         raise ValueError(f"{path}: cannot read the hazard file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a UTF-8 text file (byte {exc.start}: "
+                         f"{exc.reason})") from None
     comments = [ln for ln in lines if ln.lstrip().startswith("#")]
     body = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
     return comments, list(csv.reader(body))
@@ -434,6 +736,16 @@ def _from_poe(iml: np.ndarray, poe: np.ndarray, years: float, measure: str,
                        dropped_up_to=dropped_up_to)
 
 
+def _number(name: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        x = math.nan
+    if isinstance(value, bool) or not math.isfinite(x):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    return x
+
+
 def _short(a: np.ndarray) -> str:
     """An array in one short line (first and last values when long)."""
     a = np.asarray(a, dtype=float)
@@ -458,5 +770,7 @@ def _resolve(path, base) -> Path:
     return p if p.is_absolute() or base is None else Path(base) / p
 
 
-__all__ = ["HAZARD_KEYS", "POWER_LAW_IML", "POWER_LAW_KEYS", "HazardCurve", "imt_measure",
-           "measure_imt", "parse_hazard", "same_measure"]
+__all__ = ["HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G", "POWER_LAW_IML",
+           "POWER_LAW_KEYS", "UNITS", "HazardCurve", "Site", "check_kind", "check_plausible",
+           "file_kind", "great_circle_km", "imt_measure", "measure_imt", "parse_hazard",
+           "same_measure", "select_site", "unit_factor"]

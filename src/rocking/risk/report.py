@@ -43,7 +43,8 @@ def assumptions(hazard: str = "") -> list[str]:
         "Integration: λ_LS = ∫ P(LS | PGA) |dλ(PGA)| with the lognormal fragility (median, β) "
         "of the study's motions; the hazard is interpolated log-log between its levels and "
         "its first and last log-log slopes are extrapolated beyond them (share_extrapolated "
-        "in risk.csv: the part of λ that rests on the last slope). Exceedances are Poisson: "
+        "and share_below_first in risk.csv: the parts of λ that rest on the last and the "
+        "first slope). Exceedances are Poisson: "
         "P(50 years) = 1 − exp(−50 λ).",
         "Fragility: record-to-record variability of the study's motions only (its records, "
         "and their synthetic pairs where it has them), with the 90 % bootstrap interval "
@@ -123,6 +124,50 @@ def preset_warning(preset: str) -> str:
     return (f"WARNING: λ computed from fast-preset answers, unconservative: capacities "
             f"{median:g} % (median) to {p90:g} % (90th percentile) too high, {FAST_BIAS}; "
             "rerun with accuracy: default before using λ.")
+
+
+BELOW_FIRST_WARN = 0.01
+"""Share of λ above which its part from below the hazard's first level is warned about: the
+hazard table says nothing there (its first log-log slope is extrapolated), so more than 1 %
+of λ resting on it is a number the hazard does not support."""
+
+
+def below_first_warning(risk) -> str:
+    """One line when some λ rest for more than :data:`BELOW_FIRST_WARN` on the hazard below
+    its first level ('' otherwise, and for a table written before ``share_below_first``)."""
+    frame = read_risk_table(risk)
+    if "share_below_first" not in frame.columns:
+        return ""
+    share = frame["share_below_first"].astype(float)
+    big = frame[share > BELOW_FIRST_WARN]
+    if big.empty:
+        return ""
+    worst = big.loc[big["share_below_first"].astype(float).idxmax()]
+    return (f"WARNING: {len(big)} of {int(np.isfinite(share).sum())} λ rest for more than "
+            f"{BELOW_FIRST_WARN:.0%} on the hazard below its first level, where the hazard "
+            f"table says nothing and its first log-log slope is extrapolated (up to "
+            f"{float(worst['share_below_first']):.0%} at {worst['mode']}, R = "
+            f"{float(worst['R']):g} m, {worst['limit_state']}, median "
+            f"{float(worst['median_im']):.3g} g): use a hazard curve whose levels start well "
+            "below the fragility medians (share_below_first in risk.csv).")
+
+
+def hazard_sentence(risk) -> str:
+    """The hazard's site and kind as risk.csv records them ('' for a table without them,
+    as from a power law)."""
+    frame = read_risk_table(risk)
+
+    def said(column):
+        if column not in frame.columns:
+            return []
+        return sorted({str(v) for v in frame[column].dropna() if str(v) not in ("", "nan")})
+
+    sites, kinds = said("hazard_site"), said("hazard_kind")
+    if not sites and not kinds:
+        return ""
+    text = "Hazard curve used: " + (f"site {'; '.join(sites)}, " if sites else "")
+    return text + (f"kind {', '.join(kinds)}." if kinds else
+                   "kind not stated by the file (taken as the mean).")
 
 
 def small_suite_warnings(risk) -> list[str]:
@@ -258,6 +303,12 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
     """
     parts = ["<h2 id='risk'>From fragility to risk: mean annual frequency of exceedance</h2>"]
     parts += [f"<p>{html.escape(s)}</p>" for s in assumptions(hazard)]
+    said = hazard_sentence(risk)
+    if said:
+        parts.append(f"<p>{html.escape(said)}</p>")
+    warning = below_first_warning(risk)
+    if warning:
+        parts.append(f"<p><strong>{html.escape(warning)}</strong></p>")
     if figure is not None and Path(figure).exists():
         data = base64.b64encode(Path(figure).read_bytes()).decode()
         # the same markup as the report's other figures, so a gallery links it instead
@@ -342,7 +393,8 @@ def _comparison_html(risk) -> list[str]:
                          float_format=lambda v: f"{v:.3g}")]
 
 
-__all__ = ["FAST_BIAS", "INTERVAL_MEANING", "MIN_RECORDS", "PRESET_ERRORS", "WHICH_TO_USE",
-           "assumptions", "comparison_table", "interval_table", "main_tan_alpha",
-           "preset_note", "preset_warning", "read_risk_table", "risk_section_html",
-           "shown_limit_states", "small_suite_warnings", "summary_table"]
+__all__ = ["BELOW_FIRST_WARN", "FAST_BIAS", "INTERVAL_MEANING", "MIN_RECORDS", "PRESET_ERRORS",
+           "WHICH_TO_USE", "assumptions", "below_first_warning", "comparison_table",
+           "hazard_sentence", "interval_table", "main_tan_alpha", "preset_note",
+           "preset_warning", "read_risk_table", "risk_section_html", "shown_limit_states",
+           "small_suite_warnings", "summary_table"]

@@ -6,9 +6,11 @@ the median capacity and β, the mean annual frequency λ_LS [1/yr]
 over the motions (``lambda_p05``, ``lambda_p95``: each resample of the motions refitted and
 integrated, :mod:`rocking.risk.bootstrap`), the return period 1/λ_LS [yr], the probability of
 at least one exceedance in 50 years (Poisson), the share of λ_LS that rests on extrapolating
-the hazard curve's last slope (``share_extrapolated``) and on the intensities below its first
-level kept (``share_dropped``: nonzero only where levels with probability of exceedance 1
-were dropped, :class:`rocking.risk.hazard.HazardCurve`).
+the hazard curve's last slope (``share_extrapolated``) and on its first slope extrapolated
+below its first level (``share_below_first``: the hazard table says nothing there, levels
+with probability of exceedance 1 dropped included; warned about above
+:data:`rocking.risk.report.BELOW_FIRST_WARN`), and the hazard's site and kind
+(``hazard_site``, ``hazard_kind``: :class:`rocking.risk.hazard.HazardCurve`).
 
 A row without a fit (median NaN: too few motions exceeded, or a separated stripe fit) is
 present with its ``status`` and λ NaN; for stripes the bracketing stripes bound it: λ lies
@@ -43,8 +45,8 @@ CI = 0.90
 
 COLUMNS = ("fragility", "measure", "mode", "tan_alpha", "R", "limit_state", "median_im",
            "median_pga_g", "beta", "n", "maf", "lambda_p05", "lambda_p95", "lambda_lo",
-           "lambda_hi", "return_period", "p_50yr", "share_extrapolated", "share_dropped",
-           "preset", "status")
+           "lambda_hi", "return_period", "p_50yr", "share_extrapolated", "share_below_first",
+           "hazard_site", "hazard_kind", "preset", "status")
 """Columns of :func:`risk_table` (with units in their titles, :func:`rocking.units.header`)."""
 
 
@@ -94,6 +96,10 @@ def _base(r, frag: Fragilities) -> dict:
             "beta": r.beta, "n": r.n, "status": r.status}
 
 
+def _hazard_columns(hazard: HazardCurve) -> dict:
+    return {"hazard_site": hazard.site, "hazard_kind": hazard.kind}
+
+
 def _fitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
     parts = annual_frequency_parts(r.median_g, r.beta, hazard)
     maf = parts["total"]
@@ -101,13 +107,13 @@ def _fitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
     resamples = frag.resamples(int(r.row))
     if resamples is not None:
         lo, hi, _ = annual_frequency_interval(*resamples, hazard, ci=CI)
-    return {**_base(r, frag), "maf": maf, "lambda_p05": lo, "lambda_p95": hi,
+    return {**_base(r, frag), **_hazard_columns(hazard), "maf": maf, "lambda_p05": lo,
+            "lambda_p95": hi,
             "lambda_lo": math.nan, "lambda_hi": math.nan,
             "return_period": 1.0 / maf if maf > 0 else math.inf,
             "p_50yr": probability_in(maf, YEARS),
             "share_extrapolated": parts["extrapolated"] / maf if maf > 0 else 0.0,
-            "share_dropped": (parts["below_first"] / maf if maf > 0 and hazard.n_dropped
-                              else 0.0)}
+            "share_below_first": parts["below_first"] / maf if maf > 0 else 0.0}
 
 
 def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
@@ -117,10 +123,11 @@ def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
     lam_hi = float(hazard.rate(lo_im)) if math.isfinite(lo_im) and lo_im > 0 else math.nan
     if math.isfinite(lam_hi) and not math.isfinite(hi_im):
         lam_lo = 0.0  # nothing exceeded up to the highest stripe: only an upper bound
-    return {**_base(r, frag), "maf": math.nan, "lambda_p05": math.nan,
+    return {**_base(r, frag), **_hazard_columns(hazard), "maf": math.nan,
+            "lambda_p05": math.nan,
             "lambda_p95": math.nan, "lambda_lo": lam_lo, "lambda_hi": lam_hi,
             "return_period": math.nan, "p_50yr": math.nan, "share_extrapolated": math.nan,
-            "share_dropped": math.nan}
+            "share_below_first": math.nan}
 
 
 def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:
