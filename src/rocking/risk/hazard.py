@@ -206,7 +206,7 @@ class HazardCurve:
             return ""
         return (f"{self.source}: {self.n_dropped} level(s) with probability of exceedance 1 "
                 f"(an infinite rate) dropped, up to {self.dropped_up_to:g} g; the part of "
-                "each λ from below the first level kept is reported as share_dropped")
+                "each λ from below the first level kept is reported as share_below_first")
 
     @classmethod
     def from_power_law(cls, k0: float, k: float, im_g=None, imt: str = "PGA") -> HazardCurve:
