@@ -144,9 +144,9 @@ def below_first_warning(risk) -> str:
         return ""
     worst = big.loc[big["share_below_first"].astype(float).idxmax()]
     return (f"WARNING: {len(big)} of {int(np.isfinite(share).sum())} λ rest for more than "
-            f"{BELOW_FIRST_WARN:.0%} on the hazard below its first level, where the hazard "
+            f"{100 * BELOW_FIRST_WARN:g} % on the hazard below its first level, where the hazard "
             f"table says nothing and its first log-log slope is extrapolated (up to "
-            f"{float(worst['share_below_first']):.0%} at {worst['mode']}, R = "
+            f"{100 * float(worst['share_below_first']):.0f} % at {worst['mode']}, R = "
             f"{float(worst['R']):g} m, {worst['limit_state']}, median "
             f"{float(worst['median_im']):.3g} g): use a hazard curve whose levels start well "
             "below the fragility medians (share_below_first in risk.csv).")
