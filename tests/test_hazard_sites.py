@@ -239,3 +239,25 @@ def test_the_shipped_example_names_its_site():
     assert h.site == "row 0 (lon 0, lat 0), 0 km from lon 0, lat 0"
     assert h.annual_rate == pytest.approx(
         HazardCurve.from_openquake_csv(ROOT / spec["file"], site=0).annual_rate)
+
+
+def test_the_dry_run_refuses_a_file_of_sites_without_site_and_takes_one_with_it(tmp_path):
+    """Before any work: the workflow parses each study's hazard at parse time."""
+    import json
+
+    from test_workflow import TARGETS, TINY, snakemake
+
+    path = write_sites(tmp_path / "hazard_curve-mean-PGA.csv")
+    runs = {}
+    for name, hazard in (("bare", str(path)),
+                         ("chosen", {"file": str(path), "site": {"id": "PIR"}})):
+        cfg = json.loads(json.dumps(TINY))
+        cfg["studies"]["tiny"]["hazard"] = hazard
+        cfg_path = tmp_path / f"{name}.yaml"
+        cfg_path.write_text(yaml.safe_dump(cfg))
+        runs[name] = snakemake(tmp_path, "-n", *TARGETS, configfile=cfg_path, check=False)
+    bare = runs["bare"].stdout + runs["bare"].stderr
+    assert runs["bare"].returncode != 0
+    assert f"studies.tiny.hazard: {path} has 3 sites: choose one" in bare
+    assert runs["chosen"].returncode == 0, runs["chosen"].stderr[-2000:]
+    assert not (tmp_path / "results").exists()
