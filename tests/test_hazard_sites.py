@@ -261,3 +261,15 @@ def test_the_dry_run_refuses_a_file_of_sites_without_site_and_takes_one_with_it(
     assert f"studies.tiny.hazard: {path} has 3 sites: choose one" in bare
     assert runs["chosen"].returncode == 0, runs["chosen"].stderr[-2000:]
     assert not (tmp_path / "results").exists()
+
+
+def test_a_hazard_file_is_read_once_per_parse(three, monkeypatch):
+    """Issue 40: the file was read twice by from_file (once to tell the format, once to
+    parse); site, kind and unit come from that one reading."""
+    from rocking.risk import hazard as module
+
+    calls = []
+    real = module._read_csv
+    monkeypatch.setattr(module, "_read_csv", lambda path: calls.append(path) or real(path))
+    h = parse_hazard({"file": str(three), "site": {"id": "ELE"}, "im_factor": 1.1})
+    assert len(calls) == 1 and h.site.startswith("id ELE") and h.kind == "mean"

@@ -566,8 +566,9 @@ def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kin
     except (ValueError, IndexError) as exc:
         raise ValueError(f"{path}: site {chosen.label}: unreadable level or probability "
                          f"({exc})") from None
-    curve = _from_poe(iml, poe, years, measure, f"{path} (site {label})")
-    curve = dataclasses.replace(curve, site=label, kind=used_kind, unit=name)
+    curve = _from_poe(iml, poe, years, measure, f"{path}, site {chosen.label}")
+    curve = dataclasses.replace(curve, site=label, kind=used_kind, unit=name,
+                                source=curve.source + _said(used_kind, name))
     return check_plausible(curve, unit is not None, "OpenQuake writes PGA and SA in g")
 
 
@@ -614,8 +615,15 @@ def _table(path: Path, comments: list[str], rows: list[list[str]], investigation
             investigation_time = hit.group(1)
         years = _positive(f"{path}: investigation_time", investigation_time)
         curve = _from_poe(im, value, years, measure, str(path))
-    curve = dataclasses.replace(curve, kind=used_kind, unit=name)
+    curve = dataclasses.replace(curve, kind=used_kind, unit=name,
+                                source=curve.source + _said(used_kind, name))
     return check_plausible(curve, given is not None, "no unit in the header")
+
+
+def _said(kind: str, unit: str) -> str:
+    """What a curve's source adds for a kind other than the mean and levels not in g."""
+    return ((f", {kind}" if kind not in ("", "mean") else "")
+            + (f", levels in {unit} converted to g" if unit != "g" else ""))
 
 
 HAZARD_KEYS = {"file", "site", "investigation_time", "kind", "unit", "im_factor"}

@@ -46,7 +46,7 @@ class StudySpec(_Hashed):
     stripes : StripesSpec or None
     hazard : str, dict or None
         The site's hazard as configured (``studies.<name>.hazard``: a hazard-curve file,
-        ``{file, site, im_factor}`` or ``{k0, k, im_factor}``; read by
+        ``{file, site, kind, unit, im_factor}`` or ``{k0, k, im_factor}``; read by
         :func:`rocking.risk.parse_hazard`), None without risk outputs. It decides no store.
     intensity_measures : tuple of str
         What the per-record table and the suite's fragility give beside the critical PGA
