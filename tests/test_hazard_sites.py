@@ -273,3 +273,17 @@ def test_a_hazard_file_is_read_once_per_parse(three, monkeypatch):
     monkeypatch.setattr(module, "_read_csv", lambda path: calls.append(path) or real(path))
     h = parse_hazard({"file": str(three), "site": {"id": "ELE"}, "im_factor": 1.1})
     assert len(calls) == 1 and h.site.startswith("id ELE") and h.kind == "mean"
+
+
+def test_a_table_says_its_kind_in_a_comment_and_takes_no_site(tmp_path):
+    path = tmp_path / "p85.csv"
+    path.write_text("# kind=quantile-0.85\npga [g],annual_rate\n0.1,1e-2\n0.2,2e-3\n0.4,3e-4\n")
+    with pytest.raises(ValueError, match="'quantile-0.85' hazard curve, not the mean"):
+        parse_hazard(str(path))
+    assert parse_hazard({"file": str(path), "kind": "quantile-0.85"}).kind == "quantile-0.85"
+    with pytest.raises(ValueError, match="site applies to an OpenQuake hazard-curve CSV"):
+        parse_hazard({"file": str(path), "kind": "quantile-0.85", "site": {"id": "ATH"}})
+    # a table that states no kind takes the one the entry declares
+    path.write_text("pga,annual_rate\n0.1,1e-2\n0.2,2e-3\n")
+    assert parse_hazard({"file": str(path), "kind": "quantile-0.5"}).kind == "quantile-0.5"
+    assert parse_hazard(str(path)).kind == ""
