@@ -232,8 +232,7 @@ class HazardCurve:
 
     @classmethod
     def from_openquake_csv(cls, path: str | Path, site=None, *, kind: str | None = None,
-                           unit: str | None = None,
-                           max_distance_km: float | None = None) -> HazardCurve:
+                           unit: str | None = None) -> HazardCurve:
         """Read one site of an OpenQuake ``hazard_curve-*.csv``.
 
         The file has a comment line holding ``investigation_time`` T [yr], ``imt`` (``PGA``
@@ -260,11 +259,9 @@ class HazardCurve:
             The statistic to use: needed for any file kind but ``mean``, and must match it.
         unit : str, optional
             The unit of the levels (:data:`UNITS`; default g, the engine's unit of PGA and SA).
-        max_distance_km : float, optional
-            Overrides :data:`MAX_DISTANCE_KM` for a lon/lat ``site`` [km].
         """
         path = Path(path)
-        return _openquake(path, *_read_csv(path), site, kind, unit, max_distance_km)
+        return _openquake(path, *_read_csv(path), site, kind, unit)
 
     @classmethod
     def from_table(cls, path: str | Path, investigation_time: float | None = None, *,
@@ -294,8 +291,7 @@ class HazardCurve:
 
     @classmethod
     def from_file(cls, path: str | Path, site=None, investigation_time: float | None = None,
-                  *, kind: str | None = None, unit: str | None = None,
-                  max_distance_km: float | None = None) -> HazardCurve:
+                  *, kind: str | None = None, unit: str | None = None) -> HazardCurve:
         """An OpenQuake CSV (its header has ``poe-<iml>`` columns) or a two-column table,
         read once (arguments as :meth:`from_openquake_csv` and :meth:`from_table`)."""
         path = Path(path)
@@ -304,8 +300,8 @@ class HazardCurve:
             if investigation_time is not None:
                 raise ValueError(f"{path}: an OpenQuake hazard curve states its own "
                                  "investigation_time; leave it out of the hazard entry")
-            return _openquake(path, comments, rows, site, kind, unit, max_distance_km)
-        if site is not None or max_distance_km is not None:
+            return _openquake(path, comments, rows, site, kind, unit)
+        if site is not None:
             raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV of "
                              f"sites, this is a two-column table (got site {site!r})")
         return _table(path, comments, rows, investigation_time, kind, unit)
@@ -368,8 +364,7 @@ def great_circle_km(lon1, lat1, lon2, lat2) -> np.ndarray:
 SITE_FORMS = ("a row (0 = first), {id: <custom_site_id>} or {lon, lat[, max_distance_km]}")
 
 
-def select_site(sites: list[Site], site, where: str,
-                max_distance_km: float | None = None) -> tuple[Site, str]:
+def select_site(sites: list[Site], site, where: str) -> tuple[Site, str]:
     """The site asked for, and its description (:attr:`HazardCurve.site`).
 
     Parameters
@@ -382,13 +377,8 @@ def select_site(sites: list[Site], site, where: str,
         only for a file of one site.
     where : str
         The file, for the one-line errors.
-    max_distance_km : float, optional
-        Overrides the mapping's or the default greatest distance [km].
     """
     if site is None:
-        if max_distance_km is not None:
-            raise ValueError(f"{where}: max_distance_km applies to a site given by lon and "
-                             "lat; give the site's lon and lat")
         if len(sites) == 1:
             return sites[0], sites[0].label
         shown = ", ".join(s.label for s in sites[:SITES_LISTED])
@@ -421,9 +411,8 @@ def select_site(sites: list[Site], site, where: str,
         if not (-180.0 <= lon <= 360.0 and -90.0 <= lat <= 90.0):
             raise ValueError(f"{where}: site lon {lon:g}, lat {lat:g} is not a point on Earth "
                              "(lon in [-180, 360], lat in [-90, 90] degrees)")
-        limit = max_distance_km if max_distance_km is not None else site.get(
-            "max_distance_km", MAX_DISTANCE_KM)
-        limit = _positive(f"{where}: site.max_distance_km", limit)
+        limit = _positive(f"{where}: site.max_distance_km",
+                          site.get("max_distance_km", MAX_DISTANCE_KM))
         located = [s for s in sites if math.isfinite(s.lon) and math.isfinite(s.lat)]
         if not located:
             raise ValueError(f"{where}: the file has no lon and lat columns; choose the site "
@@ -538,8 +527,8 @@ def _sites(header: list[str], body: list[list[str]], where: str) -> list[Site]:
     return sites
 
 
-def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kind, unit,
-               max_distance_km) -> HazardCurve:
+def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kind,
+               unit) -> HazardCurve:
     """One site of an OpenQuake hazard-curve file already read (:meth:`from_openquake_csv`)."""
     meta = " ".join(comments)
     time, imt = _TIME.search(meta), _IMT.search(meta)
@@ -558,8 +547,7 @@ def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kin
     cols = [i for i, c in enumerate(header) if c.strip().startswith("poe-")]
     if not cols:
         raise ValueError(f"{path}: no poe-<iml> columns in the header {header}")
-    chosen, label = select_site(_sites(header, body, str(path)), site, str(path),
-                                max_distance_km)
+    chosen, label = select_site(_sites(header, body, str(path)), site, str(path))
     try:
         iml = np.array([float(header[i].strip()[4:]) for i in cols]) * factor
         poe = np.array([float(body[chosen.row][i]) for i in cols])
