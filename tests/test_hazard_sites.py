@@ -287,3 +287,24 @@ def test_a_table_says_its_kind_in_a_comment_and_takes_no_site(tmp_path):
     path.write_text("pga,annual_rate\n0.1,1e-2\n0.2,2e-3\n")
     assert parse_hazard({"file": str(path), "kind": "quantile-0.5"}).kind == "quantile-0.5"
     assert parse_hazard(str(path)).kind == ""
+
+
+def test_the_risk_rule_writes_site_kind_and_warning(tmp_path):
+    """What workflow/scripts/risk.py runs: risk.csv's columns and the log's summary."""
+    from rocking.risk.exports import write_risk_outputs
+
+    path = write_sites(tmp_path / "h.csv", kind="quantile-0.85")
+    h = parse_hazard({"file": str(path), "site": {"lon": SITES[0][1], "lat": SITES[0][2]},
+                      "kind": "quantile-0.85"})
+    frag = tmp_path / "fragility.csv"
+    table().to_csv(frag, index=False)
+    summary = write_risk_outputs(frag, h, nrml=tmp_path / "f.xml", pelicun=tmp_path / "f.csv",
+                                 table=tmp_path / "risk.csv", search_upper=20.0, study="s")
+    risk = pd.read_csv(tmp_path / "risk.csv", keep_default_na=False)
+    assert set(risk["hazard_site"]) == {h.site} and h.site.startswith("id ATH")
+    assert set(risk["hazard_kind"]) == {"quantile-0.85"}
+    assert summary["hazard_site"] == h.site and summary["hazard_kind"] == "quantile-0.85"
+    assert summary["hazard_unit"] == "g" and "quantile-0.85" in summary["hazard"]
+    # this hazard's levels reach down to 0.005 g: nothing rests below them
+    assert summary["below_first_warning"] == ""
+    assert (risk["share_below_first [-]"].astype(float) < 1e-6).all()
