@@ -11,10 +11,16 @@
 
 
 rule motions:
+    input:
+        # recorded RDK parameters (ensembles.<name>.params): a new file makes new motions
+        recorded=lambda wildcards: planned_ensemble(wildcards.ensemble, wildcards.digest)
+        .get("params") or [],
     output:
         motions=out_path("motions/{ensemble}-{digest}.nc"),
         params=out_path("motions/{ensemble}-{digest}.json"),
         comparison=out_path("motions/{ensemble}-{digest}.compare.nc"),
+        # the rounded RDK fits and their digests (docs/motions.md, "Recorded parameters")
+        recorded=out_path("motions/{ensemble}-{digest}.params.json"),
     params:
         spec=lambda wildcards: planned_ensemble(wildcards.ensemble, wildcards.digest),
     conda:
