@@ -126,3 +126,32 @@ def test_the_params_key_changes_the_ensemble_digest_only_when_given():
     config["ensembles"]["elcentro"]["params"] = 3
     with pytest.raises(ValueError, match=r"ensembles\.elcentro\.params must be a file name"):
         EnsembleSpec.from_config(config, "elcentro")
+
+
+_PROBE = """
+import json, sys
+from rocking.motions.build import build_ensemble, read_motion
+from rocking.motions.stochastic.recorded import read_params_file
+entry = read_params_file(sys.argv[1])["records"]["el-centro-1940"]
+b = build_ensemble(read_motion("el-centro-1940"), 2, 2017, recorded=entry)
+print(json.dumps([m.samples_sha256 for m in b.motions[1:]]))
+"""
+
+
+def test_pairs_do_not_depend_on_the_cpu_paths_numpy_and_numba_pick():
+    """numpy's SIMD dispatch lowered to its baseline and numba compiled for a generic x86-64:
+    the same pairs to the bit (numpy's AVX-512 exp and FMA complex products changed them)."""
+    import os
+    import subprocess
+    import sys
+
+    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+
+    present = [f for f in __cpu_dispatch__ if __cpu_features__.get(f)]
+    env = {**os.environ, "NPY_DISABLE_CPU_FEATURES": " ".join(present),
+           "NUMBA_CPU_NAME": "generic", "NUMBA_CACHE_DIR": str(Path(os.environ.get(
+               "TMPDIR", "/tmp")) / "rocking-numba-generic")}
+    out = subprocess.run([sys.executable, "-c", _PROBE, str(FILES["elcentro"])], env=env,
+                         capture_output=True, text=True, check=True, timeout=600)
+    entry = read_params_file(FILES["elcentro"])["records"]["el-centro-1940"]
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == entry["pairs_sha256"][:2]

@@ -125,7 +125,8 @@ def run(args) -> int:
                     "mw": args.mw, "rotation_deg": args.rotation, "highpass": args.highpass,
                     "fc_hz": args.fc_hz, "fit_method": args.fit_method}
         with _common.replacing(args.write_params) as tmp:
-            write_params_file(tmp, args.name or record, recorded_entries(build, [settings]))
+            write_params_file(tmp, args.write_params.name.split(".")[0],
+                              recorded_entries(build, [settings]))
         say(f"wrote the recorded parameters to {args.write_params}")
     say(f"wrote {len(build.motions)} motions to {args.out} and parameters to {params_out}")
     return 0
