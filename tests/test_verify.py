@@ -135,3 +135,28 @@ def test_config_differences_are_dotted_keys():
     b = {"search": {"upper": 20.0}, "ensembles": {"e": {"seed": 2, "params": "p.json"}},
          "dask": {"x": 2}}
     assert config_differences(a, b) == ["ensembles.e.params", "ensembles.e.seed"]
+
+
+def test_motions_that_differ_from_the_gallery_s_are_named(tmp_path, capsys):
+    """An output root: <study>/config.yaml, the tables, motions/<name>-<digest>.nc."""
+    import numpy as np
+
+    from rocking.motions.ensemble_io import save_ensemble
+    from rocking.motions.motion import GroundMotion
+    from rocking.study.ensemble_spec import EnsembleSpec
+
+    run = tmp_path / "results"
+    for study in ("elcentro", "lomaprieta"):
+        shutil.copytree(GALLERY / study, run / study,
+                        ignore=shutil.ignore_patterns("figures", "*.html"))
+        shutil.copy(GALLERY / "config.yaml", run / study / "config.yaml")
+    config = yaml.safe_load((GALLERY / "config.yaml").read_text())
+    digest = EnsembleSpec.from_config(config, "elcentro").digest
+    a = np.sin(np.linspace(0.0, 3.0, 50))
+    save_ensemble(run / "motions" / f"elcentro-{digest}.nc",
+                  [GroundMotion(a, a, 0.01, "el-centro-1940")])
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 0
+    out = capsys.readouterr().out
+    assert "motions/elcentro: 11 of 11 motions differ from the gallery's in their bits: " \
+           "el-centro-1940, el-centro-1940-rdk-000" in out
+    assert "motions/lomaprieta" not in out   # no file of it: nothing said

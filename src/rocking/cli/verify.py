@@ -40,12 +40,12 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..study.verify import format_verdicts, verify_run
+    from ..study.verify import format_verdicts, motions_lines, verify_run
 
     if args.show < 0:
         raise ValueError(f"--show must be >= 0, got {args.show}")
     verdicts = verify_run(args.run, args.against)
-    for line in format_verdicts(verdicts, args.show):
+    for line in [*motions_lines(args.run, args.against), *format_verdicts(verdicts, args.show)]:
         print(line)
     beyond = [v.table for v in verdicts if v.verdict == "beyond"]
     if beyond:

@@ -46,7 +46,7 @@ import pandas as pd
 import yaml
 
 __all__ = ["FLAGGED_RESOLUTION", "TableVerdict", "VerifyInputError", "answer_resolution",
-           "config_differences", "format_verdicts", "verify_run"]
+           "config_differences", "format_verdicts", "motions_lines", "verify_run"]
 
 FLAGGED_RESOLUTION = 0.15
 """Stated relative resolution of an answer flagged ``unresolved`` or ``budget_spent`` [-]."""
@@ -443,6 +443,40 @@ def _boolish(v: Any) -> bool:
 
 def _intish(v: Any) -> bool:
     return isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
+
+
+def motions_lines(run: str | Path, against: str | Path = "results/paper") -> list[str]:
+    """Whether the run's motions are the gallery's to the bit, per ensemble (lines), from the
+    gallery's ``MANIFEST.json`` (``motion_sha256``) and the run's ensemble files
+    (``<run>/motions/<name>-<digest>.nc``); nothing where either is absent (a gallery-like
+    copy keeps no motions). Motions that differ in their bits explain answers that do."""
+    import json
+
+    from ..motions.ensemble_io import load_ensemble
+    from .ensemble_spec import EnsembleSpec
+
+    run, against = Path(run), Path(against)
+    manifest = against / "MANIFEST.json"
+    if not manifest.is_file() or (run / "config.yaml").is_file():
+        return []
+    digests = json.loads(manifest.read_text()).get("motion_sha256") or {}
+    config, _ = _run_config(run, list(_gallery(against)[0]["studies"]))
+    lines = []
+    for name, recorded in digests.items():
+        if name not in (config.get("ensembles") or {}):
+            continue
+        path = run / "motions" / f"{name}-{EnsembleSpec.from_config(config, name).digest}.nc"
+        if not path.is_file():
+            continue
+        got = {m.name: m.samples_sha256 for m in load_ensemble(path)}
+        differ = sorted(k for k in recorded if got.get(k) != recorded[k])
+        if differ:
+            lines.append(f"motions/{name}: {len(differ)} of {len(recorded)} motions differ "
+                         f"from the gallery's in their bits: {', '.join(differ[:5])}"
+                         + (" ..." if len(differ) > 5 else ""))
+        else:
+            lines.append(f"motions/{name}: identical to the gallery's ({len(recorded)} motions)")
+    return lines
 
 
 def verify_run(run: str | Path, against: str | Path = "results/paper") -> list[TableVerdict]:
