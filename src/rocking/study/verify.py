@@ -55,7 +55,8 @@ FLAG_COLUMNS = ("unresolved", "budget_spent")
 """Flags that widen an answer's resolution (``budget_spent`` where the table has it)."""
 
 CRITICAL = "critical.csv"
-VALUE = "pga_crit [g tan(alpha)]"
+ANSWER_TABLES = (CRITICAL, "records.csv")
+"""Tables of answers, one per row with its own flags: each row takes its own resolution."""
 
 KEYS: dict[str, tuple[str, ...]] = {
     "critical.csv": ("mode", "limit_state", "motion", "tan_alpha [-]", "R [m]"),
@@ -321,7 +322,7 @@ def _compare_table(name: str, table: str, run: pd.DataFrame, gal: pd.DataFrame,
         ra, rb = a.iloc[pos], b.iloc[pos]
         tup = idx if isinstance(idx, tuple) else (idx,)
         key = dict(zip(keys, tup, strict=True))
-        if table == CRITICAL:
+        if table in ANSWER_TABLES:
             r = max(answer_resolution(ra, tol), answer_resolution(rb, tol))
         elif len(answer_keys) == len(ANSWER_KEYS):
             r = float(res.get(tuple(_match(key[k]) for k in answer_keys), r_all))
