@@ -160,3 +160,21 @@ def test_motions_that_differ_from_the_gallery_s_are_named(tmp_path, capsys):
     assert "motions/elcentro: 11 of 11 motions differ from the gallery's in their bits: " \
            "el-centro-1940, el-centro-1940-rdk-000" in out
     assert "motions/lomaprieta" not in out   # no file of it: nothing said
+
+
+def test_budget_spent_in_the_run_only_widens_its_answers_resolution(tmp_path, capsys):
+    """The flag another branch adds: an answer the run says ran out of budget is held to the
+    flagged resolution even though the gallery has no such column."""
+    run = _copy(tmp_path)
+    path = run / "elcentro" / "critical.csv"
+    frame = pd.read_csv(path)
+    frame["budget_spent"] = False
+    pick = frame.index[~frame["unresolved"] & frame[VALUE].notna()][3]
+    frame.loc[pick, "budget_spent"] = True
+    frame.loc[pick, VALUE] *= 1.1                     # 10 % < 15 %
+    frame.to_csv(path, index=False, float_format="%.10g")
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 0
+    out = capsys.readouterr().out
+    assert "elcentro/critical.csv: within the answers' stated resolution (3740 rows, 1 within)" \
+        in out
+    assert "columns only in the run: budget_spent" in out

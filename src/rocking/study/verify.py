@@ -45,13 +45,14 @@ import numpy as np
 import pandas as pd
 import yaml
 
-__all__ = ["FLAGGED_RESOLUTION", "TableVerdict", "VerifyInputError", "answer_resolution",
-           "config_differences", "format_verdicts", "motions_lines", "verify_run"]
+__all__ = ["FLAGGED_RESOLUTION", "TableVerdict", "VerifyInputError", "config_differences",
+           "format_verdicts", "motions_lines", "verify_run"]
 
 FLAGGED_RESOLUTION = 0.15
 """Stated relative resolution of an answer flagged ``unresolved`` or ``budget_spent`` [-]."""
 
 FLAG_COLUMNS = ("unresolved", "budget_spent")
+_R = "__resolution__"  # a side's resolution of each answer, carried beside its row
 """Flags that widen an answer's resolution (``budget_spent`` where the table has it)."""
 
 CRITICAL = "critical.csv"
@@ -299,11 +300,16 @@ def _compare_table(name: str, table: str, run: pd.DataFrame, gal: pd.DataFrame,
         notes.append(f"columns only in the gallery: {', '.join(only_gal)}")
     cols = [c for c in gal.columns if c in run.columns]
     keys = tuple(k for k in KEYS.get(table, ()) if k in cols)
+    # each side's resolution from all its flags (budget_spent may be in one side only)
+    own = table in ANSWER_TABLES
+    if own:
+        run = run.assign(**{_R: _resolution(run, tol).to_numpy()})
+        gal = gal.assign(**{_R: _resolution(gal, tol).to_numpy()})
     if keys:
-        run = run[cols].set_index(list(keys))
-        gal = gal[cols].set_index(list(keys))
+        run = run[cols + [_R] * own].set_index(list(keys))
+        gal = gal[cols + [_R] * own].set_index(list(keys))
     else:
-        run, gal = run[cols], gal[cols]
+        run, gal = run[cols + [_R] * own], gal[cols + [_R] * own]
         keys = ("row",)
     beyond: list[str] = []
     only = [(i, "run") for i in run.index.difference(gal.index)] + \
@@ -313,6 +319,9 @@ def _compare_table(name: str, table: str, run: pd.DataFrame, gal: pd.DataFrame,
                       f"{side}")
     common = gal.index.intersection(run.index)
     a, b = run.loc[common], gal.loc[common]
+    if own:
+        r_a, r_b = a[_R].to_numpy(), b[_R].to_numpy()
+        a, b = a.drop(columns=_R), b.drop(columns=_R)
     n_within, worst = 0, 0.0
     answer_keys = [k for k in keys if _base(k) in ANSWER_KEYS]
     # only the rows with some difference are compared one by one
@@ -322,8 +331,8 @@ def _compare_table(name: str, table: str, run: pd.DataFrame, gal: pd.DataFrame,
         ra, rb = a.iloc[pos], b.iloc[pos]
         tup = idx if isinstance(idx, tuple) else (idx,)
         key = dict(zip(keys, tup, strict=True))
-        if table in ANSWER_TABLES:
-            r = max(answer_resolution(ra, tol), answer_resolution(rb, tol))
+        if own:
+            r = float(max(r_a[pos], r_b[pos]))
         elif len(answer_keys) == len(ANSWER_KEYS):
             r = float(res.get(tuple(_match(key[k]) for k in answer_keys), r_all))
         else:
@@ -347,13 +356,6 @@ def _compare_table(name: str, table: str, run: pd.DataFrame, gal: pd.DataFrame,
 
 def _match(v: Any) -> Any:
     return float(v) if isinstance(v, (int, float, np.number)) else v
-
-
-def answer_resolution(row: pd.Series, tol: float) -> float:
-    """Stated relative resolution of one answer (a row of critical.csv) of a run whose
-    bisection tolerance is ``tol``."""
-    flagged = any(str(row.get(c, False)).lower() == "true" for c in FLAG_COLUMNS)
-    return max(tol, FLAGGED_RESOLUTION) if flagged else tol
 
 
 def _compare_row(table: str, a: pd.Series, b: pd.Series, r: float, k_hazard: float,
