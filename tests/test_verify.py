@@ -178,3 +178,27 @@ def test_budget_spent_in_the_run_only_widens_its_answers_resolution(tmp_path, ca
     assert "elcentro/critical.csv: within the answers' stated resolution (3740 rows, 1 within)" \
         in out
     assert "columns only in the run: budget_spent" in out
+
+
+def test_a_key_one_side_lacks_is_held_to_its_default():
+    """A gallery written before a key existed: absent = the schema default; the output folder
+    and a study's `reproduces` change no table."""
+    run = {"ensembles": {"e": {"units": "g", "highpass": "oscillator"}}, "output": "mine",
+           "studies": {"s": {"reproduces": "vassiliou2017", "stripes": {"refine": 8}}}}
+    gallery = {"ensembles": {"e": {}}, "studies": {"s": {"stripes": {}}}}
+    assert config_differences(run, gallery) == []
+    run["studies"]["s"]["stripes"]["refine"] = 4
+    run["ensembles"]["e"]["units"] = "m/s2"
+    assert config_differences(run, gallery) == ["ensembles.e.units",
+                                                "studies.s.stripes.refine"]
+
+
+def test_rows_with_repeated_keys_are_matched_in_order(tmp_path, capsys):
+    run = _copy(tmp_path)
+    path = run / "elcentro" / "linear_fit.csv"
+    frame = pd.read_csv(path)
+    frame = pd.concat([frame, frame.iloc[[3]]], ignore_index=True)   # a key twice
+    frame.to_csv(path, index=False, float_format="%.10g")
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 1
+    out = capsys.readouterr().out
+    assert "elcentro/linear_fit.csv: DIFFERS" in out and "occurrence=1: only in the run" in out

@@ -25,7 +25,8 @@ resolution r of the answers it is made of (same mode, limit state, tan α and R,
 side); its columns are compared at tolerances propagated from r: values on the intensity
 scale (means, medians, percentiles) relative r (a mean or median of values that each move by
 at most r relative moves by at most r); dispersions (β, lognormal σ) absolute √2·r (the
-standard deviation of logarithms that each move by at most r); the slope and intercept of a
+standard deviation of logarithms that each move by at most r); a standard deviation of the
+answers r·a_max·√(n/(n−1)) with a_max ≤ mean + std·(n−1)/√n; the slope and intercept of a
 linear fit over R by the least-squares weights of its R values; rates of the risk table
 relative K·r, K the steepest log-log slope of the study's hazard curve (λ_LS scales like the
 fragility median to the power −K). Counts and flags that differ make a row "within" when its
@@ -85,8 +86,12 @@ RISK_RATES = ("maf", "lambda_p05", "lambda_p95", "lambda_lo", "lambda_hi", "retu
               "p_50yr")
 """Columns of the risk table that scale like the fragility median to the power −K."""
 
-IGNORED_CONFIG = ("dask",)
-"""Configuration sections that cannot change a number (not compared)."""
+IGNORED_CONFIG = ("dask", "output")
+"""Configuration sections that cannot change a number (not compared): the cluster and the
+output folder."""
+
+REPORT_ONLY = ("reproduces",)
+"""Study keys that change a report's verdicts, never a table (not compared)."""
 
 
 class VerifyInputError(ValueError):
@@ -131,16 +136,42 @@ def _flatten(d: Any, prefix: str = "") -> dict[str, Any]:
         out: dict[str, Any] = {}
         for k, v in d.items():
             out.update(_flatten(v, f"{prefix}{k}."))
-        return out or {prefix.rstrip("."): {}}
+        return out
     return {prefix.rstrip("."): d}
 
 
+def _default(key: str) -> Any:
+    """The schema default of a dotted key (:data:`rocking.study.config_fields.DEFAULTS`), or
+    a marker that equals nothing when it has none."""
+    from .config_fields import DEFAULTS
+
+    parts = key.split(".")
+    where: tuple[str, ...] = ()
+    if parts[0] == "ensembles" and len(parts) == 3:
+        where = ("ensemble", parts[2])
+    elif parts[0] == "studies" and len(parts) == 3:
+        where = ("study", parts[2])
+    elif parts[0] == "studies" and len(parts) == 4 and parts[2] in ("stripes", "tilt_map"):
+        where = (parts[2], parts[3])
+    elif len(parts) == 2:
+        where = (parts[0], parts[1])
+    section = DEFAULTS.get(where[0]) if where else None
+    if isinstance(section, Mapping) and where[1] in section:
+        return section[where[1]]
+    return _ABSENT
+
+
+_ABSENT = object()
+
+
 def config_differences(run: Mapping[str, Any], gallery: Mapping[str, Any]) -> list[str]:
-    """Dotted keys whose values differ between two resolved configurations (``dask`` left
-    out), sorted."""
+    """Dotted keys whose values differ between two resolved configurations, sorted; ``dask``,
+    ``output`` and ``reproduces`` left out, and a key one side lacks compared with its schema
+    default (a gallery written before the key existed)."""
     a = _flatten({k: v for k, v in run.items() if k not in IGNORED_CONFIG})
     b = _flatten({k: v for k, v in gallery.items() if k not in IGNORED_CONFIG})
-    return sorted(k for k in set(a) | set(b) if a.get(k, "<absent>") != b.get(k, "<absent>"))
+    keys = {k for k in set(a) | set(b) if k.rsplit(".", 1)[-1] not in REPORT_ONLY}
+    return sorted(k for k in keys if a.get(k, _default(k)) != b.get(k, _default(k)))
 
 
 def _read_config(path: Path) -> dict[str, Any]:
@@ -306,8 +337,16 @@ def _compare_table(name: str, table: str, run: pd.DataFrame, gal: pd.DataFrame,
         run = run.assign(**{_R: _resolution(run, tol).to_numpy()})
         gal = gal.assign(**{_R: _resolution(gal, tol).to_numpy()})
     if keys:
-        run = run[cols + [_R] * own].set_index(list(keys))
-        gal = gal[cols + [_R] * own].set_index(list(keys))
+        if run.duplicated(list(keys)).any() or gal.duplicated(list(keys)).any():
+            # keys that do not name a row alone (a table of an older version): the n-th row
+            # of each key against the n-th
+            run = run.assign(occurrence=run.groupby(list(keys)).cumcount())
+            gal = gal.assign(occurrence=gal.groupby(list(keys)).cumcount())
+            keys = (*keys, "occurrence")
+        run = run[cols + [_R] * own + ["occurrence"] * ("occurrence" in keys)] \
+            .set_index(list(keys))
+        gal = gal[cols + [_R] * own + ["occurrence"] * ("occurrence" in keys)] \
+            .set_index(list(keys))
     else:
         run, gal = run[cols + [_R] * own], gal[cols + [_R] * own]
         keys = ("row",)
@@ -409,6 +448,15 @@ def _tolerance(table: str, base: str, r: float, k_hazard: float, x: float, y: fl
     scale = max(abs(x), abs(y))
     if base.startswith("beta") or base.endswith("Theta_1") or base == "first_beta":
         return math.sqrt(2.0) * r
+    if base == "std" and "count" in a.index:
+        # the standard deviation of n values that each move by at most r times the largest,
+        # a_max <= mean + std (n - 1)/sqrt(n): |d std| <= r a_max sqrt(n/(n - 1))
+        n = max(float(_as_float(a["count"]) or 0.0), float(_as_float(b["count"]) or 0.0))
+        if n >= 2:
+            top = max(abs(_as_float(s.get("mean [g tan(alpha)]")) or 0.0)
+                      + abs(_as_float(s["std [g tan(alpha)]"]) or 0.0) * (n - 1) / math.sqrt(n)
+                      for s in (a, b))
+            return r * top * math.sqrt(n / (n - 1))
     if table == "risk.csv" and base in RISK_RATES:
         return k_hazard * r * scale
     if table == "linear_fit.csv" and base in ("slope", "intercept"):
