@@ -155,3 +155,18 @@ def test_pairs_do_not_depend_on_the_cpu_paths_numpy_and_numba_pick():
                          capture_output=True, text=True, check=True, timeout=600)
     entry = read_params_file(FILES["elcentro"])["records"]["el-centro-1940"]
     assert json.loads(out.stdout.strip().splitlines()[-1]) == entry["pairs_sha256"][:2]
+
+
+def test_a_suite_uses_each_record_s_recorded_fit():
+    from rocking.motions.build import build_suite, recorded_entries
+
+    entries = read_params_file(FILES["elcentro"])["records"]
+    settings = {"n_synthetic": 1, "seed": 2017, "mw": None, "rotation_deg": "auto",
+                "highpass": "oscillator", "fc_hz": None}
+    build = build_suite([(read_motion("el-centro-1940"), settings)], recorded=entries)
+    (record,) = build.info["records"]
+    assert record["fit_source"] == "recorded" and record["motions_match"] is True
+    assert record["pairs_sha256"] == entries["el-centro-1940"]["pairs_sha256"][:1]
+    # and the suite's file written again holds the same fit
+    again = recorded_entries(build, [{**entries["el-centro-1940"]["settings"]}])
+    assert again["el-centro-1940"]["fit"] == entries["el-centro-1940"]["fit"]
