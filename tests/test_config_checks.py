@@ -161,8 +161,9 @@ def test_user_record_needs_mw_and_passes_with_it():
     from conftest import ELC180, ELC270, package_record
 
     cfg = _cfg(lambda c: None)
-    cfg["ensembles"]["elcentro"].update(
-        record="my-pair", paths=[str(package_record(ELC180)), str(package_record(ELC270))])
+    cfg["ensembles"]["elcentro"].update(   # another record: not the recorded fit's
+        record="my-pair", paths=[str(package_record(ELC180)), str(package_record(ELC270))],
+        params=None)
     with pytest.raises(ValueError, match=r"^ensembles\.elcentro\.mw is needed"):
         check_config(cfg)
     cfg["ensembles"]["elcentro"]["mw"] = 6.9

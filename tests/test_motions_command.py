@@ -18,8 +18,9 @@ from rocking.motions.principal import correlation, to_principal_axes
 
 def test_cli_writes_record_then_pairs(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     out = tmp_path / "motions" / "elcentro.nc"
+    recorded = tmp_path / "elcentro.params.json"
     assert main(["motions", "--record", "el-centro-1940", "-n", "2", "--seed", "5",
-                 "--compare", "-o", str(out)]) == 0
+                 "--compare", "-o", str(out), "--write-params", str(recorded)]) == 0
     printed = capsys.readouterr()
     assert "rocking motions:" in printed.err  # progress on stderr
     # The fit quality of both identifications on stdout, per component and band.
@@ -53,6 +54,16 @@ def test_cli_writes_record_then_pairs(tmp_path: Path, capsys: pytest.CaptureFixt
             res = residuals(comp, syn.dt)
             assert res.v_rel < 1e-6 and res.d_rel < 1e-6
         assert abs(correlation(syn.ax, syn.ay)) < 0.3
+    # The recorded parameters: the pairs' digests, and the same pairs made again from them
+    # without a fit (what ensembles.<name>.params of a study does)
+    from rocking.motions.stochastic.recorded import read_params_file
+
+    entry = read_params_file(recorded)["records"]["el-centro-1940"]
+    assert entry["pairs_sha256"] == [m.samples_sha256 for m in motions[1:]]
+    assert entry["settings"]["rotation_deg"] == "auto" and entry["seed"] == 5
+    again = build_ensemble(load_record("el-centro-1940"), 2, 5, recorded=entry)
+    assert [m.samples_sha256 for m in again.motions[1:]] == entry["pairs_sha256"]
+    assert again.info["motions_match"] is True and "fit_s" not in again.info["timings"]
 
 
 def test_stand_in_label_reaches_the_ensemble(tmp_path: Path) -> None:

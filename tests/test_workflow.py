@@ -101,7 +101,8 @@ def copy_motions(src: Path, dst: Path) -> None:
     """Reuse the reference run's ensemble file (its rule has no result-affecting change)."""
     (dst / "results/motions").mkdir(parents=True)
     # with their digests (.sha256), which every read checks
-    for suffix in (".nc", ".json", ".compare.nc", ".nc.sha256", ".compare.nc.sha256"):
+    for suffix in (".nc", ".json", ".compare.nc", ".nc.sha256", ".compare.nc.sha256",
+                   ".params.json"):
         shutil.copy2(src / f"{MOTIONS}{suffix}", dst / f"{MOTIONS}{suffix}")
 
 

@@ -18,8 +18,10 @@ from rocking.motions.build import (
     build_suite,
     quality_lines,
     read_motion,
+    recorded_entries,
 )
 from rocking.motions.ensemble_io import save_ensemble
+from rocking.motions.stochastic.recorded import entries_for, write_params_file
 from rocking.study.logs import heartbeat, log_to, terminal
 
 
@@ -41,20 +43,23 @@ def main(snakemake):
             stage[0] = f"after: {message}"
             say(message)
 
+        settings = spec.get("records") or [spec]
+        motions = [read_motion(r["record"], r["paths"], units=r["units"], dt=r["dt"],
+                               vertical=r.get("vertical", False)) for r in settings]
+        recorded = _recorded(spec, name, motions, settings)
         if spec.get("records"):
-            records = [(read_motion(r["record"], r["paths"], units=r["units"], dt=r["dt"],
-                                    vertical=r.get("vertical", False)),
-                        {k: r[k] for k in SUITE_RECORD_KEYS}) for r in spec["records"]]
+            records = [(m, {k: r[k] for k in SUITE_RECORD_KEYS})
+                       for m, r in zip(motions, settings, strict=True)]
             build = build_suite(records, fit_method=spec["fit_method"],
-                                max_duration=spec["max_duration"], progress=said)
+                                max_duration=spec["max_duration"], recorded=recorded,
+                                progress=said)
         else:
-            motion = read_motion(spec["record"], spec["paths"], units=spec["units"],
-                                 dt=spec["dt"], vertical=spec.get("vertical", False))
-            build = build_ensemble(motion, spec["n_synthetic"], spec["seed"],
+            build = build_ensemble(motions[0], spec["n_synthetic"], spec["seed"],
                                    rotation=spec["rotation_deg"], highpass=spec["highpass"],
                                    fc_hz=spec["fc_hz"], mw=spec["mw"],
                                    max_duration=spec["max_duration"],
                                    fit_method=spec["fit_method"], compare=True,
+                                   recorded=(recorded or {}).get(motions[0].name),
                                    progress=said)
         params = build.parameters()
         params["ensemble"] = snakemake.wildcards.ensemble
@@ -68,8 +73,23 @@ def main(snakemake):
         for line in quality_lines(params):
             say(line)
         _json.write(snakemake.output.params, params, sort_keys=True)
+        # the rounded fits and the digests of their pairs: commit this file as
+        # config/ensembles/<name>.params.json and name it in ensembles.<name>.params
+        entries = recorded_entries(build, [{**r, "fit_method": spec["fit_method"]}
+                                           for r in settings])
+        write_params_file(snakemake.output.recorded, name, entries)
         say(f"wrote {len(build.motions)} motions of {params['record']} to "
             f"{snakemake.output.motions} (stand-in: {params['stand_in']})")
+
+
+def _recorded(spec, name, motions, settings):
+    """Entries of the ensemble's parameters file by record name (None without ``params``),
+    each checked against its record's settings."""
+    if not spec.get("params"):
+        return None
+    return entries_for(spec["params"], [(m.name, {**r, "fit_method": spec["fit_method"]})
+                                        for m, r in zip(motions, settings, strict=True)],
+                       f"ensembles.{name}.params")
 
 
 if __name__ == "__main__":

@@ -56,6 +56,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("-o", "--out", type=Path, required=True, help="ensemble file (.nc)")
     p.add_argument("--params-out", type=Path, default=None,
                    help="JSON of settings and fitted parameters (default: OUT with .json)")
+    p.add_argument("--write-params", type=Path, default=None, metavar="FILE",
+                   help="also write the rounded RDK fit and the digests of its pairs as a "
+                   "recorded-parameters file (config/ensembles/<name>.params.json, named by "
+                   "ensembles.<name>.params of a study; docs/motions.md)")
     _common.add_quiet(p)
     p.set_defaults(func=run)
 
@@ -74,6 +78,11 @@ def run(args) -> int:
     _common.check_output(args.out, (".nc",))
     if args.params_out is not None:
         _common.check_output(args.params_out, (".json",), "--params-out")
+    if args.write_params is not None:
+        _common.check_output(args.write_params, (".json",), "--write-params")
+        if args.n_synthetic < 1:
+            raise ValueError("--write-params needs synthetic pairs (--n-synthetic >= 1): the "
+                             "file records their fit")
     if args.rotation is None:
         raise ValueError("--rotation none: the ensemble's record is always on principal axes "
                          "(its fit needs them); give 'auto' or the forced offset [deg]")
@@ -107,5 +116,17 @@ def run(args) -> int:
     params_out = args.params_out or args.out.with_suffix(".json")
     with _common.replacing(params_out) as tmp:
         _json.write(tmp, params, sort_keys=True)
+    if args.write_params is not None:
+        from ..motions.build import recorded_entries
+        from ..motions.stochastic.recorded import write_params_file
+
+        settings = {"record": record, "paths": None if not args.files else
+                    [str(f) for f in args.files], "units": args.units, "dt": args.dt,
+                    "mw": args.mw, "rotation_deg": args.rotation, "highpass": args.highpass,
+                    "fc_hz": args.fc_hz, "fit_method": args.fit_method}
+        with _common.replacing(args.write_params) as tmp:
+            write_params_file(tmp, args.write_params.name.split(".")[0],
+                              recorded_entries(build, [settings]))
+        say(f"wrote the recorded parameters to {args.write_params}")
     say(f"wrote {len(build.motions)} motions to {args.out} and parameters to {params_out}")
     return 0

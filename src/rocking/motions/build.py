@@ -30,6 +30,14 @@ from .motion import GroundMotion
 from .principal import to_principal_axes
 from .stochastic import fit_rdk, synthesize
 from .stochastic.quality import ensemble_quality, format_quality
+from .stochastic.recorded import (
+    SIGNIFICANT_DIGITS,
+    pairs_match,
+    pairs_sha256,
+    record_entry,
+    recorded_fit,
+    rounded_fit,
+)
 
 HIGHPASS_KINDS = ("oscillator", "butterworth", "none")
 FIT_METHODS = ("spectrum", "counts")
@@ -115,6 +123,7 @@ def build_ensemble(
     max_duration: float | None = None,
     fit_method: str = "spectrum",
     compare: bool = False,
+    recorded: dict[str, Any] | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> EnsembleBuild:
     """Process a recorded pair and synthesize ``n`` pairs like it.
@@ -149,6 +158,14 @@ def build_ensemble(
     compare : bool
         Also fit and simulate with the other method (same seed and settings): its pairs go
         to ``comparison`` and its fit and quality to ``info["comparison"]``.
+    recorded : dict, optional
+        The record's entry of a parameters file
+        (:func:`rocking.motions.stochastic.recorded.read_params_file`): its rounded fit is
+        used instead of fitting, and the pairs made from it are checked against its
+        ``pairs_sha256`` (``info["motions_match"]``). Without it the fit is rounded to
+        :data:`~rocking.motions.stochastic.recorded.SIGNIFICANT_DIGITS` digits before the
+        simulation, so the entry written from the build (:func:`recorded_entries`) makes the
+        same pairs.
     progress : callable, optional
         Called with one line of text after each stage (None: silent).
 
@@ -200,12 +217,12 @@ def build_ensemble(
     timings["process_s"] = time.perf_counter() - t0
     sim = {"method": method, "axes": axes, "order": order, "highpass": highpass,
            "fc_hz": fc_hz, "max_duration": max_duration}
-    motions, fit, quality = _synthetic_pairs(rotated, record, n, seed, fit_method, sim,
-                                             timings, say)
+    motions, fit, quality, pairs_sha = _synthetic_pairs(rotated, record, n, seed, fit_method,
+                                                        sim, timings, say, recorded)
     comparison, other = [], None
     if compare and n > 0:
         other_method = next(m for m in FIT_METHODS if m != fit_method)
-        comparison, other_fit, other_quality = _synthetic_pairs(
+        comparison, other_fit, other_quality, _ = _synthetic_pairs(
             rotated, record, n, seed, other_method, sim, {}, say)
         other = {"fit_method": other_method, "fit_quality": other_quality,
                  "fit": other_fit.to_dict()}
@@ -231,8 +248,48 @@ def build_ensemble(
         "axes": axes,
         "max_duration": max_duration,
         "timings": timings,
+        "fit_source": None if fit is None else ("recorded" if recorded else "fitted"),
+        "pairs_sha256": pairs_sha,
+        "motions_match": _motions_match(recorded, n, seed, pairs_sha, motion.name, say),
     }
     return EnsembleBuild(motions, fit, info, comparison)
+
+
+def recorded_entries(build: EnsembleBuild,
+                     settings: list[dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Entries of a parameters file (:mod:`rocking.motions.stochastic.recorded`) by record
+    name, for every record of ``build`` (one record or a suite) that has synthetic pairs.
+
+    ``settings`` holds each record's settings in the build's order (keys
+    :data:`~rocking.motions.stochastic.recorded.FIT_SETTINGS`; a suite's ``fit_method`` is
+    the build's).
+    """
+    per_record = build.info["records"] if build.info.get("suite") else [build.parameters()]
+    if len(per_record) != len(settings):
+        raise ValueError(f"{len(settings)} settings for {len(per_record)} records")
+    out = {}
+    for p, given in zip(per_record, settings, strict=True):
+        if p["fit"] is None:
+            continue
+        given = {**given, "fit_method": p["fit_method"]}
+        out[p["fit"]["name"]] = record_entry(p["fit"], given, p["pairs_sha256"], p["seed"])
+    return out
+
+
+def _motions_match(recorded: dict[str, Any] | None, n: int, seed: int,
+                   sha: list[str] | None, name: str, say: Callable[[str], None]) -> bool | None:
+    """Whether the pairs made from a recorded fit are the recorded ones to the bit (None
+    where the file recorded another seed, or no fit was recorded)."""
+    match = None if not recorded or sha is None else pairs_match(recorded, seed, sha)
+    if match:
+        say(f"{name}: the {n} pairs made from the recorded parameters are the recorded ones "
+            "to the bit")
+    elif match is False:
+        say(f"WARNING {name}: the {n} pairs made from the recorded parameters differ from the "
+            "recorded ones in their bits (this machine's exp/sin or library versions differ "
+            "from the one that wrote the file): answers may differ from the gallery's; "
+            "`rocking verify` tells by how much")
+    return match
 
 
 SUITE_RECORD_KEYS = ("n_synthetic", "seed", "mw", "rotation_deg", "highpass", "fc_hz")
@@ -244,6 +301,7 @@ def build_suite(
     *,
     fit_method: str = "spectrum",
     max_duration: float | None = None,
+    recorded: dict[str, dict[str, Any]] | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> EnsembleBuild:
     """Process every record of a suite with its own settings and synthesize its pairs.
@@ -257,6 +315,9 @@ def build_suite(
         Identification of the RDK parameters of every record with synthetic pairs.
     max_duration : float, optional
         Keep only the first ``max_duration`` seconds of every motion [s].
+    recorded : dict, optional
+        Entries of a parameters file by record name (``recorded`` of :func:`build_ensemble`);
+        a record without one is fitted.
     progress : callable, optional
         Called with one line of text after each stage.
 
@@ -287,7 +348,8 @@ def build_suite(
             motion, settings["n_synthetic"], settings["seed"],
             rotation=settings["rotation_deg"], highpass=settings["highpass"],
             fc_hz=settings["fc_hz"], mw=settings["mw"], max_duration=max_duration,
-            fit_method=fit_method, progress=progress))
+            fit_method=fit_method, recorded=(recorded or {}).get(motion.name),
+            progress=progress))
     motions = [b.motions[0] for b in builds] + [m for b in builds for m in b.motions[1:]]
     per_record = [b.parameters() for b in builds]
     timings: dict[str, float] = {}
@@ -323,30 +385,43 @@ def _synthetic_pairs(
     sim: dict[str, Any],
     timings: dict[str, float],
     say: Callable[[str], None],
-) -> tuple[list[GroundMotion], Any, dict[str, Any] | None]:
-    """[record, pairs…], the RDK fit and the fit quality (None below 2 pairs) of one method."""
-    motions, fit, quality = [record], None, None
+    recorded: dict[str, Any] | None = None,
+) -> tuple[list[GroundMotion], Any, dict[str, Any] | None, list[str] | None]:
+    """[record, pairs…], the (rounded) RDK fit, the fit quality (None below 2 pairs) of one
+    method and the digests of the pairs before any cut (None without pairs)."""
+    motions, fit, quality, sha = [record], None, None, None
     if n > 0:
         hp: dict[str, Any] = {"highpass": False}
         if sim["highpass"] != "none":
             hp = {"highpass": sim["highpass"], "fc_hz": sim["fc_hz"]}
         t1 = time.perf_counter()
-        # Fit the rotated record before its high-pass (a Butterworth's padding would shift
-        # the envelope); the spectrum match compares both after the same high-pass. It is on
-        # its principal axes already: a forced 0 keeps it there.
-        fit = fit_rdk(rotated, 0.0, method=fit_method, seed=seed, order=sim["order"], **hp)
-        timings["fit_s"] = time.perf_counter() - t1
-        say(f"RDK fit ({fit_method}) in {timings['fit_s']:.1f} s: {_describe(fit)}")
+        if recorded:
+            fit = recorded_fit(recorded)
+            say(f"RDK fit recorded ({SIGNIFICANT_DIGITS} significant digits, fit_sha256 "
+                f"{recorded['fit_sha256'][:12]}): {_describe(fit)}")
+        else:
+            # Fit the rotated record before its high-pass (a Butterworth's padding would
+            # shift the envelope); the spectrum match compares both after the same
+            # high-pass. It is on its principal axes already: a forced 0 keeps it there.
+            # Rounded: the optimiser's last digits differ between machines, the rounded
+            # parameters (written to the build's recorded_params) do not.
+            fit = rounded_fit(fit_rdk(rotated, 0.0, method=fit_method, seed=seed,
+                                      order=sim["order"], **hp))
+            timings["fit_s"] = time.perf_counter() - t1
+            say(f"RDK fit ({fit_method}) in {timings['fit_s']:.1f} s, rounded to "
+                f"{SIGNIFICANT_DIGITS} significant digits: {_describe(fit)}")
         t2 = time.perf_counter()
-        motions += synthesize(fit, n, seed, method=sim["method"], axes=sim["axes"],
-                              order=sim["order"], **hp)
+        pairs = synthesize(fit, n, seed, method=sim["method"], axes=sim["axes"],
+                           order=sim["order"], **hp)
+        sha = pairs_sha256(pairs)
+        motions += pairs
         timings["synthesize_s"] = time.perf_counter() - t2
         say(f"{n} synthetic pairs in {timings['synthesize_s']:.1f} s")
     if sim["max_duration"] is not None:
         motions = [cut(m, sim["max_duration"]) for m in motions]
     if n >= 2 and sim["axes"] == "principal":
         quality = ensemble_quality(motions)
-    return motions, fit, quality
+    return motions, fit, quality, sha
 
 
 def _describe(fit: Any) -> str:

@@ -141,7 +141,9 @@ def check_config(config: Mapping[str, Any]) -> None:
         (a padding many times the record is a warning), a study naming an unknown
         ensemble, a tilt goal r·α ≥ π/2 for a slenderness of its run, or ``vertical: true``
         for a record without a vertical file (or whose vertical file has another time step
-        or length than its pair: :func:`rocking.motions.readers.with_vertical`).
+        or length than its pair: :func:`rocking.motions.readers.with_vertical`), or a file of
+        recorded RDK parameters (``params``) that is missing, altered (digest), or of other
+        settings than its records'.
     """
     _check_finite(config)
     from .dimensions import resolve_dimensions
@@ -154,10 +156,12 @@ def check_config(config: Mapping[str, Any]) -> None:
     for name in config["ensembles"]:
         ens = EnsembleSpec.from_config(config, name)
         n_motions[name] = ens.n_motions
+        recorded = []
         for key, rec in _record_keys(f"ensembles.{name}", ens):
             motion = _check_record(key, rec)
             if motion is None:
                 continue
+            recorded.append((motion.name, {**rec.to_attrs(), "fit_method": ens.fit_method}))
             _check_magnitude(key, rec, motion)
             _check_highpass(key, rec, motion)
             if max_duration is not None and max_duration < 2 * motion.dt:
@@ -165,6 +169,10 @@ def check_config(config: Mapping[str, Any]) -> None:
                                  f"two samples of {key} (dt {motion.dt:g} s); give at least "
                                  f"{2 * motion.dt:g} s or null")
             check_ensemble_size(f"{key}.n_synthetic", rec.n_synthetic, motion.npts)
+        if ens.params is not None:  # recorded RDK parameters: readable, digests, settings
+            from ..motions.stochastic.recorded import entries_for
+
+            entries_for(ens.params, recorded, f"ensembles.{name}.params")
     for study, s in config["studies"].items():
         if s["ensemble"] not in config["ensembles"]:
             raise ValueError(f"studies.{study}.ensemble={s['ensemble']!r} is not a key of "

@@ -27,7 +27,7 @@ DEFAULTS: dict[str, Any] = {
     "dask": {"min_task_seconds": 0.1},
     "ensemble": {"paths": None, "units": "g", "dt": None, "n_synthetic": 10, "seed": 2017,
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
-                 "fit_method": "spectrum", "vertical": False},
+                 "fit_method": "spectrum", "vertical": False, "params": None},
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"],
               "mu": None},
     "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,

@@ -170,6 +170,9 @@ class EnsembleSpec:
     vertical : bool
         The one record with its vertical component, and the default of every record of a
         suite (:class:`RecordSpec`); synthetic pairs stay horizontal.
+    params : str or None
+        File of recorded RDK parameters (:mod:`rocking.motions.stochastic.recorded`) used
+        instead of fitting; None: fit (and round).
     """
 
     name: str
@@ -187,6 +190,7 @@ class EnsembleSpec:
     fc_hz: float | None = None
     suite: tuple[RecordSpec, ...] | None = None
     vertical: bool = False
+    params: str | None = None
 
     @property
     def records(self) -> tuple[RecordSpec, ...]:
@@ -222,6 +226,8 @@ class EnsembleSpec:
                                                                            "counts"):
             raise ValueError(f"{field}.fit_method must be spectrum or counts, got "
                              f"{e['fit_method']!r}")
+        if e["params"] is not None and (not isinstance(e["params"], str) or not e["params"]):
+            raise ValueError(f"{field}.params must be a file name or null, got {e['params']!r}")
         max_duration = _section(config, "motions")["max_duration"]
         if max_duration is not None:
             _positive(max_duration, "motions.max_duration")
@@ -242,7 +248,7 @@ class EnsembleSpec:
         return cls(name, e["record"], None if one["paths"] is None else tuple(one["paths"]),
                    one["n_synthetic"], one["seed"], one["mw"], one["rotation_deg"],
                    e["fit_method"], max_duration, one["units"], one["dt"], one["highpass"],
-                   one["fc_hz"], suite, one.get("vertical", False))
+                   one["fc_hz"], suite, one.get("vertical", False), e["params"])
 
     @property
     def digest(self) -> str:
@@ -266,6 +272,8 @@ class EnsembleSpec:
                "max_duration": self.max_duration}
         if self.vertical:  # only when asked: a horizontal ensemble keeps its digest
             out["vertical"] = True
+        if self.params is not None:  # likewise: an ensemble that fits keeps its digest
+            out["params"] = self.params
         if self.suite is not None:
             out["records"] = [r.to_attrs() for r in self.suite]
         return out
@@ -281,7 +289,7 @@ class EnsembleSpec:
                    attrs["fit_method"], attrs["max_duration"], attrs.get("units", "g"),
                    attrs.get("dt"), attrs.get("highpass", "oscillator"), attrs.get("fc_hz"),
                    None if suite is None else tuple(RecordSpec.from_attrs(r) for r in suite),
-                   bool(attrs.get("vertical", False)))
+                   bool(attrs.get("vertical", False)), attrs.get("params"))
 
 
 def _suite(e: Mapping[str, Any], field: str) -> tuple[RecordSpec, ...]:

@@ -169,10 +169,25 @@ def filter_poles(
             f"the low-frequency filter (omega_low={w_low!r} rad/s, zeta_low={z_low!r}) "
             "coincides with the filter: its poles must differ"
         )
-    # Partial fractions of ω_f² s² / [(s − p1)(s − p̄1)(s − p2)(s − p̄2)].
-    c1 = w * w * p1 * p1 / ((p1 - p1.conj()) * (p1 - p2) * (p1 - p2.conj()))
-    c2 = w * w * p2 * p2 / ((p2 - p2.conj()) * (p2 - p1) * (p2 - p1.conj()))
+    # Partial fractions of ω_f² s² / [(s − p1)(s − p̄1)(s − p2)(s − p̄2)], with products and
+    # quotients written out in real arithmetic: numpy's complex multiply and divide loops
+    # use FMA on some CPUs and not on others, which changed the motions' last bits.
+    ww = w * w
+    c1 = _cdiv(ww * _cmul(p1, p1), _cmul(_cmul(p1 - p1.conj(), p1 - p2), p1 - p2.conj()))
+    c2 = _cdiv(ww * _cmul(p2, p2), _cmul(_cmul(p2 - p2.conj(), p2 - p1), p2 - p1.conj()))
     return np.stack([c1, c2], axis=1), np.stack([p1, p2], axis=1)
+
+
+def _cmul(a: NDArray[np.complex128], b: NDArray[np.complex128]) -> NDArray[np.complex128]:
+    """a·b by real multiplies and adds (each one correctly rounded on every CPU)."""
+    return (a.real * b.real - a.imag * b.imag) + 1j * (a.real * b.imag + a.imag * b.real)
+
+
+def _cdiv(a: NDArray[np.complex128], b: NDArray[np.complex128]) -> NDArray[np.complex128]:
+    """a/b = a·b̄/|b|² by real operations (see :func:`_cmul`); |b| is far from 0 and ∞ here."""
+    den = b.real * b.real + b.imag * b.imag
+    return ((a.real * b.real + a.imag * b.imag) / den) + 1j * ((a.imag * b.real
+                                                               - a.real * b.imag) / den)
 
 
 def unit_psd(

@@ -1,0 +1,204 @@
+"""`rocking verify`: the committed gallery against itself, copies with answers moved, and the
+bad inputs (no run, another configuration, a partial run)."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import yaml
+
+from rocking.cli import main
+from rocking.study.verify import FLAGGED_RESOLUTION, config_differences, verify_run
+
+ROOT = Path(__file__).resolve().parents[1]
+GALLERY = ROOT / "results" / "paper"
+VALUE = "pga_crit [g tan(alpha)]"
+
+
+def _copy(tmp_path: Path) -> Path:
+    """The gallery's configuration and tables (no figures) in a folder of the test."""
+    out = tmp_path / "run"
+    shutil.copytree(GALLERY, out, ignore=shutil.ignore_patterns("*.png", "*.html", "*.xml",
+                                                                 "figures", "motions"))
+    return out
+
+
+def _move(run: Path, factor: float, flagged: bool) -> pd.Series:
+    """Multiply one El Centro answer (flagged unresolved or not) by ``factor``; its row."""
+    path = run / "elcentro" / "critical.csv"
+    frame = pd.read_csv(path)
+    pick = frame.index[(frame["unresolved"] == flagged) & frame[VALUE].notna()
+                       & (frame["motion"] != "el-centro-1940")][7]
+    frame.loc[pick, VALUE] *= factor
+    frame.loc[pick, "pga_crit_g [g]"] *= factor
+    frame.to_csv(path, index=False, float_format="%.10g")
+    return frame.loc[pick]
+
+
+def test_the_gallery_against_itself_is_identical_table_by_table(capsys):
+    assert main(["verify", str(GALLERY), "--against", str(GALLERY)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    tables = sorted(p.relative_to(GALLERY).as_posix() for p in GALLERY.glob("*/*.csv"))
+    assert tables and "elcentro/critical.csv" in tables
+    for t in tables:
+        assert any(line.startswith(f"{t}: identical (") for line in out), t
+
+
+def test_an_answer_moved_beyond_its_resolution_is_named(tmp_path, capsys):
+    run = _copy(tmp_path)
+    row = _move(run, 1.05, flagged=False)   # 5 % > the default bisection tolerance 0.5 %
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 1
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    head = next(line for line in lines if line.startswith("elcentro/critical.csv:"))
+    assert "DIFFERS beyond" in head and "1 beyond" in head
+    named = lines[lines.index(head) + 1:]
+    name = f"motion={row['motion']}"
+    said = "5.00% off the gallery's, resolution 0.50%"
+    assert any(name in line and f"R={row['R [m]']}" in line and "limit_state="
+               f"{row['limit_state']}" in line and said in line for line in named)
+    # the tables not touched stay identical
+    assert "elcentro/mean_spectra.csv: identical" in out
+    assert "lomaprieta/critical.csv: identical" in out
+
+
+def test_a_move_within_the_resolution_is_reported_as_such(tmp_path, capsys):
+    run = _copy(tmp_path)
+    _move(run, 1.003, flagged=False)              # 0.3 % < 0.5 %
+    _move(run, 1 + FLAGGED_RESOLUTION / 2, flagged=True)   # a flagged answer: wider
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 0
+    out = capsys.readouterr().out
+    assert "elcentro/critical.csv: within the answers' stated resolution (3740 rows, 2 within)" \
+        in out
+
+
+def test_an_aggregate_takes_the_resolution_of_its_answers(tmp_path):
+    run = _copy(tmp_path)
+    path = run / "elcentro" / "mean_spectra.csv"
+    frame = pd.read_csv(path)
+    rows = frame.index[frame["mean [g tan(alpha)]"].notna() & (frame["n_unresolved"] == 0)]
+    frame.loc[rows[0], "mean [g tan(alpha)]"] *= 1.004    # within 0.5 %
+    frame.loc[rows[1], "mean [g tan(alpha)]"] *= 1.02     # beyond
+    frame.to_csv(path, index=False, float_format="%.10g")
+    verdict = next(v for v in verify_run(run, GALLERY) if v.table == "elcentro/mean_spectra.csv")
+    assert verdict.verdict == "beyond" and verdict.n_within == 1 and len(verdict.beyond) == 1
+    assert verdict.beyond[0].split(": ", 1)[1].startswith("mean ")
+    assert "2.00% off the gallery's" in verdict.beyond[0]
+
+
+def _one_line_exit_2(argv, capsys) -> str:
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("rocking verify: error: ")
+    return err
+
+
+def test_a_folder_that_is_no_run(tmp_path, capsys):
+    err = _one_line_exit_2(["verify", str(tmp_path), "--against", str(GALLERY)], capsys)
+    assert str(tmp_path) in err and "not a run" in err and "config.yaml" in err
+
+
+def test_a_run_of_another_configuration_names_the_keys(tmp_path, capsys):
+    run = _copy(tmp_path)
+    config = yaml.safe_load((run / "config.yaml").read_text())
+    config["search"]["upper"] = 30.0
+    config["studies"]["lomaprieta"]["upper"] = 50.0
+    config["dask"]["progress_interval"] = 5          # cannot change a number: not compared
+    (run / "config.yaml").write_text(yaml.safe_dump(config))
+    err = _one_line_exit_2(["verify", str(run), "--against", str(GALLERY)], capsys)
+    assert "another configuration" in err and "search.upper" in err
+    assert "studies.lomaprieta.upper" in err and "dask" not in err
+
+
+def test_a_partial_run_names_what_is_missing(tmp_path, capsys):
+    run = _copy(tmp_path)
+    (run / "lomaprieta" / "fragility.csv").unlink()
+    err = _one_line_exit_2(["verify", str(run), "--against", str(GALLERY)], capsys)
+    assert str(run) in err and "partial run" in err and "lomaprieta/fragility.csv" in err
+
+
+def test_an_output_root_without_its_store_is_partial(tmp_path, capsys):
+    # a run's output root: <study>/config.yaml, the answers in the spectra store
+    run = tmp_path / "results"
+    for study in ("elcentro", "lomaprieta"):
+        shutil.copytree(GALLERY / study, run / study,
+                        ignore=shutil.ignore_patterns("critical.csv", "figures", "*.html"))
+        shutil.copy(GALLERY / "config.yaml", run / study / "config.yaml")
+    err = _one_line_exit_2(["verify", str(run), "--against", str(GALLERY)], capsys)
+    assert "partial run, missing elcentro/spectra.zarr, lomaprieta/spectra.zarr" in err
+
+
+def test_config_differences_are_dotted_keys():
+    a = {"search": {"upper": 20.0}, "ensembles": {"e": {"seed": 1}}, "dask": {"x": 1}}
+    b = {"search": {"upper": 20.0}, "ensembles": {"e": {"seed": 2, "params": "p.json"}},
+         "dask": {"x": 2}}
+    assert config_differences(a, b) == ["ensembles.e.params", "ensembles.e.seed"]
+
+
+def test_motions_that_differ_from_the_gallery_s_are_named(tmp_path, capsys):
+    """An output root: <study>/config.yaml, the tables, motions/<name>-<digest>.nc."""
+    import numpy as np
+
+    from rocking.motions.ensemble_io import save_ensemble
+    from rocking.motions.motion import GroundMotion
+    from rocking.study.ensemble_spec import EnsembleSpec
+
+    run = tmp_path / "results"
+    for study in ("elcentro", "lomaprieta"):
+        shutil.copytree(GALLERY / study, run / study,
+                        ignore=shutil.ignore_patterns("figures", "*.html"))
+        shutil.copy(GALLERY / "config.yaml", run / study / "config.yaml")
+    config = yaml.safe_load((GALLERY / "config.yaml").read_text())
+    digest = EnsembleSpec.from_config(config, "elcentro").digest
+    a = np.sin(np.linspace(0.0, 3.0, 50))
+    save_ensemble(run / "motions" / f"elcentro-{digest}.nc",
+                  [GroundMotion(a, a, 0.01, "el-centro-1940")])
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 0
+    out = capsys.readouterr().out
+    assert "motions/elcentro: 11 of 11 motions differ from the gallery's in their bits: " \
+           "el-centro-1940, el-centro-1940-rdk-000" in out
+    assert "motions/lomaprieta" not in out   # no file of it: nothing said
+
+
+def test_budget_spent_in_the_run_only_widens_its_answers_resolution(tmp_path, capsys):
+    """The flag another branch adds: an answer the run says ran out of budget is held to the
+    flagged resolution even though the gallery has no such column."""
+    run = _copy(tmp_path)
+    path = run / "elcentro" / "critical.csv"
+    frame = pd.read_csv(path)
+    frame["budget_spent"] = False
+    pick = frame.index[~frame["unresolved"] & frame[VALUE].notna()][3]
+    frame.loc[pick, "budget_spent"] = True
+    frame.loc[pick, VALUE] *= 1.1                     # 10 % < 15 %
+    frame.to_csv(path, index=False, float_format="%.10g")
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 0
+    out = capsys.readouterr().out
+    assert "elcentro/critical.csv: within the answers' stated resolution (3740 rows, 1 within)" \
+        in out
+    assert "columns only in the run: budget_spent" in out
+
+
+def test_a_key_one_side_lacks_is_held_to_its_default():
+    """A gallery written before a key existed: absent = the schema default; the output folder
+    and a study's `reproduces` change no table."""
+    run = {"ensembles": {"e": {"units": "g", "highpass": "oscillator"}}, "output": "mine",
+           "studies": {"s": {"reproduces": "vassiliou2017", "stripes": {"refine": 8}}}}
+    gallery = {"ensembles": {"e": {}}, "studies": {"s": {"stripes": {}}}}
+    assert config_differences(run, gallery) == []
+    run["studies"]["s"]["stripes"]["refine"] = 4
+    run["ensembles"]["e"]["units"] = "m/s2"
+    assert config_differences(run, gallery) == ["ensembles.e.units",
+                                                "studies.s.stripes.refine"]
+
+
+def test_rows_with_repeated_keys_are_matched_in_order(tmp_path, capsys):
+    run = _copy(tmp_path)
+    path = run / "elcentro" / "linear_fit.csv"
+    frame = pd.read_csv(path)
+    frame = pd.concat([frame, frame.iloc[[3]]], ignore_index=True)   # a key twice
+    frame.to_csv(path, index=False, float_format="%.10g")
+    assert main(["verify", str(run), "--against", str(GALLERY)]) == 1
+    out = capsys.readouterr().out
+    assert "elcentro/linear_fit.csv: DIFFERS" in out and "occurrence=1: only in the run" in out
