@@ -191,3 +191,43 @@ def test_fig9_per_motion_claim_is_judged_per_motion():
         "damping|tilt:1/3": {"per_motion": per, "rel_diff_means": [0.0]}}}})
     # the per-motion claim is the paper's for overturning; for θ > α/3 it speaks of means
     assert sum("per motion" in r.statement for r in rows) == 1
+
+
+def test_the_report_quotes_the_shift_beside_its_headline_numbers(tmp_path):
+    """The committed gallery's tables and figures with a refinement sample: the findings carry
+    "refinement moves it by" beside the R = 10 m mean (all its cells refined: exact) and the
+    fragility medians (the sample's shift), and say what the sample was."""
+    from pathlib import Path
+
+    from rocking.plot import FIGURES, report
+
+    root = Path(__file__).resolve().parents[1] / "results" / "paper"
+    study = root / "elcentro"
+    pngs = sorted(p for p in [*root.glob("figures/*.png"), *study.glob("figures/*.png")]
+                  if p.stem.startswith(tuple(FIGURES)))
+    critical = refinement.cells_from_table(study / "critical.csv")
+    head = refinement.headline_cells(critical)
+    assert len(head) == 11 and set(head["R"]) == {10.0}
+    sample = head.assign(why="headline", refined=head["answer"] * 0.9, analyses=3000,
+                         truncated=False)
+    tilt = critical[(critical["mode"] == "3d") & (critical["limit_state"] == "tilt:1/3")]
+    tilt = tilt.head(2).assign(why="sample", refined=lambda d: d["answer"] * 0.98,
+                               analyses=100, truncated=False)
+    sample = pd.concat([sample, tilt]).assign(
+        shift=lambda d: (d["refined"] - d["answer"]) / d["answer"])
+    csv = tmp_path / "refinement_sample.csv"
+    sample.to_csv(csv, index=False)
+    page = report.build(tmp_path / "report.html", title="paper", figures=pngs,
+                        fragility=study / "fragility.csv", risk=study / "risk.csv",
+                        study="elcentro", refinement=csv).read_text()
+    findings = page.split("<h2 id='what-was-run'>")[0]
+    assert "4.75 ± 0.41 (standard error, 11 motions) (refinement moves it by −10.0 % " \
+           "[all 11 cells refined])" in findings
+    assert "θ &gt; α/3" in findings or "tilt" in findings
+    assert "refinement moves it by −2.0 % [sample of 2 cells]" in findings
+    assert "13 of this study&#x27;s cells (11 of the headline mean" in findings
+    assert "e = 0.942" in findings
+    # without a sample the report says so instead of quoting nothing
+    bare = report.build(tmp_path / "bare.html", title="paper", figures=pngs,
+                        fragility=study / "fragility.csv", study="elcentro").read_text()
+    assert "No refinement sample in this run" in bare
