@@ -396,8 +396,6 @@ def test_own_records_config_is_valid():
 
 
 def _gallery(study: str, table: str, **where) -> dict:
-
-
     with open(ROOT / "results/paper" / study / f"{table}.csv", newline="") as fh:
         rows = [r for r in csv.DictReader(fh)
                 if all(r[k] == v for k, v in where.items())]
