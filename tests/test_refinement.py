@@ -92,6 +92,7 @@ def test_a_point_beyond_the_cost_cap_is_truncated_not_guessed():
     got = refinement.refine_point(_pulse_pair(), "2d-x", 0.5, 0.2, {"overturning": 19.0},
                                   PRESETS["default"], upper=20.0, max_analyses=5)
     assert got["truncated"] and math.isnan(got["refined"]["overturning"])
+    assert got["analyses"] == 0  # known before the first analysis: nothing spent
 
 
 def _sample() -> pd.DataFrame:

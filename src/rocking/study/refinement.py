@@ -11,7 +11,10 @@ The sample (:func:`choose_cells`): per (mode, limit state) ``k`` reached cells d
 seeded generator, and every cell of the headline mean (the primary mode's overturning at the
 largest size R, at the study's main slenderness). Each point (mode, motion, tan α, R) is
 searched once for all its sampled limit states. The cost is capped per point
-(``max_analyses``): a point that needs more is recorded ``truncated`` with no refined answer.
+(``max_analyses``): a point whose scan needs more (ln(answer/uplift)/ln(1.0005) points:
+about 3100 for an answer 4.75 above uplift at 1, 6100 for 21) is not run and is recorded
+``truncated`` with no refined answer. One analysis of a 10 m cylinder costs about 20 ms of
+CPU, so a point costs up to ``max_analyses`` × 20 ms.
 
 ``refinement_sample.csv`` (:func:`write_refinement_sample`) has one row per sampled cell:
 mode, limit_state, motion, tan_alpha, R, why ("sample" or "headline"), answer, refined,
@@ -184,7 +187,9 @@ def refine_point(motion, mode: str, R: float, tan_alpha: float, answers: Mapping
     upper : float
         The study's search bound [-].
     max_analyses : int
-        Analyses allowed; beyond, the point is ``truncated`` and its refined answers NaN.
+        Analyses allowed. A scan that needs more points than this (known beforehand from
+        ln(answer/uplift)/ln(1.0005)) is not started; one that runs out (retried failures)
+        stops: either way the point is ``truncated`` and its refined answers NaN.
 
     Returns
     -------
@@ -209,6 +214,10 @@ def refine_point(motion, mode: str, R: float, tan_alpha: float, answers: Mapping
     lower = uplift_intensity(motion, mode)
     first = np.full(len(states), np.nan)
     top = min(float(goal.max()), upper)
+    needed = math.ceil(math.log(top / lower) / math.log1p(REFINED_STEP)) if top > lower else 0
+    if needed > max_analyses:  # known before any analysis: no CPU spent on a cut scan
+        return {"refined": {ls: float("nan") for ls in names}, "analyses": 0,
+                "truncated": True}
     n, analyses = 0, 0
     while True:
         n += 1
