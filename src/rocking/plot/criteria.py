@@ -40,7 +40,9 @@ Z_P90 = 1.6449
 PER_MOTION_TOL = 0.15
 """Relative difference of two answers of one motion that the answers' resolution cannot
 resolve [-]: a ``default`` answer lies up to 14–15 % above the converged first exceedance at
-the 90th percentile (docs/performance.md, "Resolution of the critical intensity")."""
+the 90th percentile (docs/performance.md, "Resolution of the critical intensity"). Tied to
+the ``default`` preset's resolution as measured there: when a preset resolves its answers
+better, this tolerance should follow the new 90th percentile."""
 PER_MOTION_SHARE = 0.80
 """Share of (motion, R) pairs within :data:`PER_MOTION_TOL` for "essentially identical per
 motion" [-]: with each of the two answers beyond its 90th-percentile error in 10 % of the
