@@ -13,8 +13,10 @@ largest size R, at the study's main slenderness). Each point (mode, motion, tan 
 searched once for all its sampled limit states. The cost is capped per point
 (``max_analyses``): a point whose scan needs more (ln(answer/uplift)/ln(1.0005) points:
 about 3100 for an answer 4.75 above uplift at 1, 6100 for 21) is not run and is recorded
-``truncated`` with no refined answer. One analysis of a 10 m cylinder costs about 20 ms of
-CPU, so a point costs up to ``max_analyses`` × 20 ms.
+``truncated`` with no refined answer. One analysis of a 10 m cylinder under El Centro costs
+about 7 ms of CPU (the record at R = 10 m: 3126 analyses in 23 s, its answer 5.428 refined to
+4.771, where the resolution benchmark's converged reference is 4.774), so a point costs up to
+``max_analyses`` × 7 ms.
 
 ``refinement_sample.csv`` (:func:`write_refinement_sample`) has one row per sampled cell:
 mode, limit_state, motion, tan_alpha, R, why ("sample" or "headline"), answer, refined,
