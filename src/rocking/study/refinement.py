@@ -216,6 +216,8 @@ def refine_point(motion, mode: str, R: float, tan_alpha: float, answers: Mapping
     lower = uplift_intensity(motion, mode)
     first = np.full(len(states), np.nan)
     top = min(float(goal.max()), upper)
+    if not math.isfinite(lower):  # the component is zero: nothing to refine (never reached)
+        return {"refined": dict(answers), "analyses": 0, "truncated": False}
     needed = math.ceil(math.log(top / lower) / math.log1p(REFINED_STEP)) if top > lower else 0
     if needed > max_analyses:  # known before any analysis: no CPU spent on a cut scan
         return {"refined": {ls: float("nan") for ls in names}, "analyses": 0,
