@@ -232,3 +232,17 @@ def test_the_report_quotes_the_shift_beside_its_headline_numbers(tmp_path):
     bare = report.build(tmp_path / "bare.html", title="paper", figures=pngs,
                         fragility=study / "fragility.csv", study="elcentro").read_text()
     assert "No refinement sample in this run" in bare
+
+
+def test_the_rule_reads_the_store_and_names_a_motion_its_ensemble_lacks(tmp_path):
+    """write_refinement_sample on a written store: its cells and tolerances are read, and a
+    store whose motions are not those of the ensemble file stops before any analysis, naming
+    the motion (the synthetic store's motions are labels without records)."""
+    import figures_synthetic as fs
+
+    paths = fs.write_study(tmp_path / "study", with_tilt_map=False)
+    with pytest.raises(ValueError, match="motion 'synthetic-0"):
+        refinement.write_refinement_sample(paths["store"], paths["motions"],
+                                           tmp_path / "s.csv",
+                                           refinement.SampleSpec(k=1, max_analyses=10))
+    assert not (tmp_path / "s.csv").exists()

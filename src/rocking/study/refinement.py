@@ -257,6 +257,10 @@ def refine_sample(sample: pd.DataFrame, motions: Sequence, accuracy, *, upper: f
                   n_workers: int = 1) -> pd.DataFrame:
     """The sample with its refined answers: one search per point, ``n_workers`` processes."""
     by_name = {m.name: m for m in motions}
+    missing = sorted(set(sample["motion"]) - set(by_name))
+    if missing:
+        raise ValueError(f"motion {missing[0]!r} of the sample is not in the ensemble file "
+                         f"(it has {sorted(by_name)})")
     points = list(sample.groupby(["mode", "motion", "tan_alpha", "R"], sort=True))
     tasks = [((by_name[motion], mode, R, t, dict(zip(rows["limit_state"], rows["answer"],
                                                       strict=True)), accuracy),
@@ -288,14 +292,18 @@ def write_refinement_sample(store_path: str | Path, motions_path: str | Path,
     int
         Rows written.
     """
+    import warnings
+
     import xarray as xr
 
     from ..motions.ensemble_io import load_ensemble
     from ..units import CSV_FLOAT_FORMAT
     from .store import read_attrs
 
-    with xr.open_zarr(store_path, consolidated=True) as store:
-        cells = answered_cells(store.load())
+    with warnings.catch_warnings():  # a store written without consolidated metadata is read too
+        warnings.simplefilter("ignore", RuntimeWarning)
+        with xr.open_zarr(store_path) as store:
+            cells = answered_cells(store.load())
     attrs = read_attrs(store_path)
     options = attrs.get("search_options", {})
     sample = choose_cells(cells, spec)
