@@ -20,7 +20,8 @@ about 7 ms of CPU (the record at R = 10 m: 3126 analyses in 23 s, its answer 5.4
 
 ``refinement_sample.csv`` (:func:`write_refinement_sample`) has one row per sampled cell:
 mode, limit_state, motion, tan_alpha, R, why ("sample" or "headline"), answer, refined,
-shift, analyses, truncated. :func:`relative_shifts` summarises it per (mode, limit state).
+shift, analyses, truncated. The report reads it
+through :mod:`rocking.plot.refined`.
 """
 
 from __future__ import annotations
@@ -313,20 +314,3 @@ def write_refinement_sample(store_path: str | Path, motions_path: str | Path,
                           zeta=options.get("zeta"), n_workers=n_workers)
     table.to_csv(out_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     return len(table)
-
-
-def relative_shifts(table: pd.DataFrame) -> dict[tuple[str, str], dict]:
-    """Per (mode, limit state) of a refinement sample: ``mean`` relative shift of the cells
-    refined, its standard error ``se`` (NaN with one cell), ``n`` cells refined,
-    ``truncated`` cells, and ``cells``: the shifts by (motion, tan α, R)."""
-    out = {}
-    for (mode, ls), rows in table.groupby(["mode", "limit_state"], sort=True):
-        ok = rows[~rows["truncated"].astype(bool) & np.isfinite(rows["shift"])]
-        s = ok["shift"].to_numpy(float)
-        out[(str(mode), str(ls))] = {
-            "mean": float(s.mean()) if s.size else float("nan"),
-            "se": float(s.std(ddof=1) / math.sqrt(s.size)) if s.size > 1 else float("nan"),
-            "n": int(s.size), "truncated": int(rows["truncated"].astype(bool).sum()),
-            "cells": {(str(a), float(b), float(c)): float(d) for a, b, c, d in zip(
-                ok["motion"], ok["tan_alpha"], ok["R"], ok["shift"], strict=True)}}
-    return out
