@@ -20,8 +20,7 @@ about 7 ms of CPU (the record at R = 10 m: 3126 analyses in 23 s, its answer 5.4
 
 ``refinement_sample.csv`` (:func:`write_refinement_sample`) has one row per sampled cell:
 mode, limit_state, motion, tan_alpha, R, why ("sample" or "headline"), answer, refined,
-shift, analyses, truncated. The report reads it
-through :mod:`rocking.plot.refined`.
+shift, analyses, truncated. The report reads it through :mod:`rocking.plot.refined`.
 """
 
 from __future__ import annotations
