@@ -648,6 +648,10 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
         "pga_crit_g [g],scale_factor [-],exceeds_as_recorded,as_recorded_disagrees\n")
     (wd / "results/synth/suite_fragility.csv").write_text(
         "motions,mode,tan_alpha,limit_state,R,measure,unit,median,beta,n,n_censored,status\n")
+    # the refinement sample its rule writes (rocking.study.refinement): one refined cell
+    (wd / "results/synth/refinement_sample.csv").write_text(
+        "mode,limit_state,motion,tan_alpha,R,why,answer,refined,shift,analyses,truncated\n"
+        "3d,overturning,el-centro-1940,0.2,10.0,headline,5.0,4.9,-0.02,3000,False\n")
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
     cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",

@@ -225,8 +225,11 @@ def test_verdicts_follow_from_the_numbers(outputs):
     r10 = find("fig12_2d_vs_3d", "Overturning of an R = 10 m")
     assert r10.verdict == cmp.DIFFERS
     # every motion reaches θ > α/3 at R = 10 m: 2D-x is exactly MODE_FACTOR = 2 × 3D
-    ratio = find("fig12_2d_vs_3d", "El Centro, excessive tilt, R = 10 m: 2D under the x")
+    # no fragility table beside the means: the means at R = 10 m, judged against their
+    # standard errors (ln 2 far above 2 SE) and never without saying so
+    ratio = find("fig12_2d_vs_3d", "El Centro, excessive tilt: 2D under the x")
     assert ratio.verdict == cmp.REPRODUCED and ratio.ours.startswith("2D/3D = 2 (")
+    assert "no fragility table" in ratio.statement and "e = 0.942" in ratio.reason
     assert find("fig12_2d_vs_3d", "Loma Prieta, overturning").verdict == cmp.NOT_COMPUTED
     assert find("fig08_motions", "Rotation").verdict == cmp.DIFFERS
     assert find("fragility_curves", "fragility").verdict == cmp.NOT_IN_PAPER
@@ -244,12 +247,12 @@ def test_fig09_judges_the_difference_of_means_against_its_standard_error():
     assert j["ok"] == [True, True, True, False]
     assert j["noise"] == [1] and j["small_systematic"] == [0] and j["failed"] == [3]
     row = fig09_spectra.compare({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
-                                                    "damping|overturning": eff}}})[0]
+                                                    "damping|overturning": eff}}})[-1]
     assert row.verdict == cmp.DIFFERS and "R = 10 m" in row.reason and "R = 8" not in row.reason
     eff.update(rel_diff_means=[0.012, 0.13, 0.002, 0.04], max_abs_rel_diff_means=0.13,
                R_index_of_max=1)
     row = fig09_spectra.compare({"fig09_spectra": {"measured": {"R": [0.5, 1.0, 8.0, 10.0],
-                                                    "damping|overturning": eff}}})[0]
+                                                    "damping|overturning": eff}}})[-1]
     assert row.verdict == cmp.REPRODUCED
     assert "at R = 1 m Δ exceeds 5 % but lies within 2 SE" in row.reason
     assert "at R = 0.5 m a small systematic Δ" in row.reason
@@ -276,6 +279,7 @@ def _two_ensembles() -> dict:
                 short += 3 if short and mode != "3d" else 0
                 m12[f"{ens}|{title}|{mode}"] = base * f * (3 if censored else 1)
                 m12[f"{ens}|{title}|{mode}|count"] = 11 - short
+                m12[f"{ens}|{title}|{mode}|std"] = 0.3 * base * f
                 m12[f"{ens}|{title}|{mode}|n_not_reached"] = short
     return {"fig12_2d_vs_3d": {"measured": m12},
             "fig08_motions_elcentro": {"measured": {"record": "el-centro-1940",

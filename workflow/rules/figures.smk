@@ -116,6 +116,8 @@ rule fig09_spectra:
         complete=rules.spectra.output.done,
         means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
+        # read beside the means: the legend says how far refinement moves the answers
+        refinement=rules.refinement_sample.output.csv,
     output:
         **_figure_output(out_path("{study}/figures/fig09_spectra"), "Paper figures",
                          figure="Fig 9", study="{study}"),
@@ -135,6 +137,7 @@ rule fig10_goals:
     input:
         means=rules.mean_spectra.output.nc,
         motions=lambda wildcards: study_motions(wildcards.study),
+        refinement=rules.refinement_sample.output.csv,  # read beside the means (legend)
     output:
         **_figure_output(out_path("{study}/figures/fig10_goals"), "Paper figures",
                          figure="Fig 10", study="{study}"),
@@ -172,6 +175,10 @@ rule fig12_2d_vs_3d:
         means=[mean_spectra(s) for s in fig12_studies()],
         complete=[product_complete("spectra", s) for s in fig12_studies()],
         motions=[study_motions(s) for s in fig12_studies()],
+        # read beside the means: the censoring-aware medians of the 2D/3D verdicts and the
+        # refinement sample of the legend
+        fragility=[out_path(f"{s}/fragility.csv") for s in fig12_studies()],
+        refinement=[out_path(f"{s}/refinement_sample.csv") for s in fig12_studies()],
     output:
         **_figure_output(global_stem("fig12_2d_vs_3d"), "Paper figures", figure="Fig 12"),
     params:

@@ -152,6 +152,7 @@ def report_inputs(study):
                                    for mode in study_spec(study).stripes.modes]}
                if has_product("stripes", study) else {}),
             "records": out_path(f"{study}/records.csv"),
+            "refinement": out_path(f"{study}/refinement_sample.csv"),
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 

@@ -38,7 +38,7 @@ def main(snakemake):
               records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
               stripe_figures=list(inp.get("stripe_figures", [])),
               paper_record=bool(snakemake.params.paper_record),
-              study=str(snakemake.params.study))
+              study=str(snakemake.params.study), refinement=inp.get("refinement"))
 
 
 if __name__ == "__main__":

@@ -25,7 +25,7 @@ from ..spectra.limit_states import (
     severity,
 )
 from ..spectra.modes import MODE_3D
-from . import _axes, _load
+from . import _axes, _load, refined
 from ._style import (
     MODE_STYLE,
     _missing_and_axes_note,
@@ -122,6 +122,9 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
         measured[COINCIDE_NOTE] = same
+    moved = refined.legend_phrase(refined.beside(means), mode)
+    if moved:
+        measured["refinement"] = moved
     return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
             "mode": mode, "missing": missing, "reproduction": paper, "measured": measured,
             "axes": _axes.from_ensemble(motions), "title": _load.ensemble_title(
@@ -229,7 +232,9 @@ def plot(d: dict) -> Figure:
     unresolved = any(np.any(f) for f in d.get("unresolved", {}).values())
     ax.legend(loc="upper left", fontsize=7, title_fontsize=7,
               title="performance goal" + (" (line fit)" if fitted else "")
-              + ("; unresolved means may lie lower" if unresolved else ""))
+              + ("; unresolved means may lie lower" if unresolved else "")
+              + (f"\n{d['measured']['refinement']}" if d["measured"].get("refinement")
+                 else ""))
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None
     fit = d["measured"].get(LINE_NOTE + top, {}) if top else {}

@@ -23,6 +23,7 @@ from ..spectra.modes import MODE_3D, PLANAR_MODES
 from ..units import read_table
 from .comparisons import Comparison, finite
 from .entries import FigureEntry
+from .refined import cell_shift, ratio_shift, shift_text
 from .tables import MODE_LABEL, as_recorded_word
 
 
@@ -37,6 +38,11 @@ def _as_recorded_finding(row) -> str:
     if str(row.get("as_recorded_disagrees", "")).lower() in ("true", "1"):
         said += " although the scale factor says otherwise: the response is not monotonic"
     return said
+
+
+def _with_shift(text: str, found) -> str:
+    extra = shift_text(found)
+    return f"{text} ({extra})" if extra else text
 
 
 @dataclass(frozen=True)
@@ -63,8 +69,8 @@ def _ensemble_title(m: Mapping, ens: str) -> str:
 
 
 def paper_findings(entries: Sequence[FigureEntry],
-                   verdicts: Mapping[str, Sequence[Comparison]], study: str = ""
-                   ) -> list[Finding]:
+                   verdicts: Mapping[str, Sequence[Comparison]], study: str = "",
+                   refinement: pd.DataFrame | None = None) -> list[Finding]:
     """Headline answers of a reproduction of the paper, read from the figures' notes:
     2D against 3D and the 3D mean at R = 10 m (Fig 12: every study it draws, ``study``'s
     first), damped against undamped (Fig 9), linearity in R
@@ -75,29 +81,45 @@ def paper_findings(entries: Sequence[FigureEntry],
         R = m12.get("R", 10.0)
         names = sorted({k.split("|")[0] for k in m12 if k.count("|") >= 2})
         names = sorted(names, key=lambda n: n != study)  # the study's own curves first
+        from .fig12_2d_vs_3d import HOUSNER_NOTE, ratio_evidence
+
         for ens in names:
             v3 = m12.get(f"{ens}|overturning|3d")
             if not finite(v3):
                 continue
+            own = refinement if ens == study else None  # the sample is of this study's cells
             std, n = m12.get(f"{ens}|overturning|3d|std"), m12.get(f"{ens}|overturning|3d|count")
             se = f" ± {std / math.sqrt(n):.2f} (standard error, {n:g} motions)" if finite(
                 std, n) and n > 0 else ""
+            moved = shift_text(cell_shift(own, MODE_3D, "overturning", R,
+                                          int(n) if finite(n) else None))
             ratios = []
             for ls in ("overturning", "tilt:1/3"):
                 key = "excessive tilt" if ls != "overturning" else ls
-                base = m12.get(f"{ens}|{key}|3d")
-                parts = [f"{c[-1]} {m12[f'{ens}|{key}|{c}'] / base:.2f}×" for c in
-                         PLANAR_MODES if finite(m12.get(f"{ens}|{key}|{c}"), base)]
+                parts = []
+                for c in PLANAR_MODES:
+                    ev = ratio_evidence(m12, ens, key, c)
+                    base, v2 = m12.get(f"{ens}|{key}|3d"), m12.get(f"{ens}|{key}|{c}")
+                    if ev is not None:
+                        text = (f"{c[-1]} {ev['pooled']:.2f}× (censoring-aware medians, "
+                                f"geometric mean over {len(ev['R'])} sizes: "
+                                f"{min(ev['ratio']):.2f}–{max(ev['ratio']):.2f}×)")
+                    elif finite(base, v2):  # notes without the fitted medians
+                        text = f"{c[-1]} {v2 / base:.2f}× (means at R = {R:g} m only)"
+                    else:
+                        continue
+                    parts.append(_with_shift(text, ratio_shift(own, c, ls)))
                 if parts:
                     ratios.append(f"{key} " + ", ".join(parts))
             who = _ensemble_title(m12, ens)
             # the paper gives the 3D number for El Centro only
             paper4 = " (paper: about 4)" if "centro" in (ens + who).lower() else ""
-            out.append(Finding(
-                f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
-                f"{v3:.2f}{se}{paper4}; the 2D model under one "
-                f"component needs {'; '.join(ratios)} the 3D mean (x = major, y = minor axis; "
-                "paper: about twice)", a12))
+            text = (f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
+                    f"{v3:.2f}{se}" + (f" ({moved})" if moved else "") + paper4)
+            if ratios:
+                text += (f"; the 2D model under one component needs 2D/3D: {'; '.join(ratios)} "
+                         f"(x = major, y = minor axis; paper: about twice; {HOUSNER_NOTE})")
+            out.append(Finding(text, a12))
     m9, a9 = _notes(entries, "fig09_spectra"), _stem(entries, "fig09_spectra")
     for key, eff in m9.items():
         if not key.startswith("damping|") or not isinstance(eff, Mapping):
@@ -106,7 +128,14 @@ def paper_findings(entries: Sequence[FigureEntry],
         row = next((c for c in verdicts.get("fig09_spectra", [])
                     if limit_state_title(key.removeprefix("damping|")) in c.statement), None)
         if finite(worst):
+            from .criteria import PER_MOTION_TOL, share_within
+
+            within, total = share_within([v for rel in (eff.get("per_motion") or {}).values()
+                                          for v in rel if v is not None])
+            per = (f"; per motion {within} of {total} (motion, R) pairs within "
+                   f"±{100 * PER_MOTION_TOL:g} %") if total else ""
             at = f" (at R = {R[k]:g} m)" if R and k is not None else ""
+            at += per
             out.append(Finding(
                 f"Damped against undamped, {limit_state_title(key.removeprefix('damping|'))}: "
                 f"the ensemble means differ by at most {100 * worst:.1f} %{at}"
@@ -148,7 +177,8 @@ def _main(df: pd.DataFrame, col: str, prefer: Sequence) -> object | None:
 
 
 def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, records=None,
-                   risk=None, stripes=None) -> list[Finding]:
+                   risk=None, stripes=None, refinement: pd.DataFrame | None = None
+                   ) -> list[Finding]:
     """Headline answers of any study: the most dangerous record (``records.csv``), the
     median capacities (``fragility.csv``), λ with its interval (``risk.csv``; 5–95 % when
     the table has ``lambda_p05``/``lambda_p95``) and the stripe against first-exceedance
@@ -195,9 +225,9 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
             for ls in shown:
                 rows = sub[sub["limit_state"] == ls].sort_values(r)
                 ends = rows.iloc[[0, -1]] if len(rows) > 1 else rows
-                texts.append(f"{limit_state_title(ls).lower()} " + " to ".join(
+                texts.append(_with_shift(f"{limit_state_title(ls).lower()} " + " to ".join(
                     f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
-                    for _, x in ends.iterrows()))
+                    for _, x in ends.iterrows()), cell_shift(refinement, mode, ls)))
             out.append(Finding(
                 f"Median capacities IM₅₀ in PGA/(g tan α), {MODE_LABEL.get(mode, mode)}, "
                 f"tan α = {t:g}: " + "; ".join(texts), "fragility"))
@@ -223,10 +253,14 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
                         text += f" (5–95 %: {x['lambda_p05']:.2g}–{x['lambda_p95']:.2g})"
                     return text
                 ends = sub.iloc[[0, -1]] if len(sub) > 1 else sub
+                moved = cell_shift(refinement, mode, ls)
                 text = (f"Annual frequency λ of {limit_state_title(ls).lower()}, "
                         f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, under the study's "
                         "hazard curve: " + " to ".join(lam(x) for _, x in ends.iterrows())
-                        + " (first-exceedance fragility)")
+                        + " (first-exceedance fragility"
+                        + (f"; its medians: {shift_text(moved)}, and λ, falling with the "
+                           "median, rises by about the hazard curve's log-slope times that"
+                           if moved else "") + ")")
                 if len(stripe):  # the λ the risk section recommends
                     text += "; with the multiple-stripe fragility " + ", ".join(
                         lam(x) for _, x in stripe.iterrows())

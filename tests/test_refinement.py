@@ -1,0 +1,248 @@
+"""The refinement sample (rocking.study.refinement) and what the report and the verdicts make
+of it: the sample is stated and seeded, the refined answer is the first exceedance of an
+independent 0.05 % scan, the headline numbers carry the measured shift, and the verdict
+criteria (rocking.plot.criteria) follow from the scatter they state."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rocking.dynamics.bodies import Cylinder
+from rocking.motions.motion import GroundMotion
+from rocking.plot import comparisons as cmp
+from rocking.plot import criteria, fig09_spectra, fig12_2d_vs_3d, refined
+from rocking.spectra.accuracy import PRESETS
+from rocking.spectra.critical import critical_intensity, uplift_intensity
+from rocking.study import refinement
+
+
+def _cells() -> pd.DataFrame:
+    rows = []
+    for mode in ("3d", "2d-x"):
+        for ls in ("overturning", "tilt:1/3"):
+            for motion in ("a", "b", "c"):
+                for R in (1.0, 5.0, 10.0):
+                    rows.append((mode, ls, motion, 0.2, R, 1.0 + R / 10))
+    return pd.DataFrame(rows, columns=["mode", "limit_state", "motion", "tan_alpha", "R",
+                                       "answer"])
+
+
+def test_the_sample_is_seeded_stated_and_holds_every_headline_cell():
+    cells = _cells()
+    spec = refinement.SampleSpec(k=2, seed=3)
+    a = refinement.choose_cells(cells, spec)
+    b = refinement.choose_cells(cells.sample(frac=1.0, random_state=1), spec)
+    pd.testing.assert_frame_equal(a, b)  # the draw does not depend on the table's order
+    head = a[a["why"] == "headline"]
+    assert len(head) == 3 and set(head["R"]) == {10.0} and set(head["mode"]) == {"3d"}
+    assert set(head["limit_state"]) == {"overturning"}
+    drawn = a[a["why"] == "sample"].groupby(["mode", "limit_state"]).size()
+    # k per (mode, limit state), fewer where a headline cell was drawn again
+    assert drawn.max() == 2 and len(a) <= 3 + 2 * 4
+    assert not refinement.choose_cells(cells, refinement.SampleSpec(k=0, headline=False)).size
+
+
+@pytest.mark.parametrize("bad", [{"k": -1}, {"max_analyses": 0}, {"k": 1.5}, {"depth": 2}])
+def test_a_bad_refinement_setting_is_named(bad):
+    with pytest.raises(ValueError, match=next(iter(bad))):
+        refinement.SampleSpec.from_config(bad)
+
+
+def _pulse_pair(duration=3.0, dt=0.01):
+    t = np.arange(0.0, duration, dt)
+    env = np.sin(np.pi * t / duration) ** 2
+    return GroundMotion(4.0 * env * np.sin(2 * np.pi * 1.5 * t),
+                        3.0 * env * np.cos(2 * np.pi * 1.1 * t), dt, "pulse", {})
+
+
+def test_refined_answer_is_the_first_exceedance_of_an_independent_fine_search():
+    """The refining scan against the library's own search run with the same fixed 0.05 % scan
+    and a fine bisection (a separate code path: rocking.spectra.search): the refined answer is
+    the lattice point that closes the search's scan bracket (at most one step above the
+    bisected answer), and never above the run's coarse answer."""
+    motion, body, mode = _pulse_pair(), Cylinder(0.5, 0.2), "2d-x"
+    states = ["tilt:1/3", "overturning"]
+    coarse = critical_intensity(body, motion, states, mode, accuracy="default", upper=20.0)
+    answers = dict(zip(states, map(float, coarse.intensity), strict=True))
+    assert all(np.isfinite(list(answers.values())))
+    got = refinement.refine_point(motion, mode, 0.5, 0.2, answers, PRESETS["default"],
+                                  upper=20.0, max_analyses=5000)
+    fine = PRESETS["default"].with_(scan_step=refinement.REFINED_STEP, bisection_tol=1e-4)
+    ref = critical_intensity(body, motion, states, mode, accuracy=fine,
+                             upper=max(answers.values()) * 1.001)
+    assert not got["truncated"] and got["analyses"] > 10
+    lower = uplift_intensity(motion, mode)
+    moved = 0
+    for ls, fine_answer in zip(states, map(float, ref.intensity), strict=True):
+        mine = got["refined"][ls]
+        assert mine <= answers[ls]
+        if fine_answer < answers[ls] / (1 + refinement.REFINED_STEP):  # found lower
+            moved += 1
+            assert fine_answer <= mine <= fine_answer * (1 + refinement.REFINED_STEP) + 1e-12
+            n = math.log(mine / lower) / math.log1p(refinement.REFINED_STEP)
+            assert n == pytest.approx(round(n), abs=1e-6)  # a point of the 0.05 % lattice
+    assert moved >= 1  # the pulse has answers the 1 % scan overshoots
+
+
+def test_a_point_beyond_the_cost_cap_is_truncated_not_guessed():
+    got = refinement.refine_point(_pulse_pair(), "2d-x", 0.5, 0.2, {"overturning": 19.0},
+                                  PRESETS["default"], upper=20.0, max_analyses=5)
+    assert got["truncated"] and math.isnan(got["refined"]["overturning"])
+    assert got["analyses"] == 0  # known before the first analysis: nothing spent
+
+
+def _sample() -> pd.DataFrame:
+    rows = [("3d", "overturning", m, 0.2, 10.0, "headline", a, r, 0, False)
+            for m, a, r in (("a", 4.0, 3.6), ("b", 6.0, 6.0))]
+    rows += [("2d-x", "overturning", "a", 0.2, 2.0, "sample", 5.0, 4.5, 0, False),
+             ("2d-x", "overturning", "b", 0.2, 4.0, "sample", 8.0, np.nan, 5000, True)]
+    df = pd.DataFrame(rows, columns=["mode", "limit_state", "motion", "tan_alpha", "R", "why",
+                                     "answer", "refined", "analyses", "truncated"])
+    return df.assign(shift=(df["refined"] - df["answer"]) / df["answer"])
+
+
+def test_a_mean_whose_cells_were_all_refined_moves_exactly():
+    df = _sample()
+    delta, n, exact = refined.cell_shift(df, "3d", "overturning", 10.0, 2)
+    assert exact and n == 2 and delta == pytest.approx(9.6 / 10.0 - 1.0)
+    # with more motions behind the mean than refined: the sample's mean shift, stated as such
+    delta, n, exact = refined.cell_shift(df, "3d", "overturning", 10.0, 11)
+    assert not exact and delta == pytest.approx(np.mean([-0.1, 0.0]))
+    # a ratio moves by (1 + δ2D)/(1 + δ3D) − 1; the truncated cell is left out
+    delta, n, _ = refined.ratio_shift(df, "2d-x", "overturning")
+    assert n == 3 and delta == pytest.approx(0.9 / 0.95 - 1.0)
+    assert refined.shift_text((-0.04, 2, True)) == \
+        "refinement moves it by −4.0 % [all 2 cells refined]"
+
+
+# ------------------------------------------------------------------ verdict criteria
+
+
+def test_about_value_tolerance_is_two_sd_of_two_ensembles_and_the_rounding():
+    ok, tol = criteria.about_value(4.75, 0.41, 4.0)
+    assert tol == pytest.approx(2 * math.sqrt(2 * 0.41 ** 2 + 0.5 ** 2 / 3))
+    assert ok and not criteria.about_value(4.0 + tol * 1.01, 0.41, 4.0)[0]
+
+
+def _m12(ratio_2d: float, censored_2d: int = 0, n: int = 11) -> dict:
+    m = {"R": 10.0, "e|label": "El Centro: mean of 11 motions", "e|n_motions": n}
+    R = [2.0, 6.0, 10.0]
+    for title in ("overturning", "excessive tilt"):
+        for mode, f, c in (("3d", 1.0, 0), ("2d-x", ratio_2d, censored_2d),
+                           ("2d-y", ratio_2d, 0)):
+            m[f"e|{title}|{mode}"] = 4.0 * f
+            m[f"e|{title}|{mode}|count"], m[f"e|{title}|{mode}|std"] = float(n), 1.0
+            m[f"e|{title}|{mode}|n_not_reached"] = 0.0
+            m[f"e|{title}|{mode}|mle"] = {
+                "R": R, "median": [r * f for r in R], "se_log": [0.05] * 3,
+                "beta": [0.3] * 3, "n": [n] * 3,
+                "n_censored": [0, 0, c] if mode == "2d-x" else [0] * 3}
+    return {"fig12_2d_vs_3d": {"figure": "fig12_2d_vs_3d", "measured": m}}
+
+
+def test_ratios_come_from_censoring_aware_medians_across_R():
+    rows = fig12_2d_vs_3d.compare(_m12(2.1))
+    over = [r for r in rows if "El Centro, overturning" in r.statement]
+    assert len(over) == 2 and all(r.verdict == cmp.REPRODUCED for r in over)
+    assert all("across R" in r.statement and "over 3 sizes" in r.ours for r in over)
+    assert all("e = 0.942" in r.reason for r in over)
+    # 1.5× is outside "about twice" at this scatter: ln(2/1.5) = 0.29 > 2·√(2·0.07² + 0.068²)
+    assert all(r.verdict == cmp.DIFFERS for r in fig12_2d_vs_3d.compare(_m12(1.5))
+               if "El Centro, overturning" in r.statement)
+    # a size with more than half the motions censored is left out, and said
+    ev = fig12_2d_vs_3d.ratio_evidence(_m12(2.0, censored_2d=6)["fig12_2d_vs_3d"]["measured"],
+                                       "e", "overturning", "2d-x")
+    assert ev["R"] == [2.0, 6.0] and ev["dropped"] == [10.0]
+    assert ev["pooled"] == pytest.approx(2.0) and ev["pooled_se"] == pytest.approx(
+        math.sqrt(2) * 0.05)
+
+
+def test_a_censored_mean_never_supports_reproduced():
+    notes = _m12(2.0)
+    m = notes["fig12_2d_vs_3d"]["measured"]
+    m["e|overturning|3d|count"], m["e|overturning|3d|n_not_reached"] = 9.0, 2.0
+    r10 = fig12_2d_vs_3d.compare(notes)[0]
+    assert m["e|overturning|3d"] == 4.0 and r10.verdict == cmp.DIFFERS
+    assert "censored" in r10.reason
+    # without fitted medians the ratio of censored means is not reproduced either
+    for k in [k for k in m if k.endswith("|mle")]:
+        del m[k]
+    m["e|overturning|2d-x|count"], m["e|overturning|2d-x|n_not_reached"] = 8.0, 3.0
+    row = next(r for r in fig12_2d_vs_3d.compare(notes)
+               if "overturning: 2D under the x" in r.statement)
+    assert row.verdict == cmp.DIFFERS and "not reached at the search bound" in row.reason
+
+
+def test_fig9_per_motion_claim_is_judged_per_motion():
+    tol, share = criteria.PER_MOTION_TOL, criteria.PER_MOTION_SHARE
+    n = 20
+    inside = int(math.ceil(share * n))
+    per = {f"m{i}": [0.01 if i < inside else 3 * tol] for i in range(n)}
+    ok = fig09_spectra.per_motion_row("overturning", {"per_motion": per})
+    assert ok.verdict == cmp.REPRODUCED and f"{inside} of {n}" in ok.ours
+    per["m0"] = [-2 * tol]
+    bad = fig09_spectra.per_motion_row("overturning", {"per_motion": per})
+    assert bad.verdict == cmp.DIFFERS and f"{inside - 1} of {n}" in bad.ours
+    rows = fig09_spectra.compare({"fig09_spectra": {"measured": {
+        "R": [1.0], "damping|overturning": {"per_motion": per, "rel_diff_means": [0.0]},
+        "damping|tilt:1/3": {"per_motion": per, "rel_diff_means": [0.0]}}}})
+    # the per-motion claim is the paper's for overturning; for θ > α/3 it speaks of means
+    assert sum("per motion" in r.statement for r in rows) == 1
+
+
+def test_the_report_quotes_the_shift_beside_its_headline_numbers(tmp_path):
+    """The committed gallery's tables and figures with a refinement sample: the findings carry
+    "refinement moves it by" beside the R = 10 m mean (all its cells refined: exact) and the
+    fragility medians (the sample's shift), and say what the sample was."""
+    from pathlib import Path
+
+    from rocking.plot import FIGURES, report
+
+    root = Path(__file__).resolve().parents[1] / "results" / "paper"
+    study = root / "elcentro"
+    pngs = sorted(p for p in [*root.glob("figures/*.png"), *study.glob("figures/*.png")]
+                  if p.stem.startswith(tuple(FIGURES)))
+    critical = refinement.cells_from_table(study / "critical.csv")
+    head = refinement.headline_cells(critical)
+    assert len(head) == 11 and set(head["R"]) == {10.0}
+    sample = head.assign(why="headline", refined=head["answer"] * 0.9, analyses=3000,
+                         truncated=False)
+    tilt = critical[(critical["mode"] == "3d") & (critical["limit_state"] == "tilt:1/3")]
+    tilt = tilt.head(2).assign(why="sample", refined=lambda d: d["answer"] * 0.98,
+                               analyses=100, truncated=False)
+    sample = pd.concat([sample, tilt]).assign(
+        shift=lambda d: (d["refined"] - d["answer"]) / d["answer"])
+    csv = tmp_path / "refinement_sample.csv"
+    sample.to_csv(csv, index=False)
+    page = report.build(tmp_path / "report.html", title="paper", figures=pngs,
+                        fragility=study / "fragility.csv", risk=study / "risk.csv",
+                        study="elcentro", refinement=csv).read_text()
+    findings = page.split("<h2 id='what-was-run'>")[0]
+    assert "4.75 ± 0.41 (standard error, 11 motions) (refinement moves it by −10.0 % " \
+           "[all 11 cells refined])" in findings
+    assert "θ &gt; α/3" in findings or "tilt" in findings
+    assert "refinement moves it by −2.0 % [sample of 2 cells]" in findings
+    assert "13 of this study&#x27;s cells (11 of the headline mean" in findings
+    assert "e = 0.942" in findings
+    # without a sample the report says so instead of quoting nothing
+    bare = report.build(tmp_path / "bare.html", title="paper", figures=pngs,
+                        fragility=study / "fragility.csv", study="elcentro").read_text()
+    assert "No refinement sample in this run" in bare
+
+
+def test_the_rule_reads_the_store_and_names_a_motion_its_ensemble_lacks(tmp_path):
+    """write_refinement_sample on a written store: its cells and tolerances are read, and a
+    store whose motions are not those of the ensemble file stops before any analysis, naming
+    the motion (the synthetic store's motions are labels without records)."""
+    import figures_synthetic as fs
+
+    paths = fs.write_study(tmp_path / "study", with_tilt_map=False)
+    with pytest.raises(ValueError, match="motion 'synthetic-0"):
+        refinement.write_refinement_sample(paths["store"], paths["motions"],
+                                           tmp_path / "s.csv",
+                                           refinement.SampleSpec(k=1, max_analyses=10))
+    assert not (tmp_path / "s.csv").exists()
