@@ -21,19 +21,19 @@ number:
 - ``geometric_mean``: √(max|x| · max|y|) of the two as-recorded components;
 - ``larger``: max(max|x|, max|y|) of the two as-recorded components.
 
-Every measure and component here is linear in the scale of the motion (:attr:`IntensityMeasure.scaling`):
-a record scaled by s has s times each, so the measure at which a scaled record first exceeds
-a limit state is the critical scale factor times the record's measure, exactly, and the ratio
-of two components of one record does not depend on its scale.
+Every measure and component here is linear in the scale of the motion
+(:attr:`IntensityMeasure.scaling`): a record scaled by s has s times each, so the measure at
+which a scaled record first exceeds a limit state is the critical scale factor times the
+record's measure, exactly, and the ratio of two components of one record does not depend on
+its scale.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
-
-from dataclasses import dataclass
 
 from ..constants import G
 from .motion import GroundMotion
