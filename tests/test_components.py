@@ -158,3 +158,131 @@ def test_cli_help_lists_the_registry():
         assert kind in text and m.unit in text
     for c in COMPONENTS:
         assert c in text
+
+
+# --- a study in RotD50 under a RotD50 hazard ----------------------------------------------
+
+def _motions():
+    from rocking.motions.build import cut
+    from rocking.motions.motion import GroundMotion
+
+    out = [cut(load_record(n), 8.0) for n in SHIPPED]
+    b = out[1]
+    out.append(GroundMotion(0.8 * b.ax, 0.8 * b.ay, b.dt, "lpc-0.8", {}))
+    return out
+
+
+def _store(motions, crit_g):
+    """A spectra store of one (mode, limit state, tan α, R) with the critical vector PGAs."""
+    import xarray as xr
+
+    dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
+    crit = np.asarray(crit_g, dtype=float).reshape(1, 1, len(motions), 1, 1)
+    zeros = np.zeros(crit.shape, dtype=bool)
+    return xr.Dataset(
+        {"pga_crit": (dims, crit / 0.11), "pga_crit_g": (dims, crit),
+         "not_reached": (dims, zeros), "unresolved": (dims, zeros),
+         "non_monotonic": (dims, zeros), "failed": (dims, zeros),
+         "requested": (("mode", "limit_state", "tan_alpha"), np.ones((1, 1, 1), bool))},
+        coords={"mode": ["3d"], "limit_state": ["overturning"],
+                "motion": [m.name for m in motions], "tan_alpha": [0.11], "R": [3.02]})
+
+
+def _analytic(im):
+    """λ = exp(−2.2 L − 0.262 L²)/475, L = ln(im/0.25 g), and |dλ/d im|."""
+    L = np.log(np.asarray(im, float) / 0.25)
+    lam = np.exp(-2.2 * L - 0.262 * L * L) / 475.0
+    return lam, lam * (2.2 + 0.524 * L) / np.asarray(im, float)
+
+
+def _quadrature(median, beta):
+    from scipy import integrate, stats
+
+    def f(u):
+        im = math.exp(u)
+        return stats.norm.cdf((u - math.log(median)) / beta) * _analytic(im)[1] * im
+
+    c = math.log(median)
+    return integrate.quad(f, math.log(0.005), math.log(1e3), points=[c - 3 * beta, c,
+                          c + 3 * beta], limit=400, epsabs=0.0, epsrel=1e-10)[0]
+
+
+@pytest.fixture(scope="module")
+def rotd50_suite():
+    from rocking.study.records import record_table, suite_fragility
+
+    motions = _motions()
+    crit = [0.21, 0.33, 0.12, 0.27]  # critical vector PGA [g] of each motion
+    store = _store(motions, crit)
+    fits = {c: suite_fragility(record_table(store, motions, ["pga", "sa:1.0"], component=c),
+                               ["pga", "sa:1.0"], None, c)
+            for c in ("rotd50", "vector_peak")}
+    return motions, crit, fits
+
+
+def test_rotd50_study_under_a_rotd50_hazard_gives_the_independent_quadrature(rotd50_suite):
+    from rocking.risk.fragilities import read_fragilities
+    from rocking.risk.hazard import HazardCurve
+    from rocking.risk.table import risk_table
+
+    motions, crit, fits = rotd50_suite
+    # independent of the library: each motion's critical RotD50 PGA is its critical scale
+    # times its RotD50 PGA by the rotation loop; the lognormal MLE of uncensored data is the
+    # mean and the (population) standard deviation of the logs
+    own = [np.median(_rotated_peaks(m.ax / G, m.ay / G)) for m in motions]
+    x = np.log([c / m.pga_g * o for c, m, o in zip(crit, motions, own, strict=True)])
+    median, beta = math.exp(x.mean()), x.std()
+    im = np.geomspace(0.005, 20.0, 300)
+    hazard = HazardCurve(im, _analytic(im)[0], source="analytic RotD50 curve")
+    frag = read_fragilities(fits["rotd50"], measure="pga", component="rotd50", bootstrap=False)
+    assert frag.component == "rotd50"
+    (row,) = risk_table(frag, hazard, component="rotd50").to_dict(orient="records")
+    assert row["component"] == "rotd50"
+    assert row["median_im [g]"] == pytest.approx(median, rel=1e-9)
+    assert row["beta [-]"] == pytest.approx(beta, rel=1e-6)
+    assert row["maf [1/yr]"] == pytest.approx(_quadrature(median, beta), rel=1e-3)
+
+
+def test_the_same_fits_in_two_components_differ_by_each_motions_ratio(rotd50_suite):
+    motions, crit, fits = rotd50_suite
+    a, b = (f[(f["measure"] == "pga") & (f["motions"] == "records")].iloc[0]
+            for f in (fits["rotd50"], fits["vector_peak"]))
+    ratios = [component_ratio(m, "pga", "rotd50", "vector_peak") for m in motions]
+    assert 0.7 < min(ratios) and max(ratios) < 0.9
+    # the median moves by the geometric mean of the per-motion ratios
+    assert a["median"] / b["median"] == pytest.approx(math.exp(np.mean(np.log(ratios))),
+                                                      rel=1e-9)
+
+
+def test_a_hazard_in_another_component_is_refused_in_one_line(rotd50_suite):
+    from rocking.risk.fragilities import read_fragilities
+    from rocking.risk.hazard import HazardCurve, hazard_component
+    from rocking.risk.table import risk_table
+
+    _, _, fits = rotd50_suite
+    hazard = HazardCurve.from_power_law(1e-4, 2.2)
+    frag = read_fragilities(fits["vector_peak"], measure="pga", bootstrap=False)
+    with pytest.raises(ValueError) as err:
+        risk_table(frag, hazard, component="rotd50")
+    text = str(err.value)
+    assert "\n" not in text and "component vector_peak" in text and "in rotd50" in text
+    assert "hazard: {file, component: vector_peak}" in text
+    with pytest.raises(ValueError, match="has no fit in the component geometric_mean"):
+        read_fragilities(fits["vector_peak"], measure="pga", component="geometric_mean")
+    with pytest.raises(ValueError, match="^hazard: give component .* or im_factor"):
+        hazard_component({"k0": 1e-4, "k": 2.2, "component": "rotd50", "im_factor": 1.2})
+    with pytest.raises(ValueError, match="^hazard.component: unknown component 'rot50'"):
+        hazard_component({"file": "x.csv", "component": "rot50"})
+
+
+def test_a_hazard_file_may_state_its_component(tmp_path):
+    from rocking.risk.hazard import hazard_component, parse_hazard
+
+    path = tmp_path / "h.csv"
+    path.write_text("# component='rotd50', investigation_time=1\npga,annual_rate\n"
+                    "0.1,1e-2\n0.5,1e-4\n")
+    assert hazard_component(str(path)) == "rotd50"
+    assert hazard_component({"file": str(path)}) == "rotd50"
+    assert hazard_component({"file": str(path), "component": "larger"}) == "larger"
+    assert parse_hazard({"file": str(path), "component": "rotd50"}).measure == "pga"
+    assert hazard_component({"k0": 1e-4, "k": 2.2}) is None
