@@ -151,8 +151,9 @@ def test_schema_patterns_and_enums_come_from_the_registries():
 
 
 def test_cli_help_lists_the_registry():
-    from rocking.cli.stripes import measure_help
+    from rocking.cli.stripes import COMPONENT_NAMES, measure_help
 
+    assert COMPONENT_NAMES == tuple(COMPONENTS)
     text = measure_help()
     for kind, m in MEASURES.items():
         assert kind in text and m.unit in text
@@ -286,3 +287,48 @@ def test_a_hazard_file_may_state_its_component(tmp_path):
     assert hazard_component({"file": str(path), "component": "larger"}) == "larger"
     assert parse_hazard({"file": str(path), "component": "rotd50"}).measure == "pga"
     assert hazard_component({"k0": 1e-4, "k": 2.2}) is None
+
+
+# --- stripes in a component ---------------------------------------------------------------
+
+def test_stripes_scale_each_motion_to_its_measure_in_the_component(records):
+    from rocking.spectra.stripes import from_outcomes, measure_ratio
+
+    m = records["el-centro-1940"]
+    tan_alpha, x = 0.2, 1.5
+    for measure, component in (("sa:1.0", "rotd50"), ("pga", "geometric_mean"),
+                               ("pga", "vector_peak")):
+        ratio = measure_ratio(m, measure, component)  # PGA/(g tan α) per stripe unit
+        scaled = m.scaled(x * ratio * tan_alpha / m.pga_g)
+        assert intensity_measure(scaled, measure, component) == \
+            pytest.approx(x * tan_alpha, rel=1e-12)
+    assert measure_ratio(m, "pga", "vector_peak") == 1.0
+    r = from_outcomes([1.0, 2.0], ["overturning"], ["a", "b"],
+                      np.array([[[False], [False]], [[True], [False]]]),
+                      np.zeros((2, 2), bool), tan_alpha=0.2, measure="sa:1.0",
+                      component="rotd50")
+    frame = r.summary_frame()
+    assert list(frame["component"]) == ["rotd50"] and list(frame["measure"]) == ["sa:1.0"]
+    # PGA in another component than the spectra's is not the spectra's PGA
+    r = from_outcomes([1.0, 2.0], ["overturning"], ["a", "b"],
+                      np.array([[[False], [False]], [[True], [False]]]),
+                      np.zeros((2, 2), bool), tan_alpha=0.2, component="rotd50")
+    assert np.isnan(r.summary_frame()["median_pga_g"]).all()
+
+
+def test_a_study_component_reaches_its_stripes_and_their_store_hash():
+    from rocking.study.study_spec import StudySpec
+
+    cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    name = next(s for s, v in cfg["studies"].items() if v.get("stripes"))
+    base = StudySpec.from_config(cfg, name)
+    assert base.component == "vector_peak" and base.stripes.component == "vector_peak"
+    assert "component" not in base.stripes.to_attrs()  # the committed stores keep their hash
+    cfg["studies"][name]["component"] = "rotd50"
+    other = StudySpec.from_config(cfg, name)
+    assert other.component == "rotd50" and other.stripes.component == "rotd50"
+    assert other.stripes.digest != base.stripes.digest
+    assert other.spectra.digest == base.spectra.digest  # the spectra are the vector PGA
+    cfg["studies"][name]["component"] = "rot50"
+    with pytest.raises(ValueError, match=rf"^studies.{name}.component: unknown component"):
+        StudySpec.from_config(cfg, name)
