@@ -210,14 +210,23 @@ def _quadrature(median, beta):
 
 @pytest.fixture(scope="module")
 def rotd50_suite():
-    from rocking.study.records import record_table, suite_fragility
+    from rocking.study.records import record_table, suite_fragilities
 
     motions = _motions()
     crit = [0.21, 0.33, 0.12, 0.27]  # critical vector PGA [g] of each motion
     store = _store(motions, crit)
-    fits = {c: suite_fragility(record_table(store, motions, ["pga", "sa:1.0"], component=c),
-                               ["pga", "sa:1.0"], None, c)
-            for c in ("rotd50", "vector_peak")}
+    tables = {c: record_table(store, motions, ["pga", "sa:1.0"], component=c)
+              for c in ("rotd50", "vector_peak")}
+    both = suite_fragilities(tables, ["pga", "sa:1.0"], None)
+    # one row per measure and component (records only), resamples in the same order
+    assert list(zip(both["component"], both["measure"], strict=True)) == [
+        ("rotd50", "pga"), ("rotd50", "sa:1.0"), ("vector_peak", "pga"),
+        ("vector_peak", "sa:1.0")]
+    assert both.attrs["bootstrap"][0].shape[0] == len(both)
+    assert list(tables["rotd50"]["component"].unique()) == ["rotd50"]
+    assert "pga_im_g" in tables["rotd50"] and "pga_im_g" not in tables["vector_peak"]
+    both.attrs.clear()  # the resamples are checked above; the rows are what follows needs
+    fits = {c: both[both["component"] == c].reset_index(drop=True) for c in tables}
     return motions, crit, fits
 
 
@@ -332,3 +341,30 @@ def test_a_study_component_reaches_its_stripes_and_their_store_hash():
     cfg["studies"][name]["component"] = "rot50"
     with pytest.raises(ValueError, match=rf"^studies.{name}.component: unknown component"):
         StudySpec.from_config(cfg, name)
+
+
+def test_cli_risk_takes_the_hazard_component_or_refuses(rotd50_suite, tmp_path, capsys):
+    from rocking.cli import main
+
+    _, _, fits = rotd50_suite
+    both = tmp_path / "suite_fragility.csv"
+    import pandas as pd
+
+    pd.concat([fits["vector_peak"], fits["rotd50"]]).to_csv(both, index=False)
+    out = tmp_path / "r.csv"
+    assert main(["risk", "--fragility", str(both), "--hazard", "1e-4,2.2", "--component",
+                 "rotd50", "-o", str(out)]) == 0
+    table = pd.read_csv(out)
+    assert set(table["component"]) == {"rotd50"}
+    median = fits["rotd50"].query("measure == 'pga' and motions == 'records'")["median"]
+    assert table["median_im [g]"].iloc[0] == pytest.approx(float(median.iloc[0]), rel=1e-5)
+    only = tmp_path / "vp.csv"
+    fits["vector_peak"].to_csv(only, index=False)
+    assert main(["risk", "--fragility", str(only), "--hazard", "1e-4,2.2", "--component",
+                 "rotd50"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no fit in the component rotd50" in err[0]
+    assert "hazard: {file, component}" in err[0]
+    assert main(["risk", "--fragility", str(only), "--hazard", "1e-4,2.2", "--component",
+                 "rotd50", "--im-factor", "1.2"]) == 2
+    assert "not both" in capsys.readouterr().err

@@ -199,7 +199,9 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
         component = have[0] if have else DEFAULT_COMPONENT
     if component not in have:
         raise ValueError(f"{where} has no fit in the component {component} (its components: "
-                         f"{', '.join(have)})")
+                         f"{', '.join(have)}): fit it there (studies.<name>.component, or "
+                         "hazard: {file, component} so the suite is fitted in it too), or "
+                         "declare the hazard's component if it is one of those")
     if "component" in frame.columns:
         frame = frame[frame["component"].astype(str) == component]
     frame, median_col = _in_measure(frame, measure, where, same_measure)

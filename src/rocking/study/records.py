@@ -39,7 +39,7 @@ from ..motions.motion import GroundMotion
 from .aggregate import requested_answers
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
-           "record_table", "suite_fragility", "write_record_tables"]
+           "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
 
 RECORD_COLUMNS = {
     "motion": ("", "the recorded motion (ensemble file, spectra store)"),
@@ -331,6 +331,21 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None,
     return frame
 
 
+def suite_fragilities(tables: dict, measures: Sequence[str], upper: float | None):
+    """:func:`suite_fragility` of each component's :func:`record_table` (``tables``:
+    component → table), stacked in that order; ``attrs["bootstrap"]`` the resamples of
+    every row, in the same order."""
+    import pandas as pd
+
+    fits = [suite_fragility(t, measures, upper, c) for c, t in tables.items()]
+    samples = tuple(np.concatenate([f.attrs["bootstrap"][i] for f in fits]) for i in (0, 1))
+    for f in fits:  # pandas compares the attrs of the frames it joins: arrays cannot be
+        f.attrs.clear()
+    out = pd.concat(fits, ignore_index=True)
+    out.attrs["bootstrap"] = samples
+    return out
+
+
 def _bootstrap(values: np.ndarray, censored: np.ndarray, fit: dict, samples: list) -> dict:
     """The 90 % interval of the median over resamples of the motions
     (:func:`rocking.spectra.fragility.bootstrap_lognormal`); the resamples go to ``samples``
@@ -402,7 +417,6 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     (int, int)
         Rows written to each file.
     """
-    import pandas as pd
     import xarray as xr
 
     from ..motions.ensemble_io import load_ensemble
@@ -422,10 +436,7 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
                if k in ("omega_n", "zeta")}
     records = as_recorded(table[table["kind"] == "record"].drop(columns=["kind"]), motions,
                           accuracy=attrs["tolerances"], **contact)
-    fits = [suite_fragility(tables[c], measures, upper, c) for c in components]
-    fragility = pd.concat(fits, ignore_index=True)
-    fragility.attrs["bootstrap"] = tuple(np.concatenate([f.attrs["bootstrap"][i] for f in fits])
-                                         for i in (0, 1))
+    fragility = suite_fragilities(tables, measures, upper)
     records.rename(columns=_headers(records.columns, measures, component)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
