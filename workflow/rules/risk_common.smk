@@ -54,15 +54,19 @@ def stripe_fragility_csv(study):
 
 def risk_targets():
     """Exports, risk table and figure of every study with a hazard (and the stripe
-    fragility's exports where the study declares stripes in PGA: the NRML and pelicun
-    exports are functions of PGA; stripes in Sa(T) reach risk.csv only)."""
+    fragility's exports where the study declares stripes in the vector-peak PGA: the NRML
+    and pelicun exports are functions of it; stripes in Sa(T) or another component reach
+    risk.csv only)."""
     out = []
     for s in risk_studies():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
         out += figure_files(out_path(f"{s}/figures/risk"))
-        if has_product("stripes", s) and study_spec(s).stripes.measure == "pga":
+        stripes = study_spec(s).stripes
+        # the exports are of the vector-peak PGA (pelicun: Demand-Directional 1)
+        if has_product("stripes", s) and stripes.measure == "pga" \
+                and stripes.component == "vector_peak":
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out

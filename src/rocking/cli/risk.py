@@ -183,8 +183,9 @@ def run(args) -> int:
     frag = _select(read_fragilities(args.fragility, measure=hazard.measure,
                                     component=component), args)
     table = risk_table(frag, hazard, component=component)
-    if (args.nrml is not None or args.pelicun is not None) and hazard.measure != "pga":
-        raise ValueError("--nrml and --pelicun export PGA fragilities only")
+    if (args.nrml is not None or args.pelicun is not None) and (
+            hazard.measure != "pga" or frag.component != "vector_peak"):
+        raise ValueError("--nrml and --pelicun export vector-peak PGA fragilities only")
     if args.nrml is not None:
         write_nrml(frag, args.nrml, search_upper=args.upper)
     if args.pelicun is not None:
