@@ -163,7 +163,8 @@ def parse_measure(name: str) -> tuple[str, float | None]:
     ValueError
         Any other spelling, or a period that is not a finite number > 0.
     """
-    spelled = ", ".join(f"'{k}:<T in s>'" if m.has_period else k for k, m in MEASURES.items())
+    names = [f"'{k}:<T in s>'" if m.has_period else k for k, m in MEASURES.items()]
+    spelled = ", ".join(names[:-1]) + " or " + names[-1]
     if not isinstance(name, str):
         raise ValueError(f"an intensity measure is {spelled}, got {name!r}")
     text = name.strip().lower()
