@@ -26,6 +26,15 @@ if not workflow.overwrite_configfiles:
     configfile: str(DEFAULT_CONFIG)
 
 
+# A relative recorded-parameters file (ensembles.<name>.params) is read from the working
+# directory, else from beside this Snakefile (--directory elsewhere), as the hazard file is.
+for _ensemble in config.get("ensembles", {}).values():
+    _params = _ensemble.get("params") if isinstance(_ensemble, dict) else None
+    if (isinstance(_params, str) and _params and not Path(_params).is_absolute()
+            and not Path(_params).exists() and Path(workflow.basedir, _params).exists()):
+        _ensemble["params"] = str(Path(workflow.basedir, _params))
+
+
 # Schema errors in one line naming the key, then cross-field checks (records and their
 # files, tilt goals against every tan_alpha), all before any job is planned.
 from rocking.study.config_checks import validate_config

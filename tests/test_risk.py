@@ -197,7 +197,8 @@ def test_risk_table_columns_units_and_values():
     frag = fragilities.read_fragilities(table(ROWS))
     h = HazardCurve.from_power_law(1e-4, 2.5)
     t = risk_table(frag, h)
-    assert list(t.columns) == ["fragility", "measure", "mode", "tan_alpha [-]", "R [m]",
+    assert list(t.columns) == ["fragility", "measure", "component", "mode", "tan_alpha [-]",
+                               "R [m]",
                                "limit_state", "median_im [g]", "median_pga_g [g]", "beta [-]",
                                "n", "maf [1/yr]", "lambda_p05 [1/yr]", "lambda_p95 [1/yr]",
                                "lambda_lo [1/yr]", "lambda_hi [1/yr]", "return_period [yr]",

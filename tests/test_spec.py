@@ -104,7 +104,8 @@ def test_defaults_are_the_schemas():
                                     if k not in ("record", "records")}
     study = props["studies"]["additionalProperties"]["properties"]
     assert DEFAULTS["study"] == {k: study[k]["default"]
-                                 for k in ("chunk_R", "upper", "intensity_measures", "mu")}
+                                 for k in ("chunk_R", "upper", "intensity_measures", "mu",
+                                           "component")}
     for part in ("tilt_map", "stripes"):
         assert DEFAULTS[part] == {k: v["default"] for k, v in study[part]["properties"].items()
                                   if "default" in v}

@@ -29,6 +29,8 @@ rule risk:
     params:
         caption=RISK_CAPTION,
         hazard=lambda wildcards: hazard_param(wildcards.study),
+        component=lambda wildcards: hazard_component_of(wildcards.study),
+        study_component=lambda wildcards: study_spec(wildcards.study).component,
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
         preset=lambda wildcards: study_preset(wildcards.study),

@@ -5,7 +5,7 @@
 from functools import cache
 from pathlib import Path
 
-from rocking.risk.hazard import parse_hazard, same_measure
+from rocking.risk.hazard import hazard_component, parse_hazard, same_measure
 
 
 def hazard_spec(study):
@@ -54,15 +54,19 @@ def stripe_fragility_csv(study):
 
 def risk_targets():
     """Exports, risk table and figure of every study with a hazard (and the stripe
-    fragility's exports where the study declares stripes in PGA: the NRML and pelicun
-    exports are functions of PGA; stripes in Sa(T) reach risk.csv only)."""
+    fragility's exports where the study declares stripes in the vector-peak PGA: the NRML
+    and pelicun exports are functions of it; stripes in Sa(T) or another component reach
+    risk.csv only)."""
     out = []
     for s in risk_studies():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
         out += figure_files(out_path(f"{s}/figures/risk"))
-        if has_product("stripes", s) and study_spec(s).stripes.measure == "pga":
+        stripes = study_spec(s).stripes
+        # the exports are of the vector-peak PGA (pelicun: Demand-Directional 1)
+        if has_product("stripes", s) and stripes.measure == "pga" \
+                and stripes.component == "vector_peak":
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out
@@ -85,9 +89,27 @@ def hazard_measure(study):
                 if same_measure(m, curve.measure))
 
 
+@cache
+def hazard_component_of(study):
+    """The horizontal component the study's hazard declares (its `component` key, or a
+    `component=` comment in its file), None where unsaid (then taken as the study's)."""
+    spec = hazard_spec(study)
+    return None if spec is None else hazard_component(hazard_param(study))
+
+
+def extra_components(study):
+    """Components suite_fragility.csv fits beside the study's: the hazard's, if it differs."""
+    c = hazard_component_of(study)
+    return [] if c is None or c == study_spec(study).component else [c]
+
+
 def suite_fragility_csv(study):
-    """The suite's fragility table when the hazard is not PGA (its fits in Sa(T)), else []."""
-    return [] if hazard_measure(study) == "pga" else [out_path(f"{study}/suite_fragility.csv")]
+    """The suite's fragility table when the hazard is not PGA (its fits in Sa(T)) or not in
+    the vector peak (the spectra's fragility.csv is the vector-peak PGA), else []."""
+    component = hazard_component_of(study) or study_spec(study).component
+    if hazard_measure(study) == "pga" and component == "vector_peak":
+        return []
+    return [out_path(f"{study}/suite_fragility.csv")]
 
 
 def _check_hazards():
@@ -96,6 +118,7 @@ def _check_hazards():
     for s in risk_studies():
         try:
             curve = hazard_curve(s)
+            hazard_component_of(s)
         except (ValueError, OSError) as exc:
             raise ValueError(f"studies.{s}.hazard: {exc}") from None
         measures = list(study_spec(s).intensity_measures)

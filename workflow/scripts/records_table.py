@@ -15,7 +15,9 @@ def main(snakemake):
         n_rows, n_fits = write_record_tables(store, snakemake.input.motions,
                                              snakemake.params.measures,
                                              snakemake.output.records,
-                                             snakemake.output.fragility)
+                                             snakemake.output.fragility,
+                                             component=snakemake.params.component,
+                                             also=snakemake.params.also)
         print(f"wrote {snakemake.output.records} ({n_rows} rows) and "
               f"{snakemake.output.fragility} ({n_fits} fits)", flush=True)
 

@@ -25,10 +25,11 @@ def main(snakemake):
                                      search_upper=float(params.upper), study=params.study,
                                      stripes=_one(snakemake.input.get("stripes")),
                                      suite=_one(snakemake.input.get("suite")),
-                                     preset=params.preset)
-        for warning in (summary["preset_warning"], summary["below_first_warning"]):
-            if warning:
-                print(warning)
+                                     preset=params.preset, component=params.component,
+                                     study_component=params.study_component)
+        for note in ("preset_warning", "below_first_warning", "component_note"):
+            if summary[note]:
+                print(summary[note])
         print(json.dumps(summary, indent=1, ensure_ascii=False))
         render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source,
                study=f"study {params.study} (ensemble {params.ensemble})")

@@ -17,6 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from . import _common, _human
+from .stripes import COMPONENT_NAMES
 
 EXAMPLES = """\
   rocking risk --fragility results/paper/elcentro/fragility.csv \\
@@ -43,8 +44,9 @@ def add_parser(subparsers) -> None:
         help="mean annual frequency of each limit state under a hazard curve",
         description="From fragility to risk: integrate each lognormal fragility of a study's "
         "fragility table against a hazard curve of PGA or Sa(T) [g], with the 90 %% interval "
-        "of a bootstrap over the motions. Intensities are the pair's vector peak (RotD100); "
-        "a hazard of the geometric mean or RotD50 needs --im-factor (docs/risk.md).",
+        "of a bootstrap over the motions. The fragility and the hazard must be in one "
+        "horizontal component: --component names the hazard's (a table's component column "
+        "says the fragility's; docs/risk.md).",
     )
     p.add_argument("--fragility", type=Path, required=True,
                    help="a study's fragility table: results/<study>/fragility.csv or .nc "
@@ -79,8 +81,13 @@ def add_parser(subparsers) -> None:
                    "cm/s2 or gal (default g, OpenQuake's unit of PGA and SA)")
     p.add_argument("--investigation-time", type=float, default=None,
                    help="investigation time of a two-column table's poe [yr]")
+    p.add_argument("--component", default=None, choices=COMPONENT_NAMES,
+                   help="horizontal component of the hazard (rotd50 for NGA-West2 models); "
+                   "the fragility's rows in it are used, refused where the table has none "
+                   "(default: a component= comment of the hazard file, else the table's)")
     p.add_argument("--im-factor", type=float, default=1.0,
-                   help="study PGA / hazard PGA (e.g. RotD100/RotD50)")
+                   help="study PGA / hazard PGA (e.g. RotD100/RotD50), instead of "
+                   "--component")
     p.add_argument("--mode", default=None, help="only this mode (3d, 3d-damped, 2d-x, 2d-y)")
     p.add_argument("--tan-alpha", type=float, default=None, help="only this slenderness")
     _common.add_dimensions(p)  # only the row of this body (its R and tan alpha)
@@ -141,6 +148,18 @@ def _site(args):
             near["max_distance_km"] = args.max_distance_km
         return near
     return args.site
+
+
+def _component(args) -> str | None:
+    """The hazard's component: --component, else the hazard file's comment, else None."""
+    from ..risk.hazard import hazard_component
+
+    if args.component is not None and args.im_factor != 1.0:
+        raise ValueError("give --component (the fragility in the hazard's component) or "
+                         "--im-factor (the hazard rescaled), not both")
+    if args.component is not None:
+        return args.component
+    return hazard_component(args.hazard) if args.im_factor == 1.0 else None
 
 
 def _select(frag, args):
@@ -211,10 +230,13 @@ def run(args) -> int:
     if not args.fragility.exists():
         raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
     hazard = _hazard(args)
-    frag = _select(read_fragilities(args.fragility, measure=hazard.measure), args)
-    table = risk_table(frag, hazard)
-    if (args.nrml is not None or args.pelicun is not None) and hazard.measure != "pga":
-        raise ValueError("--nrml and --pelicun export PGA fragilities only")
+    component = _component(args)
+    frag = _select(read_fragilities(args.fragility, measure=hazard.measure,
+                                    component=component), args)
+    table = risk_table(frag, hazard, component=component)
+    if (args.nrml is not None or args.pelicun is not None) and (
+            hazard.measure != "pga" or frag.component != "vector_peak"):
+        raise ValueError("--nrml and --pelicun export vector-peak PGA fragilities only")
     if args.nrml is not None:
         write_nrml(frag, args.nrml, search_upper=args.upper)
     if args.pelicun is not None:

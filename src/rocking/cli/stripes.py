@@ -29,8 +29,22 @@ in the tests; the library is not imported to print the help)."""
 DEFAULT_REFINE = 8
 """Default refinement budget (:data:`rocking.spectra.stripes.DEFAULT_REFINE`, likewise)."""
 
+COMPONENT_NAMES = ("vector_peak", "rotd100", "rotd50", "geometric_mean", "larger")
+"""The components of :data:`rocking.motions.measures.COMPONENTS` (held equal by a test)."""
+
+
+def measure_help() -> str:
+    """Help of --measure and --component: the registries of :mod:`rocking.motions.measures`
+    in words (tests/test_components.py holds them equal; the library is not imported)."""
+    return ("intensity measure of the stripes: pga [g] (default), pgv [m/s] or sa:<T in s> "
+            "[g] (e.g. sa:1.0), in the --component (" + ", ".join(COMPONENT_NAMES) + "; "
+            "default vector_peak): every motion is scaled so that its measure equals the "
+            "stripe's; the stripes are then that measure over g tan alpha")
+
+
 SUMMARY = ("R", "limit_state", "median", "median_lo", "median_hi", "median_pga_g", "beta",
-           "beta_lo", "beta_hi", "status", "reason", "measure", "median_im", "median_p05",
+           "beta_lo", "beta_hi", "status", "reason", "measure", "component", "median_im",
+           "median_p05",
            "median_p95", "bracket_lo", "bracket_hi", "n_refined")
 STRIPES = ("R", "limit_state", "intensity", "pga_g", "im", "n_exceeding", "n_motions",
            "fraction")
@@ -64,10 +78,9 @@ def add_parser(subparsers) -> None:
     g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
-    g.add_argument("--measure", default="pga",
-                   help="intensity measure of the stripes: pga (default), pgv or sa:<T in s> "
-                   "(e.g. sa:1.0): every motion is scaled so that its measure equals the "
-                   "stripe's; the stripes are then that measure over g tan alpha")
+    g.add_argument("--measure", default="pga", help=measure_help())
+    g.add_argument("--component", default="vector_peak", choices=COMPONENT_NAMES,
+                   help="horizontal component of --measure (default: %(default)s)")
     g.add_argument("--refine", type=int, default=DEFAULT_REFINE,
                    help="most stripes added per (R, limit state) where the fit separates "
                    "(bisection in ln intensity), 0 for none (default: %(default)s)")
@@ -130,7 +143,7 @@ def _refined(result, body, motions, args, acc) -> dict:
 
     analyze = stripe_analyzer(body, motions, list(result.limit_states), mode=args.mode,
                               accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
-                              measure=args.measure)
+                              measure=args.measure, component=args.component)
     note = None if args.quiet else (lambda line: print(line, file=sys.stderr))
     return {ls: refine_stripes(result, ls, analyze, args.refine, log=note)
             for ls in result.limit_states}
@@ -232,7 +245,8 @@ def run(args) -> int:
     parse_measure(args.measure)
     results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
                                 accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
-                                progress=not args.quiet, measure=args.measure) for b in bodies]
+                                progress=not args.quiet, measure=args.measure,
+                                component=args.component) for b in bodies]
     refined = [_refined(r, b, motions, args, acc) for r, b in zip(results, bodies, strict=True)]
     boot = None
     if args.bootstrap:
@@ -245,6 +259,7 @@ def run(args) -> int:
     def titles(c: str) -> str:  # the measure's columns in its unit
         return f"{c} [{unit}]" if c in (*MEASURE_COLUMNS, "im") else header(c)
     doc = {"motions": [m.name for m in motions], "mode": args.mode, "measure": args.measure,
+           "component": args.component,
            "tan_alpha": args.tan_alpha, "limit_states": [s.name for s in states],
            "accuracy": acc.to_dict(), "intensities": [float(v) for v in results[0]
                                                       .intensities],

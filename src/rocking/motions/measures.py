@@ -1,63 +1,196 @@
-"""Intensity measures of a two-component ground motion beside its PGA: PGV and Sa(T).
+"""Intensity measures of a two-component ground motion and the horizontal component they take.
 
-Every measure is the peak of the horizontal *vector*, like the vector PGA max √(ax² + ay²)
-that normalizes the critical intensities (:mod:`rocking.spectra.critical`). The peak of the
-vector is the largest peak over every horizontal direction (RotD100): the response of a
-linear system to the component along the unit vector n is n·(x response, y response), so
-its largest value over n is the length of the response vector. Hence
+A measure (:data:`MEASURES`) is a kind (PGA, PGV or Sa(T)) and a period where it needs one:
+``"pga"``, ``"pgv"``, ``"sa:1.0"``. Each is the peak of one time series of the pair:
 
-- PGV = max_t |v(t)|, v the trapezoidal integral of the ground acceleration from rest [m/s];
-- Sa(T) = ω² max_t |u(t)|, u the relative displacement vector of a linear oscillator of
-  period T and 5 % damping driven by both components (exact recurrence,
+- PGA: the ground acceleration [g];
+- PGV: the ground velocity, the trapezoidal integral of the acceleration from rest [m/s];
+- Sa(T): ω² u/g, u the relative displacement of a linear oscillator of period T and 5 %
+  damping driven by the component (exact recurrence,
   :func:`rocking.motions.response_spectrum.sdof_response`) [g].
 
-All three are linear in the scale of the motion: a record scaled by s has s times each
-measure, so the measure at which a scaled record first exceeds a limit state is the
-critical scale factor times the record's measure, exactly.
+The *component* (:data:`COMPONENTS`) says how the two horizontal series x(t), y(t) become one
+number:
+
+- ``vector_peak``: max_t √(x² + y²), the peak of the horizontal vector (the default, and the
+  performance spectra's own intensity). For a linear system the response to the component
+  along the unit vector n is n·(x, y), so this is the largest peak over every direction;
+- ``rotd100``, ``rotd50``: the largest and the median over the angles θ = 0°, 1°, ..., 179° of
+  max_t |x cos θ + y sin θ| (Boore 2010), by :func:`pyrotd.calc_rotated_percentiles`;
+  rotd100 is the vector peak sampled at 1° (within a factor cos 0.5° below it);
+- ``geometric_mean``: √(max|x| · max|y|) of the two as-recorded components;
+- ``larger``: max(max|x|, max|y|) of the two as-recorded components.
+
+Every measure and component here is linear in the scale of the motion
+(:attr:`IntensityMeasure.scaling`): a record scaled by s has s times each, so the measure at
+which a scaled record first exceeds a limit state is the critical scale factor times the
+record's measure, exactly, and the ratio of two components of one record does not depend on
+its scale.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..constants import G
 from .motion import GroundMotion
 
-__all__ = ["DEFAULT_DAMPING", "MEASURE_UNITS", "intensity_measure", "parse_measure",
+__all__ = ["COMPONENTS", "DEFAULT_COMPONENT", "DEFAULT_DAMPING", "MEASURES", "MEASURE_PATTERN",
+           "MEASURE_UNITS", "ROTD_ANGLES", "Component", "IntensityMeasure", "component_peak",
+           "component_ratio", "measure_imt",
+           "intensity_measure", "measure_series", "parse_component", "parse_measure",
            "peak_vector_velocity", "vector_sa"]
 
 DEFAULT_DAMPING = 0.05
 """Damping ratio of the Sa(T) oscillator [-]."""
 
-MEASURE_UNITS = {"pga": "g", "pgv": "m/s", "sa": "g"}
+
+
+@dataclass(frozen=True)
+class IntensityMeasure:
+    """One kind of intensity measure: how the configuration names it and what it is.
+
+    Attributes
+    ----------
+    kind : str
+        ``"pga"``, ``"pgv"`` or ``"sa"``; the configuration writes ``sa:<T>``.
+    unit : str
+        Unit of its values.
+    description : str
+        What it is, in words.
+    scaling : str
+        How it changes when the record is scaled by s: ``"linear"`` (s times the measure).
+        Critical measures are the critical scale factor times the record's measure only for
+        a linear measure.
+    imt : str
+        OpenQuake's intensity measure type (``"PGA"``, ``"PGV"``, ``"SA({period})"``).
+    pattern : str
+        Regular expression of its spellings in the configuration.
+    """
+
+    kind: str
+    unit: str
+    description: str
+    scaling: str
+    imt: str
+    pattern: str
+
+    @property
+    def has_period(self) -> bool:
+        """Whether the measure takes a period (``sa:<T>``)."""
+        return "{period}" in self.imt
+
+
+MEASURES = {m.kind: m for m in (
+    IntensityMeasure("pga", "g", "peak ground acceleration", "linear", "PGA", "pga"),
+    IntensityMeasure("pgv", "m/s", "peak ground velocity (integrated from rest)", "linear",
+                     "PGV", "pgv"),
+    IntensityMeasure("sa", "g", "5 % damped pseudo-spectral acceleration at period T [s]",
+                     "linear", "SA({period})", "sa:[0-9]*\\.?[0-9]+"),
+)}
+"""The registry of intensity measures, by kind."""
+
+MEASURE_PATTERN = "^(" + "|".join(m.pattern for m in MEASURES.values()) + ")$"
+"""The configuration's spellings of a measure (the schema's ``intensity_measure`` pattern)."""
+
+MEASURE_UNITS = {k: m.unit for k, m in MEASURES.items()}
 """Unit of each kind of measure."""
 
 
+@dataclass(frozen=True)
+class Component:
+    """A definition of the horizontal component of a two-component measure.
+
+    Attributes
+    ----------
+    name : str
+        Its name in the configuration and the tables.
+    description : str
+        The definition in words.
+    imt_component : str
+        What OpenQuake (and the ground-motion models' papers) call it.
+    """
+
+    name: str
+    description: str
+    imt_component: str
+
+
+COMPONENTS = {c.name: c for c in (
+    Component("vector_peak", "peak over time of the horizontal vector sqrt(x^2 + y^2)",
+              "maximum over all directions (the vector peak)"),
+    Component("rotd100", "largest over 180 angles (1 deg) of the peak of the rotated component",
+              "RotD100"),
+    Component("rotd50", "median over 180 angles (1 deg) of the peak of the rotated component",
+              "RotD50"),
+    Component("geometric_mean", "sqrt(peak x * peak y) of the two as-recorded components",
+              "Average Horizontal (geometric mean)"),
+    Component("larger", "larger of the peaks of the two as-recorded components",
+              "Greater of two horizontal"),
+)}
+"""The registry of horizontal components, by name."""
+
+DEFAULT_COMPONENT = "vector_peak"
+"""A study's component when it names none: the performance spectra's own intensity."""
+
+ROTD_ANGLES = np.arange(0.0, 180.0, 1.0)
+"""Angles of the RotD components [deg]."""
+
+
+def parse_component(name: str, field: str = "component") -> str:
+    """The registry's name of a component (case-insensitive).
+
+    Raises
+    ------
+    ValueError
+        One line naming ``field``, the value and the known components.
+    """
+    text = name.strip().lower() if isinstance(name, str) else None
+    if text not in COMPONENTS:
+        raise ValueError(f"{field}: unknown component {name!r}; known: "
+                         f"{', '.join(COMPONENTS)}")
+    return text
+
+
 def parse_measure(name: str) -> tuple[str, float | None]:
-    """``"pga"``, ``"pgv"`` or ``"sa:<T>"`` → (kind, period [s] or None).
+    """``"pga"``, ``"pgv"`` or ``"sa:<T>"`` (:data:`MEASURES`) → (kind, period [s] or None).
 
     Raises
     ------
     ValueError
         Any other spelling, or a period that is not a finite number > 0.
     """
+    names = [f"'{k}:<T in s>'" if m.has_period else k for k, m in MEASURES.items()]
+    spelled = ", ".join(names[:-1]) + " or " + names[-1]
     if not isinstance(name, str):
-        raise ValueError(f"an intensity measure is pga, pgv or 'sa:<T in s>', got {name!r}")
+        raise ValueError(f"an intensity measure is {spelled}, got {name!r}")
     text = name.strip().lower()
-    if text in ("pga", "pgv"):
-        return text, None
-    if text.startswith("sa:"):
+    kind, _, rest = text.partition(":")
+    m = MEASURES.get(kind)
+    if m is not None and not m.has_period and not _:
+        return kind, None
+    if m is not None and m.has_period and _:
         try:
-            period = float(text[3:])
+            period = float(rest)
         except ValueError:
             period = math.nan
         if not (math.isfinite(period) and period > 0):
             raise ValueError(f"the period of {name!r} must be a number of seconds > 0, "
-                             "e.g. 'sa:1.0'")
-        return "sa", period
-    raise ValueError(f"an intensity measure is pga, pgv or 'sa:<T in s>', got {name!r}")
+                             f"e.g. '{kind}:1.0'")
+        return kind, period
+    raise ValueError(f"an intensity measure is {spelled}, got {name!r}")
+
+
+def measure_imt(name: str) -> str:
+    """OpenQuake's IMT of a measure: ``"pga"`` → ``"PGA"``, ``"sa:1"`` → ``"SA(1.0)"``."""
+    kind, period = parse_measure(name)
+    if period is None:
+        return MEASURES[kind].imt
+    text = f"{period:.1f}" if period == round(period, 1) else f"{period:g}"
+    return MEASURES[kind].imt.format(period=text)
 
 
 def peak_vector_velocity(motion: GroundMotion) -> float:
@@ -89,11 +222,62 @@ def vector_sa(motion: GroundMotion, period: float, damping: float = DEFAULT_DAMP
     return float(omega**2 * np.max(np.hypot(ux, uy)) / G)
 
 
-def intensity_measure(motion: GroundMotion, name: str) -> float:
-    """The measure ``name`` (:func:`parse_measure`) of a motion, in :data:`MEASURE_UNITS`."""
+def measure_series(motion: GroundMotion, name: str,
+                   damping: float = DEFAULT_DAMPING) -> tuple[np.ndarray, np.ndarray]:
+    """The pair of time series whose peaks are the measure ``name``, in its unit.
+
+    PGA: the accelerations [g]; PGV: the velocities from rest (trapezoid) [m/s]; Sa(T):
+    ω² u/g of the oscillator's relative displacements [g].
+    """
     kind, period = parse_measure(name)
     if kind == "pga":
-        return motion.pga_g
+        return motion.ax / G, motion.ay / G
     if kind == "pgv":
-        return peak_vector_velocity(motion)
-    return vector_sa(motion, period)
+        from scipy.integrate import cumulative_trapezoid
+
+        return (cumulative_trapezoid(motion.ax, dx=motion.dt, initial=0.0),
+                cumulative_trapezoid(motion.ay, dx=motion.dt, initial=0.0))
+    from .response_spectrum import sdof_response
+
+    w2 = (2.0 * math.pi / period) ** 2 / G
+    ux, _ = sdof_response(motion.ax, motion.dt, period, damping)
+    uy, _ = sdof_response(motion.ay, motion.dt, period, damping)
+    return w2 * ux, w2 * uy
+
+
+def component_peak(x: np.ndarray, y: np.ndarray, component: str) -> float:
+    """The peak of the pair of series (x, y) in ``component`` (:data:`COMPONENTS`)."""
+    component = parse_component(component)
+    if component == "vector_peak":
+        return float(np.max(np.hypot(x, y)))
+    if component in ("rotd50", "rotd100"):
+        import pyrotd
+
+        pct = 50.0 if component == "rotd50" else 100.0
+        # "rigorous": every sample is rotated (the "optimized" subset assumes the peak of
+        # every direction is above 0.7 of the smaller component's peak)
+        out = pyrotd.calc_rotated_percentiles([x, y], ROTD_ANGLES, [pct], method="rigorous")
+        return float(out.spec_accel[0])
+    px, py = float(np.max(np.abs(x))), float(np.max(np.abs(y)))
+    return math.sqrt(px * py) if component == "geometric_mean" else max(px, py)
+
+
+def intensity_measure(motion: GroundMotion, name: str,
+                      component: str = DEFAULT_COMPONENT) -> float:
+    """The measure ``name`` (:func:`parse_measure`) of a motion in ``component``, in
+    :data:`MEASURE_UNITS`."""
+    component = parse_component(component)
+    kind, period = parse_measure(name)
+    if component == "vector_peak":  # the spectra's own PGA, bit for bit
+        if kind == "pga":
+            return motion.pga_g
+        if kind == "pgv":
+            return peak_vector_velocity(motion)
+        return vector_sa(motion, period)
+    return component_peak(*measure_series(motion, name), component)
+
+
+def component_ratio(motion: GroundMotion, name: str, to: str, frm: str) -> float:
+    """Measure ``name`` of ``motion`` in component ``to`` over the same in ``frm`` [-]: the
+    factor from one component to the other, the same at every scale of the motion."""
+    return intensity_measure(motion, name, to) / intensity_measure(motion, name, frm)

@@ -61,7 +61,9 @@ def write_fragility_exports(fragility, *, nrml: str | Path, pelicun: str | Path,
 def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
                        pelicun: str | Path, table: str | Path,
                        search_upper: float | None = None, study: str = "",
-                       stripes=None, suite=None, preset: str = "") -> dict:
+                       stripes=None, suite=None, preset: str = "",
+                       component: str | None = None,
+                       study_component: str = "vector_peak") -> dict:
     """Write ``fragility.nrml.xml``, ``fragility.pelicun.csv`` and ``risk.csv`` of a study.
 
     One behaviour whatever the fits: every requested row is in ``risk.csv``, a row without a
@@ -89,6 +91,15 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
         ``risk.csv`` when the hazard is not of PGA (its fits in Sa(T)).
     preset : str
         Accuracy preset of the study's analyses (the ``preset`` column).
+    component : str, optional
+        The hazard's horizontal component (:func:`rocking.risk.hazard.hazard_component`);
+        None: the hazard is taken in ``study_component``, and the summary says so. In
+        another component than the vector peak the first-exceedance rows come from
+        ``suite`` (the fits in that component, computed from the records), never from
+        ``fragility`` (the spectra's vector-peak PGA); stripe rows in another component than
+        the hazard's are left out with a status saying why.
+    study_component : str
+        The study's component (``studies.<name>.component``).
 
     Returns
     -------
@@ -102,31 +113,41 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
     pga = read_fragilities(fragility)
     summary = write_fragility_exports(pga, nrml=nrml, pelicun=pelicun,
                                       search_upper=search_upper, study=study)
-    if hazard.measure == "pga":
+    declared = component is not None
+    component = study_component if component is None else component
+    if hazard.measure == "pga" and component == pga.component:
         first = pga
     elif suite is None:
-        raise ValueError(f"the hazard is of {hazard.imt}: give the suite's fragility "
-                         "(suite_fragility.csv) for its first-exceedance fits in that measure")
+        raise ValueError(f"the hazard is of {hazard.imt} in the component {component}: give "
+                         "the suite's fragility (suite_fragility.csv) with its "
+                         "first-exceedance fits in that measure and component")
     else:
-        first = read_fragilities(suite, measure=hazard.measure)
+        first = read_fragilities(suite, measure=hazard.measure, component=component)
     tables = [first]
     if stripes is not None:
-        tables.append(_stripes_in(stripes, hazard))
-    risk = risk_tables(tables, hazard, preset=preset)
+        tables.append(_stripes_in(stripes, hazard, component))
+    risk = risk_tables(tables, hazard, preset=preset, component=component)
     risk.to_csv(table, index=False, float_format="%.6g")
     return {**summary, "risk_rows": len(risk), "risk_fragilities": [f.kind for f in tables],
-            "risk_measure": hazard.measure, "risk_skipped": risk.attrs["skipped"],
+            "risk_measure": hazard.measure, "risk_component": component,
+            "component_note": "" if declared else (
+                f"the hazard's component is not declared: taken as the study's ({component}); "
+                "declare it as hazard: {file, component}"),
+            "risk_skipped": risk.attrs["skipped"],
             "hazard": hazard.source, "hazard_note": hazard.note,
             "hazard_site": hazard.site, "hazard_kind": hazard.kind,
             "hazard_unit": hazard.unit, "below_first_warning": below_first_warning(risk),
             "preset_warning": preset_warning(preset)}
 
 
-def _stripes_in(stripes, hazard: HazardCurve) -> Fragilities:
-    """The stripe table's rows in the hazard's measure; a table of another measure (an old
-    one is of PGA) gives no rows, with a status saying so."""
+def _stripes_in(stripes, hazard: HazardCurve, component: str | None = None) -> Fragilities:
+    """The stripe table's rows in the hazard's measure and component; a table of another
+    measure (an old one is of PGA) or component gives no rows, with a status saying so
+    (stripes scale each motion to the stripe in one component: another component's
+    fragility needs other analyses)."""
     try:
-        return read_fragilities(stripes, kind="stripes", measure=hazard.measure)
+        return read_fragilities(stripes, kind="stripes", measure=hazard.measure,
+                                component=component)
     except ValueError as exc:
         import pandas as pd
 
@@ -134,7 +155,8 @@ def _stripes_in(stripes, hazard: HazardCurve) -> Fragilities:
 
         empty = pd.DataFrame(columns=list(COLUMNS))
         return Fragilities(empty, empty, 0, "stripes", hazard.measure,
-                           source=f"stripe table not in {hazard.measure} ({exc})")
+                           source=f"stripe table not in {hazard.measure} ({exc})",
+                           component=component or "vector_peak")
 
 
 __all__ = ["write_fragility_exports", "write_risk_outputs"]

@@ -83,6 +83,10 @@ class Fragilities:
         ``row`` column (the row of the table read).
     source : str
         The table read (a path), for notes.
+    component : str
+        Horizontal component of the measure (:data:`rocking.motions.measures.COMPONENTS`):
+        the table's ``component`` column, ``vector_peak`` for a table without one (the
+        spectra's fragility.csv, and tables written before components).
     """
 
     rows: pd.DataFrame
@@ -92,6 +96,7 @@ class Fragilities:
     measure: str = "pga"
     samples: BootstrapSamples | None = None
     source: str = ""
+    component: str = "vector_peak"
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -148,7 +153,7 @@ def _as_frame(source) -> pd.DataFrame:
 
 
 def read_fragilities(source, kind: str | None = None, *, measure: str | None = None,
-                     bootstrap=None) -> Fragilities:
+                     bootstrap=None, component: str | None = None) -> Fragilities:
     """The fitted lognormal fragilities of a study's fragility table, and those without.
 
     Parameters
@@ -167,11 +172,16 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     bootstrap : path or False, optional
         The table's bootstrap samples (:mod:`rocking.risk.bootstrap`); default
         ``<table>_bootstrap.nc`` beside a table given by path, when it exists; False: none.
+    component : str, optional
+        The horizontal component wanted: a table with a ``component`` column gives its rows
+        in it (refused, naming the table's components, where it has none); a table without
+        one is the vector peak. Default: the table's first component.
 
     Returns
     -------
     Fragilities
     """
+    from ..motions.measures import DEFAULT_COMPONENT
     from .hazard import same_measure
 
     frame = _plain_columns(_as_frame(source)).reset_index(drop=True)
@@ -183,6 +193,17 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     where = str(source) if isinstance(source, str | Path) else "fragility table"
     measure = "pga" if measure is None else measure
+    have = (list(dict.fromkeys(frame["component"].astype(str))) if "component" in frame.columns
+            else [DEFAULT_COMPONENT])
+    if component is None:
+        component = have[0] if have else DEFAULT_COMPONENT
+    if component not in have:
+        raise ValueError(f"{where} has no fit in the component {component} (its components: "
+                         f"{', '.join(have)}): fit it there (studies.<name>.component, or "
+                         "hazard: {file, component} so the suite is fitted in it too), or "
+                         "declare the hazard's component if it is one of those")
+    if "component" in frame.columns:
+        frame = frame[frame["component"].astype(str) == component]
     frame, median_col = _in_measure(frame, measure, where, same_measure)
     if "measure" in frame.columns and len(frame):
         measure = str(frame["measure"].iloc[0])  # the table's own spelling (sa:1.0)
@@ -222,7 +243,7 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     skipped["status"] = skipped["status"].replace("", "no fit")
     return Fragilities(rows, skipped, int(not_computed.sum()), kind, measure,
                        _samples(source, bootstrap, n_total),
-                       str(source) if isinstance(source, str | Path) else "")
+                       str(source) if isinstance(source, str | Path) else "", component)
 
 
 def _in_measure(frame: pd.DataFrame, measure: str, where: str, same_measure):

@@ -614,11 +614,51 @@ def _said(kind: str, unit: str) -> str:
             + (f", levels in {unit} converted to g" if unit != "g" else ""))
 
 
-HAZARD_KEYS = {"file", "site", "investigation_time", "kind", "unit", "im_factor"}
+HAZARD_KEYS = {"file", "site", "investigation_time", "kind", "unit", "im_factor",
+               "component"}
 """Keys of a hazard mapping that names a file."""
 
-POWER_LAW_KEYS = {"k0", "k", "measure", "im_factor"}
+POWER_LAW_KEYS = {"k0", "k", "measure", "im_factor", "component"}
 """Keys of a hazard mapping that gives a power law."""
+
+_COMPONENT = re.compile(r"\bcomponent\s*=\s*['\"]?([A-Za-z_0-9]+)")
+
+
+def hazard_component(spec, *, base: str | Path | None = None) -> str | None:
+    """The horizontal component of a hazard's intensity measure, or None where unsaid.
+
+    The hazard entry's ``component`` key (:data:`rocking.motions.measures.COMPONENTS`), else
+    a ``component='rotd50'`` in a comment line of its file (OpenQuake does not write one; a
+    file prepared by hand may). A ``component`` together with ``im_factor`` is refused: the
+    first asks risk to compute the fragility in the hazard's component, the second to
+    rescale the hazard by hand, and the two would convert twice.
+
+    Parameters
+    ----------
+    spec : str, path or dict
+        The hazard entry as :func:`parse_hazard` takes it.
+    base : path, optional
+        Directory a relative file path is taken from.
+    """
+    from ..motions.measures import parse_component
+
+    if isinstance(spec, dict):
+        if "component" in spec:
+            if float(spec.get("im_factor", 1.0)) != 1.0:
+                raise ValueError("hazard: give component (risk converts the fragility) or "
+                                 "im_factor (you convert the hazard), not both")
+            return parse_component(spec["component"], "hazard.component")
+        name = spec.get("file")
+    else:
+        name = spec
+    if name is None:
+        return None
+    path = _resolve(str(name), base)
+    if not path.is_file():
+        return None
+    comments, _ = _read_csv(path)
+    hit = _COMPONENT.search(" ".join(comments))
+    return None if hit is None else parse_component(hit.group(1), f"{path}: component")
 
 
 def parse_hazard(spec, *, base: str | Path | None = None,
@@ -644,6 +684,7 @@ def parse_hazard(spec, *, base: str | Path | None = None,
     if isinstance(spec, dict):
         spec = dict(spec)
         factor = spec.pop("im_factor", 1.0)
+        spec.pop("component", None)  # hazard_component reads it
         if {"k0", "k"} <= set(spec) and set(spec) <= POWER_LAW_KEYS:
             curve = HazardCurve.from_power_law(spec["k0"], spec["k"],
                                                imt=spec.get("measure", measure or "pga"))
@@ -768,5 +809,5 @@ def _resolve(path, base) -> Path:
 
 __all__ = ["HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G", "POWER_LAW_IML",
            "POWER_LAW_KEYS", "UNITS", "HazardCurve", "Site", "check_kind", "check_plausible",
-           "file_kind", "great_circle_km", "imt_measure", "measure_imt", "parse_hazard",
-           "same_measure", "select_site", "unit_factor"]
+           "file_kind", "great_circle_km", "hazard_component", "imt_measure", "measure_imt",
+           "parse_hazard", "same_measure", "select_site", "unit_factor"]

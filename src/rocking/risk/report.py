@@ -33,13 +33,15 @@ def assumptions(hazard: str = "") -> list[str]:
                    "(config/hazard/README.md).")
     return [
         source,
-        "Intensity measure: PGA in g is the vector peak of the horizontal pair, "
-        "max √(ax² + ay²), which equals RotD100 (the largest peak over all horizontal "
-        "directions) in every mode, 2D included. Hazard models give the geometric mean or "
-        "RotD50 of the two components, smaller than RotD100 by a factor f of about 1.1 for "
-        "PGA. No factor is applied unless the study sets hazard.im_factor = f; without it "
-        "the hazard of the study's PGA is underestimated and λ is too low by about f^k "
-        "(≈ 1.2–1.35 for hazard slopes k ≈ 2–3).",
+        "Intensity measure: the spectra's PGA in g is the vector peak of the horizontal "
+        "pair, max √(ax² + ay²), the largest peak over all horizontal directions (RotD100 "
+        "sampled finely) in every mode, 2D included. Hazard models give RotD50 or the "
+        "geometric mean of the two components, smaller by about 1.2–1.3 for PGA. The "
+        "fragility and the hazard are in one component, risk.csv's component column: the "
+        "hazard's as declared (hazard: {file, component}), the fragility fitted in it from "
+        "the records; an undeclared hazard component is taken as the study's. A manual "
+        "factor on the hazard's levels (hazard.im_factor = f) is the alternative; a hazard "
+        "of another component integrated as is makes λ too low by about f^k.",
         "Integration: λ_LS = ∫ P(LS | PGA) |dλ(PGA)| with the lognormal fragility (median, β) "
         "of the study's motions; the hazard is interpolated log-log between its levels and "
         "its first and last log-log slopes are extrapolated beyond them (share_extrapolated "

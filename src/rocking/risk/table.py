@@ -20,9 +20,10 @@ side is open).
 
 The first column, ``fragility``, says which fragility the row integrates
 (``first_exceedance`` or ``stripes``, :data:`rocking.risk.fragilities.KINDS`), ``measure`` in
-which intensity measure; the last, ``status``, the fit's status. :func:`risk_tables` stacks
-the tables of several fragilities of a study, so that both answers stand side by side in one
-``risk.csv``.
+which intensity measure, ``component`` in which horizontal component (that of the
+fragility and of the hazard: they are never mixed); the last, ``status``, the fit's
+status. :func:`risk_tables` stacks the tables of several fragilities of a study, so that
+both answers stand side by side in one ``risk.csv``.
 """
 
 from __future__ import annotations
@@ -43,14 +44,15 @@ YEARS = 50.0
 CI = 0.90
 """Central probability of the bootstrap interval of λ (5th to 95th percentile)."""
 
-COLUMNS = ("fragility", "measure", "mode", "tan_alpha", "R", "limit_state", "median_im",
-           "median_pga_g", "beta", "n", "maf", "lambda_p05", "lambda_p95", "lambda_lo",
-           "lambda_hi", "return_period", "p_50yr", "share_extrapolated", "share_below_first",
-           "hazard_site", "hazard_kind", "preset", "status")
+COLUMNS = ("fragility", "measure", "component", "mode", "tan_alpha", "R", "limit_state",
+           "median_im", "median_pga_g", "beta", "n", "maf", "lambda_p05", "lambda_p95",
+           "lambda_lo", "lambda_hi", "return_period", "p_50yr", "share_extrapolated",
+           "share_below_first", "hazard_site", "hazard_kind", "preset", "status")
 """Columns of :func:`risk_table` (with units in their titles, :func:`rocking.units.header`)."""
 
 
-def risk_table(fragility, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:
+def risk_table(fragility, hazard: HazardCurve, *, preset: str = "",
+               component: str | None = None) -> pd.DataFrame:
     """Mean annual frequency, its interval, return period and 50-year probability of each
     limit state.
 
@@ -64,6 +66,10 @@ def risk_table(fragility, hazard: HazardCurve, *, preset: str = "") -> pd.DataFr
     preset : str
         The accuracy preset of the analyses behind the fragility ('' unknown), carried in
         the ``preset`` column (the report warns about ``fast``).
+    component : str, optional
+        The hazard's horizontal component (:func:`rocking.risk.hazard.hazard_component`);
+        a fragility in another component is refused in one line. None: the hazard is
+        taken in the fragility's component (the ``component`` column says which).
 
     Returns
     -------
@@ -72,7 +78,8 @@ def risk_table(fragility, hazard: HazardCurve, *, preset: str = "") -> pd.DataFr
         ``attrs["skipped"]`` names the rows without a fit.
     """
     frag = (fragility if isinstance(fragility, Fragilities)
-            else read_fragilities(fragility, measure=hazard.measure))
+            else read_fragilities(fragility, measure=hazard.measure, component=component))
+    check_components(frag, component, hazard.source)
     if not same_measure(frag.measure, hazard.measure):
         raise ValueError(f"the hazard ({hazard.source}) is of {hazard.imt}, the "
                          f"{frag.kind} fragility of {frag.measure}: they must be the same "
@@ -88,9 +95,23 @@ def risk_table(fragility, hazard: HazardCurve, *, preset: str = "") -> pd.DataFr
     return table
 
 
+def check_components(frag: Fragilities, component: str | None, source: str = "") -> None:
+    """Refuse, in one line, a fragility in another horizontal component than the hazard's."""
+    if component is None or frag.component == component:
+        return
+    where = f" ({frag.source})" if frag.source else ""
+    raise ValueError(f"the {frag.kind} fragility{where} is in the component {frag.component}, "
+                     f"the hazard{f' ({source})' if source else ''} in {component}: compute "
+                     f"the fragility in {component} (studies.<name>.component: {component}, "
+                     "or a suite_fragility.csv that has it), or declare the hazard's "
+                     f"component as hazard: {{file, component: {frag.component}}} if it is "
+                     "that")
+
+
 def _base(r, frag: Fragilities) -> dict:
     pga = same_measure(frag.measure, "pga")
-    return {"fragility": frag.kind, "measure": frag.measure, "mode": r.mode,
+    return {"fragility": frag.kind, "measure": frag.measure, "component": frag.component,
+            "mode": r.mode,
             "tan_alpha": r.tan_alpha, "R": r.R, "limit_state": r.limit_state,
             "median_im": r.median_g, "median_pga_g": r.median_g if pga else math.nan,
             "beta": r.beta, "n": r.n, "status": r.status}
@@ -130,7 +151,8 @@ def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
             "share_below_first": math.nan}
 
 
-def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.DataFrame:
+def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "",
+                component: str | None = None) -> pd.DataFrame:
     """:func:`risk_table` of each fragility, stacked (the ``fragility`` column tells them apart).
 
     Parameters
@@ -140,7 +162,7 @@ def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.Dat
         refused (their rows could not be told apart).
     hazard : HazardCurve
         The site's hazard curve.
-    preset : str
+    preset, component : str
         As for :func:`risk_table`.
 
     Returns
@@ -148,7 +170,7 @@ def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "") -> pd.Dat
     pandas.DataFrame
         The rows of every table, in the order given; ``attrs["skipped"]`` joins their notes.
     """
-    tables = [risk_table(f, hazard, preset=preset) for f in fragilities]
+    tables = [risk_table(f, hazard, preset=preset, component=component) for f in fragilities]
     kinds = [t.attrs["fragility"] for t in tables]
     if len(set(kinds)) != len(kinds):
         raise ValueError(f"fragilities: one table per kind, got kinds {kinds}")
@@ -179,4 +201,5 @@ def lambda_line(row) -> str:
     return f"no fit ({get('status', '')}): no λ"
 
 
-__all__ = ["CI", "COLUMNS", "YEARS", "lambda_line", "risk_table", "risk_tables"]
+__all__ = ["CI", "COLUMNS", "YEARS", "check_components", "lambda_line", "risk_table",
+           "risk_tables"]

@@ -145,19 +145,22 @@ def measure_scale(measure: str, tan_alpha: float) -> float:
     return float(tan_alpha) * (G if kind == "pgv" else 1.0)
 
 
-def measure_ratio(motion: GroundMotion, measure: str = "pga") -> float:
-    """PGA/(g tan α) of ``motion`` scaled so that its ``measure`` over (g tan α) is 1 [-].
+def measure_ratio(motion: GroundMotion, measure: str = "pga",
+                  component: str = "vector_peak") -> float:
+    """PGA/(g tan α) of ``motion`` scaled so that its ``measure`` in ``component`` over
+    (g tan α) is 1 [-].
 
     A stripe at the normalized measure x is the motion scaled by x g tan α / IM, i.e. analysed
-    at PGA/(g tan α) = x · this ratio (every measure is linear in the scale). 1 for ``"pga"``.
+    at PGA/(g tan α) = x · this ratio (every measure is linear in the scale). 1 for ``"pga"``
+    in the vector peak (the spectra's own intensity).
     """
     from ..constants import G
-    from ..motions.measures import intensity_measure, parse_measure
+    from ..motions.measures import intensity_measure, parse_component, parse_measure
 
     kind, _ = parse_measure(measure)
-    if kind == "pga":
+    if kind == "pga" and parse_component(component) == "vector_peak":
         return 1.0
-    im = intensity_measure(motion, measure)
+    im = intensity_measure(motion, measure, component)
     if not (math.isfinite(im) and im > 0.0):
         raise ValueError(f"motion {motion.name!r} has {measure} = {im!r}: it cannot be scaled "
                          "to a stripe of that measure")
@@ -457,6 +460,8 @@ class StripeFragility:
         and the medians are it over g tan α.
     n_refined : int
         Stripes :func:`refine_stripes` added (0 for the stripes as asked).
+    component : str
+        The horizontal component of ``measure`` (:data:`rocking.motions.measures.COMPONENTS`).
     """
 
     intensities: np.ndarray
@@ -472,6 +477,7 @@ class StripeFragility:
     n_analyses: int = 0
     measure: str = "pga"
     n_refined: int = 0
+    component: str = "vector_peak"
 
     @property
     def scale(self) -> float:
@@ -527,6 +533,11 @@ class StripeFragility:
 
         return self.fits[match_limit_state(limit_state, self.limit_states)]
 
+    @property
+    def _vector_pga(self) -> bool:
+        """The stripes are the spectra's PGA (vector peak): ``pga_g`` columns have values."""
+        return self.measure == "pga" and self.component == "vector_peak"
+
     def to_frame(self):
         """The stripes as a table: one row per (limit state, stripe) with ``intensity``
         [measure/(g tan α)], ``pga_g`` [g] (NaN for another measure than PGA), ``im`` [the
@@ -535,7 +546,7 @@ class StripeFragility:
 
         rows = []
         frac, k, n = self.fraction, self.n_exceeding, self.n_motions
-        pga = self.tan_alpha if self.measure == "pga" else math.nan
+        pga = self.tan_alpha if self._vector_pga else math.nan
         for j, name in enumerate(self.limit_states):
             for i, im in enumerate(self.intensities):
                 rows.append({"limit_state": name, "intensity": float(im),
@@ -554,7 +565,7 @@ class StripeFragility:
         import pandas as pd
 
         rows = []
-        pga = self.tan_alpha if self.measure == "pga" else math.nan
+        pga = self.tan_alpha if self._vector_pga else math.nan
         for j, name in enumerate(self.limit_states):
             f = self.fits[name]
             lo = hi = math.nan
@@ -567,6 +578,7 @@ class StripeFragility:
                          "median_pga_g": f.median * pga, "beta": f.beta,
                          "beta_lo": f.beta_ci[0], "beta_hi": f.beta_ci[1],
                          "status": f.status, "reason": f.reason, "measure": self.measure,
+                         "component": self.component,
                          "median_im": f.median * self.scale, "bracket_lo": lo,
                          "bracket_hi": hi, "n_refined": int(self.n_refined)})
         return pd.DataFrame(rows)
@@ -607,7 +619,8 @@ def _check_motions(motions) -> list[GroundMotion]:
 def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequence[LimitState],
                     intensities: np.ndarray, mode: str, acc: Accuracy, *,
                     omega_n: float | None = None, zeta: float | None = None,
-                    progress=None, measure: str = "pga") -> tuple[np.ndarray, np.ndarray, int]:
+                    progress=None, measure: str = "pga",
+                    component: str = "vector_peak") -> tuple[np.ndarray, np.ndarray, int]:
     """Analyse one motion at every stripe: (exceeded (stripes, states), failed (stripes,),
     analyses run).
 
@@ -621,7 +634,7 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
                             rest_tilt=acc.rest_tilt, whole=whole_record(states))
     at_rest = any(ls.at_rest for ls in states)
-    ratio = measure_ratio(motion, measure)
+    ratio = measure_ratio(motion, measure, component)
     if ratio != 1.0:  # the PGA/(g tan α) each stripe of the measure gives this motion
         intensities = np.asarray(intensities, dtype=float) * ratio
     rtol = acc.rtol_for(MODES[mode][0])
@@ -659,6 +672,7 @@ def stripe_fragility(
     zeta: float | None = None,
     progress=False,
     measure: str = "pga",
+    component: str = "vector_peak",
 ) -> StripeFragility:
     """Multiple-stripe fragility of a body under an ensemble of motions.
 
@@ -685,15 +699,19 @@ def stripe_fragility(
         Intensity measure of the stripes (:func:`rocking.motions.measures.parse_measure`):
         ``intensities`` are it over g tan α, and each motion is scaled so that its measure
         equals the stripe's value.
+    component : str
+        Horizontal component of ``measure`` (:data:`rocking.motions.measures.COMPONENTS`):
+        each motion is scaled so that its measure in it equals the stripe.
 
     Returns
     -------
     StripeFragility
     """
     check_mode(mode)
-    from ..motions.measures import parse_measure
+    from ..motions.measures import parse_component, parse_measure
 
     parse_measure(measure)
+    component = parse_component(component)
     motions = _check_motions(motions)
     states = parse_limit_states(limit_states, sort=False)
     for ls in states:
@@ -707,19 +725,19 @@ def stripe_fragility(
     for m, motion in enumerate(motions):
         exceeded[:, m], failed[:, m], r = stripe_outcomes(
             body, motion, states, x, mode, acc, omega_n=omega_n, zeta=zeta, progress=bar,
-            measure=measure)
+            measure=measure, component=component)
         runs += r
     if bar is not None and bar is not progress:
         bar.close()
     return from_outcomes(x, states, [m.name for m in motions], exceeded, failed, mode=mode,
                          accuracy=acc.name, R=float(body.R), tan_alpha=float(body.tan_alpha),
-                         n_analyses=runs, measure=measure)
+                         n_analyses=runs, measure=measure, component=component)
 
 
 def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, failed, *,
                   mode: str = MODE_3D, accuracy: str = "default", R: float = math.nan,
                   tan_alpha: float = math.nan, n_analyses: int = 0, measure: str = "pga",
-                  n_refined: int = 0) -> StripeFragility:
+                  n_refined: int = 0, component: str = "vector_peak") -> StripeFragility:
     """A :class:`StripeFragility` (fits included) from per-analysis outcomes, e.g. read back
     from a store: ``exceeded`` (stripes, motions, limit states), ``failed`` (stripes,
     motions)."""
@@ -737,7 +755,7 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
     fits = {name: fit_stripes(x, k[:, j], n) for j, name in enumerate(names)}
     return StripeFragility(x, names, tuple(motions), exc, fail, MappingProxyType(fits),
                            mode, accuracy, R, tan_alpha, int(n_analyses), measure,
-                           int(n_refined))
+                           int(n_refined), component)
 
 
 # --------------------------------------------------------------------------------------
@@ -748,7 +766,8 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
 def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], limit_states, *,
                     mode: str = MODE_3D, accuracy: str | Accuracy | dict = "default",
                     omega_n: float | None = None, zeta: float | None = None,
-                    measure: str = "pga") -> Callable[[float], tuple]:
+                    measure: str = "pga",
+                    component: str = "vector_peak") -> Callable[[float], tuple]:
     """``analyze(x)``: every motion at one more stripe ``x`` [measure/(g tan α)], as
     :func:`stripe_fragility` analyses them; returns (exceeded (motions, limit states),
     failed (motions,), analyses run)."""
@@ -761,7 +780,8 @@ def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], lim
         runs = 0
         for m, motion in enumerate(motions):
             e, f, r = stripe_outcomes(body, motion, states, np.array([float(x)]), mode, acc,
-                                      omega_n=omega_n, zeta=zeta, measure=measure)
+                                      omega_n=omega_n, zeta=zeta, measure=measure,
+                                      component=component)
             exc[m], fail[m], runs = e[0], f[0], runs + r
         return exc, fail, runs
 
@@ -826,7 +846,7 @@ def refine_stripes(result: StripeFragility, limit_state: str,
     return from_outcomes(x, [limit_state], result.motions, every[:, :, [j]], fail,
                          mode=result.mode, accuracy=result.accuracy, R=result.R,
                          tan_alpha=result.tan_alpha, n_analyses=runs, measure=result.measure,
-                         n_refined=added)
+                         n_refined=added, component=result.component)
 
 
 BOOT_CODES = {"ok": 0, "separated": 1, "none-exceeded": 2, "all-exceeded": 3, "no-trend": 4,

@@ -29,7 +29,7 @@ DEFAULTS: dict[str, Any] = {
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
                  "fit_method": "spectrum", "vertical": False, "params": None},
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"],
-              "mu": None},
+              "mu": None, "component": "vector_peak"},
     "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,
                  "chunk_R": 1},
     "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,

@@ -199,6 +199,9 @@ class StripesSpec(_IntensityGrid):
     measure : str
         Intensity measure of the stripes (``"pga"``, or one of the study's
         ``intensity_measures`` such as ``"sa:1.0"``): ``intensity`` is it over g tan α.
+    component : str
+        The study's horizontal component of ``measure`` (``studies.<name>.component``):
+        each motion is scaled so that its measure in it equals the stripe.
     refine : int
         Most stripes added per (mode, limit state, R) where the fit separates (decides no
         store: the refined analyses go beside it).
@@ -210,10 +213,13 @@ class StripesSpec(_IntensityGrid):
     measure: str = "pga"
     refine: int = dc_field(default=8, compare=False)
     bootstrap: int = dc_field(default=1000, compare=False)
+    component: str = "vector_peak"
 
     def to_attrs(self) -> dict[str, Any]:
         # the measure PGA is left out: stores made before stripes had a measure keep their hash
         extra = {} if self.measure == "pga" else {"measure": self.measure}
+        if self.component != "vector_peak":  # likewise: the vector peak keeps the old hash
+            extra["component"] = self.component
         return {**super().to_attrs(), "limit_states": list(self.limit_states), **extra}
 
     @classmethod
@@ -221,7 +227,8 @@ class StripesSpec(_IntensityGrid):
         """Inverse of :meth:`to_attrs` (``refine`` and ``bootstrap``, which decide no store,
         take their defaults)."""
         return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]),
-                   measure=attrs.get("measure", "pga"))
+                   measure=attrs.get("measure", "pga"),
+                   component=attrs.get("component", "vector_peak"))
 
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:
@@ -257,5 +264,9 @@ def _stripes(config, t, field, study, ensemble, accuracy) -> StripesSpec:
         v = t[key]
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
             raise ValueError(f"{field}.{key} must be an integer >= 0, got {v!r}")
+    from ..motions.measures import parse_component
+
+    component = parse_component((config.get("studies") or {}).get(study, {}).get(
+        "component", DEFAULTS["study"]["component"]), f"studies.{study}.component")
     return StripesSpec(*common, limit_states=tuple(states), measure=t["measure"],
-                       refine=t["refine"], bootstrap=t["bootstrap"])
+                       refine=t["refine"], bootstrap=t["bootstrap"], component=component)

@@ -12,7 +12,13 @@ search's first exceedance is above 1, or survive at 1 although it exceeds at a s
 The critical intensity is searched on the scale of the record, and every intensity measure
 of a scaled record is that scale times the record's measure (:mod:`rocking.motions.measures`),
 so the critical PGV or Sa(T) is exactly the critical scale factor times the record's PGV or
-Sa(T) — although the rocking response itself is not linear in the scale.
+Sa(T) — although the rocking response itself is not linear in the scale. The same holds in
+every horizontal component (:data:`rocking.motions.measures.COMPONENTS`): the measures of
+``records.csv`` are in the study's component (its ``component`` column), and
+:func:`suite_fragility` fits each component asked, so that a hazard in another component
+than the study's is met by the fragility in the hazard's own component: each motion's
+critical measure is its critical scale times its measure in that component, i.e. its
+critical measure in the study's component times the motion's ratio of the two components.
 :func:`suite_fragility` fits a lognormal fragility
 (:func:`rocking.spectra.fragility.fit_lognormal`, right-censored at the search bound where a
 motion never exceeded the limit state) in each measure, over the recorded motions and,
@@ -28,12 +34,12 @@ from pathlib import Path
 import numpy as np
 
 from ..motions.identity import identity
-from ..motions.measures import MEASURE_UNITS, intensity_measure, parse_measure
+from ..motions.measures import DEFAULT_COMPONENT, MEASURE_UNITS, intensity_measure, parse_measure
 from ..motions.motion import GroundMotion
 from .aggregate import requested_answers
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
-           "record_table", "suite_fragility", "write_record_tables"]
+           "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
 
 RECORD_COLUMNS = {
     "motion": ("", "the recorded motion (ensemble file, spectra store)"),
@@ -43,6 +49,9 @@ RECORD_COLUMNS = {
     "R": ("m", "semi-diagonal"),
     "pga_recorded_g": ("g", "vector PGA of the record as recorded (before any processing)"),
     "pga_g": ("g", "vector PGA of the record as processed (the motion that was scaled)"),
+    "component": ("", "horizontal component of the intensity-measure columns (the study's "
+                      "component); pga_recorded_g, pga_g, pga_crit, pga_crit_g are always "
+                      "the vector peak, the spectra's own intensity"),
     "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): smallest exceeding intensity"),
     "pga_crit_g": ("g", "critical PGA"),
     "scale_factor": ("-", "critical PGA / processed record PGA: the factor to exceed"),
@@ -65,29 +74,43 @@ RECORD_COLUMNS = {
 has them): name → (unit, meaning)."""
 
 
-def measure_column(measure: str, critical: bool = False) -> tuple[str, str]:
+def measure_column(measure: str, critical: bool = False,
+                   component: str = DEFAULT_COMPONENT) -> tuple[str, str]:
     """Column name and unit of a measure (``"pga"`` → ``("pga_g", "g")``, ``"pgv"`` →
     ``("pgv", "m/s")``; ``"sa:1.0"`` → ``("sa_1s", "g")``); ``critical`` names the critical
-    value (``"pga_crit_g"``, ``"pgv_crit"``)."""
+    value (``"pga_crit_g"``, ``"pgv_crit"``). PGA in another component than the vector peak
+    is ``pga_im_g`` (``pga_g`` is the spectra's vector PGA); the table's ``component`` column
+    names the component."""
     kind, period = parse_measure(measure)
     if kind == "pga":
-        return ("pga_crit_g" if critical else "pga_g"), "g"
+        base = "pga" if component == DEFAULT_COMPONENT else "pga_im"
+        return (f"{base}_crit_g" if critical else f"{base}_g"), "g"
     name = kind if period is None else f"sa_{period:g}s"
     return (f"{name}_crit" if critical else name), MEASURE_UNITS[kind]
 
 
-def motion_measures(motion: GroundMotion, measures: Sequence[str]) -> dict[str, float]:
-    """Every measure of ``motion`` by its column name (:func:`measure_column`)."""
-    return {measure_column(m)[0]: intensity_measure(motion, m) for m in measures}
+def motion_measures(motion: GroundMotion, measures: Sequence[str],
+                    component: str = DEFAULT_COMPONENT) -> dict[str, float]:
+    """Every measure of ``motion`` in ``component`` by its column name
+    (:func:`measure_column`)."""
+    return {measure_column(m, component=component)[0]: intensity_measure(motion, m, component)
+            for m in measures}
+
+
+def _table_measures(measures: Sequence[str], component: str) -> list[str]:
+    """The measures with columns of their own: the vector-peak PGA is ``pga_g``."""
+    return [m for m in measures
+            if component != DEFAULT_COMPONENT or parse_measure(m)[0] != "pga"]
 
 
 _FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
 _VALIDITY = ("slides", "lifts_off")  # slides stays float: NaN says nothing (no mu)
 _ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
-          "pga_recorded_g", "pga_g"]
+          "pga_recorded_g", "pga_g", "component"]
 
 
-def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]):
+def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str],
+                  component: str = DEFAULT_COMPONENT):
     """One row per motion and requested (mode, tan α, limit state, R) of the store, in the
     store's order (motions as in the ensemble file)."""
     import pandas as pd
@@ -97,14 +120,15 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
     missing = [n for n in stored if n not in by_name]
     if missing:
         raise ValueError(f"motions {missing} of the store are not in the ensemble file given")
-    ims = [m for m in measures if parse_measure(m)[0] != "pga"]
+    ims = _table_measures(measures, component)
     per_motion = []
     for name in stored:
         motion, who = by_name[name], identity(by_name[name])
         per_motion.append({"motion": name, "kind": who["kind"],
                            "source_record": who["source_record"],
                            "pga_recorded_g": motion.metadata.get("recorded_pga_g", math.nan),
-                           "pga_g": motion.pga_g, **motion_measures(motion, ims),
+                           "pga_g": motion.pga_g, "component": component,
+                           **motion_measures(motion, ims, component),
                            "processing": who["processing"]})
     info = pd.DataFrame(per_motion)
     validity = [f for f in _VALIDITY if f in store]
@@ -126,16 +150,16 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
     scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
     table["scale_factor"] = scale
     for m in ims:
-        column = measure_column(m)[0]
-        table[measure_column(m, critical=True)[0]] = scale * table[column]
-    head = [*_ORDER, *(measure_column(m)[0] for m in ims), "pga_crit", "pga_crit_g",
-            "scale_factor", *_FLAGS, *validity,
-            *(measure_column(m, critical=True)[0] for m in ims), "processing"]
+        column = measure_column(m, component=component)[0]
+        table[measure_column(m, True, component)[0]] = scale * table[column]
+    head = [*_ORDER, *(measure_column(m, component=component)[0] for m in ims), "pga_crit",
+            "pga_crit_g", "scale_factor", *_FLAGS, *validity,
+            *(measure_column(m, True, component)[0] for m in ims), "processing"]
     return table[head]
 
 
 def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str] = ("pga",),
-                 *, kinds: Sequence[str] = ("record",)):
+                 *, kinds: Sequence[str] = ("record",), component: str = DEFAULT_COMPONENT):
     """The per-record table of a study.
 
     Parameters
@@ -149,6 +173,8 @@ def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]
         given).
     kinds : sequence of str
         ``"record"`` (default: the recorded motions) and/or ``"synthetic"``.
+    component : str
+        Horizontal component of the measures (:data:`rocking.motions.measures.COMPONENTS`).
 
     Returns
     -------
@@ -157,7 +183,7 @@ def record_table(store, motions: Sequence[GroundMotion], measures: Sequence[str]
         :data:`RECORD_COLUMNS`, ``kind``, ``source_record``, each measure of the motion and
         its critical value (``pgv``, ``pgv_crit`` [m/s]; ``sa_1s``, ``sa_1s_crit`` [g]).
     """
-    table = _motion_table(store, motions, measures)
+    table = _motion_table(store, motions, measures, component)
     return table[table["kind"].isin(list(kinds))].reset_index(drop=True)
 
 
@@ -243,7 +269,8 @@ def _note(exceeds, scale: float, not_reached: bool, disagrees: bool) -> str:
             "(rocking is not monotonic in the intensity)")
 
 
-def suite_fragility(table, measures: Sequence[str], upper: float | None):
+def suite_fragility(table, measures: Sequence[str], upper: float | None,
+                    component: str = DEFAULT_COMPONENT):
     """Lognormal fragility of every (mode, tan α, limit state, R) in each measure.
 
     Parameters
@@ -255,6 +282,9 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None):
     upper : float or None
         Search bound PGA/(g tan α) [-]: a motion not reached is right-censored at the
         measure its record has when scaled to it (None: not-reached motions left out).
+    component : str
+        The component of ``table``'s measures (its ``component`` column), written in each
+        row's ``component``.
 
     Returns
     -------
@@ -279,10 +309,10 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None):
             continue
         for key, cell in part.groupby(keys, sort=False):
             for measure in measures:
-                column, unit = measure_column(measure)
+                column, unit = measure_column(measure, component=component)
                 values, censored = _samples(
                     cell, cell[column].to_numpy(),
-                    cell[measure_column(measure, critical=True)[0]].to_numpy(), upper,
+                    cell[measure_column(measure, True, component)[0]].to_numpy(), upper,
                     float(key[1]))
                 if values.size == 0:
                     fit = {"median": math.nan, "beta": math.nan, "n": 0, "n_censored": 0,
@@ -293,11 +323,27 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None):
                            "n_censored": f.n_censored, "status": f.status}
                 fit.update(_bootstrap(values, censored, fit, samples))
                 out.append({"motions": group_name, **dict(zip(keys, key, strict=True)),
-                            "measure": measure, "unit": unit, **fit})
+                            "measure": measure, "component": component, "unit": unit,
+                            **fit})
     frame = pd.DataFrame(out)
     frame.attrs["bootstrap"] = (np.array([m for m, _ in samples]),
                                 np.array([b for _, b in samples]))
     return frame
+
+
+def suite_fragilities(tables: dict, measures: Sequence[str], upper: float | None):
+    """:func:`suite_fragility` of each component's :func:`record_table` (``tables``:
+    component → table), stacked in that order; ``attrs["bootstrap"]`` the resamples of
+    every row, in the same order."""
+    import pandas as pd
+
+    fits = [suite_fragility(t, measures, upper, c) for c, t in tables.items()]
+    samples = tuple(np.concatenate([f.attrs["bootstrap"][i] for f in fits]) for i in (0, 1))
+    for f in fits:  # pandas compares the attrs of the frames it joins: arrays cannot be
+        f.attrs.clear()
+    out = pd.concat(fits, ignore_index=True)
+    out.attrs["bootstrap"] = samples
+    return out
 
 
 def _bootstrap(values: np.ndarray, censored: np.ndarray, fit: dict, samples: list) -> dict:
@@ -331,11 +377,12 @@ def _samples(cell, own: np.ndarray, crit: np.ndarray, upper: float | None,
     return np.asarray(values, dtype=float), np.asarray(censored, dtype=bool)
 
 
-def _headers(columns: Sequence[str], measures: Sequence[str]) -> dict[str, str]:
+def _headers(columns: Sequence[str], measures: Sequence[str],
+             component: str = DEFAULT_COMPONENT) -> dict[str, str]:
     units = {k: u for k, (u, _) in RECORD_COLUMNS.items()}
     for m in measures:
         for critical in (False, True):
-            name, unit = measure_column(m, critical)
+            name, unit = measure_column(m, critical, component)
             units[name] = unit
     units["median"] = ""  # its unit is the row's
     return {c: f"{c} [{units[c]}]" if units.get(c) else c for c in columns}
@@ -343,7 +390,8 @@ def _headers(columns: Sequence[str], measures: Sequence[str]) -> dict[str, str]:
 
 def write_record_tables(store_path: str | Path, motions_path: str | Path,
                         measures: Sequence[str], records_csv: str | Path,
-                        fragility_csv: str | Path) -> tuple[int, int]:
+                        fragility_csv: str | Path, *, component: str = DEFAULT_COMPONENT,
+                        also: Sequence[str] = ()) -> tuple[int, int]:
     """Write ``records.csv`` (the recorded motions, with :func:`as_recorded`: one analysis
     per record and (mode, tan α, R)) and ``suite_fragility.csv``.
 
@@ -357,6 +405,12 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
         The study's intensity measures (``studies.<name>.intensity_measures``).
     records_csv, fragility_csv : str or Path
         Output files (floats at :data:`rocking.units.CSV_FLOAT_FORMAT`).
+    component : str
+        The study's component (``studies.<name>.component``): that of ``records.csv`` and
+        of the first rows of ``suite_fragility.csv``.
+    also : sequence of str
+        Further components whose fits ``suite_fragility.csv`` adds (the hazard's, when it
+        differs from the study's).
 
     Returns
     -------
@@ -371,16 +425,19 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     from .store import read_attrs
 
     motions = load_ensemble(motions_path)
+    components = list(dict.fromkeys([component, *also]))
     with xr.open_zarr(store_path, consolidated=True) as store:
-        table = record_table(store, motions, measures, kinds=("record", "synthetic"))
+        tables = {c: record_table(store, motions, measures, kinds=("record", "synthetic"),
+                                  component=c) for c in components}
         upper = censoring_bound(store)
+    table = tables[component]
     attrs = read_attrs(store_path)  # the spectra's tolerances and contact model
     contact = {k: v for k, v in attrs.get("search_options", {}).items()
                if k in ("omega_n", "zeta")}
     records = as_recorded(table[table["kind"] == "record"].drop(columns=["kind"]), motions,
                           accuracy=attrs["tolerances"], **contact)
-    fragility = suite_fragility(table, measures, upper)
-    records.rename(columns=_headers(records.columns, measures)).to_csv(
+    fragility = suite_fragilities(tables, measures, upper)
+    records.rename(columns=_headers(records.columns, measures, component)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     _write_bootstrap(fragility, fragility_csv)
@@ -399,7 +456,9 @@ def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
     ds = xr.Dataset({"median": (("row", "resample"), med.reshape(len(fragility), -1)),
                      "beta": (("row", "resample"), beta.reshape(len(fragility), -1))},
                     coords={"row": np.arange(len(fragility)),
-                            "measure": ("row", fragility["measure"].astype(str).to_numpy())})
+                            "measure": ("row", fragility["measure"].astype(str).to_numpy()),
+                            "component": ("row",
+                                          fragility["component"].astype(str).to_numpy())})
     ds.attrs.update(fragility="first_exceedance", seed=BOOTSTRAP_SEED,
                     unit="the row's measure unit (g for pga and sa, m/s for pgv)")
     write_bootstrap(ds, bootstrap_path(fragility_csv))

@@ -95,13 +95,14 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         "ensemble": ensemble,
         "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
     }
-    if s.measure == "pga":
+    if s.measure == "pga" and s.component == "vector_peak":
         extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
     else:  # every motion scaled so that its measure equals the stripe's
         scale = measure_scale(s.measure, s.tan_alpha)
         attrs["measure"] = s.measure
+        attrs["component"] = s.component
         attrs["intensity_definition"] = (
-            f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, vector peak of the "
+            f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, {s.component} of the "
             "pair): each motion scaled so that its measure equals the stripe's")
         extra = {"im": ("intensity", [i * scale for i in s.intensity])}
     store.create_store(path, layout, attrs, config_digest,
@@ -134,7 +135,8 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     for R in rc["R"]:
         e, f, n = stripe_outcomes(Cylinder(float(R), tan_alpha), motion, states, x, str(mode),
                                   acc, **attrs.get("model_options", {}),
-                                  measure=store_measure(attrs))
+                                  measure=store_measure(attrs),
+                                  component=store_component(attrs))
         exc.append(e.T)  # (limit_state, intensity)
         fail.append(f)
         runs.append(n)
@@ -153,6 +155,12 @@ def store_measure(attrs) -> str:
     """The intensity measure of a stripes store's stripes (``"pga"`` for a store without
     one: those made before stripes had a measure)."""
     return str(attrs.get("measure", "pga"))
+
+
+def store_component(attrs) -> str:
+    """The horizontal component of a stripes store's measure (``"vector_peak"`` for a store
+    without one: the spectra's PGA, and stores made before components)."""
+    return str(attrs.get("component", "vector_peak"))
 
 
 def measure_label(measure: str) -> str:
@@ -185,7 +193,7 @@ def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
             out[(mode, float(R))] = from_outcomes(
                 x, states, motions, exc, failed[i, :, k, :].T, mode=mode, R=float(R),
                 tan_alpha=tan_alpha, n_analyses=int(n_runs[i, :, k].sum()),
-                measure=store_measure(ds.attrs))
+                measure=store_measure(ds.attrs), component=store_component(ds.attrs))
     return out
 
 
@@ -268,7 +276,8 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
                                      f"{cache.path}: run the stripe_fragility step first")
                 e, f, r = stripe_outcomes(body, tasks.motion_named(motions, name), states,
                                           np.array([float(x)]), result.mode, acc, **options,
-                                          measure=result.measure)
+                                          measure=result.measure,
+                                          component=result.component)
                 hit = (tuple(bool(v) for v in e[0]), bool(f[0]), int(r))
                 cache.put(key, hit)
             exc[m], fail[m], runs = hit[0], hit[1], runs + hit[2]
@@ -329,13 +338,14 @@ def from_outcomes_of(result, j: int):
     return from_outcomes(result.intensities, [result.limit_states[j]], result.motions,
                          result.exceeded[:, :, [j]], result.failed, mode=result.mode,
                          accuracy=result.accuracy, R=result.R, tan_alpha=result.tan_alpha,
-                         n_analyses=result.n_analyses, measure=result.measure)
+                         n_analyses=result.n_analyses, measure=result.measure,
+                         component=result.component)
 
 
 TABLE_COLUMNS = ("mode", "limit_state", "tan_alpha", "R", "median", "median_lo", "median_hi",
                  "median_pga_g", "beta", "beta_lo", "beta_hi", "status", "reason", "n_motions",
                  "stripes", "first_median", "first_beta", "first_status", "ratio", "measure",
-                 "median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi",
+                 "component", "median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi",
                  "n_refined", "boot_defined")
 """Columns of ``stripe_fragility.csv`` (before units are added to the titles). ``median``
 and its Wald interval are in measure/(g tan α); ``median_im``, ``median_p05``,
@@ -392,8 +402,10 @@ def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
     out = []
     for (mode, ls, R), r in rows.items():
         (rec,) = r.summary_frame().to_dict(orient="records")
-        fm, fb, fs = (_first(first, mode, ls, r.tan_alpha, R) if r.measure == "pga"
-                      else (np.nan, np.nan, f"not comparable ({r.measure}, not pga)"))
+        fm, fb, fs = (_first(first, mode, ls, r.tan_alpha, R)
+                      if r.measure == "pga" and r.component == "vector_peak"
+                      else (np.nan, np.nan, f"not comparable ({r.measure} {r.component}, "
+                            "not the vector-peak pga)"))
         p05 = p95 = defined = np.nan
         if boot is not None and (mode, ls, R) in boot:
             med = boot[(mode, ls, R)]["median"]
@@ -479,7 +491,8 @@ def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
 __all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS",
            "RefineCache", "bootstrap_dataset", "bootstrap_rows", "create_stripes_store",
            "fill_stripes_region", "measure_label", "refine_cache_path",
-           "store_measure", "stripe_fits", "stripe_rows", "stripe_table", "stripes_layout",
+           "store_component", "store_measure", "stripe_fits", "stripe_rows", "stripe_table",
+           "stripes_layout",
            "table_headers", "write_stripe_fragility"]
 
 

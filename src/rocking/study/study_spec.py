@@ -55,6 +55,10 @@ class StudySpec(_Hashed):
     reproduces : str or None
         The paper the study reproduces (one of :data:`PAPERS`), None for a study of one's
         own: it decides which figures and verdicts are drawn, no store.
+    component : str
+        Horizontal component of the intensity measures (``studies.<name>.component``,
+        :data:`rocking.motions.measures.COMPONENTS`; default ``"vector_peak"``, the
+        spectra's own intensity). It decides no spectra store.
     """
 
     spectra: SpectraSpec
@@ -63,6 +67,7 @@ class StudySpec(_Hashed):
     hazard: str | dict[str, Any] | None = None
     intensity_measures: tuple[str, ...] = ("pga", "pgv")
     reproduces: str | None = None
+    component: str = "vector_peak"
 
     @property
     def name(self) -> str:
@@ -130,12 +135,15 @@ class StudySpec(_Hashed):
         hazard = s["hazard"]
         if hazard is not None and not isinstance(hazard, (str, Mapping)):
             raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
+        component = _component(s["component"], f"{field}.component")
+        if isinstance(hazard, Mapping) and "component" in hazard:
+            _component(hazard["component"], f"{field}.hazard.component")
         if s["reproduces"] is not None and s["reproduces"] not in PAPERS:
             raise ValueError(f"{field}.reproduces must be one of {list(PAPERS)} or null, got "
                              f"{s['reproduces']!r}")
         return cls(spectra, tilt_map, stripes,
                    dict(hazard) if isinstance(hazard, Mapping) else hazard,
-                   measures, s["reproduces"])
+                   measures, s["reproduces"], component)
 
     def to_attrs(self) -> dict[str, Any]:
         """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures",
@@ -144,7 +152,7 @@ class StudySpec(_Hashed):
                 "tilt_map": None if self.tilt_map is None else self.tilt_map.to_attrs(),
                 "stripes": None if self.stripes is None else self.stripes.to_attrs(),
                 "hazard": self.hazard, "intensity_measures": list(self.intensity_measures),
-                "reproduces": self.reproduces}
+                "reproduces": self.reproduces, "component": self.component}
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> StudySpec:
@@ -155,7 +163,16 @@ class StudySpec(_Hashed):
                    None if s is None else StripesSpec.from_attrs(s), attrs.get("hazard"),
                    tuple(attrs.get("intensity_measures", DEFAULTS["study"]
                                    ["intensity_measures"])),
-                   attrs.get("reproduces"))
+                   attrs.get("reproduces"),
+                   attrs.get("component", DEFAULTS["study"]["component"]))
+
+
+def _component(value: Any, field: str) -> str:
+    """A component of :data:`rocking.motions.measures.COMPONENTS` (one line naming the key
+    and the value otherwise)."""
+    from ..motions.measures import parse_component
+
+    return parse_component(value, field)
 
 
 def _intensity_measures(value: Any, field: str) -> tuple[str, ...]:
