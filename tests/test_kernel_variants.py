@@ -18,8 +18,7 @@ import numpy as np
 import pytest
 
 from rocking.constants import G
-from rocking.dynamics import Block, Cylinder, ground_response
-from rocking.dynamics import driver, models
+from rocking.dynamics import Block, Cylinder, driver, ground_response, models
 from rocking.motions.catalogue import load_record
 from rocking.motions.motion import GroundMotion
 from rocking.spectra.critical import make_analysis

@@ -144,7 +144,8 @@ def main(argv: list[str] | None = None) -> int:
     notes = (
         f"{when}. Trees: " + ", ".join(f"{k} = {v}" for k, v in trees.items())
         + (f"; asking for the monitors: {', '.join(args.monitored)}" if args.monitored
-           else "") + f". {args.rounds} rounds × {args.repeats} repeats per tree and case, interleaved "
+           else "")
+        + f". {args.rounds} rounds × {args.repeats} repeats per tree and case, interleaved "
         "(one process per tree, the trees in turn, rotated order), CPU time of one "
         "summary-only analysis after warm-up; ratios against the first tree. 1-min load "
         f"average over the rounds: {min(loads):.1f}–{max(loads):.1f} "
