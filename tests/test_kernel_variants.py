@@ -147,3 +147,18 @@ def test_search_runs_the_monitors_only_when_asked(segment):
 def test_monitors_must_be_a_bool(segment):
     with pytest.raises(ValueError, match="monitors must be True or False, got 'no'"):
         ground_response(Cylinder(2.0, 0.2), segment, monitors="no")
+
+
+def test_warm_up_compiles_the_variants_a_configuration_asks_for():
+    """The workflow's warm-up reads which variants a configuration may need: a study's
+    ``mu`` or a sliding goal anywhere (monitors), ``vertical: true`` (vertical forcing)."""
+    from rocking.study.warmup import variants_asked
+
+    plain = {"study": {"mu": None, "limit_states": ["overturning", "tilt:1/3"]},
+             "ensemble": {"vertical": False}}
+    assert variants_asked(plain) == (False, False)
+    assert variants_asked({**plain, "study": {"mu": 0.4}}) == (True, False)
+    assert variants_asked({**plain, "stripes": {"limit_states": ["Sliding:0.3"]}}) == (True,
+                                                                                       False)
+    assert variants_asked({**plain, "ensembles": [{"records": [{"vertical": True}]}]}) == (
+        False, True)
