@@ -91,6 +91,7 @@ def test_analysis_without_monitors_or_vertical_agrees(segment, model, body, rati
     (which takes the vertical path with ``vertical=True``... refused: a zero a_z is no
     vertical component) give the monitored answers to the bit; without monitors N and
     μ_req are NaN, with them finite."""
+    body = type(body)(body.R, body.tan_alpha, mu=0.3)  # slides: None where not monitored
     zero_az = GroundMotion(segment.ax, segment.ay, segment.dt, "zero az",
                            az=np.zeros(segment.npts))
     mot = segment.component("x") if model == "2d" else segment
@@ -113,6 +114,7 @@ def test_analysis_without_monitors_or_vertical_agrees(segment, model, body, rati
         if name.endswith("bare"):
             assert math.isnan(r.mu_required_max) and math.isnan(r.normal_force_min)
             assert np.isnan(r.mu_required).all() and not r.lifts_off
+            assert r.slides is None
         else:
             assert float(r.mu_required_max).hex() == float(
                 runs["mon", history].mu_required_max).hex()
