@@ -6,15 +6,18 @@ import time
 import numba
 
 from rocking.study.logs import log_to
-from rocking.study.warmup import warm_numba_cache
+from rocking.study.warmup import variants_asked, warm_numba_cache
 
 
 def main(snakemake):
     with log_to(snakemake.log[0]):
         t0 = time.perf_counter()
-        seconds = warm_numba_cache(processes=snakemake.threads)
+        # the kernels' variants with the monitors or the vertical forcing only where asked
+        monitors, vertical = variants_asked(snakemake.config)
+        seconds = warm_numba_cache(processes=snakemake.threads, monitors=monitors,
+                                   vertical=vertical)
         summary = {"seconds_per_mode": seconds, "seconds": time.perf_counter() - t0,
-                   "numba": numba.__version__}
+                   "numba": numba.__version__, "monitors": monitors, "vertical": vertical}
     with open(snakemake.output[0], "w") as fh:
         json.dump(summary, fh, indent=2)
 

@@ -4,7 +4,10 @@ monitors cost per analysis, against source trees of earlier commits.
 Each tree (``--tree NAME=DIR``, DIR a ``src`` folder, e.g. from ``git archive <commit> src |
 tar -x -C /tmp/base``; this tree is always one of them, named ``this``) runs the dynamics
 benchmark's cases (:func:`rocking.benchmarks.dynamics._cases`, default rtol, summary-only
-analyses) in one persistent process per tree; for each case the trees take turns, a few
+analyses; a tree whose ``ground_response`` takes ``monitors`` runs without them, as a study
+without μ or a sliding goal does, unless named by ``--monitored NAME``: then the same tree
+can be listed twice, with and without) in one persistent process per tree; for each case the
+trees take turns, a few
 analyses at a time, in a rotated order every round (interleaved: a shared machine's load
 then falls on all of them alike). Per case and tree:
 accepted steps, θmax to the bit (hex) and status, which must agree with the first tree, and
@@ -29,9 +32,11 @@ import pandas as pd
 from ._io import write_table
 
 WORKER = r"""
-import json, sys, time
+import inspect, json, os, sys, time
 from rocking.benchmarks.dynamics import _cases
 from rocking.dynamics.analysis import free_vibration, ground_response
+kw = ({"monitors": os.environ["ROCKING_BENCH_MONITORS"] == "1"}
+      if "monitors" in inspect.signature(ground_response).parameters else {})
 calls = []
 for name, model, body, motion, scale in _cases():
     if model == "3d-free":
@@ -39,7 +44,8 @@ for name, model, body, motion, scale in _cases():
             return free_vibration(body, 0.5 * body.alpha, 1e-8, duration=20.0, history=False)
     else:
         def fn(body=body, motion=motion, model=model, scale=scale):
-            return ground_response(body, motion, model=model, scale=scale, history=False)
+            return ground_response(body, motion, model=model, scale=scale, history=False,
+                                   **kw)
     fn()
     calls.append((name + " [" + model + "]", fn))
 print(json.dumps([c for c, _ in calls]), flush=True)
@@ -63,14 +69,17 @@ def this_tree() -> str:
     return str(Path(__file__).resolve().parents[2])
 
 
-def measure(trees: dict[str, str], rounds: int, repeats: int) -> tuple[pd.DataFrame, list]:
+def measure(trees: dict[str, str], rounds: int, repeats: int,
+            monitored: frozenset[str] = frozenset()) -> tuple[pd.DataFrame, list]:
     """Interleaved runs of every tree: one persistent process per tree, the trees in turn
     (rotated order) for each case and round, ``repeats`` calls each time, so that a shared
-    machine's load falls on all trees alike. Returns the table and the 1-min load averages
+    machine's load falls on all trees alike. Trees in ``monitored`` ask for the validity
+    monitors (where their API can say so). Returns the table and the 1-min load averages
     before and after each round."""
     names = list(trees)
     procs = {n: subprocess.Popen([sys.executable, "-c", WORKER], text=True,
-                                 env=dict(os.environ, PYTHONPATH=trees[n]),
+                                 env=dict(os.environ, PYTHONPATH=trees[n],
+                                          ROCKING_BENCH_MONITORS=str(int(n in monitored))),
                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE)
              for n in names}
     try:
@@ -115,6 +124,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m rocking.benchmarks monitors")
     parser.add_argument("--tree", action="append", default=[], metavar="NAME=DIR",
                         help="a source tree to compare (its src folder); first is the base")
+    parser.add_argument("--monitored", action="append", default=[], metavar="NAME",
+                        help="a tree whose analyses ask for the validity monitors")
     parser.add_argument("--rounds", type=int, default=40)
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args(argv)
@@ -125,10 +136,15 @@ def main(argv: list[str] | None = None) -> int:
             parser.error(f"--tree must be NAME=DIR with DIR/rocking a package, got {spec!r}")
         trees[name] = path
     trees.setdefault("this", this_tree())
-    df, loads = measure(trees, args.rounds, args.repeats)
+    unknown = sorted(set(args.monitored) - set(trees))
+    if unknown:
+        parser.error(f"--monitored names no tree: {unknown}")
+    df, loads = measure(trees, args.rounds, args.repeats, frozenset(args.monitored))
     when = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     notes = (
         f"{when}. Trees: " + ", ".join(f"{k} = {v}" for k, v in trees.items())
+        + (f"; asking for the monitors: {', '.join(args.monitored)}" if args.monitored
+           else "")
         + f". {args.rounds} rounds × {args.repeats} repeats per tree and case, interleaved "
         "(one process per tree, the trees in turn, rotated order), CPU time of one "
         "summary-only analysis after warm-up; ratios against the first tree. 1-min load "

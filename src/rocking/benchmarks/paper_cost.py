@@ -125,7 +125,8 @@ def _answers(res) -> tuple:
     flags = tuple(np.asarray(getattr(res, k)).tobytes()
                   for k in ("not_reached", "non_monotonic", "failed", "unresolved"))
     return (np.asarray(res.intensity).tobytes(), flags,
-            tuple(dataclasses.astuple(e) for e in res.evaluations))
+            # repr: exact for floats, and NaN (monitors a search did not run) equals itself
+            tuple(repr(dataclasses.astuple(e)) for e in res.evaluations))
 
 
 def search_pair(body, motion, limit_states, mode: str, upper: float,

@@ -70,15 +70,18 @@ def to_state(body: Cylinder, y: np.ndarray) -> np.ndarray:
     return np.array([y[0], y[1], y[2], float(mu(y[0], body.alpha)) * y[3]])
 
 
-@njit(cache=True, error_model="numpy")
-def rhs(tau, y, P, F, out):
+@njit(cache=True, inline="always", error_model="numpy")
+def _rhs(tau, y, P, F, out, vertical, keep):
     """Right-hand side for the state (θ, φ, θ̇, L), ground acceleration F[0:2] + F[2:4] τ,
-    vertical F[4] + F[5] τ."""
+    vertical F[4] + F[5] τ if ``vertical`` (else gravity exactly g); ``keep``: leave the
+    terms :func:`contact` reads in ``P[8:18]``. The flags are constants of each compiled
+    variant (:func:`rhs`, :func:`rhs_level`, :func:`rhs_bare`, :func:`rhs_vertical_bare`)."""
     th, ph, thd, L = y[0], y[1], y[2], y[3]
     p2, s, c, kap, R, g = P[1], P[2], P[3], P[4], P[5], P[6]
     axg = F[0] + F[2] * tau
     ayg = F[1] + F[3] * tau
-    gr = 1.0 + (F[4] + F[5] * tau) * P[7]  # (g + a_z)/g: exactly 1 without vertical motion
+    # (g + a_z)/g: exactly 1 without vertical motion (1 + 0·(1/g) = 1, so no bit differs)
+    gr = 1.0 + (F[4] + F[5] * tau) * P[7] if vertical else 1.0
     st = math.sin(th)
     ct = math.cos(th)
     sh = math.sin(0.5 * th)
@@ -96,10 +99,35 @@ def rhs(tau, y, P, F, out):
     out[0] = thd
     out[1] = phd
     out[2] = -p2 * (gr * sam + cam * a_r / g) + mup * phd * phd / (2.0 * kap)
-    P[8], P[9], P[10], P[11], P[12] = st, ct, sh, ch, cph
-    P[13], P[14], P[15], P[16], P[17] = sph, mu_, mup, a_r, a_t
+    if keep:
+        P[8], P[9], P[10], P[11], P[12] = st, ct, sh, ch, cph
+        P[13], P[14], P[15], P[16], P[17] = sph, mu_, mup, a_r, a_t
     # sin α + sin(θ − α) = 2 cos(α − θ/2) sin(θ/2)
     out[3] = 2.0 * (c * ch + s * sh) * sh * a_t / R
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(tau, y, P, F, out):
+    """:func:`_rhs` with the vertical forcing, for the monitors."""
+    _rhs(tau, y, P, F, out, True, True)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_level(tau, y, P, F, out):
+    """:func:`_rhs` without the vertical forcing, for the monitors."""
+    _rhs(tau, y, P, F, out, False, True)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_vertical_bare(tau, y, P, F, out):
+    """:func:`_rhs` with the vertical forcing, no monitors."""
+    _rhs(tau, y, P, F, out, True, False)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_bare(tau, y, P, F, out):
+    """:func:`_rhs` without the vertical forcing nor the monitors."""
+    _rhs(tau, y, P, F, out, False, False)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -163,10 +191,39 @@ def rocking_energy(y, P):
 
 @njit(cache=True, error_model="numpy")
 def integrate(run):
-    """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
+    """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model), with
+    the validity monitors and the vertical forcing."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, contact, driver.no_factor, driver.no_solve,
-                            rk_step, run)
+                            driver.no_observe, contact, driver.watch, driver.no_factor,
+                            driver.no_solve, rk_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_level(run):
+    """:func:`integrate` without the vertical forcing."""
+    return driver.integrate(rhs_level, driver.no_impact, rocking_energy, rocking_energy,
+                            output, driver.no_observe, contact, driver.watch,
+                            driver.no_factor, driver.no_solve, rk_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_vertical_bare(run):
+    """:func:`integrate` without the monitors."""
+    return driver.integrate(rhs_vertical_bare, driver.no_impact, rocking_energy,
+                            rocking_energy, output, driver.no_observe, contact,
+                            driver.no_watch, driver.no_factor, driver.no_solve, rk_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_bare(run):
+    """:func:`integrate` without the monitors nor the vertical forcing."""
+    return driver.integrate(rhs_bare, driver.no_impact, rocking_energy, rocking_energy,
+                            output, driver.no_observe, contact, driver.no_watch,
+                            driver.no_factor, driver.no_solve, rk_step, run)
+
+
+KERNELS = (integrate, integrate_level, integrate_vertical_bare, integrate_bare)
+"""The entry points in the order of :data:`rocking.dynamics.driver.VARIANTS`."""
 
 
 def energy(body: Cylinder, theta, theta_dot, phi_dot):

@@ -130,16 +130,18 @@ def _geometry(th, P):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _terms(tau, y, P, F):
+def _terms(tau, y, P, F, vertical=True):
     """Shared terms of :func:`rhs` and :func:`jacobian`: the geometry, cos φ, sin φ, the ground
     acceleration along and across the tilt direction, the right sides b1, b2 of the 2×2 system
-    and its determinant."""
+    and its determinant. Without ``vertical`` (a constant of each compiled variant) a_z is
+    exactly 0, as F[4] + F[5] τ is without vertical motion: no bit differs."""
     R, ko, g, wn, z = P[1], P[2], P[3], P[4], P[5]
     th, ph, w, thd, phd, wd = y[0], y[1], y[2], y[3], y[4], y[5]
     S, C, Q, mu, mup = _geometry(th, P)
     axv = F[0] + F[2] * tau
     ayv = F[1] + F[3] * tau
-    azv = F[4] + F[5] * tau  # vertical: gravity acts as g + a_z, the spring sees −a_z
+    # vertical: gravity acts as g + a_z, the spring sees −a_z
+    azv = F[4] + F[5] * tau if vertical else 0.0
     cp, sp = math.cos(ph), math.sin(ph)
     ar = axv * cp + ayv * sp
     at = axv * sp - ayv * cp
@@ -148,11 +150,12 @@ def _terms(tau, y, P, F):
     return S, C, Q, mu, mup, cp, sp, ar, at, b1, b2, ko - S * S
 
 
-@njit(cache=True, error_model="numpy")
-def rhs(tau, y, P, F, f):
-    """dy/dt for y = (θ, φ, w, θ̇, φ̇, ẇ, D), ground acceleration F[0:2] + F[2:4] τ."""
+@njit(cache=True, inline="always", error_model="numpy")
+def _rhs(tau, y, P, F, f, vertical):
+    """dy/dt for y = (θ, φ, w, θ̇, φ̇, ẇ, D), ground acceleration F[0:2] + F[2:4] τ, vertical
+    F[4] + F[5] τ if ``vertical`` (:func:`rhs`, :func:`rhs_level`)."""
     R, ko, wn, z = P[1], P[2], P[4], P[5]
-    S, C, Q, mu, mup, cp, sp, ar, at, b1, b2, det = _terms(tau, y, P, F)
+    S, C, Q, mu, mup, cp, sp, ar, at, b1, b2, det = _terms(tau, y, P, F, vertical)
     f[0] = y[3]
     f[1] = y[4]
     f[2] = y[5]
@@ -160,6 +163,19 @@ def rhs(tau, y, P, F, f):
     f[4] = (Q * at / R - mup * y[3] * y[4]) / mu
     f[5] = (ko * b2 - R * S * b1) / det
     f[6] = 2.0 * z * wn * y[5] * y[5]
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(tau, y, P, F, f):
+    """:func:`_rhs` with the vertical forcing."""
+    _rhs(tau, y, P, F, f, True)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_level(tau, y, P, F, f):
+    """:func:`_rhs` without the vertical forcing (gravity exactly g). The Jacobian of a
+    Rosenbrock step (once per step) always reads a_z, which is 0 then."""
+    _rhs(tau, y, P, F, f, False)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -341,10 +357,35 @@ def total_energy(y, P):
 
 @njit(cache=True, error_model="numpy")
 def integrate(run):
-    """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
+    """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model), with
+    the validity monitors and the vertical forcing."""
     return driver.integrate(rhs, driver.no_impact, rocking_energy, total_energy, output,
-                            observe, contact, factor, solve,
-                            ros_step, run)
+                            observe, contact, driver.watch, factor, solve, ros_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_level(run):
+    """:func:`integrate` without the vertical forcing."""
+    return driver.integrate(rhs_level, driver.no_impact, rocking_energy, total_energy, output,
+                            observe, contact, driver.watch, factor, solve, ros_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_vertical_bare(run):
+    """:func:`integrate` without the monitors."""
+    return driver.integrate(rhs, driver.no_impact, rocking_energy, total_energy, output,
+                            observe, contact, driver.no_watch, factor, solve, ros_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_bare(run):
+    """:func:`integrate` without the monitors nor the vertical forcing."""
+    return driver.integrate(rhs_level, driver.no_impact, rocking_energy, total_energy, output,
+                            observe, contact, driver.no_watch, factor, solve, ros_step, run)
+
+
+KERNELS = (integrate, integrate_level, integrate_vertical_bare, integrate_bare)
+"""The entry points in the order of :data:`rocking.dynamics.driver.VARIANTS`."""
 
 
 # ---------------------------------------------------------------------------------------------

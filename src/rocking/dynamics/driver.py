@@ -23,7 +23,17 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
   monitors: N < 0 is lift-off, μ_req = |F_h|/N the friction needed; :func:`watch`). The
   driver calls it right after ``rhs`` was evaluated at ``y`` (the last evaluation), so a
   model may read trigonometry its ``rhs`` left in spare entries of ``P``;
-- ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`).
+- ``factor``/``solve``: the linear algebra of a Rosenbrock step (see :mod:`._rosenbrock`);
+- ``monitor``: :func:`watch` (the validity monitors through ``contact``) or :func:`no_watch`
+  (none: N and μ_req come out NaN).
+
+A model's hooks come in variants compiled only where asked (:data:`VARIANTS`): with or
+without the monitors, with or without the vertical forcing (an ``rhs`` that reads a_z, or
+one with gravity exactly g). The monitors and the vertical forcing cost up to +13.5 % per
+analysis (``python -m rocking.benchmarks monitors``) and change nothing else: without a
+vertical component a_z = 0 and g + 0 = g to the bit, and the monitors only read the state.
+Each variant is a separate compiled entry point of the model (one line binding the hooks),
+so a study compiles, and caches, only those its analyses call.
 
 The model's compiled entry point calls :func:`integrate` with its hooks as module-level
 globals; :func:`integrate` is inlined there (``inline="always"``), which is what lets numba
@@ -122,6 +132,16 @@ def no_impact(y, P):
 @njit(cache=True, error_model="numpy")
 def no_observe(y, P, diag):
     """``observe`` hook of a model without per-step bookkeeping."""
+
+
+VARIANTS = ((True, True), (True, False), (False, True), (False, False))
+"""The ``(monitors, vertical)`` variants of every model's entry point (:func:`variant`)."""
+
+
+def variant(monitors: bool, vertical: bool) -> int:
+    """Index in :data:`VARIANTS` of the entry point with (or without) the validity monitors
+    and the vertical forcing."""
+    return VARIANTS.index((bool(monitors), bool(vertical)))
 
 
 @njit(cache=True, error_model="numpy")
@@ -257,6 +277,12 @@ def watch(contact, tau, y, f, P, F, cf, mon, t, row, nout):
     row[nout + 1] = mu
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def no_watch(contact, tau, y, f, P, F, cf, mon, t, row, nout):
+    """``monitor`` hook of a run without the validity monitors: nothing (``mon`` and the
+    monitor columns of the rows stay NaN)."""
+
+
 # Entries of the ``qpar`` array of the run tuple (the "decided" test, :func:`decided`).
 Q_CAP, Q_BEFORE, Q_MARGIN = 0, 1, 2
 QPAR_SIZE = 3
@@ -321,8 +347,8 @@ def land(step, rhs, factor, solve, tab, tau, y, f0, h, P, F, tol, W, LA, ys, fs,
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def integrate(rhs, impact, energy, bound_energy, output, observe, contact, factor, solve, step,
-              run):
+def integrate(rhs, impact, energy, bound_energy, output, observe, contact, monitor, factor,
+              solve, step, run):
     """Integrate a model from record interval ``k0``, local time ``tau0`` (module docstring).
 
     ``run = (P, ax, ay, az, dt, k0, tau0, t_offset, y0, t_end, stop_level, tol, tab, ctrl,
@@ -354,6 +380,7 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
     nout = layout[L_NOUT]
     row = np.empty(nout + 2)
     cf = np.empty(2)
+    row[nout], row[nout + 1] = math.nan, math.nan  # what no_watch leaves
     mon = np.array([math.inf, math.nan, 0.0, math.nan])
     y_cap = np.zeros(n)  # the state at rest at the tilt cap of the "decided" test
     hist, events = recorder(), recorder()
@@ -363,7 +390,7 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
     set_forcing(F, ax, ay, az, k, dt)
     rhs(tau, y, P, F, f0)
     theta_max, t_theta_max = abs(y[0]), t_offset + k * dt + tau
-    watch(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)  # right after rhs(y)
+    monitor(contact, tau, y, f0, P, F, cf, mon, t_theta_max, row, nout)  # right after rhs(y)
     h_min = 32.0 * EPS * dt
     h = initial_step(rhs, ctrl[C_ORDER], tau, y, f0, P, F, tol, dt, W[0], W[1])
     if history:
@@ -418,7 +445,7 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
             t_ev = t0 + s * h_try
             if ctrl[C_END_DERIVATIVE] == 0.0:
                 rhs(tau + s * h_try, ys, P, F, fs)
-            watch(contact, tau + s * h_try, ys, fs, P, F, cf, mon, t_ev, row, nout)
+            monitor(contact, tau + s * h_try, ys, fs, P, F, cf, mon, t_ev, row, nout)
             rest_now = False
             if kind == _THRESHOLD:  # landed within rounding of the level: put it there
                 ys[0] = P[0] * lvl
@@ -452,7 +479,7 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
                 t_stop = t_ev
                 if action == 2:  # after the impact: the new pivot's derivative and force
                     rhs(tau, y, P, F, f0)
-                    watch(contact, tau, y, f0, P, F, cf, mon, t_ev, row, nout)
+                    monitor(contact, tau, y, f0, P, F, cf, mon, t_ev, row, nout)
                 if history:
                     output(y, P, row)
                     record(hist, t_ev, row)
@@ -465,7 +492,7 @@ def integrate(rhs, impact, energy, bound_energy, output, observe, contact, facto
             theta_max, t_theta_max = abs(y_new[0]), t0 + h_try
         if n_ev > 0:  # the landings evaluated rhs elsewhere: back at the step end
             rhs(tau + h_try, y_new, P, F, f_new)
-        watch(contact, tau + h_try, y_new, f_new, P, F, cf, mon, t0 + h_try, row, nout)
+        monitor(contact, tau + h_try, y_new, f_new, P, F, cf, mon, t0 + h_try, row, nout)
         for i in range(n):
             y[i] = y_new[i]
             f0[i] = f_new[i]

@@ -53,22 +53,50 @@ def tolerances(body: Block | Cylinder) -> tuple[np.ndarray, np.ndarray]:
     return np.array([1e-6 * body.alpha, 1e-6 * body.p * body.alpha]), np.zeros(2)
 
 
-@njit(cache=True, error_model="numpy")
-def rhs(tau, y, P, F, out):
+@njit(cache=True, inline="always", error_model="numpy")
+def _rhs(tau, y, P, F, out, vertical, keep):
     """Right-hand side on pivot side P[0] = ±1, ground acceleration F[0] + F[2] τ, vertical
-    F[4] + F[5] τ."""
+    F[4] + F[5] τ if ``vertical`` (else gravity exactly g); ``keep``: leave sin ψ, cos ψ in
+    ``P[9:11]`` for :func:`contact`. The flags are constants of each compiled variant
+    (:func:`rhs`, :func:`rhs_level`, :func:`rhs_bare`, :func:`rhs_vertical_bare`)."""
     th = y[0]
     side, p2, s, c, g = P[0], P[1], P[2], P[3], P[4]
     a = F[0] + F[2] * tau
-    gr = 1.0 + (F[4] + F[5] * tau) * P[8]  # (g + a_z)/g: exactly 1 without vertical motion
+    # (g + a_z)/g: exactly 1 without vertical motion (1 + 0·(1/g) = 1, so no bit differs)
+    gr = 1.0 + (F[4] + F[5] * tau) * P[8] if vertical else 1.0
     st = math.sin(th)
     ct = math.cos(th)
     sam = side * s * ct - c * st  # sin(α σ − θ)
     cam = c * ct + side * s * st  # cos(α σ − θ)
     out[0] = y[1]
     out[1] = -p2 * (gr * sam + cam * a / g)
-    P[9] = sam
-    P[10] = cam
+    if keep:
+        P[9] = sam
+        P[10] = cam
+
+
+@njit(cache=True, error_model="numpy")
+def rhs(tau, y, P, F, out):
+    """:func:`_rhs` with the vertical forcing, for the monitors."""
+    _rhs(tau, y, P, F, out, True, True)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_level(tau, y, P, F, out):
+    """:func:`_rhs` without the vertical forcing, for the monitors."""
+    _rhs(tau, y, P, F, out, False, True)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_vertical_bare(tau, y, P, F, out):
+    """:func:`_rhs` with the vertical forcing, no monitors."""
+    _rhs(tau, y, P, F, out, True, False)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_bare(tau, y, P, F, out):
+    """:func:`_rhs` without the vertical forcing nor the monitors."""
+    _rhs(tau, y, P, F, out, False, False)
 
 
 @njit(cache=True, error_model="numpy")
@@ -112,10 +140,39 @@ def rocking_energy(y, P):
 
 @njit(cache=True, error_model="numpy")
 def integrate(run):
-    """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model)."""
+    """Integrate the model (:func:`rocking.dynamics.driver.integrate` with this model), with
+    the validity monitors and the vertical forcing."""
     return driver.integrate(rhs, impact, rocking_energy, rocking_energy, output,
-                            driver.no_observe, contact, driver.no_factor, driver.no_solve,
-                            rk_step, run)
+                            driver.no_observe, contact, driver.watch, driver.no_factor,
+                            driver.no_solve, rk_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_level(run):
+    """:func:`integrate` without the vertical forcing."""
+    return driver.integrate(rhs_level, impact, rocking_energy, rocking_energy, output,
+                            driver.no_observe, contact, driver.watch, driver.no_factor,
+                            driver.no_solve, rk_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_vertical_bare(run):
+    """:func:`integrate` without the monitors."""
+    return driver.integrate(rhs_vertical_bare, impact, rocking_energy, rocking_energy,
+                            output, driver.no_observe, contact, driver.no_watch,
+                            driver.no_factor, driver.no_solve, rk_step, run)
+
+
+@njit(cache=True, error_model="numpy")
+def integrate_bare(run):
+    """:func:`integrate` without the monitors nor the vertical forcing."""
+    return driver.integrate(rhs_bare, impact, rocking_energy, rocking_energy, output,
+                            driver.no_observe, contact, driver.no_watch, driver.no_factor,
+                            driver.no_solve, rk_step, run)
+
+
+KERNELS = (integrate, integrate_level, integrate_vertical_bare, integrate_bare)
+"""The entry points in the order of :data:`rocking.dynamics.driver.VARIANTS`."""
 
 
 def restitution_extras(body: Block | Cylinder) -> dict:

@@ -56,7 +56,7 @@ class KernelResult(NamedTuple):
         The model's diagnostics (damped model: tension count, smallest contact force).
     monitor : ndarray
         Validity monitors (smallest N [weights], its time [s], largest μ_req [-], its time
-        [s]; indices ``driver.M_*``).
+        [s]; indices ``driver.M_*``); NaN from a run without them.
     """
 
     code: int
@@ -81,8 +81,10 @@ class Model(NamedTuple):
     ----------
     name : str
         One of :data:`.names.MODEL_NAMES`.
-    kernel : callable
-        Compiled entry point ``kernel(run)``.
+    kernels : tuple of callable
+        Compiled entry points ``kernel(run)``, one per ``(monitors, vertical)`` variant in
+        the order of :data:`rocking.dynamics.driver.VARIANTS` (:meth:`kernel`); each is
+        compiled on its first call only.
     state : tuple of str
         Names of the output state.
     i_thd : int
@@ -112,7 +114,7 @@ class Model(NamedTuple):
     """
 
     name: str
-    kernel: Callable
+    kernels: tuple[Callable, ...]
     state: tuple[str, ...]
     i_thd: int
     impacts: bool
@@ -124,6 +126,10 @@ class Model(NamedTuple):
     rtol: float
     rest_tilt: Callable
     contact: tuple[float, float] | None
+
+    def kernel(self, monitors: bool = True, vertical: bool = True) -> Callable:
+        """The entry point with (or without) the validity monitors and the vertical forcing."""
+        return self.kernels[driver.variant(monitors, vertical)]
 
 
 def _params_3d(body, omega_n, zeta):
@@ -208,14 +214,14 @@ def _rest_damped(body):
 
 
 MODELS: dict[str, Model] = {
-    MODEL_3D: Model(MODEL_3D, cylinder3d.integrate, cylinder3d.STATE, 2, False, False, 0,
+    MODEL_3D: Model(MODEL_3D, cylinder3d.KERNELS, cylinder3d.STATE, 2, False, False, 0,
                     (1, 1), _params_3d, _state_3d, DEFAULT_RTOL, _rest_3d, None),
-    MODEL_3D_DAMPED: Model(MODEL_3D_DAMPED, cylinder3d_damped.integrate,
+    MODEL_3D_DAMPED: Model(MODEL_3D_DAMPED, cylinder3d_damped.KERNELS,
                            cylinder3d_damped.STATE, 3, False, True, 2,
                            cylinder3d_damped.LA_SHAPE, _params_damped, _state_damped,
                            DEFAULT_RTOL_DAMPED, _rest_damped,
                            (DAMPED_OMEGA_N, DAMPED_ZETA)),
-    MODEL_2D: Model(MODEL_2D, housner2d.integrate, housner2d.STATE, 1, True, False, 0, (1, 1),
+    MODEL_2D: Model(MODEL_2D, housner2d.KERNELS, housner2d.STATE, 1, True, False, 0, (1, 1),
                     _params_2d, _state_2d, DEFAULT_RTOL, _rest_2d, None),
 }
 """The models by name."""
@@ -298,7 +304,8 @@ def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray,
 def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0: float,
         t_offset: float, y0: np.ndarray, t_end: float, stop_level: float, *, history: bool,
         until_peak: bool = False, side: float = 1.0, quiet: np.ndarray | None = None,
-        theta_before: float = 0.0, az: np.ndarray | None = None) -> KernelResult:
+        theta_before: float = 0.0, az: np.ndarray | None = None,
+        monitors: bool = True) -> KernelResult:
     """Integrate a prepared model from record interval ``k0``, local time ``tau0`` [s].
 
     Parameters
@@ -331,7 +338,11 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
         Peak tilt of the analysis' earlier episodes [rad] (the ``quiet`` test's cap).
     az : ndarray, optional
         Vertical ground acceleration [m/s², up] (already scaled), on the samples of ``ax``;
-        None: zeros (gravity exactly g).
+        None: none, integrated by the variant with gravity exactly g (the same bits as an
+        all-zero ``az``, for less work).
+    monitors : bool
+        Run the validity monitors (N, μ_req and their extremes); False: the variant without
+        them, whose monitor columns and ``monitor`` are NaN.
 
     Returns
     -------
@@ -344,13 +355,16 @@ def run(prep: Prepared, ax: np.ndarray, ay: np.ndarray, dt: float, k0: int, tau0
     layout = prep.layout.copy()
     layout[driver.L_HISTORY] = history
     layout[driver.L_UNTIL_PEAK] = until_peak
-    if az is None:
+    kernel = prep.model.kernel(monitors, az is not None)
+    if az is None:  # set_forcing still reads it; the variant's rhs does not
         az = np.zeros(ax.size)
-    out = prep.model.kernel((P, ax, ay, az, float(dt), int(k0), float(tau0), float(t_offset), y,
+    out = kernel((P, ax, ay, az, float(dt), int(k0), float(tau0), float(t_offset), y,
                              float(t_end), float(stop_level), prep.tol, prep.tab, prep.ctrl,
                              layout, prep.rest, diag0,
                              _NO_QUIET if quiet is None else quiet,
                              np.array([prep.tilt_cap, float(theta_before), DECIDED_MARGIN])))
+    if not monitors:
+        out = (*out[:-1], np.full(driver.MON_SIZE, math.nan))
     return KernelResult(*out)
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from enum import StrEnum
 
@@ -84,7 +85,8 @@ class Response:
         Validity monitors along the history: the normal force the support supplies in units
         of the weight, N/(m g) [-] (N < 0: the body would lift off), and the friction it
         needs, μ_req = |F_h|/N [-] (inf where N ≤ 0); docs/equations.md, "Validity
-        monitors". At rest: (g + a_z)/g and |a_h|/(g + a_z).
+        monitors". At rest: (g + a_z)/g and |a_h|/(g + a_z). NaN from an analysis run
+        without the monitors (``ground_response(monitors=False)``), as the four below.
     normal_force_min, t_normal_force_min : float
         Smallest N/(m g) [-] over the analysis and when [s] (every accepted step end,
         every event, the record samples at rest; inf/NaN if nothing was monitored).
@@ -135,8 +137,11 @@ class Response:
     @property
     def slides(self) -> bool | None:
         """The body needs more friction than it has somewhere in the analysis
-        (``mu_required_max`` > ``mu``); None when no ``mu`` was given."""
-        return None if self.mu is None else bool(self.mu_required_max > self.mu)
+        (``mu_required_max`` > ``mu``); None when no ``mu`` was given or nothing was
+        monitored."""
+        if self.mu is None or math.isnan(self.mu_required_max):
+            return None
+        return bool(self.mu_required_max > self.mu)
 
     @property
     def lifts_off(self) -> bool:

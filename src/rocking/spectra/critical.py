@@ -70,11 +70,14 @@ def make_analysis(
 
     The motion is scaled so that the pair's vector PGA equals I·g·tan α; the 2D modes are
     excited by one component (``motion.component``) scaled by the same factor;
-    ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact). The
-    outcome carries the validity monitors ``mu_required_max`` and ``normal_force_min`` in
-    its ``other_peaks``; ``whole`` monitors the whole record (no early end once the peak
+    ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact).
+    ``whole`` runs the validity monitors over the whole record (no early end once the peak
     tilt is decided, ``stop_when_decided=False``), as a limit state watching a monitor
-    (:func:`rocking.spectra.limit_states.whole_record`) or an exact ``slides`` flag needs.
+    (:func:`rocking.spectra.limit_states.whole_record`) or an exact ``slides`` flag needs;
+    the outcome then carries ``mu_required_max`` and ``normal_force_min`` in its
+    ``other_peaks``. Without ``whole`` the kernels run their variant without the monitors
+    (the same θmax, status and steps to the bit, for less work: no other answer reads them)
+    and ``other_peaks`` is empty.
     """
     from ..dynamics.analysis import ground_response  # the engine is imported only when needed
 
@@ -87,10 +90,12 @@ def make_analysis(
     def analyze(intensity: float, stop_at: float | None, rtol: float) -> Outcome:
         r = ground_response(body, excitation, model=model, scale=intensity * unit_scale,
                             stop_at=stop_at, rtol=rtol, history=False,
-                            rest_tilt=rest_tilt, stop_when_decided=not whole, **kw)
+                            rest_tilt=rest_tilt, stop_when_decided=not whole,
+                            monitors=whole, **kw)
+        peaks = ({MU_REQUIRED_MAX: float(r.mu_required_max),
+                  NORMAL_FORCE_MIN: float(r.normal_force_min)} if whole else {})
         return Outcome(float(r.theta_max), bool(r.overturned), Status(r.status), r.reason,
-                       {MU_REQUIRED_MAX: float(r.mu_required_max),
-                        NORMAL_FORCE_MIN: float(r.normal_force_min)})
+                       peaks)
 
     return analyze
 
@@ -134,10 +139,12 @@ def critical_intensity(
         Per limit state, in the order asked: ``intensity`` = PGA/(g tan α) [-] and
         ``pga_g`` = PGA [g] of the smallest exceeding motion, with the search's flags;
         ``slides`` compares the analyses up to each answer with ``body.mu`` (NaN without
-        it), ``lifts_off`` says whether one had N < 0.
+        it), ``lifts_off`` says whether one had N < 0 (False where nothing ran the
+        monitors).
 
     With ``body.mu`` or a limit state watching a monitor (``"sliding:<mu>"``) every analysis
-    is monitored to the end of the record (no early end once its peak tilt is decided).
+    runs the validity monitors to the end of the record (no early end once its peak tilt is
+    decided); otherwise none runs them (:func:`make_analysis`).
     """
     check_mode(mode)
     if motion.pga <= 0.0:
