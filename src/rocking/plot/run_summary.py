@@ -99,6 +99,10 @@ def tolerances_text(t: Mapping) -> str:
             hi = (f"{100 * top:g} %" if t.get("scan_relative", True) else f"{top:g}") if top \
                 else unit
             parts.append(f"intensity scanned upwards in {scan} steps of {unit} to {hi}")
+    if t.get("refine_budget"):
+        parts.append(f"up to {t['refine_budget']} analyses per point re-examine the near "
+                     f"misses below the first exceedance in steps of "
+                     f"{100 * t['refine_step']:g}–{100 * t['refine_step_max']:g} %")
     if t.get("bisection_tol") is not None:
         parts.append(f"each first exceedance refined by bisection to "
                      f"{100 * t['bisection_tol']:g} %")
@@ -106,7 +110,8 @@ def tolerances_text(t: Mapping) -> str:
         parts.append(f"an analysis ends early once the body is at rest (tilt below "
                      f"{t['rest_tilt']:g} rad)")
     known = {"name", "rtol", "rtol_damped", "scan_step", "scan_relative", "scan",
-             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near"}
+             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near",
+             "refine_budget", "refine_step", "refine_step_max", "refine_near"}
     parts += [f"{k} = {v}" for k, v in t.items() if k not in known and v is not None]
     return "; ".join(parts) or "not recorded"
 
