@@ -138,9 +138,16 @@ def test_the_config_schema_names_the_budget_key(value):
     assert "\n" not in message
 
 
-def test_refinement_settings_are_written_only_where_it_refines():
+def test_refinement_settings_round_trip_through_a_record():
     assert DEFAULT.to_dict()["refine_budget"] == DEFAULT.refine_budget > 0
-    assert "refine_budget" not in PRESETS["fast"].to_dict()  # older stores' digests stay
+    for acc in PRESETS.values():  # workers rebuild the tolerances from the store's record
+        assert get_accuracy(acc.to_dict()) == acc
+    # a record written before the refinement existed did not refine
+    old = {k: v for k, v in DEFAULT.with_(scan_step=0.01, refine_budget=0).to_dict().items()
+           if not k.startswith("refine")}
+    assert get_accuracy(old).refine_budget == 0
+    # a configuration naming no preset starts from the default's
+    assert get_accuracy({"rtol": 1e-9}).refine_budget == DEFAULT.refine_budget
     with pytest.raises(ValueError, match="refine_step_max"):
         DEFAULT.with_(refine_step=0.01, refine_step_max=0.001)
 

@@ -253,9 +253,12 @@ class Accuracy:
         }
         if self.scan == "seek":
             out["seek_near"] = self.seek_near
-        if self.refine_budget:  # only where it refines: the other stores' digests stay
-            out.update(refine_budget=self.refine_budget, refine_step=self.refine_step,
-                       refine_step_max=self.refine_step_max, refine_near=self.refine_near)
+        # always, 0 included: a record read back (get_accuracy) must not take the default
+        # preset's budget
+        out["refine_budget"] = self.refine_budget
+        if self.refine_budget:
+            out.update(refine_step=self.refine_step, refine_step_max=self.refine_step_max,
+                       refine_near=self.refine_near)
         return out
 
 
@@ -298,7 +301,10 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
     """Resolve a preset name, a ready :class:`Accuracy`, or a mapping of its fields.
 
     A mapping may name a preset under ``"preset"`` and override some of its fields, e.g.
-    ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses).
+    ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses). A
+    mapping with a ``"name"`` and no ``"preset"`` is a record (:meth:`Accuracy.to_dict`, the
+    tolerances a store keeps): one written before the refinement existed has no
+    ``refine_budget`` and did not refine (0).
 
     Raises
     ------
@@ -314,6 +320,8 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
         return PRESETS[key]
     if isinstance(accuracy, dict):
         fields = dict(accuracy)
+        if "name" in fields and "preset" not in fields:
+            fields.setdefault("refine_budget", 0)
         base = get_accuracy(fields.pop("preset", "default"))
         allowed = {"name", "rtol", "rtol_damped", "scan_step", "bisection_tol", "scan_relative",
                    "scan", "scan_step_max", "tilt_growth", "rest_tilt", "seek_near",
