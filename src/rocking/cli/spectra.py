@@ -87,9 +87,9 @@ def rows(results, motion) -> list[dict]:
 FLAG_NOTES = {
     "not_reached": "not reached: no exceedance up to the search bound",
     "non_monotonic": "non_monotonic: exceeded at one intensity, not at a higher one",
-    "unresolved": "unresolved: the response came close to the goal below the answer; a "
-                  "window of exceedance narrower than the scan step may lie there "
-                  "(docs/performance.md)",
+    "unresolved": "unresolved: the response came close to the goal below the answer and "
+                  "not every such near miss was re-examined; a window of exceedance "
+                  "narrower than the scan step may lie there (docs/performance.md)",
     "budget_spent": "budget_spent: the accuracy preset's refinement budget ran out before "
                     "every near miss below the answer was re-examined (why it is unresolved)",
     "failed": "failed: an analysis failed (the answer is not usable)",

@@ -14,6 +14,12 @@ what it costs:
   [``scan_step``, ``scan_step_max``] — the step over which θmax, growing like I^κ, could just
   reach the goal; ``scan="seek"`` (window-seeking) shrinks the step geometrically with the
   closeness r = θ/τ, from ``scan_step_max`` at rest to ``scan_step`` at r ≥ ``seek_near``;
+- the refinement of near misses: after the scan, ``refine_budget`` analyses per spectrum
+  point re-examine the scan points below each first exceedance where the peak tilt came
+  close to the goal and fell back, or spiked (the near misses that set ``unresolved``),
+  lowest first, in steps of ``refine_step`` (θ ≥ ``refine_near``·τ) to ``refine_step_max``;
+  a window found there becomes the answer, a re-examined near miss no longer flags it, and
+  ``budget_spent`` says the budget ran out first (:meth:`rocking.spectra.search._Search.refine`);
 - ``bisection_tol``: width of the final bracket (lo, hi] relative to hi.
 
 A coarser scan is cheaper but may step over a narrow window of exceedance below the first
@@ -287,8 +293,8 @@ def _check_count(name: str, value) -> int:
 
 PRESETS: dict[str, Accuracy] = {
     "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.1, bisection_tol=0.02),
-    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.02,
-                        bisection_tol=0.005, scan="fixed", refine_budget=40,
+    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.01,
+                        bisection_tol=0.005, scan="fixed", refine_budget=20,
                         refine_step=0.0005, refine_step_max=0.002, refine_near=0.8),
     "precise": Accuracy("precise", rtol=1e-10, rtol_damped=1e-9, scan_step=0.0035,
                         bisection_tol=0.001, scan="adaptive", scan_step_max=0.03,
