@@ -126,11 +126,17 @@ def resolution_text(ds) -> str:
     axis = ds["not_reached"].dims.index("mode")
     per = [f"{m}: {int(np.take(flag, i, axis).sum())} of {int(np.take(reached, i, axis).sum())}"
            for i, m in enumerate(_load.labels(ds, "mode"))]
+    spent = ""
+    if "budget_spent" in ds and bool(ds["budget_spent"].values.any()):
+        n = int((ds["budget_spent"].values.astype(bool) & reached).sum())
+        spent = (f" {n} of them because the refinement budget ran out before every near "
+                 "miss below the answer was re-examined (budget_spent).")
     return ("answers flagged unresolved (the response came within half the goal, or θmax "
-            "jumped, below the answer: narrower windows of exceedance may lie lower) — "
-            + "; ".join(per) + ". On the resolution benchmark the 1 % scan's answer is "
-            "0.9–1.6 % too high at the median and 14–15 % at the 90th percentile, never too "
-            "low (docs/performance.md).")
+            "jumped, below the answer, and that near miss was not re-examined: narrower "
+            "windows of exceedance may lie lower) — " + "; ".join(per) + "." + spent
+            + " On the resolution benchmark the default's answer is 0.4–0.9 % too high at "
+            "the median and 15–21 % at the 90th percentile, never too low "
+            "(docs/performance.md).")
 
 
 def validity_text(ds, mu: float | None) -> str:
