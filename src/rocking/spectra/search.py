@@ -616,7 +616,9 @@ class _Search:
             below = [i for i in order if intens[i] < first and known[i, k]]
             r = measures[below, k] / self.goal[k]
             for j in np.flatnonzero(window_points(r)):
-                lo = float(intens[below[j - 1]]) if j > 0 else float(self.know.lower[k])
+                # below the first scan point: from uplift (never from 0, where the
+                # relative steps of the re-examination would not move)
+                lo = float(intens[below[j - 1]]) if j > 0 else float(self.lower)
                 out.append(NearMiss(k, float(r[j]), lo, float(intens[below[j + 1]])))
         return out
 
