@@ -6,9 +6,11 @@
 - ``resolution.csv`` / ``.md``: per (point, limit state) the first exceedance on scan grids of
   1, 0.5, 0.2, 0.1, 0.05 and 0.02 % from uplift, whether and where it converges, and the
   exceedance windows found below the 1 % answer on the finest grid (count, widths);
-- ``resolution_accuracy.csv`` / ``.md``: the presets and the scans (fixed, adaptive, the
-  window-seeking ``seek``) run as real searches, their error against the converged
-  reference and their analyses per point;
+- ``resolution_accuracy.csv`` / ``.md``: the presets and the ``default`` before its
+  refinement of near misses (:data:`DEFAULT_BEFORE`) run as real searches: per preset and
+  goal set the median, 90th percentile and largest error against the converged reference,
+  the precision and recall of ``unresolved`` against "more than 3 % too high"
+  (:data:`BAD_ERROR`), the answers ``budget_spent``, analyses and CPU seconds per point;
 - ``resolution_flag.csv`` / ``.md``: precision and recall of
   :attr:`~rocking.spectra.search.CriticalResult.unresolved` (and of the criteria it was
   chosen among) against the truth "a window below the 1 % scan's bracket";
