@@ -23,8 +23,9 @@ from rocking.spectra.search import search_critical, window_warning
 from rocking.study import store, tasks
 from rocking.study.aggregate import critical_frame
 
-FIXED = PRESETS["default"].with_(scan="fixed", scan_step=0.01)
-"""A fixed 1 % scan (the study's default scan)."""
+FIXED = PRESETS["default"].with_(scan="fixed", scan_step=0.01, refine_budget=0)
+"""A fixed 1 % scan without refinement (the study's default scan before the refinement of
+near misses, tests/test_search_refine.py): what the flag alone says."""
 SEEK = PRESETS["default"].with_(name="seek", scan="seek", scan_step=0.001,
                                 scan_step_max=0.03, seek_near=0.5)
 GOALS = ["tilt:0.5", "overturning"]

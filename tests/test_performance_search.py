@@ -17,8 +17,9 @@ from rocking.spectra.search import Outcome, search_critical
 
 ALPHA = math.atan(0.2)
 STATES = ["tilt:0.1", "tilt:0.2", "tilt:0.5", "tilt:0.75", "overturning"]
-FIXED = PRESETS["default"]
-"""The default tolerances: a fixed 1 % scan."""
+FIXED = PRESETS["default"].with_(name="fixed 1 %", scan_step=0.01, refine_budget=0)
+"""The default tolerances with a fixed 1 % scan and no refinement (the default until the
+refinement of near misses: tests/test_search_refine.py covers that)."""
 ADAPTIVE = PRESETS["default"].with_(name="adaptive", scan="adaptive", scan_step=0.005,
                                     scan_step_max=0.05, tilt_growth=60.0)
 """The adaptive scan measured against it (rocking.benchmarks.spectra.ADAPTIVE)."""

@@ -41,7 +41,9 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "not_reached": ("1", "", "limit state not exceeded up to the search bound"),
     "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
     "failed": ("1", "", "an analysis failed even after a retry"),
-    "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer"),
+    "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer "
+                   "(near misses left unexamined)"),
+    "budget_spent": ("1", "", "unresolved because the refinement budget ran out"),
     "slides": ("1", "", "an analysis up to the answer needed more friction than mu "
                "(NaN: no mu given)"),
     "lifts_off": ("1", "", "an analysis up to the answer had a normal force N < 0"),

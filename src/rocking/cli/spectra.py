@@ -29,7 +29,8 @@ UPPER_DEFAULT = 20.0
 checked equal in the tests; the search module is not imported to print the help)."""
 
 COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "pga_crit", "pga_crit_g",
-           "not_reached", "non_monotonic", "failed", "unresolved", "slides", "lifts_off",
+           "not_reached", "non_monotonic", "failed", "unresolved", "budget_spent", "slides",
+           "lifts_off",
            "n_analyses", "bracket_lo", "bracket_hi", "lower", "upper", "accuracy", "mu",
            "source_record", "processing")
 """Columns of the CSV (titles with units) and keys of the JSON results."""
@@ -86,9 +87,11 @@ def rows(results, motion) -> list[dict]:
 FLAG_NOTES = {
     "not_reached": "not reached: no exceedance up to the search bound",
     "non_monotonic": "non_monotonic: exceeded at one intensity, not at a higher one",
-    "unresolved": "unresolved: the response came close to the goal below the answer; a "
-                  "window of exceedance narrower than the scan step may lie there "
-                  "(docs/performance.md)",
+    "unresolved": "unresolved: the response came close to the goal below the answer and "
+                  "not every such near miss was re-examined; a window of exceedance "
+                  "narrower than the scan step may lie there (docs/performance.md)",
+    "budget_spent": "budget_spent: the accuracy preset's refinement budget ran out before "
+                    "every near miss below the answer was re-examined (why it is unresolved)",
     "failed": "failed: an analysis failed (the answer is not usable)",
     "slides": "slides: an analysis up to the answer needed more friction than --mu (the "
               "body would have slid: the rocking answer does not describe it)",

@@ -99,6 +99,10 @@ def tolerances_text(t: Mapping) -> str:
             hi = (f"{100 * top:g} %" if t.get("scan_relative", True) else f"{top:g}") if top \
                 else unit
             parts.append(f"intensity scanned upwards in {scan} steps of {unit} to {hi}")
+    if t.get("refine_budget"):
+        parts.append(f"up to {t['refine_budget']} analyses per point re-examine the near "
+                     f"misses below the first exceedance in steps of "
+                     f"{100 * t['refine_step']:g}–{100 * t['refine_step_max']:g} %")
     if t.get("bisection_tol") is not None:
         parts.append(f"each first exceedance refined by bisection to "
                      f"{100 * t['bisection_tol']:g} %")
@@ -106,7 +110,8 @@ def tolerances_text(t: Mapping) -> str:
         parts.append(f"an analysis ends early once the body is at rest (tilt below "
                      f"{t['rest_tilt']:g} rad)")
     known = {"name", "rtol", "rtol_damped", "scan_step", "scan_relative", "scan",
-             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near"}
+             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near",
+             "refine_budget", "refine_step", "refine_step_max", "refine_near"}
     parts += [f"{k} = {v}" for k, v in t.items() if k not in known and v is not None]
     return "; ".join(parts) or "not recorded"
 
@@ -121,11 +126,17 @@ def resolution_text(ds) -> str:
     axis = ds["not_reached"].dims.index("mode")
     per = [f"{m}: {int(np.take(flag, i, axis).sum())} of {int(np.take(reached, i, axis).sum())}"
            for i, m in enumerate(_load.labels(ds, "mode"))]
+    spent = ""
+    if "budget_spent" in ds and bool(ds["budget_spent"].values.any()):
+        n = int((ds["budget_spent"].values.astype(bool) & reached).sum())
+        spent = (f" {n} of them because the refinement budget ran out before every near "
+                 "miss below the answer was re-examined (budget_spent).")
     return ("answers flagged unresolved (the response came within half the goal, or θmax "
-            "jumped, below the answer: narrower windows of exceedance may lie lower) — "
-            + "; ".join(per) + ". On the resolution benchmark the 1 % scan's answer is "
-            "0.9–1.6 % too high at the median and 14–15 % at the 90th percentile, never too "
-            "low (docs/performance.md).")
+            "jumped, below the answer, and that near miss was not re-examined: narrower "
+            "windows of exceedance may lie lower) — " + "; ".join(per) + "." + spent
+            + " On the resolution benchmark the default's answer is 0.4–0.9 % too high at "
+            "the median and 15–21 % at the 90th percentile, never too low "
+            "(docs/performance.md).")
 
 
 def validity_text(ds, mu: float | None) -> str:

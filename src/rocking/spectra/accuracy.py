@@ -14,6 +14,12 @@ what it costs:
   [``scan_step``, ``scan_step_max``] — the step over which θmax, growing like I^κ, could just
   reach the goal; ``scan="seek"`` (window-seeking) shrinks the step geometrically with the
   closeness r = θ/τ, from ``scan_step_max`` at rest to ``scan_step`` at r ≥ ``seek_near``;
+- the refinement of near misses: after the scan, ``refine_budget`` analyses per spectrum
+  point re-examine the scan points below each first exceedance where the peak tilt came
+  close to the goal and fell back, or spiked (the near misses that set ``unresolved``),
+  lowest first, in steps of ``refine_step`` (θ ≥ ``refine_near``·τ) to ``refine_step_max``;
+  a window found there becomes the answer, a re-examined near miss no longer flags it, and
+  ``budget_spent`` says the budget ran out first (:meth:`rocking.spectra.search._Search.refine`);
 - ``bisection_tol``: width of the final bracket (lo, hi] relative to hi.
 
 A coarser scan is cheaper but may step over a narrow window of exceedance below the first
@@ -105,6 +111,22 @@ class Accuracy:
         Closeness θ/τ of the peak tilt to the next goal at and above which the
         window-seeking scan (``scan="seek"``) takes its finest step ``scan_step`` [-], in
         (0, 1] (:meth:`seek_step`).
+    refine_budget : int
+        Analyses one search (a spectrum point, all its limit states) may spend
+        re-examining the near misses below its answers (scan points where the peak tilt
+        came close to the goal and fell back, or spiked), lowest first
+        (:meth:`rocking.spectra.search._Search.refine`) [-], >= 0; 0: no refinement (the
+        near misses only set ``unresolved``).
+    refine_step : float
+        Finest relative step of that re-examination [-], in (0, ``scan_step``]: taken where
+        the peak tilt is within ``refine_near`` of the goal.
+    refine_step_max : float
+        Coarsest relative step of the re-examination, where the body stays far from the
+        goal [-], >= ``refine_step``; the step shrinks geometrically with the closeness
+        between the two (:meth:`refine_step_at`).
+    refine_near : float
+        Closeness θ/τ at and above which the re-examination takes ``refine_step`` [-], in
+        (0, 1].
     """
 
     name: str
@@ -118,6 +140,10 @@ class Accuracy:
     tilt_growth: float = 40.0
     rest_tilt: float | None = None
     seek_near: float = 0.5
+    refine_budget: int = 0
+    refine_step: float = 0.0005
+    refine_step_max: float = 0.002
+    refine_near: float = 0.8
 
     def __post_init__(self) -> None:
         _check_range("rtol", self.rtol, 0.0, 1e-2)
@@ -136,6 +162,14 @@ class Accuracy:
             _check_range("rest_tilt", self.rest_tilt, 0.0, 1e-4, lower_closed=True)
             object.__setattr__(self, "rest_tilt", float(self.rest_tilt))
         _check_range("seek_near", self.seek_near, 0.0, 1.0)
+        object.__setattr__(self, "refine_budget", _check_count("refine_budget",
+                                                                self.refine_budget))
+        _check_range("refine_step", self.refine_step, 0.0, 1.0)
+        _check_range("refine_step_max", self.refine_step_max, 0.0, 1.0)
+        _check_range("refine_near", self.refine_near, 0.0, 1.0)
+        if self.refine_step_max < self.refine_step:
+            raise ValueError(f"refine_step_max must be >= refine_step={self.refine_step!r}, "
+                             f"got {self.refine_step_max!r}")
         if self.scan in ("adaptive", "seek"):
             if not self.scan_relative:
                 raise ValueError(f"scan={self.scan!r} needs scan_relative=True (its steps "
@@ -193,6 +227,19 @@ class Accuracy:
             return self.scan_step
         return self.scan_step_max * (self.scan_step / self.scan_step_max) ** (r / self.seek_near)
 
+    def refine_step_at(self, theta: float, goal: float) -> float:
+        """Relative step of the re-examination of a near miss after a peak tilt ``theta``
+        [rad] below the goal ``goal`` [rad]: ``refine_step`` from the closeness
+        r = θ/τ >= ``refine_near`` on (and for an unknown tilt), ``refine_step_max`` at
+        rest, geometric between (windows of exceedance hide where θ comes close to τ)."""
+        if not theta < goal:  # also NaN
+            return self.refine_step
+        r = max(theta, 0.0) / goal
+        if r >= self.refine_near:
+            return self.refine_step
+        return self.refine_step_max * (self.refine_step
+                                       / self.refine_step_max) ** (r / self.refine_near)
+
     def to_dict(self) -> dict:
         """JSON-serialisable form (written into study attributes and CLI outputs).
 
@@ -212,6 +259,12 @@ class Accuracy:
         }
         if self.scan == "seek":
             out["seek_near"] = self.seek_near
+        # always, 0 included: a record read back (get_accuracy) must not take the default
+        # preset's budget
+        out["refine_budget"] = self.refine_budget
+        if self.refine_budget:
+            out.update(refine_step=self.refine_step, refine_step_max=self.refine_step_max,
+                       refine_near=self.refine_near)
         return out
 
 
@@ -229,10 +282,20 @@ def _check_range(name: str, value, lo: float, hi: float, upper_open: bool = Fals
         raise ValueError(f"{name} must be {low} and {bound}, got {value!r}")
 
 
+def _check_count(name: str, value) -> int:
+    """A whole number >= 0 (a float with no fraction is accepted) or a one-line error."""
+    ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
+          and math.isfinite(value) and value >= 0 and float(value).is_integer())
+    if not ok:
+        raise ValueError(f"{name} must be a whole number >= 0, got {value!r}")
+    return int(value)
+
+
 PRESETS: dict[str, Accuracy] = {
     "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.1, bisection_tol=0.02),
     "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.01,
-                        bisection_tol=0.005, scan="fixed"),
+                        bisection_tol=0.005, scan="fixed", refine_budget=20,
+                        refine_step=0.0005, refine_step_max=0.002, refine_near=0.8),
     "precise": Accuracy("precise", rtol=1e-10, rtol_damped=1e-9, scan_step=0.0035,
                         bisection_tol=0.001, scan="adaptive", scan_step_max=0.03,
                         tilt_growth=120.0),
@@ -244,7 +307,10 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
     """Resolve a preset name, a ready :class:`Accuracy`, or a mapping of its fields.
 
     A mapping may name a preset under ``"preset"`` and override some of its fields, e.g.
-    ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses).
+    ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses). A
+    mapping with a ``"name"`` and no ``"preset"`` is a record (:meth:`Accuracy.to_dict`, the
+    tolerances a store keeps): one written before the refinement existed has no
+    ``refine_budget`` and did not refine (0).
 
     Raises
     ------
@@ -260,9 +326,12 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
         return PRESETS[key]
     if isinstance(accuracy, dict):
         fields = dict(accuracy)
+        if "name" in fields and "preset" not in fields:
+            fields.setdefault("refine_budget", 0)
         base = get_accuracy(fields.pop("preset", "default"))
         allowed = {"name", "rtol", "rtol_damped", "scan_step", "bisection_tol", "scan_relative",
-                   "scan", "scan_step_max", "tilt_growth", "rest_tilt", "seek_near"}
+                   "scan", "scan_step_max", "tilt_growth", "rest_tilt", "seek_near",
+                   "refine_budget", "refine_step", "refine_step_max", "refine_near"}
         unknown = sorted(set(fields) - allowed)
         if unknown:
             raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed {sorted(allowed)}")

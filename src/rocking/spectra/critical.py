@@ -164,7 +164,7 @@ def critical_intensity(
 
 
 _PER_LIMIT_STATE = ("intensity", "bracket_lo", "bracket_hi", "not_reached", "non_monotonic",
-                    "failed", "unresolved", "slides", "lifts_off")
+                    "failed", "unresolved", "budget_spent", "slides", "lifts_off")
 
 
 def _in_order(res: CriticalResult, names: list[str]) -> CriticalResult:

@@ -160,7 +160,12 @@ class CriticalResult:
         Windows of exceedance narrower than the scan step may lie below this answer: below
         its first exceeding scan point the peak tilt came close to the goal and fell back,
         or spiked (:func:`window_warning`). A finer scan may answer lower. Never set for a
-        limit state that does not watch the tilt (sliding).
+        limit state that does not watch the tilt (sliding). With a refining preset
+        (``refine_budget`` > 0) the near misses whose neighbourhood was re-examined are
+        cleared, and the flag stays only where the budget ran out first.
+    budget_spent : ndarray of bool
+        ``unresolved`` because the preset's refinement budget ran out before every near
+        miss below the answer was re-examined (never set by a preset that does not refine).
     slides : ndarray of float
         1.0 where an analysis at or below the answer (up to :attr:`upper` where not
         reached) needed more friction than :attr:`mu` (``mu_required_max`` > μ), 0.0 where
@@ -205,11 +210,14 @@ class CriticalResult:
     slides: np.ndarray | None = None
     lifts_off: np.ndarray | None = None
     mu: float | None = None
+    budget_spent: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = len(self.limit_states)
         if self.unresolved is None:  # a result built without the flag: nothing was seen
             object.__setattr__(self, "unresolved", np.zeros(n, dtype=bool))
+        if self.budget_spent is None:  # built without refinement: no budget was spent
+            object.__setattr__(self, "budget_spent", np.zeros(n, dtype=bool))
         if self.lifts_off is None:  # built without monitors: nothing was seen
             object.__setattr__(self, "lifts_off", np.zeros(n, dtype=bool))
         if self.slides is None:  # nothing to say about sliding
@@ -229,7 +237,7 @@ class CriticalResult:
             # slides where μ was given (NaN says nothing); lifts_off is left to the tables
             # (nearly every overturning answer carries it: a body falling leaves its support)
             flags = [f for f in ("not_reached", "non_monotonic", "failed", "unresolved",
-                                 "slides")
+                                 "budget_spent", "slides")
                      if getattr(self, f)[k] == 1]
             rows.append(f"  {name}: PGA/(g tan alpha) = {float(self.intensity[k]):.6g}, "
                         f"PGA = {float(self.pga_g[k]):.6g} g"
@@ -269,6 +277,7 @@ class CriticalResult:
                     "non_monotonic": bool(self.non_monotonic[k]),
                     "failed": bool(self.failed[k]),
                     "unresolved": bool(self.unresolved[k]),
+                    "budget_spent": bool(self.budget_spent[k]),
                     "slides": _flag(self.slides[k]),
                     "lifts_off": bool(self.lifts_off[k]),
                     "mu": self.mu,
@@ -414,12 +423,41 @@ def window_warning(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENES
         Some scan point but the last is followed by a lower one, and it was within
         ``threshold`` of the goal or the next is ``drop`` times lower.
     """
+    return bool(window_points(closeness, threshold, drop).any())
+
+
+def window_points(closeness: np.ndarray, threshold: float = UNRESOLVED_CLOSENESS,
+                  drop: float = UNRESOLVED_DROP) -> np.ndarray:
+    """Which scan points :func:`window_warning` fires on (bool per point, the last never):
+    followed by a lower one, and within ``threshold`` of the goal or ``drop`` times above
+    the next."""
     r = np.asarray(closeness, dtype=float)
+    out = np.zeros(r.size, dtype=bool)
     if r.size < 2:
-        return False
+        return out
     here, after = r[:-1], r[1:]
-    fell = after < here
-    return bool(np.any(fell & ((here >= threshold) | (here >= drop * after))))
+    out[:-1] = (after < here) & ((here >= threshold) | (here >= drop * after))
+    return out
+
+
+@dataclass(frozen=True)
+class NearMiss:
+    """A scan point below an answer where windows of exceedance may hide.
+
+    Attributes
+    ----------
+    state : int
+        Index of the limit state.
+    closeness : float
+        Its measure over the scan goal there (θmax/τ) [-].
+    lo, hi : float
+        Its neighbourhood: the neighbouring scan points below and above [-].
+    """
+
+    state: int
+    closeness: float
+    lo: float
+    hi: float
 
 
 def _checked(out: Outcome) -> Outcome:
@@ -458,6 +496,7 @@ class _Search:
         self.stuck = np.zeros(len(states), dtype=bool)  # a failure blocks the bracket
         self.resolved = np.zeros(len(states), dtype=bool)  # bracket at float resolution
         self.scan_rows = 0  # the first scan_rows analyses known are the scan's
+        self.pending: list[NearMiss] | None = None  # near misses refine() left uncleared
 
     def _call(self, intensity: float, stop_at: float | None, rtol: float) -> Outcome:
         if len(self.evaluations) >= MAX_ANALYSES:
@@ -470,14 +509,22 @@ class _Search:
         )
         return out
 
-    def run(self, intensity: float) -> np.ndarray:
+    def run(self, intensity: float, below_answer: bool = False) -> np.ndarray:
         """Analyse at ``intensity`` if it can teach anything.
+
+        ``below_answer``: also where it lies below a bracket (the refinement looks there for
+        windows the scan stepped over), i.e. for every limit state not known exceeded at or
+        below ``intensity``.
 
         Returns :meth:`LimitState.measure` of each limit state (the peak tilt [rad] for the
         tilt goals): 0.0 if no analysis was needed, NaN if it failed twice (nothing was
         learnt there).
         """
-        informative = self.know.informative(intensity)
+        if below_answer:
+            _, hi = self.know.brackets()
+            informative = np.isnan(hi) | (intensity < hi)
+        else:
+            informative = self.know.informative(intensity)
         if not informative.any():
             return np.zeros(len(self.states))
         # the highest goal still undecided decides where the analysis may stop
@@ -547,11 +594,13 @@ class _Search:
                 # Cannot learn anything here: stop refining every bracket around this point.
                 self.stuck |= (lo < mid) & (mid < hi)
 
-    def unresolved(self) -> np.ndarray:
-        """:func:`window_warning` of each limit state on the scan's analyses below its first
-        exceeding scan point (all of them where it was not reached)."""
+    def near_misses(self) -> list[NearMiss]:
+        """The scan's near misses of every limit state that warns of windows: scan points
+        below its first exceeding scan point (all of them where it was not reached) that
+        :func:`window_warning` marks, each with the neighbourhood between its neighbouring
+        scan points (uplift below the first)."""
         n = self.scan_rows
-        out = np.zeros(self.tau.size, dtype=bool)
+        out: list[NearMiss] = []
         if n == 0:
             return out
         intens = np.asarray(self.know.intensities[:n])
@@ -565,8 +614,86 @@ class _Search:
             hit = known[:, k] & exc[:, k]
             first = np.min(intens[hit]) if hit.any() else np.inf
             below = [i for i in order if intens[i] < first and known[i, k]]
-            out[k] = window_warning(measures[below, k] / self.goal[k])
+            r = measures[below, k] / self.goal[k]
+            for j in np.flatnonzero(window_points(r)):
+                # below the first scan point: from uplift (never from 0, where the
+                # relative steps of the re-examination would not move)
+                lo = float(intens[below[j - 1]]) if j > 0 else float(self.lower)
+                out.append(NearMiss(k, float(r[j]), lo, float(intens[below[j + 1]])))
         return out
+
+    def refine(self) -> None:
+        """Re-examine the near misses (:meth:`near_misses`), lowest first.
+
+        Each near miss's neighbourhood is scanned upward from its lower neighbour with the
+        step :meth:`~rocking.spectra.accuracy.Accuracy.refine_step_at` (fine where the peak
+        tilt comes close to the goal) until its upper neighbour or the limit state's first
+        exceedance, whichever is lower: a window found there becomes the new first
+        exceedance (the bisection then narrows its bracket), and the neighbourhood is
+        cleared. The search (one spectrum point, all its limit states: one analysis serves
+        them all) may run ``refine_budget`` analyses so; a near miss left when it is spent
+        stays uncleared (:attr:`pending`). Near misses at or above their limit state's
+        answer no longer matter.
+        """
+        budget = self.acc.refine_budget
+        # lowest first: the lowest window found makes every near miss above it moot, so the
+        # budget goes where it can still move the answer (closest-first, tried on the
+        # resolution traces, flagged more answers that were right: docs/performance.md)
+        misses = sorted(self.near_misses(), key=lambda m: (m.lo, -m.closeness))
+        spent = 0
+        self.pending = []
+        covered = -math.inf  # re-examined contiguously up to here (neighbourhoods overlap)
+        for miss in misses:
+            k = miss.state
+            _, hi = self.know.brackets()
+            top = min(miss.hi, hi[k]) if not np.isnan(hi[k]) else miss.hi
+            if max(miss.lo, covered) >= top:
+                continue
+            if spent >= budget:
+                self.pending.append(miss)
+                continue
+            intensity = max(miss.lo, covered)
+            theta = self._measure_at(intensity, k)
+            cleared = True
+            while True:
+                intensity *= 1.0 + self.acc.refine_step_at(theta, float(self.goal[k]))
+                _, hi = self.know.brackets()
+                top = min(miss.hi, hi[k]) if not np.isnan(hi[k]) else miss.hi
+                if intensity >= top * (1.0 - 1e-12):
+                    break
+                if spent >= budget:
+                    cleared = False
+                    break
+                before = len(self.evaluations)
+                measures = self.run(intensity, below_answer=True)
+                spent += len(self.evaluations) - before
+                theta = float(measures[k])
+                covered = intensity
+            if cleared:
+                covered = max(covered, top)
+            else:
+                self.pending.append(miss)
+
+    def _measure_at(self, intensity: float, k: int) -> float:
+        """Measure of limit state ``k`` at an analysed intensity (0 where none was run
+        there, e.g. at uplift: at rest)."""
+        for i in range(len(self.know.intensities) - 1, -1, -1):
+            if self.know.intensities[i] == intensity:
+                return float(self.know.measures[i][k])
+        return 0.0
+
+    def unresolved(self) -> tuple[np.ndarray, np.ndarray]:
+        """(unresolved, budget_spent) per limit state: near misses below its answer left
+        uncleared (without refinement: every near miss), and those of them left because
+        the refinement budget ran out."""
+        _, hi = self.know.brackets()
+        limit = np.where(np.isnan(hi), np.inf, hi)
+        pending = self.near_misses() if self.pending is None else self.pending
+        out = np.zeros(self.tau.size, dtype=bool)
+        for miss in pending:
+            out[miss.state] |= miss.lo < limit[miss.state]
+        spent = out & (self.acc.refine_budget > 0)
+        return out, spent
 
     def result(self, mu: float | None = None) -> CriticalResult:
         lo, hi = self.know.brackets()
@@ -577,6 +704,7 @@ class _Search:
         if failed_at.size:
             failed |= (failed_at[:, None] < limit[None, :]).any(axis=0)
         slides, lifts_off = self.know.monitor_flags(limit, mu)
+        unresolved, budget_spent = self.unresolved()
         return CriticalResult(
             limit_states=tuple(ls.name for ls in self.states),
             intensity=hi.copy(),
@@ -585,7 +713,8 @@ class _Search:
             not_reached=not_reached,
             non_monotonic=self.know.non_monotonic(),
             failed=failed,
-            unresolved=self.unresolved(),
+            unresolved=unresolved,
+            budget_spent=budget_spent,
             n_analyses=len(self.evaluations),
             lower=float(self.lower),
             upper=float(self.upper),
@@ -647,6 +776,8 @@ def search_critical(
     search = _Search(analyze, states, alpha, lower, upper, acc, rtol)
     search.scan()
     search.scan_rows = len(search.know.intensities)
+    if acc.refine_budget > 0:
+        search.refine()
     search.bisect()
     return search.result(mu)
 

@@ -170,7 +170,7 @@ def to_frame(stats: xr.Dataset) -> pd.DataFrame:
 
 
 CRITICAL_COLUMNS = ("pga_crit", "pga_crit_g", "not_reached", "non_monotonic", "failed",
-                    "unresolved", "slides", "lifts_off", "n_analyses")
+                    "unresolved", "budget_spent", "slides", "lifts_off", "n_analyses")
 """Per-motion results of a spectra store, as :func:`critical_frame` lists them."""
 
 

@@ -88,6 +88,7 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
         "non_monotonic": Variable(SPECTRA_DIMS, "bool", False),
         "failed": Variable(SPECTRA_DIMS, "bool", False),
         "unresolved": Variable(SPECTRA_DIMS, "bool", False),
+        "budget_spent": Variable(SPECTRA_DIMS, "bool", False),
         "n_analyses": Variable(SPECTRA_DIMS, "int32", 0),
         "slides": Variable(SPECTRA_DIMS, "float64", np.nan),
         "lifts_off": Variable(SPECTRA_DIMS, "bool", False),
@@ -377,6 +378,7 @@ def _unrequested_values(n_ls: int, n: int) -> dict[str, np.ndarray]:
         "non_monotonic": np.zeros((n_ls, n), dtype=bool),
         "failed": np.zeros((n_ls, n), dtype=bool),
         "unresolved": np.zeros((n_ls, n), dtype=bool),
+        "budget_spent": np.zeros((n_ls, n), dtype=bool),
         "n_analyses": np.zeros((n_ls, n), dtype=np.int32),
         "slides": np.full((n_ls, n), np.nan),
         "lifts_off": np.zeros((n_ls, n), dtype=bool),
@@ -392,9 +394,9 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
     results : sequence of CriticalResult
         One per point, as returned by :func:`rocking.spectra.critical.critical_intensity_batch`:
         ``limit_states`` (names), arrays ``intensity`` (PGA/(g tan α) [-], NaN where not
-        reached), ``not_reached``, ``non_monotonic``, ``failed``, ``unresolved`` (false
-        where a result has none), ``slides`` (NaN where none), ``lifts_off`` (false where
-        none) and the count ``n_analyses``.
+        reached), ``not_reached``, ``non_monotonic``, ``failed``, ``unresolved`` and
+        ``budget_spent`` (false where a result has none), ``slides`` (NaN where none),
+        ``lifts_off`` (false where none) and the count ``n_analyses``.
     limit_states : sequence of str
         Order of the first axis (canonical names, as in the store).
     computed : sequence of str, optional
@@ -424,6 +426,8 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
             out["failed"][i, j] = res.failed[k]
             unresolved = getattr(res, "unresolved", None)
             out["unresolved"][i, j] = False if unresolved is None else unresolved[k]
+            spent = getattr(res, "budget_spent", None)
+            out["budget_spent"][i, j] = False if spent is None else spent[k]
             slides, lifts_off = (getattr(res, f, None) for f in ("slides", "lifts_off"))
             out["slides"][i, j] = np.nan if slides is None else slides[k]
             out["lifts_off"][i, j] = False if lifts_off is None else lifts_off[k]
