@@ -71,17 +71,28 @@ def test_bad_friction_is_one_line_naming_the_text(bad):
     assert "limit_state" in message and repr(bad) in message and "\n" not in message
 
 
-def test_exceedance_reads_the_monitors_and_lift_off_counts():
+def test_exceedance_is_contact_sliding_only():
+    """sliding:<μ> is exceeded by μ_req > μ in an analysis that did not overturn; leaving
+    the support (N ≤ 0) is not sliding, and an overturned analysis decides nothing."""
+    from rocking.spectra.limit_states import classify, lifts_off, slides_in_contact
+
     ls, alpha = parse_limit_state("sliding:0.6"), math.atan(0.2)
     peaks = {"theta_max": 0.01, "overturned": False, "normal_force_min": 0.9}
     assert ls.exceeded({**peaks, "mu_required_max": 0.61}, alpha)
     assert not ls.exceeded({**peaks, "mu_required_max": 0.59}, alpha)
-    # the support would have to pull: no friction coefficient holds the body
-    assert ls.exceeded({**peaks, "mu_required_max": 0.1, "normal_force_min": -0.01}, alpha)
-    # overturning alone does not decide it: its own monitors do
-    assert not ls.exceeded({**peaks, "overturned": True, "mu_required_max": 0.3}, alpha)
-    with pytest.raises(ValueError, match="sliding:0.6.*'normal_force_min'"):
-        ls.exceeded({"theta_max": 0.0, "overturned": False, "mu_required_max": 0.0}, alpha)
+    # leaving the support is its own question (lifts_off), not sliding
+    off = {**peaks, "mu_required_max": 0.1, "normal_force_min": -0.01}
+    assert not ls.exceeded(off, alpha) and lifts_off(off)
+    assert lifts_off({**off, "normal_force_min": 0.0}) and not lifts_off(peaks)
+    # the fall of an overturning body needs unbounded friction: it says nothing
+    fall = {**peaks, "overturned": True, "theta_max": 1.5, "mu_required_max": 60.0}
+    assert not ls.exceeded(fall, alpha) and not ls.decides(fall)
+    assert slides_in_contact(fall, 0.6) is None and slides_in_contact(peaks, None) is None
+    known, exceeded = classify(fall, parse_limit_states(["overturning", "sliding:0.6"]),
+                               alpha, None, stopped=False)
+    assert known.tolist() == [True, False] and exceeded.tolist() == [True, False]
+    with pytest.raises(ValueError, match="sliding:0.6.*'mu_required_max'"):
+        ls.exceeded({"theta_max": 0.0, "overturned": False, "normal_force_min": 1.0}, alpha)
 
 
 # --- the search against direct runs ----------------------------------------------------------
@@ -117,7 +128,8 @@ def test_sliding_answer_is_the_first_intensity_needing_more_friction():
 
 def test_flags_are_those_of_direct_runs_at_the_search_intensities():
     """slides / lifts_off of each answer = whether a direct run at one of the search's
-    intensities up to the answer needed μ_req > μ / had N < 0; slides is NaN without μ."""
+    intensities up to the answer slid in contact (did not overturn, μ_req > μ) / had
+    N ≤ 0; slides is NaN without μ."""
     motion = _pulse()
     states = ["tilt:1/3", "overturning", "sliding:0.22"]
     with_mu = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.22), motion, states, "2d-x",
@@ -128,8 +140,10 @@ def test_flags_are_those_of_direct_runs_at_the_search_intensities():
     for name in states:
         row = with_mu[name]
         upto = [r for i, r in direct.items() if i <= row["intensity"]]
-        assert row["slides"] == any(r.mu_required_max > 0.22 for r in upto), name
-        assert row["lifts_off"] == any(r.normal_force_min < 0.0 for r in upto), name
+        # sliding in contact: a run that did not overturn needed more than μ
+        assert row["slides"] == any(not r.overturned and r.mu_required_max > 0.22
+                                    for r in upto), name
+        assert row["lifts_off"] == any(r.normal_force_min <= 0.0 for r in upto), name
     # the sliding answer of μ = the body's μ slides by definition, milder answers below it not
     assert with_mu["sliding:0.22"]["slides"]
     assert with_mu["overturning"]["lifts_off"]  # near π/2 the support would have to pull

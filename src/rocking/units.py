@@ -42,9 +42,9 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
     "failed": ("1", "", "an analysis failed even after a retry"),
     "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer"),
-    "slides": ("1", "", "an analysis up to the answer needed more friction than mu "
-               "(NaN: no mu given)"),
-    "lifts_off": ("1", "", "an analysis up to the answer had a normal force N < 0"),
+    "slides": ("1", "", "an analysis up to the answer that did not overturn needed more "
+               "friction than mu while in contact (empty: no mu given)"),
+    "lifts_off": ("1", "", "an analysis up to the answer had a normal force N <= 0"),
     "mu": ("1", "-", "support friction coefficient the slides flag compares with"),
     "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
     "done": ("1", "", "chunk computed and written"),

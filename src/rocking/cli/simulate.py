@@ -204,9 +204,11 @@ def human(s: dict, alpha: float, out: Path, processing: str = "") -> str:
     if "contact_force_min" in s:
         rows.append(("min contact force", f"{_human.num(s['contact_force_min'])} N/kg"))
     if s.get("mu_required_max") is not None:
+        verdict = {True: "SLIDES", False: "holds",
+                   None: "not judged (it overturned: the fall needs unbounded friction)"}
         held = "" if s.get("mu") is None else (
-            f"; μ = {_human.num(s['mu'])}: " + ("SLIDES" if s.get("slides") else "holds"))
-        jump = "; LIFTS OFF (N < 0)" if s.get("lifts_off") else ""
+            f"; μ = {_human.num(s['mu'])}: " + verdict[s.get("slides")])
+        jump = "; LIFTS OFF (N ≤ 0)" if s.get("lifts_off") else ""
         rows.append(("support", f"needs μ ≥ {_human.num(s['mu_required_max'])}, "
                                 f"N ≥ {_human.num(s['normal_force_min'])} mg{held}{jump}"))
     rows.append(("written", f"{out / 'history.csv'}, {out / 'summary.json'}"))

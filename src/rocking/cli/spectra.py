@@ -90,10 +90,11 @@ FLAG_NOTES = {
                   "window of exceedance narrower than the scan step may lie there "
                   "(docs/performance.md)",
     "failed": "failed: an analysis failed (the answer is not usable)",
-    "slides": "slides: an analysis up to the answer needed more friction than --mu (the "
-              "body would have slid: the rocking answer does not describe it)",
-    "lifts_off": "lifts_off: an analysis up to the answer had a normal force N < 0 (the "
-                 "body would have jumped)",
+    "slides": "slides: an analysis up to the answer that did not overturn needed more "
+              "friction than --mu while in contact (the body would have slid: the rocking "
+              "answer does not describe it)",
+    "lifts_off": "lifts_off: an analysis up to the answer had a normal force N <= 0 (the "
+                 "body left its support; every fall of an overturning body does)",
 }
 """One line per flag, printed under the table when the flag appears."""
 
