@@ -58,9 +58,11 @@ def add_parser(subparsers) -> None:
                    "of sliding:<mu> (the body needs more friction than mu, or lifts off)")
     g = p.add_argument_group("stripes (PGA/(g tan alpha))")
     g.add_argument("--stripes", type=int, default=DEFAULT_STRIPES,
-                   help="number of stripes, geometric in (--lower, --upper]")
-    g.add_argument("--lower", type=float, default=1.0, help="start of the stripes (excluded)")
-    g.add_argument("--upper", type=float, default=20.0, help="last stripe")
+                   help="number of stripes, geometric from --lower to --upper (both "
+                   "included: the list of a study's stripes.intensity {start, stop, num, "
+                   "spacing: log})")
+    g.add_argument("--lower", type=float, default=1.0, help="first stripe (included)")
+    g.add_argument("--upper", type=float, default=20.0, help="last stripe (included)")
     g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
