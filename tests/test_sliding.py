@@ -266,3 +266,48 @@ def test_stripes_mu_adds_the_sliding_fragility_and_refuses_zero(capsys, monkeypa
     assert main([*argv, "--mu", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--mu must be a finite number > 0, got 0.0" in err[0]
+
+
+def test_exports_keep_sliding_out_of_the_damage_chain(tmp_path):
+    """NRML and pelicun hold the tilt axis only (tilt goals, overturning last): a sliding
+    goal after overturning would read as a worse damage state; the summary says it was left
+    out, the risk table keeps it."""
+    import csv
+    import xml.etree.ElementTree as ET
+
+    import pandas as pd
+
+    from rocking.risk import fragilities
+    from rocking.risk.exports import write_fragility_exports
+    from rocking.risk.nrml import NAMESPACE, write_nrml
+
+    cols = ["mode", "limit_state", "tan_alpha [-]", "R [m]", "median_pga_g [g]", "beta [-]",
+            "status"]
+    table = pd.DataFrame([("3d", "overturning", 0.2, 2.0, 0.31, 0.22, "ok"),
+                          ("3d", "sliding:0.6", 0.2, 2.0, 0.45, 0.30, "ok"),
+                          ("3d", "tilt:1/3", 0.2, 2.0, 0.25, 0.12, "ok")], columns=cols)
+    frag = fragilities.read_fragilities(table)
+    assert frag.rows["limit_state"].tolist() == ["tilt:1/3", "overturning", "sliding:0.6"]
+    chain, off = frag.damage_chain()
+    assert chain.rows["limit_state"].tolist() == ["tilt:1/3", "overturning"]
+    assert off == ["sliding:0.6"]
+    summary = write_fragility_exports(frag, nrml=tmp_path / "f.xml",
+                                      pelicun=tmp_path / "f.csv", study="col")
+    assert summary["nrml_limit_states"] == ["tilt:1/3", "overturning"]
+    assert summary["left_out_of_chain"].startswith("sliding:0.6 left out of the NRML and pelicun")
+    root = ET.parse(tmp_path / "f.xml").getroot()
+    ns = {"n": NAMESPACE}
+    assert root.find(".//n:limitStates", ns).text == "tilt_1over3 overturning"
+    assert "Left out: sliding:0.6" in root.find(".//n:description", ns).text
+    assert [p.get("ls") for p in root.findall(".//n:params", ns)] == ["tilt_1over3",
+                                                                      "overturning"]
+    rows = list(csv.DictReader(open(tmp_path / "f.csv", encoding="utf-8")))
+    assert len(rows) == 1 and "LS3-Theta_0" not in rows[0]
+    assert float(rows[0]["LS2-Theta_0"]) == 0.31  # overturning is the last damage state
+    # asked for explicitly, a sliding goal still stays out
+    exp = write_nrml(frag, tmp_path / "g.xml", limit_states=["overturning", "sliding:0.6"])
+    assert exp.limit_states == ["overturning"] and exp.off_chain == ["sliding:0.6"]
+    # a table of the tilt axis only is exported as before, with nothing said
+    plain = write_fragility_exports(fragilities.read_fragilities(table.iloc[[0, 2]]),
+                                    nrml=tmp_path / "p.xml", pelicun=tmp_path / "p.csv")
+    assert plain["left_out_of_chain"] == ""
