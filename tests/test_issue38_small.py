@@ -135,3 +135,46 @@ def test_the_sa_column_is_named_as_the_docs_say():
     assert measure_column("sa:0.30", critical=True) == ("sa_0.3s_crit", "g")
     docs = (ROOT / "docs/records.md").read_text()
     assert "`sa_<T>s [g]`" in docs and "`sa:1.0` → `sa_1s`" in docs
+
+
+def _fresh(cache: Path, *argv: str) -> tuple[str, set[str]]:
+    """``rocking`` in a new process on the numba cache ``cache``: (stderr, the modules whose
+    kernels that cache holds)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    out = subprocess.run([sys.executable, "-m", "rocking.cli", *argv], env=env,
+                         capture_output=True, text=True, timeout=900)
+    assert out.returncode == 0, out.stderr[-2000:]
+    held = {p.name.split(".")[0] for p in cache.rglob("*.nbi")}
+    return out.stderr, held
+
+
+@pytest.mark.slow
+def test_the_first_compile_says_so_once_and_compiles_only_the_model_asked_for(tmp_path):
+    cache = tmp_path / "numba"
+    argv = ["simulate", "--R", "1", "--tan-alpha", "0.2", "--mode", "2d-x", "--theta0",
+            "0.05", "--duration", "0.5", "--out", str(tmp_path / "run")]
+    first, held = _fresh(cache, *argv)
+    line = "rocking simulate: compiling the 2d model once, ~25 s; cached afterwards"
+    assert first.splitlines().count(line) == 1
+    assert "housner2d" in held and not held & {"cylinder3d", "cylinder3d_damped"}
+    again, _ = _fresh(cache, *argv)
+    assert "compiling" not in again  # loaded from the cache: nothing said
+    # on that cache the other models are still to compile, the 2D one is not
+    import os
+    import subprocess
+    import sys
+
+    probe = subprocess.run(
+        [sys.executable, "-c", "from rocking.dynamics.compiled import will_compile as w; "
+         "print(w('3d'), w('3d-damped'), w('2d'))"],
+        env={**os.environ, "NUMBA_CACHE_DIR": str(cache)}, capture_output=True, text=True,
+        timeout=300)
+    assert probe.stdout.split() == ["True", "True", "False"], probe.stderr[-2000:]
+    from rocking.dynamics.compiled import compile_notice
+
+    with pytest.raises(ValueError, match="model must be one of"):
+        compile_notice("4d")

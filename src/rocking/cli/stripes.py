@@ -232,6 +232,7 @@ def run(args) -> int:
         raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
                          f"{args.bootstrap}")
     parse_measure(args.measure)
+    _common.say_compile("stripes", args.mode, args.quiet)
     results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
                                 accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
                                 progress=not args.quiet, measure=args.measure) for b in bodies]
