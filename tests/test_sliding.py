@@ -311,3 +311,62 @@ def test_exports_keep_sliding_out_of_the_damage_chain(tmp_path):
     plain = write_fragility_exports(fragilities.read_fragilities(table.iloc[[0, 2]]),
                                     nrml=tmp_path / "p.xml", pelicun=tmp_path / "p.csv")
     assert plain["left_out_of_chain"] == ""
+
+
+def test_the_fall_of_an_overturning_body_is_not_sliding():
+    """Against direct runs: every overturned run needs more friction than μ in its fall
+    (N → 0⁺), yet sliding:<μ> is the smallest intensity at which a run that did *not*
+    overturn needed more; here it lies above overturning (the body overturns first) for
+    μ = 0.3 and below it for μ = 0.25."""
+    motion = _pulse()
+    states = ["overturning", "sliding:0.3", "sliding:0.25"]
+    res = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.3), motion, states, "2d-x",
+                             accuracy="fast")
+    body = Cylinder(1.0, TAN_ALPHA, mu=0.3)
+    direct = {e.intensity: _direct(body, motion, e.intensity) for e in res.evaluations}
+    falls = [r for r in direct.values() if r.overturned]
+    assert falls and all(r.mu_required_max > 0.3 and r.slides is None for r in falls)
+    for name, mu in (("sliding:0.3", 0.3), ("sliding:0.25", 0.25)):
+        sliding = sorted(i for i, r in direct.items()
+                         if not r.overturned and r.mu_required_max > mu)
+        answer = res[name]
+        assert answer["intensity"] == sliding[0], name
+        lo = direct[answer["bracket_lo"]]
+        assert not lo.overturned and lo.mu_required_max <= mu, name
+    over = res["overturning"]["intensity"]
+    assert res["sliding:0.3"]["intensity"] > over > res["sliding:0.25"]["intensity"]
+    # the flags: the overturning answer slides only by a run below it that slid in contact
+    assert res["overturning"]["slides"] == any(
+        r.slides for i, r in direct.items() if i <= over)
+    assert res["overturning"]["lifts_off"]  # its fall left the support (N <= 0)
+
+
+def test_the_report_says_in_words_whether_the_column_slides_before_it_overturns():
+    import xarray as xr
+
+    from rocking.plot.run_summary import sliding_text
+
+    dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
+    g = np.full((1, 2, 3, 1, 1), np.nan)
+    g[0, :, 0, 0, 0] = (0.5, 0.3)  # a: overturning 0.5 g, slides at 0.3 g: slides first
+    g[0, :, 1, 0, 0] = (0.4, 0.7)  # b: overturns at 0.4 g, slides above: overturns first
+    # c: neither up to the search bound
+    coords = {"mode": ["3d"], "limit_state": ["overturning", "sliding:0.6"],
+              "motion": ["a", "b", "c"], "tan_alpha": [0.11], "R": [3.02]}
+    ds = xr.Dataset({"pga_crit_g": (dims, g), "slides": (dims, np.zeros(g.shape))},
+                    coords=coords)
+    text = sliding_text(ds, 0.6)
+    assert text.startswith("at μ = 0.6 the column slides before it overturns for 1 of 3 "
+                           "motion answers, overturns first for 1, neither up to the search "
+                           "bound for 1 — ")
+    assert "3d, tan α = 0.11, R = 3.02 m: slides first for 1 of 3 motions at PGA 0.3 g " \
+           "(overturning at PGA 0.4–0.5 g (median 0.45 g))" in text
+    only_b = ds.isel(motion=[1])
+    assert sliding_text(only_b, 0.6).startswith(
+        "at μ = 0.6 the column overturns before it slides for every motion that overturns "
+        "(1 of 1)")
+    # without a sliding goal at the study's μ: the overturning answers' flags, no intensity
+    flagged = ds.sel(limit_state=["overturning"]).copy(deep=True)
+    flagged["slides"][0, 0, 0, 0, 0] = 1.0
+    assert sliding_text(flagged, 0.6).startswith(
+        "at μ = 0.6: 1 of 3 overturning answers had an analysis below them that slid")
