@@ -52,7 +52,8 @@ def add_parser(subparsers) -> None:
                    "and overturning")
     p.add_argument("--mu", type=float, default=None,
                    help="friction coefficient of the support [-], > 0: each answer says "
-                   "whether an analysis up to it needed more (slides); every analysis is "
+                   "whether an analysis up to it that did not overturn needed more while in "
+                   "contact (slides); every analysis is "
                    "then monitored to the end of its record")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="search and ODE tolerances preset")

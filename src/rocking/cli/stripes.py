@@ -51,11 +51,13 @@ def add_parser(subparsers) -> None:
     _common.add_cylinders(p)
     p.add_argument("--limit-states", default="overturning,tilt:1/3",
                    help="comma-separated: overturning, tilt:<r> (theta > r alpha), "
-                   "sliding:<mu> (the body needs more friction than mu); "
+                   "sliding:<mu> (the body slides in contact: needs more friction than mu "
+                   "in a run that does not overturn); "
                    "'default' = the seven goals of Fig 10")
     p.add_argument("--mu", type=float, default=None,
                    help="friction coefficient of the support [-], > 0: adds the fragility "
-                   "of sliding:<mu> (the body needs more friction than mu, or lifts off)")
+                   "of sliding:<mu> (a run that does not overturn needs more friction than mu "
+                   "while in contact)")
     g = p.add_argument_group("stripes (PGA/(g tan alpha))")
     g.add_argument("--stripes", type=int, default=DEFAULT_STRIPES,
                    help="number of stripes, geometric from --lower to --upper (both "
