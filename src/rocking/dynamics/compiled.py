@@ -10,9 +10,12 @@ asks :func:`will_compile` before the first analysis and says so in one line
 
 from __future__ import annotations
 
-COMPILE_SECONDS = {"3d": 40, "3d-damped": 60, "2d": 25}
-"""About how long compiling each model takes on an idle core [s] (a first ``rocking spectra
---mode <mode>`` with an empty ``NUMBA_CACHE_DIR``; a loaded machine stretches it)."""
+COMPILE_SECONDS = {"3d": 40, "3d-damped": 40, "2d": 30}
+"""About how long compiling each model takes [s], rounded up: a first ``rocking spectra`` on a
+fresh install took 42 s (issue 38, 3d); with an empty ``NUMBA_CACHE_DIR`` the first
+``rocking spectra --mode 3d`` took 27 s of CPU time, ``rocking simulate`` 29 s (2d-x) and
+36 s (3d-damped), each compiling only its own model (2-core machine shared with other jobs,
+load ≈ 14: the wall time was 3–4 min there)."""
 
 
 def _dispatchers(model: str) -> list:
