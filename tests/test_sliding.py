@@ -71,17 +71,28 @@ def test_bad_friction_is_one_line_naming_the_text(bad):
     assert "limit_state" in message and repr(bad) in message and "\n" not in message
 
 
-def test_exceedance_reads_the_monitors_and_lift_off_counts():
+def test_exceedance_is_contact_sliding_only():
+    """sliding:<μ> is exceeded by μ_req > μ in an analysis that did not overturn; leaving
+    the support (N ≤ 0) is not sliding, and an overturned analysis decides nothing."""
+    from rocking.spectra.limit_states import classify, lifts_off, slides_in_contact
+
     ls, alpha = parse_limit_state("sliding:0.6"), math.atan(0.2)
     peaks = {"theta_max": 0.01, "overturned": False, "normal_force_min": 0.9}
     assert ls.exceeded({**peaks, "mu_required_max": 0.61}, alpha)
     assert not ls.exceeded({**peaks, "mu_required_max": 0.59}, alpha)
-    # the support would have to pull: no friction coefficient holds the body
-    assert ls.exceeded({**peaks, "mu_required_max": 0.1, "normal_force_min": -0.01}, alpha)
-    # overturning alone does not decide it: its own monitors do
-    assert not ls.exceeded({**peaks, "overturned": True, "mu_required_max": 0.3}, alpha)
-    with pytest.raises(ValueError, match="sliding:0.6.*'normal_force_min'"):
-        ls.exceeded({"theta_max": 0.0, "overturned": False, "mu_required_max": 0.0}, alpha)
+    # leaving the support is its own question (lifts_off), not sliding
+    off = {**peaks, "mu_required_max": 0.1, "normal_force_min": -0.01}
+    assert not ls.exceeded(off, alpha) and lifts_off(off)
+    assert lifts_off({**off, "normal_force_min": 0.0}) and not lifts_off(peaks)
+    # the fall of an overturning body needs unbounded friction: it says nothing
+    fall = {**peaks, "overturned": True, "theta_max": 1.5, "mu_required_max": 60.0}
+    assert not ls.exceeded(fall, alpha) and not ls.decides(fall)
+    assert slides_in_contact(fall, 0.6) is None and slides_in_contact(peaks, None) is None
+    known, exceeded = classify(fall, parse_limit_states(["overturning", "sliding:0.6"]),
+                               alpha, None, stopped=False)
+    assert known.tolist() == [True, False] and exceeded.tolist() == [True, False]
+    with pytest.raises(ValueError, match="sliding:0.6.*'mu_required_max'"):
+        ls.exceeded({"theta_max": 0.0, "overturned": False, "normal_force_min": 1.0}, alpha)
 
 
 # --- the search against direct runs ----------------------------------------------------------
@@ -117,7 +128,8 @@ def test_sliding_answer_is_the_first_intensity_needing_more_friction():
 
 def test_flags_are_those_of_direct_runs_at_the_search_intensities():
     """slides / lifts_off of each answer = whether a direct run at one of the search's
-    intensities up to the answer needed μ_req > μ / had N < 0; slides is NaN without μ."""
+    intensities up to the answer slid in contact (did not overturn, μ_req > μ) / had
+    N ≤ 0; slides is NaN without μ."""
     motion = _pulse()
     states = ["tilt:1/3", "overturning", "sliding:0.22"]
     with_mu = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.22), motion, states, "2d-x",
@@ -128,8 +140,10 @@ def test_flags_are_those_of_direct_runs_at_the_search_intensities():
     for name in states:
         row = with_mu[name]
         upto = [r for i, r in direct.items() if i <= row["intensity"]]
-        assert row["slides"] == any(r.mu_required_max > 0.22 for r in upto), name
-        assert row["lifts_off"] == any(r.normal_force_min < 0.0 for r in upto), name
+        # sliding in contact: a run that did not overturn needed more than μ
+        assert row["slides"] == any(not r.overturned and r.mu_required_max > 0.22
+                                    for r in upto), name
+        assert row["lifts_off"] == any(r.normal_force_min <= 0.0 for r in upto), name
     # the sliding answer of μ = the body's μ slides by definition, milder answers below it not
     assert with_mu["sliding:0.22"]["slides"]
     assert with_mu["overturning"]["lifts_off"]  # near π/2 the support would have to pull
@@ -252,3 +266,107 @@ def test_stripes_mu_adds_the_sliding_fragility_and_refuses_zero(capsys, monkeypa
     assert main([*argv, "--mu", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--mu must be a finite number > 0, got 0.0" in err[0]
+
+
+def test_exports_keep_sliding_out_of_the_damage_chain(tmp_path):
+    """NRML and pelicun hold the tilt axis only (tilt goals, overturning last): a sliding
+    goal after overturning would read as a worse damage state; the summary says it was left
+    out, the risk table keeps it."""
+    import csv
+    import xml.etree.ElementTree as ET
+
+    import pandas as pd
+
+    from rocking.risk import fragilities
+    from rocking.risk.exports import write_fragility_exports
+    from rocking.risk.nrml import NAMESPACE, write_nrml
+
+    cols = ["mode", "limit_state", "tan_alpha [-]", "R [m]", "median_pga_g [g]", "beta [-]",
+            "status"]
+    table = pd.DataFrame([("3d", "overturning", 0.2, 2.0, 0.31, 0.22, "ok"),
+                          ("3d", "sliding:0.6", 0.2, 2.0, 0.45, 0.30, "ok"),
+                          ("3d", "tilt:1/3", 0.2, 2.0, 0.25, 0.12, "ok")], columns=cols)
+    frag = fragilities.read_fragilities(table)
+    assert frag.rows["limit_state"].tolist() == ["tilt:1/3", "overturning", "sliding:0.6"]
+    chain, off = frag.damage_chain()
+    assert chain.rows["limit_state"].tolist() == ["tilt:1/3", "overturning"]
+    assert off == ["sliding:0.6"]
+    summary = write_fragility_exports(frag, nrml=tmp_path / "f.xml",
+                                      pelicun=tmp_path / "f.csv", study="col")
+    assert summary["nrml_limit_states"] == ["tilt:1/3", "overturning"]
+    assert summary["left_out_of_chain"].startswith("sliding:0.6 left out of the NRML and pelicun")
+    root = ET.parse(tmp_path / "f.xml").getroot()
+    ns = {"n": NAMESPACE}
+    assert root.find(".//n:limitStates", ns).text == "tilt_1over3 overturning"
+    assert "Left out: sliding:0.6" in root.find(".//n:description", ns).text
+    assert [p.get("ls") for p in root.findall(".//n:params", ns)] == ["tilt_1over3",
+                                                                      "overturning"]
+    rows = list(csv.DictReader(open(tmp_path / "f.csv", encoding="utf-8")))
+    assert len(rows) == 1 and "LS3-Theta_0" not in rows[0]
+    assert float(rows[0]["LS2-Theta_0"]) == 0.31  # overturning is the last damage state
+    # asked for explicitly, a sliding goal still stays out
+    exp = write_nrml(frag, tmp_path / "g.xml", limit_states=["overturning", "sliding:0.6"])
+    assert exp.limit_states == ["overturning"] and exp.off_chain == ["sliding:0.6"]
+    # a table of the tilt axis only is exported as before, with nothing said
+    plain = write_fragility_exports(fragilities.read_fragilities(table.iloc[[0, 2]]),
+                                    nrml=tmp_path / "p.xml", pelicun=tmp_path / "p.csv")
+    assert plain["left_out_of_chain"] == ""
+
+
+def test_the_fall_of_an_overturning_body_is_not_sliding():
+    """Against direct runs: every overturned run needs more friction than μ in its fall
+    (N → 0⁺), yet sliding:<μ> is the smallest intensity at which a run that did *not*
+    overturn needed more; here it lies above overturning (the body overturns first) for
+    μ = 0.3 and below it for μ = 0.25."""
+    motion = _pulse()
+    states = ["overturning", "sliding:0.3", "sliding:0.25"]
+    res = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.3), motion, states, "2d-x",
+                             accuracy="fast")
+    body = Cylinder(1.0, TAN_ALPHA, mu=0.3)
+    direct = {e.intensity: _direct(body, motion, e.intensity) for e in res.evaluations}
+    falls = [r for r in direct.values() if r.overturned]
+    assert falls and all(r.mu_required_max > 0.3 and r.slides is None for r in falls)
+    for name, mu in (("sliding:0.3", 0.3), ("sliding:0.25", 0.25)):
+        sliding = sorted(i for i, r in direct.items()
+                         if not r.overturned and r.mu_required_max > mu)
+        answer = res[name]
+        assert answer["intensity"] == sliding[0], name
+        lo = direct[answer["bracket_lo"]]
+        assert not lo.overturned and lo.mu_required_max <= mu, name
+    over = res["overturning"]["intensity"]
+    assert res["sliding:0.3"]["intensity"] > over > res["sliding:0.25"]["intensity"]
+    # the flags: the overturning answer slides only by a run below it that slid in contact
+    assert res["overturning"]["slides"] == any(
+        r.slides for i, r in direct.items() if i <= over)
+    assert res["overturning"]["lifts_off"]  # its fall left the support (N <= 0)
+
+
+def test_the_report_says_in_words_whether_the_column_slides_before_it_overturns():
+    import xarray as xr
+
+    from rocking.plot.run_summary import sliding_text
+
+    dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
+    g = np.full((1, 2, 3, 1, 1), np.nan)
+    g[0, :, 0, 0, 0] = (0.5, 0.3)  # a: overturning 0.5 g, slides at 0.3 g: slides first
+    g[0, :, 1, 0, 0] = (0.4, 0.7)  # b: overturns at 0.4 g, slides above: overturns first
+    # c: neither up to the search bound
+    coords = {"mode": ["3d"], "limit_state": ["overturning", "sliding:0.6"],
+              "motion": ["a", "b", "c"], "tan_alpha": [0.11], "R": [3.02]}
+    ds = xr.Dataset({"pga_crit_g": (dims, g), "slides": (dims, np.zeros(g.shape))},
+                    coords=coords)
+    text = sliding_text(ds, 0.6)
+    assert text.startswith("at μ = 0.6 the column slides before it overturns for 1 of 3 "
+                           "motion answers, overturns first for 1, neither up to the search "
+                           "bound for 1 — ")
+    assert "3d, tan α = 0.11, R = 3.02 m: slides first for 1 of 3 motions at PGA 0.3 g " \
+           "(overturning at PGA 0.4–0.5 g (median 0.45 g))" in text
+    only_b = ds.isel(motion=[1])
+    assert sliding_text(only_b, 0.6).startswith(
+        "at μ = 0.6 the column overturns before it slides for every motion that overturns "
+        "(1 of 1)")
+    # without a sliding goal at the study's μ: the overturning answers' flags, no intensity
+    flagged = ds.sel(limit_state=["overturning"]).copy(deep=True)
+    flagged["slides"][0, 0, 0, 0, 0] = 1.0
+    assert sliding_text(flagged, 0.6).startswith(
+        "at μ = 0.6: 1 of 3 overturning answers had an analysis below them that slid")

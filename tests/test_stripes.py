@@ -135,7 +135,7 @@ def test_fit_bad_input(args, match):
 
 
 def test_stripe_intensities_bad_input():
-    assert stripe_intensities(4, 1.0, 16.0) == pytest.approx([2.0, 4.0, 8.0, 16.0])
+    assert stripe_intensities(5, 1.0, 16.0).tolist() == [1.0, 2.0, 4.0, 8.0, 16.0]  # both ends
     for bad in (0, -3, 2.5, True):
         with pytest.raises(ValueError, match="number of stripes"):
             stripe_intensities(bad)

@@ -44,9 +44,10 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer "
                    "(near misses left unexamined)"),
     "budget_spent": ("1", "", "unresolved because the refinement budget ran out"),
-    "slides": ("1", "", "an analysis up to the answer needed more friction than mu "
-               "(NaN: no mu given)"),
-    "lifts_off": ("1", "", "an analysis up to the answer had a normal force N < 0"),
+    "slides": ("1", "", "an analysis up to the answer that did not overturn needed more "
+               "friction than mu while in contact (empty: no mu given)"),
+    "lifts_off": ("1", "", "an analysis up to the answer had a normal force N <= 0 (empty: "
+                  "not monitored, no mu and no sliding goal)"),
     "mu": ("1", "-", "support friction coefficient the slides flag compares with"),
     "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
     "done": ("1", "", "chunk computed and written"),

@@ -11,7 +11,7 @@ from rocking.study.products import PRODUCTS
 from rocking.study.damping import Damping
 from rocking.study.ensemble_spec import EnsembleSpec
 from rocking.study.store_attrs import config_hash
-from rocking.study.study_spec import StudySpec
+from rocking.study.study_spec import StudySpec, report_studies
 from snakemake.exceptions import WorkflowError
 
 

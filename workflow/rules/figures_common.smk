@@ -124,9 +124,12 @@ def report_figures(study):
 
 def report_run_files(study):
     """What the report's "what was run" section reads: the completion summaries and the
-    ensemble parameters of every study (Fig 12 uses them all)."""
-    files = {"ensembles": [ensemble_files(e, "params") for e in study_ensembles()],
-             "done": [product_complete("spectra", s) for s in config["studies"]]}
+    ensemble parameters of the studies it shows (report_studies: its own, and those of
+    Fig 12 where it shows Fig 12)."""
+    shown = report_studies(config, study)
+    ensembles = list(dict.fromkeys(ensemble_of(s) for s in shown))
+    files = {"ensembles": [ensemble_files(e, "params") for e in ensembles],
+             "done": [product_complete("spectra", s) for s in shown]}
     if has_product("tilt_map", study):
         files["done"].append(product_complete("tilt_map", study))
     return files
@@ -134,7 +137,7 @@ def report_run_files(study):
 
 def report_stores(study):
     """The stores the report reads (parameters: they are not Snakemake outputs)."""
-    return {"stores": [product_store("spectra", s) for s in config["studies"]],
+    return {"stores": [product_store("spectra", s) for s in report_studies(config, study)],
             "tilt_maps": [product_store("tilt_map", study)]
             if has_product("tilt_map", study) else []}
 

@@ -41,9 +41,28 @@ class Formatter(argparse.RawDescriptionHelpFormatter):
 
 def add_command(subparsers, name: str, *, help: str, description: str,
                 examples: str) -> argparse.ArgumentParser:
-    """A subcommand parser with the shared formatter and an examples epilog."""
+    """A subcommand parser with the shared formatter and an examples epilog.
+
+    Every text of the command line is written %-escaped ("90 %%") as argparse wants its
+    option help; argparse formats a description only when it names %(prog)s, so it is
+    formatted here, the same way."""
+    description = description % {"prog": f"rocking {name}"}
     return subparsers.add_parser(name, help=help, description=description,
                                  epilog="examples:\n" + examples, formatter_class=Formatter)
+
+
+def say_compile(command: str, mode: str, quiet: bool = False) -> None:
+    """One line on stderr when the first analysis of ``mode`` will compile its model (a
+    fresh install: tens of seconds with nothing else on the terminal); nothing when the
+    kernels are in numba's cache or with ``--quiet``. Only that model is compiled."""
+    import sys
+
+    from ..dynamics.compiled import compile_notice
+    from ..spectra.modes import MODES
+
+    line = None if quiet else compile_notice(MODES[mode][0])
+    if line:
+        print(f"rocking {command}: {line}", file=sys.stderr, flush=True)
 
 
 def floats(text: str) -> list[float]:
@@ -99,7 +118,7 @@ def resolve_body(args: argparse.Namespace, command: str, *, many: bool) -> None:
     before any work (:func:`rocking.study.dimensions.body_size`)."""
     import sys
 
-    from ..dynamics.dimensions import body_line, body_size
+    from ..dynamics.dimensions import body_line, body_size, swap_warning
 
     R = args.R if args.R is None or many else [args.R]
     size = body_size(args.height, args.diameter, R=R, tan_alpha=args.tan_alpha,
@@ -109,6 +128,9 @@ def resolve_body(args: argparse.Namespace, command: str, *, many: bool) -> None:
         args.tan_alpha = size[1]
         print(f"rocking {command}: {body_line(args.height, args.diameter, *size)}",
               file=sys.stderr)
+        swapped = swap_warning(args.height, args.diameter, ("--height", "--diameter"))
+        if swapped:
+            print(f"rocking {command}: {swapped}", file=sys.stderr)
         return
     if args.tan_alpha is None:
         raise ValueError("give the body's slenderness: --tan-alpha, or --height and "

@@ -197,7 +197,7 @@ def _body_rows(rows, args):
     stderr), or a line saying which bodies the table has."""
     import sys
 
-    from ..dynamics.dimensions import AGREE_RTOL, body_line, body_size
+    from ..dynamics.dimensions import AGREE_RTOL, body_line, body_size, swap_warning
 
     size = body_size(args.height, args.diameter, tan_alpha=args.tan_alpha,
                      names=("--height", "--diameter", "--R", "--tan-alpha"))
@@ -206,6 +206,9 @@ def _body_rows(rows, args):
     R, tan_alpha = size
     print(f"rocking risk: {body_line(args.height, args.diameter, R, tan_alpha)}",
           file=sys.stderr)
+    swapped = swap_warning(args.height, args.diameter, ("--height", "--diameter"))
+    if swapped:
+        print(f"rocking risk: {swapped}", file=sys.stderr)
     mine = ((rows["R"] - R).abs() <= AGREE_RTOL * R) \
         & ((rows["tan_alpha"] - tan_alpha).abs() <= AGREE_RTOL * tan_alpha)
     if not mine.any():

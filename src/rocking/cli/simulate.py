@@ -135,6 +135,7 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out must be a folder, {str(out)!r} is a file")
     _common.writable_folder(out)
+    _common.say_compile("simulate", args.mode, args.quiet)
     if motion is not None:
         res, meta = _ground(args, body, model, component, motion, common)
     else:
@@ -204,9 +205,11 @@ def human(s: dict, alpha: float, out: Path, processing: str = "") -> str:
     if "contact_force_min" in s:
         rows.append(("min contact force", f"{_human.num(s['contact_force_min'])} N/kg"))
     if s.get("mu_required_max") is not None:
+        verdict = {True: "SLIDES", False: "holds",
+                   None: "not judged (it overturned: the fall needs unbounded friction)"}
         held = "" if s.get("mu") is None else (
-            f"; μ = {_human.num(s['mu'])}: " + ("SLIDES" if s.get("slides") else "holds"))
-        jump = "; LIFTS OFF (N < 0)" if s.get("lifts_off") else ""
+            f"; μ = {_human.num(s['mu'])}: " + verdict[s.get("slides")])
+        jump = "; LIFTS OFF (N ≤ 0)" if s.get("lifts_off") else ""
         rows.append(("support", f"needs μ ≥ {_human.num(s['mu_required_max'])}, "
                                 f"N ≥ {_human.num(s['normal_force_min'])} mg{held}{jump}"))
     rows.append(("written", f"{out / 'history.csv'}, {out / 'summary.json'}"))

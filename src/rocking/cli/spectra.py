@@ -53,7 +53,8 @@ def add_parser(subparsers) -> None:
                    "and overturning")
     p.add_argument("--mu", type=float, default=None,
                    help="friction coefficient of the support [-], > 0: each answer says "
-                   "whether an analysis up to it needed more (slides); every analysis is "
+                   "whether an analysis up to it that did not overturn needed more while in "
+                   "contact (slides); every analysis is "
                    "then monitored to the end of its record")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="search and ODE tolerances preset")
@@ -93,10 +94,11 @@ FLAG_NOTES = {
     "budget_spent": "budget_spent: the accuracy preset's refinement budget ran out before "
                     "every near miss below the answer was re-examined (why it is unresolved)",
     "failed": "failed: an analysis failed (the answer is not usable)",
-    "slides": "slides: an analysis up to the answer needed more friction than --mu (the "
-              "body would have slid: the rocking answer does not describe it)",
-    "lifts_off": "lifts_off: an analysis up to the answer had a normal force N < 0 (the "
-                 "body would have jumped)",
+    "slides": "slides: an analysis up to the answer that did not overturn needed more "
+              "friction than --mu while in contact (the body would have slid: the rocking "
+              "answer does not describe it)",
+    "lifts_off": "lifts_off: an analysis up to the answer had a normal force N <= 0 (the "
+                 "body left its support; every fall of an overturning body does)",
 }
 """One line per flag, printed under the table when the flag appears."""
 
@@ -174,6 +176,7 @@ def run(args) -> int:
     acc = get_accuracy(args.accuracy)
     motion = _common.motion_from_args(args, default_record="el-centro-1940")
     tasks = [(R, args.tan_alpha, motion, args.mode) for R in args.R]
+    _common.say_compile("spectra", args.mode, args.quiet)
     t0 = time.perf_counter()
     results = critical_intensity_batch(tasks, states, accuracy=acc, upper=args.upper,
                                        omega_n=args.omega_n, zeta=args.zeta, mu=args.mu,

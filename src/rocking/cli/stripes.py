@@ -65,16 +65,20 @@ def add_parser(subparsers) -> None:
     _common.add_cylinders(p)
     p.add_argument("--limit-states", default="overturning,tilt:1/3",
                    help="comma-separated: overturning, tilt:<r> (theta > r alpha), "
-                   "sliding:<mu> (the body needs more friction than mu); "
+                   "sliding:<mu> (the body slides in contact: needs more friction than mu "
+                   "in a run that does not overturn); "
                    "'default' = the seven goals of Fig 10")
     p.add_argument("--mu", type=float, default=None,
                    help="friction coefficient of the support [-], > 0: adds the fragility "
-                   "of sliding:<mu> (the body needs more friction than mu, or lifts off)")
+                   "of sliding:<mu> (a run that does not overturn needs more friction than mu "
+                   "while in contact)")
     g = p.add_argument_group("stripes (PGA/(g tan alpha))")
     g.add_argument("--stripes", type=int, default=DEFAULT_STRIPES,
-                   help="number of stripes, geometric in (--lower, --upper]")
-    g.add_argument("--lower", type=float, default=1.0, help="start of the stripes (excluded)")
-    g.add_argument("--upper", type=float, default=20.0, help="last stripe")
+                   help="number of stripes, geometric from --lower to --upper (both "
+                   "included: the list of a study's stripes.intensity {start, stop, num, "
+                   "spacing: log})")
+    g.add_argument("--lower", type=float, default=1.0, help="first stripe (included)")
+    g.add_argument("--upper", type=float, default=20.0, help="last stripe (included)")
     g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
@@ -243,6 +247,7 @@ def run(args) -> int:
         raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
                          f"{args.bootstrap}")
     parse_measure(args.measure)
+    _common.say_compile("stripes", args.mode, args.quiet)
     results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
                                 accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
                                 progress=not args.quiet, measure=args.measure,

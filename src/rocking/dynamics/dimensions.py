@@ -15,7 +15,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-__all__ = ["AGREE_RTOL", "body_line", "body_size"]
+__all__ = ["AGREE_RTOL", "body_line", "body_size", "swap_warning"]
 
 AGREE_RTOL = 1e-6
 """Relative difference [-] up to which a given R or tan α agrees with the dimensions'
@@ -83,3 +83,14 @@ def body_line(height: float, diameter: float, R: float, tan_alpha: float) -> str
     """The derived body in words: ``height 6 m, diameter 0.66 m: R = 3.018 m, tan α = 0.11``."""
     return (f"height {height:g} m, diameter {diameter:g} m: R = {R:.4g} m, "
             f"tan α = {tan_alpha:.4g} (α = {math.degrees(math.atan(tan_alpha)):.3g}°)")
+
+
+def swap_warning(height: float, diameter: float,
+                 names: Sequence[str] = ("height", "diameter")) -> str | None:
+    """One line when the height is below the diameter (tan α > 1, a body wider than tall:
+    legal, but more often the two swapped), naming both keys and values; None otherwise."""
+    if not height < diameter:
+        return None
+    h_name, d_name = names[:2]
+    return (f"warning: {h_name} {height:g} m is below {d_name} {diameter:g} m (tan α = "
+            f"{diameter / height:.4g}): did you swap them?")

@@ -24,6 +24,25 @@ class Status(StrEnum):
     """The integration could not proceed; ``reason`` says why. Never a silent result."""
 
 
+def contact_slides(mu_required_max: float, overturned: bool, mu: float | None) -> bool | None:
+    """Whether a body slid while in contact: it did not overturn and needed more friction
+    than ``mu`` (``mu_required_max`` > μ, over the instants with N > 0).
+
+    None (says nothing) without ``mu`` or where it overturned: in the fall N → 0⁺ while the
+    contact still carries a horizontal force, so μ_req grows without bound whatever μ (62
+    to 246 in the falls of the column of docs/risk.md, tan α 0.11, R 3.02 m, under El
+    Centro), and the peak of such an analysis is not an answer about sliding."""
+    if mu is None or overturned:
+        return None
+    return bool(mu_required_max > mu)
+
+
+def leaves_support(normal_force_min: float) -> bool:
+    """Whether a body left its support: the normal force fell to N ≤ 0 (no contact force
+    holds it; False for NaN, nothing monitored)."""
+    return bool(normal_force_min <= 0.0)
+
+
 @dataclass
 class QuasiImpacts:
     """Tilt minima in 3D (quasi-impacts) or impacts in 2D.
@@ -136,17 +155,18 @@ class Response:
 
     @property
     def slides(self) -> bool | None:
-        """The body needs more friction than it has somewhere in the analysis
-        (``mu_required_max`` > ``mu``); None when no ``mu`` was given or nothing was
+        """The body slid while in contact (:func:`contact_slides`): it did not overturn and
+        needed more friction than ``mu`` somewhere; None without ``mu``, where it
+        overturned (the fall needs unbounded friction whatever μ) or where nothing was
         monitored."""
-        if self.mu is None or math.isnan(self.mu_required_max):
+        if math.isnan(self.mu_required_max):
             return None
-        return bool(self.mu_required_max > self.mu)
+        return contact_slides(self.mu_required_max, self.overturned, self.mu)
 
     @property
     def lifts_off(self) -> bool:
-        """The support would have to pull (N < 0) somewhere: the body would jump."""
-        return bool(self.normal_force_min < 0.0)
+        """The body left its support (N ≤ 0) somewhere (:func:`leaves_support`)."""
+        return leaves_support(self.normal_force_min)
 
     @property
     def state_names(self) -> tuple[str, ...]:

@@ -76,6 +76,8 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
         rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
     if "lifts_off" in ds:
         rows.append((f"{p}: validity of the answers", validity_text(ds, spec.mu)))
+        if spec.mu is not None:
+            rows.append((f"{p}: sliding before overturning", sliding_text(ds, spec.mu)))
     rows.append((f"{p}: package version", f"rocking {attrs['rocking_version']}"))
     return rows
 
@@ -157,9 +159,101 @@ def validity_text(ds, mu: float | None) -> str:
     head = ("no support friction coefficient given (sliding not checked); "
             if mu is None else f"support friction coefficient μ = {fmt(mu)}; ")
     return (head + "answers whose analyses up to them " + (
-        "needed more friction than μ (slides) or " if mu is not None else "")
-        + "had a normal force N < 0 (lifts off: nearly every overturning answer, a body "
+        "slid while in contact (slides: an analysis that did not overturn needed more "
+        "friction than μ) or " if mu is not None else "")
+        + "left the support, N ≤ 0 (lifts off: nearly every overturning answer, a body "
         "falling over leaves its support) — " + "; ".join(per) + " (docs/models.md).")
+
+
+SLIDING_CELLS_SHOWN = 4
+"""(mode, tan α, R) cells the sliding sentence names one by one; more are summed up."""
+
+
+def sliding_text(ds, mu: float) -> str:
+    """In words: does the column slide before it overturns at the study's μ, and at what
+    intensity.
+
+    Per motion and (mode, tan α, R) the sliding answer (``sliding:<μ>``, sliding in
+    contact) is compared with the overturning answer: the motion slides first where its
+    sliding answer is reached below its overturning answer (or overturning is not
+    reached), overturns first where overturning is reached at or below its sliding answer.
+    Without both limit states the ``slides`` flags of the overturning answers say whether an
+    analysis below them slid (no intensity)."""
+    from ..spectra.limit_states import OVERTURNING, match_limit_state
+
+    states = _load.labels(ds, "limit_state")
+    slide = match_limit_state(f"sliding:{mu!r}", states, missing_ok=True)
+    over = match_limit_state(OVERTURNING, states, missing_ok=True)
+    if over is None:
+        return ("no overturning answer to compare with (add 'overturning' to the limit "
+                "states)")
+    if slide is None:
+        flags = ds["slides"].sel(limit_state=over).values == 1
+        req = _requested(ds, over)
+        return (f"at μ = {fmt(mu)}: {int((flags & req).sum())} of {int(req.sum())} "
+                "overturning answers had an analysis below them that slid while in contact; "
+                f"add 'sliding:{fmt(mu)}' to the limit states for the intensity at which it "
+                "slides")
+    cells, n_first, n_over, n_none, n_all = [], 0, 0, 0, 0
+    for mode in _load.labels(ds, "mode"):
+        for ta in ds["tan_alpha"].values:
+            for R in ds["R"].values:
+                at = {"mode": mode, "tan_alpha": ta, "R": R}
+                req = (_requested(ds, slide, at) & _requested(ds, over, at))
+                if not req.any():
+                    continue
+                s_g = ds["pga_crit_g"].sel(limit_state=slide, **at).values[req]
+                o_g = ds["pga_crit_g"].sel(limit_state=over, **at).values[req]
+                first = np.isfinite(s_g) & ~(o_g <= s_g)  # NaN: not reached
+                over_first = np.isfinite(o_g) & ~(s_g < o_g)
+                n_first += int(first.sum())
+                n_over += int(over_first.sum())
+                n_none += int((~first & ~over_first).sum())
+                n_all += int(req.sum())
+                text = f"{mode}, tan α = {float(ta):g}, R = {float(R):.4g} m: "
+                if first.any():
+                    text += (f"slides first for {int(first.sum())} of {int(req.sum())} motions "
+                             f"at PGA {_span(s_g[first])}")
+                else:
+                    text += f"slides first for none of {int(req.sum())} motions"
+                if np.isfinite(o_g).any():
+                    text += f" (overturning at PGA {_span(o_g[np.isfinite(o_g)])})"
+                cells.append(text)
+    if n_all == 0:
+        return "no cell asked for both sliding and overturning"
+    if n_first == 0:
+        verdict = (f"at μ = {fmt(mu)} the column overturns before it slides for every motion "
+                   f"that overturns ({n_over} of {n_all}"
+                   + (f"; {n_none} do neither up to the search bound)" if n_none else ")"))
+    elif n_over == 0 and n_none == 0:
+        verdict = f"at μ = {fmt(mu)} the column slides before it overturns for every motion"
+    else:
+        verdict = (f"at μ = {fmt(mu)} the column slides before it overturns for {n_first} of "
+                   f"{n_all} motion answers, overturns first for {n_over}"
+                   + (f", neither up to the search bound for {n_none}" if n_none else ""))
+    shown = cells[:SLIDING_CELLS_SHOWN]
+    more = len(cells) - len(shown)
+    return (verdict + " — " + "; ".join(shown) + (f"; {more} more cells" if more else "")
+            + ". Sliding is μ_req > μ while in contact in an analysis that did not overturn "
+            "(the fall of an overturning body needs unbounded friction and is not counted).")
+
+
+def _requested(ds, limit_state: str, at: Mapping | None = None) -> np.ndarray:
+    """Requested cells of ``limit_state`` (all where the store has no ``requested``)."""
+    sel = {"limit_state": limit_state, **(at or {})}
+    shape = ds["pga_crit_g"].sel(**sel).shape
+    if "requested" not in ds:
+        return np.ones(shape, dtype=bool)
+    req = ds["requested"].broadcast_like(ds["pga_crit_g"]).sel(**sel)
+    return req.values.astype(bool)
+
+
+def _span(values: np.ndarray) -> str:
+    """``"0.41 g"`` for one value, ``"0.38–0.52 g (median 0.44 g)"`` for several."""
+    v = np.sort(np.asarray(values, dtype=float))
+    if v.size == 1:
+        return f"{v[0]:.3g} g"
+    return f"{v[0]:.3g}–{v[-1]:.3g} g (median {float(np.median(v)):.3g} g)"
 
 
 def modes_text(ds) -> str:

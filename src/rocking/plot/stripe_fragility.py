@@ -78,14 +78,16 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         rows = st.stripe_rows(ds)
         tab = st.stripe_table(ds, first, rows=rows)
     base = {k: set(r.intensities.tolist()) for k, r in st.stripe_fits(ds).items()}
+    sizes = [float(v) for v in ds["R"].values]
     panels, measured, missing = [], {}, []
     for row in tab[tab["mode"] == mode].itertuples():
-        r = rows[(mode, row.limit_state, float(row.R))]
+        R = store_size(row.R, sizes)  # the table's R is the store's to 10 digits
+        r = rows[(mode, row.limit_state, R)]
         scale = r.scale
         x = r.intensities * scale
-        refined = np.array([v not in base[(mode, float(row.R))] for v in r.intensities])
+        refined = np.array([v not in base[(mode, R)] for v in r.intensities])
         first_g = row.first_median * scale if r.measure == "pga" else np.nan
-        panels.append({"limit_state": row.limit_state, "R": float(row.R), "x": x,
+        panels.append({"limit_state": row.limit_state, "R": R, "x": x,
                        "refined": refined, "fraction": r.fraction[:, 0],
                        "stripe": (row.median_im, row.beta, row.status),
                        "bracket": (row.bracket_lo, row.bracket_hi),
@@ -109,6 +111,22 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
             "unit": "m/s" if measure == "pgv" else "g",
             "study": str(attrs.get("config", {}).get("study", "")),
             "ensemble": str(ens.get("name", "")), "n_motions": int(ds.sizes["motion"])}
+
+
+SIZE_RTOL = 1e-8
+"""Relative difference at which a size R read back from a table (written to 10 significant
+digits, :data:`rocking.units.CSV_FLOAT_FORMAT`) is the store's R [-]."""
+
+
+def store_size(R: float, sizes: list[float]) -> float:
+    """The size of the store ``R`` denotes: the nearest within :data:`SIZE_RTOL` (a body
+    given by height and diameter has R = √(b² + h²) with all its digits, the table keeps
+    10), else a ValueError naming both."""
+    near = min(sizes, key=lambda v: abs(v - float(R)))
+    if abs(near - float(R)) > SIZE_RTOL * abs(near):
+        raise ValueError(f"R = {float(R)!r} m of the stripe table is not a size of the stripes "
+                         f"store {sizes}")
+    return near
 
 
 def _curve(ax, x: np.ndarray, fit: tuple, style: str, label: str, color: str, unit: str,

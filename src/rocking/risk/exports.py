@@ -52,7 +52,12 @@ def write_fragility_exports(fragility, *, nrml: str | Path, pelicun: str | Path,
     exp = write_nrml(frag, nrml, search_upper=search_upper, model_id=model_id,
                      description=desc)
     comps = write_pelicun_csv(frag, pelicun)
+    off = exp.off_chain
     return {"fragility": frag.kind, "fitted": len(frag.rows), "skipped": frag.skipped_note(),
+            "left_out_of_chain": (
+                f"{', '.join(off)} left out of the NRML and pelicun exports: sliding in "
+                "contact is not a damage state of the tilt-overturning chain (its fragility is "
+                "in the study's fragility table)" if off else ""),
             "not_computed": frag.n_not_computed, "nrml_model_id": model_id,
             "nrml_limit_states": exp.limit_states, "nrml_functions": len(exp.functions),
             "nrml_left_out": exp.left_out, "pelicun_components": len(comps)}

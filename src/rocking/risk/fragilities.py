@@ -19,13 +19,13 @@ the kind in their ids and a column (:data:`KINDS`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..spectra.limit_states import parse_limit_state, severity, sort_limit_states
+from ..spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 from ..units import strip_units
 from .bootstrap import BootstrapSamples
 
@@ -116,6 +116,22 @@ class Fragilities:
     def groups(self):
         """``((mode, tan_alpha, R), rows)`` per body and mode, rows in increasing severity."""
         return self.rows.groupby(["mode", "tan_alpha", "R"], sort=False)
+
+    def damage_chain(self) -> tuple[Fragilities, list[str]]:
+        """The fragilities of the tilt axis (tilt goals, overturning last: nested damage
+        states, each implied by the next), and the names of those left out: sliding goals
+        are another axis (a column may slide without tilting and overturn without sliding),
+        so no export puts them into the chain, where a reader would take the last as the
+        most severe damage state."""
+        def on_chain(frame: pd.DataFrame) -> pd.Series:
+            return frame["limit_state"].map(lambda s: severity(s)[0] == TILT_AXIS).astype(bool)
+
+        keep_rows, keep_skipped = on_chain(self.rows), on_chain(self.skipped)
+        off = sort_limit_states(set(self.rows.loc[~keep_rows, "limit_state"])
+                                | set(self.skipped.loc[~keep_skipped, "limit_state"]))
+        if not off:
+            return self, []
+        return replace(self, rows=self.rows[keep_rows], skipped=self.skipped[keep_skipped]), off
 
     def skipped_note(self) -> str:
         """One line naming what has no fit (empty if nothing)."""

@@ -18,6 +18,10 @@ Layout (element order matters to OpenQuake's reader)::
 - Limit-state names must be identifiers in OpenQuake (letters, digits, ``_``, ``.``, ``-``):
   ``tilt:1/3`` is written ``tilt_1over3``, ``tilt:0.1`` ``tilt_0p1``, overturning as is
   (:func:`nrml_limit_state`; the description lists the mapping).
+- Only the tilt axis is a damage chain (:meth:`Fragilities.damage_chain`): sliding goals
+  (``sliding:<μ>``, sliding in contact) are left out, named in
+  :attr:`NrmlExport.off_chain` and in a sentence of the description; their fragility stays
+  in the study's fragility table.
 - The model has one list of limit states for all functions: the limit states every exported
   (mode, tan α) of the table has (in increasing severity), unless given. A function lacking a
   fit for one of them is left out and named in :attr:`NrmlExport.left_out`.
@@ -44,7 +48,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..spectra.limit_states import parse_limit_state, sort_limit_states
+from ..spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 from .fragilities import KINDS, Fragilities, lognormal_moments
 
 NAMESPACE = "http://openquake.org/xmlns/nrml/0.5"
@@ -100,12 +104,15 @@ class NrmlExport:
         Taxonomy ids written.
     left_out : list of str
         Taxonomy ids without a fit for some limit state of the model, and which.
+    off_chain : list of str
+        Limit states of the table left out of the model: not on the tilt axis (sliding).
     """
 
     path: Path
     limit_states: list[str]
     functions: list[str] = field(default_factory=list)
     left_out: list[str] = field(default_factory=list)
+    off_chain: list[str] = field(default_factory=list)
 
 
 def _common_limit_states(frag: Fragilities) -> list[str]:
@@ -145,6 +152,12 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
         raise ValueError(f"search_upper must be finite and > 0, got {search_upper!r}")
     model_id = (nrml_model_id("rocking", frag.kind) if model_id is None
                 else _checked_id(model_id))
+    frag, off_chain = frag.damage_chain()
+    if limit_states:
+        off_chain = sorted(set(off_chain) | {s for s in sort_limit_states(limit_states)
+                                             if severity(s)[0] != TILT_AXIS})
+        limit_states = [s for s in sort_limit_states(limit_states)
+                        if severity(s)[0] == TILT_AXIS]
     states = sort_limit_states(limit_states) if limit_states else _common_limit_states(frag)
     if not states:
         raise ValueError("no limit state common to every mode and tan_alpha of the table; "
@@ -157,7 +170,10 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
     kind = KINDS[frag.kind]
     text = f"{kind[0].upper()}{kind[1:]}. " + (f"{description} " if description else "") + (
         "Free-standing rocking bodies (rocking package); IMT PGA in g = vector peak of the "
-        f"horizontal pair; lognormal capacity, mean/stddev arithmetic. Limit states: {mapping}.")
+        f"horizontal pair; lognormal capacity, mean/stddev arithmetic. Limit states: {mapping}."
+        + (f" Left out: {', '.join(off_chain)} (sliding in contact is not a damage state of "
+           "the tilt-overturning chain; its fragility is in the study's fragility table)."
+           if off_chain else ""))
     ET.SubElement(model, _q("description")).text = text
     ET.SubElement(model, _q("limitStates")).text = " ".join(nrml_limit_state(s) for s in states)
     written, left_out = [], []
@@ -186,7 +202,7 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
     ET.indent(root, space="  ")
     path = Path(path)
     ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
-    return NrmlExport(path, states, written, left_out)
+    return NrmlExport(path, states, written, left_out, off_chain)
 
 
 def _q(tag: str) -> str:

@@ -25,6 +25,10 @@ Columns (pelicun 3's damage model parameters)::
   increasing tilt goal, overturning last. Components with fewer limit states leave the
   further columns empty; a limit state without a fit is left out of its component (the
   component's damage states then skip it; :attr:`Fragilities.skipped` names it).
+- Only the tilt axis (:meth:`Fragilities.damage_chain`): pelicun reads LS1, LS2, ... as
+  damage states of increasing severity, so a sliding goal after overturning would read as a
+  worse damage than overturning; sliding goals are left out (the caller's log says so, the
+  study's fragility table keeps them).
 - ``Incomplete`` 0. The limit-state names are not a pelicun column; they are in the
   ``limit_states`` this writer returns and in the risk table.
 """
@@ -74,6 +78,7 @@ def write_pelicun_csv(frag: Fragilities, path: str | Path) -> dict[str, list[str
     """
     comps: dict[str, list[str]] = {}
     lines = []
+    frag = frag.damage_chain()[0]
     for (mode, tan_alpha, R), rows in frag.groups():
         cid = component_id(mode, tan_alpha, R, frag.kind)
         row = {"ID": cid, "Incomplete": 0, "Demand-Type": DEMAND_TYPE, "Demand-Unit": "g",

@@ -20,11 +20,20 @@ exist:
 - ``"tilt:<r>"`` (:class:`TiltGoal`): |θ| > r·α, with r > 0 given as a decimal
   (``"tilt:0.5"``) or a fraction (``"tilt:1/3"``). The paper's "excessive tilt" (θ > α/3,
   §5.2) is ``"tilt:1/3"``, also accepted as ``"excessive-tilt"``;
-- ``"sliding:<μ>"`` (:class:`Sliding`): the body needs more friction than the support's
-  coefficient μ > 0 somewhere in the analysis, ``mu_required_max`` > μ; a body that lifts
-  off (``normal_force_min`` < 0) needs unbounded friction and exceeds it too. A body at rest
-  needs |a_h|/(g + a_z), so a sliding goal may be exceeded below uplift (μ below about
-  tan α).
+- ``"sliding:<μ>"`` (:class:`Sliding`): the body slides while in contact: it needs more
+  friction than the support's coefficient μ > 0 somewhere in an analysis that did not
+  overturn, ``mu_required_max`` > μ (over N > 0). Leaving the support (N ≤ 0,
+  :func:`lifts_off`) is not sliding, and neither is the fall of an overturning body: there
+  N → 0⁺ while the contact still carries a horizontal force, so μ_req grows without bound
+  (62 to 246 in the falls of the column of docs/risk.md under El Centro) whatever μ; an
+  overturned analysis therefore says nothing about sliding (:meth:`LimitState.decides`).
+  A body at rest needs |a_h|/(g + a_z), so a sliding goal may be exceeded below uplift (μ
+  below about tan α).
+
+Lift-off has no goal of its own: without vertical ground motion N ≤ 0 comes only in the fall
+of an overturning body, and it marks the model leaving its range (a rigid body on a rigid
+support), not a damage state; every answer says whether an analysis up to it lifted off
+(the ``lifts_off`` flag, :func:`lifts_off`).
 
 Each limit state has one canonical name, used in every output: ratios with a short exact
 decimal are written as decimals (``"tilt:1/2"`` → ``"tilt:0.5"``), others as reduced
@@ -49,6 +58,8 @@ from fractions import Fraction
 from typing import ClassVar, Protocol
 
 import numpy as np
+
+from ..dynamics.result import contact_slides, leaves_support
 
 THETA_MAX = "theta_max"
 """Largest |θ| reached by an analysis [rad]."""
@@ -78,6 +89,21 @@ class HasPeaks(Protocol):
     def peaks(self) -> Mapping[str, float]:
         """Peak quantities by name (keys of :data:`QUANTITIES`)."""
         ...
+
+
+def lifts_off(peaks: Mapping[str, float]) -> bool:
+    """The body left its support somewhere in the analysis: ``normal_force_min`` ≤ 0
+    (:func:`rocking.dynamics.result.leaves_support`; False where not reported)."""
+    return leaves_support(float(peaks.get(NORMAL_FORCE_MIN, math.nan)))
+
+
+def slides_in_contact(peaks: Mapping[str, float], mu: float | None) -> bool | None:
+    """The body slid while in contact: an analysis that did not overturn needed more
+    friction than ``mu`` (:func:`rocking.dynamics.result.contact_slides`); None without
+    ``mu``, where the analysis overturned or did not report ``mu_required_max``."""
+    if MU_REQUIRED_MAX not in peaks:
+        return None
+    return contact_slides(float(peaks[MU_REQUIRED_MAX]), bool(peaks.get(OVERTURNED)), mu)
 
 
 def check_peaks(peaks: Mapping[str, float]) -> Mapping[str, float]:
@@ -188,6 +214,11 @@ class LimitState(ABC):
         """What :meth:`measure` is compared with for the scan's closeness (default: the
         threshold)."""
         return self.threshold(alpha)
+
+    def decides(self, outcome: HasPeaks | Mapping[str, float]) -> bool:
+        """Whether a finished analysis says anything about this limit state (default: yes;
+        :class:`Sliding`: not where it overturned)."""
+        return True
 
     @abstractmethod
     def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
@@ -328,15 +359,18 @@ class TiltGoal(LimitState):
 
 @dataclass(frozen=True)
 class Sliding(LimitState):
-    """The body needs more friction than μ: ``mu_required_max`` > μ, or it lifts off
-    (``normal_force_min`` < 0: no friction holds a body the support would have to pull).
+    """The body slides while in contact: an analysis that did not overturn needed more
+    friction than μ (``mu_required_max`` > μ, over N > 0; :func:`slides_in_contact`).
 
-    Its quantity is monitored along the whole analysis and can grow after the tilt is
-    decided (and at rest: |a_h|/(g + a_z)), so an analysis deciding it runs to its end and
-    the search looks for it below uplift too. Its exceedance need not grow with the
-    intensity (as a tilt goal's); the search reports the smallest exceeding intensity it
-    found, like for any goal, and never flags it unresolved (that warning is calibrated on
-    the peak tilt). An overturned analysis exceeds it only by its own monitors.
+    Leaving the support (N ≤ 0) is not sliding. An overturned analysis decides nothing
+    (:meth:`decides`): its fall needs unbounded friction as N → 0⁺ whatever μ. Its quantity
+    is monitored along the whole analysis and can grow after the tilt is decided (and at
+    rest: |a_h|/(g + a_z)), so an analysis deciding it runs to its end and the search looks
+    for it below uplift too. Its exceedance need not grow with the intensity (as a tilt
+    goal's); the search reports the smallest exceeding intensity it found, like for any
+    goal, and never flags it unresolved (that warning is calibrated on the peak tilt).
+    Where the answer lies above the overturning answer of the same motion, the body
+    overturns before it slides.
 
     Attributes
     ----------
@@ -362,13 +396,21 @@ class Sliding(LimitState):
         return self.mu
 
     def measure(self, peaks: Mapping[str, float]) -> float:
-        """``mu_required_max`` [-]; inf where the body lifts off."""
-        if _peak(peaks, NORMAL_FORCE_MIN, self.name) < 0.0:
-            return math.inf
+        """``mu_required_max`` [-]; 0 where the analysis overturned (it says nothing, so it
+        does not steer the scan)."""
+        if peaks[OVERTURNED]:
+            return 0.0
         return float(_peak(peaks, MU_REQUIRED_MAX, self.name))
 
     def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
-        return bool(self.measure(_peaks_of(outcome)) > self.mu)
+        """:func:`slides_in_contact` (False where it says nothing: an overturned analysis)."""
+        peaks = _peaks_of(outcome)
+        _peak(peaks, MU_REQUIRED_MAX, self.name)
+        return bool(slides_in_contact(peaks, self.mu))
+
+    def decides(self, outcome: HasPeaks | Mapping[str, float]) -> bool:
+        """Not where the analysis overturned."""
+        return not _peaks_of(outcome)[OVERTURNED]
 
     def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
                              alpha: float) -> bool:
@@ -558,18 +600,20 @@ def classify(outcome: HasPeaks | Mapping[str, float], states: Sequence[LimitStat
     stopped : bool
         The analysis ended on purpose past ``stop_at``: each limit state decides what that
         says (:meth:`LimitState.decided_when_stopped`: the tilt goals up to ``stop_at`` are
-        passed even if the reported peak sits exactly on it, those above unknown).
+        passed even if the reported peak sits exactly on it, those above unknown). A limit
+        state the analysis says nothing about (:meth:`LimitState.decides`) is unknown.
 
     Returns
     -------
     known, exceeded : ndarray of bool
     """
-    exceeded = np.array([ls.exceeded(outcome, alpha) for ls in states])
+    exceeded = np.array([ls.exceeded(outcome, alpha) for ls in states], dtype=bool)
+    decides = np.array([ls.decides(outcome) for ls in states], dtype=bool)
     if not stopped:
-        return np.ones(len(states), dtype=bool), exceeded
+        return decides, exceeded & decides
     limit = math.inf if stop_at is None else stop_at
     known = np.array([ls.decided_when_stopped(outcome, limit, alpha) for ls in states],
-                     dtype=bool)
+                     dtype=bool) & decides
     return known, (exceeded | known) & known
 
 

@@ -18,9 +18,12 @@ that still answers every open question. A limit state a body at rest can exceed 
 the search analyses the uplift intensity first and, if it is exceeded there, bisects
 between 0 and it.
 
-Each answer carries what the analyses up to it saw of the validity monitors: ``lifts_off``
-(some analysis at or below the answer had a normal force N < 0) and, given the support's
-friction coefficient μ, ``slides`` (some needed μ_req > μ; NaN without μ).
+Each answer carries what the analyses up to it saw of the validity monitors, two separate
+questions: ``lifts_off`` (some analysis at or below the answer left the support, N ≤ 0) and,
+given the support's friction coefficient μ, ``slides`` (some analysis that did not overturn
+needed μ_req > μ while in contact; NaN without μ): the fall of an overturning body needs
+unbounded friction as N → 0⁺, so it is not counted as sliding
+(:func:`~rocking.spectra.limit_states.slides_in_contact`).
 
 
 This module only sees an analysis function ``analyze(intensity, stop_at, rtol) -> Outcome``
@@ -168,10 +171,12 @@ class CriticalResult:
         miss below the answer was re-examined (never set by a preset that does not refine).
     slides : ndarray of float
         1.0 where an analysis at or below the answer (up to :attr:`upper` where not
-        reached) needed more friction than :attr:`mu` (``mu_required_max`` > μ), 0.0 where
-        none did, NaN without μ: the answer then says nothing about sliding.
+        reached) that did not overturn needed more friction than :attr:`mu` while in
+        contact (``mu_required_max`` > μ), 0.0 where none did, NaN without μ: the answer
+        then says nothing about sliding.
     lifts_off : ndarray of bool
-        An analysis at or below the answer had a normal force N < 0 (the body would jump).
+        An analysis at or below the answer had a normal force N ≤ 0 (the body left its
+        support).
     n_analyses : int
         Analyses run (retries included), shared by all limit states.
     lower, upper : float
@@ -314,14 +319,15 @@ class _Knowledge:
     known: list[np.ndarray] = field(default_factory=list)
     exceeded: list[np.ndarray] = field(default_factory=list)
     measures: list[np.ndarray] = field(default_factory=list)  # LimitState.measure per state
-    monitors: list[tuple[float, float]] = field(default_factory=list)  # (μ_req max, N min)
+    # (μ_req max, N min, overturned 1.0/0.0) per analysis
+    monitors: list[tuple[float, float, float]] = field(default_factory=list)
     failed_at: list[float] = field(default_factory=list)
     # brackets() of the analyses so far: asked two or three times per analysis, and each
     # call rereads every row, so it is kept until the next add()
     _brackets: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
     def add(self, intensity: float, known: np.ndarray, exceeded: np.ndarray,
-            measures: np.ndarray, monitors: tuple[float, float]) -> None:
+            measures: np.ndarray, monitors: tuple[float, float, float]) -> None:
         self.intensities.append(intensity)
         self.known.append(known)
         self.exceeded.append(exceeded)
@@ -355,16 +361,19 @@ class _Knowledge:
     def monitor_flags(self, limit: np.ndarray, mu: float | None) -> tuple[np.ndarray,
                                                                           np.ndarray]:
         """(slides, lifts_off) per limit state over the analyses at intensities up to
-        ``limit`` (per limit state): slides 1.0/0.0 (NaN without ``mu``), lifts_off bool."""
+        ``limit`` (per limit state): slides 1.0/0.0 (NaN without ``mu``; an overturned
+        analysis never counts, :func:`~rocking.spectra.limit_states.slides_in_contact`),
+        lifts_off bool (N ≤ 0)."""
         n = self.tau.size
         if not self.intensities:
             return (np.full(n, np.nan) if mu is None else np.zeros(n)), np.zeros(n, bool)
         up_to = np.asarray(self.intensities)[:, None] <= limit[None, :]
         mon = np.asarray(self.monitors, dtype=float)
-        lifts_off = (up_to & (mon[:, 1:2] < 0.0)).any(axis=0)
+        lifts_off = (up_to & (mon[:, 1:2] <= 0.0)).any(axis=0)
         if mu is None:
             return np.full(n, np.nan), lifts_off
-        return (up_to & (mon[:, 0:1] > mu)).any(axis=0).astype(float), lifts_off
+        contact = (mon[:, 2:3] == 0.0) & (mon[:, 0:1] > mu)
+        return (up_to & contact).any(axis=0).astype(float), lifts_off
 
     def non_monotonic(self) -> np.ndarray:
         """Exceeded at some I and known not exceeded at a larger I."""
@@ -540,7 +549,8 @@ class _Search:
                                    stopped=out.status is Status.STOPPED_AT_LIMIT)
         peaks = out.peaks
         measures = np.array([ls.measure(peaks) for ls in self.states], dtype=float)
-        self.know.add(intensity, known, exceeded, measures, _monitors(out))
+        self.know.add(intensity, known, exceeded, measures,
+                      (*_monitors(out), float(bool(out.overturned))))
         return measures
 
     def _next_scan_point(self, previous: float, j: int, measures: np.ndarray) -> float:
@@ -593,6 +603,12 @@ class _Search:
             if np.isnan(self.run(mid)).all():
                 # Cannot learn anything here: stop refining every bracket around this point.
                 self.stuck |= (lo < mid) & (mid < hi)
+                continue
+            if not self.know.known[-1][k]:
+                # The analysis says nothing about this limit state (sliding where it
+                # overturned, LimitState.decides): halving again would repeat it; the
+                # bracket stays as wide as it is.
+                self.resolved[k] = True
 
     def near_misses(self) -> list[NearMiss]:
         """The scan's near misses of every limit state that warns of windows: scan points

@@ -50,6 +50,7 @@ from scipy import optimize, special, stats
 from .._progress import maybe as _progress
 from ..dynamics.bodies import Block, Cylinder
 from ..dynamics.result import Status
+from ..grids import grid_values
 from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .critical import make_analysis, uplift_intensity
@@ -70,8 +71,8 @@ DEFAULT_STRIPES = 40
 moves by less than its own standard error beyond about this many)."""
 
 STRIPE_RANGE = (1.0, 20.0)
-"""Default span of the stripes, PGA/(g tan α) [-]: from uplift in 3D to the search's default
-bound (:data:`rocking.spectra.search.DEFAULT_UPPER`)."""
+"""Default first and last stripe, PGA/(g tan α) [-]: from uplift (2D; the body is at rest
+there in 3D) to the search's default bound (:data:`rocking.spectra.search.DEFAULT_UPPER`)."""
 
 RETRY_RTOL_FACTOR = 0.1
 """A failed analysis is retried once with its rtol multiplied by this factor (as the search)."""
@@ -103,17 +104,17 @@ BOOTSTRAP_LEVEL = 0.90
 
 def stripe_intensities(n: int = DEFAULT_STRIPES, lower: float = STRIPE_RANGE[0],
                        upper: float = STRIPE_RANGE[1]) -> np.ndarray:
-    """``n`` stripes geometric in (lower, upper], PGA/(g tan α) [-].
-
-    ``lower`` itself is left out: at the 3D uplift intensity the body stays at rest.
-    """
+    """``n`` stripes geometric from ``lower`` to ``upper``, both included, measure/(g tan α)
+    [-]: :func:`rocking.grids.grid_values`, the list a configuration's
+    ``stripes.intensity: {start: lower, stop: upper, num: n, spacing: log}`` gives, to the
+    bit."""
     if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
         raise ValueError(f"number of stripes must be an integer >= 1, got {n!r}")
     lower, upper = float(lower), float(upper)
     if not (math.isfinite(lower) and math.isfinite(upper) and 0.0 < lower < upper):
         raise ValueError(f"stripes need 0 < lower < upper (finite), got lower={lower!r}, "
                          f"upper={upper!r}")
-    return np.geomspace(lower, upper, int(n) + 1)[1:]
+    return np.array(grid_values(lower, upper, int(n), "log"))
 
 
 def _check_intensities(intensities) -> np.ndarray:

@@ -198,6 +198,15 @@ def requested_answers(ds: xr.Dataset, columns: Sequence[str]) -> pd.DataFrame:
     return frame
 
 
+def nullable_flag(values: pd.Series) -> pd.Series:
+    """A flag stored as float (1.0/0.0, NaN: nothing said, e.g. ``slides`` without the
+    study's μ) as pandas' nullable boolean: the CSV tables write True/False like every
+    other flag, and an empty cell where it says nothing."""
+    v = pd.to_numeric(values, errors="raise").astype(float)
+    return pd.Series(pd.array([pd.NA if np.isnan(x) else bool(x) for x in v],
+                              dtype="boolean"), index=values.index, name=values.name)
+
+
 def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
     """Every computed answer of a spectra store, one row per (mode, limit_state, motion,
     tan_alpha, R) that the study's runs asked for: the critical intensity [PGA/(g tan α)],
@@ -205,6 +214,8 @@ def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
     cols = [c for c in CRITICAL_COLUMNS if c in ds]
     dims = ["mode", "limit_state", "motion", "tan_alpha", "R"]
     frame = requested_answers(ds, cols)[[*dims, *cols]]
+    if "slides" in frame:
+        frame["slides"] = nullable_flag(frame["slides"])
     return frame.sort_values(dims, kind="stable").reset_index(drop=True).rename(columns=header)
 
 

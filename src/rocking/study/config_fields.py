@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
+from ..grids import grid_values
 from ..spectra.modes import MODE_3D, MODE_3D_DAMPED
 
 __all__ = ["DEFAULTS", "expand_grid"]
@@ -79,9 +80,7 @@ def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[f
         spacing = spec.get("spacing", "linear")
         if spacing not in ("linear", "log"):
             raise ValueError(f"{field}.spacing must be 'linear' or 'log', got {spacing!r}")
-        grid = np.geomspace(start, stop, num) if spacing == "log" else \
-            np.linspace(start, stop, num)
-        values = [float(f"{v:.12g}") for v in grid]
+        values = grid_values(start, stop, num, spacing)
     else:
         raise ValueError(f"{field} must be a list of numbers or {{start, stop, num}}, "
                          f"got {spec!r}")

@@ -15,7 +15,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from ..dynamics.dimensions import AGREE_RTOL, body_line, body_size
+from ..dynamics.dimensions import AGREE_RTOL, body_line, body_size, swap_warning
 
 __all__ = ["AGREE_RTOL", "body_line", "body_size", "resolve_dimensions"]
 
@@ -94,6 +94,9 @@ def _resolve(section: dict, field: str, r_key: str, t_key: str | None, say) -> f
         section[t_key] = tan_alpha
     if say is not None:
         say(f"{field}: {body_line(height, diameter, R, tan_alpha)}")
+        swapped = swap_warning(height, diameter, (f"{field}.height", f"{field}.diameter"))
+        if swapped:
+            say(swapped)
     return tan_alpha
 
 

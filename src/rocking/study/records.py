@@ -36,7 +36,7 @@ import numpy as np
 from ..motions.identity import identity
 from ..motions.measures import DEFAULT_COMPONENT, MEASURE_UNITS, intensity_measure, parse_measure
 from ..motions.motion import GroundMotion
-from .aggregate import requested_answers
+from .aggregate import nullable_flag, requested_answers
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
            "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
@@ -65,9 +65,10 @@ RECORD_COLUMNS = {
     "unresolved": ("", "the response came close to the goal below the answer"),
     "non_monotonic": ("", "exceeded at one intensity and not at a higher one"),
     "failed": ("", "an analysis failed"),
-    "slides": ("", "an analysis up to the answer needed more friction than the study's mu "
-                   "(empty without mu)"),
-    "lifts_off": ("", "an analysis up to the answer had a normal force N < 0 (would jump)"),
+    "slides": ("", "an analysis up to the answer that did not overturn needed more friction "
+                   "than the study's mu while in contact (True/False; empty without mu)"),
+    "lifts_off": ("", "an analysis up to the answer had a normal force N <= 0 (left the "
+                      "support)"),
     "processing": ("", "source record and processing, in order"),
 }
 """Columns of ``records.csv`` always present (``slides`` and ``lifts_off`` from a store that
@@ -104,7 +105,7 @@ def _table_measures(measures: Sequence[str], component: str) -> list[str]:
 
 
 _FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
-_VALIDITY = ("slides", "lifts_off")  # slides stays float: NaN says nothing (no mu)
+_VALIDITY = ("slides", "lifts_off")  # slides: True/False, empty without mu
 _ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
           "pga_recorded_g", "pga_g", "component"]
 
@@ -147,6 +148,8 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
         table[flag] = table[flag].astype(bool)
     if "lifts_off" in table:
         table["lifts_off"] = table["lifts_off"].astype(bool)
+    if "slides" in table:  # True/False like the other flags, empty without the study's mu
+        table["slides"] = nullable_flag(table["slides"])
     scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
     table["scale_factor"] = scale
     for m in ims:

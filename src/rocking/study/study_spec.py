@@ -193,3 +193,15 @@ def _intensity_measures(value: Any, field: str) -> tuple[str, ...]:
     if len(set(out)) != len(out):
         raise ValueError(f"{field}: repeated measures {out!r}")
     return tuple(out)
+
+
+def report_studies(config: Mapping[str, Any], study: str) -> list[str]:
+    """The studies whose ensembles and stores the report of ``study`` describes: the study
+    itself and, where it runs "3d" beside a 2D mode (its report shows Fig 12, which draws
+    every such study), the other studies that do; in configuration order."""
+    def compares(name: str) -> bool:
+        return StudySpec.from_config(config, name).spectra.plan.compares_2d_with_3d()
+
+    if not compares(study):
+        return [study]
+    return [s for s in config["studies"] if s == study or compares(s)]
