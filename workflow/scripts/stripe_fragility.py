@@ -12,7 +12,8 @@ def main(snakemake):
         write_stripe_fragility(p.store, snakemake.output.csv, snakemake.output.samples,
                                fragility=snakemake.input.fragility,
                                motions=snakemake.input.motions, refine=int(p.refine),
-                               resamples=int(p.bootstrap), study=snakemake.wildcards.study)
+                               resamples=int(p.bootstrap), study=snakemake.wildcards.study,
+                               refined=snakemake.output.refined)
 
 
 if __name__ == "__main__":
