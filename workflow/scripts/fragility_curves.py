@@ -11,7 +11,7 @@ from rocking.study.store_attrs import store_provenance
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         store = open_store(snakemake.params.store)
         upper = float(snakemake.params.upper)
         table = fragility.fragility_table(store, upper=upper)

@@ -10,7 +10,7 @@ from rocking.study.warmup import warm_numba_cache
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         t0 = time.perf_counter()
         seconds = warm_numba_cache(processes=snakemake.threads)
         summary = {"seconds_per_mode": seconds, "seconds": time.perf_counter() - t0,

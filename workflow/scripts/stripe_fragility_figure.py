@@ -7,7 +7,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         d = fig.data(snakemake.params.store, snakemake.input.fragility,
                      mode=snakemake.wildcards.mode, table=snakemake.input.table,
                      refined=snakemake.input.refined)

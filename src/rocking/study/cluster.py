@@ -239,7 +239,7 @@ def dask_client(target: Target, n_workers: int = 1, *,
         try:
             with Client(cluster) as client:
                 say(f"embedded Dask LocalCluster: {n_workers} worker processes, 1 thread "
-                    f"each; dashboard: {dashboard_url(cluster) or 'off'}"
+                    f"each; dashboard: {'off' if off else dashboard_url(cluster)}"
                     + (f"; worker scratch space {local_directory}" if local_directory
                        else ""))
                 yield client
