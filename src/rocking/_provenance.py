@@ -78,6 +78,9 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
                                suffix=f".part{path.suffix}")
     os.close(fd)
     tmp = Path(tmp)
+    umask = os.umask(0)
+    os.umask(umask)
+    tmp.chmod(0o666 & ~umask)  # as open() would make it (mkstemp makes it private)
     try:
         yield tmp
         os.replace(tmp, path)
