@@ -24,6 +24,7 @@ from pathlib import Path
 
 import _store_standins as standin
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 import yaml
@@ -573,7 +574,7 @@ def stripe_studies(tmp_path_factory):
         csv = root / name / "stripe_fragility.csv"
         st.write_stripe_fragility(path, csv, root / name / "stripe_fragility_bootstrap.nc",
                                   motions=ens, refine=4, resamples=40,
-                                  refined=root / name / "refined.jsonl")
+                                  refined=root / name / "stripe_fragility_refined.jsonl")
         out[name] = (path, ens, csv)
     assert len(st.refine_cache_path(out["b"][0]).read_text().splitlines()) > 1
     return out
@@ -620,9 +621,11 @@ def test_refinement_cache_of_another_study_is_refused_where_it_cannot_be_redone(
     with pytest.raises(ProvenanceError, match=r"refined.jsonl holds analyses of another store "
                                               r"or motions \(motions_sha256 .*--forcerun "
                                               r"stripe_fragility"):
-        fig.data(a[0], None, mode="3d", table=a[2], refined=b[2].parent / "refined.jsonl")
+        fig.data(a[0], None, mode="3d", table=a[2],
+                 refined=b[2].parent / "stripe_fragility_refined.jsonl")
     # its own copy replays to the table's rows
-    d = fig.data(a[0], None, mode="3d", table=a[2], refined=a[2].parent / "refined.jsonl")
+    d = fig.data(a[0], None, mode="3d", table=a[2],
+                 refined=a[2].parent / "stripe_fragility_refined.jsonl")
     assert d["panels"]
 
 
@@ -636,7 +639,8 @@ def test_flipped_byte_in_the_refinement_cache_names_file_and_way_out(stripe_stud
     damaged = tmp_path / "damaged.jsonl"
     shutil.copy(st.refine_cache_path(stripe_studies["a"][0]), damaged)
     _flip(damaged, where=0.7, mask=mask)
-    with pytest.raises(ProvenanceError, match=rf"{damaged} line \d+ is damaged .*delete it and "
+    cache = tmp_path / "a2" / st.refine_cache_path(stripe_studies["a"][0]).name
+    with pytest.raises(ProvenanceError, match=rf"{cache} line \d+ is damaged .*delete it and "
                                               r"rerun with `snakemake --forcerun "
                                               r"stripe_fragility`"):
         _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=damaged)
@@ -902,3 +906,69 @@ def test_dashboard_can_be_turned_off_or_moved():
         port = c.cluster.scheduler.services["dashboard"].port
         assert f"dashboard: http://127.0.0.1:{port}/status" in lines[0]
         assert _listening(port) == {"127.0.0.1"}
+
+
+# The workflow itself: the sidecars are declared inputs, a copied output folder is remade
+# where its configuration changed (one tiny study with stripes and a hazard, run once).
+
+TINY_RISK = {
+    "accuracy": "fast", "motions": {"max_duration": 3.0},
+    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7}},
+    "studies": {"tiny": {
+        "ensemble": "tiny", "hazard": {"k0": 2.0e-4, "k": 2.2}, "R": [1.0, 3.0], "chunk_R": 1,
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["overturning"]}],
+        "stripes": {"modes": ["3d"], "tan_alpha": 0.2, "limit_states": ["overturning"],
+                    "R": [3.0], "intensity": {"start": 1.1, "stop": 15.0, "num": 4,
+                                              "spacing": "log"},
+                    "refine": 2, "bootstrap": 20}}},
+    "dask": {"progress_interval": 0}}
+
+
+def _snakemake(workdir: Path, cfg: dict, *args: str) -> str:
+    (workdir / "c.yaml").write_text(yaml.safe_dump(cfg))
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"),
+                          "--configfile", "c.yaml", "--cores", "2", *args],
+                         capture_output=True, text=True, cwd=workdir, timeout=1800)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    return out.stdout + out.stderr
+
+
+def _planned(text: str) -> set[str]:
+    return {line.split()[-1].rstrip(":") for line in text.splitlines()
+            if line.startswith(("rule ", "localrule "))}
+
+
+@pytest.mark.slow
+def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp_path):
+    """Before: a deleted stripe_fragility_bootstrap.nc was not remade after a hazard change
+    (risk.csv's stripe intervals silently blank); a folder copied with `cp -a` kept its
+    suite_fragility.csv when a measure was added (risk: "add sa:1.0 to the study's
+    intensity_measures" although it was there)."""
+    cfg = json.loads(json.dumps(TINY_RISK))
+    targets = ["results/tiny/risk.csv", "results/tiny/suite_fragility.csv",
+               "results/tiny/figures/stripe_fragility_3d.png"]
+    _snakemake(tmp_path, cfg, *targets)
+    tiny = tmp_path / "results/tiny"
+    for name in ("stripe_fragility_bootstrap.nc", "suite_fragility_bootstrap.nc",
+                 "fragility_bootstrap.nc"):
+        with xr.open_dataset(tiny / name) as ds:
+            assert len(ds.attrs["table_sha256"]) == 64 and ds.attrs["motions_sha256"]
+    assert json.loads((tiny / "stripe_fragility_refined.jsonl").read_text()
+                      .splitlines()[0])["provenance"]["config_hash"]
+    # a deleted sidecar, then a hazard change: the sidecar is remade before risk reads it
+    (tiny / "stripe_fragility_bootstrap.nc").unlink()
+    cfg["studies"]["tiny"]["hazard"]["k0"] = 3.0e-4
+    assert {"stripe_fragility", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
+                                                               "results/tiny/risk.csv"))
+    # the folder copied, a measure added and the hazard put in it: the tables remade
+    subprocess.run(["cp", "-a", str(tmp_path / "results"), str(tmp_path / "copy")], check=True)
+    cfg.update(output="copy")
+    cfg["studies"]["tiny"].update(intensity_measures=["pga", "sa:1.0"],
+                                  hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
+    assert {"records_table", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
+                                                            "copy/tiny/risk.csv"))
+    _snakemake(tmp_path, cfg, "copy/tiny/risk.csv")
+    risk = pd.read_csv(tmp_path / "copy/tiny/risk.csv")
+    assert set(risk["measure"]) == {"sa:1.0"}
+    # nothing left to do: the stamps are rewritten only when what they record changes
+    assert _planned(_snakemake(tmp_path, cfg, "-n", "copy/tiny/risk.csv")) == set()

@@ -25,6 +25,7 @@ REMAKE = {
     "stripe_fragility_bootstrap.nc": "stripe_fragility",
     "suite_fragility.csv": "records_table",
     ".refined.jsonl": "stripe_fragility",
+    "stripe_fragility_refined.jsonl": "stripe_fragility",
 }
 """The workflow rule that writes a derived file, by the end of its name."""
 
@@ -38,7 +39,8 @@ def remake_hint(path: str | Path) -> str:
     """``"rerun with snakemake --forcerun <rule>"`` for a derived file (or a generic way out
     for a file no rule writes)."""
     name = Path(path).name
-    rule = next((r for end, r in REMAKE.items() if name.endswith(end)), None)
+    rule = next((REMAKE[end] for end in sorted(REMAKE, key=len, reverse=True)
+                 if name.endswith(end)), None)  # the longest ending: stripe_fragility_...
     if rule is None:
         return "remake it from its inputs"
     return f"rerun with `snakemake --forcerun {rule}`"
