@@ -973,3 +973,34 @@ def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp
     assert set(risk["measure"]) == {"sa:1.0"}
     # nothing left to do: the stamps are rewritten only when what they record changes
     assert _planned(_snakemake(tmp_path, cfg, "-n", "copy/tiny/risk.csv")) == set()
+
+
+def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
+    """The compute rules (exit 120, no reason, before): a chunk that cannot be written."""
+    (full_disk / "filler").unlink()
+    rc, err = _log_block(tmp_path, textwrap.dedent(f"""\
+        from functools import partial
+        import _store_standins as standin
+        from rocking.motions.ensemble_io import save_ensemble
+        from rocking.study import cluster, integrity, prepare, products, store, tasks
+        from rocking.study.study_spec import StudySpec
+        spec = StudySpec.from_config({CONFIG!r}, "s").spectra
+        motions = {str(tmp_path / "m.nc")!r}
+        save_ensemble(motions, standin.motions(n=3))
+        path = prepare.keyed({str(full_disk / "spectra.zarr")!r}, spec.digest)
+        products.prepare_store("spectra", path, spec, spec.digest, motions)
+        with open({str(full_disk / "filler")!r}, "wb") as fh:  # the disk fills up
+            try:
+                while True:
+                    fh.write(b"0" * 4096)
+                    fh.flush()
+            except OSError:
+                pass
+        cluster.fill_store(integrity.open_checked(path, "r+"),
+                           partial(tasks.fill_spectra_region, batch=standin.batch), motions,
+                           config_digest=spec.digest, in_process_analyses=10**9)
+        """).replace("\n", "\n            "), outputs=[full_disk / "spectra.done.json"])
+    assert rc == 1, err
+    (line,) = err.strip().splitlines()[-1:]
+    assert line.startswith("error: no space left on ") and str(full_disk) in line, err
+    assert len(err.strip().splitlines()) == 1, err
