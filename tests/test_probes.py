@@ -24,6 +24,7 @@ from pathlib import Path
 
 import _store_standins as standin
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 import yaml
@@ -526,3 +527,480 @@ def test_lock_is_released_when_the_block_ends(tmp_path):
     with store.locked(path):
         assert (tmp_path / "x.zarr.lock").read_text().startswith(f"pid {os.getpid()} ")
     assert time.perf_counter() - t0 < 1.0
+
+
+# --------------------------------------------------------------------------------------------
+# Family 8 (issue 39): every sidecar and cache checked against what made it; errors of known
+# cause in one line (silent, traceback or misleading before)
+# --------------------------------------------------------------------------------------------
+
+STRIPES = StudySpec.from_config({
+    "ensembles": {"test": {"record": "el-centro-1940"}},
+    "studies": {"t": {"ensemble": "test", "R": [1.0],
+                      "runs": [{"modes": ["3d"], "tan_alpha": [0.2],
+                                "limit_states": ["overturning"]}],
+                      "stripes": {"modes": ["3d", "2d-x"], "R": [0.5, 1.0, 2.0],
+                                  "intensity": [1.2, 2.0, 3.5, 6.0], "chunk_R": 2}}}},
+    "t").stripes
+
+
+def _stripes_study(folder: Path, gain: float = 1.0) -> tuple[Path, Path]:
+    """A filled stripes store of three stand-in motions (``gain`` scales them: another
+    study's motions under the same names) and its motions file."""
+    from rocking.motions.motion import GroundMotion
+    from rocking.study import stripes as st
+
+    folder.mkdir(parents=True, exist_ok=True)
+    ens = folder / "motions.nc"
+    save_ensemble(ens, [GroundMotion(gain * m.ax, m.ay, m.dt, m.name, m.metadata)
+                        for m in standin.motions(3, npts=300)])
+    path = folder / "stripes-0123456789abcdef.zarr"
+    products.prepare_store("stripes", path, STRIPES, STRIPES.digest, ens)
+    for i in store.pending_regions(path):
+        st.fill_stripes_region(path, i, ens)
+    store.StoreHandle.open(path).finalize()
+    return path, ens
+
+
+@pytest.fixture(scope="module")
+def stripe_studies(tmp_path_factory):
+    """Two studies' stripes (other motions), each with its stripe table written once."""
+    from rocking.study import stripes as st
+
+    root = tmp_path_factory.mktemp("stripes")
+    out = {}
+    for name, gain in (("a", 1.0), ("b", 1.3)):
+        path, ens = _stripes_study(root / name, gain)
+        csv = root / name / "stripe_fragility.csv"
+        st.write_stripe_fragility(path, csv, root / name / "stripe_fragility_bootstrap.nc",
+                                  motions=ens, refine=4, resamples=40)
+        # the figure's copy of the refined analyses (the workflow's stripe_fragility_refined)
+        shutil.copy(st.refine_cache_path(path), root / name / "stripe_fragility_refined.jsonl")
+        out[name] = (path, ens, csv)
+    assert len(st.refine_cache_path(out["b"][0]).read_text().splitlines()) > 1
+    return out
+
+
+def _rewrite(study, folder: Path, cache_from: Path | None = None):
+    """The stripe table of ``study`` written again in ``folder`` (its store and motions
+    copied there), its refinement cache replaced by ``cache_from``'s."""
+    from rocking.study import stripes as st
+
+    path, ens, _ = study
+    folder.mkdir()
+    shutil.copytree(path, folder / path.name)
+    shutil.copy(ens, folder / ens.name)
+    shutil.copy(digest_path(ens), folder / digest_path(ens).name)
+    store_path = folder / path.name
+    if cache_from is not None:
+        shutil.copy(cache_from, st.refine_cache_path(store_path))
+    csv = folder / "stripe_fragility.csv"
+    st.write_stripe_fragility(store_path, csv, folder / "stripe_fragility_bootstrap.nc",
+                              motions=folder / ens.name, refine=4, resamples=40)
+    return csv, store_path
+
+
+def test_refinement_cache_of_another_study_is_detected_and_redone(stripe_studies, tmp_path,
+                                                                   caplog):
+    """Silent before: a copied .refined.jsonl (other motions, same keys) moved the medians."""
+    from rocking.study import stripes as st
+
+    foreign = st.refine_cache_path(stripe_studies["b"][0])
+    with caplog.at_level("WARNING"):
+        csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=foreign)
+    assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    assert "holds analyses of another store or motions (motions_sha256" in caplog.text
+
+
+def test_refinement_cache_of_another_study_is_refused_where_it_cannot_be_redone(
+        stripe_studies, tmp_path):
+    """The figure replays the refinement without motions: a foreign file is named."""
+    from rocking._provenance import ProvenanceError
+    from rocking.plot import stripe_fragility as fig
+
+    a, b = stripe_studies["a"], stripe_studies["b"]
+    with pytest.raises(ProvenanceError, match=r"refined.jsonl holds analyses of another store "
+                                              r"or motions \(motions_sha256 .*--forcerun "
+                                              r"stripe_fragility"):
+        fig.data(a[0], None, mode="3d", table=a[2],
+                 refined=b[2].parent / "stripe_fragility_refined.jsonl")
+    # its own copy replays to the table's rows
+    d = fig.data(a[0], None, mode="3d", table=a[2],
+                 refined=a[2].parent / "stripe_fragility_refined.jsonl")
+    assert d["panels"]
+
+
+@pytest.mark.parametrize("mask", [0x01, 0x10, 0x40])
+def test_flipped_byte_in_the_refinement_cache_names_file_and_way_out(stripe_studies, tmp_path,
+                                                                     mask):
+    """Traceback before (JSONDecodeError, file not named), or a changed number unseen."""
+    from rocking._provenance import ProvenanceError
+    from rocking.study import stripes as st
+
+    damaged = tmp_path / "damaged.jsonl"
+    shutil.copy(st.refine_cache_path(stripe_studies["a"][0]), damaged)
+    _flip(damaged, where=0.7, mask=mask)
+    cache = tmp_path / "a2" / st.refine_cache_path(stripe_studies["a"][0]).name
+    with pytest.raises(ProvenanceError, match=rf"{cache} line \d+ is damaged .*delete it and "
+                                              r"rerun with `snakemake --forcerun "
+                                              r"stripe_fragility`"):
+        _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=damaged)
+
+
+def test_legacy_refinement_cache_without_provenance_is_redone(stripe_studies, tmp_path):
+    from rocking.study import stripes as st
+
+    lines = st.refine_cache_path(stripe_studies["a"][0]).read_text().splitlines()[1:]
+    old = tmp_path / "old.jsonl"
+    old.write_text("".join(json.dumps({k: v for k, v in json.loads(s).items() if k != "crc32"})
+                           + "\n" for s in lines))
+    csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=old)
+    assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+
+
+@pytest.mark.parametrize("table", ["stripe_fragility.csv", "fragility.csv"])
+def test_bootstrap_of_another_study_is_refused_by_the_risk_table(stripe_studies, tmp_path,
+                                                                 table):
+    """Silent before: only the row count was checked, the interval moved."""
+    from rocking._provenance import ProvenanceError
+    from rocking.risk.fragilities import read_fragilities
+
+    a, b = stripe_studies["a"][2], stripe_studies["b"][2]
+    here = tmp_path / table
+    shutil.copy(a, here)
+    boot = here.with_name(here.stem + "_bootstrap.nc")
+    shutil.copy(a.with_name("stripe_fragility_bootstrap.nc"), boot)
+    assert read_fragilities(here, kind="stripes").samples is not None  # its own: read
+    shutil.copy(b.with_name("stripe_fragility_bootstrap.nc"), boot)  # another study's
+    rule = "stripe_fragility" if table.startswith("stripe") else "fragility_curves"
+    with pytest.raises(ProvenanceError, match=rf"{boot} was made for a table of sha256 "
+                                              rf"[0-9a-f]{{16}}, not {here} .*another study, "
+                                              rf"run or table: rerun with `snakemake "
+                                              rf"--forcerun {rule}`"):
+        read_fragilities(here, kind="stripes")
+
+
+def test_truncated_bootstrap_names_file_and_way_out(stripe_studies, tmp_path):
+    """Traceback before: ValueError: When changing to a larger dtype..."""
+    from rocking._provenance import ProvenanceError
+    from rocking.risk.fragilities import read_fragilities
+
+    a = stripe_studies["a"][2]
+    here = tmp_path / "stripe_fragility.csv"
+    shutil.copy(a, here)
+    boot = tmp_path / "stripe_fragility_bootstrap.nc"
+    shutil.copy(a.with_name(boot.name), boot)
+    _truncate(boot)
+    with pytest.raises(ProvenanceError, match=rf"^{boot} cannot be read \(damaged or cut "
+                                              r"short: .*\): rerun with `snakemake --forcerun "
+                                              r"stripe_fragility`$"):
+        read_fragilities(here, kind="stripes")
+
+
+def test_missing_bootstrap_is_said_never_a_silent_blank(stripe_studies, tmp_path, caplog):
+    from rocking.risk.fragilities import read_fragilities
+
+    here = tmp_path / "stripe_fragility.csv"
+    shutil.copy(stripe_studies["a"][2], here)
+    with caplog.at_level("WARNING"):
+        assert read_fragilities(here, kind="stripes").samples is None
+    assert "has no bootstrap samples beside it (stripe_fragility_bootstrap.nc): the risk " \
+           "table's lambda_p05/lambda_p95 of its rows stay empty" in caplog.text
+
+
+def test_suite_bootstrap_records_table_and_store(study, tmp_path):
+    """suite_fragility_bootstrap.nc records its table's sha256, the store's config hash, the
+    motions' sha256 and the measures; another run's table is refused."""
+    from rocking._provenance import ProvenanceError, file_sha256
+    from rocking.risk.bootstrap import read_bootstrap
+
+    out = tmp_path / "t"
+    out.mkdir()
+    csv = out / "suite_fragility.csv"
+    write_record_tables(study.store, study.motions, ["pga"], out / "records.csv", csv)
+    boot = out / "suite_fragility_bootstrap.nc"
+    with xr.open_dataset(boot) as ds:
+        attrs = dict(ds.attrs)
+    assert attrs["table_sha256"] == file_sha256(csv)
+    assert attrs["config_hash"] == SPEC.digest and attrs["measures"] == "pga"
+    assert attrs["motions_sha256"] == digest_path(study.motions).read_text().split()[0]
+    read_bootstrap(boot, table=csv)
+    csv.write_text(csv.read_text().replace("pga", "pga", 1) + "\n")
+    with pytest.raises(ProvenanceError, match="--forcerun records_table"):
+        read_bootstrap(boot, table=csv)
+
+
+# A full disk: one line naming where, from the job's log block (every rule's script runs in
+# it), nothing half-written kept.
+
+def _log_block(tmp_path, body, log=None, outputs=()):
+    """``body()`` inside the rules' log block in a child process: (exit status, stderr)."""
+    code = textwrap.dedent(f"""
+        import sys
+        sys.path[:0] = {[str(REPO / "src"), str(REPO / "tests")]!r}
+        from rocking.study.logs import log_to
+        with log_to({str(log or tmp_path / "job.log")!r}, outputs={list(map(str, outputs))!r}):
+            {body}
+        """)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=tmp_path, timeout=300)
+    return out.returncode, out.stderr
+
+
+def _small_filesystem(folder: Path) -> Path | None:
+    """A 1 MiB tmpfs at ``folder`` (root only), or None."""
+    folder.mkdir()
+    ok = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(folder)],
+                        capture_output=True).returncode == 0
+    return folder if ok else None
+
+
+@pytest.fixture()
+def full_disk(tmp_path):
+    """A filesystem with no space left (a 1 MiB tmpfs filled), or /dev/full's stand-in."""
+    small = _small_filesystem(tmp_path / "small")
+    if small is None:
+        pytest.skip("mounting a tmpfs needs root; test_figure_on_dev_full covers the line")
+    (small / "filler").write_bytes(b"\0" * (1 << 20) + b"")  # fills what is left
+    try:
+        yield small
+    finally:
+        subprocess.run(["umount", str(small)], check=False)
+
+
+def test_figure_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
+    """Traceback before (PIL OSError: [Errno 28] from a figure)."""
+    (full_disk / "filler").unlink()
+    (full_disk / "logs").mkdir()
+    (full_disk / "filler").write_bytes(b"\0" * (1 << 20))  # the log's folder exists; full
+    rc, err = _log_block(tmp_path, "import matplotlib; matplotlib.use('Agg'); "
+                         "import matplotlib.pyplot as plt; fig = plt.figure(); "
+                         "fig.gca().plot(range(100000)); "
+                         f"fig.savefig({str(full_disk / 'fig.png')!r}, dpi=300)",
+                         log=full_disk / "logs" / "job.log", outputs=[full_disk / "fig.png"])
+    assert (rc, err.strip()) == (1, f"error: no space left on {full_disk / 'fig.png'}: free "
+                                    "space there and run again (nothing half-written was "
+                                    "kept)")
+
+
+def test_table_on_a_full_disk_keeps_nothing_half_written(stripe_studies, tmp_path, full_disk):
+    """The stripe table rule on a full disk (exit 120, no reason, before): one line; neither
+    the table nor its samples left half-written."""
+    path, ens, _ = stripe_studies["a"]
+    csv, nc = full_disk / "stripe_fragility.csv", full_disk / "stripe_fragility_bootstrap.nc"
+    rc, err = _log_block(tmp_path, "from rocking.study.stripes import write_stripe_fragility; "
+                         f"write_stripe_fragility({str(path)!r}, {str(csv)!r}, {str(nc)!r}, "
+                         f"motions={str(ens)!r}, refine=4, resamples=2000)",
+                         outputs=[csv, nc])
+    assert rc == 1, err
+    (line,) = err.strip().splitlines()
+    assert line.startswith(f"error: no space left on {full_disk}"), err
+    assert sorted(p.name for p in full_disk.iterdir()) == ["filler"]
+
+
+def test_figure_on_dev_full_says_so_in_one_line(tmp_path):
+    """The same without root: /dev/full answers every write with ENOSPC."""
+    rc, err = _log_block(tmp_path, "import matplotlib; matplotlib.use('Agg'); "
+                         "import matplotlib.pyplot as plt; "
+                         "plt.figure().savefig('/dev/full', format='png')",
+                         outputs=["/dev/full"])
+    assert (rc, err.strip()) == (1, "error: no space left on /dev/full: free space there and "
+                                    "run again (nothing half-written was kept)")
+
+
+def test_log_on_a_full_disk_still_says_why_on_the_terminal(tmp_path):
+    """The report rule on a full disk said `message: None` with an empty log before."""
+    rc, err = _log_block(tmp_path, "open('/dev/full', 'w').write('x' * 10**6)",
+                         log="/dev/full", outputs=["/dev/full"])
+    assert (rc, err.strip()) == (1, "error: no space left on /dev/full: free space there and "
+                                    "run again (nothing half-written was kept)")
+
+
+# TLS and the dashboard
+
+def test_dry_run_refuses_tls_without_its_settings_naming_them(monkeypatch):
+    """A TypeError after 23 s, once other rules had run, before."""
+    import dask
+
+    cfg = _config(lambda c: c["dask"].update(scheduler_address="tls://10.0.0.1:8786"))
+    with dask.config.set({"distributed.comm.tls.ca-file": None,
+                          "distributed.comm.tls.client.cert": None,
+                          "distributed.comm.tls.client.key": None}), \
+            pytest.raises(ValueError, match=r"^dask.scheduler_address 'tls://10.0.0.1:8786' is a "
+                                            r"TLS scheduler but Dask's configuration lacks "
+                                            r"distributed.comm.tls.ca-file, distributed.comm.tls"
+                                            r".client.cert, distributed.comm.tls.client.key"):
+        check_config(cfg)
+    with dask.config.set({"distributed.comm.tls.ca-file": "/ca.pem",
+                          "distributed.comm.tls.client.cert": "/c.pem",
+                          "distributed.comm.tls.client.key": "/k.pem"}):
+        check_config(cfg)  # with them: accepted (as before)
+    monkeypatch.setenv("DASK_SCHEDULER_ADDRESS", "tls://10.0.0.1:8786")
+    with pytest.raises(ValueError, match="is a TLS scheduler"):
+        check_config(_config(lambda c: None))
+
+
+def _listening(port: int) -> set[str]:
+    """Local addresses of the sockets listening on TCP ``port`` (every process)."""
+    import psutil
+
+    return {c.laddr.ip for c in psutil.net_connections(kind="tcp")
+            if c.status == psutil.CONN_LISTEN and c.laddr.port == port}
+
+
+def _fill_and_look(path, index, motions, seen_file):
+    """A region filled on a worker, which writes down (once) its scratch space and the
+    sockets its parent (the run: scheduler, dashboard, nannies) listens on, while it runs."""
+    import psutil
+    from distributed import get_worker
+
+    seen = Path(seen_file)
+    if not seen.exists():
+        run = psutil.Process(os.getppid())
+        listening = sorted({(c.laddr.ip, c.laddr.port) for c in run.net_connections("tcp")
+                            if c.status == psutil.CONN_LISTEN})
+        seen.write_text(json.dumps({"scratch": get_worker().local_directory,
+                                    "listening": listening}))
+    return FILL(path, index, motions=motions)
+
+
+def test_embedded_cluster_dashboard_listens_on_loopback_only(tmp_path, caplog):
+    """0.0.0.0 before (the log said 127.0.0.1); scratch space was /tmp/dask-scratch-space.
+
+    The tiny study's spectra filled again on an embedded cluster (no in-process shortcut);
+    while it runs, every socket the run listens on (the dashboard's among them) is on
+    127.0.0.1, the log names the dashboard's, and the workers' scratch space is beside the
+    store (removed afterwards).
+    """
+    study = Study(tmp_path / "run")
+    study.make_motions()
+    seen_file = tmp_path / "seen.json"
+    with caplog.at_level("INFO"), store.locked(study.store):
+        products.prepare_store("spectra", study.store, SPEC, SPEC.digest, study.motions)
+        cluster.fill_store(integrity.open_checked(study.store, "r+"),
+                           partial(_fill_and_look, seen_file=str(seen_file)), study.motions,
+                           config_digest=SPEC.digest, in_process_analyses=0, n_workers=1)
+    seen = json.loads(seen_file.read_text())
+    line = next(r.message for r in caplog.records if "dashboard:" in r.message)
+    port = int(line.split("dashboard: http://127.0.0.1:")[1].split("/")[0])
+    assert ["127.0.0.1", port] in seen["listening"], (line, seen)
+    assert {ip for ip, _ in seen["listening"]} == {"127.0.0.1"}, seen
+    assert Path(seen["scratch"]).is_relative_to(study.store.parent.resolve()), seen
+    assert not list(study.store.parent.glob(".dask-scratch-*"))
+
+
+def test_dashboard_can_be_turned_off_or_moved():
+    import urllib.error
+    import urllib.request
+
+    lines = []
+    with cluster.dask_client(cluster.Target("local"), 1, dashboard_address="off",
+                             say=lines.append) as c:
+        assert "dashboard: off" in lines[0]
+        port = c.cluster.scheduler.services["dashboard"].port  # /health etc. only
+        assert _listening(port) == {"127.0.0.1"}
+        with pytest.raises(urllib.error.HTTPError, match="404"):
+            urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=10)
+    lines = []
+    with cluster.dask_client(cluster.Target("local"), 1, dashboard_address="127.0.0.1:0",
+                             say=lines.append) as c:
+        port = c.cluster.scheduler.services["dashboard"].port
+        assert f"dashboard: http://127.0.0.1:{port}/status" in lines[0]
+        assert _listening(port) == {"127.0.0.1"}
+
+
+# The workflow itself: the sidecars are declared inputs, a copied output folder is remade
+# where its configuration changed (one tiny study with stripes and a hazard, run once).
+
+TINY_RISK = {
+    "accuracy": "fast", "motions": {"max_duration": 3.0},
+    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7}},
+    "studies": {"tiny": {
+        "ensemble": "tiny", "hazard": {"k0": 2.0e-4, "k": 2.2}, "R": [1.0, 3.0], "chunk_R": 1,
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["overturning"]}],
+        "stripes": {"modes": ["3d"], "tan_alpha": 0.2, "limit_states": ["overturning"],
+                    "R": [3.0], "intensity": {"start": 1.1, "stop": 15.0, "num": 4,
+                                              "spacing": "log"},
+                    "refine": 2, "bootstrap": 20}}},
+    "dask": {"progress_interval": 0}}
+
+
+def _snakemake(workdir: Path, cfg: dict, *args: str) -> str:
+    (workdir / "c.yaml").write_text(yaml.safe_dump(cfg))
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"),
+                          "--configfile", "c.yaml", "--cores", "2", *args],
+                         capture_output=True, text=True, cwd=workdir, timeout=1800)
+    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    return out.stdout + out.stderr
+
+
+def _planned(text: str) -> set[str]:
+    return {line.split()[-1].rstrip(":") for line in text.splitlines()
+            if line.startswith(("rule ", "localrule "))}
+
+
+@pytest.mark.slow
+def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp_path):
+    """Before: a deleted stripe_fragility_bootstrap.nc was not remade after a hazard change
+    (risk.csv's stripe intervals silently blank); a folder copied with `cp -a` kept its
+    suite_fragility.csv when a measure was added (risk: "add sa:1.0 to the study's
+    intensity_measures" although it was there)."""
+    cfg = json.loads(json.dumps(TINY_RISK))
+    targets = ["results/tiny/risk.csv", "results/tiny/suite_fragility.csv",
+               "results/tiny/figures/stripe_fragility_3d.png"]
+    _snakemake(tmp_path, cfg, *targets)
+    tiny = tmp_path / "results/tiny"
+    for name in ("stripe_fragility_bootstrap.nc", "suite_fragility_bootstrap.nc",
+                 "fragility_bootstrap.nc"):
+        with xr.open_dataset(tiny / name) as ds:
+            assert len(ds.attrs["table_sha256"]) == 64 and ds.attrs["motions_sha256"]
+    assert json.loads((tiny / "stripe_fragility_refined.jsonl").read_text()
+                      .splitlines()[0])["provenance"]["config_hash"]
+    # a deleted sidecar, then a hazard change: the sidecar is remade before risk reads it
+    (tiny / "stripe_fragility_bootstrap.nc").unlink()
+    cfg["studies"]["tiny"]["hazard"]["k0"] = 3.0e-4
+    assert {"stripe_fragility", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
+                                                               "results/tiny/risk.csv"))
+    # the folder copied, a measure added and the hazard put in it: the tables remade
+    subprocess.run(["cp", "-a", str(tmp_path / "results"), str(tmp_path / "copy")], check=True)
+    cfg.update(output="copy")
+    cfg["studies"]["tiny"].update(intensity_measures=["pga", "sa:1.0"],
+                                  hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
+    assert {"records_table", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
+                                                            "copy/tiny/risk.csv"))
+    _snakemake(tmp_path, cfg, "copy/tiny/risk.csv")
+    risk = pd.read_csv(tmp_path / "copy/tiny/risk.csv")
+    assert set(risk["measure"]) == {"sa:1.0"}
+    # nothing left to do: the stamps are rewritten only when what they record changes
+    assert _planned(_snakemake(tmp_path, cfg, "-n", "copy/tiny/risk.csv")) == set()
+
+
+def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
+    """The compute rules (exit 120, no reason, before): a chunk that cannot be written."""
+    (full_disk / "filler").unlink()
+    rc, err = _log_block(tmp_path, textwrap.dedent(f"""\
+        from functools import partial
+        import _store_standins as standin
+        from rocking.motions.ensemble_io import save_ensemble
+        from rocking.study import cluster, integrity, prepare, products, store, tasks
+        from rocking.study.study_spec import StudySpec
+        spec = StudySpec.from_config({CONFIG!r}, "s").spectra
+        motions = {str(tmp_path / "m.nc")!r}
+        save_ensemble(motions, standin.motions(n=3))
+        path = prepare.keyed({str(full_disk / "spectra.zarr")!r}, spec.digest)
+        products.prepare_store("spectra", path, spec, spec.digest, motions)
+        with open({str(full_disk / "filler")!r}, "wb") as fh:  # the disk fills up
+            try:
+                while True:
+                    fh.write(b"0" * 4096)
+                    fh.flush()
+            except OSError:
+                pass
+        cluster.fill_store(integrity.open_checked(path, "r+"),
+                           partial(tasks.fill_spectra_region, batch=standin.batch), motions,
+                           config_digest=spec.digest, in_process_analyses=10**9)
+        """).replace("\n", "\n            "), outputs=[full_disk / "spectra.done.json"])
+    assert rc == 1, err
+    (line,) = err.strip().splitlines()[-1:]
+    assert line.startswith("error: no space left on ") and str(full_disk) in line, err
+    assert len(err.strip().splitlines()) == 1, err

@@ -152,8 +152,8 @@ def fragility_csv(tmp_path):
     table = F.fragility_table(s, upper=12.0)
     boot = F.fragility_bootstrap(s, table, upper=12.0, n_resamples=300)
     path = tmp_path / "fragility.csv"
-    write_bootstrap(boot, bootstrap_path(path))
     F.to_frame(F.with_interval(table, boot)).to_csv(path, index=False, float_format="%.10g")
+    write_bootstrap(boot, bootstrap_path(path), table=path)  # after its table, as the rule
     return path
 
 

@@ -166,6 +166,15 @@ def stripe_targets():
     return out
 
 
+def provenance_stamp(path, what):
+    """``path`` holding ``what`` (JSON), written (atomically) only when its content differs:
+    its date is when ``what`` last changed, so a rule taking it as input reruns then
+    (rocking._provenance.write_stamp)."""
+    from rocking._provenance import write_stamp
+
+    return str(write_stamp(path, what))
+
+
 def _check_config():
     """Grids and specs build without error (the cross-field checks of
     rocking.study.config_checks ran in the Snakefile); each error names the key and value."""

@@ -9,6 +9,7 @@
 # row is written, with its status where there is no fit. Helpers in risk_common.smk.
 
 from rocking.plot.risk import CAPTION as RISK_CAPTION
+from rocking.risk.bootstrap import bootstrap_path
 
 
 rule risk:
@@ -20,6 +21,15 @@ rule risk:
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
         stripes=lambda wildcards: stripe_fragility_csv(wildcards.study),
         suite=lambda wildcards: suite_fragility_csv(wildcards.study),
+        # the bootstrap samples read beside those tables: declared, so a deleted one is
+        # remade (never a silent blank interval)
+        stripes_bootstrap=lambda wildcards: [str(bootstrap_path(f)) for f in
+                                             stripe_fragility_csv(wildcards.study)],
+        suite_bootstrap=lambda wildcards: [str(bootstrap_path(f)) for f in
+                                           suite_fragility_csv(wildcards.study)],
+        # the hazard and settings the table is made with (rewritten when they change: a
+        # copied output folder reruns risk by date, rules/records_table.smk)
+        provenance=lambda wildcards: risk_stamp(wildcards.study),
     output:
         nrml=out_path("{study}/fragility.nrml.xml"),
         pelicun=out_path("{study}/fragility.pelicun.csv"),

@@ -6,8 +6,9 @@
 
 
 # Separated fits are refined here, in-process (a few stripes: their analyses are kept in
-# stripes-<digest>.refined.jsonl beside the store, so a killed job resumes), and every row is
-# bootstrapped over the motions (stripe_fragility_bootstrap.nc).
+# stripes-<digest>.refined.jsonl beside the store, so a killed job resumes; its first line
+# records the store's config hash and the motions' sha256, checked on read), and every row is
+# bootstrapped over the motions (stripe_fragility_bootstrap.nc, recording the table's sha256).
 rule stripe_fragility:
     input:
         complete=rules.stripes.output.done,
@@ -18,6 +19,9 @@ rule stripe_fragility:
                    caption="../report/stripe_fragility.rst", category="Beyond the paper",
                    labels={"study": "{study}", "table": "stripe fragility"}),
         samples=out_path("{study}/stripe_fragility_bootstrap.nc"),
+        # the refined analyses the table used (the store's cache, copied whole): the figure
+        # replays them from here, a declared input
+        refined=out_path("{study}/stripe_fragility_refined.jsonl"),
     params:
         store=lambda wildcards: product_store("stripes", wildcards.study),
         refine=lambda wildcards: study_spec(wildcards.study).stripes.refine,
@@ -33,6 +37,7 @@ rule stripe_fragility:
 rule stripe_fragility_figure:
     input:
         table=rules.stripe_fragility.output.csv,
+        refined=rules.stripe_fragility.output.refined,
         fragility=rules.fragility_curves.output.fragility_nc,
     output:
         png=report(out_path("{study}/figures/stripe_fragility_{mode}.png"),

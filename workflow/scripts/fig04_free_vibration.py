@@ -7,7 +7,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         render("fig04_free_vibration", [out.png, out.pdf], out.notes,
                duration=float(snakemake.params.duration), **snakemake.params.model_options)
 

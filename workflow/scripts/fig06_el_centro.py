@@ -7,7 +7,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         record = load_ensemble(snakemake.input.motions)[0]
         render("fig06_el_centro", [out.png, out.pdf], out.notes, motion=record,
                sensitivity=snakemake.input.sensitivity, **snakemake.params.model_options)

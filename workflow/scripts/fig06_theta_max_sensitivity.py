@@ -8,7 +8,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         spec = snakemake.params.spec
         render("fig06_theta_max_sensitivity", [out.png, out.pdf], out.notes,
                record=read_motion(spec["record"], spec["paths"]), mw=spec["mw"],

@@ -8,7 +8,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         render("fig08_motions", [out.png, out.pdf], out.notes,
                motions=load_ensemble(snakemake.input.motions),
                comparison=load_ensemble(snakemake.input.comparison),

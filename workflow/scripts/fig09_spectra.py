@@ -6,7 +6,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         render("fig09_spectra", [out.png, out.pdf], out.notes, store=snakemake.params.store,
                means=snakemake.input.means, motions=snakemake.input.motions,
                paper=bool(snakemake.params.get("paper", True)))

@@ -6,7 +6,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         render("fig11_slenderness", [out.png, out.pdf], out.notes, means=snakemake.input.means,
                motions=snakemake.input.motions, paper=bool(snakemake.params.paper))
 

@@ -6,11 +6,12 @@ from rocking.plot import open_means, open_store, render
 from rocking.risk.bootstrap import write_bootstrap
 from rocking.spectra import fragility
 from rocking.study.logs import log_to
+from rocking.study.store_attrs import store_provenance
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         store = open_store(snakemake.params.store)
         upper = float(snakemake.params.upper)
         table = fragility.fragility_table(store, upper=upper)
@@ -19,10 +20,12 @@ def main(snakemake):
         print(f"bootstrap of the fragility over the motions: {samples.sizes['resample']} "
               f"resamples of {samples.sizes['row']} rows in "
               f"{time.perf_counter() - started:.1f} s")
-        write_bootstrap(samples, out.bootstrap)
         table = fragility.with_interval(table, samples)
         table.to_netcdf(out.fragility_nc)
         fragility.to_frame(table).to_csv(out.fragility_csv, index=False, float_format="%.10g")
+        # after the table: the samples record its sha256 (and the store's provenance)
+        write_bootstrap(samples, out.bootstrap, table=out.fragility_csv,
+                        provenance=store_provenance(store.attrs))
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")

@@ -9,7 +9,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     store = snakemake.params.store
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         require_intact(store, say=print)  # a damaged chunk is never aggregated into other numbers
         with xr.open_zarr(store, consolidated=True) as ds:
             stats = ensemble_statistics(ds)

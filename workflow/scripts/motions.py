@@ -38,7 +38,8 @@ def main(snakemake):
     # a line every progress interval between stages: the fit and the synthesis of many
     # pairs have no progress of their own
     interval = float(snakemake.config["dask"]["progress_interval"])
-    with log_to(snakemake.log[0]), heartbeat(say, interval, f"building {name}") as stage:
+    with log_to(snakemake.log[0], outputs=snakemake.output), \
+            heartbeat(say, interval, f"building {name}") as stage:
         def said(message):
             stage[0] = f"after: {message}"
             say(message)

@@ -10,7 +10,7 @@ from rocking.study.warmup import variants_asked, warm_numba_cache
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         t0 = time.perf_counter()
         # the kernels' variants with the monitors or the vertical forcing only where asked
         monitors, vertical = variants_asked(snakemake.config)

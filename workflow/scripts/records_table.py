@@ -10,7 +10,7 @@ from rocking.study.records import write_record_tables
 
 def main(snakemake):
     store = snakemake.params.store
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         require_intact(store, say=print)  # a damaged chunk is never tabulated
         n_rows, n_fits = write_record_tables(store, snakemake.input.motions,
                                              snakemake.params.measures,

@@ -24,7 +24,7 @@ def workflow_elapsed() -> float | None:
 def main(snakemake):
     inp = snakemake.input
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         run = what_was_run(stores=list(snakemake.params.stores),
                            tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),

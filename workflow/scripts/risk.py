@@ -18,7 +18,7 @@ def _one(files):
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         hazard = parse_hazard(params.hazard)
         summary = write_risk_outputs(snakemake.input.fragility, hazard, nrml=out.nrml,
                                      pelicun=out.pelicun, table=out.table,

@@ -6,7 +6,7 @@ from rocking.study.logs import log_to
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         with open(snakemake.output[0], "w") as fh:
             fh.write("# Configuration of this run, with the schema's defaults filled in\n"
                      "# (config/README.md explains every key; dask.* as of the run that\n"

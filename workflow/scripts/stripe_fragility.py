@@ -8,11 +8,12 @@ from rocking.study.stripes import write_stripe_fragility
 
 def main(snakemake):
     p = snakemake.params
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         write_stripe_fragility(p.store, snakemake.output.csv, snakemake.output.samples,
                                fragility=snakemake.input.fragility,
                                motions=snakemake.input.motions, refine=int(p.refine),
-                               resamples=int(p.bootstrap), study=snakemake.wildcards.study)
+                               resamples=int(p.bootstrap), study=snakemake.wildcards.study,
+                               refined=snakemake.output.refined)
 
 
 if __name__ == "__main__":

@@ -7,9 +7,10 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         d = fig.data(snakemake.params.store, snakemake.input.fragility,
-                     mode=snakemake.wildcards.mode, table=snakemake.input.table)
+                     mode=snakemake.wildcards.mode, table=snakemake.input.table,
+                     refined=snakemake.input.refined)
         save(fig.plot(d), [out.png, out.pdf])
         write_notes(out.notes, {"figure": "stripe_fragility",
                                 **{k: d[k] for k in ("measured", "missing", "mode")}})

@@ -9,7 +9,7 @@ from rocking.study.logs import log_to
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to(snakemake.log[0]):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
         summary = write_fragility_exports(snakemake.input.stripes, nrml=out.nrml,
                                           pelicun=out.pelicun, search_upper=float(params.upper),
                                           study=params.study)

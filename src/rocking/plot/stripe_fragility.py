@@ -36,7 +36,7 @@ CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stri
 
 
 def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_3D,
-         table: str | Path | None = None) -> dict:
+         table: str | Path | None = None, refined: str | Path | None = None) -> dict:
     """Stripe fractions, fits, brackets and intervals for every (limit state, R) of ``mode``.
 
     Parameters
@@ -50,6 +50,9 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``stripe_fragility.csv`` (refined, bootstrapped): its rows are drawn, and its
         refined stripes replayed from the store's refinement file; None: the stripes as
         asked, fitted here.
+    refined : path, optional
+        The refined analyses to replay (``stripe_fragility_refined.jsonl``, written with the
+        table); default the store's refinement file.
 
     Returns
     -------
@@ -69,7 +72,8 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
     if table is not None:
         tab = read_table(table)
         budget = int(tab["n_refined"].max()) if len(tab) else 0
-        rows = st.stripe_rows(ds, refine=budget, cache=st.refine_cache_path(stripes))
+        rows = st.stripe_rows(ds, refine=budget,
+                              cache=refined or st.refine_cache_path(stripes))
     else:
         first = None
         if fragility is not None:

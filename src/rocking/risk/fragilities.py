@@ -18,6 +18,7 @@ the kind in their ids and a column (:data:`KINDS`).
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -28,6 +29,8 @@ import pandas as pd
 from ..spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 from ..units import strip_units
 from .bootstrap import BootstrapSamples
+
+log = logging.getLogger(__name__)
 
 KEYS = ("mode", "tan_alpha", "R", "limit_state")
 """Columns that identify a fragility."""
@@ -270,7 +273,9 @@ def _in_measure(frame: pd.DataFrame, measure: str, where: str, same_measure):
         if rows.empty:
             raise ValueError(f"{where} has no fit in {measure} (its measures: "
                              f"{sorted(set(map(str, frame['measure'])))}): add {measure} to "
-                             "the study's intensity_measures")
+                             "the study's intensity_measures (if it is there, the table is "
+                             "older than the configuration: rerun with `snakemake "
+                             "--forcerun records_table`)")
         groups = [g for g in SUITE_GROUPS if g in set(rows["motions"])]
         fitted = [g for g in groups if np.isfinite(rows.loc[rows["motions"] == g,
                                                             "median"]).any()]
@@ -301,14 +306,17 @@ def _samples(source, bootstrap, n_rows: int):
 
     if bootstrap is False:
         return None
+    table = source if isinstance(source, str | Path) else None
     if bootstrap is None:
-        if not isinstance(source, str | Path):
+        if table is None:
             return None
         path = bootstrap_path(source)
-        if not path.exists():
+        if not path.exists():  # said, never a silent blank interval
+            log.warning("%s has no bootstrap samples beside it (%s): the risk table's "
+                        "lambda_p05/lambda_p95 of its rows stay empty", source, path.name)
             return None
         bootstrap = path
-    return read_bootstrap(bootstrap, n_rows)
+    return read_bootstrap(bootstrap, n_rows, table=table)
 
 
 def sort_rows(frame: pd.DataFrame) -> pd.DataFrame:

@@ -58,9 +58,56 @@ def dask_options(config: Mapping[str, Any]) -> dict[str, Any]:
     """
     d = config["dask"]
     return {"scheduler_address": d["scheduler_address"], "scheduler_file": d["scheduler_file"],
+            "dashboard_address": d.get("dashboard_address", DASHBOARD_ADDRESS),
             "progress_interval": float(d["progress_interval"]),
             "worker_timeout": float(d["worker_timeout"]),
             "in_process_analyses": IN_PROCESS_ANALYSES}
+
+
+DASHBOARD_ADDRESS = "127.0.0.1:0"
+"""Where an embedded cluster's dashboard listens by default: the loopback interface only (it
+has no login; reach it from elsewhere through an SSH tunnel), on a free port (several runs
+on one machine never clash). ``dask.dashboard_address`` changes it; null: no dashboard."""
+
+TLS_SETTINGS = ("distributed.comm.tls.ca-file", "distributed.comm.tls.client.cert",
+                "distributed.comm.tls.client.key")
+"""Dask's configuration a ``tls://`` scheduler needs on the client (e.g. the environment
+variables ``DASK_DISTRIBUTED__COMM__TLS__CA_FILE``, ``..._CLIENT__CERT``, ``..._CLIENT__KEY``)."""
+
+
+def tls_problem(address: str | None) -> str | None:
+    """Why a client could not reach the scheduler ``address`` over TLS (no TLS settings in
+    Dask's configuration), or None (not ``tls://``, or the settings are there).
+
+    Checked before any job (a dry run too): without it, Dask fails with a TypeError once
+    the first compute rule runs.
+    """
+    if not address or not str(address).strip().lower().startswith("tls://"):
+        return None
+    import dask.config
+
+    missing = [k for k in TLS_SETTINGS if not dask.config.get(k, None)]
+    if not missing:
+        return None
+    return (f"dask.scheduler_address {address!r} is a TLS scheduler but Dask's configuration "
+            f"lacks {', '.join(missing)}: give the CA file, client certificate and key "
+            f"(e.g. DASK_DISTRIBUTED__COMM__TLS__CA_FILE, "
+            f"DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT, "
+            f"DASK_DISTRIBUTED__COMM__TLS__CLIENT__KEY, or ~/.config/dask/*.yaml), or use "
+            f"dask.scheduler_file")
+
+
+def dashboard_url(cluster) -> str | None:
+    """``http://<host>:<port>/status`` of the dashboard ``cluster``'s scheduler actually
+    listens on (host as bound: 127.0.0.1, or 0.0.0.0 for every interface), or None."""
+    server = getattr(cluster.scheduler, "http_server", None)
+    sockets = getattr(server, "_sockets", {}) if server is not None else {}
+    if "dashboard" not in getattr(cluster.scheduler, "services", {}) or not sockets:
+        return None
+    hosts = sorted({sock.getsockname()[0] for sock in sockets.values()})
+    port = next(iter(sockets.values())).getsockname()[1]
+    host = hosts[0] if len(hosts) == 1 else "+".join(hosts)
+    return f"http://{host}:{port}/status"
 
 
 IN_PROCESS_ANALYSES = 400
@@ -142,6 +189,7 @@ def resolve_target(scheduler_address: str | None = None, scheduler_file: str | N
 def dask_client(target: Target, n_workers: int = 1, *,
                 local_directory: str | None = None,
                 worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
+                dashboard_address: str | None = DASHBOARD_ADDRESS,
                 say=None) -> Iterator[Client]:
     """A client on ``target``; a LocalCluster is started and stopped around the block.
 
@@ -156,6 +204,9 @@ def dask_client(target: Target, n_workers: int = 1, *,
         Scratch space of embedded workers.
     worker_timeout : float
         Seconds to wait for a worker when a joined cluster has none [s].
+    dashboard_address : str or None
+        ``host:port`` the embedded cluster's dashboard listens on (default
+        :data:`DASHBOARD_ADDRESS`, loopback only); None, "" or "off": no dashboard.
     say : callable, optional
         Where the cluster and dashboard lines go (default: the log).
 
@@ -176,14 +227,21 @@ def dask_client(target: Target, n_workers: int = 1, *,
             # distributed warns when ":0" picks a port other than its default 8787; that is
             # the point of ":0" (several runs on one machine never clash)
             warnings.simplefilter("ignore", UserWarning)
+            off = dashboard_address is None or str(dashboard_address).strip().lower() in (
+                "", "off", "none", "false")
+            # scheduler and workers on loopback; the dashboard where asked (loopback
+            # by default: distributed's own default, ":0", is every interface)
             cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0", scheduler_port=0,
+                                   host="127.0.0.1", scheduler_port=0,
+                                   dashboard_address=None if off else str(dashboard_address),
                                    local_directory=local_directory,
                                    silence_logs=logging.WARNING)
         try:
             with Client(cluster) as client:
                 say(f"embedded Dask LocalCluster: {n_workers} worker processes, 1 thread "
-                    f"each; dashboard: {client.dashboard_link}")
+                    f"each; dashboard: {'off' if off else dashboard_url(cluster)}"
+                    + (f"; worker scratch space {local_directory}" if local_directory
+                       else ""))
                 yield client
         finally:
             cluster.close()
@@ -454,12 +512,28 @@ def run_in_process(fn: Callable[..., dict], indices: Sequence[int], path: str, m
     return reports
 
 
+@contextlib.contextmanager
+def scratch_space(folder: str | Path) -> Iterator[str]:
+    """A temporary folder ``.dask-scratch-*`` in ``folder`` (the run's output, beside the
+    store) for embedded workers' spill and scratch files, removed when the block ends: never
+    /tmp/dask-scratch-space, shared by every user of the machine."""
+    import shutil
+    import tempfile
+
+    tmp = tempfile.mkdtemp(prefix=".dask-scratch-", dir=folder)
+    try:
+        yield tmp
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
 def fill_store(store: StoreHandle, fn: Callable[..., dict], motions: str | Path, *,
                config_digest: str, n_workers: int = 1, scheduler_address: str | None = None,
                scheduler_file: str | None = None, progress_interval: float = 10.0,
                key: str = "region", worker_timeout: float = DEFAULT_WORKER_TIMEOUT,
                label: str | None = None, in_process_analyses: int = 0,
-               analyses_per_point: int = 1) -> dict[str, Any]:
+               analyses_per_point: int = 1,
+               dashboard_address: str | None = DASHBOARD_ADDRESS) -> dict[str, Any]:
     """Verify the finished regions of a store, compute the others on Dask, consolidate it.
 
     Every finished region is re-read first (:func:`rocking.study.integrity.verify_store`):
@@ -499,6 +573,10 @@ def fill_store(store: StoreHandle, fn: Callable[..., dict], motions: str | Path,
     analyses_per_point : int
         Analyses a point of the store costs, for that estimate (the product's
         :attr:`~rocking.study.products.Product.analyses_per_point`).
+    dashboard_address : str or None
+        Where an embedded cluster's dashboard listens (:func:`dask_client`). Its workers'
+        scratch space is a temporary folder beside the store (under the run's output),
+        removed afterwards.
 
     Returns
     -------
@@ -536,8 +614,10 @@ def fill_store(store: StoreHandle, fn: Callable[..., dict], motions: str | Path,
                 reports = run_in_process(fn, pending, str(path), str(motions), bar)
                 target = Target("in-process")
             else:
-                with dask_client(target, n_workers, worker_timeout=worker_timeout,
-                                 say=bar.message) as client:
+                with scratch_space(path.parent) as scratch, \
+                        dask_client(target, n_workers, worker_timeout=worker_timeout,
+                                    dashboard_address=dashboard_address,
+                                    local_directory=scratch, say=bar.message) as client:
                     log.info("worker pids: %s", sorted(worker_pids(client).values()))
                     reports = run_regions(client, fn, pending, (str(path),),
                                           {"motions": str(motions)},

@@ -150,6 +150,7 @@ def check_config(config: Mapping[str, Any]) -> None:
     from .ensemble_spec import EnsembleSpec
 
     config = resolve_dimensions(config)
+    _check_tls(config)
 
     max_duration = (config.get("motions") or {}).get("max_duration")
     n_motions = {}
@@ -184,6 +185,21 @@ def check_config(config: Mapping[str, Any]) -> None:
         if s.get("tilt_map") is not None:
             _check_tilt_map_motion(f"studies.{study}.tilt_map", s["tilt_map"].get("motion"),
                                    EnsembleSpec.from_config(config, s["ensemble"]))
+
+
+def _check_tls(config: Mapping[str, Any]) -> None:
+    """A ``tls://`` scheduler (``dask.scheduler_address``, else DASK_SCHEDULER_ADDRESS) needs
+    Dask's TLS settings: refused now, naming them, not with a TypeError mid-run."""
+    import os
+
+    address = (config.get("dask") or {}).get("scheduler_address") or os.environ.get(
+        "DASK_SCHEDULER_ADDRESS", "")
+    if str(address).strip().lower().startswith("tls://"):
+        from .cluster import tls_problem
+
+        problem = tls_problem(str(address).strip())
+        if problem:
+            raise ValueError(problem)
 
 
 def _record_keys(key: str, ens):

@@ -37,6 +37,7 @@ from ..motions.identity import identity
 from ..motions.measures import DEFAULT_COMPONENT, MEASURE_UNITS, intensity_measure, parse_measure
 from ..motions.motion import GroundMotion
 from .aggregate import nullable_flag, requested_answers
+from .store_attrs import store_provenance
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
            "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
@@ -425,7 +426,7 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     from ..motions.ensemble_io import load_ensemble
     from ..spectra.fragility import censoring_bound
     from ..units import CSV_FLOAT_FORMAT
-    from .store import read_attrs
+    from .store import open_group, read_attrs
 
     motions = load_ensemble(motions_path)
     components = list(dict.fromkeys([component, *also]))
@@ -443,11 +444,12 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     records.rename(columns=_headers(records.columns, measures, component)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
-    _write_bootstrap(fragility, fragility_csv)
+    _write_bootstrap(fragility, fragility_csv,
+                     store_provenance(open_group(store_path, "r").attrs))
     return len(records), len(fragility)
 
 
-def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
+def _write_bootstrap(fragility, fragility_csv: str | Path, provenance: dict) -> None:
     """``suite_fragility_bootstrap.nc`` beside the table: θ [the row's unit] and β of every
     resample, rows in the CSV's order (:mod:`rocking.risk.bootstrap`)."""
     import xarray as xr
@@ -464,6 +466,8 @@ def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
                                           fragility["component"].astype(str).to_numpy())})
     ds.attrs.update(fragility="first_exceedance", seed=BOOTSTRAP_SEED,
                     unit="the row's measure unit (g for pga and sa, m/s for pgv)")
-    write_bootstrap(ds, bootstrap_path(fragility_csv))
+    write_bootstrap(ds, bootstrap_path(fragility_csv), table=fragility_csv,
+                    provenance={**provenance, "measures": " ".join(
+                        dict.fromkeys(fragility["measure"].astype(str)))})
 
 

@@ -31,7 +31,7 @@ from . import store, tasks
 from .damping import Damping
 from .layout import Layout, Variable, label_coord, region_coords, value_coord
 from .product_specs import StripesSpec
-from .store_attrs import decode_attrs
+from .store_attrs import decode_attrs, store_provenance
 
 log = logging.getLogger(__name__)
 
@@ -211,11 +211,20 @@ class RefineCache:
     exactly (JSON keeps every float). A line cut short by the kill is dropped on opening.
 
     Keys are (mode, R [m], motion, stripe [measure/(g tan α)]); values (exceeded per limit
-    state, failed, analyses run).
+    state, failed, analyses run). The first line records what made the analyses
+    (``provenance``: the store's ``config_hash`` and the motions' ``motions_sha256``,
+    :func:`rocking.study.store_attrs.store_provenance`), every line its own CRC-32: a file of
+    another store or motions (copied from another study) is started anew where the analyses
+    can be redone (``rebuild``), else refused; a damaged line is refused, naming the file and
+    the way out (:class:`rocking._provenance.ProvenanceError`).
     """
 
-    def __init__(self, path: str | Path | None):
+    def __init__(self, path: str | Path | None, provenance: dict | None = None, *,
+                 rebuild: bool = False):
+        from .._provenance import ProvenanceError, mismatches, remake_hint
+
         self.path = None if path is None else Path(path)
+        self.provenance = dict(provenance or {})
         self._data: dict[tuple, tuple] = {}
         if self.path is None or not self.path.exists():
             return
@@ -223,8 +232,27 @@ class RefineCache:
         if raw and not raw.endswith(b"\n"):  # killed while writing: drop the cut line
             raw = raw[: raw.rfind(b"\n") + 1]
             self.path.write_bytes(raw)
-        for line in raw.decode().splitlines():
-            d = json.loads(line)
+        lines = raw.splitlines()
+        way_out = (f"delete it and {remake_hint(self.path)} (its analyses are redone)")
+        if lines and _legacy(lines[0]):  # made before caches recorded their provenance
+            wrong = ["no provenance recorded (an older file)"]
+        else:
+            header = _record(lines[0], self.path, 1, way_out) if lines else {}
+            found = header.get("provenance")
+            if lines and not isinstance(found, dict):
+                raise ProvenanceError(f"{self.path} line 1 is not its provenance line: "
+                                      f"{way_out}")
+            wrong = mismatches(found or {}, self.provenance) if self.provenance else []
+        if wrong:
+            if not rebuild:
+                raise ProvenanceError(f"{self.path} holds analyses of another store or "
+                                      f"motions ({'; '.join(wrong)}): {remake_hint(self.path)}")
+            log.warning("%s holds analyses of another store or motions (%s): started anew",
+                        self.path, "; ".join(wrong))
+            self.path.unlink()
+            return
+        for n, line in enumerate(lines[1:], start=2):
+            d = _record(line, self.path, n, way_out)
             self._data[(d["mode"], d["R"], d["motion"], d["x"])] = (
                 tuple(d["exceeded"]), d["failed"], d["runs"])
 
@@ -239,13 +267,61 @@ class RefineCache:
         if self.path is None:
             return
         mode, R, motion, x = key
-        line = json.dumps({"mode": mode, "R": R, "motion": motion, "x": x,
-                           "exceeded": [bool(v) for v in value[0]], "failed": bool(value[1]),
-                           "runs": int(value[2])})
+        line = _line({"mode": mode, "R": R, "motion": motion, "x": x,
+                      "exceeded": [bool(v) for v in value[0]], "failed": bool(value[1]),
+                      "runs": int(value[2])})
+        if not self.path.exists():
+            line = _line({"provenance": self.provenance}) + line
         with open(self.path, "a") as fh:
-            fh.write(line + "\n")
+            fh.write(line)
             fh.flush()
             os.fsync(fh.fileno())
+
+    def copy_to(self, path: str | Path) -> Path:
+        """The analyses as a file of their own (its provenance line first), written whole
+        under a temporary name: what a figure replays the refinement from."""
+        from .._provenance import write_atomic
+
+        body = _line({"provenance": self.provenance}) + "".join(
+            _line({"mode": k[0], "R": k[1], "motion": k[2], "x": k[3],
+                   "exceeded": list(v[0]), "failed": v[1], "runs": v[2]})
+            for k, v in self._data.items())
+        return write_atomic(path, lambda tmp: Path(tmp).write_text(body))
+
+
+def _line(record: dict) -> str:
+    """One line of a :class:`RefineCache` file: the record and the CRC-32 of its JSON."""
+    import zlib
+
+    text = json.dumps(record, sort_keys=True)
+    return json.dumps({**record, "crc32": zlib.crc32(text.encode())}, sort_keys=True) + "\n"
+
+
+def _legacy(line: bytes) -> bool:
+    """A line of a cache written before lines carried a checksum (an analysis record)."""
+    try:
+        d = json.loads(line)
+    except ValueError:
+        return False
+    return isinstance(d, dict) and "crc32" not in d and {"mode", "R", "x"} <= set(d)
+
+
+def _record(line: bytes, path: Path, n: int, way_out: str) -> dict:
+    """The record of one line of a :class:`RefineCache` file, its CRC-32 checked."""
+    import zlib
+
+    from .._provenance import ProvenanceError
+
+    try:
+        d = json.loads(line)
+        crc = d.pop("crc32")
+        ok = zlib.crc32(json.dumps(d, sort_keys=True).encode()) == crc
+    except (ValueError, TypeError, KeyError, AttributeError, UnicodeDecodeError):
+        ok = False
+    if not ok:
+        raise ProvenanceError(f"{path} line {n} is damaged (not the record its checksum "
+                              f"was written for): {way_out}")
+    return d
 
 
 def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
@@ -298,7 +374,8 @@ def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = N
         Most stripes added per row (:func:`rocking.spectra.stripes.refine_stripes`); 0: none.
     cache : path, optional
         The :class:`RefineCache` file (:func:`refine_cache_path`): analyses found there are
-        not redone, new ones are added.
+        not redone, new ones are added; a file of another store or motions is started anew
+        (with ``motions``) or refused.
     motions : path, optional
         The ensemble file, to analyse refined stripes not in ``cache`` (None: every one must
         be there, as when a figure replays the refinement).
@@ -311,7 +388,8 @@ def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = N
     """
     from ..spectra.stripes import refine_stripes
 
-    store_cache = RefineCache(cache)
+    # analyses of another store or motions are redone where they can be (motions given)
+    store_cache = RefineCache(cache, store_provenance(ds.attrs), rebuild=motions is not None)
     out = {}
     for (mode, R), r in stripe_fits(ds).items():
         analyze = None
@@ -499,28 +577,40 @@ __all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMN
 def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str | Path, *,
                            fragility: str | Path | None = None,
                            motions: tasks.MotionSource | None = None, refine: int = 0,
-                           resamples: int = 0, study: str = "") -> pd.DataFrame:
+                           resamples: int = 0, study: str = "",
+                           refined: str | Path | None = None) -> pd.DataFrame:
     """``stripe_fragility.csv`` and ``stripe_fragility_bootstrap.nc`` of a stripes store.
 
     Refines separated rows (analyses kept in :func:`refine_cache_path`, so a killed run
-    resumes), bootstraps every row over the motions, and writes both files. Returns the
-    table (bare column names).
+    resumes), bootstraps every row over the motions, and writes both files (the samples
+    record the table's sha256 and the store's provenance). ``refined``: the refined
+    analyses are also written there, whole (what the figure replays). Returns the table
+    (bare column names).
     """
+    from .._provenance import write_atomic
+
     first = None
     if fragility is not None:
         with xr.open_dataset(fragility) as f:
             first = f.load()
     ds = xr.open_zarr(store_path, consolidated=True)
     t0 = time.perf_counter()
-    rows = stripe_rows(ds, refine=refine, cache=refine_cache_path(store_path), motions=motions)
+    cache = refine_cache_path(store_path)
+    rows = stripe_rows(ds, refine=refine, cache=cache, motions=motions)
     log.info("fits of %d rows (%d refined, %d stripes added) in %.1f s", len(rows),
              sum(r.n_refined > 0 for r in rows.values()),
              sum(r.n_refined for r in rows.values()), time.perf_counter() - t0)
     boot = bootstrap_rows(rows, resamples) if resamples > 0 else None
     table = stripe_table(ds, first, rows=rows, boot=boot)
-    table.rename(columns=table_headers(table)).to_csv(csv, index=False, float_format="%.10g")
+    write_atomic(csv, lambda tmp: table.rename(columns=table_headers(table)).to_csv(
+        tmp, index=False, float_format="%.10g"))
     empty = {k: {"median": np.zeros(0), "beta": np.zeros(0), "status": np.zeros(0, np.int8)}
              for k in rows}
-    bootstrap_dataset(table, rows, boot if boot is not None else empty,
-                      study=study).to_netcdf(samples)
+    from ..risk.bootstrap import write_bootstrap
+
+    write_bootstrap(bootstrap_dataset(table, rows, boot if boot is not None else empty,
+                                      study=study), samples, table=csv,
+                    provenance=store_provenance(ds.attrs))
+    if refined is not None:
+        RefineCache(cache, store_provenance(ds.attrs)).copy_to(refined)
     return table
