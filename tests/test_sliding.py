@@ -244,8 +244,38 @@ def test_the_report_counts_the_answers_that_slide_or_lift_off():
     text = validity_text(ds, 0.6)
     assert "μ = 0.6" in text and "3d: slides 0, lifts off 3 of 6" in text
     assert "2d-x: slides 1, lifts off 0 of 6" in text
-    plain = validity_text(ds.assign(slides=xr.full_like(ds["slides"], np.nan)), None)
-    assert "sliding not checked" in plain and "slides" not in plain.split("—")[1]
+    no_mu = ds.assign(slides=xr.full_like(ds["slides"], np.nan))
+    # no μ and no sliding goal: the kernels ran without the monitors, nothing was looked at
+    plain = validity_text(no_mu, None)
+    assert "neither sliding nor lift-off was looked at" in plain and "3 of 6" not in plain
+    # a sliding goal runs the monitors: lift-off is counted, sliding is not judged without μ
+    watched = validity_text(no_mu.assign_coords(limit_state=["sliding:0.5", "overturning"]),
+                            None)
+    assert "sliding not checked" in watched and "3d: lifts off 3 of 6" in watched
+    assert "slides" not in watched.split("—")[1]
+
+
+def test_tables_leave_lifts_off_empty_where_nothing_was_monitored():
+    import xarray as xr
+
+    from rocking.study.aggregate import critical_frame, monitored
+
+    dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
+    shape = (2, 2, 2, 1, 1)
+    ds = xr.Dataset({"pga_crit": (dims, np.full(shape, 2.0)),
+                     "pga_crit_g": (dims, np.full(shape, 0.4)),
+                     "lifts_off": (dims, np.ones(shape, dtype=bool)),
+                     "requested": (("mode", "limit_state", "tan_alpha"),
+                                   np.array([[[True], [False]], [[True], [True]]]))},
+                    coords={"mode": ["3d", "2d-x"], "limit_state": ["overturning",
+                                                                   "sliding:0.5"],
+                            "motion": ["a", "b"], "tan_alpha": [0.2], "R": [1.0]})
+    # 3d asked overturning only (no monitors), 2d-x also the sliding goal (monitored)
+    assert monitored(ds).sel(tan_alpha=0.2).values.tolist() == [False, True]
+    frame = critical_frame(ds)
+    by_mode = {m: frame.loc[frame["mode"] == m, "lifts_off"] for m in ("3d", "2d-x")}
+    assert by_mode["3d"].isna().all() and len(by_mode["3d"]) == 2
+    assert by_mode["2d-x"].eq(True).all() and len(by_mode["2d-x"]) == 4
 
 
 def test_stripes_mu_adds_the_sliding_fragility_and_refuses_zero(capsys, monkeypatch):

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..spectra.limit_states import limit_state_title
+from ..study.aggregate import monitored
 from ..study.product_specs import SpectraSpec, TiltMapSpec
 from ..study.store_attrs import decode_attrs
 from . import _load
@@ -149,7 +150,15 @@ def validity_text(ds, mu: float | None) -> str:
         requested = ds["requested"].broadcast_like(ds["lifts_off"]).transpose(
             *ds["lifts_off"].dims).values.astype(bool)
     axis = ds["lifts_off"].dims.index("mode")
-    flags = {"lifts off": ds["lifts_off"].values.astype(bool) & requested}
+    seen = np.ones(requested.shape, dtype=bool) if mu is not None else monitored(
+        ds).broadcast_like(ds["lifts_off"]).transpose(*ds["lifts_off"].dims).values.astype(bool)
+    if not seen.any():
+        head = ("no support friction coefficient given and no sliding goal: the analyses "
+                "ran without the support monitors (docs/models.md, compiled in only where "
+                "asked), so neither sliding nor lift-off was looked at; give mu: to check "
+                "both")
+        return head + " (docs/models.md)."
+    flags = {"lifts off": ds["lifts_off"].values.astype(bool) & requested & seen}
     if mu is not None and "slides" in ds:
         flags = {"slides": (ds["slides"].values == 1) & requested, **flags}
     per = [f"{m}: " + ", ".join(f"{name} {int(np.take(f, i, axis).sum())}"

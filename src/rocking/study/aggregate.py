@@ -101,14 +101,40 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
+def monitored(ds: xr.Dataset) -> xr.DataArray:
+    """Per (mode, tan_alpha), whether the searches ran the support monitors (N, μ_req), so
+    that ``lifts_off`` was looked at: only where the study gave μ or a requested limit state
+    of that (mode, tan α) watches them (sliding; :func:`rocking.spectra.critical.make_analysis`
+    compiles them in only there). Elsewhere ``lifts_off`` is false without having been looked
+    at, and the tables leave it empty."""
+    from ..spectra.limit_states import parse_limit_state
+    from .store_attrs import decode_attrs
+
+    mu = decode_attrs(ds.attrs).get("search_options", {}).get("mu")
+    dims = tuple(d for d in ("mode", "tan_alpha") if d in ds.dims)
+    base = xr.DataArray(np.zeros([ds.sizes[d] for d in dims], dtype=bool), dims=dims,
+                        coords={d: ds[d] for d in dims})
+    if mu is not None:
+        return ~base
+    watches = xr.DataArray([parse_limit_state(str(ls)).whole_record
+                            for ls in ds["limit_state"].values], dims="limit_state",
+                           coords={"limit_state": ds["limit_state"]})
+    asked = ds["requested"].load().astype(bool) if "requested" in ds else xr.DataArray(True)
+    seen = asked & watches
+    return (seen.any([d for d in seen.dims if d not in dims]) | base).transpose(*dims)
+
+
 def validity_counts(ds: xr.Dataset, requested: xr.DataArray) -> dict[str, xr.DataArray]:
-    """``n_lifts_off`` and, where the study gave μ, ``n_slides``: per cell, the motions whose
-    analyses up to the answer had N < 0 or needed more friction than μ (reached or not;
-    left out for a store made before these flags, ``n_slides`` without μ)."""
+    """``n_lifts_off`` where the searches were monitored (:func:`monitored`; -1 elsewhere:
+    not looked at) and, where the study gave μ, ``n_slides``: per cell, the motions whose
+    analyses up to the answer had N ≤ 0 or slid in contact (reached or not; left out for a
+    store made before these flags, ``n_slides`` without μ)."""
     out = {}
     if "lifts_off" in ds:
         flag = ds["lifts_off"].load().astype(bool) & requested
-        out["n_lifts_off"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
+        count = flag.sum("motion").astype(np.int32)
+        count = count.where(monitored(ds).broadcast_like(count), -1).astype(np.int32)
+        out["n_lifts_off"] = count.transpose(*STAT_DIMS)
     if "slides" in ds and bool(ds["slides"].notnull().any()):
         flag = (ds["slides"].load() == 1.0) & requested
         out["n_slides"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
@@ -207,6 +233,27 @@ def nullable_flag(values: pd.Series) -> pd.Series:
                               dtype="boolean"), index=values.index, name=values.name)
 
 
+def unmonitored_empty(ds: xr.Dataset, frame: pd.DataFrame) -> pd.Series:
+    """``frame``'s ``lifts_off`` (rows with ``mode`` and ``tan_alpha``) as True/False where
+    the searches were monitored, empty where they were not (:func:`monitored`)."""
+    mask = monitored(ds)
+    if mask.ndim == 0:
+        seen = np.full(len(frame), bool(mask))
+    else:
+        table = mask.to_series()
+        names = list(table.index.names)
+        table.index = pd.MultiIndex.from_arrays(
+            [table.index.get_level_values(n).astype(str) if n == "mode" else
+             table.index.get_level_values(n) for n in names])
+        keys = pd.MultiIndex.from_arrays(
+            [frame[n].astype(str) if n == "mode" else frame[n] for n in names])
+        seen = table.reindex(keys).fillna(False).to_numpy(dtype=bool)
+    flag = frame["lifts_off"].astype(bool).to_numpy()
+    return pd.Series(pd.array([bool(f) if s else pd.NA for f, s in zip(flag, seen,
+                                                                        strict=True)],
+                              dtype="boolean"), index=frame.index, name="lifts_off")
+
+
 def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
     """Every computed answer of a spectra store, one row per (mode, limit_state, motion,
     tan_alpha, R) that the study's runs asked for: the critical intensity [PGA/(g tan α)],
@@ -216,6 +263,8 @@ def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
     frame = requested_answers(ds, cols)[[*dims, *cols]]
     if "slides" in frame:
         frame["slides"] = nullable_flag(frame["slides"])
+    if "lifts_off" in frame:
+        frame["lifts_off"] = unmonitored_empty(ds, frame)
     return frame.sort_values(dims, kind="stable").reset_index(drop=True).rename(columns=header)
 
 

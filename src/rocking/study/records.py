@@ -36,7 +36,7 @@ import numpy as np
 from ..motions.identity import identity
 from ..motions.measures import DEFAULT_COMPONENT, MEASURE_UNITS, intensity_measure, parse_measure
 from ..motions.motion import GroundMotion
-from .aggregate import nullable_flag, requested_answers
+from .aggregate import nullable_flag, requested_answers, unmonitored_empty
 from .store_attrs import store_provenance
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
@@ -147,8 +147,8 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
         table[column] = table[column].astype(str)
     for flag in _FLAGS:
         table[flag] = table[flag].astype(bool)
-    if "lifts_off" in table:
-        table["lifts_off"] = table["lifts_off"].astype(bool)
+    if "lifts_off" in table:  # True/False where the searches were monitored, else empty
+        table["lifts_off"] = unmonitored_empty(store, table)
     if "slides" in table:  # True/False like the other flags, empty without the study's mu
         table["slides"] = nullable_flag(table["slides"])
     scale = table["pga_crit_g"] / table["pga_g"]  # NaN where not reached
