@@ -113,7 +113,8 @@ def human(table, motion, args, accuracy: str) -> str:
         ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
         ("search", f"accuracy {accuracy}, from uplift up to PGA/(g tan α) = "
                    f"{args.upper:g} (PGA {args.upper * ta:.4g} g)"),
-        ("support", "no friction coefficient given (slides not checked)" if args.mu is None
+        ("support", "no friction coefficient given (sliding and lift-off not checked: "
+                    "--mu to check)" if args.mu is None
          else f"friction coefficient μ = {args.mu:g}"),
     ])
     body, seen = [], []
