@@ -4,6 +4,7 @@
 
 import posixpath
 import re
+import sys
 from functools import cache
 
 from rocking.study.prepare import keyed
@@ -172,7 +173,18 @@ def provenance_stamp(path, what):
     (rocking._provenance.write_stamp)."""
     from rocking._provenance import write_stamp
 
+    if _dry_run():  # a dry run writes nothing: the stamp as it is, or no input yet
+        return str(path) if Path(path).exists() else []
     return str(write_stamp(path, what))
+
+
+def _dry_run():
+    """``snakemake -n`` (``--dry-run``, or ``-n`` among short flags such as ``-np``)."""
+    if getattr(workflow, "dryrun", False):
+        return True
+    return any(a in ("--dry-run", "--dryrun") or
+               (a.startswith("-") and not a.startswith("--") and "n" in a[1:])
+               for a in sys.argv[1:])
 
 
 def _check_config():
