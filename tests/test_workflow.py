@@ -448,7 +448,8 @@ def test_two_configs_write_disjoint_outputs(tmp_path):
     d["studies"]["seed8"]["ensemble"] = "tiny"
     motions_a = {f for f in plan_a if "/motions/" in f}
     motions_d = {f for f in _planned(tmp_path, d, "d") if "/motions/" in f}
-    assert len(motions_a) == len(motions_d) == 4 and not motions_a & motions_d
+    # .nc, .compare.nc, .json, .params.json (the recorded fits) and the log
+    assert len(motions_a) == len(motions_d) == 5 and not motions_a & motions_d
 
 
 def test_a_changed_setting_adds_a_store_and_changing_back_reuses_it(reference, tmp_path):

@@ -173,8 +173,10 @@ def provenance_stamp(path, what):
     (rocking._provenance.write_stamp)."""
     from rocking._provenance import write_stamp
 
-    if _dry_run():  # a dry run writes nothing: the stamp as it is, or no input yet
-        return str(path) if Path(path).exists() else []
+    if _dry_run() and not Path(path).parent.is_dir():
+        return []  # a dry run on a fresh output folder creates nothing (no input yet)
+    # on a folder a run has made, even a dry run records what changed: its plan then shows
+    # the rules the change remakes (a folder copied with `cp -a` has no .snakemake/ record)
     return str(write_stamp(path, what))
 
 
@@ -212,3 +214,15 @@ def records_targets():
     """The per-record table and the suite's fragility of every study."""
     return [out_path(f"{study}/{name}") for study in config["studies"]
             for name in ("records.csv", "suite_fragility.csv")]
+
+
+def records_table_stamp(study):
+    """``<root>/<study>/.provenance/records_table.json``: what the study's tables are made
+    of (the spectra store, the motions file, the intensity measures), rewritten only when
+    that changes. A declared input, so a changed measure remakes suite_fragility.csv by its
+    date alone, also in a folder copied with `cp -a` (whose tables Snakemake's own record of
+    the rule's params, kept in .snakemake/, does not cover)."""
+    return provenance_stamp(out_path(f"{study}/.provenance/records_table.json"), {
+        "spectra_store": product_store("spectra", study),
+        "motions": ensemble_file(ensemble_of(study)),
+        "intensity_measures": list(study_spec(study).intensity_measures)})

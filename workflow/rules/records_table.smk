@@ -6,18 +6,6 @@
 # rocking.study.records does the work.
 
 
-def records_table_stamp(study):
-    """``<root>/<study>/.provenance/records_table.json``: what the study's tables are made
-    of (the spectra store, the motions file, the intensity measures), rewritten only when
-    that changes. A declared input, so a changed measure remakes suite_fragility.csv by its
-    date alone, also in a folder copied with `cp -a` (whose tables Snakemake's own record of
-    the rule's params, kept in .snakemake/, does not cover)."""
-    return provenance_stamp(out_path(f"{study}/.provenance/records_table.json"), {
-        "spectra_store": product_store("spectra", study),
-        "motions": ensemble_file(ensemble_of(study)),
-        "intensity_measures": list(study_spec(study).intensity_measures)})
-
-
 rule records_table:
     input:
         complete=rules.spectra.output.done,

@@ -51,16 +51,17 @@ def add_command(subparsers, name: str, *, help: str, description: str,
                                  epilog="examples:\n" + examples, formatter_class=Formatter)
 
 
-def say_compile(command: str, mode: str, quiet: bool = False) -> None:
-    """One line on stderr when the first analysis of ``mode`` will compile its model (a
-    fresh install: tens of seconds with nothing else on the terminal); nothing when the
-    kernels are in numba's cache or with ``--quiet``. Only that model is compiled."""
+def say_compile(command: str, mode: str, quiet: bool = False, monitors: bool = False) -> None:
+    """One line on stderr when the first analysis of ``mode`` (with or without the
+    validity monitors) will compile its model (a fresh install: tens of seconds with
+    nothing else on the terminal); nothing when the kernels are in numba's cache or with
+    ``--quiet``. Only that model is compiled."""
     import sys
 
     from ..dynamics.compiled import compile_notice
     from ..spectra.modes import MODES
 
-    line = None if quiet else compile_notice(MODES[mode][0])
+    line = None if quiet else compile_notice(MODES[mode][0], monitors)
     if line:
         print(f"rocking {command}: {line}", file=sys.stderr, flush=True)
 

@@ -135,7 +135,7 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out must be a folder, {str(out)!r} is a file")
     _common.writable_folder(out)
-    _common.say_compile("simulate", args.mode, args.quiet)
+    _common.say_compile("simulate", args.mode, args.quiet, monitors=True)
     if motion is not None:
         res, meta = _ground(args, body, model, component, motion, common)
     else:

@@ -247,7 +247,8 @@ def run(args) -> int:
         raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
                          f"{args.bootstrap}")
     parse_measure(args.measure)
-    _common.say_compile("stripes", args.mode, args.quiet)
+    _common.say_compile("stripes", args.mode, args.quiet,
+                        monitors=getattr(args, "mu", None) is not None)
     results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
                                 accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
                                 progress=not args.quiet, measure=args.measure,

@@ -18,13 +18,18 @@ fresh install took 42 s (issue 38, 3d); with an empty ``NUMBA_CACHE_DIR`` the fi
 load ≈ 14: the wall time was 3–4 min there)."""
 
 
-def _dispatchers(model: str) -> list:
-    """The numba dispatchers among the fields of ``model`` (its compiled entry points)."""
+def _dispatchers(model: str, monitors: bool = False, vertical: bool = False) -> list:
+    """The numba dispatchers an analysis of ``model`` calls: its compiled fields and the
+    kernel variant with or without the validity monitors and the vertical forcing
+    (:meth:`~rocking.dynamics.models.Model.kernel`; each variant compiles on its own)."""
     from .models import MODELS
 
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")
-    return [v for v in MODELS[model] if hasattr(v, "_cache") and hasattr(v, "targetctx")]
+    entry = MODELS[model]
+    found = [v for v in entry if hasattr(v, "_cache") and hasattr(v, "targetctx")]
+    kernel = entry.kernel(monitors, vertical)
+    return [*found, kernel] if hasattr(kernel, "_cache") else found
 
 
 def _cached(dispatcher) -> bool:
@@ -34,24 +39,26 @@ def _cached(dispatcher) -> bool:
     return any(key[1] == magic for key in index)
 
 
-def will_compile(model: str) -> bool | None:
-    """Whether the next analysis of ``model`` in a fresh process compiles its kernels
-    (True), loads them from numba's cache (False), or None where the cache cannot be read
-    (numba's cache layout is not a public interface: then nothing is said).
+def will_compile(model: str, monitors: bool = False, vertical: bool = False) -> bool | None:
+    """Whether the next analysis of ``model`` (its variant with or without the monitors and
+    the vertical forcing) in a fresh process compiles its kernels (True), loads them from
+    numba's cache (False), or None where the cache cannot be read (numba's cache layout is
+    not a public interface: then nothing is said).
 
     A dispatcher already compiled in this process counts as cached."""
     try:
-        return any(not d.signatures and not _cached(d) for d in _dispatchers(model))
+        return any(not d.signatures and not _cached(d)
+                   for d in _dispatchers(model, monitors, vertical))
     except ValueError:
         raise
     except Exception:  # noqa: BLE001 - a changed numba internal must never stop an analysis
         return None
 
 
-def compile_notice(model: str) -> str | None:
+def compile_notice(model: str, monitors: bool = False, vertical: bool = False) -> str | None:
     """``"compiling the 3d model once, ~40 s; cached afterwards"`` when
     :func:`will_compile`, else None."""
-    if not will_compile(model):
+    if not will_compile(model, monitors, vertical):
         return None
     return (f"compiling the {model} model once, ~{COMPILE_SECONDS.get(model, 40)} s; "
             "cached afterwards")
