@@ -67,7 +67,7 @@ def slice_answers(tmp_path_factory) -> pd.DataFrame:
         answers = _bare(critical_frame(ds))
     motions = work / "results" / "motions"
     (motions_file,) = [f for f in motions.glob("*.nc") if not f.name.endswith(".compare.nc")]
-    (params,) = motions.glob("*.json")
+    (params,) = [p for p in motions.glob("*.json") if not p.name.endswith(".params.json")]
     answers.attrs["motion_sha256"] = {m.name: m.samples_sha256
                                       for m in load_ensemble(motions_file)}
     answers.attrs["ensemble_params"] = json.loads(params.read_text())
