@@ -153,11 +153,10 @@ def validity_text(ds, mu: float | None) -> str:
     seen = np.ones(requested.shape, dtype=bool) if mu is not None else monitored(
         ds).broadcast_like(ds["lifts_off"]).transpose(*ds["lifts_off"].dims).values.astype(bool)
     if not seen.any():
-        head = ("no support friction coefficient given and no sliding goal: the analyses "
-                "ran without the support monitors (docs/models.md, compiled in only where "
-                "asked), so neither sliding nor lift-off was looked at; give mu: to check "
-                "both")
-        return head + " (docs/models.md)."
+        return ("no support friction coefficient given and no sliding goal: the analyses "
+                "ran without the support monitors (compiled in only where asked), so "
+                "neither sliding nor lift-off was looked at; give mu: to check both "
+                "(docs/models.md).")
     flags = {"lifts off": ds["lifts_off"].values.astype(bool) & requested & seen}
     if mu is not None and "slides" in ds:
         flags = {"slides": (ds["slides"].values == 1) & requested, **flags}
