@@ -2,8 +2,8 @@
 resolve, nothing points outside the repository, and the library never imports Snakemake
 (docs/design.md, "Layers"). The README is a short entry whose claims hold: its links resolve,
 its commands parse and install what exists, its library block prints what it shows, its
-configuration is valid, and the numbers it and the pages it links quote are those of the
-committed gallery (results/paper).
+configuration is valid (the numbers it and the pages it links quote from the committed
+gallery are held by tests/test_docs_numbers.py).
 
 A docstring or comment cites a section as ``docs/equations.md, "<heading>"`` (the heading may
 wrap over lines, also inside ``#`` comments; the file name may be in backticks) or, for
@@ -16,8 +16,6 @@ case-insensitively with whitespace collapsed.
 from __future__ import annotations
 
 import ast
-import csv
-import math
 import re
 from pathlib import Path
 
@@ -393,40 +391,6 @@ def test_own_records_config_is_valid():
             assert study["ensemble"] in config["ensembles"]
             spec = StudySpec.from_config(config, name)   # the typed study accepts it too
             assert spec.reproduces is None               # a study of one's own
-
-
-def _gallery(study: str, table: str, **where) -> dict:
-    with open(ROOT / "results/paper" / study / f"{table}.csv", newline="") as fh:
-        rows = [r for r in csv.DictReader(fh)
-                if all(r[k] == v for k, v in where.items())]
-    assert len(rows) == 1, (table, where, len(rows))
-    return rows[0]
-
-
-def test_quoted_numbers_match_the_committed_gallery():
-    key = {"mode": "3d", "limit_state": "overturning", "tan_alpha [-]": "0.2"}
-    frag = _gallery("elcentro", "fragility", **key, **{"R [m]": "6"})
-    quoted = (f"median {float(frag['median [g tan(alpha)]']):.3f} "
-              f"(PGA {float(frag['median_pga_g [g]']):.3f} g), "
-              f"β = {float(frag['beta [-]']):.3f}, from {frag['n']} motions")
-    assert quoted in " ".join(README.read_text(encoding="utf-8").split())
-    mean = {m: _gallery("elcentro", "mean_spectra", **{**key, "mode": m, "R [m]": "10"})
-            for m in ("3d", "2d-x", "2d-y")}
-    m3 = float(mean["3d"]["mean [g tan(alpha)]"])
-    sem = float(mean["3d"]["std [g tan(alpha)]"]) / math.sqrt(int(mean["3d"]["count"]))
-    x, y = (float(mean[m]["mean [g tan(alpha)]"]) for m in ("2d-x", "2d-y"))
-    models = " ".join((ROOT / "docs/models.md").read_text(encoding="utf-8").split())
-    assert f"{m3:.2f} ± {sem:.2f} ({mean['3d']['count']} motions)" in models
-    assert f"the means at R = 10 m alone gave {x / m3:.2f}× / {y / m3:.2f}×" in models
-    # the verdict's ratio: censoring-aware medians, geometric mean over the sizes
-    with open(ROOT / "results/paper/elcentro/fragility.csv", newline="") as fh:
-        rows = [r for r in csv.DictReader(fh) if r["limit_state"] == "overturning"
-                and r["tan_alpha [-]"] == "0.2" and r["status"] == "ok"]
-    med = {(r["mode"], r["R [m]"]): float(r["median [g tan(alpha)]"]) for r in rows}
-    sizes = sorted({R for m, R in med if m == "3d"})
-    for mode, label in (("2d-x", "2D-x"), ("2d-y", "2D-y")):
-        logs = [math.log(med[(mode, R)] / med[("3d", R)]) for R in sizes]
-        assert f"{label} {math.exp(sum(logs) / len(logs)):.2f}×" in models
 
 
 def test_library_block_prints_what_is_shown(capsys):

@@ -9,6 +9,8 @@ anything: every figure (PNG and its JSON sidecar of measured numbers), each stud
 (images linked, not embedded, so the page stays small), the small tables (mean spectra,
 fragility, linear fits as CSV) and the fitted ensemble parameters. Stores (zarr, NetCDF) and
 PDFs stay out. ``MANIFEST.json`` records the commit, the configuration and the run time.
+Written to the repository's ``results/paper``, it then rewrites the numbers README.md and
+docs/*.md quote from it (:mod:`rocking.plot.gallery_quotes`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import yaml
 
 from rocking import __version__
 from rocking.plot.captions import CAPTIONS, EXTRA_CAPTIONS
+from rocking.plot.gallery_quotes import marked_documents, write_documents
 from rocking.plot.report import link_images, relink_docs
 from rocking.study.aggregate import critical_frame
 from rocking.study.ensemble_spec import EnsembleSpec
@@ -246,6 +249,12 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / "MANIFEST.json").write_text(json.dumps(manifest, indent=2) + "\n")
     (args.out / "README.md").write_text(readme(manifest, args.out))
     print(f"gallery: {len(files)} files in {args.out}", file=sys.stderr)
+    # the documents' quotations of the gallery (docs/models.md's verdicts, the README's
+    # fragility row, ...) follow it, so that a number that moved cannot leave them behind
+    root = Path(__file__).resolve().parents[1]
+    if args.out.resolve() == (root / "results" / "paper").resolve():
+        for doc in write_documents(marked_documents(root), args.out):
+            print(f"gallery: rewrote the quotations of {doc.relative_to(root)}", file=sys.stderr)
     return 0
 
 

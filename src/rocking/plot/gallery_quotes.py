@@ -1,0 +1,413 @@
+"""The numbers documents quote from the committed gallery, written from the gallery itself.
+
+A document (README.md, docs/*.md) that quotes the gallery (``results/paper/``: its reports'
+verdicts, its tables) marks each quotation as a block::
+
+    <!-- BEGIN gallery:verdict-counts -->24 reproduced, …<!-- END gallery:verdict-counts -->
+
+and :func:`render` rewrites the text between the markers from the gallery with the block's
+function in :data:`BLOCKS` (inline for a number in a sentence, on lines of their own for a
+table). The workflow's gallery script rewrites every marked document after it copies a run,
+and tests/test_docs_numbers.py fails when a committed document differs from what its gallery
+gives: a verdict or number that moves in the gallery cannot leave a document behind.
+
+The verdicts are read from the reports' verdict tables (``<study>/report.html``), exactly as a
+reader sees them there; the numbers from the study tables (``<study>/*.csv``).
+
+    python -m rocking.plot.gallery_quotes [--gallery results/paper] [--check] [FILE ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import re
+import sys
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from html.parser import HTMLParser
+from pathlib import Path
+
+from .comparisons import DIFFERS, REPRODUCED, VERDICTS
+
+BLOCK = re.compile(r"(?P<begin><!-- BEGIN gallery:(?P<name>[\w-]+) -->)(?P<body>.*?)"
+                   r"(?P<end><!-- END gallery:(?P=name) -->)", re.DOTALL)
+"""A marked quotation: its name, the generated text, and the markers around it."""
+
+STUDY_TITLES = {"elcentro": "El Centro", "lomaprieta": "Loma Prieta"}
+"""How the documents name the gallery's studies (another study is named by its folder)."""
+
+
+@dataclass(frozen=True)
+class VerdictRow:
+    """One row of a report's verdict table, as the page shows it.
+
+    ``verdict`` is one of :data:`rocking.plot.comparisons.VERDICTS`; ``text`` is the whole
+    verdict cell (the verdict with its tolerance or reason).
+    """
+
+    figure: str
+    statement: str
+    paper: str
+    ours: str
+    verdict: str
+    text: str
+
+    @property
+    def reason(self) -> str:
+        """The reason of a verdict other than reproduced, up to its first top-level "; "."""
+        rest = self.text[len(self.verdict):].removeprefix(" because").removeprefix(":")
+        return _first_clause(rest.strip())
+
+
+def _first_clause(text: str) -> str:
+    """``text`` up to its first "; " outside brackets."""
+    depth = 0
+    for i, ch in enumerate(text):
+        if ch in "([":
+            depth += 1
+        elif ch in ")]":
+            depth -= 1
+        elif ch == ";" and depth == 0:
+            return text[:i]
+    return text
+
+
+class _Table(HTMLParser):
+    """Rows of cells (text, class) of the first table after ``<h2 id='verdicts'>``."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.rows: list[list[tuple[str, str]]] = []
+        self._state = "before"          # before → heading → table → done
+        self._cell: list[str] | None = None
+        self._class = ""
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = dict(attrs)
+        if self._state == "before" and tag == "h2" and a.get("id") == "verdicts":
+            self._state = "heading"
+        elif self._state == "heading" and tag == "table":
+            self._state = "table"
+        elif self._state == "table" and tag == "tr":
+            self.rows.append([])
+        elif self._state == "table" and tag in ("td", "th"):
+            self._cell, self._class = [], a.get("class") or ""
+
+    def handle_endtag(self, tag: str) -> None:
+        if self._state == "table" and tag in ("td", "th") and self._cell is not None:
+            self.rows[-1].append((" ".join("".join(self._cell).split()), self._class))
+            self._cell = None
+        elif self._state == "table" and tag == "table":
+            self._state = "done"
+
+    def handle_data(self, data: str) -> None:
+        if self._cell is not None:
+            self._cell.append(data)
+
+
+def verdict_rows(report: str | Path) -> list[VerdictRow]:
+    """The verdict table of a study's ``report.html``, row by row.
+
+    Raises
+    ------
+    ValueError
+        The page has no verdict table (``<h2 id='verdicts'>`` and the table after it), or a
+        verdict cell names no verdict of :data:`~rocking.plot.comparisons.VERDICTS`.
+    """
+    parser = _Table()
+    parser.feed(Path(report).read_text(encoding="utf-8"))
+    if parser._state == "before" or not parser.rows:
+        raise ValueError(f"report {report}: no verdict table (<h2 id='verdicts'>)")
+    head = [text for text, _ in parser.rows[0]]
+    out = []
+    for cells in parser.rows[1:]:
+        cell = dict(zip(head, (text for text, _ in cells), strict=True))
+        text = cells[-1][0]
+        verdict = next((v for v in VERDICTS if text.startswith(v)), None)
+        if verdict is None:
+            raise ValueError(f"report {report}: verdict cell {text[:60]!r} names none of "
+                             f"{VERDICTS}")
+        out.append(VerdictRow(cell.get("figure", ""), cell.get("statement", ""),
+                              cell.get("paper", ""), cell.get("this run", ""), verdict, text))
+    return out
+
+
+def _reports(gallery: Path) -> dict[str, Path]:
+    """Each study folder of the gallery with a report, by name (sorted)."""
+    return {p.parent.name: p for p in sorted(Path(gallery).glob("*/report.html"))}
+
+
+def _title(study: str) -> str:
+    return STUDY_TITLES.get(study, study)
+
+
+def verdict_counts(gallery: Path) -> str:
+    """"El Centro report: 24 reproduced, 10 differ, 3 not in the paper; Loma Prieta …":
+    the verdicts of each report of the gallery, counted."""
+    words = {DIFFERS: "differ"}
+    parts = []
+    for study, page in _reports(gallery).items():
+        rows = verdict_rows(page)
+        counts = [(v, sum(r.verdict == v for r in rows)) for v in VERDICTS]
+        parts.append(f"{_title(study)} report: "
+                     + ", ".join(f"{n} {words.get(v, v)}" for v, n in counts if n))
+    if not parts:
+        raise ValueError(f"gallery {gallery}: no <study>/report.html")
+    return "; ".join(parts)
+
+
+@dataclass(frozen=True)
+class Headline:
+    """A row of the headline table: a report's verdict row, picked by figure and the start of
+    its statement, under a name of the quantity for the reader."""
+
+    study: str
+    figure: str
+    statement: str
+    quantity: str
+
+    def pick(self, rows: Sequence[VerdictRow]) -> VerdictRow:
+        found = [r for r in rows if r.figure == self.figure
+                 and r.statement.startswith(self.statement)]
+        if len(found) != 1:
+            raise ValueError(f"{self.study}/report.html: {len(found)} verdict rows of "
+                             f"{self.figure} start with {self.statement!r} (need one)")
+        return found[0]
+
+
+HEADLINES = (
+    Headline("elcentro", "fig04_free_vibration", "Angle of turn of the contact point",
+             "angle of turn per quasi-impact, tan α = 0.2, printed Eq (27)"),
+    Headline("elcentro", "fig04_free_vibration", "Angle of turn measured numerically",
+             "the same angle, measured numerically (§2.4)"),
+    Headline("elcentro", "fig04_free_vibration", "Coefficient of restitution",
+             "damped restitution over five quasi-impacts"),
+    Headline("elcentro", "fig08_motions", "Rotation of the record to uncorrelated axes (§5.1)",
+             "El Centro principal angle"),
+    Headline("elcentro", "fig06_el_centro", "Peak tilt θmax, undamped",
+             "Fig 6 peak tilt, undamped (R = 6 m)"),
+    Headline("elcentro", "fig06_el_centro", "Peak tilt θmax, damped",
+             "Fig 6 peak tilt, damped (R = 6 m)"),
+    Headline("elcentro", "fig09_spectra", "Undamped and damped spectra per motion, Overturning",
+             "Fig 9: damped and undamped spectra \"essentially identical\", per motion "
+             "(overturning)"),
+    Headline("elcentro", "fig09_spectra", "Undamped and damped mean spectra, Overturning",
+             "Fig 9: the same, mean spectra (overturning)"),
+    Headline("elcentro", "fig09_spectra", "Undamped and damped mean spectra, Tilt θ > α/3",
+             "Fig 9: the same, mean spectra (θ > α/3)"),
+    Headline("elcentro", "fig10_goals", "Mean spectrum almost linear in R, Overturning",
+             "Fig 10: mean spectrum \"almost linear in R\", El Centro (overturning)"),
+    Headline("lomaprieta", "fig10_goals", "Mean spectrum almost linear in R, Overturning",
+             "Fig 10: the same, Loma Prieta (overturning)"),
+    Headline("elcentro", "fig11_slenderness", "Slenderness has 'a very small influence' "
+             "once the intensity is normalized by g tan α, Overturning",
+             "Fig 11: slenderness has \"a very small influence\" (overturning)"),
+    Headline("elcentro", "fig11_slenderness", "Slenderness has 'a very small influence' "
+             "once the intensity is normalized by g tan α, Tilt θ > α/3",
+             "Fig 11: the same (θ > α/3)"),
+    Headline("elcentro", "fig12_2d_vs_3d", "Overturning of an R = 10 m cylinder",
+             "Fig 12: R = 10 m, 3D overturning"),
+    Headline("elcentro", "fig12_2d_vs_3d", "El Centro, overturning: 2D under the x",
+             "Fig 12: 2D-x \"twice as high\" (El Centro, overturning)"),
+    Headline("elcentro", "fig12_2d_vs_3d", "El Centro, overturning: 2D under the y",
+             "Fig 12: 2D-y \"twice as high\" (El Centro, overturning)"),
+    Headline("elcentro", "fig12_2d_vs_3d", "Loma Prieta (stand-in record), overturning: 2D "
+             "under the x", "Fig 12: Loma Prieta 2D-x above 3D (overturning)"),
+    Headline("elcentro", "fig12_2d_vs_3d", "Loma Prieta (stand-in record), overturning: 2D "
+             "under the y", "Fig 12: Loma Prieta 2D-y above 3D (overturning)"),
+)
+"""The rows of docs/models.md's headline table, in order."""
+
+
+def _cell(text: str) -> str:
+    """A markdown table cell: pipes escaped."""
+    return text.replace("|", "\\|")
+
+
+def headline_table(gallery: Path, headlines: Iterable[Headline] = HEADLINES) -> str:
+    """The headline table (quantity, paper, this run, verdict) from the reports' verdict
+    rows: the paper's and this run's cells as the report gives them, the verdict with the
+    first clause of its reason where it is not "reproduced" (the tolerances are in
+    docs/models.md's criteria table)."""
+    reports = _reports(gallery)
+    rows: dict[str, list[VerdictRow]] = {}
+    lines = ["| quantity | paper | this run | verdict |", "|---|---|---|---|"]
+    for h in headlines:
+        if h.study not in reports:
+            raise ValueError(f"gallery {gallery}: no {h.study}/report.html")
+        if h.study not in rows:
+            rows[h.study] = verdict_rows(reports[h.study])
+        r = h.pick(rows[h.study])
+        verdict = r.verdict if r.verdict == REPRODUCED or not r.reason else \
+            f"{r.verdict}: {r.reason}"
+        lines.append("| " + " | ".join(_cell(c) for c in (h.quantity, r.paper, r.ours,
+                                                              verdict)) + " |")
+    return "\n\n" + "\n".join(lines) + "\n\n"
+
+
+def _table_row(gallery: Path, study: str, table: str, **where: str) -> dict[str, str]:
+    """The one row of ``<study>/<table>.csv`` whose columns equal ``where``."""
+    path = Path(gallery) / study / f"{table}.csv"
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = [r for r in csv.DictReader(fh) if all(r.get(k) == v for k, v in where.items())]
+    if len(rows) != 1:
+        raise ValueError(f"{path}: {len(rows)} rows with {where} (need one)")
+    return rows[0]
+
+
+_R10 = {"limit_state": "overturning", "tan_alpha [-]": "0.2", "R [m]": "10"}
+
+
+def _r10_means(gallery: Path) -> tuple[float, float, int, float, float]:
+    """El Centro, overturning, tan α 0.2, R = 10 m: the 3D mean, its standard error, the
+    number of motions, and the 2D-x and 2D-y means (mean_spectra.csv)."""
+    rows = {m: _table_row(gallery, "elcentro", "mean_spectra", mode=m, **_R10)
+            for m in ("3d", "2d-x", "2d-y")}
+    n = int(rows["3d"]["count"])
+    mean = float(rows["3d"]["mean [g tan(alpha)]"])
+    sem = float(rows["3d"]["std [g tan(alpha)]"]) / math.sqrt(n)
+    return (mean, sem, n, float(rows["2d-x"]["mean [g tan(alpha)]"]),
+            float(rows["2d-y"]["mean [g tan(alpha)]"]))
+
+
+def r10_means(gallery: Path) -> str:
+    """"4.75 ± 0.41 at R = 10 m in 3D, 2D-x/3D 2.43×, 2D-y/3D 1.84×" (El Centro, overturning,
+    tan α 0.2; mean ± its standard error)."""
+    mean, sem, _, x, y = _r10_means(gallery)
+    return f"{mean:.2f} ± {sem:.2f} at R = 10 m in 3D, 2D-x/3D {x / mean:.2f}×, " \
+           f"2D-y/3D {y / mean:.2f}×"
+
+
+def r10_band(gallery: Path) -> str:
+    """"≈ 1.3 with SE 0.41": Fig 12's "about 4" band 2·√(2 SE² + (0.5/√3)²) at this run's
+    standard error of the R = 10 m 3D mean."""
+    _, sem, *_ = _r10_means(gallery)
+    return f"≈ {2 * math.sqrt(2 * sem**2 + 0.25 / 3):.1f} with SE {sem:.2f}"
+
+
+def fragility_r6(gallery: Path) -> str:
+    """"median 2.284 (PGA 0.457 g), β = 0.238, from 11 motions": El Centro, 3d, overturning,
+    tan α 0.2, R = 6 m (fragility.csv)."""
+    row = _table_row(gallery, "elcentro", "fragility", mode="3d", limit_state="overturning",
+                     **{"tan_alpha [-]": "0.2", "R [m]": "6"})
+    return (f"median {float(row['median [g tan(alpha)]']):.3f} "
+            f"(PGA {float(row['median_pga_g [g]']):.3f} g), "
+            f"β = {float(row['beta [-]']):.3f}, from {row['n']} motions")
+
+
+def _as_recorded(gallery: Path) -> list[dict[str, str]]:
+    """Loma Prieta's records.csv rows whose scale factor says the record exceeds as recorded
+    (scale ≤ 1)."""
+    path = Path(gallery) / "lomaprieta" / "records.csv"
+    with open(path, newline="", encoding="utf-8") as fh:
+        return [r for r in csv.DictReader(fh) if float(r["scale_factor [-]"]) <= 1]
+
+
+def records_changed(gallery: Path) -> str:
+    """"8 of the 27 rows": of the rows whose scale factor says the record exceeds, those the
+    analysis at scale 1 contradicts (``as_recorded_disagrees``)."""
+    rows = _as_recorded(gallery)
+    changed = sum(r["as_recorded_disagrees"] == "True" for r in rows)
+    return f"{changed} of the {len(rows)} rows"
+
+
+def records_scales(gallery: Path) -> str:
+    """"0.59–0.96": the scale factors of the rows :func:`records_changed` counts."""
+    scales = [float(r["scale_factor [-]"]) for r in _as_recorded(gallery)
+              if r["as_recorded_disagrees"] == "True"]
+    return f"{min(scales):.2f}–{max(scales):.2f}" if scales else "—"
+
+
+BLOCKS: dict[str, Callable[[Path], str]] = {
+    "verdict-counts": verdict_counts,
+    "headlines": headline_table,
+    "r10-means": r10_means,
+    "r10-band": r10_band,
+    "fragility-r6": fragility_r6,
+    "records-changed": records_changed,
+    "records-scales": records_scales,
+}
+"""Every quotation a document can mark, by name: its text from a gallery folder."""
+
+
+def render(text: str, gallery: str | Path, where: str = "text") -> str:
+    """``text`` with every marked quotation rewritten from ``gallery``.
+
+    Raises
+    ------
+    ValueError
+        A block names no quotation of :data:`BLOCKS` (``where`` names the document), or the
+        gallery lacks what a block quotes.
+    """
+    cache: dict[str, str] = {}
+
+    def fill(m: re.Match) -> str:
+        name = m["name"]
+        if name not in BLOCKS:
+            raise ValueError(f"{where}: gallery block {name!r} is none of {sorted(BLOCKS)}")
+        if name not in cache:
+            cache[name] = BLOCKS[name](Path(gallery))
+        return m["begin"] + cache[name] + m["end"]
+
+    return BLOCK.sub(fill, text)
+
+
+def stale_blocks(path: str | Path, gallery: str | Path) -> list[str]:
+    """The names of the marked quotations of document ``path`` that differ from ``gallery``."""
+    text = Path(path).read_text(encoding="utf-8")
+    new = render(text, gallery, str(path))
+    return [a["name"] for a, b in zip(BLOCK.finditer(text), BLOCK.finditer(new), strict=True)
+            if a["body"] != b["body"]]
+
+
+def marked_documents(root: str | Path) -> list[Path]:
+    """README.md and docs/*.md under ``root`` that mark a gallery quotation."""
+    root = Path(root)
+    paths = [root / "README.md", *sorted((root / "docs").glob("*.md"))]
+    return [p for p in paths if p.exists() and BLOCK.search(p.read_text(encoding="utf-8"))]
+
+
+def write_documents(paths: Iterable[str | Path], gallery: str | Path) -> list[Path]:
+    """Rewrite the marked quotations of each document from ``gallery``; return those changed.
+
+    Every document is rendered before any is written, so a gallery that lacks a quoted
+    number changes nothing.
+    """
+    texts = {Path(p): Path(p).read_text(encoding="utf-8") for p in paths}
+    new = {p: render(t, gallery, str(p)) for p, t in texts.items()}
+    changed = [p for p in texts if new[p] != texts[p]]
+    for p in changed:
+        p.write_text(new[p], encoding="utf-8")
+    return changed
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Rewrite (or with ``--check`` only compare) the documents' gallery quotations."""
+    parser = argparse.ArgumentParser(prog="python -m rocking.plot.gallery_quotes",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("files", nargs="*", type=Path,
+                        help="documents (default: README.md and docs/*.md that mark one)")
+    parser.add_argument("--gallery", type=Path, default=Path("results/paper"),
+                        help="the gallery folder (default results/paper)")
+    parser.add_argument("--check", action="store_true",
+                        help="write nothing; exit 1 naming every stale quotation")
+    args = parser.parse_args(argv)
+    files = args.files or marked_documents(Path.cwd())
+    try:
+        if args.check:
+            stale = [f"{p}: {name}" for p in files for name in stale_blocks(p, args.gallery)]
+            for line in stale:
+                print(f"stale gallery quotation {line}", file=sys.stderr)
+            return 1 if stale else 0
+        for p in write_documents(files, args.gallery):
+            print(f"rewrote {p}")
+    except (OSError, ValueError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

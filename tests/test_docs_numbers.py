@@ -1,0 +1,170 @@
+"""Documents quote the run: every number or verdict README.md and docs/*.md quote from the
+committed gallery (results/paper) is marked and equal to what the gallery gives
+(:mod:`rocking.plot.gallery_quotes`), and a gallery whose number or verdict moved leaves the
+document stale, so the check fails."""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from rocking.plot.gallery_quotes import (
+    BLOCKS,
+    main,
+    marked_documents,
+    render,
+    stale_blocks,
+    verdict_counts,
+    verdict_rows,
+    write_documents,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+GALLERY = ROOT / "results/paper"
+QUOTED = ("elcentro/report.html", "lomaprieta/report.html", "elcentro/mean_spectra.csv",
+          "elcentro/fragility.csv", "lomaprieta/records.csv")
+"""What the quotations read from the gallery."""
+
+
+def _copy(tmp_path: Path) -> Path:
+    """A copy of the files of the gallery that the documents quote."""
+    out = tmp_path / "gallery"
+    for rel in QUOTED:
+        (out / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(GALLERY / rel, out / rel)
+    return out
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    text = path.read_text(encoding="utf-8")
+    assert old in text, (path, old)
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+
+
+def test_every_quotation_is_that_of_the_committed_gallery():
+    docs = marked_documents(ROOT)
+    names = {str(p.relative_to(ROOT)) for p in docs}
+    assert {"README.md", "docs/models.md", "docs/motions.md", "docs/records.md"} <= names
+    stale = {name: stale_blocks(ROOT / name, GALLERY) for name in names}
+    assert not any(stale.values()), (
+        f"stale gallery quotations {stale}: run `python -m rocking.plot.gallery_quotes`")
+    used = {m for p in docs for m in re.findall(r"<!-- BEGIN gallery:([\w-]+) -->",
+                                                  p.read_text(encoding="utf-8"))}
+    assert used == set(BLOCKS)          # no quotation is defined that no document uses
+
+
+def test_the_committed_documents_hold_the_headlines():
+    """The issue's contradictions are gone: the models page says what the reports say."""
+    text = (ROOT / "docs/models.md").read_text(encoding="utf-8")
+    assert "77 reproduced" not in text and "up to R ≈ 3 m" not in text
+    assert verdict_counts(GALLERY) in text
+    for row in verdict_rows(GALLERY / "elcentro/report.html"):
+        if row.figure == "fig12_2d_vs_3d" and row.statement.startswith("Loma Prieta"):
+            assert "overturning" not in row.statement or row.ours.replace("|", "\\|") in text
+
+
+def test_verdicts_are_read_as_the_page_shades_them():
+    """The parser's verdicts, counted, equal the verdict cells' classes counted in the raw
+    page (an independent reading of the same table)."""
+    for study in ("elcentro", "lomaprieta"):
+        page = (GALLERY / study / "report.html").read_text(encoding="utf-8")
+        table = page[page.index("<h2 id='verdicts'>"):]
+        table = table[:table.index("</table>")]
+        classes = re.findall(r"<td class='([\w-]+)'>", table)
+        rows = verdict_rows(GALLERY / study / "report.html")
+        assert len(rows) == len(classes) > 10
+        assert [r.verdict.replace(" ", "-") for r in rows] == classes
+        assert all(r.figure and r.statement and r.ours for r in rows)
+
+
+def test_a_moved_verdict_leaves_the_models_page_stale(tmp_path):
+    gallery = _copy(tmp_path)
+    _edit(gallery / "elcentro/report.html",
+          "<td class='reproduced'>reproduced (spread ≤ 15 % of the mean at every R)",
+          "<td class='differs'>differs because the spread exceeds 15 %")
+    assert stale_blocks(ROOT / "docs/models.md", gallery) == ["verdict-counts", "headlines"]
+    assert stale_blocks(ROOT / "docs/motions.md", gallery) == []
+    new = render((ROOT / "docs/models.md").read_text(encoding="utf-8"), gallery)
+    assert "El Centro report: 23 reproduced, 11 differ" in new
+    assert "| differs: the spread exceeds 15 % |" in new
+
+
+def test_a_moved_number_leaves_its_documents_stale(tmp_path):
+    gallery = _copy(tmp_path)
+    with open(gallery / "elcentro/mean_spectra.csv", newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    hit = [r for r in rows if (r["mode"], r["limit_state"], r["tan_alpha [-]"], r["R [m]"])
+           == ("3d", "overturning", "0.2", "10")]
+    assert len(hit) == 1
+    hit[0]["std [g tan(alpha)]"] = str(2 * float(hit[0]["std [g tan(alpha)]"]))
+    with open(gallery / "elcentro/mean_spectra.csv", "w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    assert stale_blocks(ROOT / "docs/motions.md", gallery) == ["r10-means"]
+    assert stale_blocks(ROOT / "docs/models.md", gallery) == ["r10-band"]
+    assert stale_blocks(ROOT / "README.md", gallery) == []
+    assert main(["--gallery", str(gallery), "--check", str(ROOT / "docs/motions.md")]) == 1
+    assert main(["--gallery", str(GALLERY), "--check", str(ROOT / "docs/motions.md")]) == 0
+
+
+def test_writing_makes_a_stale_document_current(tmp_path):
+    gallery = _copy(tmp_path)
+    _edit(gallery / "elcentro/fragility.csv", "3d,overturning,0.2,6,2.283894183",
+          "3d,overturning,0.2,6,2.91")                          # the R = 6 m median moves
+    doc = tmp_path / "README.md"
+    shutil.copy2(ROOT / "README.md", doc)
+    assert stale_blocks(doc, gallery) == ["fragility-r6"]
+    assert write_documents([doc], gallery) == [doc]
+    assert stale_blocks(doc, gallery) == []
+    assert "median 2.91" in doc.read_text(encoding="utf-8")
+    assert write_documents([doc], gallery) == []                # nothing left to change
+    # only the marked text changed
+    old = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    new = doc.read_text(encoding="utf-8").splitlines()
+    assert sum(a != b for a, b in zip(old, new, strict=True)) == 1
+
+
+def test_a_statement_no_report_makes_is_an_error_naming_it(tmp_path):
+    gallery = _copy(tmp_path)
+    _edit(gallery / "elcentro/report.html", "Angle of turn measured numerically",
+          "Angle of turn as read off")
+    with pytest.raises(ValueError, match="Angle of turn measured numerically"):
+        render("<!-- BEGIN gallery:headlines --><!-- END gallery:headlines -->", gallery)
+    # nothing is written when one document cannot be rendered
+    doc = tmp_path / "models.md"
+    shutil.copy2(ROOT / "docs/models.md", doc)
+    before = doc.read_text(encoding="utf-8")
+    with pytest.raises(ValueError):
+        write_documents([doc], gallery)
+    assert doc.read_text(encoding="utf-8") == before
+    assert main(["--gallery", str(gallery), str(doc)]) == 2
+
+
+def test_an_unknown_quotation_is_an_error():
+    with pytest.raises(ValueError, match="'nope' is none of"):
+        render("a <!-- BEGIN gallery:nope -->1<!-- END gallery:nope --> b", GALLERY, "x.md")
+    with pytest.raises(ValueError, match="no verdict table"):
+        verdict_rows(ROOT / "README.md")
+
+
+def test_the_quoted_fig12_ratio_is_that_of_the_fragility_table():
+    """The report's 2D/3D verdict number, quoted in docs/models.md, is the geometric mean of
+    the censoring-aware medians' ratios over the sizes, recomputed here from fragility.csv."""
+    with open(GALLERY / "elcentro/fragility.csv", newline="", encoding="utf-8") as fh:
+        rows = [r for r in csv.DictReader(fh) if r["limit_state"] == "overturning"
+                and r["tan_alpha [-]"] == "0.2" and r["status"] == "ok"]
+    med = {(r["mode"], r["R [m]"]): float(r["median [g tan(alpha)]"]) for r in rows}
+    sizes = sorted({R for m, R in med if m == "3d"})
+    text = (ROOT / "docs/models.md").read_text(encoding="utf-8")
+    for axis in ("x", "y"):
+        logs = [math.log(med[(f"2d-{axis}", R)] / med[("3d", R)]) for R in sizes]
+        quoted = f"2D/3D of the censoring-aware medians = {math.exp(sum(logs) / len(logs)):.3g} "
+        row = next(line for line in text.splitlines()
+                   if line.startswith(f"| Fig 12: 2D-{axis} \"twice as high\""))
+        assert quoted in row
