@@ -168,3 +168,21 @@ def test_the_quoted_fig12_ratio_is_that_of_the_fragility_table():
         row = next(line for line in text.splitlines()
                    if line.startswith(f"| Fig 12: 2D-{axis} \"twice as high\""))
         assert quoted in row
+
+
+def test_the_stripe_section_names_each_interval_by_its_level():
+    """The report's stripe section: the brackets beside the median in PGA/(g tan α) are the
+    Wald interval at ``CONFIDENCE`` (95 %), those beside the median in g the bootstrap's
+    5–95 % percentiles (90 %); the section says which is which, from the same constants."""
+    from rocking.plot.tables import stripes_section
+    from rocking.spectra.stripes import BOOTSTRAP_LEVEL, CONFIDENCE
+
+    assert (CONFIDENCE, BOOTSTRAP_LEVEL) == (0.95, 0.90)
+    page = "\n".join(stripes_section(GALLERY / "elcentro/stripe_fragility.csv"))
+    assert "95 % interval in brackets" not in page
+    assert "its 95 % Wald interval" in page and "its 90 % bootstrap interval" in page
+    assert "(95 % Wald)</th>" in page and "90 % over motions</th>" in page
+    with open(GALLERY / "elcentro/stripe_fragility.csv", newline="", encoding="utf-8") as fh:
+        row = next(r for r in csv.DictReader(fh) if r["status"] == "ok")
+    lo, hi = (float(row[f"median_{k} [g]"]) for k in ("p05", "p95"))
+    assert f"({lo:.3g}–{hi:.3g})" in page          # the g column's brackets: the percentiles

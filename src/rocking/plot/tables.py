@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ..spectra.limit_states import limit_state_title
+from ..spectra.stripes import BOOTSTRAP_LEVEL, CONFIDENCE
 from ..units import read_table
 from ._style import MODE_STYLE
 
@@ -96,9 +97,12 @@ def stripes_section(path: str | Path) -> list[str]:
              "<em>starts</em>, not where it becomes likely. The <em>multiple-stripe</em> "
              "fragility analyses every motion once at each of a fixed set of intensities and "
              "fits the share exceeding by binomial maximum likelihood: its median is the "
-             "intensity at which half the motions exceed (95 % interval in brackets). It "
+             "intensity at which half the motions exceed. It "
              "converges as stripes are added; the first exceedance depends on where a scan "
-             "falls among the windows (docs/performance.md).</p>"]
+             "falls among the windows (docs/performance.md). In brackets: beside the median "
+             f"in PGA/(g tan α) its {100 * CONFIDENCE:g} % Wald interval (the binomial fit's "
+             f"curvature), beside the median in g its {100 * BOOTSTRAP_LEVEL:g} % bootstrap "
+             "interval over the motions.</p>"]
     measure = str(df["measure"].iloc[0]) if "measure" in df and len(df) else "pga"
     name = "PGA" if measure == "pga" else measure
     if ok.empty:
@@ -118,13 +122,13 @@ def stripes_section(path: str | Path) -> list[str]:
     rows = pd.DataFrame({
         "mode": df["mode"], "limit state": df["limit_state"].map(limit_state_title),
         "tan α": df["tan_alpha"], "R [m]": df["R"],
-        f"stripe median [{name}/(g tan α)]": [
+        f"stripe median [{name}/(g tan α)] ({100 * CONFIDENCE:g} % Wald)": [
             f"{m:.3g} ({lo:.3g}–{hi:.3g})" if np.isfinite(m) else f"— ({st})"
             for m, lo, hi, st in zip(df["median"], df["median_lo"], df["median_hi"],
                                      df["status"], strict=True)],
-        # in the measure's unit: the bootstrap's 90 % interval, or where no lognormal fits
+        # in the measure's unit: the bootstrap's interval, or where no lognormal fits
         # the stripes that bracket the median (never a number for a missing fit)
-        f"stripe median [{name}, g], 90 % over motions": [
+        f"stripe median [{name}, g], {100 * BOOTSTRAP_LEVEL:g} % over motions": [
             f"{m:.3g} ({a:.3g}–{b:.3g})" if np.isfinite(m) and np.isfinite(a)
             else f"{m:.3g}" if np.isfinite(m)
             else f"between {lo:.3g} and {hi:.3g}" if np.isfinite(lo) else "—"
