@@ -27,7 +27,8 @@ from rocking.plot.gallery_quotes import (
 ROOT = Path(__file__).resolve().parents[1]
 GALLERY = ROOT / "results/paper"
 QUOTED = ("elcentro/report.html", "lomaprieta/report.html", "elcentro/mean_spectra.csv",
-          "elcentro/fragility.csv", "lomaprieta/records.csv")
+          "elcentro/fragility.csv", "elcentro/critical.csv", "elcentro/stripe_fragility.csv",
+          "lomaprieta/records.csv")
 """What the quotations read from the gallery."""
 
 
@@ -186,3 +187,24 @@ def test_the_stripe_section_names_each_interval_by_its_level():
         row = next(r for r in csv.DictReader(fh) if r["status"] == "ok")
     lo, hi = (float(row[f"median_{k} [g]"]) for k in ("p05", "p95"))
     assert f"({lo:.3g}–{hi:.3g})" in page          # the g column's brackets: the percentiles
+
+
+def test_the_gallery_script_requotes_the_documents_of_its_repository(tmp_path):
+    """workflow/gallery.py, after copying a run to the repository's results/paper, rewrites
+    the documents' quotations from it; a gallery written elsewhere leaves them alone."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("gallery", ROOT / "workflow/gallery.py")
+    gallery = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gallery)
+    root = tmp_path / "repo"
+    (root / "docs").mkdir(parents=True)
+    shutil.copy2(ROOT / "README.md", root / "README.md")
+    shutil.copy2(ROOT / "docs/motions.md", root / "docs/motions.md")
+    shutil.copytree(_copy(tmp_path), root / "results/paper")
+    _edit(root / "results/paper/elcentro/fragility.csv", "3d,overturning,0.2,6,2.283894183",
+          "3d,overturning,0.2,6,2.91")
+    assert gallery.requote(tmp_path / "gallery", root) == []       # not the repository's
+    assert stale_blocks(root / "README.md", root / "results/paper") == ["fragility-r6"]
+    assert gallery.requote(root / "results/paper", root) == [root / "README.md"]
+    assert stale_blocks(root / "README.md", root / "results/paper") == []

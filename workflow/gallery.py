@@ -215,6 +215,20 @@ def readme(manifest: dict, out: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+REPOSITORY = Path(__file__).resolve().parents[1]
+"""The repository this script belongs to (its README.md, docs/ and results/paper)."""
+
+
+def requote(out: Path, root: Path = REPOSITORY) -> list[Path]:
+    """Rewrite the quotations of the gallery in ``root``'s README.md and docs/*.md
+    (docs/models.md's verdicts, the README's fragility row, ...) when ``out`` is ``root``'s
+    ``results/paper``, so that a number that moved cannot leave a document behind; return the
+    documents changed (none for a gallery written elsewhere)."""
+    if out.resolve() != (root / "results" / "paper").resolve():
+        return []
+    return write_documents(marked_documents(root), out)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python workflow/gallery.py", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -249,12 +263,8 @@ def main(argv: list[str] | None = None) -> int:
     (args.out / "MANIFEST.json").write_text(json.dumps(manifest, indent=2) + "\n")
     (args.out / "README.md").write_text(readme(manifest, args.out))
     print(f"gallery: {len(files)} files in {args.out}", file=sys.stderr)
-    # the documents' quotations of the gallery (docs/models.md's verdicts, the README's
-    # fragility row, ...) follow it, so that a number that moved cannot leave them behind
-    root = Path(__file__).resolve().parents[1]
-    if args.out.resolve() == (root / "results" / "paper").resolve():
-        for doc in write_documents(marked_documents(root), args.out):
-            print(f"gallery: rewrote the quotations of {doc.relative_to(root)}", file=sys.stderr)
+    for doc in requote(args.out):
+        print(f"gallery: rewrote the quotations of {doc}", file=sys.stderr)
     return 0
 
 
