@@ -208,3 +208,32 @@ def test_the_gallery_script_requotes_the_documents_of_its_repository(tmp_path):
     assert stale_blocks(root / "README.md", root / "results/paper") == ["fragility-r6"]
     assert gallery.requote(root / "results/paper", root) == [root / "README.md"]
     assert stale_blocks(root / "README.md", root / "results/paper") == []
+
+
+def test_records_quotation_follows_the_records_table(tmp_path):
+    """docs/records.md's account of the analyses at scale 1 is counted from records.csv: a
+    row whose scale factor said "survives" but that exceeds at scale 1 is said, and with no
+    row changed the sentence says none."""
+    gallery = _copy(tmp_path)
+    path = gallery / "lomaprieta/records.csv"
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+
+    def write(rows):
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+
+    above = next(r for r in rows if float(r["scale_factor [-]"]) > 1)
+    above["as_recorded_disagrees"] = "True"
+    write(rows)
+    assert stale_blocks(ROOT / "docs/records.md", gallery) == ["records-as-recorded"]
+    assert "; 1 row that the scale factor said survives exceeds" in render(
+        (ROOT / "docs/records.md").read_text(encoding="utf-8"), gallery)
+    for r in rows:
+        r["as_recorded_disagrees"] = "False"
+    write(rows)
+    text = render("<!-- BEGIN gallery:records-as-recorded --><!-- END gallery:records-"
+                  "as-recorded -->", gallery)
+    assert "changed none of the 27 rows" in text and "; no row that" in text

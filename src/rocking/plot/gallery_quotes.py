@@ -313,27 +313,45 @@ def stripe_ratio_r6(gallery: Path) -> str:
     return f"{float(row['ratio']):.1f}×"
 
 
-def _as_recorded(gallery: Path) -> list[dict[str, str]]:
-    """Loma Prieta's records.csv rows whose scale factor says the record exceeds as recorded
-    (scale ≤ 1)."""
+def _records(gallery: Path) -> list[dict[str, str]]:
+    """Loma Prieta's ``records.csv`` (the record analysed once at scale 1)."""
     path = Path(gallery) / "lomaprieta" / "records.csv"
     with open(path, newline="", encoding="utf-8") as fh:
-        return [r for r in csv.DictReader(fh) if float(r["scale_factor [-]"]) <= 1]
+        return list(csv.DictReader(fh))
 
 
-def records_changed(gallery: Path) -> str:
-    """"8 of the 27 rows": of the rows whose scale factor says the record exceeds, those the
-    analysis at scale 1 contradicts (``as_recorded_disagrees``)."""
-    rows = _as_recorded(gallery)
-    changed = sum(r["as_recorded_disagrees"] == "True" for r in rows)
-    return f"{changed} of the {len(rows)} rows"
+def records_rows(gallery: Path) -> str:
+    """"120 rows": the rows of Loma Prieta's records.csv."""
+    return f"{len(_records(gallery))} rows"
 
 
-def records_scales(gallery: Path) -> str:
-    """"0.59–0.96": the scale factors of the rows :func:`records_changed` counts."""
-    scales = [float(r["scale_factor [-]"]) for r in _as_recorded(gallery)
-              if r["as_recorded_disagrees"] == "True"]
-    return f"{min(scales):.2f}–{max(scales):.2f}" if scales else "—"
+def records_as_recorded(gallery: Path) -> str:
+    """What the analyses at scale 1 changed in Loma Prieta's records.csv: of the rows whose
+    scale factor (≤ 1) says the record exceeds as recorded, those it survives, the range of
+    their scale factors, what they are; and the rows whose scale factor says it survives
+    that exceed at scale 1."""
+    rows = _records(gallery)
+    exceed = [r for r in rows if float(r["scale_factor [-]"]) <= 1]
+    changed = [r for r in exceed if r["as_recorded_disagrees"] == "True"]
+    other = sum(r["as_recorded_disagrees"] == "True" for r in rows) - len(changed)
+    survivors = "no row" if not other else f"{other} row" + ("s" if other > 1 else "")
+    tail = f"; {survivors} that the scale factor said survives exceeds at scale 1"
+    if not changed:
+        return f"changed none of the {len(exceed)} rows that the scale factor said exceed" + tail
+    scales = [float(r["scale_factor [-]"]) for r in changed]
+    kinds: dict[str, int] = {}
+    singles = []
+    for r in changed:
+        if r["non_monotonic"] == "True":
+            key = f"`{r['limit_state']}`"
+            kinds[key] = kinds.get(key, 0) + 1
+        else:
+            singles.append(f"one {r['mode']} {r['limit_state']} at R = {r['R [m]']} m")
+    what = [f"{n} of them {k} rows the search had flagged `non_monotonic`"
+            for k, n in kinds.items()] + singles
+    return (f"changed {len(changed)} of the {len(exceed)} rows that the scale factor said "
+            "exceed: the record survives at scale 1 although the search found an exceedance "
+            f"at scale {min(scales):.2f}–{max(scales):.2f} ({', '.join(what)})" + tail)
 
 
 BLOCKS: dict[str, Callable[[Path], str]] = {
@@ -344,8 +362,8 @@ BLOCKS: dict[str, Callable[[Path], str]] = {
     "fragility-r6": fragility_r6,
     "record-r6": record_r6,
     "stripe-ratio-r6": stripe_ratio_r6,
-    "records-changed": records_changed,
-    "records-scales": records_scales,
+    "records-rows": records_rows,
+    "records-as-recorded": records_as_recorded,
 }
 """Every quotation a document can mark, by name: its text from a gallery folder."""
 
