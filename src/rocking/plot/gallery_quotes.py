@@ -313,6 +313,42 @@ def stripe_ratio_r6(gallery: Path) -> str:
     return f"{float(row['ratio']):.1f}×"
 
 
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def _power(value: float) -> str:
+    """``1.74·10⁻³``: three significant digits times a power of ten."""
+    mantissa, exponent = f"{value:.2e}".split("e")
+    return f"{mantissa}·10{str(int(exponent)).translate(_SUPERSCRIPT)}"
+
+
+def risk_stripe_first(gallery: Path) -> str:
+    """The stripe λ against the first-exceedance λ of El Centro under the example hazard,
+    3d, tan α 0.2, R = 2, 6, 10 m (risk.csv): ratios with both λ for overturning, ratios for
+    excessive tilt (θ > α/3)."""
+    path = Path(gallery) / "elcentro" / "risk.csv"
+    with open(path, newline="", encoding="utf-8") as fh:
+        maf = {(r["fragility"], r["limit_state"], r["R [m]"]): float(r["maf [1/yr]"])
+               for r in csv.DictReader(fh)
+               if r["mode"] == "3d" and r["tan_alpha [-]"] == "0.2"}
+
+    def pair(ls: str, R: str) -> tuple[float, float]:
+        try:
+            return maf[("stripes", ls, R)], maf[("first_exceedance", ls, R)]
+        except KeyError as err:
+            raise ValueError(f"{path}: no 3d, tan α 0.2 row {err.args[0]}") from None
+
+    sizes = ("2", "6", "10")
+    over = [pair("overturning", R) for R in sizes]
+    tilt = [a / b for a, b in (pair("tilt:1/3", R) for R in sizes)]
+    (s2, f2), (s6, f6), (s10, f10) = over
+    return (f"{s2 / f2:.2f}× the first-exceedance λ at R = 2 m ({_power(s2)} against "
+            f"{_power(f2)} per year), {s6 / f6:.2f}× at R = 6 m ({_power(s6)} against "
+            f"{_power(f6)}) and {s10 / f10:.2f}× at R = 10 m ({_power(s10)} against "
+            f"{_power(f10)}); of excessive tilt {tilt[0]:.2f}×, {tilt[1]:.2f}× and "
+            f"{tilt[2]:.2f}×")
+
+
 def _records(gallery: Path) -> list[dict[str, str]]:
     """Loma Prieta's ``records.csv`` (the record analysed once at scale 1)."""
     path = Path(gallery) / "lomaprieta" / "records.csv"
@@ -362,6 +398,7 @@ BLOCKS: dict[str, Callable[[Path], str]] = {
     "fragility-r6": fragility_r6,
     "record-r6": record_r6,
     "stripe-ratio-r6": stripe_ratio_r6,
+    "risk-stripe-first": risk_stripe_first,
     "records-rows": records_rows,
     "records-as-recorded": records_as_recorded,
 }
