@@ -28,7 +28,8 @@ ROOT = Path(__file__).resolve().parents[1]
 GALLERY = ROOT / "results/paper"
 QUOTED = ("elcentro/report.html", "lomaprieta/report.html", "elcentro/mean_spectra.csv",
           "elcentro/fragility.csv", "elcentro/critical.csv", "elcentro/stripe_fragility.csv",
-          "elcentro/risk.csv", "lomaprieta/records.csv")
+          "elcentro/risk.csv", "lomaprieta/records.csv", "motions/elcentro.json",
+          "motions/lomaprieta.json")
 """What the quotations read from the gallery."""
 
 
@@ -109,6 +110,9 @@ def test_a_moved_number_leaves_its_documents_stale(tmp_path):
         writer.writeheader()
         writer.writerows(rows)
     assert stale_blocks(ROOT / "docs/motions.md", gallery) == ["r10-means"]
+    _edit(gallery / "motions/lomaprieta.json", '"f_mid": 3.42358', '"f_mid": 3.52')
+    assert stale_blocks(ROOT / "docs/motions.md", gallery) == ["r10-means",
+                                                                "ensemble-parameters"]
     assert stale_blocks(ROOT / "docs/models.md", gallery) == ["r10-band"]
     assert stale_blocks(ROOT / "README.md", gallery) == []
     assert main(["--gallery", str(gallery), "--check", str(ROOT / "docs/motions.md")]) == 1

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import re
 import sys
@@ -349,6 +350,36 @@ def risk_stripe_first(gallery: Path) -> str:
             f"{tilt[2]:.2f}×")
 
 
+RECORD_TITLES = {"el-centro-1940": "El Centro", "loma-prieta-corralitos": "Corralitos"}
+"""How the documents name the gallery's records (another record is named as it is)."""
+
+_PARAMETERS = (("Ia", "Ia [m/s]", ".3f"), ("D5_95", "D5-95 [s]", ".2f"),
+               ("t_mid", "t_mid [s]", ".2f"), ("f_mid", "f_mid [Hz]", ".2f"),
+               ("f_slope", "f′ [Hz/s]", ".3f"), ("zeta_f", "ζ_f", ".2f"),
+               ("f_mid2", "f_mid2 [Hz]", ".2f"), ("zeta_f2", "ζ_f2", ".2f"),
+               ("share2", "share2", ".2f"), ("f_low", "f_low [Hz]", ".2f"),
+               ("zeta_low", "ζ_low", ".2f"))
+"""The fitted RDK parameters of an ensemble as the documents show them: key, column, format."""
+
+
+def ensemble_parameters(gallery: Path) -> str:
+    """The fitted parameters of each ensemble of the gallery (``motions/<name>.json``), one
+    row per record and component."""
+    lines = ["| record, component | " + " | ".join(c for _, c, _ in _PARAMETERS) + " |",
+             "|---|" + "---|" * len(_PARAMETERS)]
+    files = sorted((Path(gallery) / "motions").glob("*.json"))
+    if not files:
+        raise ValueError(f"gallery {gallery}: no motions/*.json")
+    for path in files:
+        notes = json.loads(path.read_text(encoding="utf-8"))
+        title = RECORD_TITLES.get(notes["record"], notes["record"])
+        for component in ("major", "minor"):
+            fit = notes["fit"][component]
+            cells = [format(float(fit[k]), f).replace("-", "−") for k, _, f in _PARAMETERS]
+            lines.append(f"| {title}, {component} | " + " | ".join(cells) + " |")
+    return "\n\n" + "\n".join(lines) + "\n\n"
+
+
 def _records(gallery: Path) -> list[dict[str, str]]:
     """Loma Prieta's ``records.csv`` (the record analysed once at scale 1)."""
     path = Path(gallery) / "lomaprieta" / "records.csv"
@@ -398,6 +429,7 @@ BLOCKS: dict[str, Callable[[Path], str]] = {
     "fragility-r6": fragility_r6,
     "record-r6": record_r6,
     "stripe-ratio-r6": stripe_ratio_r6,
+    "ensemble-parameters": ensemble_parameters,
     "risk-stripe-first": risk_stripe_first,
     "records-rows": records_rows,
     "records-as-recorded": records_as_recorded,
