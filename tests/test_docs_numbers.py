@@ -26,10 +26,10 @@ from rocking.plot.gallery_quotes import (
 
 ROOT = Path(__file__).resolve().parents[1]
 GALLERY = ROOT / "results/paper"
-QUOTED = ("elcentro/report.html", "lomaprieta/report.html", "elcentro/mean_spectra.csv",
-          "elcentro/fragility.csv", "elcentro/critical.csv", "elcentro/stripe_fragility.csv",
-          "elcentro/risk.csv", "lomaprieta/records.csv", "motions/elcentro.json",
-          "motions/lomaprieta.json")
+QUOTED = ("MANIFEST.json", "elcentro/report.html", "lomaprieta/report.html",
+          "elcentro/mean_spectra.csv", "elcentro/fragility.csv", "elcentro/critical.csv",
+          "elcentro/stripe_fragility.csv", "elcentro/risk.csv", "lomaprieta/records.csv",
+          "motions/elcentro.json", "motions/lomaprieta.json")
 """What the quotations read from the gallery."""
 
 

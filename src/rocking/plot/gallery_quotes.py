@@ -421,7 +421,15 @@ def records_as_recorded(gallery: Path) -> str:
             f"at scale {min(scales):.2f}–{max(scales):.2f} ({', '.join(what)})" + tail)
 
 
+def run_time(gallery: Path) -> str:
+    """"36 min 38 s": the measured wall time of the run the gallery holds (MANIFEST.json)."""
+    manifest = json.loads((Path(gallery) / "MANIFEST.json").read_text(encoding="utf-8"))
+    minutes, seconds = divmod(round(float(manifest["elapsed_seconds"])), 60)
+    return f"{minutes} min {seconds} s"
+
+
 BLOCKS: dict[str, Callable[[Path], str]] = {
+    "run-time": run_time,
     "verdict-counts": verdict_counts,
     "headlines": headline_table,
     "r10-means": r10_means,
