@@ -75,33 +75,35 @@ def _first_clause(text: str) -> str:
     return text
 
 
+COLUMNS = ("figure", "statement", "paper", "this run")
+"""The verdict table's columns read (the verdict is its last column)."""
+
+
 class _Table(HTMLParser):
-    """Rows of cells (text, class) of the first table after ``<h2 id='verdicts'>``."""
+    """The cells' text, row by row, of the first table after ``<h2 id='verdicts'>``."""
 
     def __init__(self) -> None:
         super().__init__(convert_charrefs=True)
-        self.rows: list[list[tuple[str, str]]] = []
-        self._state = "before"          # before → heading → table → done
+        self.rows: list[list[str]] = []
+        self.state = "before"           # before → heading → table → done
         self._cell: list[str] | None = None
-        self._class = ""
 
     def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
-        a = dict(attrs)
-        if self._state == "before" and tag == "h2" and a.get("id") == "verdicts":
-            self._state = "heading"
-        elif self._state == "heading" and tag == "table":
-            self._state = "table"
-        elif self._state == "table" and tag == "tr":
+        if self.state == "before" and tag == "h2" and dict(attrs).get("id") == "verdicts":
+            self.state = "heading"
+        elif self.state == "heading" and tag == "table":
+            self.state = "table"
+        elif self.state == "table" and tag == "tr":
             self.rows.append([])
-        elif self._state == "table" and tag in ("td", "th"):
-            self._cell, self._class = [], a.get("class") or ""
+        elif self.state == "table" and tag in ("td", "th"):
+            self._cell = []
 
     def handle_endtag(self, tag: str) -> None:
-        if self._state == "table" and tag in ("td", "th") and self._cell is not None:
-            self.rows[-1].append((" ".join("".join(self._cell).split()), self._class))
+        if self.state == "table" and tag in ("td", "th") and self._cell is not None:
+            self.rows[-1].append(" ".join("".join(self._cell).split()))
             self._cell = None
-        elif self._state == "table" and tag == "table":
-            self._state = "done"
+        elif self.state == "table" and tag == "table":
+            self.state = "done"
 
     def handle_data(self, data: str) -> None:
         if self._cell is not None:
@@ -114,24 +116,27 @@ def verdict_rows(report: str | Path) -> list[VerdictRow]:
     Raises
     ------
     ValueError
-        The page has no verdict table (``<h2 id='verdicts'>`` and the table after it), or a
-        verdict cell names no verdict of :data:`~rocking.plot.comparisons.VERDICTS`.
+        The page has no verdict table (``<h2 id='verdicts'>`` and the table after it), the
+        table lacks a column of :data:`COLUMNS`, or a verdict cell names no verdict of
+        :data:`~rocking.plot.comparisons.VERDICTS`.
     """
     parser = _Table()
     parser.feed(Path(report).read_text(encoding="utf-8"))
-    if parser._state == "before" or not parser.rows:
+    if parser.state != "done" or not parser.rows:
         raise ValueError(f"report {report}: no verdict table (<h2 id='verdicts'>)")
-    head = [text for text, _ in parser.rows[0]]
+    head = parser.rows[0]
+    missing = [c for c in COLUMNS if c not in head]
+    if missing:
+        raise ValueError(f"report {report}: the verdict table has no column {missing} "
+                         f"(columns {head})")
     out = []
     for cells in parser.rows[1:]:
-        cell = dict(zip(head, (text for text, _ in cells), strict=True))
-        text = cells[-1][0]
-        verdict = next((v for v in VERDICTS if text.startswith(v)), None)
+        cell = dict(zip(head, cells, strict=True))
+        verdict = next((v for v in VERDICTS if cells[-1].startswith(v)), None)
         if verdict is None:
-            raise ValueError(f"report {report}: verdict cell {text[:60]!r} names none of "
-                             f"{VERDICTS}")
-        out.append(VerdictRow(cell.get("figure", ""), cell.get("statement", ""),
-                              cell.get("paper", ""), cell.get("this run", ""), verdict, text))
+            raise ValueError(f"report {report}: verdict cell {cells[-1][:60]!r} names none "
+                             f"of {VERDICTS}")
+        out.append(VerdictRow(*(cell[c] for c in COLUMNS), verdict, cells[-1]))
     return out
 
 
