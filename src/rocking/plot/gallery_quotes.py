@@ -175,6 +175,7 @@ class Headline:
     quantity: str
 
     def pick(self, rows: Sequence[VerdictRow]) -> VerdictRow:
+        """The one row of ``rows`` of this figure whose statement starts so."""
         found = [r for r in rows if r.figure == self.figure
                  and r.statement.startswith(self.statement)]
         if len(found) != 1:
