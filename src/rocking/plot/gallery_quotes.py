@@ -514,6 +514,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="write nothing; exit 1 naming every stale quotation")
     args = parser.parse_args(argv)
     files = args.files or marked_documents(Path.cwd())
+    if not files:
+        print(f"error: no README.md or docs/*.md under {Path.cwd()} marks a gallery quotation",
+              file=sys.stderr)
+        return 2
     try:
         if args.check:
             stale = [f"{p}: {name}" for p in files for name in stale_blocks(p, args.gallery)]
