@@ -594,7 +594,7 @@ class StripeFragility:
             f = self.fits[name]
             note = "" if f.status == "ok" else f" [{f.status}: {f.reason}]"
             rows.append(f"  {name}: median {self.measure}/(g tan alpha) = {f.median:.4g} "
-                        f"(95 % {f.median_ci[0]:.4g}-{f.median_ci[1]:.4g}), "
+                        f"({100 * CONFIDENCE:g} % {f.median_ci[0]:.4g}-{f.median_ci[1]:.4g}), "
                         f"beta = {f.beta:.3g}{note}")
         return "\n".join([head, *rows])
 
