@@ -513,6 +513,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true",
                         help="write nothing; exit 1 naming every stale quotation")
     args = parser.parse_args(argv)
+    if not args.gallery.is_dir():
+        print(f"error: --gallery {args.gallery}: no such folder", file=sys.stderr)
+        return 2
     files = args.files or marked_documents(Path.cwd())
     if not files:
         print(f"error: no README.md or docs/*.md under {Path.cwd()} marks a gallery quotation",
