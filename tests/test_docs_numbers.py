@@ -160,7 +160,10 @@ def test_a_statement_no_report_makes_is_an_error_naming_it(tmp_path):
 
 def test_an_unknown_quotation_is_an_error(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)                 # no marked document here: said, not skipped
-    assert main(["--check"]) == 2 and "marks a gallery quotation" in capsys.readouterr().err
+    assert main(["--check", "--gallery", str(GALLERY)]) == 2
+    assert "marks a gallery quotation" in capsys.readouterr().err
+    assert main(["--check"]) == 2                 # and no results/paper here
+    assert "--gallery results/paper: no such folder" in capsys.readouterr().err
     with pytest.raises(ValueError, match="'nope' is none of"):
         render("a <!-- BEGIN gallery:nope -->1<!-- END gallery:nope --> b", GALLERY, "x.md")
     with pytest.raises(ValueError, match="no verdict table"):
