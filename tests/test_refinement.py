@@ -301,6 +301,9 @@ def test_lambda_moves_as_the_closed_form_of_a_lognormal_against_a_power_law(tmp_
     assert refined.lambda_text(found) == \
         f"refinement moves it by +{100 * expected:.1f} % [all 11 cells refined, fragility " \
         "refitted]"
+    # the median's own move, exact where all its cells were refined: θ'/θ − 1
+    delta, k_, n_ = refined.lambda_shift(table, "3d", "overturning", 10.0, 0.2, "median")
+    assert (k_, n_) == (11, 11) and delta == pytest.approx(4.2 / 5.0 - 1.0, rel=1e-9)
     assert "[1 of its 11 cells refined" in refined.lambda_text(
         refined.lambda_shift(table, "3d", "overturning", 4.0, 0.2))
     # a hazard of another measure or component: the header only, never a wrong λ
@@ -419,6 +422,9 @@ def test_the_gallery_report_moves_lambda_and_both_studies_by_their_own_samples(t
     findings = page.split("<h2 id='what-was-run'>")[0]
     assert re.search(r"at R = 10 m \(5–95 %: [^)]+\) \(refinement moves it by \+\d+\.\d % "
                      r"\[all 11 cells refined, fragility refitted\]\)", findings)
+    # the median at R = 10 m refitted from its 11 refined cells: its exact move beside it
+    assert re.search(r"\(β \d\.\d\d\) at R = 10 m \(refinement moves it by −\d+\.\d % \[all "
+                     r"11 cells refined, fragility refitted\]\)", findings)
     loma = next(li for li in re.findall(r"<li>(.*?)</li>", findings) if "Loma" in li)
     assert "(standard error, 11 motions) (refinement moves it by" in loma
     assert re.search(r"rest on its own sample: \d+ of its cells", findings)

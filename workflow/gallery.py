@@ -35,7 +35,8 @@ from rocking.study.study_spec import StudySpec
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",
                   "fragility.nrml.xml", "fragility.pelicun.csv", "stripe_fragility.nrml.xml",
-                  "stripe_fragility.pelicun.csv", "refinement_sample.csv")
+                  "stripe_fragility.pelicun.csv", "refinement_sample.csv",
+                  "refinement_risk.csv")
 """Outputs of the per-record table (docs/records.md), the stripes and the risk rules, copied
 where the study has them (docs/performance.md, docs/risk.md)."""
 CRITICAL = "critical.csv"

@@ -40,6 +40,14 @@ def _as_recorded_finding(row) -> str:
     return said
 
 
+def _median_text(x, med: str, r: str, exact: Mapping) -> str:
+    """A median of ``fragility.csv`` with its β; where it was refitted from all its cells
+    refined (``exact`` by R), its exact move."""
+    text = f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
+    found = exact.get(float(x[r]))
+    return f"{text} ({lambda_text(found)})" if found else text
+
+
 def _with_shift(text: str, found) -> str:
     extra = shift_text(found)
     return f"{text} ({extra})" if extra else text
@@ -238,9 +246,14 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
             for ls in shown:
                 rows = sub[sub["limit_state"] == ls].sort_values(r)
                 ends = rows.iloc[[0, -1]] if len(rows) > 1 else rows
-                texts.append(_with_shift(f"{limit_state_title(ls).lower()} " + " to ".join(
-                    f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
-                    for _, x in ends.iterrows()), cell_shift(refinement, mode, ls)))
+                exact = {float(x[r]): lambda_shift(moves, mode, ls, x[r], t, "median")
+                         for _, x in ends.iterrows()}
+                exact = {k: v for k, v in exact.items() if v is not None and v[1] == v[2]}
+
+                said = f"{limit_state_title(ls).lower()} " + " to ".join(
+                    _median_text(x, med, r, exact) for _, x in ends.iterrows())
+                texts.append(said if exact else _with_shift(said, cell_shift(refinement, mode,
+                                                                             ls)))
             out.append(Finding(
                 f"Median capacities IM₅₀ in PGA/(g tan α), {MODE_LABEL.get(mode, mode)}, "
                 f"tan α = {t:g}: " + "; ".join(texts), "fragility"))

@@ -42,20 +42,22 @@ def read_refinements(paths, study: str = "") -> dict[str, pd.DataFrame]:
 
 
 def lambda_shift(df: pd.DataFrame | None, mode: str, limit_state: str, R: float,
-                 tan_alpha: float) -> tuple[float, int, int] | None:
-    """How far refinement moves λ of one point, from ``refinement_risk.csv``
-    (:func:`rocking.study.refinement.write_refinement_risk`): (λ_refined/λ − 1, cells
+                 tan_alpha: float, what: str = "maf") -> tuple[float, int, int] | None:
+    """How far refinement moves λ (``what`` "maf") or the fragility median ("median") of
+    one point, from ``refinement_risk.csv``
+    (:func:`rocking.study.refinement.write_refinement_risk`): (refined/unrefined − 1, cells
     refined, cells behind the fit), or None where no cell of the point was refined."""
     if df is None or df.empty:
         return None
     at = df[(df["mode"] == mode) & (df["limit_state"] == limit_state)
             & np.isclose(df["R"].astype(float), R)
             & np.isclose(df["tan_alpha"].astype(float), tan_alpha)]
-    at = at[np.isfinite(at["shift"].astype(float)) & (at["n_refined"] > 0)]
+    delta = at[f"{what}_refined"].astype(float) / at[what].astype(float) - 1.0
+    at = at[np.isfinite(delta) & (at["n_refined"] > 0)]
     if at.empty:
         return None
     row = at.iloc[0]
-    return float(row["shift"]), int(row["n_refined"]), int(row["n"])
+    return float(delta[at.index[0]]), int(row["n_refined"]), int(row["n"])
 
 
 def lambda_text(found: tuple[float, int, int] | None) -> str:
