@@ -428,3 +428,20 @@ def test_the_gallery_report_moves_lambda_and_both_studies_by_their_own_samples(t
     loma = next(li for li in re.findall(r"<li>(.*?)</li>", findings) if "Loma" in li)
     assert "(standard error, 11 motions) (refinement moves it by" in loma
     assert re.search(r"rest on its own sample: \d+ of its cells", findings)
+
+
+def test_the_sample_table_states_its_k_and_seed(tmp_path, monkeypatch):
+    """refinement_sample.csv carries the draw's k and seed on every row, so the report can
+    say how the sample was chosen (the refining itself is replaced here: no analyses)."""
+    import figures_synthetic as fs
+
+    paths = fs.write_study(tmp_path / "study", with_tilt_map=False)
+    monkeypatch.setattr(refinement, "refine_sample", lambda sample, *a, **k: sample.assign(
+        refined=sample["answer"], shift=0.0, analyses=0, truncated=False)[
+            list(refinement.COLUMNS)])
+    out = tmp_path / "s.csv"
+    n = refinement.write_refinement_sample(paths["store"], paths["motions"], out,
+                                           refinement.SampleSpec(k=1, seed=11))
+    table = pd.read_csv(out)
+    assert len(table) == n > 0 and set(table["k"]) == {1} and set(table["seed"]) == {11}
+    assert "drawn: k = 1 per mode and limit state, seed 11" in refined.refinement_note(table)

@@ -159,12 +159,13 @@ def refinement_note(table: pd.DataFrame | None,
         text = ("Refinement: " + sample_words(table, "this study's")
                 + " were searched again with a fixed "
                 f"{100 * REFINED_STEP:g} % scan from uplift to the answer at the study's "
-                "own tolerances; " + moved_words(table) + ". A number whose cells were all "
-                "refined (\"all n cells refined\") moves exactly; a fragility refitted with "
-                "its refined cells substituted and integrated again gives λ's move; the "
-                "others apply the sample's mean shift of their mode and limit state "
-                "(\"sample of n cells\"). Refinement only lowers answers: a finer scan finds "
-                "windows of exceedance the coarse one stepped over.")
+                "own tolerances; " + moved_words(table) + ". A number marked \"all n cells "
+                "refined\" is recomputed from the refined answers (a median and λ by fitting "
+                "the fragility again and integrating it with the hazard curve; \"k of its n "
+                "cells\": only k refined); one marked \"sample of n cells\" takes the "
+                "sample's mean shift of its mode and limit state. Refinement only lowers "
+                "answers: a finer scan finds windows of exceedance the coarse one stepped "
+                "over.")
     for name, other in (others or {}).items():
         if name != study:
             text += (f" The numbers of the study {name} rest on its own sample: "
