@@ -306,8 +306,17 @@ def test_lambda_moves_as_the_closed_form_of_a_lognormal_against_a_power_law(tmp_
     assert (k_, n_) == (11, 11) and delta == pytest.approx(4.2 / 5.0 - 1.0, rel=1e-9)
     assert "[1 of its 11 cells refined" in refined.lambda_text(
         refined.lambda_shift(table, "3d", "overturning", 4.0, 0.2))
-    # a hazard of another measure or component: the header only, never a wrong λ
+    # a hazard of another measure or component: the header only, never a wrong λ, and the
+    # findings then say nothing of λ's move
     assert refinement.write_refinement_risk(cells, csv, hazard, out, applies=False) == 0
+    from rocking.plot.findings import study_findings
+
+    risk = tmp_path / "risk.csv"
+    risk.write_text("fragility,mode,tan_alpha [-],R [m],limit_state,median_pga_g [g],beta [-],"
+                    "maf [1/yr],status\nfirst_exceedance,3d,0.2,10,overturning,1.0,0.35,"
+                    "1e-4,ok\n")
+    lam, = [f.text for f in study_findings(risk=risk, refinement_risk=out)]
+    assert "refinement" not in lam
 
 
 def test_a_censored_cell_stays_censored_and_the_store_refit_is_the_studys_fit(tmp_path):

@@ -204,6 +204,8 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
     moves = (read_table(refinement_risk) if isinstance(refinement_risk, str | Path)
              and Path(refinement_risk).exists() else
              refinement_risk if isinstance(refinement_risk, pd.DataFrame) else None)
+    if moves is not None and moves.empty:  # a hazard the cells' fragility does not meet
+        moves = None
     out = []
     if records is not None and Path(records).exists():
         df = pd.read_csv(records)
