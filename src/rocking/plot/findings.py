@@ -283,17 +283,14 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
 
                 def first(x) -> str:  # with its measured move under refinement
                     found = lambda_text(lambda_shift(moves, mode, ls, x["R"], t))
+                    if not found and moves is not None:
+                        found = "no cell of it in the refinement sample"
                     return lam(x) + (f" ({found})" if found else "")
                 ends = sub.iloc[[0, -1]] if len(sub) > 1 else sub
-                unsampled = [x["R"] for _, x in ends.iterrows()
-                             if lambda_shift(moves, mode, ls, x["R"], t) is None]
-                said = ("; no cell at R = " + " or ".join(f"{r:g}" for r in unsampled)
-                        + " m was in the refinement sample") if moves is not None and \
-                    unsampled else ""
                 text = (f"Annual frequency λ of {limit_state_title(ls).lower()}, "
-                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, under the study's "
-                        "hazard curve: " + " to ".join(first(x) for _, x in ends.iterrows())
-                        + f" (first-exceedance fragility{said})")
+                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, first-exceedance "
+                        "fragility under the study's hazard curve: "
+                        + " to ".join(first(x) for _, x in ends.iterrows()))
                 if len(stripe):  # the λ the risk section recommends
                     text += "; with the multiple-stripe fragility " + ", ".join(
                         lam(x) for _, x in stripe.iterrows())
