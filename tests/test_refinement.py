@@ -246,3 +246,211 @@ def test_the_rule_reads_the_store_and_names_a_motion_its_ensemble_lacks(tmp_path
                                            tmp_path / "s.csv",
                                            refinement.SampleSpec(k=1, max_analyses=10))
     assert not (tmp_path / "s.csv").exists()
+
+
+# ------------------------------------------------------------------ λ under refinement
+
+
+def _point(theta: float, beta: float, z: np.ndarray, motions, R=10.0) -> pd.DataFrame:
+    """Cells of one point whose lognormal fit is exactly (θ, β): x = θ·exp(β z), z of mean 0
+    and standard deviation 1 (ddof 0, the fit's)."""
+    return pd.DataFrame({"mode": "3d", "limit_state": "overturning", "motion": motions,
+                         "tan_alpha": 0.2, "R": R, "answer": theta * np.exp(beta * z),
+                         "censored": False})
+
+
+def test_lambda_moves_as_the_closed_form_of_a_lognormal_against_a_power_law(tmp_path):
+    """Against a power-law hazard λ_H = k0·im^−k, a lognormal fragility (θ, β) has
+    λ = k0·θ^−k·exp(k²β²/2); refining every cell of a point from (θ, β) to (θ', β') moves λ
+    by (θ'/θ)^−k·exp(k²(β'² − β²)/2) − 1, whatever tan α (θ in g = θ·tan α cancels)."""
+    from rocking.risk.hazard import HazardCurve
+    from rocking.units import read_table
+
+    rng = np.random.default_rng(5)
+    z = rng.standard_normal(11)
+    z = (z - z.mean()) / z.std()
+    motions = [f"m{i}" for i in range(11)]
+    cells = _point(5.0, 0.35, z, motions)
+    refined_x = 4.2 * np.exp(0.30 * z)
+    sample = cells.assign(why="headline", refined=refined_x, analyses=100, truncated=False)
+    # one more point with one refined cell of eleven: a part of the move, stated as such
+    other = _point(2.0, 0.2, z, motions, R=4.0)
+    cells = pd.concat([cells, other], ignore_index=True)
+    sample = pd.concat([sample, other.head(1).assign(
+        why="sample", refined=other["answer"].iloc[0] * 0.8, analyses=50, truncated=False)])
+    sample["shift"] = sample["refined"] / sample["answer"] - 1.0
+    csv = tmp_path / "refinement_sample.csv"
+    sample.drop(columns="censored").to_csv(csv, index=False)
+    k0, k = 1e-4, 2.5
+    hazard = HazardCurve.from_power_law(k0=k0, k=k)
+    out = tmp_path / "refinement_risk.csv"
+    assert refinement.write_refinement_risk(cells, csv, hazard, out) == 2
+    table = read_table(out)
+    head = table[table["R"] == 10.0].iloc[0]
+    assert (head["n"], head["n_refined"]) == (11, 11)
+    assert head["median"] == pytest.approx(5.0, rel=1e-9)
+    assert head["beta_refined"] == pytest.approx(0.30, rel=1e-9)
+    closed = k0 * (5.0 * 0.2) ** -k * math.exp(k * k * 0.35 ** 2 / 2)
+    assert head["maf"] == pytest.approx(closed, rel=1e-3)
+    expected = (4.2 / 5.0) ** -k * math.exp(k * k * (0.30 ** 2 - 0.35 ** 2) / 2) - 1.0
+    assert head["shift"] == pytest.approx(expected, rel=1e-3)
+    part = table[table["R"] == 4.0].iloc[0]
+    assert (part["n"], part["n_refined"]) == (11, 1) and part["shift"] > 0
+    # the sentence the report prints beside λ
+    found = refined.lambda_shift(table, "3d", "overturning", 10.0, 0.2)
+    assert refined.lambda_text(found) == \
+        f"refinement moves it by +{100 * expected:.1f} % [all 11 cells refined, fragility " \
+        "refitted]"
+    # the median's own move, exact where all its cells were refined: θ'/θ − 1
+    delta, k_, n_ = refined.lambda_shift(table, "3d", "overturning", 10.0, 0.2, "median")
+    assert (k_, n_) == (11, 11) and delta == pytest.approx(4.2 / 5.0 - 1.0, rel=1e-9)
+    assert "[1 of its 11 cells refined" in refined.lambda_text(
+        refined.lambda_shift(table, "3d", "overturning", 4.0, 0.2))
+    # a hazard of another measure or component: the header only, never a wrong λ, and the
+    # findings then say nothing of λ's move
+    assert refinement.write_refinement_risk(cells, csv, hazard, out, applies=False) == 0
+    from rocking.plot.findings import study_findings
+
+    risk = tmp_path / "risk.csv"
+    risk.write_text("fragility,mode,tan_alpha [-],R [m],limit_state,median_pga_g [g],beta [-],"
+                    "maf [1/yr],status\nfirst_exceedance,3d,0.2,10,overturning,1.0,0.35,"
+                    "1e-4,ok\n")
+    lam, = [f.text for f in study_findings(risk=risk, refinement_risk=out)]
+    assert "refinement" not in lam
+
+
+def test_a_censored_cell_stays_censored_and_the_store_refit_is_the_studys_fit(tmp_path):
+    """The refit reads the cells as the study's fragility table does (the store's
+    not-reached cells censored at the bound): unrefined, it gives fragility_table's median
+    and β; a sampled cell that was censored is not substituted."""
+    import figures_synthetic as fs
+
+    from rocking.plot import open_store
+    from rocking.spectra.fragility import fragility_table
+    from rocking.spectra.limit_states import parse_limit_state
+
+    paths = fs.write_study(tmp_path / "study", with_tilt_map=False)
+    store = open_store(paths["store"])
+    cells = refinement.store_cells(store, fs.UPPER)
+    cens = cells[cells["censored"]]
+    assert len(cens) >= 2
+    row = cens.iloc[0]
+    table = fragility_table(store, upper=fs.UPPER).sel(mode=row["mode"])
+    at = cells[(cells["mode"] == row["mode"]) & (cells["limit_state"] == row["limit_state"])
+               & (cells["tan_alpha"] == row["tan_alpha"]) & (cells["R"] == row["R"])]
+    sample = at.assign(why="sample", refined=at["answer"], analyses=1, truncated=False)
+    sample.loc[sample["censored"], "refined"] = 0.5 * sample["answer"]
+    fits = refinement.refit_points(cells, sample)
+    assert len(fits) == 1 and fits["n_refined"].iloc[0] == int((~at["censored"]).sum())
+    ls = next(str(v) for v in store["limit_state"].values
+              if parse_limit_state(str(v)).name == row["limit_state"])
+    want = float(table.sel(limit_state=ls, tan_alpha=row["tan_alpha"], R=row["R"])["median"])
+    assert np.isfinite(want)
+    assert fits["median"].iloc[0] == pytest.approx(want, rel=1e-9)
+    assert fits["median_refined"].iloc[0] == pytest.approx(want, rel=1e-9)
+
+
+def test_the_combined_fig12_finding_moves_each_study_by_its_own_sample():
+    """Fig 12's finding quotes every study it draws: each study's R = 10 m mean and ratios
+    carry the shift of that study's own sample (here −10 % and −20 %, every cell of each
+    mean refined), and the note says which sample each rests on, with its k and seed."""
+    from rocking.plot.findings import paper_findings
+
+    notes = {"R": 10.0}
+    for ens in ("elcentro", "lomaprieta"):
+        notes[f"{ens}|label"] = ens
+        for ls in ("overturning", "excessive tilt"):
+            for mode, f in (("3d", 1.0), ("2d-x", 2.2), ("2d-y", 1.9)):
+                notes[f"{ens}|{ls}|{mode}"] = 4.0 * f
+                notes[f"{ens}|{ls}|{mode}|count"] = 2.0
+                notes[f"{ens}|{ls}|{mode}|std"] = 1.0
+    samples = {}
+    for ens, factor in (("elcentro", 0.9), ("lomaprieta", 0.8)):
+        rows = [("3d", "overturning", m, 0.2, 10.0, "headline", 5.0, 5.0 * factor, 10, False,
+                 1, 7) for m in ("a", "b")]
+        rows.append(("2d-x", "overturning", "a", 0.2, 4.0, "sample", 9.0, 9.0, 10, False, 1, 7))
+        df = pd.DataFrame(rows, columns=[*refinement.COLUMNS[:6], "answer", "refined",
+                                         "analyses", "truncated", "k", "seed"])
+        samples[ens] = df.assign(shift=(df["refined"] - df["answer"]) / df["answer"])
+    entries = [_entry("fig12_2d_vs_3d", notes)]
+    found = paper_findings(entries, {}, "elcentro", samples)
+    text = {f.text.split(",")[0]: f.text for f in found}
+    assert "4.00 ± 0.71 (standard error, 2 motions) (refinement moves it by −10.0 % [all 2 " \
+        "cells refined])" in text["elcentro"]
+    assert "(refinement moves it by −20.0 % [all 2 cells refined])" in text["lomaprieta"]
+    # the ratio 2D/3D moves by (1 + 0)/(1 + δ3D) − 1 of each study's own sample
+    assert "x 2.20× (means at R = 10 m only) (refinement moves it by +11.1 % [sample of 3 " \
+        "cells])" in text["elcentro"]
+    assert "(refinement moves it by +25.0 % [sample of 3 cells])" in text["lomaprieta"]
+    note = refined.refinement_note(samples["elcentro"], samples, "elcentro")
+    assert "3 of this study's cells (2 of the headline mean, 1 drawn: k = 1 per mode and " \
+        "limit state, seed 7)" in note
+    assert "The numbers of the study lomaprieta rest on its own sample: 3 of its cells" in note
+
+
+def _entry(name: str, measured: dict):
+    """A figure of kind ``name`` as the findings read it (name, anchor, notes)."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(name=name, stem=name, notes={"measured": measured})
+
+
+def test_the_gallery_report_moves_lambda_and_both_studies_by_their_own_samples(tmp_path):
+    """The committed gallery's tables: the refit of the headline point, unrefined, gives
+    risk.csv's λ (same fit, same integral, to the tables' rounding); the El Centro report
+    quotes λ's measured move beside it and Loma Prieta's numbers with Loma Prieta's sample."""
+    import re
+    from pathlib import Path
+
+    from rocking.plot import FIGURES, report
+    from rocking.risk.hazard import parse_hazard
+    from rocking.units import read_table
+
+    repo = Path(__file__).resolve().parents[1]
+    root, study = repo / "results" / "paper", repo / "results" / "paper" / "elcentro"
+    hazard = parse_hazard({"file": str(repo / "config/hazard/example_hazard_curve.csv"),
+                           "site": {"lon": 0.0, "lat": 0.0}})
+    moves = tmp_path / "refinement_risk.csv"
+    refinement.write_refinement_risk(refinement.critical_cells(study / "critical.csv", 20.0),
+                                     study / "refinement_sample.csv", hazard, moves)
+    table = read_table(moves)
+    risk = read_table(study / "risk.csv")
+    risk = risk[risk["fragility"] == "first_exceedance"]
+    both = table.merge(risk, on=["mode", "limit_state", "tan_alpha", "R"],
+                       suffixes=("", "_risk"))
+    assert len(both) == len(table) > 0
+    np.testing.assert_allclose(both["maf"], both["maf_risk"], rtol=1e-4)
+    pngs = sorted(p for p in [*root.glob("figures/*.png"), *study.glob("figures/*.png")]
+                  if p.stem.startswith(tuple(FIGURES)))
+    page = report.build(tmp_path / "report.html", title="paper", figures=pngs,
+                        fragility=study / "fragility.csv", risk=study / "risk.csv",
+                        study="elcentro",
+                        refinement=[study / "refinement_sample.csv",
+                                    root / "lomaprieta" / "refinement_sample.csv"],
+                        refinement_risk=moves).read_text()
+    findings = page.split("<h2 id='what-was-run'>")[0]
+    assert re.search(r"at R = 10 m \(5–95 %: [^)]+\) \(refinement moves it by \+\d+\.\d % "
+                     r"\[all 11 cells refined, fragility refitted\]\)", findings)
+    # the median at R = 10 m refitted from its 11 refined cells: its exact move beside it
+    assert re.search(r"\(β \d\.\d\d\) at R = 10 m \(refinement moves it by −\d+\.\d % \[all "
+                     r"11 cells refined, fragility refitted\]\)", findings)
+    loma = next(li for li in re.findall(r"<li>(.*?)</li>", findings) if "Loma" in li)
+    assert "(standard error, 11 motions) (refinement moves it by" in loma
+    assert re.search(r"rest on its own sample: \d+ of its cells", findings)
+
+
+def test_the_sample_table_states_its_k_and_seed(tmp_path, monkeypatch):
+    """refinement_sample.csv carries the draw's k and seed on every row, so the report can
+    say how the sample was chosen (the refining itself is replaced here: no analyses)."""
+    import figures_synthetic as fs
+
+    paths = fs.write_study(tmp_path / "study", with_tilt_map=False)
+    monkeypatch.setattr(refinement, "refine_sample", lambda sample, *a, **k: sample.assign(
+        refined=sample["answer"], shift=0.0, analyses=0, truncated=False)[
+            list(refinement.COLUMNS)])
+    out = tmp_path / "s.csv"
+    n = refinement.write_refinement_sample(paths["store"], paths["motions"], out,
+                                           refinement.SampleSpec(k=1, seed=11))
+    table = pd.read_csv(out)
+    assert len(table) == n > 0 and set(table["k"]) == {1} and set(table["seed"]) == {11}
+    assert "drawn: k = 1 per mode and limit state, seed 11" in refined.refinement_note(table)

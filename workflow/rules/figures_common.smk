@@ -148,14 +148,17 @@ def report_inputs(study):
             "linear_fit": rules.fragility_curves.output.linear_csv.format(study=study),
             "fragility": rules.fragility_curves.output.fragility_csv.format(study=study),
             **({"risk": rules.risk.output.table.format(study=study),
-                "risk_png": rules.risk.output.png.format(study=study)}
+                "risk_png": rules.risk.output.png.format(study=study),
+                "refinement_risk": rules.refinement_risk.output.csv.format(study=study)}
                if hazard_spec(study) is not None else {}),
             **({"stripes": out_path(f"{study}/stripe_fragility.csv"),
                 "stripe_figures": [out_path(f"{study}/figures/stripe_fragility_{mode}.png")
                                    for mode in study_spec(study).stripes.modes]}
                if has_product("stripes", study) else {}),
             "records": out_path(f"{study}/records.csv"),
-            "refinement": out_path(f"{study}/refinement_sample.csv"),
+            # the samples of every study the report quotes (Fig 12's finding), its own first
+            "refinement": [out_path(f"{s}/refinement_sample.csv") for s in
+                           dict.fromkeys([study, *report_studies(config, study)])],
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 

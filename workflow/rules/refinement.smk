@@ -22,3 +22,27 @@ rule refinement_sample:
         out_path("logs/{study}/refinement_sample.log"),
     script:
         "../scripts/refinement_sample.py"
+
+
+# λ under refinement: the fragility of every point holding a refined cell fitted again with
+# the refined answers substituted (the study's fit) and integrated with the study's hazard
+# curve (risk.csv's function). Studies with a `hazard:` only; the report quotes the shift.
+rule refinement_risk:
+    input:
+        complete=rules.spectra.output.done,
+        sample=rules.refinement_sample.output.csv,
+        hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
+    output:
+        csv=out_path("{study}/refinement_risk.csv"),
+    params:
+        store=lambda wildcards: product_store("spectra", wildcards.study),
+        hazard=lambda wildcards: hazard_param(wildcards.study),
+        component=lambda wildcards: hazard_component_of(wildcards.study),
+        study_component=lambda wildcards: study_spec(wildcards.study).component,
+        upper=lambda wildcards: search_upper(wildcards.study),
+    conda:
+        "../envs/rocking.yaml"
+    log:
+        out_path("logs/{study}/refinement_risk.log"),
+    script:
+        "../scripts/refinement_risk.py"

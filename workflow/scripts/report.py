@@ -38,7 +38,8 @@ def main(snakemake):
               records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
               stripe_figures=list(inp.get("stripe_figures", [])),
               paper_record=bool(snakemake.params.paper_record),
-              study=str(snakemake.params.study), refinement=inp.get("refinement"))
+              study=str(snakemake.params.study), refinement=list(inp.get("refinement", [])),
+              refinement_risk=inp.get("refinement_risk"))
 
 
 if __name__ == "__main__":

@@ -5,12 +5,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from ..spectra.modes import MODE_3D
+from ..study.refinement import REFINED_STEP
 
 SAMPLE_FILE = "refinement_sample.csv"
 """The sample's file name in a study's folder (beside ``mean_spectra.nc``)."""
@@ -22,6 +24,50 @@ def read_refinement(path) -> pd.DataFrame | None:
         return None
     df = pd.read_csv(path)
     return df if len(df) else None
+
+
+def read_refinements(paths, study: str = "") -> dict[str, pd.DataFrame]:
+    """The samples of the studies a report quotes, by study: the first of ``paths`` is
+    ``study``'s own, each other one is named by its folder (``<root>/<study>/``); absent or
+    empty tables are left out. ``paths`` may be one path (the study's own) or None."""
+    if paths is None:
+        return {}
+    paths = [paths] if isinstance(paths, str | Path) else list(paths)
+    out = {}
+    for i, p in enumerate(paths):
+        df = read_refinement(p)
+        if df is not None:
+            out.setdefault(study if i == 0 else Path(p).parent.name, df)
+    return out
+
+
+def lambda_shift(df: pd.DataFrame | None, mode: str, limit_state: str, R: float,
+                 tan_alpha: float, what: str = "maf") -> tuple[float, int, int] | None:
+    """How far refinement moves λ (``what`` "maf") or the fragility median ("median") of
+    one point, from ``refinement_risk.csv``
+    (:func:`rocking.study.refinement.write_refinement_risk`): (refined/unrefined − 1, cells
+    refined, cells behind the fit), or None where no cell of the point was refined."""
+    if df is None or df.empty:
+        return None
+    at = df[(df["mode"] == mode) & (df["limit_state"] == limit_state)
+            & np.isclose(df["R"].astype(float), R)
+            & np.isclose(df["tan_alpha"].astype(float), tan_alpha)]
+    delta = at[f"{what}_refined"].astype(float) / at[what].astype(float) - 1.0
+    at = at[np.isfinite(delta) & (at["n_refined"] > 0)]
+    if at.empty:
+        return None
+    row = at.iloc[0]
+    return float(delta[at.index[0]]), int(row["n_refined"]), int(row["n"])
+
+
+def lambda_text(found: tuple[float, int, int] | None) -> str:
+    """``"refinement moves it by +20.8 % [all 11 cells refined, fragility refitted]"``, or
+    ``"[1 of its 11 cells refined, ...]"`` (empty without a refined cell)."""
+    if found is None:
+        return ""
+    delta, k, n = found
+    cells = f"all {n} cells" if k == n else f"{k} of its {n} cells"
+    return f"refinement moves it by {_percent(delta)} [{cells} refined, fragility refitted]"
 
 
 def _refined(df: pd.DataFrame) -> pd.DataFrame:
@@ -58,7 +104,13 @@ def shift_text(found: tuple[float, int, bool] | None) -> str:
         return ""
     delta, n, exact = found
     cells = f"all {n} cells refined" if exact else f"sample of {n} cell{'s' * (n != 1)}"
-    return f"refinement moves it by {100 * delta:+.1f} % [{cells}]".replace("-", "−")
+    return f"refinement moves it by {_percent(delta)} [{cells}]"
+
+
+def _percent(delta: float) -> str:
+    """``"−2.1 %"``, ``"+20.8 %"``; ``"0.0 %"`` where it rounds to nothing (no sign)."""
+    text = f"{100 * delta:+.1f} %"
+    return "0.0 %" if text in ("+0.0 %", "-0.0 %") else text.replace("-", "−")
 
 
 def ratio_shift(df: pd.DataFrame | None, mode: str, limit_state: str,
@@ -93,3 +145,54 @@ def legend_phrase(df: pd.DataFrame | None, mode: str, limit_state: str | None = 
     text = shift_text(found)
     return text.replace("refinement moves it by", "refinement (0.05 % scan) moves answers by"
                         ) if text else ""
+
+
+def refinement_note(table: pd.DataFrame | None,
+                    others: Mapping[str, pd.DataFrame] | None = None, study: str = "") -> str:
+    """What the findings' "refinement moves it by" rests on: the sample, how it was drawn
+    (k per mode and limit state, its seed, the headline cells) and the scan; and the samples
+    of the other studies the findings quote."""
+    if table is None:
+        text = ("No refinement sample in this run (refinement_sample.csv): the headline "
+                "numbers carry no measured movement under refinement.")
+    else:
+        text = ("Refinement: " + sample_words(table, "this study's")
+                + " were searched again with a fixed "
+                f"{100 * REFINED_STEP:g} % scan from uplift to the answer at the study's "
+                "own tolerances; " + moved_words(table) + ". A number marked \"all n cells "
+                "refined\" is recomputed from the refined answers (a median and λ by fitting "
+                "the fragility again and integrating it with the hazard curve; \"k of its n "
+                "cells\": only k refined); one marked \"sample of n cells\" takes the "
+                "sample's mean shift of its mode and limit state. Refinement only lowers "
+                "answers: a finer scan finds windows of exceedance the coarse one stepped "
+                "over.")
+    for name, other in (others or {}).items():
+        if name != study:
+            text += (f" The numbers of the study {name} rest on its own sample: "
+                     + sample_words(other, "its") + "; " + moved_words(other) + ".")
+    return text
+
+
+def sample_words(table: pd.DataFrame, whose: str) -> str:
+    """``"24 of this study's cells (11 of the headline mean, 13 drawn: k = 1 per mode and
+    limit state, seed 0)"``; k and seed where the table records them."""
+    head = int((table["why"] == "headline").sum())
+    how = ""
+    if {"k", "seed"} <= set(table.columns) and len(table):
+        how = f": k = {int(table['k'].iloc[0])} per mode and limit state, seed " \
+              f"{int(table['seed'].iloc[0])}"
+    else:
+        how = " per mode and limit state with a fixed seed"
+    return (f"{len(table)} of {whose} cells ({head} of the headline mean, "
+            f"{len(table) - head} drawn{how})")
+
+
+def moved_words(table: pd.DataFrame) -> str:
+    """``"23 of 24 moved down (median −3.8 %, largest −29.1 %)"`` and the truncated ones."""
+    refined = table[~table["truncated"].astype(bool)]
+    shift = refined["shift"].astype(float)
+    moved = int((shift < -1e-12).sum())
+    cut = int(table["truncated"].astype(bool).sum())
+    return (f"{moved} of {len(refined)} moved down (median {100 * shift.median():+.1f} %, "
+            f"largest {100 * shift.min():+.1f} %)".replace("-", "−")
+            + (f"; {cut} needed more analyses than allowed and are left out" if cut else ""))

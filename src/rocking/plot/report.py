@@ -36,7 +36,7 @@ from .entries import (
     measured_lines,
 )
 from .findings import findings_html, paper_findings, study_findings
-from .refined import read_refinement
+from .refined import read_refinements, refinement_note
 from .tables import fragility_pivot, linear_fit_rows, records_section, stripes_section, table_html
 
 _CSS = """
@@ -148,7 +148,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           stripes: str | Path | None = None, paper: bool = True,
           records: str | Path | None = None, suite_fragility: str | Path | None = None,
           stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
-          study: str = "", refinement: str | Path | None = None) -> Path:
+          study: str = "", refinement: str | Path | Sequence[str | Path] | None = None,
+          refinement_risk: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -193,9 +194,14 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         linearity and 12), and the El Centro-only rows stay in the El Centro report.
     study : str
         The study's name (its curves of Fig 12 come first in the findings).
-    refinement : path, optional
+    refinement : path or sequence of path, optional
         ``refinement_sample.csv`` (:mod:`rocking.study.refinement`): the findings say how
-        far refinement moves each headline number, measured on the sample.
+        far refinement moves each headline number, measured on the sample. A sequence: the
+        study's own first, then those of the other studies Fig 12's finding quotes (each
+        named by its folder).
+    refinement_risk : path, optional
+        ``refinement_risk.csv``: how far refinement moves λ (fragility refitted, integrated
+        again with the study's hazard curve).
 
     Returns
     -------
@@ -209,13 +215,14 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
                     verdicts.items()}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
-    refined = read_refinement(refinement)
-    found = (paper_findings(entries, verdicts, study, refined) if paper else []) + \
+    samples = read_refinements(refinement, study)
+    refined = samples.get(study)
+    found = (paper_findings(entries, verdicts, study, samples) if paper else []) + \
         study_findings(entries=entries, fragility=fragility, records=records, risk=risk,
-                       stripes=stripes, refinement=refined)
+                       stripes=stripes, refinement=refined, refinement_risk=refinement_risk)
     parts.append("<h2 id='findings'>Findings</h2>")
     parts.append(findings_html(found))
-    parts.append(f"<p>{html.escape(refinement_note(refined))}</p>")
+    parts.append(f"<p>{html.escape(refinement_note(refined, samples, study))}</p>")
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
     if paper and not paper_record:
         parts.append("<p>The paper's figures of the model (Figs 3, 4 and 6) and the statements "
@@ -259,30 +266,6 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
     return out
-
-
-def refinement_note(table: pd.DataFrame | None) -> str:
-    """What the findings' "refinement moves it by" rests on: the sample and its setting."""
-    if table is None:
-        return ("No refinement sample in this run (refinement_sample.csv): the headline numbers "
-                "carry no measured movement under refinement.")
-    from ..study.refinement import REFINED_STEP
-
-    refined = table[~table["truncated"].astype(bool)]
-    head = int((table["why"] == "headline").sum())
-    cut = int(table["truncated"].astype(bool).sum())
-    shift = refined["shift"].astype(float)
-    moved = int((shift < -1e-12).sum())
-    return (f"Refinement: {len(table)} of this study's cells ({head} of the headline mean, "
-            f"{len(table) - head} drawn per mode and limit state with a fixed seed) were "
-            f"searched again with a fixed {100 * REFINED_STEP:g} % scan from uplift to the "
-            "answer at the study's own tolerances; "
-            f"{moved} of {len(refined)} moved down (median {100 * shift.median():+.1f} %, "
-            f"largest {100 * shift.min():+.1f} %)".replace("-", "−")
-            + (f"; {cut} needed more analyses than allowed and are left out" if cut else "")
-            + ". A number computed from the refined cells alone is exact; the others apply "
-            "the sample's mean shift of their mode and limit state (refinement only lowers "
-            "answers: a finer scan finds windows of exceedance the coarse one stepped over).")
 
 
 EL_CENTRO_FIGURES = ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",

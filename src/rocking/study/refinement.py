@@ -20,7 +20,16 @@ about 7 ms of CPU (the record at R = 10 m: 3126 analyses in 23 s, its answer 5.4
 
 ``refinement_sample.csv`` (:func:`write_refinement_sample`) has one row per sampled cell:
 mode, limit_state, motion, tan_alpha, R, why ("sample" or "headline"), answer, refined,
-shift, analyses, truncated. The report reads it through :mod:`rocking.plot.refined`.
+shift, analyses, truncated, and the draw's k and seed (the same on every row, so the table
+states its sample). The report reads it through :mod:`rocking.plot.refined`.
+
+λ under refinement (:func:`write_refinement_risk`, ``refinement_risk.csv``): at every point
+(mode, limit state, tan α, R) holding a refined cell, the lognormal fragility is fitted again
+with the refined answers substituted (the study's own fit,
+:func:`rocking.spectra.fragility.fit_lognormal`, censoring included) and integrated with the
+study's hazard curve (:func:`rocking.risk.annual_frequency.mean_annual_frequency`, the
+function of ``risk.csv``); exact where every cell of the point was refined (the headline
+point), a part of the move elsewhere.
 """
 
 from __future__ import annotations
@@ -38,7 +47,8 @@ REFINED_STEP = 0.0005
 """Relative step of the refining scan [-] (0.05 %)."""
 COLUMNS = ("mode", "limit_state", "motion", "tan_alpha", "R", "why", "answer", "refined",
            "shift", "analyses", "truncated")
-"""Columns of ``refinement_sample.csv`` (intensities in PGA/(g tan α), R in m)."""
+"""Columns of ``refinement_sample.csv`` (intensities in PGA/(g tan α), R in m), before the
+draw's ``k`` and ``seed``."""
 
 
 @dataclass(frozen=True)
@@ -311,5 +321,178 @@ def write_refinement_sample(store_path: str | Path, motions_path: str | Path,
                           upper=float(options.get("upper", 20.0)),
                           max_analyses=spec.max_analyses, omega_n=options.get("omega_n"),
                           zeta=options.get("zeta"), n_workers=n_workers)
+    table = table.assign(k=spec.k, seed=spec.seed)  # the table states how it was drawn
+    table.to_csv(out_csv, index=False, float_format=CSV_FLOAT_FORMAT)
+    return len(table)
+
+
+# ------------------------------------------------------------------ λ under refinement
+
+RISK_COLUMNS = ("mode", "limit_state", "tan_alpha [-]", "R [m]", "n", "n_refined",
+                "median [g tan(alpha)]", "beta [-]", "median_refined [g tan(alpha)]",
+                "beta_refined [-]", "maf [1/yr]", "maf_refined [1/yr]", "shift [-]")
+"""Columns of ``refinement_risk.csv`` (:func:`write_refinement_risk`)."""
+
+
+def critical_cells(path: str | Path, bound: float | None = None) -> pd.DataFrame:
+    """Every computed cell of a ``critical.csv``, as the fragility fit sees it: mode,
+    limit_state, motion, tan_alpha, R, answer [PGA/(g tan α)], censored. A not-reached cell
+    is right-censored at its stored value, or at ``bound`` (the search bound) where none is
+    stored, as :func:`rocking.spectra.fragility.fragility_table` does; a cell without a value
+    that was not censored (never computed, failed) is left out, as there."""
+    from ..spectra.limit_states import parse_limit_state
+
+    df = pd.read_csv(path)
+    col = {c.split(" [")[0]: c for c in df.columns}
+    answer = pd.to_numeric(df[col["pga_crit"]], errors="coerce").to_numpy(dtype=float,
+                                                                          copy=True)
+    censored = df[col["not_reached"]].astype(str).str.lower().isin(["true", "1"]).to_numpy()
+    unbounded = censored & ~np.isfinite(answer)
+    if unbounded.any():
+        if bound is None:
+            raise ValueError(f"{path}: not-reached cells without a value and no censoring "
+                             "bound: pass bound=<search bound>")
+        answer[unbounded] = bound
+    keep = np.isfinite(answer)
+    return pd.DataFrame({
+        "mode": df["mode"].astype(str).to_numpy()[keep],
+        "limit_state": [parse_limit_state(str(x)).name for x in df["limit_state"][keep]],
+        "motion": df["motion"].astype(str).to_numpy()[keep],
+        "tan_alpha": df[col["tan_alpha"]].astype(float).to_numpy()[keep],
+        "R": df[col["R"]].astype(float).to_numpy()[keep],
+        "answer": answer[keep],
+        "censored": censored[keep],
+    })
+
+
+def refit_points(cells: pd.DataFrame, sample: pd.DataFrame) -> pd.DataFrame:
+    """The lognormal fragility of every point (mode, limit state, tan α, R) holding a refined
+    cell of ``sample``, fitted as the study fits it
+    (:func:`rocking.spectra.fragility.fit_lognormal`) from ``cells``
+    (:func:`critical_cells`) as they are and with the sample's refined answers substituted.
+
+    Returns
+    -------
+    pandas.DataFrame
+        mode, limit_state, tan_alpha, R, n (motions behind the fit), n_refined (of them
+        refined), median, beta, median_refined, beta_refined (medians in PGA/(g tan α); NaN
+        where the fit has none).
+    """
+    from ..spectra.fragility import fit_lognormal
+
+    ok = sample[~sample["truncated"].astype(bool)
+                & np.isfinite(sample["refined"].astype(float))]
+    rows = []
+    for (mode, ls, t, R), s in ok.groupby(["mode", "limit_state", "tan_alpha", "R"],
+                                          sort=True):
+        at = cells[(cells["mode"] == mode) & (cells["limit_state"] == ls)
+                   & np.isclose(cells["tan_alpha"], t) & np.isclose(cells["R"], R)]
+        if at.empty:
+            continue
+        x, c = at["answer"].to_numpy(float), at["censored"].to_numpy(bool)
+        new = dict(zip(s["motion"], s["refined"].astype(float), strict=True))
+        hit = at["motion"].isin(list(new)).to_numpy() & ~c  # a sampled cell is answered
+        x_ref = x.copy()
+        x_ref[hit] = [new[m] for m in at["motion"].to_numpy()[hit]]
+        f0, f1 = fit_lognormal(x, c), fit_lognormal(x_ref, c)
+        rows.append({"mode": mode, "limit_state": ls, "tan_alpha": float(t), "R": float(R),
+                     "n": int(x.size), "n_refined": int(hit.sum()), "median": f0.median,
+                     "beta": f0.beta, "median_refined": f1.median, "beta_refined": f1.beta})
+    return pd.DataFrame(rows, columns=["mode", "limit_state", "tan_alpha", "R", "n",
+                                       "n_refined", "median", "beta", "median_refined",
+                                       "beta_refined"])
+
+
+def lambda_shifts(points: pd.DataFrame, hazard) -> pd.DataFrame:
+    """λ of each refitted point (:func:`refit_points`) before and after refinement, with the
+    function of ``risk.csv`` (:func:`rocking.risk.annual_frequency.mean_annual_frequency`,
+    the median in g = PGA/(g tan α) · tan α), and ``shift`` = λ_refined/λ − 1 [-] (> 0
+    where the refined medians fall). NaN where a fit is missing.
+
+    Parameters
+    ----------
+    points : pandas.DataFrame
+        :func:`refit_points`.
+    hazard : HazardCurve
+        The study's hazard curve, of PGA [g].
+    """
+    from ..risk.annual_frequency import mean_annual_frequency
+
+    def lam(median, beta, t) -> float:
+        if not (np.isfinite(median) and np.isfinite(beta) and beta > 0):
+            return math.nan
+        return mean_annual_frequency(float(median) * float(t), float(beta), hazard)
+
+    out = points.copy()
+    out["maf"] = [lam(m, b, t) for m, b, t in
+                  zip(out["median"], out["beta"], out["tan_alpha"], strict=True)]
+    out["maf_refined"] = [lam(m, b, t) for m, b, t in
+                          zip(out["median_refined"], out["beta_refined"], out["tan_alpha"],
+                              strict=True)]
+    out["shift"] = out["maf_refined"] / out["maf"] - 1.0
+    return out
+
+
+def store_cells(store, bound: float | None = None) -> pd.DataFrame:
+    """:func:`critical_cells` of a spectra store (an xarray Dataset): what
+    :func:`rocking.spectra.fragility.fragility_table` fits, cell by cell."""
+    from ..spectra.limit_states import parse_limit_state
+
+    crit = store["pga_crit"].transpose("mode", "limit_state", "motion", "tan_alpha", "R")
+    values = crit.values.astype(float).copy()
+    censored = store["not_reached"].transpose(*crit.dims).values.astype(bool)
+    unbounded = censored & ~np.isfinite(values)
+    if unbounded.any():
+        if bound is None:
+            raise ValueError("not-reached cells without a value and no censoring bound: "
+                             "pass bound=<search bound>")
+        values[unbounded] = bound
+    idx = np.argwhere(np.isfinite(values))
+    coords = [np.asarray(store[d].values) for d in crit.dims]
+    return pd.DataFrame({
+        "mode": [_text(coords[0][i]) for i in idx[:, 0]],
+        "limit_state": [parse_limit_state(_text(coords[1][i])).name for i in idx[:, 1]],
+        "motion": [_text(coords[2][i]) for i in idx[:, 2]],
+        "tan_alpha": coords[3][idx[:, 3]].astype(float),
+        "R": coords[4][idx[:, 4]].astype(float),
+        "answer": values[tuple(idx.T)],
+        "censored": censored[tuple(idx.T)],
+    })
+
+
+def write_refinement_risk(cells: pd.DataFrame, sample_csv: str | Path, hazard,
+                          out_csv: str | Path, *, applies: bool = True) -> int:
+    """``refinement_risk.csv``: λ of every point with a refined cell, before and after
+    refinement (:func:`refit_points`, :func:`lambda_shifts`); columns :data:`RISK_COLUMNS`.
+
+    Parameters
+    ----------
+    cells : pandas.DataFrame
+        The study's cells (:func:`store_cells` or :func:`critical_cells`).
+    sample_csv : path
+        ``refinement_sample.csv``.
+    hazard : HazardCurve
+        The study's hazard curve.
+    out_csv : path
+        The table to write.
+    applies : bool
+        False for a hazard that is not of PGA in the study's component (``risk.csv`` then
+        takes its fits from the suite, not from these cells): the header only is written.
+
+    Returns
+    -------
+    int
+        Rows written.
+    """
+    from ..units import CSV_FLOAT_FORMAT
+
+    sample = pd.read_csv(sample_csv)
+    if applies and len(sample):
+        table = lambda_shifts(refit_points(cells, sample), hazard)
+    else:
+        table = pd.DataFrame(columns=["mode", "limit_state", "tan_alpha", "R", "n",
+                                      "n_refined", "median", "beta", "median_refined",
+                                      "beta_refined", "maf", "maf_refined", "shift"])
+    table.columns = list(RISK_COLUMNS)
     table.to_csv(out_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     return len(table)
