@@ -16,8 +16,8 @@ limit_state, median [g], beta``; ``taxonomy`` and ``value`` optional),
     pelicun/marginals/<id>_marginals.csv  one asset's component assignment (pelicun's
                             ``load_cmp_model`` prefix ``marginals/<id>``)
 
-OpenQuake's damage calculators (``scenario_damage``, ``classical_damage``,
-``event_based_damage``) take ``exposure_file = exposure.xml`` and
+OpenQuake's damage calculators (``scenario_damage``, run on them in the tests;
+``classical_damage``, ``event_based_damage``) take ``exposure_file = exposure.xml`` and
 ``structural_fragility_file = fragility.xml`` as they are: the fragility model's
 ``lossCategory`` is ``structural``, the exposure's one cost type. Each column is one asset
 (``number`` 1; ``structural`` its value, 1 when the table has no ``value``: the damage
