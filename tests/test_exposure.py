@@ -112,6 +112,16 @@ def test_one_taxonomy_per_column_cross_referenced_and_lognormals_kept(tmp_path):
         assert float(imls["maxIML"]) >= top * (1 - 1e-12)
 
 
+def test_extrapolated_columns_named_in_the_notes(tmp_path):
+    table = portfolio(3).assign(extrapolated=False)
+    table.loc[table["id"] == "C03", "extrapolated"] = True
+    out = write_exposure(table, tmp_path)
+    assert [n for n in out.notes if "extrapolated" in n] == [
+        "1 column(s) with fragilities extrapolated beyond the surface's grid exported as they "
+        "are: C03"]
+    assert out.assets == 3
+
+
 def test_pelicun_files_cross_referenced(tmp_path):
     table = portfolio(3)
     out = write_exposure(table, tmp_path)

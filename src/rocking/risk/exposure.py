@@ -229,6 +229,11 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
     else:
         notes.append(f"no pelicun files: pelicun's ground-motion demand is PGA, the "
                      f"fragility is in {imt}")
+    if "extrapolated" in rows:
+        beyond = rows.loc[rows["extrapolated"].astype(str).str.lower() == "true", "id"].unique()
+        if len(beyond):
+            notes.append(f"{len(beyond)} column(s) with fragilities extrapolated beyond the "
+                         f"surface's grid exported as they are: {', '.join(beyond)}")
     if left_out:
         notes.append(f"{', '.join(left_out)} left out: sliding in contact is not a damage "
                      "state of the tilt-overturning chain")
