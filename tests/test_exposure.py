@@ -202,6 +202,11 @@ def test_bad_options_refused(tmp_path):
         write_exposure(portfolio(), tmp_path, imt="SA(1.0)")
     with pytest.raises(ValueError, match=r"row 12 \(id 'C05'\): R = 8 outside the class edges"):
         write_exposure(portfolio(), tmp_path, taxonomy_by="size_class", R_edges=(1, 4, 8))
+    with pytest.raises(ValueError, match="component must be one of vector_peak, rotd100"):
+        write_exposure(portfolio(), tmp_path, component="RotD50")
+    with pytest.raises(ValueError, match="component 'rotd50' is not the table's"):
+        write_exposure(portfolio().assign(component="vector_peak"), tmp_path,
+                       component="rotd50")
     with pytest.raises(ValueError, match="taxonomy_by must be one of"):
         write_exposure(portfolio(), tmp_path, taxonomy_by="height")
     with pytest.raises(ValueError, match="R_edges must be at least two finite increasing"):
@@ -218,8 +223,9 @@ def test_sa_fragility_without_uplift_limit_and_without_pelicun(tmp_path):
     assert "pelicun_damage_model" not in out.paths
     assert not (tmp_path / "pelicun").exists()
     assert any("no pelicun files" in n for n in out.notes)
-    assert "rotd50" in ET.parse(tmp_path / "fragility.xml").getroot().find(
+    text = ET.parse(tmp_path / "fragility.xml").getroot().find(
         "n:fragilityModel/n:description", NS).text
+    assert "rotd50 horizontal component (RotD50)" in text
 
 
 # ------------------------------------------------------------------ OpenQuake's own readers

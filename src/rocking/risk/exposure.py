@@ -74,6 +74,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..motions.measures import COMPONENTS
 from ..spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 from .fragilities import lognormal_moments
 from .hazard import measure_imt, same_measure
@@ -167,7 +168,9 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
         ``measure`` (``pga``, ``sa:1.0``), else ``PGA``; one that contradicts the table's
         ``measure`` is refused.
     component : str
-        The horizontal component of the medians (and of the hazard the model is for).
+        The horizontal component of the medians (and of the hazard the model is for), a
+        name of :data:`rocking.motions.measures.COMPONENTS`; the table's ``component``
+        column, if any, must agree.
     model_id : str
         Id of the exposure model; the fragility model's is ``<model_id>-fragility``.
     currency : str
@@ -192,6 +195,11 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
     frame = frame.reset_index(drop=True)
     assets, rows = _validated(frame, taxonomy_by)
     imt = _imt(imt, rows)
+    if component not in COMPONENTS:
+        raise ValueError(f"component must be one of {', '.join(COMPONENTS)}, got {component!r}")
+    if "component" in rows and str(rows["component"].iloc[0]) != component:
+        raise ValueError(f"component {component!r} is not the table's "
+                         f"({rows['component'].iloc[0]!r})")
     states, left_out = _limit_states(rows, limit_states)
     rows = rows[rows["limit_state"].isin(states)]
     _check_complete(rows, states)
@@ -211,8 +219,9 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
     paths = {"exposure_xml": folder / "exposure.xml", "exposure_csv": folder / "exposure.csv",
              "fragility_xml": folder / "fragility.xml"}
     what = (f"{description} " if description else "") + (
-        f"Free-standing rocking columns (rocking package); fragility in {imt} [g], "
-        f"{component} horizontal component; taxonomy per {taxonomy_by.replace('_', ' ')}.")
+        f"Free-standing rocking columns (rocking package); fragility in {imt} [g] of the "
+        f"{component} horizontal component ({COMPONENTS[component].imt_component}); "
+        f"taxonomy per {taxonomy_by.replace('_', ' ')}.")
     _write_exposure_xml(paths["exposure_xml"], paths["exposure_csv"].name, model_id,
                         currency, what)
     _write_exposure_csv(paths["exposure_csv"], assets)
