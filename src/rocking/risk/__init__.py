@@ -5,7 +5,8 @@ law), :mod:`.annual_frequency` (λ_LS of a lognormal fragility under a hazard cu
 interval over bootstrap resamples), :mod:`.fragilities` (the study's fragility table as
 records), :mod:`.bootstrap` (the ``<table>_bootstrap.nc`` samples beside each table),
 :mod:`.nrml` (OpenQuake NRML 0.5 fragility model), :mod:`.pelicun` (pelicun / FEMA P-58 damage
-model CSV), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report).
+model CSV), :mod:`.exposure` (an inventory as OpenQuake's exposure model and pelicun's
+assets), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report).
 """
 
 from .._lazy import lazy_exports
@@ -26,6 +27,7 @@ _EXPORTS = {
     "risk_tables": "table",
     "write_fragility_exports": "exports",
     "write_risk_outputs": "exports",
+    "write_exposure": "exposure",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
