@@ -79,6 +79,51 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def compare(critical: pd.DataFrame, study: Path) -> None:
-    """Write the hold-out and leave-one-out tables (filled in below)."""
-    _ = (critical, study, np)
+HAZARD = "config/hazard/example_hazard_curve.csv"
+"""The example hazard (site 0) under which λ is compared too."""
+
+
+def compare(critical: pd.DataFrame, study: Path) -> pd.DataFrame:
+    """The surface against the direct fits at the hold-out columns, and its leave-one-out
+    errors; both tables written (module docstring)."""
+    from ..risk.annual_frequency import closed_form_frequencies
+    from ..risk.hazard import HazardCurve
+    from ..risk.surface import FragilitySurface
+    from ..spectra.fragility import bootstrap_lognormal, fit_lognormal, percentile_interval
+
+    surface = FragilitySurface.from_study(study)
+    hazard = HazardCurve.from_file(HAZARD, site=0)
+    rows = []
+    for (R, ta, ls), cell in critical.groupby(["R", "tan_alpha", "limit_state"], sort=False):
+        fit = fit_lognormal(cell["pga_crit"].to_numpy(float),
+                            cell["not_reached"].astype(bool).to_numpy())
+        med_b, _ = bootstrap_lognormal(cell["pga_crit"].to_numpy(float),
+                                       cell["not_reached"].astype(bool).to_numpy())
+        d_lo, d_hi = percentile_interval(med_b * ta)
+        ev = surface.evaluate([R], [ta], MODE, ls)
+        m_d, b_d = fit.median * ta, fit.beta
+        m_s, b_s = float(ev["median"][0]), float(ev["beta"][0])
+        lam_d, lam_s = closed_form_frequencies(np.array([m_d, m_s]), np.array([b_d, b_s]),
+                                               hazard)
+        rows.append({"R": R, "tan_alpha": ta, "limit_state": ls, "motions": len(cell),
+                     "median_direct": m_d, "median_direct_p05": float(d_lo),
+                     "median_direct_p95": float(d_hi), "median_surface": m_s,
+                     "median_surface_p05": float(ev["median_p05"][0]),
+                     "median_surface_p95": float(ev["median_p95"][0]),
+                     "err_median_pct": 100 * (m_s / m_d - 1), "beta_direct": b_d,
+                     "beta_surface": b_s, "err_beta": b_s - b_d, "lambda_direct": lam_d,
+                     "lambda_surface": lam_s, "err_lambda_pct": 100 * (lam_s / lam_d - 1)})
+    table = pd.DataFrame(rows)
+    write_table("surface_holdout", table, "Fragility surface against direct studies at hold-out "
+                "columns (El Centro, 3D)",
+                f"Surface: {study} (PCHIP in ln R, linear in tan α); direct: the ensemble "
+                "searched at each column and fitted as the study fits (same preset and bound); "
+                f"λ under {HAZARD} site 0. The first column is a grid node (the control).")
+    loo = surface.loo_summary()
+    write_table("surface_loo", loo, "Fragility surface: leave-one-out errors on its grid",
+                "ln θ error = ln(predicted / study) (×100 ≈ %), β error = predicted − study; "
+                "R: interior R nodes predicted along ln R; tan_alpha: the tan α 0.2 row "
+                "predicted from 0.1 and 0.3.")
+    print(table.to_string(index=False))
+    print(loo.to_string(index=False))
+    return table

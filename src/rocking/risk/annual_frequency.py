@@ -223,5 +223,53 @@ def probability_in(annual_frequency: float, years: float) -> float:
     return float(-np.expm1(-float(annual_frequency) * years))
 
 
-__all__ = ["annual_frequency_interval", "annual_frequency_parts", "mean_annual_frequencies",
-           "mean_annual_frequency", "probability_in"]
+def closed_form_frequencies(median_g, beta, hazard: HazardCurve) -> np.ndarray:
+    """λ_LS of many lognormal fragilities, exactly for the hazard as it is interpolated [1/yr].
+
+    The hazard is a piecewise power law in im (log-log interpolation, the end slopes
+    extrapolated: :meth:`HazardCurve.rate`), so λ_LS = E[λ(C)], C = θ·e^{βZ}, is a sum over
+    its segments [u_j, u_{j+1}] of ln im with λ = λ_j (im/im_j)^−k_j:
+
+        λ_LS = Σ_j λ_j (θ/im_j)^−k_j e^{k_j²β²/2} [Φ(z_{j+1} + k_jβ) − Φ(z_j + k_jβ)],
+
+    z = (u − ln θ)/β, the first segment open below and the last above (Cornell et al.'s
+    closed form of a power law is the one-segment case). No quadrature: exact to rounding,
+    vectorised over any shape; the trapezoid of :func:`annual_frequency_parts` differs from
+    it by its quadrature error (measured 2e-5 to 4e-4 relative on the example hazard).
+    NaN in (or θ, β ≤ 0), NaN out.
+
+    Parameters
+    ----------
+    median_g, beta : array_like
+        θ [g] and β [-] (same shape).
+    hazard : HazardCurve
+
+    Returns
+    -------
+    numpy.ndarray
+        λ_LS [1/yr], the shape of ``median_g``.
+    """
+    m = np.asarray(median_g, dtype=float)
+    b = np.asarray(beta, dtype=float)
+    if m.shape != b.shape:
+        raise ValueError(f"median_g and beta must have the same shape, got {m.shape} and "
+                         f"{b.shape}")
+    ok = np.isfinite(m) & np.isfinite(b) & (m > 0) & (b > 0)
+    lx, ly = np.log(hazard.im_g), np.log(hazard.annual_rate)
+    k = -np.diff(ly) / np.diff(lx)
+    edges = np.concatenate([[-np.inf], lx[1:-1], [np.inf]])
+    mu = np.log(np.where(ok, m, 1.0))[..., None]
+    bb = np.where(ok, b, 1.0)[..., None]
+    kb = k * bb
+    lo, hi = (edges[:-1] - mu) / bb + kb, (edges[1:] - mu) / bb + kb
+    # the difference of Φ on the side of its smaller tail keeps its digits
+    upper = lo > 0.0
+    diff = np.where(upper, special.ndtr(-lo) - special.ndtr(-hi),
+                    special.ndtr(hi) - special.ndtr(lo))
+    with np.errstate(divide="ignore"):
+        terms = np.exp(ly[:-1] + k * (lx[:-1] - mu) + 0.5 * kb * kb + np.log(diff))
+    return np.where(ok, terms.sum(axis=-1), np.nan)
+
+
+__all__ = ["annual_frequency_interval", "annual_frequency_parts", "closed_form_frequencies",
+           "mean_annual_frequencies", "mean_annual_frequency", "probability_in"]

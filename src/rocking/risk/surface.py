@@ -299,11 +299,12 @@ class FragilitySurface:
         r0, r1, t0, t1 = g.R[0], g.R[-1], g.tan_alpha[0], g.tan_alpha[-1]
         R = np.where(~outside, np.clip(R, r0, r1), R)
         ta = np.where(~outside, np.clip(ta, t0, t1), ta)
-        out = {"median": np.exp(_interpolate(g, np.log(g.median), R, ta)),
+        out = {"median": np.exp(_interpolate(g, _normalized(g, g.median), R, ta)) * ta,
                "beta": _interpolate(g, g.beta, R, ta), "extrapolated": outside}
         if resamples and g.median_resamples.shape[-1]:
             with np.errstate(invalid="ignore", divide="ignore"):
-                med = np.exp(_interpolate(g, np.log(g.median_resamples), R, ta))
+                med = np.exp(_interpolate(g, _normalized(g, g.median_resamples), R, ta)) \
+                    * ta[:, None]
             bet = _interpolate(g, g.beta_resamples, R, ta)
             out["median_resamples"], out["beta_resamples"] = med, bet
             q = 100.0 * (1.0 - CI) / 2.0
@@ -332,11 +333,11 @@ class FragilitySurface:
         """
         rows = []
         for (mode, ls), g in self.grids.items():
-            lnR, lnm = np.log(g.R), np.log(g.median)
+            lnR, lnm = np.log(g.R), _normalized(g, g.median)
             for i, ta in enumerate(g.tan_alpha):
                 for k in range(1, g.R.size - 1):
                     keep = np.arange(g.R.size) != k
-                    m = float(np.exp(PchipInterpolator(lnR[keep], lnm[i, keep])(lnR[k])))
+                    m = float(np.exp(PchipInterpolator(lnR[keep], lnm[i, keep])(lnR[k]))) * ta
                     b = float(PchipInterpolator(lnR[keep], g.beta[i, keep])(lnR[k]))
                     rows.append(_loo_row(mode, ls, "R", ta, g.R[k], g.median[i, k], m,
                                          g.beta[i, k], b))
@@ -344,7 +345,8 @@ class FragilitySurface:
                 w = (g.tan_alpha[i] - g.tan_alpha[i - 1]) / (g.tan_alpha[i + 1]
                                                              - g.tan_alpha[i - 1])
                 for k, R in enumerate(g.R):
-                    m = float(np.exp(lnm[i - 1, k] + w * (lnm[i + 1, k] - lnm[i - 1, k])))
+                    m = float(np.exp(lnm[i - 1, k] + w * (lnm[i + 1, k] - lnm[i - 1, k]))
+                              * g.tan_alpha[i])
                     b = float(g.beta[i - 1, k] + w * (g.beta[i + 1, k] - g.beta[i - 1, k]))
                     rows.append(_loo_row(mode, ls, "tan_alpha", g.tan_alpha[i], R,
                                          g.median[i, k], m, g.beta[i, k], b))
@@ -369,6 +371,15 @@ class FragilitySurface:
         s = self.loo_summary()
         return {(m, ls): float(part["max_ln_median"].max())
                 for (m, ls), part in s.groupby(["mode", "limit_state"], sort=False)}
+
+
+def _normalized(g: LimitStateGrid, median: np.ndarray) -> np.ndarray:
+    """ln of the normalized capacity θ/(g tan α) [-] at the nodes (tan α along axis 0), the
+    quantity interpolated: the paper's spectra are near-independent of tan α in it, while
+    θ itself is near-proportional to tan α (a line in tan α through ln θ would bend
+    ln tan α: 13 % low at tan α 0.15 between 0.1 and 0.3)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.log(median) - np.log(g.tan_alpha).reshape((-1,) + (1,) * (median.ndim - 1))
 
 
 def _loo_row(mode, ls, left_out, ta, R, m, m_loo, b, b_loo) -> dict:
