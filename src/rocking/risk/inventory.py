@@ -189,11 +189,18 @@ def read_inventory(path: str | Path, *, surface=None, hazard: HazardSites | None
     out["site"] = (frame["site"].fillna("").astype(str).str.strip() if "site" in frame
                    else "")
     first_of: dict[str, int] = {}
+    texts = {name: frame[name].tolist() if name in frame.columns else [None] * n
+             for name in NUMERIC}
+    values = np.full((n, len(NUMERIC)), np.nan)
+    id_list = ids.tolist()
     for i in range(n):
         try:
-            out.loc[i, list(NUMERIC)] = _check_row(frame, i, ids.iloc[i], first_of)
+            values[i] = _check_row({k: t[i] for k, t in texts.items()}, id_list[i], i,
+                                   first_of)
         except _Bad as exc:
             bad[i] = (exc.column, exc.reason)
+    for j, name in enumerate(NUMERIC):
+        out[name] = values[:, j]
     ok = np.array([i not in bad for i in range(n)])
     if surface is not None and ok.any():
         outside = np.zeros(n, bool)
@@ -255,10 +262,7 @@ def _read(path: Path) -> pd.DataFrame:
     return frame
 
 
-def _number(frame: pd.DataFrame, i: int, name: str) -> float | None:
-    if name not in frame.columns:
-        return None
-    text = frame[name].iloc[i]
+def _number(text, name: str) -> float | None:
     if text is None or (isinstance(text, float) and math.isnan(text)) or str(text).strip() == "":
         return None
     try:
@@ -270,13 +274,13 @@ def _number(frame: pd.DataFrame, i: int, name: str) -> float | None:
     return value
 
 
-def _check_row(frame: pd.DataFrame, i: int, ident: str, first_of: dict) -> list[float]:
+def _check_row(texts: dict, ident: str, i: int, first_of: dict) -> list[float]:
     if not ident:
         raise _Bad("id", "empty id")
     if ident in first_of:
         raise _Bad("id", f"id {ident!r} duplicates row {first_of[ident] + 1}")
     first_of[ident] = i
-    v = {name: _number(frame, i, name) for name in NUMERIC}
+    v = {name: _number(texts[name], name) for name in NUMERIC}
     for name in ("height", "diameter", "R", "tan_alpha"):
         if v[name] is not None and v[name] <= 0:
             raise _Bad(name, f"must be > 0, got {v[name]:g}")
@@ -322,10 +326,15 @@ def _assign_sites(out: pd.DataFrame, hazard: HazardSites, bad: dict, limit: floa
     if located.any() and np.isfinite(slon).any():
         dist[located] = great_circle_km(lon[located, None], lat[located, None],
                                         slon[None, :], slat[None, :])
+    nearest = np.where(located & np.isfinite(dist).any(axis=1),
+                       np.argmin(np.where(np.isfinite(dist), dist, np.inf), axis=1), -1)
+    index = np.full(len(out), -1)
+    distance = np.full(len(out), np.nan)
+    site_ids = out["site"].tolist()
     for i in range(len(out)):
         if i in bad:
             continue
-        sid = out.at[i, "site"]
+        sid = site_ids[i]
         if sid:
             if sid not in ids:
                 shown = ", ".join(list(ids)[:5]) or "none: the hazard has no custom_site_id"
@@ -343,13 +352,14 @@ def _assign_sites(out: pd.DataFrame, hazard: HazardSites, bad: dict, limit: floa
             bad[i] = ("lon", f"the hazard {hazard.source} has no lon/lat to locate the column")
             continue
         else:
-            k = int(np.nanargmin(dist[i]))
+            k = int(nearest[i])
         d = float(dist[i, k])
         if math.isfinite(d) and d > limit:
             bad[i] = ("lon", f"the nearest hazard site, {hazard.sites[k].label}, is {d:.3g} km "
                       f"away, beyond {limit:g} km (raise --max-distance-km to take it)")
             continue
-        out.at[i, "hazard_index"], out.at[i, "hazard_distance_km"] = k, d
+        index[i], distance[i] = k, d
+    out["hazard_index"], out["hazard_distance_km"] = index, distance
 
 
 __all__ = ["COLUMNS", "HazardSites", "Inventory", "read_hazard_sites", "read_inventory"]

@@ -54,6 +54,22 @@ CI = 0.90
 """Central probability of the intervals over the resamples (5th to 95th percentile)."""
 
 
+def interval(samples: np.ndarray, ci: float = CI) -> tuple[np.ndarray, np.ndarray]:
+    """The central ``ci`` interval along the last axis, over the finite values (NaN where
+    none); the plain percentile where every value is finite (several times faster)."""
+    import warnings
+
+    q = 100.0 * (1.0 - ci) / 2.0
+    samples = np.asarray(samples, float)
+    if np.isfinite(samples).all():
+        lo, hi = np.percentile(samples, [q, 100.0 - q], axis=-1)
+        return lo, hi
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a row without any fit: NaN
+        lo, hi = np.nanpercentile(samples, [q, 100.0 - q], axis=-1)
+    return lo, hi
+
+
 class OutsideGrid(ValueError):
     """A column beyond the surface's grid (and extrapolation not asked for)."""
 
@@ -307,16 +323,20 @@ class FragilitySurface:
                     * ta[:, None]
             bet = _interpolate(g, g.beta_resamples, R, ta)
             out["median_resamples"], out["beta_resamples"] = med, bet
-            q = 100.0 * (1.0 - CI) / 2.0
-            import warnings
-
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                out["median_p05"], out["median_p95"] = np.nanpercentile(med, [q, 100 - q],
-                                                                        axis=-1)
-                out["beta_p05"], out["beta_p95"] = np.nanpercentile(bet, [q, 100 - q],
-                                                                    axis=-1)
+            out["median_p05"], out["median_p95"] = interval(med)
+            out["beta_p05"], out["beta_p95"] = interval(bet)
         return out
+
+    def resample_range(self, mode: str, limit_state: str) -> tuple[float, float, float, float]:
+        """Smallest and largest median [g] and β [-] any resample takes between the nodes:
+        PCHIP and the line do not overshoot their nodes, so the range of the nodes'
+        resamples (the normalized median's, times the grid's tan α range) bounds them."""
+        g = self.grids[(mode, limit_state)]
+        norm = np.exp(_normalized(g, g.median_resamples))
+        with np.errstate(invalid="ignore"):
+            return (float(np.nanmin(norm)) * g.tan_alpha[0],
+                    float(np.nanmax(norm)) * g.tan_alpha[-1],
+                    float(np.nanmin(g.beta_resamples)), float(np.nanmax(g.beta_resamples)))
 
     # ------------------------------------------------------------------------------- error
     def leave_one_out(self) -> pd.DataFrame:
@@ -394,4 +414,4 @@ def _list(values) -> str:
     return "[" + ", ".join(values[:4]) + (", ..." if len(values) > 4 else "") + "]"
 
 
-__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid"]
+__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval"]
