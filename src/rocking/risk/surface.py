@@ -181,12 +181,13 @@ class FragilitySurface:
             part = rows[rows["limit_state"] == ls]
             gaps = frag.skipped[(frag.skipped["mode"] == mode)
                                 & (frag.skipped["limit_state"] == ls)]
-            ta, R = np.unique(part["tan_alpha"]), np.unique(part["R"])
+            ta = np.unique(np.concatenate([part["tan_alpha"], gaps["tan_alpha"]]))
+            R = np.unique(np.concatenate([part["R"], gaps["R"]]))
             if ta.size < 2 or R.size < 2:
                 why.append(f"{ls}: tan α {_list(ta)}, R {_list(R)} [m]")
                 continue
-            if len(part) != ta.size * R.size or not gaps.empty:
-                miss = ta.size * R.size - len(part) + len(gaps)
+            if len(part) != ta.size * R.size:
+                miss = ta.size * R.size - len(part)
                 why.append(f"{ls}: {miss} node(s) of its {ta.size}×{R.size} grid without a "
                            "fit")
                 continue
