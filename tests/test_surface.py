@@ -54,7 +54,7 @@ def test_the_bootstrap_is_the_study_own(surface, fragility, ls):
 
 
 def test_between_nodes_no_overshoot(surface):
-    """PCHIP in ln R and the line in tan α stay between the bracketing nodes."""
+    """Bilinear interpolation stays between the bracketing nodes."""
     g = surface.grids[("3d", "overturning")]
     R = np.sqrt(g.R[:-1] * g.R[1:])  # midpoints in ln R
     for i, ta in enumerate(g.tan_alpha):
@@ -75,7 +75,7 @@ def _synthetic(tmp_path, tan_alphas, Rs, median, beta):
 def test_a_surface_of_the_paper_structure_is_reproduced_exactly(tmp_path):
     """θ/(g tan α) = a·R^p (the paper's growth with R, no slenderness effect in the
     normalized intensity) and β linear in tan α: the surface between the nodes is exact
-    (ln R linear is reproduced by PCHIP, the rest by the line), and so is leave-one-out."""
+    (both are linear in ln R and tan α), and so is leave-one-out."""
     def median(R, t):
         return 0.9 * R**0.4 * t
 

@@ -116,8 +116,9 @@ def compare(critical: pd.DataFrame, study: Path) -> pd.DataFrame:
     table = pd.DataFrame(rows)
     write_table("surface_holdout", table, "Fragility surface against direct studies at hold-out "
                 "columns (El Centro, 3D)",
-                f"Surface: {study} (PCHIP in ln R, linear in tan α); direct: the ensemble "
-                "searched at each column and fitted as the study fits (same preset and bound); "
+                f"Surface: {study} (bilinear in ln R and tan α of ln(θ/tan α) and β); "
+                "direct: the ensemble searched at each column and fitted as the study fits "
+                "(same preset and bound); "
                 f"λ under {HAZARD} site 0. The first column is a grid node (the control).")
     loo = surface.loo_summary()
     write_table("surface_loo", loo, "Fragility surface: leave-one-out errors on its grid",
