@@ -14,6 +14,7 @@ inventory, hazard and table steps together within 30 s on 2 cores.
 from __future__ import annotations
 
 import argparse
+import os
 import tempfile
 import time
 from pathlib import Path
@@ -83,6 +84,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--sites", type=int, default=100)
     p.add_argument("--resamples", type=int, default=1000)
     args = p.parse_args(argv)
+    load_before = os.getloadavg()[0]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         hazard_path, inv_path = Path(tmp) / "hazard.csv", Path(tmp) / "columns.csv"
@@ -109,6 +111,8 @@ def main(argv: list[str] | None = None) -> int:
     frame = pd.DataFrame(rows)
     write_table("portfolio", frame, f"Portfolio: {n} columns over {args.sites} hazard sites",
                 f"Surface: {args.study}; {args.resamples} bootstrap resamples; wall and CPU "
-                "(process) seconds of one run; the machine's other load counts in wall.")
+                "(process) seconds of one run, single process; the machine's other load "
+                f"counts in wall (1-minute load average {load_before:.1f} before, "
+                f"{os.getloadavg()[0]:.1f} after, on {os.cpu_count()} cores).")
     print(frame.to_string(index=False))
     return 0
