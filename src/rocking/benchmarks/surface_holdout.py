@@ -86,7 +86,7 @@ HAZARD = "config/hazard/example_hazard_curve.csv"
 def compare(critical: pd.DataFrame, study: Path) -> pd.DataFrame:
     """The surface against the direct fits at the hold-out columns, and its leave-one-out
     errors; both tables written (module docstring)."""
-    from ..risk.annual_frequency import closed_form_frequencies
+    from ..risk.annual_frequency import mean_annual_frequencies
     from ..risk.hazard import HazardCurve
     from ..risk.surface import FragilitySurface
     from ..spectra.fragility import bootstrap_lognormal, fit_lognormal, percentile_interval
@@ -103,7 +103,7 @@ def compare(critical: pd.DataFrame, study: Path) -> pd.DataFrame:
         ev = surface.evaluate([R], [ta], MODE, ls)
         m_d, b_d = fit.median * ta, fit.beta
         m_s, b_s = float(ev["median"][0]), float(ev["beta"][0])
-        lam_d, lam_s = closed_form_frequencies(np.array([m_d, m_s]), np.array([b_d, b_s]),
+        lam_d, lam_s = mean_annual_frequencies(np.array([m_d, m_s]), np.array([b_d, b_s]),
                                                hazard)
         rows.append({"R": R, "tan_alpha": ta, "limit_state": ls, "motions": len(cell),
                      "median_direct": m_d, "median_direct_p05": float(d_lo),

@@ -43,7 +43,7 @@ rank                   –       1 = the largest λ of that limit state in the i
 =====================  ======  ==========================================================
 
 The λ of each column is the exact integral of its lognormal against its site's hazard curve
-as the project interpolates it (:func:`rocking.risk.annual_frequency.closed_form_frequencies`);
+as the project interpolates it (:func:`rocking.risk.annual_frequency.mean_annual_frequencies`);
 its interval integrates each bootstrap resample of the interpolated fragility, through a
 bicubic table of ln λ over (ln θ, β) per site and limit state (:class:`RateTable`; its error
 against the exact λ is at most 6e-4 relative over θ 0.05–3 g, β 0.005–0.6 on the example
@@ -62,7 +62,7 @@ import numpy as np
 import pandas as pd
 from scipy.interpolate import RectBivariateSpline
 
-from .annual_frequency import closed_form_frequencies
+from .annual_frequency import mean_annual_frequencies
 from .hazard import HazardCurve
 from .inventory import HazardSites, Inventory
 from .surface import interval
@@ -86,7 +86,7 @@ LN_STEP, BETA_STEP = 0.05, 0.02
 class RateTable:
     """ln λ of a site over a grid of (ln θ, β), interpolated bicubically.
 
-    Built from :func:`closed_form_frequencies` at the nodes over the range asked for; used
+    Built from :func:`mean_annual_frequencies` at the nodes over the range asked for; used
     for the many resamples of many columns, whose λ one at a time would cost too much.
     """
 
@@ -103,7 +103,7 @@ class RateTable:
         b0, b1 = max(beta_range[0] - 0.05, 1e-3), beta_range[1] + 0.05
         x = np.linspace(l0, l1, max(8, math.ceil((l1 - l0) / LN_STEP) + 1))
         y = np.linspace(b0, b1, max(8, math.ceil((b1 - b0) / BETA_STEP) + 1))
-        lam = closed_form_frequencies(np.exp(x)[:, None] + 0 * y, 0 * x[:, None] + y, hazard)
+        lam = mean_annual_frequencies(np.exp(x)[:, None] + 0 * y, 0 * x[:, None] + y, hazard)
         return cls(RectBivariateSpline(x, y, np.log(lam), kx=3, ky=3), (l0, l1), (b0, b1),
                    hazard)
 
@@ -118,7 +118,7 @@ class RateTable:
         out[inside] = np.exp(self.spline.ev(lm[inside], b[inside]))
         beyond = ok & ~inside  # extrapolated columns only: their exact λ
         if beyond.any():
-            out[beyond] = closed_form_frequencies(m[beyond], b[beyond], self.hazard)
+            out[beyond] = mean_annual_frequencies(m[beyond], b[beyond], self.hazard)
         return out
 
 
@@ -176,7 +176,7 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
             for k in np.unique(site[sl]):
                 here = np.flatnonzero(site[sl] == k)
                 curve = hazard.curves[k]
-                res["lambda"][sl][here] = closed_form_frequencies(
+                res["lambda"][sl][here] = mean_annual_frequencies(
                     ev["median"][here], ev["beta"][here], curve)
                 if "median_resamples" in ev:
                     med, bet = ev["median_resamples"][here], ev["beta_resamples"][here]
