@@ -30,6 +30,7 @@ never dropped silently.
 
 from __future__ import annotations
 
+import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -174,8 +175,8 @@ def read_inventory(path: str | Path, *, surface=None, hazard: HazardSites | None
     Raises
     ------
     ValueError
-        One line naming the file, the row, the id and the column of the first bad row, and
-        how many rows are bad.
+        One line naming the file, the row (1 = the first data row, comment lines not
+        counted), the id and the column of the first bad row, and how many rows are bad.
     """
     path = Path(path)
     frame = _read(path)
@@ -242,8 +243,11 @@ def _read(path: Path) -> pd.DataFrame:
     if not path.is_file():
         raise ValueError(f"--inventory: no such file: {str(path)!r}")
     try:
-        frame = pd.read_csv(path, comment="#", dtype=str, skipinitialspace=True,
-                            encoding="utf-8-sig")
+        # whole lines starting with # are comments (pandas' comment= would also cut an id
+        # such as "T#1" short)
+        text = "".join(line for line in path.read_text(encoding="utf-8-sig").splitlines(True)
+                       if not line.lstrip().startswith("#"))
+        frame = pd.read_csv(io.StringIO(text), dtype=str, skipinitialspace=True)
     except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
         raise ValueError(f"{path}: not a readable CSV inventory "
                          f"({str(exc).splitlines()[0][:120]})") from None
