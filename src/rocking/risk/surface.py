@@ -113,7 +113,10 @@ def _weights(grid: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _blend(lo: np.ndarray, hi: np.ndarray, w: np.ndarray) -> np.ndarray:
     """lo + w·(hi − lo), with the node values themselves at w = 0 and w = 1 (no rounding)."""
-    return np.where(w == 0.0, lo, np.where(w == 1.0, hi, lo + w * (hi - lo)))
+    out = lo + w * (hi - lo)
+    if np.any((w == 0.0) | (w == 1.0)):  # columns at a node (the rest: no copy made)
+        out = np.where(w == 0.0, lo, np.where(w == 1.0, hi, out))
+    return out
 
 
 def _interpolate(grid: LimitStateGrid, values: np.ndarray, R: np.ndarray,
