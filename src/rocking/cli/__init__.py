@@ -27,6 +27,7 @@ SUBCOMMANDS: dict[str, str] = {
     "spectra": "critical PGA/(g tan alpha) of cylinders vs R (performance spectrum)",
     "stripes": "multiple-stripe fragility: share of motions exceeding at fixed intensities",
     "risk": "mean annual frequency of each limit state under a hazard curve",
+    "portfolio": "every column of an inventory: fragility from a study's surface, lambda, rank",
     "verify": "a run's tables against the committed gallery (results/paper), table by table",
 }
 """Subcommand → one-line summary (shown by ``rocking --help`` without importing it)."""
@@ -38,6 +39,7 @@ EPILOG = """examples:
   rocking spectra --height 6 --diameter 0.66 --record el-centro-1940
   rocking stripes --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --stripes 40
   rocking risk --fragility results/elcentro/stripe_fragility.csv --hazard 1e-4,2.5 --json
+  rocking portfolio --surface results/paper/elcentro --inventory columns.csv --hazard h.csv
   rocking verify results --against results/paper
 
 Commands print labelled text with units (and the motion's processing); --json prints JSON

@@ -5,8 +5,11 @@ law), :mod:`.annual_frequency` (λ_LS of a lognormal fragility under a hazard cu
 interval over bootstrap resamples), :mod:`.fragilities` (the study's fragility table as
 records), :mod:`.bootstrap` (the ``<table>_bootstrap.nc`` samples beside each table),
 :mod:`.nrml` (OpenQuake NRML 0.5 fragility model), :mod:`.pelicun` (pelicun / FEMA P-58 damage
-model CSV), :mod:`.exposure` (an inventory as OpenQuake's exposure model and pelicun's
-assets), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report).
+model CSV), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report);
+:mod:`.surface` (a study's fragility over R and tan α), :mod:`.inventory` (a CSV of columns,
+checked, with their hazard sites), :mod:`.portfolio` (``portfolio.csv``: every column's
+fragility and λ, ranked) and :mod:`.exposure` (an inventory as OpenQuake's exposure model and
+pelicun's assets).
 """
 
 from .._lazy import lazy_exports
@@ -28,6 +31,10 @@ _EXPORTS = {
     "write_fragility_exports": "exports",
     "write_risk_outputs": "exports",
     "write_exposure": "exposure",
+    "FragilitySurface": "surface",
+    "read_inventory": "inventory",
+    "read_hazard_sites": "inventory",
+    "portfolio_table": "portfolio",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -22,6 +22,19 @@ Ends of the hazard curve (a table from im_1 to im_n):
   reproduced exactly); P(LS | im) is negligible there for any capacity well above im_1, and
   the share is returned as ``below_first``.
 
+The integral is evaluated exactly, without quadrature: the hazard as interpolated is a
+power law on each segment [im_j, im_{j+1}] (λ = λ_j (im/im_j)^−k_j, the end segments open),
+and on each, with C = θ·e^{βZ} the lognormal capacity, λ_LS = E[λ(C)] gives Cornell's closed
+form cut to the segment:
+
+    λ_LS = Σ_j λ_j (θ/im_j)^−k_j e^{k_j²β²/2} [Φ(z_{j+1} + k_jβ) − Φ(z_j + k_jβ)],
+    z_j = ln(im_j/θ)/β,
+
+(:func:`segment_rates`; for a power law, the one-segment case, λ_LS = k0·θ^−k·e^{k²β²/2}
+to rounding). One function serves one fragility and many (the bootstrap's resamples, a
+portfolio's columns); it replaced two trapezoid rules that differed from it by their
+quadrature errors (up to 4e-4 and 5e-6 relative on the example hazard).
+
 The occurrence of exceedances is taken as Poisson: the probability of at least one in T years
 is 1 − exp(−λ_LS·T), the return period 1/λ_LS.
 """
@@ -35,14 +48,6 @@ from scipy import special
 
 from .hazard import HazardCurve
 
-TAIL_DECADES_E = 40.0
-"""The tails are followed until the hazard has dropped by e^−40 (or Φ by as much)."""
-
-STEPS_PER_BETA = 40
-"""Grid steps per β in ln im: the trapezoid error is ~(1/40)²/12 of the integrand's scale."""
-
-MIN_STEPS = 4000
-
 
 def _check(median_g: float, beta: float) -> tuple[float, float]:
     m, b = float(median_g), float(beta)
@@ -53,23 +58,46 @@ def _check(median_g: float, beta: float) -> tuple[float, float]:
     return m, b
 
 
-def _grid(m: float, b: float, hazard: HazardCurve) -> np.ndarray:
-    # ln im from where Φ·λ is negligible below to where it is negligible above, with the
-    # table's levels as nodes (the integrand has kinks there).
-    lx = np.log(hazard.im_g)
-    k = hazard.slope(hazard.im_g[:-1])
-    k_first, k_last, k_max = float(k[0]), float(k[-1]), float(max(k.max(), 0.0))
-    lm = math.log(m)
-    # Below: Φ(z)·e^{−k b z} peaks near z = −k b; 12 β further down it is below e^−40.
-    lo = lm - k_max * b * b - 12.0 * b
-    if k_first <= 0.0:  # flat start: |dλ| = 0 below im_1
-        lo = max(lo, lx[0])
-    hi = max(lx[-1], lm + 12.0 * b)
-    if k_last > 0.0:
-        hi += TAIL_DECADES_E / k_last
-    n = max(MIN_STEPS, int(math.ceil((hi - lo) / b * STEPS_PER_BETA)))
-    inside = lx[(lx > lo) & (lx < hi)]
-    return np.unique(np.concatenate([np.linspace(lo, hi, n + 1), inside]))
+def segment_rates(median_g, beta, hazard: HazardCurve) -> np.ndarray:
+    """The part of λ_LS from each segment of the hazard, exactly [1/yr].
+
+    Segments: below the first level (the first slope extrapolated), between each pair of
+    levels, beyond the last (the last slope extrapolated): ``n + 1`` for ``n`` levels, along
+    a new last axis; their sum is λ_LS (module docstring). θ or β not finite or ≤ 0: NaN.
+
+    Parameters
+    ----------
+    median_g, beta : array_like
+        θ [g] and β [-] (same shape).
+    hazard : HazardCurve
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``median_g.shape + (n + 1,)`` [1/yr].
+    """
+    m = np.asarray(median_g, dtype=float)
+    b = np.asarray(beta, dtype=float)
+    if m.shape != b.shape:
+        raise ValueError(f"median_g and beta must have the same shape, got {m.shape} and "
+                         f"{b.shape}")
+    ok = np.isfinite(m) & np.isfinite(b) & (m > 0) & (b > 0)
+    lx, ly = np.log(hazard.im_g), np.log(hazard.annual_rate)
+    k = -np.diff(ly) / np.diff(lx)
+    # segment s runs from edges[s] to edges[s + 1] on the power law through level ref[s]
+    k = np.concatenate([k[:1], k, k[-1:]])
+    ref = np.concatenate([[0], np.arange(lx.size - 1), [lx.size - 2]])
+    edges = np.concatenate([[-np.inf], lx, [np.inf]])
+    mu = np.log(np.where(ok, m, 1.0))[..., None]
+    bb = np.where(ok, b, 1.0)[..., None]
+    kb = k * bb
+    lo, hi = (edges[:-1] - mu) / bb + kb, (edges[1:] - mu) / bb + kb
+    # the difference of Φ taken on the side of its smaller tail keeps its digits
+    diff = np.where(lo > 0.0, special.ndtr(-lo) - special.ndtr(-hi),
+                    special.ndtr(hi) - special.ndtr(lo))
+    with np.errstate(divide="ignore"):
+        terms = np.exp(ly[ref] + k * (lx[ref] - mu) + 0.5 * kb * kb + np.log(diff))
+    return np.where(ok[..., None], terms, np.nan)
 
 
 def annual_frequency_parts(median_g: float, beta: float, hazard: HazardCurve) -> dict:
@@ -92,19 +120,18 @@ def annual_frequency_parts(median_g: float, beta: float, hazard: HazardCurve) ->
         extrapolated last slope decides [1/yr].
     """
     m, b = _check(median_g, beta)
-    u = _grid(m, b, hazard)
-    im = np.exp(u)
-    p = special.ndtr((u - math.log(m)) / b)
-    f = p * hazard.slope(im) * hazard.rate(im)  # P(LS|im)·|dλ/d ln im|
-    lx0, lxn = math.log(hazard.im_g[0]), math.log(hazard.im_g[-1])
-
-    def part(mask: np.ndarray) -> float:
-        return float(np.trapezoid(f[mask], u[mask])) if mask.sum() > 1 else 0.0
-
-    below, inside, beyond = part(u <= lx0), part((u >= lx0) & (u <= lxn)), part(u >= lxn)
-    # beyond im_n: at least P(LS|im_n)·λ(im_n) for any tail; the rest is the slope's doing
-    floor = float(special.ndtr((lxn - math.log(m)) / b)) * float(hazard.annual_rate[-1])
-    return {"total": below + inside + beyond, "below_first": below, "inside": inside,
+    terms = segment_rates(m, b, hazard)
+    # segment_rates splits λ_LS = E[λ(C)] by where the capacity C lies; the parts here are
+    # by where the intensity lies, ∫ P(LS|im) |dλ| over each range. By parts,
+    # ∫_a^b Φ |dλ| = ∫_a^b λ φ d ln im / β + Φ(a)λ(a) − Φ(b)λ(b): the boundary terms move
+    # P(LS | im_1)·λ(im_1) and P(LS | im_n)·λ(im_n) between the ranges.
+    p = special.ndtr((np.log(hazard.im_g[[0, -1]]) - math.log(m)) / b)
+    first = float(p[0] * hazard.annual_rate[0])
+    floor = float(p[1] * hazard.annual_rate[-1])  # beyond im_n: at least this, any tail
+    below = max(float(terms[0]) - first, 0.0)
+    inside = float(terms[1:-1].sum()) + first - floor
+    beyond = float(terms[-1]) + floor
+    return {"total": float(terms.sum()), "below_first": below, "inside": inside,
             "beyond_last": beyond, "extrapolated": max(beyond - floor, 0.0)}
 
 
@@ -140,18 +167,10 @@ def mean_annual_frequency(median_g: float, beta: float, hazard: HazardCurve) -> 
     return annual_frequency_parts(median_g, beta, hazard)["total"]
 
 
-Z_NODES = 401
-"""Nodes in the standard normal variable of :func:`mean_annual_frequencies`."""
-
-
 def mean_annual_frequencies(median_g, beta, hazard: HazardCurve) -> np.ndarray:
-    """λ_LS of many lognormal fragilities at once (the bootstrap's resamples) [1/yr].
-
-    The same integral as :func:`mean_annual_frequency`, integrated by parts:
-    λ_LS = ∫ Φ(ln(im/θ)/β) |dλ(im)| = E[λ(C)], C = θ·e^{βZ} the lognormal capacity, Z
-    standard normal; trapezoid over z from −(8 + k_max·β) to 8 (the integrand
-    λ(θe^{βz})φ(z) ∝ e^{−kβz − z²/2} peaks at z = −kβ) with :data:`Z_NODES` nodes, the hazard
-    interpolated and extrapolated as everywhere (:meth:`HazardCurve.rate`). NaN in, NaN out.
+    """λ_LS of many lognormal fragilities at once (the bootstrap's resamples, a portfolio's
+    columns) [1/yr]: the sum of :func:`segment_rates`, exactly as
+    :func:`mean_annual_frequency` one at a time. NaN in (or θ, β ≤ 0), NaN out.
 
     Parameters
     ----------
@@ -164,27 +183,7 @@ def mean_annual_frequencies(median_g, beta, hazard: HazardCurve) -> np.ndarray:
     numpy.ndarray
         λ_LS [1/yr], the shape of ``median_g``.
     """
-    m = np.asarray(median_g, dtype=float)
-    b = np.asarray(beta, dtype=float)
-    if m.shape != b.shape:
-        raise ValueError(f"median_g and beta must have the same shape, got {m.shape} and "
-                         f"{b.shape}")
-    out = np.full(m.shape, np.nan)
-    ok = np.isfinite(m) & np.isfinite(b) & (m > 0) & (b > 0)
-    if not ok.any():
-        return out
-    k_max = float(max(hazard.slope(hazard.im_g[:-1]).max(), 0.0))
-    mm, bb = m[ok], b[ok]
-    lam = np.empty(mm.size)
-    for start in range(0, mm.size, 200):  # chunks keep the work arrays small
-        sl = slice(start, start + 200)
-        lo = -(8.0 + k_max * bb[sl])
-        t = np.linspace(0.0, 1.0, Z_NODES)
-        z = lo[:, None] + (8.0 - lo)[:, None] * t[None, :]
-        f = hazard.rate(mm[sl, None] * np.exp(bb[sl, None] * z)) * np.exp(-0.5 * z * z)
-        lam[sl] = np.trapezoid(f, z, axis=1) / math.sqrt(2.0 * math.pi)
-    out[ok] = lam
-    return out
+    return segment_rates(median_g, beta, hazard).sum(axis=-1)
 
 
 def annual_frequency_interval(median_g, beta, hazard: HazardCurve,
@@ -224,4 +223,4 @@ def probability_in(annual_frequency: float, years: float) -> float:
 
 
 __all__ = ["annual_frequency_interval", "annual_frequency_parts", "mean_annual_frequencies",
-           "mean_annual_frequency", "probability_in"]
+           "mean_annual_frequency", "probability_in", "segment_rates"]

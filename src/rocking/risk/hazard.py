@@ -506,6 +506,17 @@ def check_plausible(curve: HazardCurve, declared: bool, what: str = "") -> Hazar
     return curve
 
 
+def file_sites(path: str | Path) -> list[Site]:
+    """The sites (row, ``custom_site_id``, lon, lat) of an OpenQuake hazard-curve file; []
+    for a two-column table (a curve of no stated site). Read each site's curve with
+    :meth:`HazardCurve.from_file` and ``site=<row>``."""
+    path = Path(path)
+    _, rows = _read_csv(path)
+    if not rows or not any(c.strip().startswith("poe-") for c in rows[0]):
+        return []
+    return _sites(rows[0], rows[1:], str(path))
+
+
 def _sites(header: list[str], body: list[list[str]], where: str) -> list[Site]:
     names = [c.strip().lower() for c in header]
     col = {n: names.index(n) for n in ("custom_site_id", "lon", "lat") if n in names}
@@ -809,5 +820,5 @@ def _resolve(path, base) -> Path:
 
 __all__ = ["HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G", "POWER_LAW_IML",
            "POWER_LAW_KEYS", "UNITS", "HazardCurve", "Site", "check_kind", "check_plausible",
-           "file_kind", "great_circle_km", "hazard_component", "imt_measure", "measure_imt",
-           "parse_hazard", "same_measure", "select_site", "unit_factor"]
+           "file_kind", "file_sites", "great_circle_km", "hazard_component", "imt_measure",
+           "measure_imt", "parse_hazard", "same_measure", "select_site", "unit_factor"]
