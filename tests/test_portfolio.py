@@ -221,6 +221,29 @@ def test_command_line_writes_portfolio_and_figures(tmp_path, capsys):
     assert "overturning" in capsys.readouterr().out
 
 
+def test_command_line_exports_the_inventory_for_openquake(tmp_path):
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "out"
+    code = main(["portfolio", "--surface", STUDY, "--inventory", EXAMPLE, "--hazard", HAZARD,
+                 "--resamples", "0", "--out", str(out), "--export", "column"])
+    assert code == 0
+    table = pd.read_csv(out / "portfolio.csv")
+    assets = pd.read_csv(out / "exposure" / "exposure.csv")
+    # one asset per column of the inventory, each with its own taxonomy (--export column)
+    assert sorted(assets["id"].astype(str)) == sorted(table["id"].astype(str).unique())
+    assert assets["taxonomy"].nunique() == len(assets)
+    ids = {el.get("id") for el in ET.parse(out / "exposure" / "fragility.xml").iter()
+           if el.tag.endswith("fragilityFunction")}
+    assert ids == set(assets["taxonomy"])
+
+
+def test_command_line_export_needs_out(capsys):
+    code = main(["portfolio", "--surface", STUDY, "--inventory", EXAMPLE, "--hazard", HAZARD,
+                 "--export", "column"])
+    assert code == 2 and "--export need --out" in capsys.readouterr().err
+
+
 def test_command_line_bad_inventory_one_line(tmp_path, capsys):
     path = _csv(tmp_path, "id,height,diameter\nA,6,0.8\nA,7,0.9\n")
     code = main(["portfolio", "--surface", STUDY, "--inventory", str(path), "--hazard",

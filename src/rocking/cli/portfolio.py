@@ -72,6 +72,10 @@ def add_parser(subparsers) -> None:
                    "refusing the inventory")
     p.add_argument("--figures", action="store_true",
                    help="also draw portfolio_map.png and portfolio_ranked.png into --out")
+    p.add_argument("--export", choices=("column", "size_class"), default=None,
+                   help="also write the inventory as OpenQuake's exposure model with its "
+                   "fragility model and pelicun's asset inputs into --out/exposure, one "
+                   "taxonomy per column or per size class of (R, tan α)")
     p.add_argument("-o", "--out", type=Path, default=None,
                    help="folder for portfolio.csv (default: print the table)")
     _human.add_json(p, "the table")
@@ -106,8 +110,8 @@ def run(args) -> int:
         raise ValueError(f"--resamples must be >= 0, got {args.resamples}")
     if args.out is not None:
         _common.writable_folder(args.out)
-    elif args.figures:
-        raise ValueError("--figures needs --out (the folder the figures go to)")
+    elif args.figures or args.export:
+        raise ValueError("--figures and --export need --out (the folder they go to)")
     if not Path(args.hazard).exists() and "," not in args.hazard:
         raise ValueError(f"--hazard: no such file: {args.hazard!r}")
     states = None if args.limit_states is None else \
@@ -139,6 +143,13 @@ def run(args) -> int:
 
                 save(draw(fig.data(table, hazard=str(args.hazard),
                                    study=str(args.surface))), [args.out / name])
+        if args.export:
+            from ..risk.exposure import write_exposure
+
+            export = write_exposure(table, args.out / "exposure", taxonomy_by=args.export)
+            print(f"OpenQuake exposure and fragility models, pelicun inputs "
+                  f"({len(export.taxonomies)} taxonomies): {args.out / 'exposure'}",
+                  file=sys.stderr)
     if args.json:
         from .. import _json
 
