@@ -349,12 +349,46 @@ def test_fig06_sensitivity_rotation_leaves_theta_max_unchanged():
 def test_fig07_with_one_size_colours_its_points(study):
     # One R (a small test study) has no contour: the map shows the grid points' classes.
     d = fig07_tilt_map.data(study["tilt_map"], motions=study["motions"])
-    d = {**d, "R": d["R"][:1],
-         "theta_over_alpha": {m: z[:1] for m, z in d["theta_over_alpha"].items()}}
+    d = {**d, "R": d["R"][3:4],  # a size with points below α, standing above it, overturned
+         "theta_over_alpha": {m: z[3:4] for m, z in d["theta_over_alpha"].items()}}
     fig = fig07_tilt_map.plot(d)
-    colours = fig.axes[0].collections[0].get_array()
-    np.testing.assert_array_equal(np.asarray(colours), np.minimum(
-        d["theta_over_alpha"]["3d"][0], 0.5 * (fig07_tilt_map.LEVELS[-1] + fig07_tilt_map.TOP)))
+    colours = np.asarray(fig.axes[0].collections[0].get_array())
+    z = d["theta_over_alpha"]["3d"][0]
+    over = np.isclose(z, np.pi / 2 / np.arctan(0.2))
+    standing = (z >= 1.0) & ~over
+    assert over.any() and standing.any() and (z < 1.0).any()
+    # below α its own value; standing above α and overturned: two classes apart
+    np.testing.assert_array_equal(colours[z < 1.0], z[z < 1.0])
+    assert set(colours[standing]) == {0.5 * (1.0 + fig07_tilt_map._TOP_LEVELS[0])}
+    assert set(colours[over]) == {0.5 * (fig07_tilt_map._TOP_LEVELS[0] + fig07_tilt_map.TOP)}
+
+
+def test_fig07_gives_overturning_its_own_class(study):
+    # Overturned points (θ = π/2, stored as π/(2α)) are one class, points standing above α
+    # another: the colour bar names both, the overturned area is filled in its own colour,
+    # the standing points are marked where they are, the footnote counts both.
+    d = fig07_tilt_map.data(study["tilt_map"], motions=study["motions"])
+    fig = fig07_tilt_map.plot(d)
+    cbar = fig.axes[-1]
+    labels = [t.get_text() for t in cbar.get_yticklabels()]
+    assert labels[-2:] == ["θmax > α, standing", "overturned"]
+    z = d["theta_over_alpha"]["3d"]
+    over = np.isclose(z, np.pi / 2 / np.arctan(0.2))
+    standing = (z > 1.0) & ~over
+    from matplotlib.colors import to_rgba
+    filled = [c for c in fig.axes[0].collections if type(c).__name__ == "QuadContourSet"
+              and len(c.get_facecolor())
+              and np.allclose(c.get_facecolor()[0], to_rgba(fig07_tilt_map.TOP_COLOR))]
+    assert len(filled) == 1  # the overturned area, one layer of its own
+    marks = [c for c in fig.axes[0].collections if type(c).__name__ == "PathCollection"]
+    RR, II = np.meshgrid(d["R"], d["intensity"])
+    np.testing.assert_array_equal(
+        np.asarray(marks[0].get_offsets()),
+        np.column_stack([RR[standing.T], II[standing.T]]))
+    text = _texts(fig)
+    total_over = sum(int(np.isclose(m, np.pi / 2 / np.arctan(0.2)).sum())
+                     for m in d["theta_over_alpha"].values())
+    assert f"overturned, θ reached π/2 ({total_over} grid points" in text.replace("\n", " ")
 
 
 @pytest.mark.parametrize("which", ["study", "partial"])
