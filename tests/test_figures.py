@@ -440,6 +440,63 @@ def test_fig09_lines_are_the_store_and_the_aggregate(study):
     assert np.isnan(d["panels"][0]["curves"]["3d"]["synthetic-01"][0])
 
 
+def _canvas(fig):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return canvas.get_renderer()
+
+
+def _one_size(d: dict) -> dict:
+    """Figure data of a study of one size R (the first of ``d``)."""
+    panels = [{**p, "curves": {m: {k: v[:1] for k, v in c.items()}
+                               for m, c in p["curves"].items()},
+               "means": {m: v[:1] for m, v in p["means"].items()},
+               "unresolved": {}, "slides": {}, "damping": None} for p in d["panels"]]
+    return {**d, "R": d["R"][:1], "R_mean": d["R_mean"][:1], "panels": panels,
+            "modes": d["modes"][:1]}
+
+
+@pytest.mark.parametrize("sizes", ["all", "one"])
+def test_fig09_axis_follows_the_data_and_the_legend_covers_no_curve(study, sizes):
+    d = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
+    if sizes == "one":
+        d = _one_size(d)
+    fig = fig09_spectra.plot(d)
+    renderer = _canvas(fig)
+    for ax, panel in zip(fig.axes, d["panels"], strict=False):
+        ys = [*(y for c in panel["curves"].values() for y in c.values()),
+              *panel["means"].values()]
+        top = max(float(np.nanmax(y)) for y in ys if np.isfinite(y).any())
+        # the axis stops just above the data, not at twice their height
+        assert top < ax.get_ylim()[1] <= 1.06 * top + 1e-9
+        legend = ax.get_legend()
+        assert legend is not None
+        assert not legend.get_window_extent(renderer).overlaps(ax.get_window_extent(renderer))
+
+
+def test_fig09_footer_of_a_suite_gives_every_records_axes(study, tmp_path):
+    from rocking.motions.ensemble_io import save_ensemble
+    from rocking.plot import _axes
+
+    t = np.arange(0.0, 2.0, 0.01)
+    a = np.sin(2 * np.pi * t)
+    records = [GroundMotion(a, 0.5 * a, 0.01, name, {"axes": "principal (x = major)",
+                                                     "x_azimuth": az, "y_azimuth": az - 90.0})
+               for name, az in (("site-a", 340.5), ("site-b", 20.0))]
+    synthetic = GroundMotion(a, a, 0.01, "site-a-rdk-000", {"record": "site-a"})
+    save_ensemble(tmp_path / "suite.nc", [*records, synthetic])
+    axes = _axes.of_records(tmp_path / "suite.nc")
+    assert "site-a: x = major principal axis, az 340.5° (N19.5°W)" in axes["text"]
+    assert "site-b: x = major principal axis, az 20.0° (N20.0°E)" in axes["text"]
+    assert "rdk" not in axes["text"]
+    d = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
+    assert d["motion_axes"]["text"] == ""  # one record: the record's axes, as before
+    text = _texts(fig09_spectra.plot({**d, "motion_axes": axes})).replace("\n", " ")
+    assert "N19.5°W" in text and "N20.0°E" in text
+
+
 def test_damping_effect_of_a_known_ratio(study):
     # the synthetic damped spectra are exactly 5 % above the undamped ones
     d = fig09_spectra.data(study["store"], study["means"])
