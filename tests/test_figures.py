@@ -587,6 +587,27 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert any("fewer motions than the ensemble" in t for t in legend)
 
 
+def test_fig12_marks_a_censored_ratio_as_a_bound():
+    # a 2D mean over fewer motions (the others not reached) is too low: its ratio to the 3D
+    # mean at the largest R is a lower bound, written "≥"; a censored 3D mean gives "≤"
+    from matplotlib.figure import Figure
+
+    ax = Figure().subplots()
+    R = np.array([2.0, 6.0, 10.0])
+    curves = {"3d": np.array([1.0, 2.0, 4.0]), "2d-x": np.array([2.0, 5.0, 8.0]),
+              "2d-y": np.array([2.0, 4.0, 6.0])}
+    censored = {"3d": np.zeros(3, bool), "2d-x": np.array([False, False, True]),
+                "2d-y": np.zeros(3, bool)}
+    fig12_2d_vs_3d._write_ratios(ax, R, curves, "red", censored)
+    labels = sorted(t.get_text() for t in ax.texts)
+    assert labels == ["×1.50 (y)", "≥×2.00 (x)"]
+    ax.texts[0].remove()
+    ax.texts[0].remove()
+    censored = {"3d": np.array([False, False, True]), "2d-x": np.zeros(3, bool)}
+    fig12_2d_vs_3d._write_ratios(ax, R, curves, "red", censored)
+    assert sorted(t.get_text() for t in ax.texts) == ["≤×1.50 (y)", "≤×2.00 (x)"]
+
+
 def test_partially_computed_store_builds_every_figure(partial, tmp_path):
     """Damped and 2D only at tan α = 0.2, limit states spelt canonically: every figure that
     reads a store builds, draws no empty curve and names what is missing."""
