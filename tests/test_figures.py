@@ -859,6 +859,32 @@ def test_fig08_time_axis_ends_with_the_motion():
     assert fig.axes[0].get_xlim()[1] == pytest.approx(15.0)  # 12 s rounded up to 5 s
 
 
+@pytest.mark.parametrize("record", ["el-centro-1940", "loma-prieta-corralitos"])
+def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tmp_path,
+                                                                        record):
+    # the paper draws Fig 10 for El Centro only: a reproduction study on another record
+    # is not "a reduced run" of it, and its figure names no paper's goal as missing
+    from rocking.study.store_attrs import decode_attrs
+
+    with xr.open_dataset(study["means"]) as ds:
+        agg = ds.load()
+    ens = decode_attrs(dict(agg.attrs))["ensemble"]
+    ens["motions"] = [{**m, "name": m["name"].replace("el-centro-1940", record),
+                       "source_record": record} for m in ens["motions"]]
+    agg.attrs["ensemble"] = json.dumps(ens)
+    keep = ["overturning", "tilt:0.3333"]  # two of the paper's seven goals
+    agg.sel(limit_state=keep).to_netcdf(tmp_path / "mean_spectra.nc")
+    d = fig10_goals.data(tmp_path / "mean_spectra.nc", paper=True)
+    title = fig10_goals.plot(d).axes[0].get_title()
+    if record == "el-centro-1940":
+        assert d["in_paper"] and "(Fig 10)" in title and "reduced run: 2 of the paper's 7" \
+            in title and any("paper's 7 goals" in m for m in d["missing"])
+    else:
+        assert not d["in_paper"] and "reduced run" not in title and "Fig 10)" not in title
+        assert "beyond the paper" in title
+        assert not any("paper's" in m for m in d["missing"])
+
+
 def test_fig10_says_when_two_goals_coincide(tmp_path):
     """θ > α and overturning with identical statistics: said in the sidecar and the figure,
     and the flat-then-rise shape measured."""
