@@ -923,9 +923,23 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
     panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
     assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
-    # one colour bar for R instead of a legend entry per size
-    assert any(ax.get_ylabel() == "cylinder size R [m]" for ax in fig.axes)
-    assert all(len(ax.get_legend().get_texts()) == 2 for ax in panels)
+    # one colour bar for R instead of a legend entry per size; its ticks the named sizes
+    bar = [ax for ax in fig.axes if ax.get_ylabel() == "cylinder size R [m]"]
+    assert bar
+    named = fragility_curves._highlighted(sorted(d["panels"][0]["curves"]))
+    assert [float(t) for t in bar[0].get_yticks()] == pytest.approx(named)
+    # a few sizes named on their curves and drawn thick with their points, the others thin
+    for ax, panel in zip(panels, d["panels"], strict=True):
+        names = sorted(t.get_text() for t in ax.texts if t.get_text().startswith("R = "))
+        assert names == sorted(f"R = {R:g} m" for R in named if R in panel["curves"])
+        thick = [ln for ln in ax.get_lines() if ln.get_linewidth() > 1.5]
+        assert len(thick) == len(names) <= len(panel["curves"])
+    # twenty sizes: five named, the smallest and the largest among them, evenly spread
+    twenty = [0.5 * k for k in range(1, 21)]
+    assert fragility_curves._highlighted(twenty) == [0.5, 3.0, 5.0, 7.5, 10.0]
+    # one legend, below the panels (none inside one)
+    assert all(ax.get_legend() is None for ax in panels)
+    assert len([ax for ax in fig.axes if ax.get_legend()]) == 1
 
 
 def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(study, tmp_path):

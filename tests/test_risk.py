@@ -430,7 +430,9 @@ def _legend_and_drawn(figure):
     """The figure legend's labels, and per axes the labels of what it actually drew."""
     from matplotlib.container import ErrorbarContainer
 
-    labels = [t.get_text() for t in figure.legends[0].get_texts()]
+    legends = [ax.get_legend() for ax in figure.axes if ax.get_legend()]
+    assert len(legends) == 1
+    labels = [t.get_text() for t in legends[0].get_texts()]
     drawn = []
     for ax in figure.axes:
         for artist in [*ax.lines, *ax.collections, *ax.containers]:
@@ -451,8 +453,9 @@ def test_risk_figure_legend_covers_no_curve_and_names_an_example_hazard(tmp_path
                    HazardCurve.from_openquake_csv(EXAMPLE, site=0))
     d = fig.data(t, hazard=f"{EXAMPLE}, site row 0", study="study s")
     figure = fig.plot(d)
-    # one legend, the figure's, outside the panels: no panel has a legend over its curves
-    assert len(figure.legends) == 1 and all(ax.get_legend() is None for ax in figure.axes)
+    # one legend, in a row of its own below the panels: no panel has one over its curves
+    holder = [ax for ax in figure.axes if ax.get_legend()]
+    assert len(holder) == 1 and not holder[0].axison and not holder[0].lines
     labels, drawn = _legend_and_drawn(figure)
     assert {"2D, x component", "3D"} <= set(labels)  # the 2D curves are in it
     assert set(labels) - {" "} <= set(drawn)  # every entry is something drawn
@@ -676,7 +679,8 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
     assert list(over["stripes"]) == ["3d"] and over["stripes"]["3d"]["R"].tolist() == [2.0, 6.0]
     assert d["measured"]["ratio stripes/first 3d overturning R=6 m [-]"] == pytest.approx(
         lam[("stripes", 6.0, "overturning")] / lam[("first_exceedance", 6.0, "overturning")])
-    labels = [t.get_text() for t in fig.plot(d).legends[0].get_texts()]
+    legend = next(ax.get_legend() for ax in fig.plot(d).axes if ax.get_legend())
+    labels = [t.get_text() for t in legend.get_texts()]
     assert "3D, stripes" in labels and "3D, first exceedance" in labels
 
 

@@ -27,7 +27,7 @@ from ..risk.fragilities import STRIPES as STRIPE_FRAGILITY
 from ..risk.report import main_tan_alpha, read_risk_table, shown_limit_states
 from ..spectra.limit_states import limit_state_title
 from ..spectra.modes import PLANAR_MODES
-from ._style import MODE_STYLE, footnote, new_figure, styled
+from ._style import MODE_STYLE, footnote, styled, with_legend_row
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -222,8 +222,9 @@ def plot(d: dict) -> Figure:
     outlined or hatched, so that the grey ones differ), gaps where a size has no fit
     (brackets where stripes bound it); return period on the right; one legend below the
     panels, so that it covers no curve; the hazard named in the title, EXAMPLE if it is."""
-    fig, axes = new_figure(11.0, 5.6, ncols=len(d["panels"]) or 1, squeeze=False)
-    axes = axes[0]
+    # a row below the panels holds the legend (inside, it hid the 2D curves)
+    fig, axes, legend_row = with_legend_row(11.0, 6.0, ncols=len(d["panels"]) or 1,
+                                            legend_share=0.2)
     for ax, panel in zip(axes, d["panels"], strict=False):
         curves = [(m, c, False) for m, c in panel["curves"].items()] + [
             (m, c, True) for m, c in panel.get("stripes", {}).items()]
@@ -262,8 +263,7 @@ def plot(d: dict) -> Figure:
                 labels.append(lab)
     if handles:
         handles, labels = _rows(handles, labels)
-        fig.legend(handles, labels, loc="outside lower center", ncols=2, fontsize=8,
-                   frameon=False)
+        legend_row.legend(handles, labels, loc="center", ncols=2, fontsize=8, frameon=False)
     who = f"{d['study']}: " if d.get("study") else ""
     title = f"{who}mean annual frequency of exceedance, tan α = {d['tan_alpha']:g}"
     title += "\n" + _hazard_line(d)
