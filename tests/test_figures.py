@@ -885,6 +885,32 @@ def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tm
         assert not any("paper's" in m for m in d["missing"])
 
 
+def test_figs_9_10_12_say_in_their_notes_when_no_refinement_sample_measures_a_move(study):
+    # no refinement_sample.csv beside the synthetic study's means: the legends quote no move
+    # under refinement and the sidecars say why, instead of a number made up
+    from rocking.plot import refined
+
+    assert not (Path(study["means"]).parent / refined.SAMPLE_FILE).exists()
+    d9 = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
+    for panel in d9["panels"]:
+        assert panel["refinement"] == ""
+        note = d9["measured"][f"{refined.NOT_MEASURED}|{panel['limit_state']}"]
+        assert note.startswith("not measured: no refinement_sample.csv")
+    assert "refinement (0.05 % scan)" not in _texts(fig09_spectra.plot(d9))
+    d10 = fig10_goals.data(study["means"])
+    assert "refinement" not in d10["measured"]
+    assert d10["measured"][refined.NOT_MEASURED].startswith("not measured")
+    d12 = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"], study["motions"])])
+    assert d12["measured"][f"elcentro|{refined.NOT_MEASURED}"].startswith("not measured")
+    # a sample without a cell of the goal: named as such
+    sample = pd.DataFrame({"mode": ["3d"], "limit_state": ["tilt:0.1"], "R": [1.0],
+                           "tan_alpha": [0.2], "answer": [2.0], "refined": [1.9],
+                           "shift": [-0.05], "truncated": [False]})
+    assert refined.not_measured(sample, "3d", "overturning") == (
+        "not measured: refinement_sample.csv holds no refined cell of 3d overturning")
+    assert refined.not_measured(sample, "3d", "tilt:0.1") == ""
+
+
 def test_fig10_says_when_two_goals_coincide(tmp_path):
     """θ > α and overturning with identical statistics: said in the sidecar and the figure,
     and the flat-then-rise shape measured."""

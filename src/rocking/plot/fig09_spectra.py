@@ -103,6 +103,9 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         panel["refinement"] = refined.legend_phrase(sample, modes[0], panel["limit_state"])
         if panel["refinement"]:
             measured[f"refinement|{panel['limit_state']}"] = panel["refinement"]
+        else:  # said in the sidecar, never made up in the legend
+            measured[f"{refined.NOT_MEASURED}|{panel['limit_state']}"] = refined.not_measured(
+                sample, modes[0], panel["limit_state"])
         eff = panel["damping"]
         if eff is not None:
             measured[DAMPING_NOTE + panel["limit_state"]] = eff

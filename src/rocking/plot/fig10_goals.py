@@ -125,9 +125,12 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
         measured[COINCIDE_NOTE] = same
-    moved = refined.legend_phrase(refined.beside(means), mode)
+    sample = refined.beside(means)
+    moved = refined.legend_phrase(sample, mode)
     if moved:
         measured["refinement"] = moved
+    else:  # said in the sidecar, never made up in the legend
+        measured[refined.NOT_MEASURED] = refined.not_measured(sample, mode)
     return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
             "mode": mode, "missing": missing, "reproduction": paper, "in_paper": in_paper,
             "measured": measured,

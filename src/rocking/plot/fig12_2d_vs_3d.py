@@ -132,12 +132,15 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
     R_all = agg["R"].values.astype(float)
+    sample = refined.beside(means)
     moved = refined.shift_text(refined.cell_shift(
-        refined.beside(means), MODE_3D, "overturning", float(R_all.max()) if R_all.size else None,
+        sample, MODE_3D, "overturning", float(R_all.max()) if R_all.size else None,
         n, tan_alpha)) if n else ""
     return {"name": name, "label": label, "record": record, "stand_in": stand_in,
             "refinement": (f"{record}: 3D overturning mean at R = {R_all.max():g} m: {moved}"
                            if moved else ""),
+            refined.NOT_MEASURED: "" if moved else refined.not_measured(
+                sample, MODE_3D, "overturning"),
             "n_motions": n, "upper": _load.search_bound(attrs),
             "axes": _axes.from_ensemble(motions),
             "R": agg["R"].values.astype(float), "panels": panels, "spread": spread,
@@ -214,6 +217,8 @@ def at_size(ensembles: list[dict], R: float) -> dict:
             out[f"{ens['name']}|{key}|mle"] = fit
         if ens.get("refinement"):
             out[f"{ens['name']}|refinement"] = ens["refinement"]
+        elif ens.get(refined.NOT_MEASURED):  # said in the sidecar, not made up in the legend
+            out[f"{ens['name']}|{refined.NOT_MEASURED}"] = ens[refined.NOT_MEASURED]
         out[f"{ens['name']}|label"] = ens["label"]
         out[f"{ens['name']}|n_motions"] = ens["n_motions"]
         out[f"{ens['name']}|upper"] = ens.get("upper")
