@@ -349,12 +349,46 @@ def test_fig06_sensitivity_rotation_leaves_theta_max_unchanged():
 def test_fig07_with_one_size_colours_its_points(study):
     # One R (a small test study) has no contour: the map shows the grid points' classes.
     d = fig07_tilt_map.data(study["tilt_map"], motions=study["motions"])
-    d = {**d, "R": d["R"][:1],
-         "theta_over_alpha": {m: z[:1] for m, z in d["theta_over_alpha"].items()}}
+    d = {**d, "R": d["R"][3:4],  # a size with points below α, standing above it, overturned
+         "theta_over_alpha": {m: z[3:4] for m, z in d["theta_over_alpha"].items()}}
     fig = fig07_tilt_map.plot(d)
-    colours = fig.axes[0].collections[0].get_array()
-    np.testing.assert_array_equal(np.asarray(colours), np.minimum(
-        d["theta_over_alpha"]["3d"][0], 0.5 * (fig07_tilt_map.LEVELS[-1] + fig07_tilt_map.TOP)))
+    colours = np.asarray(fig.axes[0].collections[0].get_array())
+    z = d["theta_over_alpha"]["3d"][0]
+    over = np.isclose(z, np.pi / 2 / np.arctan(0.2))
+    standing = (z >= 1.0) & ~over
+    assert over.any() and standing.any() and (z < 1.0).any()
+    # below α its own value; standing above α and overturned: two classes apart
+    np.testing.assert_array_equal(colours[z < 1.0], z[z < 1.0])
+    assert set(colours[standing]) == {0.5 * (1.0 + fig07_tilt_map._TOP_LEVELS[0])}
+    assert set(colours[over]) == {0.5 * (fig07_tilt_map._TOP_LEVELS[0] + fig07_tilt_map.TOP)}
+
+
+def test_fig07_gives_overturning_its_own_class(study):
+    # Overturned points (θ = π/2, stored as π/(2α)) are one class, points standing above α
+    # another: the colour bar names both, the overturned area is filled in its own colour,
+    # the standing points are marked where they are, the footnote counts both.
+    d = fig07_tilt_map.data(study["tilt_map"], motions=study["motions"])
+    fig = fig07_tilt_map.plot(d)
+    cbar = fig.axes[-1]
+    labels = [t.get_text() for t in cbar.get_yticklabels()]
+    assert labels[-2:] == ["θmax > α, standing", "overturned"]
+    z = d["theta_over_alpha"]["3d"]
+    over = np.isclose(z, np.pi / 2 / np.arctan(0.2))
+    standing = (z > 1.0) & ~over
+    from matplotlib.colors import to_rgba
+    filled = [c for c in fig.axes[0].collections if type(c).__name__ == "QuadContourSet"
+              and len(c.get_facecolor())
+              and np.allclose(c.get_facecolor()[0], to_rgba(fig07_tilt_map.TOP_COLOR))]
+    assert len(filled) == 1  # the overturned area, one layer of its own
+    marks = [c for c in fig.axes[0].collections if type(c).__name__ == "PathCollection"]
+    RR, II = np.meshgrid(d["R"], d["intensity"])
+    np.testing.assert_array_equal(
+        np.asarray(marks[0].get_offsets()),
+        np.column_stack([RR[standing.T], II[standing.T]]))
+    text = _texts(fig)
+    total_over = sum(int(np.isclose(m, np.pi / 2 / np.arctan(0.2)).sum())
+                     for m in d["theta_over_alpha"].values())
+    assert f"overturned, θ reached π/2 ({total_over} grid points" in text.replace("\n", " ")
 
 
 @pytest.mark.parametrize("which", ["study", "partial"])
@@ -404,6 +438,63 @@ def test_fig09_lines_are_the_store_and_the_aggregate(study):
             _same(y, agg["mean"].sel(mode=mode, limit_state=ls, tan_alpha=0.2))
     # two cut-off motions leave NaN, never the search bound, in the drawn overturning curves
     assert np.isnan(d["panels"][0]["curves"]["3d"]["synthetic-01"][0])
+
+
+def _canvas(fig):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    return canvas.get_renderer()
+
+
+def _one_size(d: dict) -> dict:
+    """Figure data of a study of one size R (the first of ``d``)."""
+    panels = [{**p, "curves": {m: {k: v[:1] for k, v in c.items()}
+                               for m, c in p["curves"].items()},
+               "means": {m: v[:1] for m, v in p["means"].items()},
+               "unresolved": {}, "slides": {}, "damping": None} for p in d["panels"]]
+    return {**d, "R": d["R"][:1], "R_mean": d["R_mean"][:1], "panels": panels,
+            "modes": d["modes"][:1]}
+
+
+@pytest.mark.parametrize("sizes", ["all", "one"])
+def test_fig09_axis_follows_the_data_and_the_legend_covers_no_curve(study, sizes):
+    d = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
+    if sizes == "one":
+        d = _one_size(d)
+    fig = fig09_spectra.plot(d)
+    renderer = _canvas(fig)
+    for ax, panel in zip(fig.axes, d["panels"], strict=False):
+        ys = [*(y for c in panel["curves"].values() for y in c.values()),
+              *panel["means"].values()]
+        top = max(float(np.nanmax(y)) for y in ys if np.isfinite(y).any())
+        # the axis stops just above the data, not at twice their height
+        assert top < ax.get_ylim()[1] <= 1.06 * top + 1e-9
+        legend = ax.get_legend()
+        assert legend is not None
+        assert not legend.get_window_extent(renderer).overlaps(ax.get_window_extent(renderer))
+
+
+def test_fig09_footer_of_a_suite_gives_every_records_axes(study, tmp_path):
+    from rocking.motions.ensemble_io import save_ensemble
+    from rocking.plot import _axes
+
+    t = np.arange(0.0, 2.0, 0.01)
+    a = np.sin(2 * np.pi * t)
+    records = [GroundMotion(a, 0.5 * a, 0.01, name, {"axes": "principal (x = major)",
+                                                     "x_azimuth": az, "y_azimuth": az - 90.0})
+               for name, az in (("site-a", 340.5), ("site-b", 20.0))]
+    synthetic = GroundMotion(a, a, 0.01, "site-a-rdk-000", {"record": "site-a"})
+    save_ensemble(tmp_path / "suite.nc", [*records, synthetic])
+    axes = _axes.of_records(tmp_path / "suite.nc")
+    assert "site-a: x = major principal axis, az 340.5° (N19.5°W)" in axes["text"]
+    assert "site-b: x = major principal axis, az 20.0° (N20.0°E)" in axes["text"]
+    assert "rdk" not in axes["text"]
+    d = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
+    assert d["motion_axes"]["text"] == ""  # one record: the record's axes, as before
+    text = _texts(fig09_spectra.plot({**d, "motion_axes": axes})).replace("\n", " ")
+    assert "N19.5°W" in text and "N20.0°E" in text
 
 
 def test_damping_effect_of_a_known_ratio(study):
@@ -494,6 +585,27 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
                 for t, c in e["panels"].items() for mo in c)
     assert n_few > 0 and sum(len(ln.get_xdata()) for ln in opened) == n_few
     assert any("fewer motions than the ensemble" in t for t in legend)
+
+
+def test_fig12_marks_a_censored_ratio_as_a_bound():
+    # a 2D mean over fewer motions (the others not reached) is too low: its ratio to the 3D
+    # mean at the largest R is a lower bound, written "≥"; a censored 3D mean gives "≤"
+    from matplotlib.figure import Figure
+
+    ax = Figure().subplots()
+    R = np.array([2.0, 6.0, 10.0])
+    curves = {"3d": np.array([1.0, 2.0, 4.0]), "2d-x": np.array([2.0, 5.0, 8.0]),
+              "2d-y": np.array([2.0, 4.0, 6.0])}
+    censored = {"3d": np.zeros(3, bool), "2d-x": np.array([False, False, True]),
+                "2d-y": np.zeros(3, bool)}
+    fig12_2d_vs_3d._write_ratios(ax, R, curves, "red", censored)
+    labels = sorted(t.get_text() for t in ax.texts)
+    assert labels == ["×1.50 (y)", "≥×2.00 (x)"]
+    ax.texts[0].remove()
+    ax.texts[0].remove()
+    censored = {"3d": np.array([False, False, True]), "2d-x": np.zeros(3, bool)}
+    fig12_2d_vs_3d._write_ratios(ax, R, curves, "red", censored)
+    assert sorted(t.get_text() for t in ax.texts) == ["≤×1.50 (y)", "≤×2.00 (x)"]
 
 
 def test_partially_computed_store_builds_every_figure(partial, tmp_path):
@@ -747,6 +859,58 @@ def test_fig08_time_axis_ends_with_the_motion():
     assert fig.axes[0].get_xlim()[1] == pytest.approx(15.0)  # 12 s rounded up to 5 s
 
 
+@pytest.mark.parametrize("record", ["el-centro-1940", "loma-prieta-corralitos"])
+def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tmp_path,
+                                                                        record):
+    # the paper draws Fig 10 for El Centro only: a reproduction study on another record
+    # is not "a reduced run" of it, and its figure names no paper's goal as missing
+    from rocking.study.store_attrs import decode_attrs
+
+    with xr.open_dataset(study["means"]) as ds:
+        agg = ds.load()
+    ens = decode_attrs(dict(agg.attrs))["ensemble"]
+    ens["motions"] = [{**m, "name": m["name"].replace("el-centro-1940", record),
+                       "source_record": record} for m in ens["motions"]]
+    agg.attrs["ensemble"] = json.dumps(ens)
+    keep = ["overturning", "tilt:0.3333"]  # two of the paper's seven goals
+    agg.sel(limit_state=keep).to_netcdf(tmp_path / "mean_spectra.nc")
+    d = fig10_goals.data(tmp_path / "mean_spectra.nc", paper=True)
+    title = fig10_goals.plot(d).axes[0].get_title()
+    if record == "el-centro-1940":
+        assert d["in_paper"] and "(Fig 10)" in title and "reduced run: 2 of the paper's 7" \
+            in title and any("paper's 7 goals" in m for m in d["missing"])
+    else:
+        assert not d["in_paper"] and "reduced run" not in title and "Fig 10)" not in title
+        assert "beyond the paper" in title
+        assert not any("paper's" in m for m in d["missing"])
+
+
+def test_figs_9_10_12_say_in_their_notes_when_no_refinement_sample_measures_a_move(study):
+    # no refinement_sample.csv beside the synthetic study's means: the legends quote no move
+    # under refinement and the sidecars say why, instead of a number made up
+    from rocking.plot import refined
+
+    assert not (Path(study["means"]).parent / refined.SAMPLE_FILE).exists()
+    d9 = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
+    for panel in d9["panels"]:
+        assert panel["refinement"] == ""
+        note = d9["measured"][f"{refined.NOT_MEASURED}|{panel['limit_state']}"]
+        assert note.startswith("not measured: no refinement_sample.csv")
+    assert "refinement (0.05 % scan)" not in _texts(fig09_spectra.plot(d9))
+    d10 = fig10_goals.data(study["means"])
+    assert "refinement" not in d10["measured"]
+    assert d10["measured"][refined.NOT_MEASURED].startswith("not measured")
+    d12 = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"], study["motions"])])
+    assert d12["measured"][f"elcentro|{refined.NOT_MEASURED}"].startswith("not measured")
+    # a sample without a cell of the goal: named as such
+    sample = pd.DataFrame({"mode": ["3d"], "limit_state": ["tilt:0.1"], "R": [1.0],
+                           "tan_alpha": [0.2], "answer": [2.0], "refined": [1.9],
+                           "shift": [-0.05], "truncated": [False]})
+    assert refined.not_measured(sample, "3d", "overturning") == (
+        "not measured: refinement_sample.csv holds no refined cell of 3d overturning")
+    assert refined.not_measured(sample, "3d", "tilt:0.1") == ""
+
+
 def test_fig10_says_when_two_goals_coincide(tmp_path):
     """θ > α and overturning with identical statistics: said in the sidecar and the figure,
     and the flat-then-rise shape measured."""
@@ -785,9 +949,23 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
     panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
     assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
-    # one colour bar for R instead of a legend entry per size
-    assert any(ax.get_ylabel() == "cylinder size R [m]" for ax in fig.axes)
-    assert all(len(ax.get_legend().get_texts()) == 2 for ax in panels)
+    # one colour bar for R instead of a legend entry per size; its ticks the named sizes
+    bar = [ax for ax in fig.axes if ax.get_ylabel() == "cylinder size R [m]"]
+    assert bar
+    named = fragility_curves._highlighted(sorted(d["panels"][0]["curves"]))
+    assert [float(t) for t in bar[0].get_yticks()] == pytest.approx(named)
+    # a few sizes named on their curves and drawn thick with their points, the others thin
+    for ax, panel in zip(panels, d["panels"], strict=True):
+        names = sorted(t.get_text() for t in ax.texts if t.get_text().startswith("R = "))
+        assert names == sorted(f"R = {R:g} m" for R in named if R in panel["curves"])
+        thick = [ln for ln in ax.get_lines() if ln.get_linewidth() > 1.5]
+        assert len(thick) == len(names) <= len(panel["curves"])
+    # twenty sizes: five named, the smallest and the largest among them, evenly spread
+    twenty = [0.5 * k for k in range(1, 21)]
+    assert fragility_curves._highlighted(twenty) == [0.5, 3.0, 5.0, 7.5, 10.0]
+    # one legend, below the panels (none inside one)
+    assert all(ax.get_legend() is None for ax in panels)
+    assert len([ax for ax in fig.axes if ax.get_legend()]) == 1
 
 
 def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(study, tmp_path):

@@ -426,6 +426,71 @@ def test_risk_figure_data_plot_and_sidecar(tmp_path):
     assert notes["figure"] == "risk" and "3d overturning R=6 m [1/yr]" in notes["measured"]
 
 
+def _legend_and_drawn(figure):
+    """The figure legend's labels, and per axes the labels of what it actually drew."""
+    from matplotlib.container import ErrorbarContainer
+
+    legends = [ax.get_legend() for ax in figure.axes if ax.get_legend()]
+    assert len(legends) == 1
+    labels = [t.get_text() for t in legends[0].get_texts()]
+    drawn = []
+    for ax in figure.axes:
+        for artist in [*ax.lines, *ax.collections, *ax.containers]:
+            if isinstance(artist, ErrorbarContainer):
+                drawn.append(artist.get_label())
+            elif artist.get_label() and not artist.get_label().startswith("_"):
+                empty = (hasattr(artist, "get_paths") and not any(
+                    len(p.vertices) for p in artist.get_paths()))
+                if not empty:
+                    drawn.append(artist.get_label())
+    return labels, drawn
+
+
+def test_risk_figure_legend_covers_no_curve_and_names_an_example_hazard(tmp_path):
+    from rocking.plot import risk as fig
+
+    t = risk_table(fragilities.read_fragilities(table(ROWS)),
+                   HazardCurve.from_openquake_csv(EXAMPLE, site=0))
+    d = fig.data(t, hazard=f"{EXAMPLE}, site row 0", study="study s")
+    figure = fig.plot(d)
+    # one legend, in a row of its own below the panels: no panel has one over its curves
+    holder = [ax for ax in figure.axes if ax.get_legend()]
+    assert len(holder) == 1 and not holder[0].axison and not holder[0].lines
+    labels, drawn = _legend_and_drawn(figure)
+    assert {"2D, x component", "3D"} <= set(labels)  # the 2D curves are in it
+    assert set(labels) - {" "} <= set(drawn)  # every entry is something drawn
+    title = figure.get_suptitle()
+    assert "EXAMPLE" in title and "component vector_peak" in title
+    # a real hazard file is not called an example
+    d = fig.data(t, hazard="my_site/hazard_curve-mean-PGA.csv", study="study s")
+    assert "EXAMPLE" not in fig.plot(d).get_suptitle()
+
+
+def test_risk_figure_of_one_size_lists_only_intervals_it_draws():
+    from matplotlib.container import ErrorbarContainer
+
+    from rocking.plot import risk as fig
+
+    t = risk_table(fragilities.read_fragilities(table(ROWS)),
+                   HazardCurve.from_openquake_csv(EXAMPLE, site=0))
+    one = t[np.isclose(t["R [m]"], 2.0)].copy()
+    one["lambda_p05 [1/yr]"] = 0.5 * one["maf [1/yr]"]  # an interval, as a bootstrap gives
+    one["lambda_p95 [1/yr]"] = 2.0 * one["maf [1/yr]"]
+    d = fig.data(one)
+    figure = fig.plot(d)
+    labels, _ = _legend_and_drawn(figure)
+    bands = [lab for lab in labels if lab.endswith("90 % interval")]
+    for ax, panel in zip(figure.axes, d["panels"], strict=False):
+        # one size: no band (it would draw nothing), a bar per mode, side by side
+        assert not [c for c in ax.collections if c.get_label().endswith("interval")]
+        bars = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
+        assert len(bars) == len(panel["curves"]) >= 2
+        xs = [float(b.lines[2][0].get_segments()[0][0][0]) for b in bars]
+        assert len(set(xs)) == len(xs)
+    assert sorted(bands) == sorted({b.get_label() for ax in figure.axes
+                                    for b in ax.containers})
+
+
 # ------------------------------------------------------------------ the stripe fragility
 
 
@@ -614,7 +679,8 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
     assert list(over["stripes"]) == ["3d"] and over["stripes"]["3d"]["R"].tolist() == [2.0, 6.0]
     assert d["measured"]["ratio stripes/first 3d overturning R=6 m [-]"] == pytest.approx(
         lam[("stripes", 6.0, "overturning")] / lam[("first_exceedance", 6.0, "overturning")])
-    labels = [t.get_text() for t in fig.plot(d).axes[0].get_legend().get_texts()]
+    legend = next(ax.get_legend() for ax in fig.plot(d).axes if ax.get_legend())
+    labels = [t.get_text() for t in legend.get_texts()]
     assert "3D, stripes" in labels and "3D, first exceedance" in labels
 
 

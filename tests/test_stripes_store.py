@@ -109,8 +109,20 @@ def test_figure_per_mode(filled, tmp_path):
     assert len(d["panels"]) == 2 * 3 and d["mode"] == "2d-x"
     for key, m in d["measured"].items():
         assert m["stripe_status"] == "ok" or f"{key}: {m['stripe_status']}" in d["missing"]
-    out = save(fig.plot(d), [tmp_path / "s.png"])
+    f = fig.plot(d)
+    out = save(f, [tmp_path / "s.png"])
     assert out[0].stat().st_size > 10_000
+    # every panel's legend lies outside its panel (below it): it can cover no marker
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(f)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    for ax in f.axes:
+        legend = ax.get_legend()
+        assert legend is not None
+        box, panel = legend.get_window_extent(renderer), ax.get_window_extent(renderer)
+        assert box.y1 < panel.y0 and not box.overlaps(panel)
     with pytest.raises(ValueError, match="not in the stripes store"):
         fig.data(path, None, mode="3d-damped")
 

@@ -86,3 +86,22 @@ def from_ensemble(path: str | Path | None) -> dict[str, str]:
 
     motions = load_ensemble(path)
     return describe(motions[0].metadata if motions else None)
+
+
+def of_records(path: str | Path | None) -> dict[str, str]:
+    """The directions of x and y of every record of an ensemble file (a suite's records each
+    have their own principal axes; a synthetic motion, whose metadata names its ``record``,
+    has its record's): ``text`` names each record's, or is "" when the file holds one record
+    with recorded azimuths (then :func:`from_ensemble` says it)."""
+    if path is None:
+        return {"text": ""}
+    from ..motions.ensemble_io import load_ensemble
+
+    # records: motions that name no source record and carry their directions
+    records = [m for m in load_ensemble(path) if not (m.metadata or {}).get("record")
+               and (m.metadata or {}).get("x_azimuth") is not None]
+    if len(records) <= 1:
+        return {"text": ""}
+    return {"text": "; ".join(f"{m.name}: {describe(m.metadata)['text']}" for m in records)
+            .replace("; y = ", ", y = ")
+            + " (each synthetic motion on its record's)"}

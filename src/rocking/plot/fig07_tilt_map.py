@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib import colormaps
+from matplotlib.cm import ScalarMappable
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 
@@ -27,10 +28,10 @@ MODEL_ORDER = (MODE_3D, MODE_3D_DAMPED)
 LEVELS = (0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
 """Contour levels of θmax/α [-]; above 1 the cylinder has passed its static stability limit."""
 TOP = 1.2
-"""Upper edge of the top colour class (θmax > α) [-]."""
+"""Upper edge of the top colour class (overturned; a class value, not a tilt) [-]."""
 TOP_COLOR = "#e8e8e8"
-"""The class θmax > α (incl. overturning): a pale grey, so the area it covers does
-not outshine the classes below α, where the paper's contours are."""
+"""The class "overturned": a pale grey, so the area it covers does not outshine the
+classes below α, where the paper's contours are."""
 TITLES = {MODE_3D: "Undamped 3D model", MODE_3D_DAMPED: "Damped 3D model"}
 
 
@@ -46,9 +47,26 @@ def record_label(attrs: dict) -> str:
 
 
 def class_colors() -> ListedColormap:
-    """Viridis for the classes of θmax/α below 1, pale grey for the top class (> 1)."""
+    """Viridis for the ten classes of θmax/α below 1, then one class for a cylinder that
+    passed θmax = α but stayed standing (orange, rare: the few cells where it shows must
+    catch the eye) and one for overturning (pale grey, :data:`TOP_COLOR`: it covers most of
+    the map and must not outshine the classes below α, where the paper's contours are)."""
     below = colormaps["viridis"](np.linspace(0.0, 1.0, len(LEVELS) - 1))
-    return ListedColormap([*below, TOP_COLOR])
+    return ListedColormap([*below, "#f58518", TOP_COLOR])
+
+
+def _class_values(z: np.ndarray, overturned_at: float) -> np.ndarray:
+    """θmax/α [-] mapped on the colour classes: below 1 unchanged, above 1 still standing →
+    the middle of [1, 1.1), overturned (stored as π/(2α)) → the middle of [1.1, 1.2]; NaN
+    (not computed) stays NaN."""
+    over = z >= overturned_at * (1.0 - 1e-9)
+    return np.where(over, 0.5 * (_TOP_LEVELS[0] + TOP), np.where(
+        z >= LEVELS[-1], 0.5 * (LEVELS[-1] + _TOP_LEVELS[0]), z))
+
+
+_TOP_LEVELS = (1.1,)
+"""Edge between the class "θmax > α, standing" and the class "overturned" [-] (class
+values, not a tilt: both classes are as wide as the others on the colour bar)."""
 
 
 def data(path: str | Path, motions: str | Path | None = None) -> dict:
@@ -110,29 +128,28 @@ def measurements(R: np.ndarray, intensity: np.ndarray, maps: dict) -> dict:
 
 @styled
 def plot(d: dict) -> Figure:
-    """Filled contours of θmax/α, values above 1 (incl. overturning) in one top class."""
+    """Filled contours of θmax/α below 1; above it two classes of their own: still standing
+    (θmax > α) and overturned."""
     models = list(d["theta_over_alpha"])
     fig, axes = new_figure(4.2 * max(len(models), 1) + 0.8, 4.4, ncols=max(len(models), 1),
                            sharey=True, squeeze=False)
     axes = axes[0]
-    # One class above θmax = α (incl. overturning at π/2/α): clip into it so the colour scale
-    # stays finite and the detail below α, where the paper's contours are, stays readable.
-    levels = [*LEVELS, TOP]
-    mappable = None
+    tan_alpha = float(decode_attrs({"t": d["attrs"]["tan_alpha"]})["t"])  # the store's
+    overturned_at = 0.5 * np.pi / np.arctan(tan_alpha)  # θ = π/2 over α, as the store keeps it
+    levels = [*LEVELS, *_TOP_LEVELS, TOP]
+    cmap, norm = class_colors(), BoundaryNorm(levels, len(levels) - 1)
     RR, II = np.meshgrid(d["R"], d["intensity"])
+    counts = {"above": 0, "over": 0}
     for ax, model in zip(axes, models, strict=False):
-        z = np.minimum(d["theta_over_alpha"][model].T, 0.5 * (LEVELS[-1] + TOP))
-        # NaN (not computed) stays blank; overturned values (θ = π/2) fall in the top class.
-        zm = np.ma.masked_invalid(z)
+        z = np.asarray(d["theta_over_alpha"][model], dtype=float).T
+        counts["over"] += int(np.sum(z >= overturned_at * (1.0 - 1e-9)))
+        counts["above"] += int(np.sum((z > LEVELS[-1]) & (z < overturned_at * (1.0 - 1e-9))))
         if min(z.shape) >= 2:
-            mappable = ax.contourf(d["R"], d["intensity"], zm, levels=levels,
-                                   cmap=class_colors(), extend="neither")
-            ax.contour(d["R"], d["intensity"], zm, levels=[1.0], colors="black",
-                       linewidths=1.2)
+            _contours(ax, d["R"], d["intensity"], z, overturned_at, cmap)
         else:  # one size or one intensity: no contour exists, colour the points
-            norm = BoundaryNorm(levels, len(levels) - 1)
-            mappable = ax.scatter(RR.ravel(), II.ravel(), c=zm.ravel(), marker="s", s=90,
-                                  cmap=class_colors(), norm=norm)
+            ax.scatter(RR.ravel(), II.ravel(), c=np.ma.masked_invalid(
+                _class_values(z, overturned_at)).ravel(), marker="s", s=90, cmap=cmap,
+                norm=norm)
         ax.plot(RR.ravel(), II.ravel(), ".", color="0.45", ms=1.2, alpha=0.6)  # the grid
         ax.grid(False)  # grid lines would read as contours
         ax.set_title(TITLES.get(model, f"{model} model"))
@@ -140,23 +157,60 @@ def plot(d: dict) -> Figure:
     if not models:
         axes[0].text(0.5, 0.5, "no tilt map computed", ha="center", transform=axes[0].transAxes)
     axes[0].set_ylabel("PGA/(g tan α) [-]")
-    tan_alpha = float(decode_attrs({"t": d["attrs"]["tan_alpha"]})["t"])  # the store's
     if models:
         pga_g_axis(axes[-1], float(tan_alpha))
-    if mappable is not None:
-        cbar = fig.colorbar(mappable, ax=list(axes), ticks=[*LEVELS, TOP], pad=0.08)
-        cbar.ax.set_yticklabels([f"{v:g}" for v in LEVELS] + ["> 1"])
-        cbar.set_label("θmax/α [-] (grey top class: θmax > α, incl. overturning)")
+        # every class as wide as the others: the two top ones are classes, not tilt ranges
+        centres = [0.5 * (LEVELS[-1] + _TOP_LEVELS[0]), 0.5 * (_TOP_LEVELS[0] + TOP)]
+        cbar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=list(axes), pad=0.02,
+                            spacing="uniform", ticks=[*LEVELS, *centres])
+        cbar.ax.set_yticklabels([f"{v:g}" for v in LEVELS] + ["θmax > α, standing",
+                                                               "overturned"], fontsize=7)
+        cbar.set_label("θmax/α [-] below 1; above: standing or overturned")
     R, inten = d["R"], d["intensity"]
     footnote(fig, [
         f"Grid (dots): {R.size} sizes R = {R.min():g}–{R.max():g} m × {inten.size} intensities "
         f"PGA/(g tan α) = {inten.min():g}–{inten.max():g}; contours interpolate linearly "
         "between grid points.",
+        "Classes: ten of 0.1 in θmax/α below α (viridis); orange (squares at the points): "
+        f"θmax > α and the cylinder stayed standing ({_points(counts['above'])}); grey: "
+        f"overturned, θ reached π/2 ({_points(counts['over'])}; counted over the panels).",
         f"Record on its principal axes: {d['axes']['text']}; PGA = max √(ügx² + ügy²) (vector).",
     ])
     fig.suptitle(f"Normalized peak tilt, tan α = {tan_alpha:g} (Fig 7); black line θmax = α\n"
                  f"scaled record: {record_label(d['attrs'])}")
     return fig
+
+
+def _points(n: int) -> str:
+    return f"{n} grid point" + ("" if n == 1 else "s")
+
+
+def _contours(ax, R: np.ndarray, intensity: np.ndarray, z: np.ndarray, overturned_at: float,
+              cmap: ListedColormap) -> None:
+    """Filled classes of one map (z: intensity × R): θmax/α below 1 with everything above in
+    the "standing" class, then the overturned area on top, then the line θmax = α.
+
+    Values above 1 are clipped to the middle of the top classes (so the contours between a
+    point below α and one above do not depend on how far above it is). The overturned area
+    is the contour at 1 of that field with the points standing above α mirrored below 1: its
+    edge is the line θmax = α where it meets points below α and falls half way to the
+    points standing above α. (One field with a value per class would pass through the
+    "standing" colour on every edge between a point below α and an overturned one.)
+    """
+    clipped = np.minimum(z, _TOP_LEVELS[0])
+    ax.contourf(R, intensity, np.ma.masked_invalid(clipped), levels=[*LEVELS, TOP],
+                colors=list(cmap.colors[:len(LEVELS)]), extend="neither")
+    standing = (z > LEVELS[-1]) & (z < overturned_at * (1.0 - 1e-9))
+    if np.any(z >= overturned_at * (1.0 - 1e-9)):
+        edge = np.where(standing, 2.0 * LEVELS[-1] - clipped, clipped)
+        ax.contourf(R, intensity, np.ma.masked_invalid(edge), levels=[LEVELS[-1], TOP],
+                    colors=[TOP_COLOR])
+    ax.contour(R, intensity, np.ma.masked_invalid(clipped), levels=[LEVELS[-1]],
+               colors="black", linewidths=1.2)
+    # a point standing just above α fills a sliver only: mark the point itself
+    RR, II = np.meshgrid(R, intensity)
+    ax.scatter(RR[standing], II[standing], marker="s", s=22, color=cmap.colors[len(LEVELS) - 1],
+               edgecolors="black", linewidths=0.6, zorder=3)
 
 
 # ------------------------------------------------------ comparison with the paper

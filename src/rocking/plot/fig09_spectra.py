@@ -103,6 +103,9 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         panel["refinement"] = refined.legend_phrase(sample, modes[0], panel["limit_state"])
         if panel["refinement"]:
             measured[f"refinement|{panel['limit_state']}"] = panel["refinement"]
+        else:  # said in the sidecar, never made up in the legend
+            measured[f"{refined.NOT_MEASURED}|{panel['limit_state']}"] = refined.not_measured(
+                sample, modes[0], panel["limit_state"])
         eff = panel["damping"]
         if eff is not None:
             measured[DAMPING_NOTE + panel["limit_state"]] = eff
@@ -118,6 +121,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         "modes": list(modes),
         "colors": motion_styles(motion_names, _load.labels(ds, "source_record") or None),
         "axes": _axes.from_ensemble(motions),
+        "motion_axes": _axes.of_records(motions),
         "missing": sorted(set(missing)),
         "paper": paper,
         "title": _load.ensemble_title(dict(ds.attrs), Path(str(store)).parent.name),
@@ -233,11 +237,14 @@ def plot(d: dict) -> Figure:
     # wide enough for a two-column legend per panel (the record and ten pairs, each with its
     # count of unresolved answers) beside the right-hand PGA [g] axis
     width = 12.5 if ncols > 1 else 7.0
+    # the legend under each spectra panel: about 0.13 in per row of it
+    rows = -(-(len(d["motions"]) + 2) // (2 if len(d["motions"]) > 4 else 1)) + 2
+    extra = 0.13 * rows
     if damped:
-        fig, axes = new_figure(width, 8.0, nrows=2, ncols=ncols, squeeze=False, sharex="col",
-                               height_ratios=(2.2, 1.0))
+        fig, axes = new_figure(width, 8.0 + extra, nrows=2, ncols=ncols, squeeze=False,
+                               sharex="col", height_ratios=(2.2 + extra / 2.5, 1.0))
     else:
-        fig, axes = new_figure(width, 6.0, ncols=ncols, squeeze=False)
+        fig, axes = new_figure(width, 6.0 + extra, ncols=ncols, squeeze=False)
     colors = {m: st["color"] for m, st in d["colors"].items()}
     for col, panel in enumerate(panels):
         _spectra_panel(axes[0][col], d, panel, colors)
@@ -248,8 +255,11 @@ def plot(d: dict) -> Figure:
         f"\n{MODE_STYLE.get(modes[0], {}).get('label', modes[0])} model")
     title = (f"Performance spectra per motion, {d.get('title', 'ensemble')}, tan α = "
              f"{d['tan_alpha']:g}{paper_tag(d, 'Fig 9')}{styles}")
-    suptitle_and_notes(fig, d, title, intensity=". Intensity: PGA = max √(ügx² + ügy²) "
-                        "(vector), normalized by g tan α.")
+    # a suite: every record's own principal axes, not the first record's alone
+    axes_text = d.get("motion_axes", {}).get("text") or d["axes"]["text"]
+    suptitle_and_notes(fig, {**d, "axes": {**d["axes"], "text": axes_text}}, title,
+                       intensity=". Intensity: PGA = max √(ügx² + ügy²) (vector), "
+                       "normalized by g tan α.")
     return fig
 
 
@@ -258,8 +268,10 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
         for motion, y in curves.items():
             ax.plot(d["R"], y, color=colors[motion], ls=LINESTYLES.get(mode, "-"), lw=0.8,
                     marker=".", ms=3)
+    lone = len(d["R_mean"]) == 1  # one size: a line of one point draws nothing, mark it
     for mode, y in panel["means"].items():
         ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
+                marker="_" if lone else None, ms=18, mew=2.6,
                 label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
     # resolution in the legend: per motion, how many of its answers are flagged unresolved
     counts = {m: sum(int(np.sum(f[m])) for f in panel.get("unresolved", {}).values() if m in f)
@@ -278,16 +290,18 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
                for m in d["motions"]]
     handles = ax.get_legend_handles_labels()[0] + handles
     ncols = 2 if len(handles) > 6 else 1
-    # room above the data for the legend (about 6 % of the panel per legend row)
-    top = max((float(np.nanmax(y)) for c in panel["curves"].values() for y in c.values()
-               if np.isfinite(y).any()), default=1.0)
-    rows = -(-len(handles) // ncols) + bool(any(counts.values()))
-    ax.set_ylim(0.0, top / max(0.35, 1.0 - 0.065 * rows))
+    # the axis follows the data (a little headroom); the legend goes below the panel, where
+    # it covers no curve whatever their shape or number of sizes
+    ys = [*(y for c in panel["curves"].values() for y in c.values()),
+          *panel["means"].values()]
+    top = max((float(np.nanmax(y)) for y in ys if np.isfinite(y).any()), default=1.0)
+    ax.set_ylim(0.0, 1.06 * top)
     title = "\n".join(t for t in (
         "unresolved: the answer may lie lower" if any(counts.values()) else "",
         panel.get("refinement", "")) if t) or None
-    ax.legend(handles=handles, loc="upper left", ncols=ncols, fontsize=6.5, title=title,
-              title_fontsize=6.5)
+    below = -0.03 if DAMPED in d.get("modes", ()) else -0.12  # under the R axis if it has one
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, below), ncols=ncols,
+              fontsize=6.5, title=title, title_fontsize=6.5, frameon=False)
 
 
 def _difference_panel(ax, d: dict, panel: dict, colors: dict) -> None:

@@ -132,12 +132,15 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
     R_all = agg["R"].values.astype(float)
+    sample = refined.beside(means)
     moved = refined.shift_text(refined.cell_shift(
-        refined.beside(means), MODE_3D, "overturning", float(R_all.max()) if R_all.size else None,
+        sample, MODE_3D, "overturning", float(R_all.max()) if R_all.size else None,
         n, tan_alpha)) if n else ""
     return {"name": name, "label": label, "record": record, "stand_in": stand_in,
             "refinement": (f"{record}: 3D overturning mean at R = {R_all.max():g} m: {moved}"
                            if moved else ""),
+            refined.NOT_MEASURED: "" if moved else refined.not_measured(
+                sample, MODE_3D, "overturning"),
             "n_motions": n, "upper": _load.search_bound(attrs),
             "axes": _axes.from_ensemble(motions),
             "R": agg["R"].values.astype(float), "panels": panels, "spread": spread,
@@ -214,6 +217,8 @@ def at_size(ensembles: list[dict], R: float) -> dict:
             out[f"{ens['name']}|{key}|mle"] = fit
         if ens.get("refinement"):
             out[f"{ens['name']}|refinement"] = ens["refinement"]
+        elif ens.get(refined.NOT_MEASURED):  # said in the sidecar, not made up in the legend
+            out[f"{ens['name']}|{refined.NOT_MEASURED}"] = ens[refined.NOT_MEASURED]
         out[f"{ens['name']}|label"] = ens["label"]
         out[f"{ens['name']}|n_motions"] = ens["n_motions"]
         out[f"{ens['name']}|upper"] = ens.get("upper")
@@ -256,11 +261,18 @@ def _unresolved_note(counts: list[tuple[str, int, int]]) -> str:
     return head + "; ".join(f"{label}: {k} of {n} sizes" for label, k, n in counts) + "."
 
 
-def _write_ratios(ax, R: np.ndarray, curves: dict, color) -> None:
-    """Write 2D/3D at the largest R where both are finite, at the right end of each 2D curve."""
+def _write_ratios(ax, R: np.ndarray, curves: dict, color, censored: dict | None = None) -> None:
+    """Write 2D/3D at the largest R where both are finite, at the right end of each 2D curve.
+
+    ``censored`` (mode → bool per R) marks means over fewer motions than the ensemble (the
+    others not reached at the search bound, so the mean is too low): a censored 2D mean over
+    a full 3D one makes the ratio a lower bound ("≥"), the reverse an upper bound ("≤");
+    both censored, neither can be said ("?").
+    """
     base = curves.get(MODE_3D)
     if base is None:
         return
+    censored = censored or {}
     for mode in PLANAR_MODES:
         y = curves.get(mode)
         if y is None:
@@ -269,7 +281,10 @@ def _write_ratios(ax, R: np.ndarray, curves: dict, color) -> None:
         if not ok.any():
             continue
         i = int(np.flatnonzero(ok)[-1])
-        ax.annotate(f"×{y[i] / base[i]:.2f} ({mode[-1]})", (R[i], y[i]), xytext=(4, 0),
+        low2 = bool(np.asarray(censored.get(mode, np.zeros(len(y), bool)))[i])
+        low3 = bool(np.asarray(censored.get(MODE_3D, np.zeros(len(y), bool)))[i])
+        bound = {(True, False): "≥", (False, True): "≤", (True, True): "?"}.get((low2, low3), "")
+        ax.annotate(f"{bound}×{y[i] / base[i]:.2f} ({mode[-1]})", (R[i], y[i]), xytext=(4, 0),
                     textcoords="offset points", color=color, fontsize=6.5, va="center")
 
 
@@ -292,11 +307,12 @@ def plot(d: dict) -> Figure:
         notes.append(f"{ens['record']}: {ens['axes']['text']}.")
         for ax, title in zip(axes, titles, strict=True):
             curves = ens["panels"].get(title, {})
+            censored = {}
             for mode, y in curves.items():
                 ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.4,
                         marker=MODE_MARKERS.get(mode, "o"), ms=2.5,
                         label=f"{label}: {MODE_LABELS.get(mode, mode)}")
-                few = fewer_motions(ens, title, mode)
+                few = censored[mode] = fewer_motions(ens, title, mode)
                 if few.any():  # the mean leaves out motions not reached at the search bound
                     partial = True
                     ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.0,
@@ -308,7 +324,7 @@ def plot(d: dict) -> Figure:
                                        f"{title}", k, int(np.isfinite(y).sum())))
                 if mode not in modes_seen:
                     modes_seen.append(mode)
-            _write_ratios(ax, ens["R"], curves, color)
+            _write_ratios(ax, ens["R"], curves, color, censored)
     handles += [Line2D([], [], color="gray", lw=1.4, ls=MODE_STYLE[m]["linestyle"],
                        marker=MODE_MARKERS.get(m, "o"), ms=2.5, label=MODE_LABELS.get(m, m))
                 for m in modes_seen]
@@ -316,7 +332,9 @@ def plot(d: dict) -> Figure:
         handles.append(Line2D([], [], ls="", marker="o", ms=7, mfc="white", mec="gray",
                               label="open marker: mean over fewer motions than the ensemble\n"
                                     "(the others not reached at the search bound)"))
-    handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"))
+    handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"
+                          + ("\n≥×k: the 2D mean there leaves out motions\n(open marker), "
+                             "a lower bound; ≤: the 3D one" if partial else "")))
     handles += [Line2D([], [], ls="", label="\n".join(textwrap.wrap(e["refinement"], 48)))
                 for e in d["ensembles"] if e.get("refinement")]
     if unresolved:

@@ -22,7 +22,7 @@ from scipy import stats
 from ..spectra.limit_states import limit_state_title
 from ..spectra.modes import MODE_3D
 from . import _axes, _load
-from ._style import MODE_STYLE, new_figure, pga_g_axis, styled, suptitle_and_notes
+from ._style import MODE_STYLE, pga_g_axis, styled, suptitle_and_notes, with_legend_row
 from .comparisons import NOT_IN_PAPER, Comparison
 
 MEDIAN_SYMBOL = "IM₅₀"
@@ -103,20 +103,52 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float | None = 
             "title": _load.ensemble_title(dict(ds.attrs), Path(str(store)).parent.name)}
 
 
+def _highlighted(sizes: list[float], k: int = 5) -> list[float]:
+    """About ``k`` sizes spread evenly over the range (the nearest of ``sizes`` to even steps
+    from the smallest to the largest): the ones drawn thick, with their points, and named."""
+    if len(sizes) <= k:
+        return list(sizes)
+    targets = np.linspace(min(sizes), max(sizes), k)
+    return sorted({min(sizes, key=lambda R, t=t: abs(R - t)) for t in targets})
+
+
+def _name_curve(ax, c: dict, R: float, height: float, color) -> None:
+    """Write "R = … m" on the fitted curve at P = ``height`` (staggered per size, so that
+    names of curves that lie close together do not overlap)."""
+    x = c["median"] * np.exp(c["beta"] * stats.norm.ppf(height))
+    if not (np.isfinite(x) and x <= c["im"][-1]):  # that height lies past the drawn range
+        x = 0.9 * float(c["im"][-1])
+        height = float(stats.norm.cdf(np.log(x / c["median"]) / c["beta"]))
+    ax.annotate(f"R = {R:g} m", (x, height), xytext=(5, 0), textcoords="offset points",
+                fontsize=6.5, va="center", ha="left",
+                bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "alpha": 0.85,
+                      "edgecolor": color, "lw": 0.8})
+
+
 @styled
 def plot(d: dict) -> Figure:
-    """Two panels; colour = size R on a colour bar; fitted lognormal lines, empirical markers."""
+    """Two panels; a few sizes R drawn thick with their points and named on the curve, the
+    others thin and faint for context; colour = R on a colour bar that marks the named ones."""
     panels = d["panels"]
-    fig, axes = new_figure(11.0, 4.8, ncols=max(len(panels), 1), squeeze=False)
-    axes = axes[0]
+    # a row below the panels holds the legend (inside, it hid the largest size's curve)
+    fig, axes, legend_row = with_legend_row(11.0, 5.1, ncols=max(len(panels), 1),
+                                            legend_share=0.07)
     sizes = sorted({R for p in panels for R in p["curves"]}) or [0.0, 1.0]
+    named = _highlighted(sizes)
     norm = Normalize(min(sizes), max(sizes) if max(sizes) > min(sizes) else min(sizes) + 1.0)
     cmap = colormaps["viridis"]
     for ax, panel in zip(axes, panels, strict=False):
+        shown = [R for R in named if R in panel["curves"]]
         for R, c in panel["curves"].items():
             color = cmap(norm(R))
-            ax.plot(c["im"], c["p"], color=color)
-            ax.plot(c["x_obs"], c["p_obs"], "o", color=color, ms=3.5, mfc="none")
+            if R not in shown:  # context: where the other sizes lie, not read one by one
+                ax.plot(c["im"], c["p"], color=color, lw=0.7, alpha=0.4, zorder=1)
+                continue
+            ax.plot(c["im"], c["p"], color=color, lw=1.9, zorder=3)
+            ax.plot(c["x_obs"], c["p_obs"], "o", color=color, ms=3.5, mfc="none", zorder=3)
+        for j, R in enumerate(shown):  # the smallest named highest: its curve is the steepest
+            height = 0.88 - 0.76 * j / max(len(shown) - 1, 1)
+            _name_curve(ax, panel["curves"][R], R, height, cmap(norm(R)))
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("PGA/(g tan α) [-]")
         ax.set_ylabel("P(limit state exceeded) [-]")
@@ -125,13 +157,11 @@ def plot(d: dict) -> Figure:
         ax.set_xlim(0.0, max((float(c["im"][-1]) for c in panel["curves"].values()),
                              default=d.get("upper") or 1.0))
         pga_g_axis(ax, d["tan_alpha"], which="x")
-        ax.legend(handles=[Line2D([], [], color="0.3", label="lognormal MLE fit"),
-                           Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
-                                  label="ensemble: share of motions ≤ x")],
-                  loc="lower right", fontsize=7)
     if panels:
         cbar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=list(axes))
         cbar.set_label("cylinder size R [m]")
+        cbar.set_ticks(named)  # the named sizes, marked where their colour is
+        cbar.set_ticklabels([f"{R:g}" for R in named])
     else:
         axes[0].text(0.5, 0.5, "; ".join(d["missing"]), ha="center", transform=axes[0].transAxes)
     record = d.get("record", "")
@@ -143,6 +173,17 @@ def plot(d: dict) -> Figure:
              f"tan α = {d['tan_alpha']:g}{bound}; medians {MEDIAN_SYMBOL} and dispersions β "
              "in the report's table")
     suptitle_and_notes(fig, d, title, reduced="not every point was computed (note below)")
+    others = max((len(p["curves"]) - len([R for R in named if R in p["curves"]])
+                  for p in panels), default=0)
+    if panels:
+        legend_row.legend(handles=[Line2D([], [], color="0.3", lw=1.9,
+                                   label="lognormal MLE fit, sizes named on the curve"),
+                            Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
+                                   label="ensemble: share of motions ≤ x (named sizes)"),
+                            *([Line2D([], [], color="0.3", lw=0.7, alpha=0.4,
+                                      label=f"the other {others} sizes: fit only (thin)")]
+                              if others else [])],
+                   loc="center", ncols=3, fontsize=7, frameon=False)
     return fig
 
 

@@ -196,3 +196,20 @@ def moved_words(table: pd.DataFrame) -> str:
     return (f"{moved} of {len(refined)} moved down (median {100 * shift.median():+.1f} %, "
             f"largest {100 * shift.min():+.1f} %)".replace("-", "−")
             + (f"; {cut} needed more analyses than allowed and are left out" if cut else ""))
+
+
+NOT_MEASURED = "refinement_not_measured"
+"""Key of a figure's notes that says why its legend quotes no move under refinement."""
+
+
+def not_measured(df: pd.DataFrame | None, mode: str, limit_state: str | None = None) -> str:
+    """Why no move under refinement can be quoted for (mode, limit state), for a figure's
+    sidecar (empty when :func:`legend_phrase` has one): no sample in the study's folder, or
+    a sample without a refined cell of it."""
+    if legend_phrase(df, mode, limit_state):
+        return ""
+    if df is None:
+        return (f"not measured: no {SAMPLE_FILE} (or an empty one) in the study's folder, so "
+                "no figure number carries its move under refinement")
+    what = f"{mode} {limit_state}" if limit_state else mode
+    return f"not measured: {SAMPLE_FILE} holds no refined cell of {what}"

@@ -19,13 +19,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
+from ..motions.measures import COMPONENTS
 from ..risk.fragilities import FIRST_EXCEEDANCE
 from ..risk.fragilities import STRIPES as STRIPE_FRAGILITY
 from ..risk.report import main_tan_alpha, read_risk_table, shown_limit_states
 from ..spectra.limit_states import limit_state_title
 from ..spectra.modes import PLANAR_MODES
-from ._style import MODE_STYLE, footnote, new_figure, styled
+from ._style import MODE_STYLE, footnote, styled, with_legend_row
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -105,6 +107,8 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
     frame = frame[np.isclose(frame["tan_alpha"].astype(float), tan_alpha)]
     measure = str(frame["measure"].iloc[0]) if "measure" in frame.columns and len(frame) \
         else "pga"
+    component = str(frame["component"].iloc[0]) if "component" in frame.columns and len(frame) \
+        else ""
     stripes = frame[frame["fragility"] == STRIPES]
     frame = frame[frame["fragility"] == FIRST]
     modes = [m for m in MODE_STYLE if m in set(frame["mode"])]
@@ -138,19 +142,51 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
                          if not np.isfinite(m)]
         panels.append({"limit_state": ls, "curves": curves, "stripes": stripe})
     return {"panels": panels, "measured": measured, "missing": missing, "gaps": gaps,
-            "tan_alpha": tan_alpha, "hazard": hazard, "study": study, "measure": measure}
+            "tan_alpha": tan_alpha, "hazard": hazard, "study": study, "measure": measure,
+            "component": component}
 
 
-def _draw(ax, c: dict, style: dict, *, marker: str, mfc, linestyle: str, label: str) -> None:
-    """One mode's λ(R): the line (broken where a size has no fit), its band, brackets."""
+_BANDS = {
+    # how each kind of curve shows its 90 % interval, so that three grey ones differ:
+    # filled (3D), outlined dashed (3D damped: it lies on the 3D band), hatched (stripes)
+    "fill": {"alpha": 0.18, "linewidth": 0},
+    "outline": {"facecolor": "none", "linewidth": 0.8, "linestyle": "--"},
+    "hatch": {"facecolor": "none", "linewidth": 0, "hatch": "////"},
+}
+
+
+def _band_kind(mode: str, stripes: bool) -> str:
+    """How the 90 % interval of a curve is drawn (:data:`_BANDS`)."""
+    if stripes:
+        return "hatch"
+    return "outline" if mode == "3d-damped" else "fill"
+
+
+def _draw(ax, c: dict, style: dict, *, marker: str, mfc, linestyle: str, label: str,
+          band: str = "fill", shift: float = 0.0) -> None:
+    """One mode's λ(R): the line (broken where a size has no fit), its 90 % interval (a band
+    over two sizes or more, an error bar at a lone size: a band of one size draws nothing),
+    brackets where stripes bound a gap; ``shift`` [m] moves it sideways (a study of one size,
+    where the bars of the modes would lie on one another)."""
+    c = {**c, "R": c["R"] + shift}
     maf = np.where(c["maf"] > 0, c["maf"], np.nan)  # NaN breaks the line: no line over a gap
     ax.semilogy(c["R"], maf, marker=marker, ms=4.0, mfc=mfc, color=style["color"],
                 linestyle=linestyle, label=label)
-    band = np.isfinite(c["p05"]) & np.isfinite(c["p95"]) & (c["p05"] > 0)
-    if band.any():
-        ax.fill_between(c["R"], np.where(band, c["p05"], np.nan),
-                        np.where(band, c["p95"], np.nan), color=style["color"], alpha=0.15,
-                        linewidth=0, label=f"{label}: 90 % interval")
+    has = np.isfinite(c["p05"]) & np.isfinite(c["p95"]) & (c["p05"] > 0)
+    spans = has[:-1] & has[1:]  # neighbouring sizes both with an interval: a band exists
+    if spans.any():
+        kw = dict(_BANDS[band])
+        edge = {"edgecolor": style["color"]} if band != "fill" else {}
+        ax.fill_between(c["R"], np.where(has, c["p05"], np.nan),
+                        np.where(has, c["p95"], np.nan), color=style["color"], **edge, **kw,
+                        label=f"{label}: 90 % interval")
+    lone = has & ~np.r_[spans, False] & ~np.r_[False, spans]
+    if lone.any():  # sizes whose interval no band shows: a bar at each
+        mid = np.where(np.isfinite(maf[lone]), maf[lone], np.sqrt(c["p05"][lone] *
+                                                                    c["p95"][lone]))
+        ax.errorbar(c["R"][lone], mid, yerr=[mid - c["p05"][lone], c["p95"][lone] - mid],
+                    fmt="none", ecolor=style["color"], capsize=3, lw=1.0,
+                    label=None if spans.any() else f"{label}: 90 % interval")
     gap = ~np.isfinite(c["maf"])
     for R, lo, hi in zip(c["R"][gap], c["lo"][gap], c["hi"][gap], strict=True):
         if np.isfinite(hi) and hi > 0:
@@ -162,37 +198,83 @@ def _draw(ax, c: dict, style: dict, *, marker: str, mfc, linestyle: str, label: 
             ax.plot([R], [np.nan])  # nothing known there: the gap alone says it
 
 
+def _hazard_line(d: dict) -> str:
+    """The title's hazard line: the file, EXAMPLE when it is the repository's example curve
+    (config/hazard/README.md; :func:`rocking.risk.report.assumptions` says the same), and
+    the component of its intensity measure."""
+    hazard = d.get("hazard") or "the study's hazard curve"
+    line = f"hazard: {hazard}"
+    if "example_hazard_curve" in hazard:
+        line = f"hazard: EXAMPLE curve, not a real site's: {hazard}"
+    component = d.get("component") or ""
+    if component:
+        known = COMPONENTS.get(component)
+        unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
+        line += (f"\nintensity: {unit}, horizontal component {component}"
+                 + (f" ({known.description})" if known else "")
+                 + ", the fragility's and the hazard's")
+    return line
+
+
 @styled
 def plot(d: dict) -> Figure:
-    """One log-scale panel per limit state, one line per mode, its 90 % band shaded, gaps
-    where a size has no fit (brackets where stripes bound it); return period on the right."""
-    fig, axes = new_figure(11.0, 4.6, ncols=len(d["panels"]) or 1, squeeze=False)
-    axes = axes[0]
+    """One log-scale panel per limit state, one line per mode, its 90 % interval (filled,
+    outlined or hatched, so that the grey ones differ), gaps where a size has no fit
+    (brackets where stripes bound it); return period on the right; one legend below the
+    panels, so that it covers no curve; the hazard named in the title, EXAMPLE if it is."""
+    # a row below the panels holds the legend (inside, it hid the 2D curves)
+    fig, axes, legend_row = with_legend_row(11.0, 6.0, ncols=len(d["panels"]) or 1,
+                                            legend_share=0.2)
     for ax, panel in zip(axes, d["panels"], strict=False):
-        for mode, c in panel["curves"].items():
+        curves = [(m, c, False) for m, c in panel["curves"].items()] + [
+            (m, c, True) for m, c in panel.get("stripes", {}).items()]
+        sizes = np.unique(np.concatenate([c["R"] for _, c, _ in curves])) if curves else []
+        # one size: no line, no band; the modes' bars side by side around it
+        step = 0.06 * float(sizes[0]) if len(sizes) == 1 else 0.0
+        for k, (mode, c, stripe) in enumerate(curves):
             style = MODE_STYLE[mode]
-            label = style["label"] + (", first exceedance" if panel.get("stripes") else "")
-            _draw(ax, c, style, marker="o", mfc=None, linestyle=style["linestyle"],
-                  label=label)
-        for mode, c in panel.get("stripes", {}).items():
-            style = MODE_STYLE[mode]
-            _draw(ax, c, style, marker="s", mfc="none", linestyle=":",
-                  label=f"{style['label']}, stripes")
+            shift = step * (k - 0.5 * (len(curves) - 1))
+            if stripe:
+                _draw(ax, c, style, marker="s", mfc="none", linestyle=":",
+                      label=f"{style['label']}, stripes", band=_band_kind(mode, True),
+                      shift=shift)
+            else:
+                label = style["label"] + (", first exceedance" if panel.get("stripes") else "")
+                _draw(ax, c, style, marker="o", mfc=None, linestyle=style["linestyle"],
+                      label=label, band=_band_kind(mode, False), shift=shift)
+        if step:
+            ax.set_xticks(sizes)
+            ax.set_xlim(sizes[0] - 4 * step * len(curves) / 2,
+                        sizes[0] + 4 * step * len(curves) / 2)
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("R [m]")
         unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
         ax.set_ylabel(f"mean annual frequency λ [1/yr] ({unit} hazard)")
         ax.grid(True, which="both", alpha=0.3)
         if panel["curves"]:
-            ax.legend(fontsize=8)
             right = ax.secondary_yaxis("right", functions=(_inverse, _inverse))
             right.set_ylabel("return period [yr]")
+    # one legend for both panels (same modes, same styles), below them: none over a curve
+    handles, labels = [], []
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            if lab not in labels:
+                handles.append(h)
+                labels.append(lab)
+    if handles:
+        handles, labels = _rows(handles, labels)
+        legend_row.legend(handles, labels, loc="center", ncols=2, fontsize=8, frameon=False)
     who = f"{d['study']}: " if d.get("study") else ""
     title = f"{who}mean annual frequency of exceedance, tan α = {d['tan_alpha']:g}"
-    if d.get("hazard"):
-        title += f"\nhazard: {d['hazard']}"
+    title += "\n" + _hazard_line(d)
     fig.suptitle(title, fontsize=10)
     foot = []
+    lone = {float(c["R"][0]) for p in d["panels"] for g in (p["curves"], p.get("stripes", {}))
+            for c in g.values() if len(np.unique(c["R"])) == 1}
+    if len(lone) == 1 and all(len(np.unique(c["R"])) == 1 for p in d["panels"]
+                              for g in (p["curves"], p.get("stripes", {})) for c in g.values()):
+        foot.append(f"One size, R = {lone.pop():g} m: the modes set side by side around it, "
+                    "each with its 90 % interval as a bar.")
     if d["missing"]:
         foot.append("Not in this run: " + "; ".join(d["missing"]) + ".")
     if d.get("gaps"):
@@ -200,6 +282,20 @@ def plot(d: dict) -> Figure:
                     + (f"; and {len(d['gaps']) - 6} more" if len(d["gaps"]) > 6 else "") + ".")
     footnote(fig, foot)
     return fig
+
+
+def _rows(handles: list, labels: list[str]) -> tuple[list, list[str]]:
+    """Legend entries ordered for two columns filled column by column: each curve on the
+    left, its 90 % interval beside it on the right (a blank where it has none)."""
+    suffix = ": 90 % interval"
+    curves = [(h, lab) for h, lab in zip(handles, labels, strict=True)
+              if not lab.endswith(suffix)]
+    bands = dict((lab[:-len(suffix)], (h, lab)) for h, lab in zip(handles, labels, strict=True)
+                 if lab.endswith(suffix))
+    blank = (Line2D([], [], alpha=0.0), " ")
+    right = [bands.get(lab, blank) for _, lab in curves]
+    pairs = curves + right
+    return [h for h, _ in pairs], [lab for _, lab in pairs]
 
 
 def _inverse(x):

@@ -159,7 +159,7 @@ def plot(d: dict) -> Figure:
     panels = d["panels"]
     states = list(dict.fromkeys(p["limit_state"] for p in panels)) or ["-"]
     sizes = sorted({p["R"] for p in panels}) or [0.0]
-    fig, axes = new_figure(3.6 * len(sizes) + 0.6, 3.1 * len(states) + 1.2,
+    fig, axes = new_figure(3.6 * len(sizes) + 0.6, 3.9 * len(states) + 1.2,
                            nrows=len(states), ncols=len(sizes), squeeze=False)
     color = MODE_STYLE.get(d["mode"], {}).get("color", "black")
     unit, im = d.get("unit", "g"), d.get("measure_label", "PGA")
@@ -196,7 +196,9 @@ def plot(d: dict) -> Figure:
         ax.set_title(f"{limit_state_title(p['limit_state'])}, R = {p['R']:g} m", fontsize=9)
         ax.set_xlabel(f"{im} [{unit}]")
         ax.set_ylabel("P(exceeded) [-]")
-        ax.legend(loc="best", fontsize=6)
+        # below the panel, not in it: where "best" finds room depends on the data, and at
+        # the larger sizes the markers spread over every corner
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), fontsize=6, frameon=False)
     label = MODE_STYLE.get(d["mode"], {}).get("label", d["mode"])
     who = ", ".join(v for v in (f"study {d['study']}" if d.get("study") else "",
                                 f"ensemble {d['ensemble']} ({d['n_motions']} motions)"
