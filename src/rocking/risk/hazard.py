@@ -878,6 +878,7 @@ def _resolve(path, base) -> Path:
 
 
 __all__ = ["HAZARD_FORMATS", "HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G",
-           "POWER_LAW_IML", "POWER_LAW_KEYS", "HazardFormat", "UNITS", "HazardCurve", "Site", "check_kind", "check_plausible",
+           "POWER_LAW_IML", "POWER_LAW_KEYS", "UNITS", "HazardCurve", "HazardFormat", "Site",
+           "check_kind", "check_plausible",
            "file_kind", "great_circle_km", "hazard_component", "imt_measure", "measure_imt",
            "parse_hazard", "same_measure", "select_site", "unit_factor"]
