@@ -191,10 +191,10 @@ def suptitle_and_notes(fig: Figure, d: dict, title: str, *,
     if d["missing"]:
         title += "\nreduced run: " + reduced
     fig.suptitle(title)
-    _missing_and_axes_note(fig, d, intensity)
+    missing_and_axes_note(fig, d, intensity)
 
 
-def _missing_and_axes_note(fig: Figure, d: dict, intensity: str = "; PGA = vector peak.") -> None:
+def missing_and_axes_note(fig: Figure, d: dict, intensity: str = "; PGA = vector peak.") -> None:
     """Footnote of what a reduced run left out of ``d`` and of the motions' principal axes."""
     footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
                    if d["missing"] else "",

@@ -28,7 +28,6 @@ from ..spectra.modes import MODE_3D
 from . import _axes, _load, refined
 from ._style import (
     MODE_STYLE,
-    _missing_and_axes_note,
     goal_color,
     new_figure,
     paper_tag,
@@ -36,6 +35,9 @@ from ._style import (
     r_axis,
     styled,
     unresolved_suffix,
+)
+from ._style import (
+    missing_and_axes_note as _missing_and_axes_note,
 )
 from .comparisons import (
     EQUATIONS,
