@@ -147,14 +147,15 @@ def critical_intensity(
     decided); otherwise none runs them (:func:`make_analysis`).
     """
     return _critical_point(body, motion, parse_limit_states(limit_states, sort=False), mode,
-                           get_accuracy(accuracy), upper, omega_n, zeta)
+                           get_accuracy(accuracy), positive_finite("upper", upper), omega_n,
+                           zeta)
 
 
 def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, mode: str,
                     acc: Accuracy, upper: float, omega_n: float | None,
                     zeta: float | None) -> CriticalResult:
-    """:func:`critical_intensity` on parsed limit states and a resolved accuracy (the batch
-    resolves its preset once for every point)."""
+    """:func:`critical_intensity` on parsed limit states, a resolved accuracy and a checked
+    ``upper`` (the batch resolves and checks them once for every point)."""
     check_mode(mode)
     if motion.pga <= 0.0:
         raise ValueError(f"motion {motion.name!r} has zero PGA")
@@ -163,7 +164,6 @@ def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, m
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
                             rest_tilt=acc.rest_tilt,
                             whole=whole_record(asked) or mu is not None)
-    upper = positive_finite("upper", upper)
     res = run_search(analyze, tuple(sorted(asked, key=lambda ls: ls.severity)), body.alpha, lower,
                      upper, acc, acc.rtol_for(MODES[mode][0]), mu)
     res = _in_order(res, [ls.name for ls in asked])
@@ -220,6 +220,7 @@ def critical_intensity_batch(
     list of CriticalResult
     """
     acc = get_accuracy(accuracy)
+    upper = positive_finite("upper", upper)
     states = parse_limit_states(limit_states, sort=False)
     tasks = list(tasks)
     for i, task in enumerate(tasks):
