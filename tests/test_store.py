@@ -337,7 +337,9 @@ def test_unreadable_done_mask_names_the_store_and_the_remedy(tmp_path, ensemble)
 def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, ensemble,
                                                                       monkeypatch):
     path = tmp_path / "old.zarr"
-    monkeypatch.setattr(store, "chunk_codecs", lambda: [zarr.codecs.ZstdCodec(level=0)])
+    from rocking.study import store_write  # where create_store looks its codecs up
+
+    monkeypatch.setattr(store_write, "chunk_codecs", lambda: [zarr.codecs.ZstdCodec(level=0)])
     layout = make_spectra_store(path, ensemble)
     fill(path, ensemble, range(layout.n_regions))
     assert not integrity.has_checksums(path)

@@ -5,7 +5,7 @@
 from functools import cache
 from pathlib import Path
 
-from rocking.risk.hazard import hazard_component, parse_hazard, same_measure
+from rocking.risk.hazard import parse_hazard, same_measure
 
 
 def hazard_spec(study):
@@ -101,12 +101,11 @@ def hazard_measure(study):
                 if same_measure(m, curve.measure))
 
 
-@cache
 def hazard_component_of(study):
     """The horizontal component the study's hazard declares (its `component` key, or a
-    `component=` comment in its file), None where unsaid (then taken as the study's)."""
-    spec = hazard_spec(study)
-    return None if spec is None else hazard_component(hazard_param(study))
+    `component=` comment in its file), None where unsaid (then taken as the study's): read
+    off the one parsed curve (hazard_curve), so the file is read once at parse time."""
+    return None if hazard_spec(study) is None else hazard_curve(study).component
 
 
 def extra_components(study):
@@ -130,7 +129,6 @@ def _check_hazards():
     for s in risk_studies():
         try:
             curve = hazard_curve(s)
-            hazard_component_of(s)
         except (ValueError, OSError) as exc:
             raise ValueError(f"studies.{s}.hazard: {exc}") from None
         measures = list(study_spec(s).intensity_measures)

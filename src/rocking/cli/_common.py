@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import tempfile
 from collections.abc import Iterator
@@ -64,6 +65,16 @@ def say_compile(command: str, mode: str, quiet: bool = False, monitors: bool = F
     line = None if quiet else compile_notice(MODES[mode][0], monitors)
     if line:
         print(f"rocking {command}: {line}", file=sys.stderr, flush=True)
+
+
+def friction(args: argparse.Namespace) -> float | None:
+    """``--mu`` checked where it enters the command line (a finite number > 0), None without
+    it: the one check of the command line's μ, which is then carried on as a number (every
+    command that takes ``--mu`` calls this before any work)."""
+    mu = getattr(args, "mu", None)
+    if mu is not None and not (math.isfinite(mu) and mu > 0):
+        raise ValueError(f"--mu must be a finite number > 0, got {mu!r}")
+    return mu
 
 
 def floats(text: str) -> list[float]:

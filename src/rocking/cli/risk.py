@@ -150,16 +150,15 @@ def _site(args):
     return args.site
 
 
-def _component(args) -> str | None:
-    """The hazard's component: --component, else the hazard file's comment, else None."""
-    from ..risk.hazard import hazard_component
-
+def _component(args, hazard) -> str | None:
+    """The hazard's component: --component, else the hazard file's comment (read with the
+    curve, :attr:`rocking.risk.hazard.HazardCurve.component`), else None."""
     if args.component is not None and args.im_factor != 1.0:
         raise ValueError("give --component (the fragility in the hazard's component) or "
                          "--im-factor (the hazard rescaled), not both")
     if args.component is not None:
         return args.component
-    return hazard_component(args.hazard) if args.im_factor == 1.0 else None
+    return hazard.component if args.im_factor == 1.0 else None
 
 
 def _select(frag, args):
@@ -233,7 +232,7 @@ def run(args) -> int:
     if not args.fragility.exists():
         raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
     hazard = _hazard(args)
-    component = _component(args)
+    component = _component(args, hazard)
     frag = _select(read_fragilities(args.fragility, measure=hazard.measure,
                                     component=component), args)
     table = risk_table(frag, hazard, component=component)

@@ -128,7 +128,8 @@ def run(args: argparse.Namespace) -> int:
     if args.body == "block" and model != MODEL_2D:
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
                          f"got --mode {args.mode}")
-    body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha, mu=args.mu)
+    body = (Block if args.body == "block" else Cylinder)(args.R, args.tan_alpha,
+                                                         mu=_common.friction(args))
     common = dict(rtol=args.rtol, omega_n=args.omega_n, zeta=args.zeta)
     motion = _common.motion_from_args(args)
     out = Path(args.out)

@@ -153,8 +153,7 @@ def _check_numbers(args) -> None:
     if not (math.isfinite(args.upper) and args.upper > 1):
         raise ValueError(f"--upper must be a finite number > 1 (the search starts at "
                          f"PGA/(g tan alpha) = 1), got {args.upper!r}")
-    if args.mu is not None and not (math.isfinite(args.mu) and args.mu > 0):
-        raise ValueError(f"--mu must be a finite number > 0, got {args.mu!r}")
+    _common.friction(args)
 
 
 def run(args) -> int:

@@ -122,7 +122,6 @@ def tables(results, boot=None):
 
     ``results``: per R, the StripeFragility of each limit state (refined); ``boot``: per
     (R index, limit state) the resampled medians, or None."""
-    import math
 
     import pandas as pd
 
@@ -233,9 +232,7 @@ def run(args) -> int:
     if out is not None:
         _common.check_output(out, (".csv", ".json"))
     states = parse_limit_states(args.limit_states, sort=False)
-    if args.mu is not None:  # the stripes' answer about sliding is its own fragility
-        if not (math.isfinite(args.mu) and args.mu > 0):
-            raise ValueError(f"--mu must be a finite number > 0, got {args.mu!r}")
+    if _common.friction(args) is not None:  # sliding's answer is its own fragility
         states = parse_limit_states([*states, f"sliding:{args.mu!r}"], sort=False)
     x = (stripe_intensities(args.stripes, args.lower, args.upper) if args.intensities is None
          else args.intensities)

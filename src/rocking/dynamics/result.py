@@ -34,7 +34,25 @@ def contact_slides(mu_required_max: float, overturned: bool, mu: float | None) -
     Centro), and the peak of such an analysis is not an answer about sliding."""
     if mu is None or overturned:
         return None
-    return bool(mu_required_max > mu)
+    return bool(slid_in_contact(mu_required_max, False, mu))
+
+
+def slid_in_contact(mu_required_max, overturned, mu: float) -> np.ndarray:
+    """:func:`contact_slides` elementwise over many analyses (a search's): True where an
+    analysis did not overturn and ``mu_required_max`` > ``mu``, False elsewhere (an overturned
+    analysis, or NaN: nothing monitored). The one place the sliding comparison is written.
+
+    Parameters
+    ----------
+    mu_required_max : array_like
+        Largest μ_req over the instants with N > 0 [-].
+    overturned : array_like of bool
+        Whether each analysis overturned.
+    mu : float
+        Friction coefficient of the support [-] (checked where it entered).
+    """
+    return np.logical_and(np.asarray(mu_required_max, dtype=float) > mu,
+                          np.logical_not(overturned))
 
 
 def leaves_support(normal_force_min: float) -> bool:

@@ -73,8 +73,8 @@ def excessive_tilt(available: list[str]) -> str | None:
     return match_limit_state(EXCESSIVE_TILT, available, missing_ok=True)
 
 
-def _paper_limit_states(available: list[str], missing: list[str],
-                        prefix: str = "") -> Iterator[tuple[str, str]]:
+def paper_limit_states(available: list[str], missing: list[str],
+                       prefix: str = "") -> Iterator[tuple[str, str]]:
     """(title, store name) of the paper's overturning and excessive tilt, those computed."""
     for title, ls in (("overturning", match_limit_state(OVERTURNING, available,
                                                         missing_ok=True)),

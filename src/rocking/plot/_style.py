@@ -39,13 +39,22 @@ RC = {
     "savefig.dpi": 150,
 }
 
-MODE_STYLE = {
+class _ModeStyles(dict):
+    """A dict whose missing mode is one clear error (not a bare KeyError in a figure)."""
+
+    def __missing__(self, mode):
+        raise KeyError(f"mode {mode!r} has no plot style in rocking.plot._style.MODE_STYLE: "
+                       f"add its colour, linestyle and label (docs/design.md, 'Adding a model')")
+
+
+MODE_STYLE = _ModeStyles({
     MODE_3D: {"color": "black", "linestyle": "-", "label": "3D"},
     MODE_3D_DAMPED: {"color": "black", "linestyle": "--", "label": "3D damped"},
     MODE_2D_X: {"color": "tab:blue", "linestyle": "-.", "label": "2D, x component"},
     MODE_2D_Y: {"color": "tab:orange", "linestyle": ":", "label": "2D, y component"},
-}
-"""Line style per analysis mode, used wherever modes are compared."""
+})
+"""Line style per analysis mode, used wherever modes are compared; every mode of
+:data:`rocking.spectra.modes.MODES` has one (``tests/test_design_registries.py``)."""
 
 GOAL_COLORS = {0.1: "#9ecae1", 0.2: "#e6ab02", 1 / 3: "#2ca02c", 0.5: "#1f77b4",
                0.75: "#9467bd", 1.0: "#d62728", float("inf"): "black"}
@@ -182,10 +191,10 @@ def suptitle_and_notes(fig: Figure, d: dict, title: str, *,
     if d["missing"]:
         title += "\nreduced run: " + reduced
     fig.suptitle(title)
-    _missing_and_axes_note(fig, d, intensity)
+    missing_and_axes_note(fig, d, intensity)
 
 
-def _missing_and_axes_note(fig: Figure, d: dict, intensity: str = "; PGA = vector peak.") -> None:
+def missing_and_axes_note(fig: Figure, d: dict, intensity: str = "; PGA = vector peak.") -> None:
     """Footnote of what a reduced run left out of ``d`` and of the motions' principal axes."""
     footnote(fig, ["Not computed in this run: " + "; ".join(d["missing"]) + "."
                    if d["missing"] else "",

@@ -29,7 +29,6 @@ from ..study.store_attrs import decode_attrs
 from . import _axes, _load, refined
 from ._style import (
     MODE_STYLE,
-    _missing_and_axes_note,
     goal_color,
     new_figure,
     paper_tag,
@@ -37,6 +36,9 @@ from ._style import (
     r_axis,
     styled,
     unresolved_suffix,
+)
+from ._style import (
+    missing_and_axes_note as _missing_and_axes_note,
 )
 from .comparisons import (
     EQUATIONS,

@@ -54,7 +54,7 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] | None = None,
     present = [t for t in tan_alphas if _load.has_value(agg, "tan_alpha", t)]
     panels = []
     for ls in (_load.panel_limit_states(states) if not paper else
-               [ls for _title, ls in _load._paper_limit_states(states, missing)]):
+               [ls for _title, ls in _load.paper_limit_states(states, missing)]):
         curves: dict[float, np.ndarray] = {}
         for t in present:
             y = _load.mean_curve(_load.select_value(agg, "tan_alpha", t), mode, ls)

@@ -114,7 +114,7 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
     spread: dict[str, np.ndarray] = {}
     medians: dict[str, dict] = {}
     fits = fragility_table(Path(means).parent / "fragility.csv")
-    chosen = (_load._paper_limit_states(states, missing, prefix=f"{record}: ") if paper else
+    chosen = (_load.paper_limit_states(states, missing, prefix=f"{record}: ") if paper else
               ((_panel_title(ls), ls) for ls in _load.panel_limit_states(states)))
     for title, ls in chosen:
         panels[title] = {}

@@ -34,6 +34,7 @@ import dataclasses
 import logging
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -157,6 +158,9 @@ class HazardCurve:
         (``mean``, ``quantile-0.85``, ``rlz-000``); '' when neither says.
     unit : str
         The unit the file gave its levels in (:data:`UNITS`); :attr:`im_g` is in g always.
+    component : str or None
+        The horizontal component the hazard declares (the entry's ``component``, else a
+        ``component=`` comment of its file, read with the levels), None where unsaid.
     """
 
     im_g: np.ndarray
@@ -168,6 +172,7 @@ class HazardCurve:
     site: str = ""
     kind: str = ""
     unit: str = "g"
+    component: str | None = None
 
     def __post_init__(self) -> None:
         im = np.asarray(self.im_g, dtype=float).ravel()
@@ -292,19 +297,15 @@ class HazardCurve:
     @classmethod
     def from_file(cls, path: str | Path, site=None, investigation_time: float | None = None,
                   *, kind: str | None = None, unit: str | None = None) -> HazardCurve:
-        """An OpenQuake CSV (its header has ``poe-<iml>`` columns) or a two-column table,
-        read once (arguments as :meth:`from_openquake_csv` and :meth:`from_table`)."""
+        """A hazard file of any format of :data:`HAZARD_FORMATS`, read once and handed to the
+        first format that recognizes it (arguments as :meth:`from_openquake_csv` and
+        :meth:`from_table`)."""
         path = Path(path)
         comments, rows = _read_csv(path)
-        if rows and any(c.strip().startswith("poe-") for c in rows[0]):
-            if investigation_time is not None:
-                raise ValueError(f"{path}: an OpenQuake hazard curve states its own "
-                                 "investigation_time; leave it out of the hazard entry")
-            return _openquake(path, comments, rows, site, kind, unit)
-        if site is not None:
-            raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV of "
-                             f"sites, this is a two-column table (got site {site!r})")
-        return _table(path, comments, rows, investigation_time, kind, unit)
+        fmt = next(f for f in HAZARD_FORMATS if f.recognizes(rows))
+        curve = fmt.read(path, comments, rows, site, investigation_time, kind, unit)
+        component = _file_component(comments, path)
+        return curve if component is None else dataclasses.replace(curve, component=component)
 
     def rate(self, im_g) -> np.ndarray:
         """λ(im) [1/yr]: log-log interpolation, end slopes extrapolated."""
@@ -625,6 +626,55 @@ def _said(kind: str, unit: str) -> str:
             + (f", levels in {unit} converted to g" if unit != "g" else ""))
 
 
+def _read_openquake(path: Path, comments: list[str], rows: list[list[str]], site,
+                    investigation_time, kind, unit) -> HazardCurve:
+    """:data:`HAZARD_FORMATS` reader of an OpenQuake CSV (it states its own time)."""
+    if investigation_time is not None:
+        raise ValueError(f"{path}: an OpenQuake hazard curve states its own "
+                         "investigation_time; leave it out of the hazard entry")
+    return _openquake(path, comments, rows, site, kind, unit)
+
+
+def _read_table(path: Path, comments: list[str], rows: list[list[str]], site,
+                investigation_time, kind, unit) -> HazardCurve:
+    """:data:`HAZARD_FORMATS` reader of a two-column table (one curve: no site)."""
+    if site is not None:
+        raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV of "
+                         f"sites, this is a two-column table (got site {site!r})")
+    return _table(path, comments, rows, investigation_time, kind, unit)
+
+
+@dataclass(frozen=True)
+class HazardFormat:
+    """One hazard file format: how it is recognized and read.
+
+    Attributes
+    ----------
+    name : str
+        Its name (docs, messages).
+    recognizes : callable
+        ``recognizes(rows) -> bool`` on the file's non-comment CSV rows (header first).
+    read : callable
+        ``read(path, comments, rows, site, investigation_time, kind, unit) -> HazardCurve``
+        (levels in g, rates in 1/yr; a stated argument the format cannot use is refused in
+        one line naming the file).
+    """
+
+    name: str
+    recognizes: Callable[[list[list[str]]], bool]
+    read: Callable[..., HazardCurve]
+
+
+HAZARD_FORMATS = (
+    HazardFormat("openquake", lambda rows: bool(rows) and any(
+        c.strip().startswith("poe-") for c in rows[0]), _read_openquake),
+    HazardFormat("table", lambda rows: True, _read_table),
+)
+"""The hazard file formats, tried in order (:meth:`HazardCurve.from_file`): an OpenQuake
+hazard-curve CSV (a header with ``poe-<iml>`` columns), else a two-column table (the last
+recognizes every file and refuses a malformed one itself)."""
+
+
 HAZARD_KEYS = {"file", "site", "investigation_time", "kind", "unit", "im_factor",
                "component"}
 """Keys of a hazard mapping that names a file."""
@@ -635,6 +685,26 @@ POWER_LAW_KEYS = {"k0", "k", "measure", "im_factor", "component"}
 _COMPONENT = re.compile(r"\bcomponent\s*=\s*['\"]?([A-Za-z_0-9]+)")
 
 
+def _file_component(comments: list[str], path: Path) -> str | None:
+    """A ``component='rotd50'`` in a file's comment lines, None without one."""
+    from ..motions.measures import parse_component
+
+    hit = _COMPONENT.search(" ".join(comments))
+    return None if hit is None else parse_component(hit.group(1), f"{path}: component")
+
+
+def _declared_component(spec: dict) -> str | None:
+    """The hazard mapping's ``component`` key, checked (None without one)."""
+    from ..motions.measures import parse_component
+
+    if "component" not in spec:
+        return None
+    if float(spec.get("im_factor", 1.0)) != 1.0:
+        raise ValueError("hazard: give component (risk converts the fragility) or "
+                         "im_factor (you convert the hazard), not both")
+    return parse_component(spec["component"], "hazard.component")
+
+
 def hazard_component(spec, *, base: str | Path | None = None) -> str | None:
     """The horizontal component of a hazard's intensity measure, or None where unsaid.
 
@@ -642,7 +712,9 @@ def hazard_component(spec, *, base: str | Path | None = None) -> str | None:
     a ``component='rotd50'`` in a comment line of its file (OpenQuake does not write one; a
     file prepared by hand may). A ``component`` together with ``im_factor`` is refused: the
     first asks risk to compute the fragility in the hazard's component, the second to
-    rescale the hazard by hand, and the two would convert twice.
+    rescale the hazard by hand, and the two would convert twice. Where the curve is parsed
+    anyway, read :attr:`HazardCurve.component` of :func:`parse_hazard` instead (the file
+    read once).
 
     Parameters
     ----------
@@ -651,14 +723,10 @@ def hazard_component(spec, *, base: str | Path | None = None) -> str | None:
     base : path, optional
         Directory a relative file path is taken from.
     """
-    from ..motions.measures import parse_component
-
     if isinstance(spec, dict):
-        if "component" in spec:
-            if float(spec.get("im_factor", 1.0)) != 1.0:
-                raise ValueError("hazard: give component (risk converts the fragility) or "
-                                 "im_factor (you convert the hazard), not both")
-            return parse_component(spec["component"], "hazard.component")
+        declared = _declared_component(spec)
+        if declared is not None:
+            return declared
         name = spec.get("file")
     else:
         name = spec
@@ -668,8 +736,7 @@ def hazard_component(spec, *, base: str | Path | None = None) -> str | None:
     if not path.is_file():
         return None
     comments, _ = _read_csv(path)
-    hit = _COMPONENT.search(" ".join(comments))
-    return None if hit is None else parse_component(hit.group(1), f"{path}: component")
+    return _file_component(comments, path)
 
 
 def parse_hazard(spec, *, base: str | Path | None = None,
@@ -691,11 +758,12 @@ def parse_hazard(spec, *, base: str | Path | None = None,
         The intensity measure of a power law given as ``"k0,k"`` (default ``pga``); a file's
         own measure is read from it.
     """
-    factor = 1.0
+    factor, declared = 1.0, None
     if isinstance(spec, dict):
+        declared = _declared_component(spec)
         spec = dict(spec)
         factor = spec.pop("im_factor", 1.0)
-        spec.pop("component", None)  # hazard_component reads it
+        spec.pop("component", None)
         if {"k0", "k"} <= set(spec) and set(spec) <= POWER_LAW_KEYS:
             curve = HazardCurve.from_power_law(spec["k0"], spec["k"],
                                                imt=spec.get("measure", measure or "pga"))
@@ -726,6 +794,8 @@ def parse_hazard(spec, *, base: str | Path | None = None,
         raise ValueError(f"hazard must be a file path, 'k0,k' or a mapping, got {spec!r}")
     if curve.note:
         log.warning(curve.note)
+    if declared is not None:  # the entry's key wins over the file's comment
+        curve = dataclasses.replace(curve, component=declared)
     return curve.scaled(float(factor)) if factor != 1.0 else curve
 
 
@@ -818,7 +888,8 @@ def _resolve(path, base) -> Path:
     return p if p.is_absolute() or base is None else Path(base) / p
 
 
-__all__ = ["HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G", "POWER_LAW_IML",
-           "POWER_LAW_KEYS", "UNITS", "HazardCurve", "Site", "check_kind", "check_plausible",
-           "file_kind", "file_sites", "great_circle_km", "hazard_component", "imt_measure",
-           "measure_imt", "parse_hazard", "same_measure", "select_site", "unit_factor"]
+__all__ = ["HAZARD_FORMATS", "HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G",
+           "POWER_LAW_IML", "POWER_LAW_KEYS", "UNITS", "HazardCurve", "HazardFormat", "Site",
+           "check_kind", "check_plausible", "file_kind", "file_sites", "great_circle_km",
+           "hazard_component", "imt_measure", "measure_imt", "parse_hazard", "same_measure",
+           "select_site", "unit_factor"]

@@ -22,7 +22,7 @@ from ..motions.motion import GroundMotion
 from .accuracy import Accuracy, get_accuracy
 from .limit_states import MU_REQUIRED_MAX, NORMAL_FORCE_MIN, parse_limit_states, whole_record
 from .modes import MODE_3D, MODES, check_mode, is_damped
-from .search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, search_critical
+from .search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, run_search
 
 __all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batch",
            "make_analysis", "uplift_intensity"]
@@ -146,18 +146,26 @@ def critical_intensity(
     runs the validity monitors to the end of the record (no early end once its peak tilt is
     decided); otherwise none runs them (:func:`make_analysis`).
     """
+    return _critical_point(body, motion, parse_limit_states(limit_states, sort=False), mode,
+                           get_accuracy(accuracy), positive_finite("upper", upper), omega_n,
+                           zeta)
+
+
+def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, mode: str,
+                    acc: Accuracy, upper: float, omega_n: float | None,
+                    zeta: float | None) -> CriticalResult:
+    """:func:`critical_intensity` on parsed limit states, a resolved accuracy and a checked
+    ``upper`` (the batch resolves and checks them once for every point)."""
     check_mode(mode)
     if motion.pga <= 0.0:
         raise ValueError(f"motion {motion.name!r} has zero PGA")
-    asked = parse_limit_states(limit_states, sort=False)
     lower = uplift_intensity(motion, mode)
-    acc = get_accuracy(accuracy)
     mu = body.mu
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
                             rest_tilt=acc.rest_tilt,
                             whole=whole_record(asked) or mu is not None)
-    res = search_critical(analyze, asked, body.alpha, lower=lower, upper=upper,
-                          accuracy=acc, rtol=acc.rtol_for(MODES[mode][0]), mu=mu)
+    res = run_search(analyze, tuple(sorted(asked, key=lambda ls: ls.severity)), body.alpha, lower,
+                     upper, acc, acc.rtol_for(MODES[mode][0]), mu)
     res = _in_order(res, [ls.name for ls in asked])
     return replace(res, mode=mode, motion=motion.name, R=float(body.R),
                    tan_alpha=float(body.tan_alpha))
@@ -212,6 +220,7 @@ def critical_intensity_batch(
     list of CriticalResult
     """
     acc = get_accuracy(accuracy)
+    upper = positive_finite("upper", upper)
     states = parse_limit_states(limit_states, sort=False)
     tasks = list(tasks)
     for i, task in enumerate(tasks):
@@ -220,8 +229,8 @@ def critical_intensity_batch(
     bar = _progress(progress, len(tasks), "spectra")
     out = []
     for R, tan_alpha, motion, mode in tasks:
-        out.append(critical_intensity(Cylinder(R, tan_alpha, mu=mu), motion, states, mode,
-                                      accuracy=acc, upper=upper, omega_n=omega_n, zeta=zeta))
+        out.append(_critical_point(Cylinder(R, tan_alpha, mu=mu), motion, states, mode, acc,
+                                   upper, omega_n, zeta))
         if bar is not None:
             bar.update()
     if bar is not None and bar is not progress:

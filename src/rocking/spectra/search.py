@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 
 from .._validate import positive_finite
-from ..dynamics.result import Status
+from ..dynamics.result import Status, slid_in_contact
 from .accuracy import Accuracy, get_accuracy
 from .limit_states import (
     MU_REQUIRED_MAX,
@@ -372,7 +372,7 @@ class _Knowledge:
         lifts_off = (up_to & (mon[:, 1:2] <= 0.0)).any(axis=0)
         if mu is None:
             return np.full(n, np.nan), lifts_off
-        contact = (mon[:, 2:3] == 0.0) & (mon[:, 0:1] > mu)
+        contact = slid_in_contact(mon[:, 0:1], mon[:, 2:3] != 0.0, mu)
         return (up_to & contact).any(axis=0).astype(float), lifts_off
 
     def non_monotonic(self) -> np.ndarray:
@@ -773,7 +773,9 @@ def search_critical(
         ODE tolerance handed to ``analyze`` [-]; default ``accuracy.rtol``.
     mu : float, optional
         Support friction coefficient the ``slides`` flags compare the analyses'
-        ``mu_required_max`` with [-], > 0 (None: the flags say nothing about sliding).
+        ``mu_required_max`` with [-] (None: the flags say nothing about sliding): a number
+        checked where it entered (the body's ``mu``, the configuration or ``--mu``), not
+        checked again here.
 
     Returns
     -------
@@ -788,7 +790,15 @@ def search_critical(
     if math.isnan(lower) or lower <= 0.0:
         raise ValueError(f"lower must be > 0, got {lower!r}")
     rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
-    mu = None if mu is None else positive_finite("mu", mu)
+    return run_search(analyze, states, alpha, lower, upper, acc, rtol, mu)
+
+
+def run_search(analyze: AnalysisFn, states: list, alpha: float, lower: float, upper: float,
+               acc: Accuracy, rtol: float, mu: float | None) -> CriticalResult:
+    """:func:`search_critical` on arguments already checked where they entered: parsed limit
+    states (:func:`~rocking.spectra.limit_states.parse_limit_states`, by severity), the
+    resolved :class:`~rocking.spectra.accuracy.Accuracy` (a preset is resolved once, by the
+    front end or the public function it called), numbers > 0 ([rad], [-], [-], [-])."""
     search = _Search(analyze, states, alpha, lower, upper, acc, rtol)
     search.scan()
     search.scan_rows = len(search.know.intensities)

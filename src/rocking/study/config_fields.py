@@ -64,13 +64,13 @@ def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[f
         > 0, or repeated values.
     """
     if isinstance(spec, (list, tuple)):
-        values = [_number(v, field) for v in spec]
+        values = [number_field(v, field) for v in spec]
     elif isinstance(spec, Mapping):
         missing = [k for k in ("start", "stop", "num") if k not in spec]
         if missing:
             raise ValueError(f"{field}={dict(spec)!r} lacks {missing}; give a list or "
                              "{start, stop, num[, spacing]}")
-        start, stop = _number(spec["start"], f"{field}.start"), _number(spec["stop"],
+        start, stop = number_field(spec["start"], f"{field}.start"), number_field(spec["stop"],
                                                                          f"{field}.stop")
         num = spec["num"]
         if isinstance(num, bool) or not isinstance(num, int) or num < 1:
@@ -91,13 +91,15 @@ def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[f
     return values
 
 
-def _number(value: Any, field: str) -> float:
+def number_field(value: Any, field: str) -> float:
+    """``value`` as a float, or one line naming ``field`` when it is no number (bools
+    refused)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
         raise ValueError(f"{field} must be a number, got {value!r}")
     return float(value)
 
 
-def _section(config: Mapping[str, Any], key: str) -> dict[str, Any]:
+def config_section(config: Mapping[str, Any], key: str) -> dict[str, Any]:
     """``config[key]`` over its defaults."""
     given = config.get(key)
     if given is not None and not isinstance(given, Mapping):
@@ -105,7 +107,7 @@ def _section(config: Mapping[str, Any], key: str) -> dict[str, Any]:
     return {**DEFAULTS[key], **(given or {})}
 
 
-def _mapping(value: Any, field: str, defaults: Mapping[str, Any], required: Sequence[str],
+def checked_mapping(value: Any, field: str, defaults: Mapping[str, Any], required: Sequence[str],
              ) -> dict[str, Any]:
     """``value`` (a mapping with only the keys of ``defaults`` and ``required``) over
     ``defaults``."""
@@ -121,7 +123,8 @@ def _mapping(value: Any, field: str, defaults: Mapping[str, Any], required: Sequ
     return {**defaults, **value}
 
 
-def _modes(value: Any, field: str) -> tuple[str, ...]:
+def mode_list(value: Any, field: str) -> tuple[str, ...]:
+    """A non-empty list of modes of :data:`rocking.spectra.modes.MODES`, as a tuple."""
     from ..spectra.critical import MODES
 
     if not isinstance(value, (list, tuple)) or not value or any(m not in MODES for m in value):
@@ -130,14 +133,16 @@ def _modes(value: Any, field: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _positive(value: Any, field: str) -> float:
-    x = _number(value, field)
+def positive_field(value: Any, field: str) -> float:
+    """A finite number > 0 (one line naming ``field`` otherwise)."""
+    x = number_field(value, field)
     if not (math.isfinite(x) and x > 0):
         raise ValueError(f"{field} must be a finite number > 0, got {value!r}")
     return x
 
 
-def _chunk_R(value: Any, field: str, auto: bool) -> int | str:
+def chunk_R_field(value: Any, field: str, auto: bool) -> int | str:
+    """An integer >= 1 (or ``"auto"`` where ``auto``): sizes R per task."""
     if auto and value == "auto":
         return "auto"
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
@@ -146,7 +151,9 @@ def _chunk_R(value: Any, field: str, auto: bool) -> int | str:
     return value
 
 
-def _accuracy(value: Any) -> str | dict[str, Any]:
+def accuracy_field(value: Any) -> str | dict[str, Any]:
+    """A preset name or tolerances mapping that :func:`rocking.spectra.accuracy.get_accuracy`
+    accepts, returned as given (a mapping copied); one line naming it otherwise."""
     from ..spectra.accuracy import get_accuracy
 
     try:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..spectra.modes import is_damped
-from .config_fields import _positive, _section
+from .config_fields import config_section, positive_field
 
 __all__ = ["Damping"]
 
@@ -31,8 +31,9 @@ class Damping:
     def from_config(cls, config: Mapping[str, Any]) -> Damping:
         """The configuration's ``damped`` section (defaults the damped model's,
         :data:`rocking.dynamics.names.DAMPED_OMEGA_N` and ``DAMPED_ZETA``)."""
-        d = _section(config, "damped")
-        return cls(_positive(d["omega_n"], "damped.omega_n"), _positive(d["zeta"], "damped.zeta"))
+        d = config_section(config, "damped")
+        return cls(positive_field(d["omega_n"], "damped.omega_n"),
+                   positive_field(d["zeta"], "damped.zeta"))
 
     def to_attrs(self) -> dict[str, float]:
         """``{"omega_n", "zeta"}``: the keyword arguments of the damped analyses."""

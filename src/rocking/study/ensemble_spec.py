@@ -11,7 +11,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
-from .config_fields import DEFAULTS, _mapping, _number, _positive, _section
+from .config_fields import DEFAULTS, checked_mapping, config_section, number_field, positive_field
 from .store_attrs import config_hash
 
 __all__ = ["HIGHPASS_KINDS", "RECORD_KEYS", "EnsembleSpec", "RecordSpec"]
@@ -75,7 +75,7 @@ class RecordSpec:
                      defaults: Mapping[str, Any]) -> RecordSpec:
         """A record's settings over ``defaults`` (the ensemble's), checked; errors name
         ``field``."""
-        r = _mapping(given, field, {k: defaults[k] for k in RECORD_KEYS}, ["record"])
+        r = checked_mapping(given, field, {k: defaults[k] for k in RECORD_KEYS}, ["record"])
         for key in ("n_synthetic", "seed"):
             if isinstance(r[key], bool) or not isinstance(r[key], int) or r[key] < 0:
                 raise ValueError(f"{field}.{key} must be an integer >= 0, got {r[key]!r}")
@@ -92,10 +92,10 @@ class RecordSpec:
                              f"{r['highpass']!r}")
         for key in ("mw", "fc_hz", "dt"):
             if r[key] is not None:
-                _positive(r[key], f"{field}.{key}")
+                positive_field(r[key], f"{field}.{key}")
         rotation = r["rotation_deg"]
         if rotation not in ("auto", "none"):
-            if not math.isfinite(_number(rotation, f"{field}.rotation_deg")) or \
+            if not math.isfinite(number_field(rotation, f"{field}.rotation_deg")) or \
                     abs(rotation) > 45.0:
                 raise ValueError(f"{field}.rotation_deg must be auto, none or a number of "
                                  f"degrees in [-45, 45], got {rotation!r}")
@@ -217,7 +217,7 @@ class EnsembleSpec:
         if name not in ensembles:
             raise ValueError(f"ensemble {name!r} is not a key of ensembles {sorted(ensembles)}")
         field = f"ensembles.{name}"
-        e = _mapping(ensembles[name], field, {**DEFAULTS["ensemble"], "record": None,
+        e = checked_mapping(ensembles[name], field, {**DEFAULTS["ensemble"], "record": None,
                                               "records": None}, [])
         if (e["record"] is None) == (e["records"] is None):
             raise ValueError(f"{field} needs record (one record) or records (a suite), "
@@ -228,9 +228,9 @@ class EnsembleSpec:
                              f"{e['fit_method']!r}")
         if e["params"] is not None and (not isinstance(e["params"], str) or not e["params"]):
             raise ValueError(f"{field}.params must be a file name or null, got {e['params']!r}")
-        max_duration = _section(config, "motions")["max_duration"]
+        max_duration = config_section(config, "motions")["max_duration"]
         if max_duration is not None:
-            _positive(max_duration, "motions.max_duration")
+            positive_field(max_duration, "motions.max_duration")
         suite = None
         if e["records"] is not None:
             if not isinstance(e["vertical"], bool):

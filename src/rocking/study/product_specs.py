@@ -19,7 +19,14 @@ from dataclasses import dataclass
 from dataclasses import field as dc_field
 from typing import Any
 
-from .config_fields import DEFAULTS, _chunk_R, _mapping, _modes, _positive, expand_grid
+from .config_fields import (
+    DEFAULTS,
+    checked_mapping,
+    chunk_R_field,
+    expand_grid,
+    mode_list,
+    positive_field,
+)
 from .damping import Damping
 from .ensemble_spec import EnsembleSpec
 from .plan import StudyPlan, plan_study
@@ -28,7 +35,7 @@ from .store_attrs import config_hash
 __all__ = ["SpectraSpec", "StripesSpec", "TiltMapSpec"]
 
 
-class _Hashed:
+class Hashed:
     """``digest``: the store's ``config_hash`` of :meth:`to_attrs`."""
 
     def to_attrs(self) -> dict[str, Any]:  # pragma: no cover - every subclass has its own
@@ -41,7 +48,7 @@ class _Hashed:
 
 
 @dataclass(frozen=True, eq=False)
-class SpectraSpec(_Hashed):
+class SpectraSpec(Hashed):
     """The result-deciding description of a study's spectra store.
 
     Attributes
@@ -117,7 +124,7 @@ class SpectraSpec(_Hashed):
 
 
 @dataclass(frozen=True)
-class _IntensityGrid(_Hashed):
+class _IntensityGrid(Hashed):
     """Analyses of every mode and size R at given intensities (a tilt map, stripes).
 
     Attributes
@@ -233,23 +240,25 @@ class StripesSpec(_IntensityGrid):
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:
     """The settings every intensity grid has, checked; and the part's mapping."""
-    t = _mapping(t, field, DEFAULTS[part], ["R", "intensity"])
-    modes = _modes(t["modes"], f"{field}.modes")
-    return (study, ensemble, modes, _positive(t["tan_alpha"], f"{field}.tan_alpha"),
+    t = checked_mapping(t, field, DEFAULTS[part], ["R", "intensity"])
+    modes = mode_list(t["modes"], f"{field}.modes")
+    return (study, ensemble, modes, positive_field(t["tan_alpha"], f"{field}.tan_alpha"),
             tuple(expand_grid(t["R"], f"{field}.R")),
             tuple(expand_grid(t["intensity"], f"{field}.intensity")),
-            _chunk_R(t["chunk_R"], f"{field}.chunk_R", auto=False), accuracy,
+            chunk_R_field(t["chunk_R"], f"{field}.chunk_R", auto=False), accuracy,
             Damping.of_modes(config, modes)), t
 
 
-def _tilt_map(config, t, field, study, ensemble, accuracy) -> TiltMapSpec:
+def tilt_map_spec(config, t, field, study, ensemble, accuracy) -> TiltMapSpec:
+    """The study's ``tilt_map:`` section ``t`` (at ``field``) as a checked spec."""
     common, t = _intensity_grid(config, t, field, study, ensemble, accuracy, "tilt_map")
     if t["motion"] is not None and not isinstance(t["motion"], str):
         raise ValueError(f"{field}.motion must be a motion name or null, got {t['motion']!r}")
     return TiltMapSpec(*common, motion=t["motion"])
 
 
-def _stripes(config, t, field, study, ensemble, accuracy) -> StripesSpec:
+def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
+    """The study's ``stripes:`` section ``t`` (at ``field``) as a checked spec."""
     from ..spectra.limit_states import parse_limit_states
 
     common, t = _intensity_grid(config, t, field, study, ensemble, accuracy, "stripes")

@@ -16,18 +16,25 @@ from typing import Any
 
 from .config_fields import (
     DEFAULTS,
-    _accuracy,
-    _chunk_R,
-    _mapping,
-    _number,
-    _positive,
-    _section,
+    accuracy_field,
+    checked_mapping,
+    chunk_R_field,
+    config_section,
     expand_grid,
+    number_field,
+    positive_field,
 )
 from .damping import Damping
 from .ensemble_spec import EnsembleSpec
 from .plan import plan_study
-from .product_specs import SpectraSpec, StripesSpec, TiltMapSpec, _Hashed, _stripes, _tilt_map
+from .product_specs import (
+    Hashed,
+    SpectraSpec,
+    StripesSpec,
+    TiltMapSpec,
+    stripes_spec,
+    tilt_map_spec,
+)
 
 __all__ = ["PAPERS", "StudySpec"]
 
@@ -36,7 +43,7 @@ PAPERS = ("vassiliou2017",)
 
 
 @dataclass(frozen=True)
-class StudySpec(_Hashed):
+class StudySpec(Hashed):
     """A study: its spectra and, if configured, its tilt map and stripes.
 
     Attributes
@@ -100,33 +107,33 @@ class StudySpec(_Hashed):
         if name not in studies:
             raise ValueError(f"study {name!r} is not a key of studies {sorted(studies)}")
         field = f"studies.{name}"
-        s = _mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
+        s = checked_mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
                                             "stripes": None, "hazard": None,
                                             "reproduces": None},
                      ["ensemble", "R", "runs"])
         ensemble = EnsembleSpec.from_config(config, s["ensemble"])
-        accuracy = _accuracy(config.get("accuracy", DEFAULTS["accuracy"]))
+        accuracy = accuracy_field(config.get("accuracy", DEFAULTS["accuracy"]))
         runs = s["runs"]
         if isinstance(runs, (list, tuple)):
             runs = [{**r, "tan_alpha": expand_grid(r["tan_alpha"], f"{field}.runs[{i}].tan_alpha")}
                     if isinstance(r, Mapping) and "tan_alpha" in r else r
                     for i, r in enumerate(runs)]
         plan = plan_study(runs, f"{field}.runs")
-        chunk_R = _chunk_R(s["chunk_R"], f"{field}.chunk_R", auto=True)
-        min_task = _section(config, "dask")["min_task_seconds"] if chunk_R == "auto" else None
+        chunk_R = chunk_R_field(s["chunk_R"], f"{field}.chunk_R", auto=True)
+        min_task = config_section(config, "dask")["min_task_seconds"] if chunk_R == "auto" else None
         if min_task is not None:
-            _positive(min_task, "dask.min_task_seconds")
-        upper = s["upper"] if s["upper"] is not None else _section(config, "search")["upper"]
+            positive_field(min_task, "dask.min_task_seconds")
+        upper = s["upper"] if s["upper"] is not None else config_section(config, "search")["upper"]
         where = f"{field}.upper" if s["upper"] is not None else "search.upper"
-        if _number(upper, where) <= 1.0:
+        if number_field(upper, where) <= 1.0:
             raise ValueError(f"{where} must be > 1 (the intensity that uplifts), got {upper!r}")
-        mu = None if s["mu"] is None else _positive(s["mu"], f"{field}.mu")
+        mu = None if s["mu"] is None else positive_field(s["mu"], f"{field}.mu")
         spectra = SpectraSpec(name, ensemble, tuple(expand_grid(s["R"], f"{field}.R")), plan,
                               chunk_R, min_task, accuracy, float(upper),
                               Damping.of_modes(config, plan.modes), mu)
-        tilt_map = None if s["tilt_map"] is None else _tilt_map(
+        tilt_map = None if s["tilt_map"] is None else tilt_map_spec(
             config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
-        stripes = None if s["stripes"] is None else _stripes(
+        stripes = None if s["stripes"] is None else stripes_spec(
             config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy)
         measures = _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures")
         if stripes is not None and stripes.measure != "pga" and stripes.measure not in measures:

@@ -227,7 +227,24 @@ def auto_chunk_R(n_R: int, npts: int, min_task_seconds: float) -> int:
 MODE_COST = {MODE_3D_DAMPED: 4.0, MODE_3D: 1.5, MODE_2D_X: 1.0, MODE_2D_Y: 1.0}
 """Relative cost of a search per mode, measured on the paper run (``python -m
 rocking.benchmarks paper_cost``, docs/performance.md): CPU per El Centro spectrum point
-3d-damped 1.2 s, 3d 0.4 s, 2D 0.3 s (more analyses of 1.8 ms against 5–8 ms)."""
+3d-damped 1.2 s, 3d 0.4 s, 2D 0.3 s (more analyses of 1.8 ms against 5–8 ms). Every mode of
+:data:`rocking.spectra.modes.MODES` has an entry (``tests/test_design_registries.py``); a
+region of another mode is an error (:func:`mode_cost`), not a silent guess."""
+
+
+def mode_cost(mode: str) -> float:
+    """The relative cost of a search in ``mode`` [-] (:data:`MODE_COST`).
+
+    Raises
+    ------
+    KeyError
+        For a mode without an entry, naming it and where to add it.
+    """
+    try:
+        return MODE_COST[str(mode)]
+    except KeyError:
+        raise KeyError(f"mode {mode!r} has no cost in rocking.study.tasks.MODE_COST: add it "
+                       f"(docs/design.md, 'Adding a model')") from None
 
 
 def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
@@ -236,13 +253,14 @@ def costliest_first(layout: Layout, indices: Sequence[int]) -> list[int]:
     Long tasks started last would leave the other workers idle at the end of a run; running
     them first (largest-processing-time-first scheduling) evens out the finish. The estimate
     is the mode's :data:`MODE_COST` times the sum of the sizes R (larger bodies need more
-    analyses to tip). Layouts without a mode or R dimension keep their order.
+    analyses to tip). A layout without a mode dimension costs every region 1 per mode, one
+    without R 1 per size: such layouts keep their order.
     """
 
     def cost(i: int) -> float:
         rc = region_coords(layout, i)
-        mode = rc.get("mode", ["?"])[0]
-        return MODE_COST.get(str(mode), 1.0) * float(np.sum(rc.get("R", [1.0])))
+        per_mode = mode_cost(rc["mode"][0]) if "mode" in rc else 1.0
+        return per_mode * float(np.sum(rc.get("R", [1.0])))
 
     return sorted(indices, key=lambda i: (-cost(i), i))
 
