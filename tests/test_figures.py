@@ -37,7 +37,8 @@ from rocking.plot import (
     fig12_2d_vs_3d,
     render,
 )
-from rocking.plot.captions import CAPTIONS
+from rocking.plot.registry import SCOPES, caption
+from rocking.plot.registry import figures as registered
 from rocking.spectra.limit_states import limit_state_title
 from rocking.study.prepare import keyed
 from rocking.study.study_spec import StudySpec
@@ -87,16 +88,27 @@ def _texts(fig) -> str:
 # ---------------------------------------------------------------- names, captions, axes
 
 
-def test_one_name_per_figure_across_module_script_and_caption():
-    for name in figures.FIGURES:
-        assert figures.module(name).__name__.endswith(f".{name}")
-        if name != "fig08_motions":  # its module belongs to the ensembles work; script here
-            assert hasattr(figures.module(name), "plot")
-        assert (ROOT / "workflow/scripts" / f"{name}.py").exists(), name
-        assert name in CAPTIONS
+def test_every_figure_is_one_entry_in_its_own_module():
+    entries = registered()
+    assert list(entries) == list(figures.FIGURES)
+    # the paper's order is the entries' numbers
+    assert [e.number for e in entries.values()] == sorted(e.number for e in entries.values())
+    for name, entry in entries.items():
+        mod = figures.module(name)
+        assert mod.__name__.endswith(f".{name}") and mod.FIGURE is entry
+        assert hasattr(mod, "data") and hasattr(mod, "plot"), name
+        assert entry.scope in SCOPES and caption(name), name
+    # one rule loop and one script for every figure; no figure named in the rule files
     rules = (ROOT / "workflow/rules/figures.smk").read_text()
-    for name in figures.FIGURES:
-        assert f"rule {name}:" in rules and f'caption("{name}"' in rules
+    assert "for fig in figures().values():" in rules
+    assert 'script:\n            "../scripts/figure.py"' in rules
+    scripts = {p.stem for p in (ROOT / "workflow/scripts").glob("*.py")}
+    common = (ROOT / "workflow/rules/figures_common.smk").read_text()
+    plan = (ROOT / "src/rocking/study/plan.py").read_text()
+    report_py = (ROOT / "src/rocking/plot/report.py").read_text()
+    for name in entries:
+        assert name not in scripts and name not in common and name not in plan, name
+        assert f'"{name}"' not in report_py and f"rule {name}:" not in rules, name
     assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
         "figure", "fragility_table", "linear_fit", "mean_spectra", "records_table", "run_config",
         "stripe_fragility", "workflow"]
@@ -640,7 +652,7 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path, dict[str, Path]]:
 def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     wd, config, paths = _workdir(tmp_path)
     # numba_cache: the figures that run analyses load the kernels it compiled
-    mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache", "run_config"]
+    mine = [*figures.FIGURES, "fragility", "report", "numba_cache", "run_config"]
     # the per-record tables the report shows, as their rule writes them for a study whose
     # motions are no record (the stand-in store has none): headers only
     (wd / "results/synth/records.csv").write_text(
