@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 import subprocess
 import sys
@@ -880,3 +881,37 @@ def test_a_suite_is_labelled_by_its_records_not_as_record_and_synthetics():
         {"name": "elc", "source_record": "elc", "label": "El Centro"},
         {"name": "elc-rdk-000", "source_record": "elc", "label": "elc-rdk-000"}]}}
     assert _load.ensemble_label(one, "x") == ("El Centro", False)
+
+
+def test_adding_a_figure_in_the_design_names_the_registry():
+    """docs/design.md, "Adding a figure": its list names every required field of the entry,
+    nothing the entry type does not have, and exactly the registry's scopes, logical inputs
+    and parameters."""
+    import dataclasses
+
+    from rocking.plot import registry
+
+    text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    section = text.split("\n## Adding a figure\n", 1)[1].split("\n## ", 1)[0]
+    items = re.findall(r"^\d+\. (.*?)(?=^\d+\. |\Z)", section, re.MULTILINE | re.DOTALL)
+    assert len(items) == 3, items
+    entry = items[1]
+    named = set(re.findall(r"`([a-z_]+)`", entry))
+    fields = {f.name for f in dataclasses.fields(registry.FigureSpec)}
+    required = {f.name for f in dataclasses.fields(registry.FigureSpec)
+                if f.default is dataclasses.MISSING
+                and f.default_factory is dataclasses.MISSING}
+    assert required <= named, required - named
+
+    def listed(after: str) -> set[str]:
+        part = re.search(rf"{after}(.*?)\)", entry, re.DOTALL)[1]
+        return set(re.findall(r"`([a-z_0-9]+)`", part))
+
+    assert listed(r"one of ") == set(registry.SCOPES)
+    assert listed(r"logical input: ") == set(registry.INPUTS)
+    assert listed(r"logical parameters: ") == set(registry.PARAMS)
+    words = fields | set(registry.SCOPES) | set(registry.INPUTS) | set(registry.PARAMS)
+    assert named <= words | {"__name__"}, named - words
+    # the loop and its helpers the section names exist
+    assert "FIGURE_INPUTS = {" in (ROOT / "workflow/rules/figures_common.smk").read_text()
+    assert (ROOT / "workflow/scripts/figure.py").exists()

@@ -245,6 +245,7 @@ def figures() -> dict[str, FigureSpec]:
 
 def refresh() -> None:
     """Find the figures again (after a module or entry point was added at run time)."""
+    importlib.invalidate_caches()
     _registry.cache_clear()
 
 
