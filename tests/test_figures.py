@@ -915,3 +915,19 @@ def test_adding_a_figure_in_the_design_names_the_registry():
     # the loop and its helpers the section names exist
     assert "FIGURE_INPUTS = {" in (ROOT / "workflow/rules/figures_common.smk").read_text()
     assert (ROOT / "workflow/scripts/figure.py").exists()
+
+
+def test_a_bad_figure_entry_is_refused_naming_the_field():
+    from rocking.plot import registry
+
+    entry = dict(name="fig99_x", module=__name__, number=99, label="x", caption="x",
+                 wanted=lambda subject: True)
+    with pytest.raises(ValueError, match=r"figure 'fig99_x': scope must be one of .* 'planet'"):
+        registry.FigureSpec(**entry, scope="planet")
+    with pytest.raises(ValueError, match=r"params \['store'\] are not among"):
+        registry.FigureSpec(**entry, scope="study", params={"store": "store"})
+    with pytest.raises(ValueError, match="figure must be one of .*got 'fig99_x'"):
+        registry.figure("fig99_x")
+    # a figure of a reproduction only has no caption of a study of one's own
+    with pytest.raises(ValueError, match="drawn only for a reproduction"):
+        registry.caption("fig03_wobbling_period", paper=False)
