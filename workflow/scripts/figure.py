@@ -1,8 +1,8 @@
 """One figure (Snakemake script for every figure rule, workflow/rules/figures.smk): the
 figure named by ``params.figure`` drawn by its module from the rule's inputs and parameters
-(rocking.plot.registry.draw)."""
+(rocking.plot.draw)."""
 
-from rocking.plot.registry import draw
+from rocking.plot import draw
 from rocking.study.logs import log_to
 
 

@@ -14,7 +14,7 @@ measured and what was missing, which the report quotes.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ._load import open_means, open_store
@@ -88,4 +88,15 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     return d
 
 
-__all__ = ["NOTE_KEYS", "figure_name", "module", "open_means", "open_store", "render"]
+def draw(name: str, inputs: Mapping, params: Mapping,
+         outputs: Mapping[str, str | Path]) -> dict:
+    """Draw figure ``name`` from the workflow's resolved ``inputs`` and ``params`` into
+    ``outputs`` (``png``, ``pdf``, ``notes``): the body of the one figure script
+    (``workflow/scripts/figure.py``); its entry turns them into ``data()``'s keywords."""
+    from .registry import figure
+
+    return render(name, [outputs["png"], outputs["pdf"]], outputs["notes"],
+                  **figure(name).data_kwargs(inputs, params))
+
+
+__all__ = ["NOTE_KEYS", "draw", "figure_name", "module", "open_means", "open_store", "render"]

@@ -6,8 +6,8 @@ A figure module of :mod:`rocking.plot` (``fig09_spectra``, ``fragility_curves``,
 paper's order, its caption, its scope (what one drawing is of), when a configuration wants it
 and its logical inputs. Everything else is written once over the registry: the workflow's
 figure rules (one loop, ``workflow/rules/figures.smk``), their one script
-(``workflow/scripts/figure.py``, :func:`draw`), the report's order, captions and verdict
-filter. :func:`figures` finds the entries: every module of this package that defines
+(``workflow/scripts/figure.py``, :func:`rocking.plot.draw`), the report's order, captions
+and verdict filter. :func:`figures` finds the entries: every module of this package that defines
 ``FIGURE``, and the modules other packages name under the entry-point group
 ``rocking.figures`` (a figure added without editing this package).
 """
@@ -219,10 +219,9 @@ class FigureSpec:
 
 @cache
 def _registry() -> dict[str, FigureSpec]:
-    from .. import plot
-
     found = []
-    names = [f"{plot.__name__}.{m.name}" for m in pkgutil.iter_modules(plot.__path__)
+    # this package's modules, found on disk (importing the package here would be a circle)
+    names = [f"{__package__}.{m.name}" for m in pkgutil.iter_modules([str(Path(__file__).parent)])
              if not m.name.startswith("_")]
     names += [ep.value for ep in entry_points(group=ENTRY_POINTS)]
     for name in names:
@@ -268,15 +267,5 @@ def caption(name: str, paper: bool = True, notes: Mapping | None = None) -> str:
     return figure(name).text(paper, notes)
 
 
-def draw(name: str, inputs: Mapping, params: Mapping, outputs: Mapping[str, str | Path]) -> dict:
-    """Draw figure ``name`` from the workflow's resolved ``inputs`` and ``params`` into
-    ``outputs`` (``png``, ``pdf``, ``notes``): the body of the one figure script."""
-    from . import render
-
-    entry = figure(name)
-    return render(name, [outputs["png"], outputs["pdf"]], outputs["notes"],
-                  **entry.data_kwargs(inputs, params))
-
-
 __all__ = ["ENTRY_POINTS", "INPUTS", "PARAMS", "READ_BESIDE", "SCOPES", "FigureSpec", "Subject",
-           "caption", "draw", "figure", "figures", "paper_record_ensemble", "refresh"]
+           "caption", "figure", "figures", "paper_record_ensemble", "refresh"]
