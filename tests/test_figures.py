@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 import subprocess
 import sys
@@ -37,7 +38,8 @@ from rocking.plot import (
     fig12_2d_vs_3d,
     render,
 )
-from rocking.plot.captions import CAPTIONS
+from rocking.plot.registry import SCOPES, caption
+from rocking.plot.registry import figures as registered
 from rocking.spectra.limit_states import limit_state_title
 from rocking.study.prepare import keyed
 from rocking.study.study_spec import StudySpec
@@ -87,16 +89,27 @@ def _texts(fig) -> str:
 # ---------------------------------------------------------------- names, captions, axes
 
 
-def test_one_name_per_figure_across_module_script_and_caption():
-    for name in figures.FIGURES:
-        assert figures.module(name).__name__.endswith(f".{name}")
-        if name != "fig08_motions":  # its module belongs to the ensembles work; script here
-            assert hasattr(figures.module(name), "plot")
-        assert (ROOT / "workflow/scripts" / f"{name}.py").exists(), name
-        assert name in CAPTIONS
+def test_every_figure_is_one_entry_in_its_own_module():
+    entries = registered()
+    assert list(entries) == list(figures.FIGURES)
+    # the paper's order is the entries' numbers
+    assert [e.number for e in entries.values()] == sorted(e.number for e in entries.values())
+    for name, entry in entries.items():
+        mod = figures.module(name)
+        assert mod.__name__.endswith(f".{name}") and mod.FIGURE is entry
+        assert hasattr(mod, "data") and hasattr(mod, "plot"), name
+        assert entry.scope in SCOPES and caption(name), name
+    # one rule loop and one script for every figure; no figure named in the rule files
     rules = (ROOT / "workflow/rules/figures.smk").read_text()
-    for name in figures.FIGURES:
-        assert f"rule {name}:" in rules and f'caption("{name}"' in rules
+    assert "for fig in figures().values():" in rules
+    assert 'script:\n            "../scripts/figure.py"' in rules
+    scripts = {p.stem for p in (ROOT / "workflow/scripts").glob("*.py")}
+    common = (ROOT / "workflow/rules/figures_common.smk").read_text()
+    plan = (ROOT / "src/rocking/study/plan.py").read_text()
+    report_py = (ROOT / "src/rocking/plot/report.py").read_text()
+    for name in entries:
+        assert name not in scripts and name not in common and name not in plan, name
+        assert f'"{name}"' not in report_py and f"rule {name}:" not in rules, name
     assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
         "figure", "fragility_table", "linear_fit", "mean_spectra", "records_table", "run_config",
         "stripe_fragility", "workflow"]
@@ -752,7 +765,7 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path, dict[str, Path]]:
 def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     wd, config, paths = _workdir(tmp_path)
     # numba_cache: the figures that run analyses load the kernels it compiled
-    mine = [*figures.FIGURES, "fragility_curves", "report", "numba_cache", "run_config"]
+    mine = [*figures.FIGURES, "fragility", "report", "numba_cache", "run_config"]
     # the per-record tables the report shows, as their rule writes them for a study whose
     # motions are no record (the stand-in store has none): headers only
     (wd / "results/synth/records.csv").write_text(
@@ -1046,3 +1059,53 @@ def test_a_suite_is_labelled_by_its_records_not_as_record_and_synthetics():
         {"name": "elc", "source_record": "elc", "label": "El Centro"},
         {"name": "elc-rdk-000", "source_record": "elc", "label": "elc-rdk-000"}]}}
     assert _load.ensemble_label(one, "x") == ("El Centro", False)
+
+
+def test_adding_a_figure_in_the_design_names_the_registry():
+    """docs/design.md, "Adding a figure": its list names every required field of the entry,
+    nothing the entry type does not have, and exactly the registry's scopes, logical inputs
+    and parameters."""
+    import dataclasses
+
+    from rocking.plot import registry
+
+    text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    section = text.split("\n## Adding a figure\n", 1)[1].split("\n## ", 1)[0]
+    items = re.findall(r"^\d+\. (.*?)(?=^\d+\. |\Z)", section, re.MULTILINE | re.DOTALL)
+    assert len(items) == 3, items
+    entry = items[1]
+    named = set(re.findall(r"`([a-z_]+)`", entry))
+    fields = {f.name for f in dataclasses.fields(registry.FigureSpec)}
+    required = {f.name for f in dataclasses.fields(registry.FigureSpec)
+                if f.default is dataclasses.MISSING
+                and f.default_factory is dataclasses.MISSING}
+    assert required <= named, required - named
+
+    def listed(after: str) -> set[str]:
+        part = re.search(rf"{after}(.*?)\)", entry, re.DOTALL)[1]
+        return set(re.findall(r"`([a-z_0-9]+)`", part))
+
+    assert listed(r"one of ") == set(registry.SCOPES)
+    assert listed(r"logical input: ") == set(registry.INPUTS)
+    assert listed(r"logical parameters: ") == set(registry.PARAMS)
+    words = fields | set(registry.SCOPES) | set(registry.INPUTS) | set(registry.PARAMS)
+    assert named <= words | {"__name__"}, named - words
+    # the loop and its helpers the section names exist
+    assert "FIGURE_INPUTS = {" in (ROOT / "workflow/rules/figures_common.smk").read_text()
+    assert (ROOT / "workflow/scripts/figure.py").exists()
+
+
+def test_a_bad_figure_entry_is_refused_naming_the_field():
+    from rocking.plot import registry
+
+    entry = dict(name="fig99_x", module=__name__, number=99, label="x", caption="x",
+                 wanted=lambda subject: True)
+    with pytest.raises(ValueError, match=r"figure 'fig99_x': scope must be one of .* 'planet'"):
+        registry.FigureSpec(**entry, scope="planet")
+    with pytest.raises(ValueError, match=r"params \['store'\] are not among"):
+        registry.FigureSpec(**entry, scope="study", params={"store": "store"})
+    with pytest.raises(ValueError, match="figure must be one of .*got 'fig99_x'"):
+        registry.figure("fig99_x")
+    # a figure of a reproduction only has no caption of a study of one's own
+    with pytest.raises(ValueError, match="drawn only for a reproduction"):
+        registry.caption("fig03_wobbling_period", paper=False)

@@ -673,7 +673,7 @@ def test_bootstrap_of_another_study_is_refused_by_the_risk_table(stripe_studies,
     shutil.copy(a.with_name("stripe_fragility_bootstrap.nc"), boot)
     assert read_fragilities(here, kind="stripes").samples is not None  # its own: read
     shutil.copy(b.with_name("stripe_fragility_bootstrap.nc"), boot)  # another study's
-    rule = "stripe_fragility" if table.startswith("stripe") else "fragility_curves"
+    rule = "stripe_fragility" if table.startswith("stripe") else "fragility"
     with pytest.raises(ProvenanceError, match=rf"{boot} was made for a table of sha256 "
                                               rf"[0-9a-f]{{16}}, not {here} .*another study, "
                                               rf"run or table: rerun with `snakemake "

@@ -145,7 +145,7 @@ def store(n=14, seed=SEED):
 
 @pytest.fixture()
 def fragility_csv(tmp_path):
-    """fragility.csv and fragility_bootstrap.nc as the fragility_curves rule writes them."""
+    """fragility.csv and fragility_bootstrap.nc as the fragility rule writes them."""
     from rocking.risk.bootstrap import write_bootstrap
 
     s = store()

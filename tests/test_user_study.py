@@ -155,6 +155,92 @@ def test_own_study_report_has_no_paper_verdict(own_run):
     assert not any(k.startswith("line|") for k in notes["measured"])
 
 
+THROWAWAY = '''"""A figure added by a test: its module with its entry, and nothing else."""
+
+from matplotlib.figure import Figure
+
+from rocking.plot import open_means
+from rocking.plot.registry import FigureSpec
+
+
+def data(means):
+    ds = open_means(means)
+    return {"R": ds["R"].values, "measured": {"sizes": int(ds.sizes["R"])}}
+
+
+def plot(d):
+    fig = Figure(figsize=(4, 3))
+    ax = fig.add_subplot()
+    ax.plot(d["R"], d["R"], "o-")
+    ax.set_xlabel("cylinder size R [m]")
+    ax.set_ylabel("cylinder size R [m]")
+    return fig
+
+
+FIGURE = FigureSpec(
+    name="fig99_throwaway", module=__name__, number=99, label="throwaway",
+    caption="A throwaway figure: the sizes R of the study's mean spectra.",
+    scope="study", wanted=lambda subject: bool(subject.plan.modes),
+    inputs={"means": "means"}, category="Beyond the paper")
+'''
+
+
+def _installed_figure(site: Path) -> dict[str, str]:
+    """A figure module outside the package, named under the entry-point group
+    ``rocking.figures`` of a distribution on ``site``; the environment that finds it."""
+    site.mkdir()
+    (site / "throwaway_figure.py").write_text(THROWAWAY)
+    meta = site / "throwaway_figure-0.1.dist-info"
+    meta.mkdir()
+    (meta / "METADATA").write_text("Metadata-Version: 2.1\nName: throwaway-figure\n"
+                                   "Version: 0.1\n")
+    (meta / "entry_points.txt").write_text("[rocking.figures]\nthrowaway = throwaway_figure\n")
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(site), env.get("PYTHONPATH")) if p)
+    return env
+
+
+@pytest.mark.slow
+def test_a_figure_module_with_its_entry_is_enough(own_run, tmp_path, monkeypatch):
+    """A new figure is its module and its entry: the workflow plans and draws it and the
+    report shows it with its caption, with no rule, script, caption table or list edited
+    (the study's run is reused: only the new figure and the report are made)."""
+    import shutil
+
+    from rocking.plot import registry
+
+    work = tmp_path / "run"
+    shutil.copytree(own_run, work, symlinks=True)
+    env = _installed_figure(tmp_path / "site")
+    cmd = [sys.executable, "-m", "snakemake", "results/column/report.html", "-s",
+           str(SNAKEFILE), "--directory", str(work), "--cores", "2", "--nocolor",
+           "--configfile", str(work / "own.yaml")]
+    dry = subprocess.run([*cmd, "-n"], env=env, capture_output=True, text=True, timeout=300)
+    assert dry.returncode == 0, dry.stderr[-4000:]
+    planned = set(re.findall(r"^(\w+)\s+\d+$", dry.stdout, re.MULTILINE)) - {"total"}
+    assert planned == {"fig99_throwaway", "report"}, planned
+    run = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-4000:]
+    figure = work / "results/column/figures/fig99_throwaway"
+    assert figure.with_suffix(".png").stat().st_size > 1000
+    assert json.loads(figure.with_suffix(".json").read_text())["measured"] == {"sizes": 2}
+    html = (work / "results/column/report.html").read_text()
+    assert html.count("<figure") == len(OWN_FIGURES) + 1
+    assert "<figure id='fig99_throwaway'>" in html
+    assert "A throwaway figure: the sizes R of the study&#x27;s mean spectra." in html
+    # after the study's own figures: its number places it
+    assert html.index("id='fragility_curves'") < html.index("id='fig99_throwaway'")
+    # in this process too, once the entry point is on the path
+    monkeypatch.syspath_prepend(str(tmp_path / "site"))
+    registry.refresh()
+    try:
+        assert list(registry.figures())[-1] == "fig99_throwaway"
+    finally:
+        monkeypatch.undo()
+        registry.refresh()
+    assert "fig99_throwaway" not in registry.figures()
+
+
 SUITE = {
     "accuracy": "fast",
     "motions": {"max_duration": 3.0},

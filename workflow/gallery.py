@@ -27,7 +27,6 @@ import xarray as xr
 import yaml
 
 from rocking import __version__
-from rocking.plot.captions import CAPTIONS, EXTRA_CAPTIONS
 from rocking.plot.gallery_quotes import marked_documents, write_documents
 from rocking.plot.report import link_images, relink_docs
 from rocking.study.aggregate import critical_frame
@@ -141,18 +140,21 @@ def package_versions() -> dict[str, str]:
 
 
 def figure_caption(stem: str) -> str:
-    """A gallery figure's caption: the paper figures' (captions.CAPTIONS), else
-    captions.EXTRA_CAPTIONS, else the figure module's own CAPTION (the risk figure)."""
-    from importlib import import_module
+    """A gallery figure's caption: a registered figure's (its entry, as for a reproduction
+    of the paper), else the caption the report gives the stripe and the risk figures."""
+    from rocking.plot import figure_name
+    from rocking.plot.registry import caption
+    from rocking.plot.risk import CAPTION as RISK_CAPTION
+    from rocking.plot.stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
 
-    key = next((k for k in CAPTIONS if stem.startswith(k)), None)
-    if key:
-        return CAPTIONS[key]
-    name = next((k for k in EXTRA_CAPTIONS if stem.startswith(k)), None)
-    if name is None:
-        raise ValueError(f"gallery figure {stem!r} has no caption (captions.py)")
-    own = getattr(import_module(f"rocking.plot.{name}"), "CAPTION", "")
-    return EXTRA_CAPTIONS[name] or own
+    try:
+        return caption(figure_name(stem))
+    except ValueError:
+        pass
+    for start, text in (("stripe_fragility", STRIPE_CAPTION), ("risk", RISK_CAPTION)):
+        if stem.startswith(start):
+            return text
+    raise ValueError(f"gallery figure {stem!r} has no caption (no figure entry)")
 
 
 def readme(manifest: dict, out: Path) -> str:

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 REMAKE = {
-    "fragility_bootstrap.nc": "fragility_curves",
+    "fragility_bootstrap.nc": "fragility",
     "suite_fragility_bootstrap.nc": "records_table",
     "stripe_fragility_bootstrap.nc": "stripe_fragility",
     "suite_fragility.csv": "records_table",

@@ -1,15 +1,16 @@
-# The paper's figures, the fragility curves and the HTML report: paths and helpers.
-# Figures not tied to one study (Figs 3, 4, 6, 8, 12) go to <root>/figures/ (named by
-# global_stem), the others to <root>/<study>/figures/; every figure is a PNG, a PDF and a JSON
-# sidecar of the numbers it measured, which <root>/<study>/report.html sets against the
-# paper's. A figure's name is its
-# module in rocking.plot, its rule, its script and its caption key.
+# The figures (rocking.plot.registry: one entry per figure module) and the HTML report:
+# paths and helpers. Every figure is a PNG, a PDF and a JSON sidecar of the numbers it
+# measured, which <root>/<study>/report.html sets against the paper's. A figure's entry says
+# its scope, and so its file: <root>/figures/<name> (global), <root>/figures/<name>_<ensemble>
+# (ensemble), <root>/figures/<name>_<study>+<study>... (studies: named after what it is
+# drawn from, so that configurations sharing an output root but not their study names never
+# write the same file), <root>/<study>/figures/<name> (study); its logical inputs and
+# parameters are resolved here (FIGURE_INPUTS, FIGURE_PARAMS) for the one rule loop of
+# figures.smk.
 
-from rocking.plot import figure_name
-from rocking.plot.captions import caption
+from rocking.plot.registry import Subject, figures, paper_record_ensemble
 
 FIGURES_DIR = out_path("figures")
-FIG04_DURATION = 15.0  # [s]: six quasi-impacts of the quasi-rocking case (Eq 32 needs five)
 
 
 def figure_files(stem):
@@ -17,24 +18,14 @@ def figure_files(stem):
     return [f"{stem}.png", f"{stem}.pdf", f"{stem}.json"]
 
 
-def el_centro_ensemble():
-    """First ensemble built on the El Centro record (Fig 6 uses its first motion), or None."""
-    for name, spec in config["ensembles"].items():
-        if spec.get("record") == "el-centro-1940":  # a suite has records, not record
-            return name
-    return None
+def subject(study=None, ensemble=None):
+    """What a figure's entry is asked about (rocking.plot.registry.Subject)."""
+    return Subject(config, study, ensemble, study_spec=study_spec)
 
 
 def study_ensembles():
     """Ensembles used by some study, in configuration order."""
-    names = [study_config(s)["ensemble"] for s in config["studies"]]
-    return list(dict.fromkeys(names))
-
-
-def fig08_ensembles():
-    """Ensembles of one record used by some study (one Fig 8 each: a record and its
-    synthetic pairs; a suite of records is not that)."""
-    return [e for e in study_ensembles() if not config["ensembles"][e].get("records")]
+    return list(dict.fromkeys(ensemble_of(s) for s in config["studies"]))
 
 
 def study_motions(study):
@@ -42,84 +33,169 @@ def study_motions(study):
     return ensemble_file(ensemble_of(study))
 
 
-def global_stem(name):
-    """The stem of a figure not tied to one study, named after what it is drawn from (as
-    Fig 8 after its ensemble), so that configurations sharing an output root but not their
-    study and ensemble names never write the same file: Fig 6 after its El Centro ensemble,
-    Fig 12 after the studies it sets side by side; Figs 3 and 4 after nothing (they depend on
-    no study: only Fig 4 on the `damped` parameters)."""
-    if name.startswith("fig06_"):
-        return f"{FIGURES_DIR}/{name}_{el_centro_ensemble()}"
-    if name == "fig12_2d_vs_3d":
-        return f"{FIGURES_DIR}/{name}_{'+'.join(config['studies'])}"
-    return f"{FIGURES_DIR}/{name}"
-
-
-def global_log(name):
-    """The log of the figure ``name`` not tied to one study."""
-    return out_path(f"logs/figures/{posixpath.basename(global_stem(name))}.log")
-
-
 def reproduces_paper(study=None):
     """Whether ``study`` (default: any study) is declared a reproduction of the paper
     (``studies.<name>.reproduces``): only then are the paper's model figures drawn."""
-    studies = config["studies"] if study is None else [study]
-    return any(study_spec(s).reproduces is not None for s in studies)
+    return subject(study).reproduces
 
 
 def is_paper_record_study(study):
     """Whether ``study`` reproduces the paper on its El Centro ensemble: its report carries
     the paper's model figures (Figs 3, 4, 6) and the verdicts the paper states for El Centro
     only; another reproduction study (Loma Prieta) gets neither, once is enough."""
-    return reproduces_paper(study) and ensemble_of(study) == el_centro_ensemble()
+    return reproduces_paper(study) and ensemble_of(study) == paper_record_ensemble(config)
 
 
-def fig12_studies():
-    """Studies that run "3d" and a 2D mode at a common tan α (the curves of Fig 12)."""
-    return [s for s in config["studies"] if study_plan(s).compares_2d_with_3d()]
+def figure_studies(fig):
+    """The studies that want figure ``fig`` (its entry's ``wanted``)."""
+    return [s for s in config["studies"]
+            if fig.wanted(subject(s, ensemble_of(s) if fig.scope == "ensemble" else None))]
 
 
-PAPER_MODEL_FIGURES = ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",
-                       "fig06_theta_max_sensitivity")
-"""The paper's figures of the model itself, drawn only for a reproduction of the paper."""
+def figure_ensembles(fig):
+    """The ensembles an ensemble-scope figure is drawn for: those of the studies that want
+    it."""
+    return list(dict.fromkeys(ensemble_of(s) for s in figure_studies(fig)))
 
 
-def global_figure_stems():
-    """Figures beside the studies: the paper's model figures (Figs 3, 4, 6) for a
-    reproduction of the paper, Fig 8 per ensemble, Fig 12 where some study has 3D and 2D."""
+def figure_pattern(fig):
+    """The stem of figure ``fig``'s files, with the wildcard of its scope."""
+    if fig.scope == "study":
+        return out_path(f"{{study}}/figures/{fig.name}")
+    if fig.scope == "ensemble":
+        return f"{FIGURES_DIR}/{fig.name}_{{ensemble}}"
+    if fig.scope == "studies":
+        return f"{FIGURES_DIR}/{fig.name}_{'+'.join(config['studies'])}"
+    return f"{FIGURES_DIR}/{fig.name}"
+
+
+def figure_log(fig):
+    """The log of figure ``fig``: beside its study's logs, else under logs/figures/."""
+    if fig.scope == "study":
+        return out_path(f"logs/{{study}}/{fig.name}.log")
+    return out_path(f"logs/figures/{posixpath.basename(figure_pattern(fig))}.log")
+
+
+def figure_stems(fig):
+    """Every stem figure ``fig`` is drawn to in this configuration."""
+    pattern = figure_pattern(fig)
+    if fig.scope == "study":
+        return [pattern.format(study=s) for s in figure_studies(fig)]
+    if fig.scope == "ensemble":
+        return [pattern.format(ensemble=e) for e in figure_ensembles(fig)]
+    return [pattern] if figure_studies(fig) else []
+
+
+def figure_output(fig):
+    """Named outputs png (in the snakemake report), pdf and notes of figure ``fig``."""
+    labels = {"figure": fig.label}
+    labels.update({"study": "{study}"} if fig.scope == "study" else
+                  {"ensemble": "{ensemble}"} if fig.scope == "ensemble" else {})
+    return _figure_output(figure_pattern(fig), fig.category, **labels)
+
+
+def _figure_output(stem, category, **labels):
+    """Named outputs png (in the snakemake report), pdf and notes of one figure."""
+    return {
+        "png": report(f"{stem}.png", caption="../report/figure.rst", category=category,
+                      labels=labels or None),
+        "pdf": f"{stem}.pdf",
+        "notes": f"{stem}.json",
+    }
+
+
+def _subject_studies(fig, wildcards):
+    """The studies one job of figure ``fig`` reads: its study, the studies of its ensemble
+    that want it, or (scope studies) every study that wants it."""
+    if fig.scope == "study":
+        return [wildcards.study]
+    if fig.scope == "ensemble":
+        return [s for s in figure_studies(fig) if ensemble_of(s) == wildcards.ensemble]
+    return figure_studies(fig)
+
+
+def _per_study(fig, wildcards, one):
+    """``one(study)`` for the job's study, or the list over the studies of scope studies."""
+    values = [one(s) for s in _subject_studies(fig, wildcards)]
+    return values if fig.scope == "studies" else values[0]
+
+
+FIGURE_INPUTS = {
+    "motions": lambda fig, w: (ensemble_file(w.ensemble) if fig.scope == "ensemble" else
+                               _per_study(fig, w, study_motions)),
+    "comparison": lambda fig, w: ensemble_files(w.ensemble, "comparison"),
+    "spectra": lambda fig, w: _per_study(fig, w, lambda s: product_complete("spectra", s)),
+    "tilt_map": lambda fig, w: _per_study(fig, w, lambda s: product_complete("tilt_map", s)),
+    "means": lambda fig, w: _per_study(fig, w, mean_spectra),
+    "refinement": lambda fig, w: _per_study(
+        fig, w, lambda s: out_path(f"{s}/refinement_sample.csv")),
+    "fragility_nc": lambda fig, w: _per_study(fig, w, lambda s: out_path(f"{s}/fragility.nc")),
+    "fragility_csv": lambda fig, w: _per_study(
+        fig, w, lambda s: out_path(f"{s}/fragility.csv")),
+}
+"""How each logical input of a figure (rocking.plot.registry.INPUTS) is found for one job."""
+
+FIGURE_PARAMS = {
+    "paper": lambda fig, w: reproduces_paper(w.study if fig.scope == "study" else None),
+    "model_options": lambda fig, w: damped_options(["3d-damped"]),
+    "ensemble_spec": lambda fig, w: ensemble_spec(w.ensemble),
+    "spectra_store": lambda fig, w: _per_study(fig, w, lambda s: product_store("spectra", s)),
+    "tilt_map_store": lambda fig, w: _per_study(fig, w,
+                                                lambda s: product_store("tilt_map", s)),
+    "studies": lambda fig, w: _subject_studies(fig, w),
+}
+"""How each logical parameter of a figure (rocking.plot.registry.PARAMS) is found."""
+
+
+def _bound(how, fig):
+    """``how(fig, wildcards)`` as a function of the wildcards alone (one per figure: a lambda
+    in the loop of figures.smk would see only the last figure)."""
+    return lambda wildcards: how(fig, wildcards)
+
+
+def figure_inputs(fig):
+    """Named inputs of figure ``fig``'s rule, from its entry's logical inputs: the compiled
+    kernels (ancient: ordering only), another figure's notes for the same subject, or a
+    function of the wildcards (FIGURE_INPUTS)."""
+    out = {}
+    for name, kind in fig.inputs.items():
+        if kind == "numba":
+            out[name] = ancient(NUMBA_CACHE)
+        elif kind in FIGURE_INPUTS:
+            out[name] = _bound(FIGURE_INPUTS[kind], fig)
+        elif kind in figures():
+            out[name] = f"{figure_pattern(figures()[kind])}.json"
+        else:
+            raise WorkflowError(f"figure {fig.name}: input {name}={kind!r} is neither a "
+                                f"logical input {list(FIGURE_INPUTS)} nor a figure")
+    return out
+
+
+def figure_params(fig):
+    """Parameters of figure ``fig``'s rule: its name, its caption (a function, so its braces
+    are not wildcards; the paper's statements in a reproduction) and its logical params."""
+    return {"figure": fig.name,
+            "caption": _bound(lambda f, w: f.text(FIGURE_PARAMS["paper"](f, w)), fig),
+            **{name: _bound(FIGURE_PARAMS[kind], fig) for name, kind in fig.params.items()}}
+
+
+def figure_stems_of(study):
+    """Every figure (stem) the report of ``study`` shows: the figures of the study's own, of
+    its ensemble and of the configuration its entry says it shows (FigureSpec.shown)."""
     stems = []
-    if reproduces_paper():
-        stems += [global_stem("fig03_wobbling_period"), global_stem("fig04_free_vibration")]
-        if el_centro_ensemble() is not None:
-            stems += [global_stem("fig06_el_centro"), global_stem("fig06_theta_max_sensitivity")]
-    stems += [f"{FIGURES_DIR}/fig08_motions_{e}" for e in fig08_ensembles()]
-    if fig12_studies():
-        stems.append(global_stem("fig12_2d_vs_3d"))
+    for fig in figures().values():
+        if not fig.shown(subject(study, ensemble_of(study))):
+            continue
+        pattern = figure_pattern(fig)
+        stems.append(pattern.format(study=study) if fig.scope == "study" else
+                     pattern.format(ensemble=ensemble_of(study)) if fig.scope == "ensemble"
+                     else pattern)
     return stems
-
-
-def study_figure_stems(study):
-    """The study's figures that its runs have data for (StudyPlan.figures), and Fig 7."""
-    names = study_plan(study).figures()
-    if has_product("tilt_map", study):
-        names.insert(0, "fig07_tilt_map")
-    return [out_path(f"{study}/figures/{n}") for n in names]
 
 
 def report_figures(study):
     """Every figure (PNG + notes) the report of ``study`` shows."""
-    def shown(stem):
-        name = stem.rsplit("/", 1)[1]
-        kind = figure_name(name)  # the figure's kind, whatever its file is called
-        if kind == "fig08_motions":
-            return name == f"fig08_motions_{ensemble_of(study)}"
-        if kind in PAPER_MODEL_FIGURES:
-            return is_paper_record_study(study)
-        return kind != "fig12_2d_vs_3d" or study in fig12_studies()
-
-    stems = [s for s in global_figure_stems() if shown(s)]
-    stems += study_figure_stems(study)
-    return [f for s in stems for f in (f"{s}.png", f"{s}.json")]
+    return [f for s in figure_stems_of(study) for f in (f"{s}.png", f"{s}.json")]
 
 
 def report_run_files(study):
@@ -145,8 +221,8 @@ def report_stores(study):
 def report_inputs(study):
     """Named inputs of the report of ``study``."""
     return {"figures": report_figures(study),
-            "linear_fit": rules.fragility_curves.output.linear_csv.format(study=study),
-            "fragility": rules.fragility_curves.output.fragility_csv.format(study=study),
+            "linear_fit": rules.fragility.output.linear_csv.format(study=study),
+            "fragility": rules.fragility.output.fragility_csv.format(study=study),
             **({"risk": rules.risk.output.table.format(study=study),
                 "risk_png": rules.risk.output.png.format(study=study),
                 "refinement_risk": rules.refinement_risk.output.csv.format(study=study)}
@@ -165,19 +241,10 @@ def report_inputs(study):
 
 def figure_targets():
     """All figure files and one report per study (asked for by the Snakefile's rule all)."""
-    targets = [f for s in global_figure_stems() for f in figure_files(s)]
+    targets = [f for fig in figures().values() for s in figure_stems(fig)
+               for f in figure_files(s)]
     for study in config["studies"]:
-        targets += [f for s in study_figure_stems(study) for f in figure_files(s)]
         targets += [out_path(f"{study}/{name}") for name in (
             "fragility.nc", "fragility.csv", "linear_fit.nc", "linear_fit.csv", "report.html")]
     return targets
 
-
-def _figure_output(stem, category, **labels):
-    """Named outputs png (in the snakemake report), pdf and notes of one figure."""
-    return {
-        "png": report(f"{stem}.png", caption="../report/figure.rst", category=category,
-                      labels=labels or None),
-        "pdf": f"{stem}.pdf",
-        "notes": f"{stem}.json",
-    }

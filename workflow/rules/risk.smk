@@ -16,8 +16,8 @@ rule risk:
     conda:
         "../envs/rocking.yaml"
     input:
-        fragility=rules.fragility_curves.output.fragility_csv,
-        bootstrap=rules.fragility_curves.output.bootstrap,  # read beside fragility.csv
+        fragility=rules.fragility.output.fragility_csv,
+        bootstrap=rules.fragility.output.bootstrap,  # read beside fragility.csv
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
         stripes=lambda wildcards: stripe_fragility_csv(wildcards.study),
         suite=lambda wildcards: suite_fragility_csv(wildcards.study),

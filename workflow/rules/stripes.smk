@@ -12,7 +12,7 @@
 rule stripe_fragility:
     input:
         complete=rules.stripes.output.done,
-        fragility=rules.fragility_curves.output.fragility_nc,
+        fragility=rules.fragility.output.fragility_nc,
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
     output:
         csv=report(out_path("{study}/stripe_fragility.csv"),
@@ -38,7 +38,7 @@ rule stripe_fragility_figure:
     input:
         table=rules.stripe_fragility.output.csv,
         refined=rules.stripe_fragility.output.refined,
-        fragility=rules.fragility_curves.output.fragility_nc,
+        fragility=rules.fragility.output.fragility_nc,
     output:
         png=report(out_path("{study}/figures/stripe_fragility_{mode}.png"),
                    caption="../report/stripe_fragility.rst", category="Beyond the paper",

@@ -1,6 +1,10 @@
 """The paper's figures (and the fragility curves), one module per figure, and the study's HTML
 report (:mod:`.report`): what reads the study's stores and tables and draws or writes them.
 
+Each figure module declares its entry ``FIGURE`` (:class:`.registry.FigureSpec`: number, caption,
+scope, when a study wants it, logical inputs); :func:`.registry.figures` lists them in the
+paper's order (``FIGURES``: their names).
+
 Every module has ``data(...)``, which extracts exactly the arrays to plot (plain dicts of numpy
 arrays, from the study store, its aggregates or fresh analyses), and ``plot(data) -> Figure``.
 :func:`render` runs both and writes the image files plus a JSON sidecar with what the figure
@@ -10,31 +14,22 @@ measured and what was missing, which the report quotes.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ._load import open_means, open_store
 from ._style import save, write_notes
 
-FIGURES = (
-    "fig03_wobbling_period",
-    "fig04_free_vibration",
-    "fig06_el_centro",
-    "fig06_theta_max_sensitivity",
-    "fig07_tilt_map",
-    "fig08_motions",
-    "fig09_spectra",
-    "fig10_goals",
-    "fig11_slenderness",
-    "fig12_2d_vs_3d",
-    "fragility_curves",
-)
-"""Figure names in the paper's order. A name is also its module here, its Snakemake rule and
-script (``workflow/scripts/<name>.py``) and its key in :data:`.captions.CAPTIONS`."""
 
-EXTRA_FIGURES = ("risk",)
-"""Figures the workflow makes beyond those of the report (same name = module = rule = script
-convention; the caption is the module's ``CAPTION``): ``risk``, :mod:`rocking.risk`."""
+def __getattr__(name: str):
+    # FIGURES is read from the registry when first asked for: the figure modules import
+    # this package, so it cannot list them while it is being imported
+    if name == "FIGURES":
+        from .registry import figures
+
+        return tuple(figures())
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid",
              "colors")
@@ -42,11 +37,10 @@ NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axe
 
 
 def module(name: str):
-    """The module of figure ``name`` (one of :data:`FIGURES` or :data:`EXTRA_FIGURES`)."""
-    if name not in FIGURES + EXTRA_FIGURES:
-        raise ValueError(f"figure must be one of {list(FIGURES + EXTRA_FIGURES)}, "
-                         f"got {name!r}")
-    return importlib.import_module(f".{name}", __name__)
+    """The module of figure ``name`` (a name of :func:`.registry.figures`)."""
+    from .registry import figure
+
+    return importlib.import_module(figure(name).module)
 
 
 def figure_name(path: str | Path) -> str:
@@ -57,11 +51,13 @@ def figure_name(path: str | Path) -> str:
     ValueError
         If no figure name starts the stem.
     """
+    from .registry import figures
+
     stem = Path(path).stem
-    hits = [n for n in FIGURES if stem == n or stem.startswith(n + "_")]
+    names = list(figures())
+    hits = [n for n in names if stem == n or stem.startswith(n + "_")]
     if not hits:
-        raise ValueError(f"figure file name must start with one of {list(FIGURES)}, "
-                         f"got {stem!r}")
+        raise ValueError(f"figure file name must start with one of {names}, got {stem!r}")
     return max(hits, key=len)
 
 
@@ -72,7 +68,7 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     Parameters
     ----------
     name : str
-        One of :data:`FIGURES`.
+        A figure of :func:`.registry.figures`.
     outputs : sequence of path
         Image files (.png, .pdf, .svg).
     notes : path, optional
@@ -92,5 +88,15 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     return d
 
 
-__all__ = ["EXTRA_FIGURES", "FIGURES", "NOTE_KEYS", "figure_name", "module",
-           "open_means", "open_store", "render"]
+def draw(name: str, inputs: Mapping, params: Mapping,
+         outputs: Mapping[str, str | Path]) -> dict:
+    """Draw figure ``name`` from the workflow's resolved ``inputs`` and ``params`` into
+    ``outputs`` (``png``, ``pdf``, ``notes``): the body of the one figure script
+    (``workflow/scripts/figure.py``); its entry turns them into ``data()``'s keywords."""
+    from .registry import figure
+
+    return render(name, [outputs["png"], outputs["pdf"]], outputs["notes"],
+                  **figure(name).data_kwargs(inputs, params))
+
+
+__all__ = ["NOTE_KEYS", "draw", "figure_name", "module", "open_means", "open_store", "render"]

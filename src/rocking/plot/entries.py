@@ -14,8 +14,9 @@ from pathlib import Path
 
 import pandas as pd
 
-from . import FIGURES, figure_name, module
+from . import figure_name, module
 from .comparisons import Comparison, compare
+from .registry import figures
 
 
 @dataclass(frozen=True)
@@ -47,7 +48,8 @@ def load_figures(pngs: Sequence[str | Path]) -> list[FigureEntry]:
         if isinstance(measured, dict):
             notes["measured"] = {k: math.nan if v is None else v for k, v in measured.items()}
         out.append(FigureEntry(name, png, notes))
-    return sorted(out, key=lambda f: (FIGURES.index(f.name), str(f.png)))
+    order = list(figures())  # the paper's order (the entries' numbers)
+    return sorted(out, key=lambda f: (order.index(f.name), str(f.png)))
 
 
 def figure_comparisons(entries: Sequence[FigureEntry]) -> dict[str, list[Comparison]]:

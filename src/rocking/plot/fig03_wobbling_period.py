@@ -167,3 +167,22 @@ def compare(notes: Mapping) -> list[Comparison]:
             "drawn as nearly one curve", f"at most {100 * gap:.2f} % apart (inset)", REPRODUCED,
             "the slender limit: T·p depends on α only through small terms"))
     return rows
+
+
+# ---------------------------------------------------------------- the figure's entry
+
+from .registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="fig03_wobbling_period", module=__name__, number=3, label="Fig 3",
+    caption=(
+        "Fig 3. Period of pure wobbling T, normalized by the frequency parameter p, against "
+        "the normalized tilt θ/α for tan α = 0.1, 0.2, 1 and 1000 (Euler's disk), with "
+        "Housner's linearized 2D rocking period. Closed form of Eq (24) as corrected in "
+        "docs/equations.md#eq-24-the-wobbling-period (the printed equation has a sign error "
+        "under the root); no ground motion, so no x/y direction. The curves of tan α = 0.1 "
+        "and 0.2 lie within 1 % of each other; the inset magnifies them and gives their "
+        "largest gap."
+    ),
+    scope="global", wanted=lambda s: s.reproduces, paper_only=True, el_centro_only=True)
+"""Fig 3: closed forms only, drawn once for a reproduction of the paper."""

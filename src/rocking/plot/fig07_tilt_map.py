@@ -245,3 +245,29 @@ def compare(notes: Mapping) -> list[Comparison]:
                "the damped model's map departs from the undamped one",
                "both models are needed"),
     ]
+
+
+# ---------------------------------------------------------------- the figure's entry
+
+from .registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="fig07_tilt_map", module=__name__, number=7, label="Fig 7",
+    caption=(
+        "Contours of the peak normalized tilt θmax/α over cylinder size R and normalized "
+        "intensity PGA/(g tan α) for the study's scaled record (principal axes, "
+        "high-passed), at the slenderness in the title, one panel per model; PGA is the "
+        "vector peak max √(ügx² + ügy²); right axis PGA in g. Contours are drawn on the "
+        "grid the configuration gives (dots); the black line is θmax = α and the pale grey "
+        "top class θmax > α, which includes overturning."
+    ),
+    paper=(
+        "The paper's Fig 7: the El Centro record at tan α = 0.2, undamped (left) and damped "
+        "(right); it reports that larger cylinders are harder to overturn and that both "
+        "models give almost identical maps."
+    ),
+    scope="study", wanted=lambda s: s.spec().tilt_map is not None,
+    inputs={"complete": "tilt_map", "motions": "motions"},
+    params={"path": "tilt_map_store"},
+    el_centro_only=True)
+"""Fig 7, for every study with a tilt map."""

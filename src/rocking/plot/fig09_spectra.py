@@ -471,3 +471,55 @@ def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
                     "differences, and the spread among motions; identical = |Δ| ≤ 5 % or "
                     "within 2 SE", df))
     return out
+
+
+# ---------------------------------------------------------------- the figure's entry
+
+from .captions import UNRESOLVED  # noqa: E402
+from .registry import FigureSpec  # noqa: E402
+
+
+def _own_caption(notes: Mapping | None) -> str:
+    """The caption from what is drawn: recorded motions and synthetic pairs, the damped
+    model, unresolved answers (without notes: :data:`CAPTION`)."""
+    if notes is None:
+        return FIGURE.caption
+    labels = [str(c.get("label", "")) for c in (notes.get("colors") or {}).values()]
+    synthetic = sum(lab.startswith("synthetic") for lab in labels)
+    recorded = len(labels) - synthetic
+    damped = any(str(k).startswith(DAMPING_NOTE) for k in (notes.get("measured") or {}))
+    who = (f"the {recorded} recorded motions" if recorded > 1 else "the record") + (
+        f" and {synthetic} synthetic pairs" if synthetic else "")
+    text = (f"Seismic performance rocking spectra of each of {who} (one colour each, "
+            "named in the legend) and their mean (thick black), one panel per limit state at "
+            "the slenderness in the title.")
+    if damped:
+        text += (" Undamped solid, damped dashed; below, the relative difference damped − "
+                 "undamped per motion and of the means, with the band of ± 2 standard errors.")
+    return f"{text} {UNRESOLVED} Right axis PGA in g."
+
+
+FIGURE = FigureSpec(
+    name="fig09_spectra", module=__name__, number=9, label="Fig 9",
+    caption=(
+        "Seismic performance rocking spectra per ground motion (one colour each, the same "
+        "as in Fig 8: record black, synthetic pairs in colour; undamped solid, damped "
+        "dashed) and their means over the motions (thick black), one panel per limit state "
+        "(overturning, and excessive tilt θ > α/3 or the study's own tilt goal) at the "
+        "slenderness in the title. Where the damped model ran, below: the relative "
+        "difference damped − undamped per motion and of the means, with the band of ± 2 "
+        "standard errors. "
+    ) + f"{UNRESOLVED} Right axis PGA in g.",
+    paper=(
+        "The paper's Fig 9: overturning and excessive tilt θ > α/3 at tan α = 0.2; it "
+        "reports essentially identical undamped and damped overturning spectra, differences "
+        "for excessive tilt that vanish in the mean, and mean spectra that are almost "
+        "straight lines in R."
+    ),
+    scope="study", wanted=lambda s: bool(s.plan.modes),
+    inputs={"complete": "spectra", "means": "means", "motions": "motions",
+            # read beside the means: the legend says how far refinement moves the answers
+            "refinement": "refinement"},
+    params={"store": "spectra_store", "paper": "paper"},
+    el_centro_only=True, own_caption=_own_caption)
+"""Fig 9, for every study (its primary mode at one tan α)."""

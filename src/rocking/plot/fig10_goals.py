@@ -367,3 +367,33 @@ def _bend_reason(fit: Mapping) -> str:
     return (f"the mean spectrum is not straight but flat, then rising: within 10 % of "
             f"{fit['flat_level']:.2f} up to R = {fit['flat_to_R']:g} m, then up to "
             f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m; {pattern}")
+
+
+# ---------------------------------------------------------------- the figure's entry
+
+from .registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="fig10_goals", module=__name__, number=10, label="Fig 10",
+    caption=(
+        "Mean performance spectra of the study's performance goals θ > r·α and overturning "
+        "(the mode and slenderness in the title), each goal in its own colour in every "
+        "figure; dashed lines are the least-squares lines (fitted over five sizes R or "
+        "more) whose R² and largest departure from the mean the legend gives. Goals whose "
+        "statistics coincide at every R (a cylinder tilted past α at the threshold "
+        "intensity overturned) are drawn dotted over each other and said so in the figure. "
+        "Means over answers flagged unresolved (they may lie lower) are counted per goal in "
+        "the legend. Right axis PGA in g."
+    ),
+    paper=(
+        "The paper's Fig 10: the undamped 3D model at tan α = 0.2 and seven goals, r ∈ "
+        "{0.1, 0.2, 1/3, 0.5, 0.75, 1} and overturning, all almost linear in R (θ > α and "
+        "overturning coincide in the paper run); goals a reduced run did not compute are "
+        "named in the figure."
+    ),
+    scope="study", wanted=lambda s: bool(s.plan.modes),
+    inputs={"means": "means", "motions": "motions", "refinement": "refinement"},
+    params={"paper": "paper"},
+    el_centro_only=True, general=lambda statement: statement.startswith(LINEAR_STATEMENT))
+"""Fig 10, for every study; its linearity in R is stated of rocking spectra in general
+(§6), judged in every study."""

@@ -133,3 +133,35 @@ def compare(notes: Mapping) -> list[Comparison]:
             f"only tan α = {', '.join(f'{v:g}' for v in t) or 'none'} computed"))
     return rows or [Comparison("fig11_slenderness", "Influence of slenderness (§5.3)",
                                "very small", "—", NOT_COMPUTED, "no mean spectra")]
+
+
+# ---------------------------------------------------------------- the figure's entry
+
+from .registry import FigureSpec  # noqa: E402
+
+
+def _wanted(subject) -> bool:
+    """Two or more tan α computed for the study's primary mode ("3d", else its first)."""
+    plan = subject.plan
+    if not plan.modes:
+        return False
+    mode = MODE_3D if MODE_3D in plan.modes else plan.modes[0]
+    return sum(bool(plan.limit_states_of(mode, t)) for t in plan.tan_alpha) > 1
+
+
+FIGURE = FigureSpec(
+    name="fig11_slenderness", module=__name__, number=11, label="Fig 11",
+    caption=(
+        "Mean performance spectra (undamped 3D model) per slenderness tan α of the study, "
+        "the intensity normalized by g tan α."
+    ),
+    paper=(
+        "The paper's Fig 11: tan α = 0.1, 0.2 and 0.3; it reports that, once the intensity "
+        "is normalized by g tan α, slenderness has a very small influence. Slendernesses "
+        "this run did not compute are named in the figure."
+    ),
+    scope="study", wanted=_wanted,
+    inputs={"means": "means", "motions": "motions"},
+    params={"paper": "paper"},
+    el_centro_only=True)
+"""Fig 11, for a study with two or more tan α."""

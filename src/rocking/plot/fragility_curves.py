@@ -195,3 +195,24 @@ def compare(notes: Mapping) -> list[Comparison]:
     return [Comparison("fragility_curves", "Lognormal fragility curves per size R", "—",
                        "see the fragility table", NOT_IN_PAPER,
                        "an addition for performance-based design")]
+
+
+# ---------------------------------------------------------------- the figure's entry
+
+from .registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="fragility_curves", module=__name__, number=13, label="fragility",
+    caption=(
+        "Fragility curves: lognormal maximum-likelihood fits of the ensemble's critical "
+        "intensities PGA/(g tan α) per size R (motions that never reached the limit state "
+        "are right-censored at the search bound); colour gives R on the colour bar, markers "
+        "are the empirical fractions; the x axis runs a quarter beyond the largest "
+        "intensity observed (or the largest median, at most three times that), never beyond "
+        "the search bound. Medians IM₅₀ and dispersions β are tabulated in the report."
+    ),
+    scope="study", wanted=lambda s: bool(s.plan.modes),
+    inputs={"fragility": "fragility_nc", "complete": "spectra", "motions": "motions"},
+    params={"store": "spectra_store"},
+    category="Beyond the paper")
+"""The fragility curves (beyond the paper), for every study."""

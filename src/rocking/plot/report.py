@@ -4,7 +4,8 @@ figure the paper's statements set against this run's numbers with a verdict.
 Inputs are the figure PNGs with their JSON sidecars (written by :func:`.render`), the
 linear fits of the mean spectra, the fragility table and, for the "what was run" section, the
 configuration and the stores and summaries the run wrote. Images are embedded (base64), so
-the page can be moved or mailed alone. Captions come from :mod:`.captions`, verdicts
+the page can be moved or mailed alone. Captions come from the figures' entries
+(:mod:`.registry`), verdicts
 from :mod:`.comparisons`; the figures are read back by :mod:`.entries`, the findings written by
 :mod:`.findings`, the tables by :mod:`.tables` and the "what was run" rows by
 :mod:`.run_summary`. This module lays them out as one HTML page.
@@ -23,8 +24,6 @@ from pathlib import Path
 import pandas as pd
 
 from ..risk.report import risk_section_html
-from . import module
-from .captions import EXTRA_CAPTIONS, caption
 from .comparisons import Comparison
 from .entries import (
     FigureEntry,
@@ -37,6 +36,7 @@ from .entries import (
 )
 from .findings import findings_html, paper_findings, study_findings
 from .refined import read_refinements, refinement_note
+from .registry import caption, figure
 from .tables import fragility_pivot, linear_fit_rows, records_section, stripes_section, table_html
 
 _CSS = """
@@ -253,8 +253,10 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     if records is not None:
         parts += records_section(records, suite_fragility)
     if stripes is not None:
+        from .stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
+
         parts += stripes_section(stripes)
-        parts += [_extra_figure_html(p) for p in stripe_figures]
+        parts += [_extra_figure_html(p, STRIPE_CAPTION) for p in stripe_figures]
     if risk is not None:
         from .risk import CAPTION as RISK_CAPTION
 
@@ -268,27 +270,23 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     return out
 
 
-EL_CENTRO_FIGURES = ("fig03_wobbling_period", "fig04_free_vibration", "fig06_el_centro",
-                     "fig06_theta_max_sensitivity", "fig07_tilt_map", "fig09_spectra",
-                     "fig10_goals", "fig11_slenderness")
-"""Figures the paper draws for its El Centro study only (its model figures and Figs 7, 9–11)."""
 
 
 def el_centro_only(row: Comparison) -> bool:
     """Whether a verdict row states what the paper reports for El Centro only: every row of
-    :data:`EL_CENTRO_FIGURES` but Fig 10's linearity in R, which the paper states of rocking
-    spectra in general (§6) and which is judged by one criterion in every study."""
-    from .fig10_goals import LINEAR_STATEMENT
-
-    if row.figure == "fig10_goals":
-        return not row.statement.startswith(LINEAR_STATEMENT)
-    return row.figure in EL_CENTRO_FIGURES
+    a figure whose entry says so (``el_centro_only``: the paper's model figures and Figs 7,
+    9–11) but those its entry calls ``general`` (Fig 10's linearity in R, which the paper
+    states of rocking spectra in general, §6, judged by one criterion in every study)."""
+    entry = figure(row.figure)
+    if not entry.el_centro_only:
+        return False
+    return entry.general is None or not entry.general(row.statement)
 
 
 def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
-    """A figure beyond :data:`.FIGURES` (the stripe and the risk figures): embedded
-    with ``text`` as caption, else the ``caption`` of its JSON sidecar, else its module's
-    ``CAPTION`` (the same markup as the other figures, so a gallery links it instead)."""
+    """A figure shown in a section of its own (the stripe and the risk figures): embedded
+    with ``text`` as caption, else the ``caption`` of its JSON sidecar (the same markup as
+    the other figures, so a gallery links it instead)."""
     png = Path(png)
     if not png.exists():
         return ""
@@ -296,13 +294,6 @@ def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
         sidecar = png.with_suffix(".json")
         notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
         text = notes.get("caption") or ""
-        if not text:
-            kind = str(notes.get("figure") or re.sub(r"_(3d|2d).*$", "", png.stem))
-            try:
-                text = getattr(module(kind), "CAPTION", "")
-            except ValueError:  # not a module of rocking.plot: the report's own caption
-                text = ""
-            text = text or EXTRA_CAPTIONS.get(kind, "")
     img = base64.b64encode(png.read_bytes()).decode("ascii")
     return (f"<figure id='{png.stem}'><img alt='{png.stem}' src='data:image/png;base64,{img}'>"
             f"<figcaption>{html.escape(text)}</figcaption></figure>")

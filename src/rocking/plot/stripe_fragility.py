@@ -209,3 +209,15 @@ def plot(d: dict) -> Figure:
                    *(["Undefined or flagged stripe fits: " + "; ".join(d["missing"]) + "."]
                      if d["missing"] else [])])
     return fig
+
+
+REPORT_CAPTION = (
+    "Multiple-stripe against first-exceedance fragility (beyond the paper), one panel "
+    "per limit state and size R of the study's stripes: markers the share of the "
+    "motions exceeding the limit state at each stripe intensity, the solid line its "
+    "binomial maximum-likelihood lognormal, the dashed line the lognormal of the "
+    "motions' first exceedances; medians IM₅₀ and dispersions β in the legend and in "
+    "the table below."
+)
+"""The caption under each stripe figure in the report and the gallery (the figure's own
+footnote is :data:`CAPTION`)."""

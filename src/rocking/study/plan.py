@@ -87,21 +87,8 @@ class StudyPlan:
         per_mode = self.requested.any(axis=1).sum(axis=1)
         return {m: int(n) * n_motions * n_R for m, n in zip(self.modes, per_mode, strict=True)}
 
-    def figures(self) -> list[str]:
-        """The per-study figures this plan's cells can fill (a figure without its data is
-        not drawn), for its primary mode ("3d", else its first mode): Fig 9 (spectra per
-        motion; its damped row only where "3d-damped" ran beside "3d") and Fig 10 (mean
-        spectra per goal, any number of goals) at one tan α, Fig 11 at two or more tan α,
-        and the fragility curves."""
-        if not self.modes:
-            return []
-        mode = MODE_3D if MODE_3D in self.modes else self.modes[0]
-        shared = [t for t in self.tan_alpha if self.limit_states_of(mode, t)]
-        return ["fig09_spectra", "fig10_goals",
-                *(["fig11_slenderness"] if len(shared) > 1 else []), "fragility_curves"]
-
     def compares_2d_with_3d(self) -> bool:
-        """Whether the plan runs "3d" and a 2D mode at a common tan α (Fig 12)."""
+        """Whether the plan runs "3d" and a 2D mode at a common tan α."""
         flat = [m for m in PLANAR_MODES if m in self.modes]
         return MODE_3D in self.modes and any(
             self.limit_states_of(MODE_3D, t) and any(self.limit_states_of(m, t) for m in flat)

@@ -1,8 +1,9 @@
-"""Fragility curves (Snakemake script): lognormal MLE per point, line fits of the mean spectra."""
+"""Fragility of a study (Snakemake script): lognormal MLE per point with its bootstrap over
+the motions, line fits of the mean spectra."""
 
 import time
 
-from rocking.plot import open_means, open_store, render
+from rocking.plot import open_means, open_store
 from rocking.risk.bootstrap import write_bootstrap
 from rocking.spectra import fragility
 from rocking.study.logs import log_to
@@ -29,8 +30,6 @@ def main(snakemake):
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")
-        render("fragility_curves", [out.png, out.pdf], out.notes, fragility=out.fragility_nc,
-               store=snakemake.params.store, motions=snakemake.input.motions)
 
 
 if __name__ == "__main__":
