@@ -258,8 +258,9 @@ FIGURE = FigureSpec(
         "intensity PGA/(g tan α) for the study's scaled record (principal axes, "
         "high-passed), at the slenderness in the title, one panel per model; PGA is the "
         "vector peak max √(ügx² + ügy²); right axis PGA in g. Contours are drawn on the "
-        "grid the configuration gives (dots); the black line is θmax = α and the pale grey "
-        "top class θmax > α, which includes overturning."
+        "grid the configuration gives (dots); the black line is θmax = α. Classes: ten of "
+        "0.1 in θmax/α below α; orange (squares at the grid points) θmax > α with the "
+        "cylinder still standing; grey overturned (θ reached π/2)."
     ),
     paper=(
         "The paper's Fig 7: the El Centro record at tan α = 0.2, undamped (left) and damped "

@@ -206,8 +206,9 @@ FIGURE = FigureSpec(
     caption=(
         "Fragility curves: lognormal maximum-likelihood fits of the ensemble's critical "
         "intensities PGA/(g tan α) per size R (motions that never reached the limit state "
-        "are right-censored at the search bound); colour gives R on the colour bar, markers "
-        "are the empirical fractions; the x axis runs a quarter beyond the largest "
+        "are right-censored at the search bound); colour gives R on the colour bar; five "
+        "sizes spread over the range are drawn thick, named on their curves and ticked on "
+        "the colour bar, with their empirical fractions as markers, the others thin; the x axis runs a quarter beyond the largest "
         "intensity observed (or the largest median, at most three times that), never beyond "
         "the search bound. Medians IM₅₀ and dispersions β are tabulated in the report."
     ),

@@ -39,7 +39,9 @@ CAPTION = (
     "the same integral with the multiple-stripe fragility (the probability of exceeding at "
     "the intensity, the one the integral asks for); filled circles: the first-exceedance "
     "fragility (larger: it also counts motions that exceed at a lower intensity only). "
-    "Shaded: the 90 % interval of λ from resampling the motions (bootstrap); a gap in a line "
+    "The 90 % interval of λ from resampling the motions (bootstrap): filled for 3D, a dashed "
+    "outline for 3D damped, tinted for 2D, hatched for the stripes (error bars where the "
+    "study has one size); a gap in a line "
     "is a size without a fit, a bracket there the range of λ the bracketing stripes imply."
 )
 """Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
