@@ -36,10 +36,19 @@ NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axe
 """Entries of a figure's data copied into its JSON sidecar (whichever it has)."""
 
 
+SECTION_FIGURES = ("risk",)
+"""Figures outside the registry: drawn by a rule that also writes their tables
+(``rules/risk.smk``) and shown in their own section of the report; each is the module of
+that name here, with ``data()`` and ``plot()`` like a registry entry's."""
+
+
 def module(name: str):
-    """The module of figure ``name`` (a name of :func:`.registry.figures`)."""
+    """The module of figure ``name`` (a name of :func:`.registry.figures` or of
+    :data:`SECTION_FIGURES`)."""
     from .registry import figure
 
+    if name in SECTION_FIGURES:
+        return importlib.import_module(f".{name}", __name__)
     return importlib.import_module(figure(name).module)
 
 
@@ -99,4 +108,5 @@ def draw(name: str, inputs: Mapping, params: Mapping,
                   **figure(name).data_kwargs(inputs, params))
 
 
-__all__ = ["NOTE_KEYS", "draw", "figure_name", "module", "open_means", "open_store", "render"]
+__all__ = ["NOTE_KEYS", "SECTION_FIGURES", "draw", "figure_name", "module", "open_means",
+           "open_store", "render"]

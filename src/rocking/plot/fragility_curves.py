@@ -208,9 +208,10 @@ FIGURE = FigureSpec(
         "intensities PGA/(g tan α) per size R (motions that never reached the limit state "
         "are right-censored at the search bound); colour gives R on the colour bar; five "
         "sizes spread over the range are drawn thick, named on their curves and ticked on "
-        "the colour bar, with their empirical fractions as markers, the others thin; the x axis runs a quarter beyond the largest "
-        "intensity observed (or the largest median, at most three times that), never beyond "
-        "the search bound. Medians IM₅₀ and dispersions β are tabulated in the report."
+        "the colour bar, with their empirical fractions as markers, the others thin; the x "
+        "axis runs a quarter beyond the largest intensity observed (or the largest median, "
+        "at most three times that), never beyond the search bound. Medians IM₅₀ and "
+        "dispersions β are tabulated in the report."
     ),
     scope="study", wanted=lambda s: bool(s.plan.modes),
     inputs={"fragility": "fragility_nc", "complete": "spectra", "motions": "motions"},

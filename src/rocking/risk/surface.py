@@ -143,6 +143,9 @@ class FragilitySurface:
     source: str = ""
     n_resamples: int = 0
     skipped: list[str] = field(default_factory=list)
+    component: str | None = None
+    """Horizontal component of the study's PGA (``records.csv`` beside ``fragility.csv``;
+    None where the folder does not say): the hazard must be in the same."""
 
     # ----------------------------------------------------------------------------- building
     @classmethod
@@ -212,7 +215,7 @@ class FragilitySurface:
             raise ValueError(f"{table}: no grid in R and tan α in mode {mode} (a surface "
                              f"needs ≥ 2 R and ≥ 2 tan α, fitted at every node): "
                              + "; ".join(why))
-        surface = cls(grids, str(study), 0, why)
+        surface = cls(grids, str(study), 0, why, study_component(table))
         critical = table.with_name("critical.csv")
         if n_resamples > 0:
             if not critical.is_file():
@@ -246,7 +249,8 @@ class FragilitySurface:
                 m, b = bootstrap_lognormal(x, c, n_resamples=n_resamples, seed=seed)
                 med[i, k], beta[i, k] = m * ta, b
             grids[(mode, ls)] = LimitStateGrid(g.tan_alpha, g.R, g.median, g.beta, med, beta)
-        return FragilitySurface(grids, self.source, n_resamples, list(self.skipped))
+        return FragilitySurface(grids, self.source, n_resamples, list(self.skipped),
+                                self.component)
 
     # ---------------------------------------------------------------------------- queries
     def limit_states(self, mode: str = "3d") -> list[str]:
@@ -401,6 +405,27 @@ class FragilitySurface:
                 for (m, ls), part in s.groupby(["mode", "limit_state"], sort=False)}
 
 
+def study_component(fragility_csv: str | Path) -> str | None:
+    """The horizontal component of a study's intensities, from the ``component`` column of
+    ``records.csv`` beside its ``fragility.csv`` (None without that table).
+
+    Raises
+    ------
+    ValueError
+        If the table names more than one component.
+    """
+    records = Path(fragility_csv).with_name("records.csv")
+    if not records.is_file():
+        return None
+    names = pd.read_csv(records, usecols=lambda c: c == "component")
+    found = sorted(set(names["component"].dropna().astype(str))) if "component" in names \
+        else []
+    if len(found) > 1:
+        raise ValueError(f"{records}: the component column names {found}; a study's "
+                         "intensities are in one")
+    return found[0] if found else None
+
+
 def _normalized(g: LimitStateGrid, median: np.ndarray) -> np.ndarray:
     """ln of the normalized capacity θ/(g tan α) [-] at the nodes (tan α along axis 0), the
     quantity interpolated: the paper's spectra are near-independent of tan α in it, while
@@ -422,4 +447,5 @@ def _list(values) -> str:
     return "[" + ", ".join(values[:4]) + (", ..." if len(values) > 4 else "") + "]"
 
 
-__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval"]
+__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval",
+           "study_component"]
