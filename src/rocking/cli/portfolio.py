@@ -157,6 +157,8 @@ def run(args) -> int:
 
 def human(table, inventory, args) -> str:
     """The highest-λ columns of each limit state, for people."""
+    from ..risk.portfolio import error_words
+
     head = _human.block([("surface", str(args.surface)), ("inventory", str(args.inventory)),
                          ("hazard", str(args.hazard)),
                          ("columns", f"{len(inventory.columns)} valid, "
@@ -175,7 +177,7 @@ def human(table, inventory, args) -> str:
                  r["hazard_site"], _human.num(r["hazard_distance_km"], 3)]
                 for r in part.head(SHOWN).to_dict(orient="records")]
         more = f" (the {SHOWN} highest of {len(part)})" if len(part) > SHOWN else ""
-        lines += ["", f"{ls}{more}: interpolation error of the median ±"
-                  f"{100 * float(part['interp_error'].iloc[0]):.1f} % (leave-one-out)",
+        lines += ["", f"{ls}{more}: interpolation error of the median "
+                  + error_words(float(part["interp_error"].iloc[0])),
                   _human.table(HEADER, rows, left=(1, 4, 12))]
     return "\n".join(lines)

@@ -20,6 +20,7 @@ import pandas as pd
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 
+from ..risk.portfolio import error_words
 from ..risk.report import shown_limit_states
 from ..spectra.limit_states import limit_state_title, severity
 from ._style import footnote, new_figure, styled
@@ -163,8 +164,8 @@ def plot_ranked(d: dict) -> Figure:
                          np.where(np.isfinite(hi), hi - lam, 0.0)])
         ax.bar(x + (j - (len(states) - 1) / 2) * width, lam, width, color=colors[j % 2],
                alpha=0.8, yerr=err, capsize=3, error_kw={"lw": 1.0},
-               label=f"{limit_state_title(ls)} (interpolation error ±"
-                     f"{100 * d['errors'][ls]:.0f} % on the median)")
+               label=f"{limit_state_title(ls)} (interpolation error of the median "
+                     f"{error_words(d['errors'][ls])})")
     ax.set_yscale("log")
     top = np.nanmax([cols[f"lambda_p95|{ls}"].max() for ls in states]
                     + [cols[f"lambda|{ls}"].max() for ls in states])
@@ -239,8 +240,8 @@ def section_html(portfolio: str | Path | pd.DataFrame) -> list[str]:
     text = (f"{frame['id'].nunique()} columns of the inventory, each with the study's "
             f"fragility interpolated at its R and tan α (mode {frame['mode'].iloc[0]}, PGA "
             f"in the {frame['component'].iloc[0]} component; interpolation error of the "
-            f"median up to ±{100 * error:.1f} % for {limit_state_title(states[0])}, by "
-            "leaving each grid node out) and integrated against the hazard curve of its "
+            f"median for {limit_state_title(states[0])}: {error_words(error)}) and "
+            "integrated against the hazard curve of its "
             f"site ({len(sites)} site(s) used: {', '.join(sites[:5])}"
             f"{' …' if len(sites) > 5 else ''}). Intervals are 90 % over bootstrap "
             "resamples of the motions. "

@@ -224,6 +224,14 @@ def _site_label(hazard: HazardSites, k: int) -> str:
     return hazard.curves[k].site or hazard.curves[k].source
 
 
+def error_words(interp_error: float) -> str:
+    """How the interpolation error of a median is quoted: ``"±5.1 % (leave-one-out)"``, or
+    why there is none (a grid of two values per direction has no node to leave out)."""
+    if not math.isfinite(interp_error):
+        return "not measured (no interior grid node to leave out)"
+    return f"±{100 * interp_error:.1f} % (leave-one-out)"
+
+
 def hazard_component_check(study: str | None, hazard: str | None) -> tuple[str, str]:
     """The component a portfolio is in, and what to tell the user about it.
 
@@ -344,4 +352,5 @@ def write_portfolio(table: pd.DataFrame, out_dir: str | Path,
 
 
 __all__ = ["COLUMNS", "RateTable", "SitePortfolio", "hazard_component_check",
-           "portfolio_table", "site_portfolio", "write_portfolio"]
+           "error_words", "portfolio_table", "site_portfolio",
+           "write_portfolio"]

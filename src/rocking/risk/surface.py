@@ -382,7 +382,7 @@ class FragilitySurface:
                     b = float(g.beta[i - 1, k] + w * (g.beta[i + 1, k] - g.beta[i - 1, k]))
                     rows.append(_loo_row(mode, ls, "tan_alpha", g.tan_alpha[i], R,
                                          g.median[i, k], m, g.beta[i, k], b))
-        return pd.DataFrame(rows)
+        return pd.DataFrame(rows, columns=LOO_COLUMNS)
 
     def loo_summary(self) -> pd.DataFrame:
         """Per (mode, limit state) and direction left out: the nodes, the RMS and the
@@ -399,10 +399,17 @@ class FragilitySurface:
 
     def interpolation_error(self) -> dict[tuple[str, str], float]:
         """Per (mode, limit state): the largest leave-one-out |error| of ln θ [-] (either
-        direction), the error quoted with every interpolated median."""
+        direction), the error quoted with every interpolated median; NaN for a grid without
+        an interior node (2 R × 2 tan α: nothing to leave out, the error is not measured)."""
         s = self.loo_summary()
-        return {(m, ls): float(part["max_ln_median"].max())
-                for (m, ls), part in s.groupby(["mode", "limit_state"], sort=False)}
+        found = {(m, ls): float(part["max_ln_median"].max())
+                 for (m, ls), part in s.groupby(["mode", "limit_state"], sort=False)}
+        return {key: found.get(key, float("nan")) for key in self.grids}
+
+
+LOO_COLUMNS = ("mode", "limit_state", "left_out", "tan_alpha", "R", "median", "median_loo",
+               "beta", "beta_loo", "err_ln_median", "err_beta")
+"""Columns of :meth:`FragilitySurface.leave_one_out`."""
 
 
 def study_component(fragility_csv: str | Path) -> str | None:
