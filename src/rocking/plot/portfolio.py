@@ -160,12 +160,16 @@ def plot_ranked(d: dict) -> Figure:
         lam = cols[f"lambda|{ls}"].to_numpy(float)
         lo, hi = cols[f"lambda_p05|{ls}"].to_numpy(float), cols[f"lambda_p95|{ls}"].to_numpy(
             float)
-        err = np.vstack([np.where(np.isfinite(lo), lam - lo, 0.0),
-                         np.where(np.isfinite(hi), hi - lam, 0.0)])
-        ax.bar(x + (j - (len(states) - 1) / 2) * width, lam, width, color=colors[j % 2],
-               alpha=0.8, yerr=err, capsize=3, error_kw={"lw": 1.0},
+        xs = x + (j - (len(states) - 1) / 2) * width
+        ax.bar(xs, lam, width, color=colors[j % 2], alpha=0.8,
                label=f"{limit_state_title(ls)} (interpolation error of the median "
                      f"{error_words(d['errors'][ls])})")
+        # the interval as drawn from its ends, not as ± about λ: with few motions λ may lie
+        # outside its own bootstrap interval, and that is shown, not clipped
+        shown = np.isfinite(lo) & np.isfinite(hi)
+        ax.vlines(xs[shown], lo[shown], hi[shown], color="k", lw=1.0)
+        for end in (lo, hi):
+            ax.plot(xs[shown], end[shown], ls="none", marker="_", color="k", ms=6)
     ax.set_yscale("log")
     top = np.nanmax([cols[f"lambda_p95|{ls}"].max() for ls in states]
                     + [cols[f"lambda|{ls}"].max() for ls in states])
