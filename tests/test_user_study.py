@@ -448,8 +448,10 @@ def test_a_study_with_an_inventory_gets_its_portfolio_and_an_inventory_change_re
             row = table[(table["id"] == ident) & (table["limit_state"] == ls)].iloc[0]
             node = frag[(frag["mode"] == "3d") & (frag["limit_state"] == ls)
                         & np.isclose(frag["tan_alpha [-]"], ta) & np.isclose(frag["R [m]"], R)]
-            assert row["median"] == pytest.approx(node["median_pga_g [g]"].iloc[0], rel=1e-9)
-            assert row["beta"] == pytest.approx(node["beta [-]"].iloc[0], rel=1e-9)
+            # to the 6 digits portfolio.csv is written with (in-process to 1e-9:
+            # tests/test_surface.py)
+            assert row["median"] == pytest.approx(node["median_pga_g [g]"].iloc[0], rel=5e-6)
+            assert row["beta"] == pytest.approx(node["beta [-]"].iloc[0], rel=5e-6)
     for stem in ("portfolio_map", "portfolio_ranked"):
         assert (out / "figures" / f"{stem}.png").stat().st_size > 10_000
     html = (out / "report.html").read_text()
