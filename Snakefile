@@ -64,5 +64,6 @@ rule all:
         all_targets(),
         stripe_targets(),
         risk_targets(),
+        portfolio_targets(),
         records_targets(),
     default_target: True

@@ -133,3 +133,22 @@ def test_leave_one_out_is_stated_per_direction(surface):
     err = surface.interpolation_error()
     assert err[("3d", "overturning")] == pytest.approx(
         s[s["limit_state"] == "overturning"]["max_ln_median"].max())
+
+
+def test_a_two_by_two_grid_states_no_interpolation_error_rather_than_inventing_one():
+    from rocking.risk.portfolio import error_words
+    from rocking.risk.surface import LimitStateGrid
+
+    ta, R = np.array([0.15, 0.2]), np.array([1.0, 3.0])
+    median = np.array([[0.2, 0.4], [0.25, 0.5]])
+    grid = LimitStateGrid(ta, R, median, np.full((2, 2), 0.3), np.empty((2, 2, 0)),
+                          np.empty((2, 2, 0)))
+    surface = FragilitySurface({("3d", "overturning"): grid})
+    assert surface.leave_one_out().empty
+    err = surface.interpolation_error()[("3d", "overturning")]
+    assert np.isnan(err)
+    assert error_words(err) == "not measured (no interior grid node to leave out)"
+    assert error_words(0.051) == "±5.1 % (leave-one-out)"
+    # the surface still answers at its nodes
+    out = surface.evaluate(np.array([3.0]), np.array([0.2]), "3d", "overturning")
+    assert out["median"][0] == pytest.approx(0.5, rel=1e-12)

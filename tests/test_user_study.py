@@ -402,3 +402,63 @@ def test_fig11_of_a_study_of_ones_own_draws_its_own_slendernesses(tmp_path):
     # a reproduction of the paper names the paper's slenderness the run left out
     paper = fig11_slenderness.data(paths["means"])
     assert "tan α = 0.2 not computed" in paper["missing"]
+
+
+SITE_INVENTORY = """id,R,tan_alpha,lon,lat
+node,1.0,0.15,0.001,0.001
+between,2.0,0.175,0.002,-0.001
+far-node,3.0,0.2,-0.001,0.002
+"""
+"""Three columns on the grid of the study ``site``: two at grid nodes, one between."""
+
+
+@pytest.mark.slow
+def test_a_study_with_an_inventory_gets_its_portfolio_and_an_inventory_change_reruns_only_it(
+        own_run, tmp_path):
+    """``inventory:`` in a study: portfolio.csv, its figures and its report section, by the
+    workflow (a study of two R × two tan α beside the shared run's, on its motions); a
+    column at a grid node gets the study's own median and β; an edited inventory reruns
+    only the portfolio and the report, no search."""
+    import shutil
+
+    import pandas as pd
+
+    work = tmp_path / "run"
+    shutil.copytree(own_run, work, symlinks=True)
+    (work / "columns.csv").write_text(SITE_INVENTORY)
+    cfg = json.loads(json.dumps(OWN))
+    cfg["studies"]["site"] = {
+        "ensemble": "own", "R": [1.0, 3.0], "chunk_R": 1,
+        "hazard": {"file": str(REPO / "config/hazard/example_hazard_curve.csv"),
+                   "site": {"lon": 0.0, "lat": 0.0}, "component": "vector_peak"},
+        "inventory": {"file": "columns.csv", "export": "column", "resamples": 50},
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.15, 0.2],
+                  "limit_states": ["overturning", "tilt:1/3"]}]}
+    config = write(work / "site.yaml", cfg)
+    snakemake(work, config, "results/site/report.html", "results/site/exposure")
+    out = work / "results/site"
+    table = pd.read_csv(out / "portfolio.csv")
+    assert sorted(table["id"].unique()) == ["between", "far-node", "node"]
+    assert set(table["limit_state"]) == {"overturning", "tilt:1/3"}
+    assert (table["component"] == "vector_peak").all()
+    assert table["hazard_site"].nunique() == 1 and (table["hazard_lon"] == 0.0).all()
+    frag = pd.read_csv(out / "fragility.csv")
+    for ident, R, ta in (("node", 1.0, 0.15), ("far-node", 3.0, 0.2)):
+        for ls in ("overturning", "tilt:1/3"):
+            row = table[(table["id"] == ident) & (table["limit_state"] == ls)].iloc[0]
+            node = frag[(frag["mode"] == "3d") & (frag["limit_state"] == ls)
+                        & np.isclose(frag["tan_alpha [-]"], ta) & np.isclose(frag["R [m]"], R)]
+            # to the 6 digits portfolio.csv is written with (in-process to 1e-9:
+            # tests/test_surface.py)
+            assert row["median"] == pytest.approx(node["median_pga_g [g]"].iloc[0], rel=5e-6)
+            assert row["beta"] == pytest.approx(node["beta [-]"].iloc[0], rel=5e-6)
+    for stem in ("portfolio_map", "portfolio_ranked"):
+        assert (out / "figures" / f"{stem}.png").stat().st_size > 10_000
+    html = (out / "report.html").read_text()
+    assert "Every column of the site" in html and "<figure id='portfolio_map'>" in html
+    assert (out / "exposure" / "exposure.xml").is_file()
+    # a new column: the portfolio, its export and the report again, nothing else
+    (work / "columns.csv").write_text(SITE_INVENTORY + "extra,1.5,0.16,0.0,0.0\n")
+    dry = snakemake(work, config, "results/site/report.html", "results/site/exposure", "-n")
+    planned = set(re.findall(r"^(\w+)\s+\d+$", dry.stdout, re.MULTILINE)) - {"total"}
+    assert planned == {"portfolio", "exposure", "report"}, planned

@@ -23,13 +23,12 @@ import subprocess
 import sys
 from pathlib import Path
 
-import xarray as xr
 import yaml
 
 from rocking import __version__
 from rocking.plot.gallery_quotes import marked_documents, write_documents
 from rocking.plot.report import link_images, relink_docs
-from rocking.study.aggregate import critical_frame
+from rocking.study.aggregate import write_critical_table
 from rocking.study.ensemble_spec import EnsembleSpec
 from rocking.study.prepare import keyed
 from rocking.study.study_spec import StudySpec
@@ -48,8 +47,7 @@ against a slice of the study run again."""
 
 def write_critical(store: Path, csv: Path) -> None:
     """The spectra store of a study as one row per computed answer."""
-    with xr.open_zarr(store, consolidated=True) as ds:
-        critical_frame(ds).to_csv(csv, index=False, float_format="%.10g")
+    write_critical_table(store, csv)
 
 
 def _copy(src: Path, dst: Path) -> None:

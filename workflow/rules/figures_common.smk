@@ -231,6 +231,10 @@ def report_inputs(study):
                 "stripe_figures": [out_path(f"{study}/figures/stripe_fragility_{mode}.png")
                                    for mode in study_spec(study).stripes.modes]}
                if has_product("stripes", study) else {}),
+            **({"portfolio": rules.portfolio.output.table.format(study=study),
+                "portfolio_figures": [rules.portfolio.output.map.format(study=study),
+                                      rules.portfolio.output.ranked.format(study=study)]}
+               if study_spec(study).inventory is not None else {}),
             "records": out_path(f"{study}/records.csv"),
             # the samples of every study the report quotes (Fig 12's finding), its own first
             "refinement": [out_path(f"{s}/refinement_sample.csv") for s in

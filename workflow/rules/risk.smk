@@ -66,3 +66,63 @@ rule stripe_risk_exports:
         out_path("logs/{study}/stripe_risk_exports.log"),
     script:
         "../scripts/stripe_risk_exports.py"
+
+
+# Every column of a site: a study with `inventory:` (and `hazard:`) interpolates its own
+# fragility over its grid of R and tan α at each column of the inventory and integrates it
+# against the hazard curve of the column's site (rocking.risk.portfolio). The searches are
+# the study's: a changed inventory reruns only these rules. Helpers in risk_common.smk.
+
+
+rule critical_table:
+    conda:
+        "../envs/rocking.yaml"
+    input:
+        complete=rules.spectra.output.done,
+    output:
+        out_path("{study}/critical.csv"),
+    params:
+        store=lambda wildcards: product_store("spectra", wildcards.study),
+    log:
+        out_path("logs/{study}/critical_table.log"),
+    script:
+        "../scripts/critical_table.py"
+
+
+rule portfolio:
+    conda:
+        "../envs/rocking.yaml"
+    input:
+        fragility=rules.fragility.output.fragility_csv,
+        critical=rules.critical_table.output[0],  # the bootstrap refits, read beside it
+        records=rules.records_table.output[0],  # the study's component, read beside it
+        inventory=lambda wildcards: inventory_file(wildcards.study),
+        hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
+    output:
+        table=out_path("{study}/portfolio.csv"),
+        map=out_path("{study}/figures/portfolio_map.png"),
+        ranked=out_path("{study}/figures/portfolio_ranked.png"),
+    params:
+        hazard=lambda wildcards: hazard_param(wildcards.study),
+        hazard_file=lambda wildcards: hazard_file(wildcards.study) or "",
+        inventory=lambda wildcards: study_spec(wildcards.study).inventory,
+        study=lambda wildcards: wildcards.study,
+    log:
+        out_path("logs/{study}/portfolio.log"),
+    script:
+        "../scripts/portfolio.py"
+
+
+rule exposure:
+    conda:
+        "../envs/rocking.yaml"
+    input:
+        portfolio=rules.portfolio.output.table,
+    output:
+        folder=directory(out_path("{study}/exposure")),
+    params:
+        taxonomy_by=lambda wildcards: study_spec(wildcards.study).inventory["export"],
+    log:
+        out_path("logs/{study}/exposure.log"),
+    script:
+        "../scripts/exposure.py"

@@ -57,6 +57,33 @@ def risk_studies():
     return [s for s in config["studies"] if hazard_spec(s) is not None]
 
 
+def inventory_studies():
+    return [s for s in config["studies"] if study_spec(s).inventory is not None]
+
+
+def inventory_file(study):
+    """The inventory CSV of a study (relative to the working directory, else to the
+    repository); a missing file is refused at parse time, naming the key."""
+    name = study_spec(study).inventory["file"]
+    for base in (Path("."), Path(workflow.basedir)):
+        if (base / name).is_file():
+            return str(base / name)
+    raise ValueError(f"studies.{study}.inventory.file: no such file: {name!r}")
+
+
+def portfolio_targets():
+    """portfolio.csv and its two figures of every study with an inventory, and the
+    OpenQuake/pelicun export where it asks for one."""
+    out = []
+    for s in inventory_studies():
+        out += [rules.portfolio.output.table.format(study=s),
+                rules.portfolio.output.map.format(study=s),
+                rules.portfolio.output.ranked.format(study=s)]
+        if study_spec(s).inventory["export"] is not None:
+            out.append(rules.exposure.output.folder.format(study=s))
+    return out
+
+
 def stripe_fragility_csv(study):
     """The stripe fragility table the risk rule adds to risk.csv ([] without stripes)."""
     if not has_product("stripes", study):

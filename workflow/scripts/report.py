@@ -39,7 +39,7 @@ def main(snakemake):
               stripe_figures=list(inp.get("stripe_figures", [])),
               paper_record=bool(snakemake.params.paper_record),
               study=str(snakemake.params.study), refinement=list(inp.get("refinement", [])),
-              refinement_risk=inp.get("refinement_risk"))
+              refinement_risk=inp.get("refinement_risk"), portfolio=inp.get("portfolio"))
 
 
 if __name__ == "__main__":

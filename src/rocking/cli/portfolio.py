@@ -59,6 +59,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--kind", default=None,
                    help="the hazard curve's statistic when it is not the mean (quantile-<q>, "
                    "rlz-<n>)")
+    p.add_argument("--component", default=None,
+                   help="the hazard's horizontal component (rotd50, geometric_mean, ...; "
+                   "default: its file's component= comment, else the study's); it must be "
+                   "the study's")
     p.add_argument("--mode", default="3d", help="the study's analysis mode")
     p.add_argument("--limit-states", default=None,
                    help="only these, comma-separated (default: every one with a surface)")
@@ -99,10 +103,7 @@ def run(args) -> int:
     """Check everything, then compute, print or write portfolio.csv; returns 0."""
     import sys
 
-    from .._progress import Progress
-    from ..risk.inventory import read_hazard_sites, read_inventory
-    from ..risk.portfolio import portfolio_table, write_portfolio
-    from ..risk.surface import FragilitySurface
+    from ..risk.portfolio import site_portfolio, write_portfolio
 
     if args.max_distance_km <= 0:
         raise ValueError(f"--max-distance-km must be > 0, got {args.max_distance_km:g}")
@@ -116,37 +117,26 @@ def run(args) -> int:
         raise ValueError(f"--hazard: no such file: {args.hazard!r}")
     states = None if args.limit_states is None else \
         [s.strip() for s in args.limit_states.split(",") if s.strip()]
-    surface = FragilitySurface.from_study(args.surface, mode=args.mode, limit_states=states,
-                                          n_resamples=args.resamples)
-    hazard = read_hazard_sites(args.hazard, site=_forced_site(args), kind=args.kind)
-    inventory = read_inventory(args.inventory, surface=surface, hazard=hazard,
-                               extrapolate=args.extrapolate, skip_invalid=args.skip_invalid,
-                               max_distance_km=args.max_distance_km)
-    if inventory.skipped_note():
-        print(f"rocking portfolio: {inventory.skipped_note()}", file=sys.stderr)
-    n_states = len(states or surface.limit_states(args.mode))
-    total = len(inventory.columns) * n_states
-    bar = (Progress(total, "portfolio", unit="column")
-           if len(inventory.columns) >= PROGRESS_FROM else None)
-    table = portfolio_table(surface, inventory, hazard, mode=args.mode, limit_states=states,
-                            progress=bar)
-    if bar is not None:
-        bar.close()
+    result = site_portfolio(args.surface, args.inventory, args.hazard, site=_forced_site(args),
+                            kind=args.kind, component=args.component, mode=args.mode,
+                            limit_states=states, resamples=args.resamples,
+                            extrapolate=args.extrapolate, skip_invalid=args.skip_invalid,
+                            max_distance_km=args.max_distance_km,
+                            progress_from=PROGRESS_FROM)
+    table, inventory = result.table, result.inventory
+    for note in result.notes:
+        print(f"rocking portfolio: {note}", file=sys.stderr)
     if args.out is not None:
         path = write_portfolio(table, args.out, inventory.skipped)
         if args.figures:
-            from ..plot import portfolio as fig
+            from ..plot.portfolio import render_figures
 
-            for name, draw in (("portfolio_map.png", fig.plot_map),
-                               ("portfolio_ranked.png", fig.plot_ranked)):
-                from ..plot._style import save
-
-                save(draw(fig.data(table, hazard=str(args.hazard),
-                                   study=str(args.surface))), [args.out / name])
+            render_figures(table, args.out, hazard=str(args.hazard), study=str(args.surface))
         if args.export:
             from ..risk.exposure import write_exposure
 
-            export = write_exposure(table, args.out / "exposure", taxonomy_by=args.export)
+            export = write_exposure(table, args.out / "exposure", taxonomy_by=args.export,
+                                    component=str(table["component"].iloc[0]))
             print(f"OpenQuake exposure and fragility models, pelicun inputs "
                   f"({len(export.taxonomies)} taxonomies): {args.out / 'exposure'}",
                   file=sys.stderr)
@@ -154,11 +144,12 @@ def run(args) -> int:
         from .. import _json
 
         print(_json.dumps({"surface": str(args.surface), "hazard": str(args.hazard),
-                           "skipped": inventory.skipped_note(),
+                           "skipped": inventory.skipped_note(), "notes": result.notes,
                            "rows": table.to_dict(orient="records")}, indent=1))
         return 0
     print(human(table, inventory, args))
     if args.out is not None:
+        n_states = table["limit_state"].nunique()
         print(f"{len(table)} rows ({len(inventory.columns)} columns × {n_states} limit "
               f"states, every column) written: {path}")
     return 0
@@ -166,6 +157,8 @@ def run(args) -> int:
 
 def human(table, inventory, args) -> str:
     """The highest-λ columns of each limit state, for people."""
+    from ..risk.portfolio import error_words
+
     head = _human.block([("surface", str(args.surface)), ("inventory", str(args.inventory)),
                          ("hazard", str(args.hazard)),
                          ("columns", f"{len(inventory.columns)} valid, "
@@ -184,7 +177,7 @@ def human(table, inventory, args) -> str:
                  r["hazard_site"], _human.num(r["hazard_distance_km"], 3)]
                 for r in part.head(SHOWN).to_dict(orient="records")]
         more = f" (the {SHOWN} highest of {len(part)})" if len(part) > SHOWN else ""
-        lines += ["", f"{ls}{more}: interpolation error of the median ±"
-                  f"{100 * float(part['interp_error'].iloc[0]):.1f} % (leave-one-out)",
+        lines += ["", f"{ls}{more}: interpolation error of the median "
+                  + error_words(float(part["interp_error"].iloc[0])),
                   _human.table(HEADER, rows, left=(1, 4, 12))]
     return "\n".join(lines)

@@ -20,6 +20,7 @@ import pandas as pd
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 
+from ..risk.portfolio import error_words
 from ..risk.report import shown_limit_states
 from ..spectra.limit_states import limit_state_title, severity
 from ._style import footnote, new_figure, styled
@@ -159,12 +160,16 @@ def plot_ranked(d: dict) -> Figure:
         lam = cols[f"lambda|{ls}"].to_numpy(float)
         lo, hi = cols[f"lambda_p05|{ls}"].to_numpy(float), cols[f"lambda_p95|{ls}"].to_numpy(
             float)
-        err = np.vstack([np.where(np.isfinite(lo), lam - lo, 0.0),
-                         np.where(np.isfinite(hi), hi - lam, 0.0)])
-        ax.bar(x + (j - (len(states) - 1) / 2) * width, lam, width, color=colors[j % 2],
-               alpha=0.8, yerr=err, capsize=3, error_kw={"lw": 1.0},
-               label=f"{limit_state_title(ls)} (interpolation error ±"
-                     f"{100 * d['errors'][ls]:.0f} % on the median)")
+        xs = x + (j - (len(states) - 1) / 2) * width
+        ax.bar(xs, lam, width, color=colors[j % 2], alpha=0.8,
+               label=f"{limit_state_title(ls)} (interpolation error of the median "
+                     f"{error_words(d['errors'][ls])})")
+        # the interval as drawn from its ends, not as ± about λ: with few motions λ may lie
+        # outside its own bootstrap interval, and that is shown, not clipped
+        shown = np.isfinite(lo) & np.isfinite(hi)
+        ax.vlines(xs[shown], lo[shown], hi[shown], color="k", lw=1.0)
+        for end in (lo, hi):
+            ax.plot(xs[shown], end[shown], ls="none", marker="_", color="k", ms=6)
     ax.set_yscale("log")
     top = np.nanmax([cols[f"lambda_p95|{ls}"].max() for ls in states]
                     + [cols[f"lambda|{ls}"].max() for ls in states])
@@ -191,3 +196,73 @@ def _inverse(x):
 
 
 __all__ = ["CAPTION_MAP", "CAPTION_RANKED", "data", "plot_map", "plot_ranked"]
+
+
+FIGURES = {"portfolio_map": (plot_map, CAPTION_MAP),
+           "portfolio_ranked": (plot_ranked, CAPTION_RANKED)}
+"""The two figures of a portfolio: file stem → (drawing function, caption)."""
+
+
+def render_figures(portfolio: str | Path | pd.DataFrame, out: str | Path, *,
+                   hazard: str = "", study: str = "", formats: tuple[str, ...] = (".png",)
+                   ) -> list[Path]:
+    """Draw :data:`FIGURES` into ``out`` (``portfolio_map.png``, ``portfolio_ranked.png``),
+    each with its JSON sidecar (caption, what it measured, the columns left off the map);
+    returns the image paths."""
+    from ._style import save, write_notes
+
+    out = Path(out)
+    d = data(portfolio, hazard=hazard, study=study)
+    written = []
+    for stem, (draw, caption) in FIGURES.items():
+        written += save(draw(d), [out / f"{stem}{ext}" for ext in formats])
+        write_notes(out / f"{stem}.json", {"figure": stem, "caption": caption,
+                                           "measured": d["measured"],
+                                           "missing": d["missing"], "hazard": hazard,
+                                           "study": study})
+    return written
+
+
+SHOWN_IN_REPORT = 10
+"""Columns of the ranked table in the report (the highest λ of the most severe state)."""
+
+
+def section_html(portfolio: str | Path | pd.DataFrame) -> list[str]:
+    """The report's section on the inventory: what was computed, the ranked columns of the
+    most severe limit state with their intervals, and the two figures (captions from their
+    sidecars, beside ``figures/`` of the study)."""
+    import html
+
+    from .tables import table_html
+
+    frame = portfolio if isinstance(portfolio, pd.DataFrame) else pd.read_csv(portfolio)
+    states = sorted(frame["limit_state"].unique(), key=severity, reverse=True)
+    top = frame[frame["limit_state"] == states[0]].sort_values("rank", kind="stable")
+    error = float(top["interp_error"].iloc[0])
+    sites = sorted(set(frame["hazard_site"].astype(str)))
+    extrapolated = int(frame.drop_duplicates("id")["extrapolated"].astype(bool).sum())
+    text = (f"{frame['id'].nunique()} columns of the inventory, each with the study's "
+            f"fragility interpolated at its R and tan α (mode {frame['mode'].iloc[0]}, PGA "
+            f"in the {frame['component'].iloc[0]} component; interpolation error of the "
+            f"median for {limit_state_title(states[0])}: {error_words(error)}) and "
+            "integrated against the hazard curve of its "
+            f"site ({len(sites)} site(s) used: {', '.join(sites[:5])}"
+            f"{' …' if len(sites) > 5 else ''}). Intervals are 90 % over bootstrap "
+            "resamples of the motions. "
+            + (f"{extrapolated} column(s) lie beyond the study's grid (extrapolated, "
+               "marked in portfolio.csv). " if extrapolated else "")
+            + "Every column and limit state: portfolio.csv.")
+    shown = top.head(SHOWN_IN_REPORT)
+    table = pd.DataFrame({
+        "rank": shown["rank"], "id": shown["id"], "R [m]": shown["R"],
+        "tan α [-]": shown["tan_alpha"], "median [g]": shown["median"],
+        "β [-]": shown["beta"], "λ [1/yr]": shown["lambda"],
+        "λ 5 % [1/yr]": shown["lambda_p05"], "λ 95 % [1/yr]": shown["lambda_p95"],
+        "return period [yr]": shown["return_period"], "P(50 yr) [-]": shown["p_50yr"],
+        "hazard site": shown["hazard_site"], "distance [km]": shown["hazard_distance_km"]})
+    more = (f" (the {SHOWN_IN_REPORT} highest of {len(top)})"
+            if len(top) > SHOWN_IN_REPORT else "")
+    return ["<h2 id='portfolio'>Every column of the site (beyond the paper)</h2>",
+            f"<p>{html.escape(text)}</p>",
+            f"<p>{html.escape(limit_state_title(states[0]))}, ranked by λ{more}:</p>",
+            table_html(table)]

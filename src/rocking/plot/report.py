@@ -149,7 +149,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           records: str | Path | None = None, suite_fragility: str | Path | None = None,
           stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
           study: str = "", refinement: str | Path | Sequence[str | Path] | None = None,
-          refinement_risk: str | Path | None = None) -> Path:
+          refinement_risk: str | Path | None = None,
+          portfolio: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -199,6 +200,10 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         far refinement moves each headline number, measured on the sample. A sequence: the
         study's own first, then those of the other studies Fig 12's finding quotes (each
         named by its folder).
+    portfolio : path, optional
+        ``portfolio.csv`` (:mod:`rocking.risk.portfolio`): adds the section on every
+        column of the inventory, with ``figures/portfolio_map.png`` and
+        ``portfolio_ranked.png`` beside it.
     refinement_risk : path, optional
         ``refinement_risk.csv``: how far refinement moves λ (fragility refitted, integrated
         again with the study's hazard curve).
@@ -263,6 +268,13 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         parts.append(risk_section_html(risk, hazard=hazard))
         parts.append(_extra_figure_html(Path(risk).parent / "figures" / "risk.png",
                                         RISK_CAPTION))
+    if portfolio is not None:
+        from .portfolio import FIGURES as PORTFOLIO_FIGURES
+        from .portfolio import section_html as portfolio_section
+
+        parts += portfolio_section(portfolio)
+        parts += [_extra_figure_html(Path(portfolio).parent / "figures" / f"{stem}.png")
+                  for stem in PORTFOLIO_FIGURES]
     parts.append("</body></html>")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)

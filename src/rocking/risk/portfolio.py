@@ -24,7 +24,9 @@ mu                     –       the inventory's support friction (NaN: not give
 mode                   –       the surface's analysis mode (``3d``)
 limit_state            –       ``overturning``, ``tilt:1/3`` ... (the study's names)
 fragility              –       ``first_exceedance`` (the study's fragility.csv)
-measure                –       ``pga`` (vector peak PGA, as the study's)
+measure                –       ``pga`` (the study's PGA)
+component              –       its horizontal component (the study's and the hazard's,
+                               e.g. ``vector_peak``; :func:`hazard_component_check`)
 median                 g       median PGA capacity θ of the interpolated lognormal
 median_p05, median_p95 g       its 90 % interval over the bootstrap resamples of the motions
 beta                   –       dispersion β (std of ln capacity)
@@ -69,7 +71,8 @@ from .surface import interval
 from .table import YEARS
 
 COLUMNS = ("id", "lon", "lat", "site", "height", "diameter", "R", "tan_alpha", "mu", "mode",
-           "limit_state", "fragility", "measure", "median", "median_p05", "median_p95", "beta",
+           "limit_state", "fragility", "measure", "component",
+           "median", "median_p05", "median_p95", "beta",
            "beta_p05", "beta_p95", "interp_error", "extrapolated", "lambda", "lambda_p05",
            "lambda_p95", "return_period", "p_50yr", "hazard_site", "hazard_lon", "hazard_lat",
            "hazard_distance_km", "rank")
@@ -123,7 +126,8 @@ class RateTable:
 
 
 def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode: str = "3d",
-                    limit_states=None, progress=None) -> pd.DataFrame:
+                    limit_states=None, progress=None,
+                    component: str | None = None) -> pd.DataFrame:
     """Per column and limit state: fragility, λ with its interval, rank (module docstring).
 
     Parameters
@@ -139,6 +143,9 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
         Default: every limit state of the surface in ``mode``.
     progress : rocking._progress.Progress, optional
         Advanced by one per column and limit state.
+    component : str, optional
+        The horizontal component of the PGA (default: the surface's, else ``vector_peak``,
+        the spectra's own), written in the ``component`` column.
 
     Returns
     -------
@@ -189,7 +196,9 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
             "id": cols["id"], "lon": cols["lon"], "lat": cols["lat"], "site": cols["site"],
             "height": cols["height"], "diameter": cols["diameter"], "R": R, "tan_alpha": ta,
             "mu": cols["mu"], "mode": mode, "limit_state": ls, "fragility": "first_exceedance",
-            "measure": "pga", **{k: res[k] for k in ("median", "median_p05", "median_p95",
+            "measure": "pga",
+            "component": component or getattr(surface, "component", None) or "vector_peak",
+            **{k: res[k] for k in ("median", "median_p05", "median_p95",
                                                    "beta", "beta_p05", "beta_p95")},
             "interp_error": errors.get((mode, ls), math.nan),
             "extrapolated": cols["extrapolated"].astype(bool),
@@ -215,6 +224,117 @@ def _site_label(hazard: HazardSites, k: int) -> str:
     return hazard.curves[k].site or hazard.curves[k].source
 
 
+def error_words(interp_error: float) -> str:
+    """How the interpolation error of a median is quoted: ``"±5.1 % (leave-one-out)"``, or
+    why there is none (a grid of two values per direction has no node to leave out)."""
+    if not math.isfinite(interp_error):
+        return "not measured (no interior grid node to leave out)"
+    return f"±{100 * interp_error:.1f} % (leave-one-out)"
+
+
+def hazard_component_check(study: str | None, hazard: str | None) -> tuple[str, str]:
+    """The component a portfolio is in, and what to tell the user about it.
+
+    The study's fragility (``study``: its ``records.csv``) and the hazard (``hazard``: its
+    entry's or file's ``component``) must state PGA in the same horizontal component: a
+    vector-peak fragility under a RotD50 hazard overstates the capacity by about 1/0.8
+    (docs/risk.md) and so understates λ.
+
+    Raises
+    ------
+    ValueError
+        One line naming both components, when both are known and differ.
+    """
+    if study is not None and hazard is not None and study != hazard:
+        raise ValueError(f"the hazard is in component {hazard!r}, the study's fragility in "
+                         f"{study!r}: a portfolio needs both in one (run the study with "
+                         f"component: {hazard}, or give a hazard in {study})")
+    if hazard is None:
+        used = study or "vector_peak"
+        return used, (f"the hazard does not say its horizontal component: taken as the "
+                      f"study's ({used})")
+    if study is None:
+        return hazard, (f"the study's folder does not say its component (no records.csv): "
+                        f"taken as the hazard's ({hazard})")
+    return hazard, ""
+
+
+@dataclass
+class SitePortfolio:
+    """What :func:`site_portfolio` computed: the table and what it rests on."""
+
+    table: pd.DataFrame
+    inventory: Inventory
+    surface: object
+    hazard: HazardSites
+    notes: list[str]
+
+
+def site_portfolio(study: str | Path, inventory: str | Path, hazard, *, site=None,
+                   kind: str | None = None, unit: str | None = None,
+                   component: str | None = None, mode: str = "3d", limit_states=None,
+                   resamples: int | None = None, extrapolate: bool = False,
+                   skip_invalid: bool = False, max_distance_km: float | None = None,
+                   progress_from: int = 2000) -> SitePortfolio:
+    """Every column of ``inventory`` under ``hazard``, from the surface of a study's folder:
+    the one composition behind ``rocking portfolio`` and the workflow's ``portfolio`` rule.
+
+    Everything is checked before any λ is computed: the surface (grid), the hazard (file,
+    sites, kind, component against the study's) and every row of the inventory.
+
+    Parameters
+    ----------
+    study : path
+        The study's results folder (``fragility.csv``, ``critical.csv``, ``records.csv``).
+    inventory : path
+        The inventory CSV (:func:`rocking.risk.inventory.read_inventory`).
+    hazard : str, path or dict
+        A hazard file (one or many sites) or power law; a mapping as a study's ``hazard:``
+        (its ``file``, ``kind``, ``unit``, ``component``; its ``site`` is the study's, not
+        the columns': each column takes its own, by its lon/lat or site id).
+    site : int or dict, optional
+        One site for every column (``{"id"}`` or ``{"lon", "lat"[, "max_distance_km"]}``).
+    kind, unit, component : str, optional
+        As the hazard entry's keys (given here, they win over the entry's).
+    mode, limit_states, resamples, extrapolate, skip_invalid, max_distance_km
+        As :meth:`FragilitySurface.from_study` and :func:`read_inventory` take them.
+    progress_from : int
+        Inventories of this many columns or more show a progress bar on the terminal.
+    """
+    from .._progress import Progress
+    from ..spectra.fragility import BOOTSTRAP_RESAMPLES
+    from .hazard import MAX_DISTANCE_KM, hazard_component
+    from .inventory import read_hazard_sites, read_inventory
+    from .surface import FragilitySurface
+
+    entry = dict(hazard) if isinstance(hazard, dict) else {"file": str(hazard)}
+    kind = kind if kind is not None else entry.get("kind")
+    unit = unit if unit is not None else entry.get("unit")
+    declared = component if component is not None else hazard_component(entry)
+    n = BOOTSTRAP_RESAMPLES if resamples is None else int(resamples)
+    if n < 0:
+        raise ValueError(f"resamples must be >= 0, got {n}")
+    surface = FragilitySurface.from_study(study, mode=mode, limit_states=limit_states,
+                                          n_resamples=n)
+    used, note = hazard_component_check(surface.component, declared)
+    sites = read_hazard_sites(entry.get("file", hazard), site=site, kind=kind, unit=unit)
+    columns = read_inventory(inventory, surface=surface, hazard=sites,
+                             extrapolate=extrapolate, skip_invalid=skip_invalid,
+                             max_distance_km=(MAX_DISTANCE_KM if max_distance_km is None
+                                              else max_distance_km))
+    notes = [x for x in (note, columns.skipped_note()) if x]
+    n_states = len(limit_states or surface.limit_states(mode))
+    bar = (Progress(len(columns.columns) * n_states, "portfolio", unit="column")
+           if len(columns.columns) >= progress_from else None)
+    try:
+        table = portfolio_table(surface, columns, sites, mode=mode, limit_states=limit_states,
+                                progress=bar, component=used)
+    finally:
+        if bar is not None:
+            bar.close()
+    return SitePortfolio(table, columns, surface, sites, notes)
+
+
 def write_portfolio(table: pd.DataFrame, out_dir: str | Path,
                     skipped: pd.DataFrame | None = None) -> Path:
     """``<out_dir>/portfolio.csv`` (and ``portfolio_skipped.csv`` listing the rows left out,
@@ -231,4 +351,6 @@ def write_portfolio(table: pd.DataFrame, out_dir: str | Path,
     return path
 
 
-__all__ = ["COLUMNS", "RateTable", "portfolio_table", "write_portfolio"]
+__all__ = ["COLUMNS", "RateTable", "SitePortfolio", "hazard_component_check",
+           "error_words", "portfolio_table", "site_portfolio",
+           "write_portfolio"]

@@ -143,6 +143,9 @@ class FragilitySurface:
     source: str = ""
     n_resamples: int = 0
     skipped: list[str] = field(default_factory=list)
+    component: str | None = None
+    """Horizontal component of the study's PGA (``records.csv`` beside ``fragility.csv``;
+    None where the folder does not say): the hazard must be in the same."""
 
     # ----------------------------------------------------------------------------- building
     @classmethod
@@ -212,7 +215,7 @@ class FragilitySurface:
             raise ValueError(f"{table}: no grid in R and tan α in mode {mode} (a surface "
                              f"needs ≥ 2 R and ≥ 2 tan α, fitted at every node): "
                              + "; ".join(why))
-        surface = cls(grids, str(study), 0, why)
+        surface = cls(grids, str(study), 0, why, study_component(table))
         critical = table.with_name("critical.csv")
         if n_resamples > 0:
             if not critical.is_file():
@@ -246,7 +249,8 @@ class FragilitySurface:
                 m, b = bootstrap_lognormal(x, c, n_resamples=n_resamples, seed=seed)
                 med[i, k], beta[i, k] = m * ta, b
             grids[(mode, ls)] = LimitStateGrid(g.tan_alpha, g.R, g.median, g.beta, med, beta)
-        return FragilitySurface(grids, self.source, n_resamples, list(self.skipped))
+        return FragilitySurface(grids, self.source, n_resamples, list(self.skipped),
+                                self.component)
 
     # ---------------------------------------------------------------------------- queries
     def limit_states(self, mode: str = "3d") -> list[str]:
@@ -378,7 +382,7 @@ class FragilitySurface:
                     b = float(g.beta[i - 1, k] + w * (g.beta[i + 1, k] - g.beta[i - 1, k]))
                     rows.append(_loo_row(mode, ls, "tan_alpha", g.tan_alpha[i], R,
                                          g.median[i, k], m, g.beta[i, k], b))
-        return pd.DataFrame(rows)
+        return pd.DataFrame(rows, columns=LOO_COLUMNS)
 
     def loo_summary(self) -> pd.DataFrame:
         """Per (mode, limit state) and direction left out: the nodes, the RMS and the
@@ -395,10 +399,38 @@ class FragilitySurface:
 
     def interpolation_error(self) -> dict[tuple[str, str], float]:
         """Per (mode, limit state): the largest leave-one-out |error| of ln θ [-] (either
-        direction), the error quoted with every interpolated median."""
+        direction), the error quoted with every interpolated median; NaN for a grid without
+        an interior node (2 R × 2 tan α: nothing to leave out, the error is not measured)."""
         s = self.loo_summary()
-        return {(m, ls): float(part["max_ln_median"].max())
-                for (m, ls), part in s.groupby(["mode", "limit_state"], sort=False)}
+        found = {(m, ls): float(part["max_ln_median"].max())
+                 for (m, ls), part in s.groupby(["mode", "limit_state"], sort=False)}
+        return {key: found.get(key, float("nan")) for key in self.grids}
+
+
+LOO_COLUMNS = ("mode", "limit_state", "left_out", "tan_alpha", "R", "median", "median_loo",
+               "beta", "beta_loo", "err_ln_median", "err_beta")
+"""Columns of :meth:`FragilitySurface.leave_one_out`."""
+
+
+def study_component(fragility_csv: str | Path) -> str | None:
+    """The horizontal component of a study's intensities, from the ``component`` column of
+    ``records.csv`` beside its ``fragility.csv`` (None without that table).
+
+    Raises
+    ------
+    ValueError
+        If the table names more than one component.
+    """
+    records = Path(fragility_csv).with_name("records.csv")
+    if not records.is_file():
+        return None
+    names = pd.read_csv(records, usecols=lambda c: c == "component")
+    found = sorted(set(names["component"].dropna().astype(str))) if "component" in names \
+        else []
+    if len(found) > 1:
+        raise ValueError(f"{records}: the component column names {found}; a study's "
+                         "intensities are in one")
+    return found[0] if found else None
 
 
 def _normalized(g: LimitStateGrid, median: np.ndarray) -> np.ndarray:
@@ -422,4 +454,5 @@ def _list(values) -> str:
     return "[" + ", ".join(values[:4]) + (", ..." if len(values) > 4 else "") + "]"
 
 
-__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval"]
+__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval",
+           "study_component"]

@@ -268,6 +268,23 @@ def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
     return frame.sort_values(dims, kind="stable").reset_index(drop=True).rename(columns=header)
 
 
+CRITICAL_FLOAT_FORMAT = "%.10g"
+"""Digits of ``critical.csv`` (10 significant: below any answer's resolution)."""
+
+
+def write_critical_table(store: str | Path, csv: str | Path) -> Path:
+    """``critical.csv``: the spectra store of a study as one row per computed answer
+    (:func:`critical_frame`), written under a temporary name and renamed; returns ``csv``."""
+    from .._provenance import write_atomic
+
+    with xr.open_zarr(store, consolidated=True) as ds:
+        frame = critical_frame(ds)
+    csv = Path(csv)
+    write_atomic(csv, lambda tmp: frame.to_csv(tmp, index=False,
+                                               float_format=CRITICAL_FLOAT_FORMAT))
+    return csv
+
+
 def write_statistics(stats: xr.Dataset, nc_path: str | Path, csv_path: str | Path) -> None:
     """Write ``mean_spectra.nc`` (netCDF) and its CSV twin."""
     nc = stats.copy()

@@ -75,6 +75,7 @@ class StudySpec(Hashed):
     intensity_measures: tuple[str, ...] = ("pga", "pgv")
     reproduces: str | None = None
     component: str = "vector_peak"
+    inventory: dict[str, Any] | None = None
 
     @property
     def name(self) -> str:
@@ -109,7 +110,7 @@ class StudySpec(Hashed):
         field = f"studies.{name}"
         s = checked_mapping(studies[name], field, {**DEFAULTS["study"], "tilt_map": None,
                                             "stripes": None, "hazard": None,
-                                            "reproduces": None},
+                                            "reproduces": None, "inventory": None},
                      ["ensemble", "R", "runs"])
         ensemble = EnsembleSpec.from_config(config, s["ensemble"])
         accuracy = accuracy_field(config.get("accuracy", DEFAULTS["accuracy"]))
@@ -148,9 +149,10 @@ class StudySpec(Hashed):
         if s["reproduces"] is not None and s["reproduces"] not in PAPERS:
             raise ValueError(f"{field}.reproduces must be one of {list(PAPERS)} or null, got "
                              f"{s['reproduces']!r}")
+        inventory = _inventory(s["inventory"], f"{field}.inventory", hazard)
         return cls(spectra, tilt_map, stripes,
                    dict(hazard) if isinstance(hazard, Mapping) else hazard,
-                   measures, s["reproduces"], component)
+                   measures, s["reproduces"], component, inventory)
 
     def to_attrs(self) -> dict[str, Any]:
         """``{"spectra", "tilt_map", "stripes", "hazard", "intensity_measures",
@@ -172,6 +174,46 @@ class StudySpec(Hashed):
                                    ["intensity_measures"])),
                    attrs.get("reproduces"),
                    attrs.get("component", DEFAULTS["study"]["component"]))
+
+
+INVENTORY_DEFAULTS: dict[str, Any] = {"export": None, "extrapolate": False,
+                                      "resamples": 1000}
+"""Defaults of a study's ``inventory:`` mapping (the schema's)."""
+
+INVENTORY_EXPORTS = ("column", "size_class")
+"""``inventory.export``: one OpenQuake taxonomy per column or per size class of (R, tan α)."""
+
+
+def _inventory(value: Any, field: str, hazard: Any) -> dict[str, Any] | None:
+    """A study's ``inventory:`` as ``{file, export, extrapolate, resamples}`` (None when
+    absent); it needs the study's ``hazard:`` (λ is per the hazard's sites). It decides no
+    store: only the portfolio rule reads it."""
+    if value is None:
+        return None
+    entry = {"file": value} if isinstance(value, str) else value
+    if not isinstance(entry, Mapping) or not isinstance(entry.get("file"), str) \
+            or not entry["file"]:
+        raise ValueError(f"{field} must be a file name or a mapping with file, got {value!r}")
+    unknown = sorted(set(entry) - {"file", *INVENTORY_DEFAULTS})
+    if unknown:
+        raise ValueError(f"{field}: unknown key(s) {unknown} (known: file, "
+                         f"{', '.join(INVENTORY_DEFAULTS)})")
+    out = {"file": entry["file"], **INVENTORY_DEFAULTS,
+           **{k: v for k, v in entry.items() if k != "file"}}
+    if out["export"] is not None and out["export"] not in INVENTORY_EXPORTS:
+        raise ValueError(f"{field}.export must be one of {list(INVENTORY_EXPORTS)} or null, "
+                         f"got {out['export']!r}")
+    if not isinstance(out["extrapolate"], bool):
+        raise ValueError(f"{field}.extrapolate must be true or false, got "
+                         f"{out['extrapolate']!r}")
+    if isinstance(out["resamples"], bool) or not isinstance(out["resamples"], int) \
+            or out["resamples"] < 0:
+        raise ValueError(f"{field}.resamples must be an integer >= 0, got "
+                         f"{out['resamples']!r}")
+    if hazard is None:
+        raise ValueError(f"{field} needs the study's hazard: (each column's λ integrates "
+                         "its fragility against its site's hazard curve)")
+    return out
 
 
 def _component(value: Any, field: str) -> str:

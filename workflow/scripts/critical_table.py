@@ -1,0 +1,13 @@
+"""Every answer of a study's spectra store as one table (Snakemake script): critical.csv."""
+
+from rocking.study.aggregate import write_critical_table
+from rocking.study.logs import log_to
+
+
+def main(snakemake):
+    with log_to(snakemake.log[0], outputs=snakemake.output):
+        write_critical_table(snakemake.params.store, snakemake.output[0])
+
+
+if __name__ == "__main__":
+    main(snakemake)
