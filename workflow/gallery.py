@@ -37,7 +37,7 @@ TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",
                   "fragility.nrml.xml", "fragility.pelicun.csv", "stripe_fragility.nrml.xml",
                   "stripe_fragility.pelicun.csv", "refinement_sample.csv",
-                  "refinement_risk.csv")
+                  "refinement_risk.csv", "portfolio.csv")
 """Outputs of the per-record table (docs/records.md), the stripes and the risk rules, copied
 where the study has them (docs/performance.md, docs/risk.md)."""
 CRITICAL = "critical.csv"
@@ -139,17 +139,20 @@ def package_versions() -> dict[str, str]:
 
 def figure_caption(stem: str) -> str:
     """A gallery figure's caption: a registered figure's (its entry, as for a reproduction
-    of the paper), else the caption the report gives the stripe and the risk figures."""
+    of the paper), else the caption the report gives the stripe, the risk and the portfolio figures."""
     from rocking.plot import figure_name
     from rocking.plot.registry import caption
     from rocking.plot.risk import CAPTION as RISK_CAPTION
+    from rocking.plot.portfolio import FIGURES as PORTFOLIO_FIGURES
     from rocking.plot.stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
 
     try:
         return caption(figure_name(stem))
     except ValueError:
         pass
-    for start, text in (("stripe_fragility", STRIPE_CAPTION), ("risk", RISK_CAPTION)):
+    sections = [("stripe_fragility", STRIPE_CAPTION), ("risk", RISK_CAPTION),
+                *((stem, text) for stem, (_, text) in PORTFOLIO_FIGURES.items())]
+    for start, text in sections:
         if stem.startswith(start):
             return text
     raise ValueError(f"gallery figure {stem!r} has no caption (no figure entry)")
