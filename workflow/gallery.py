@@ -139,11 +139,12 @@ def package_versions() -> dict[str, str]:
 
 def figure_caption(stem: str) -> str:
     """A gallery figure's caption: a registered figure's (its entry, as for a reproduction
-    of the paper), else the caption the report gives the stripe, the risk and the portfolio figures."""
+    of the paper), else the caption the report gives the stripe, the risk and the portfolio
+    figures."""
     from rocking.plot import figure_name
+    from rocking.plot.portfolio import FIGURES as PORTFOLIO_FIGURES
     from rocking.plot.registry import caption
     from rocking.plot.risk import CAPTION as RISK_CAPTION
-    from rocking.plot.portfolio import FIGURES as PORTFOLIO_FIGURES
     from rocking.plot.stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
 
     try:
