@@ -41,8 +41,8 @@ def test_shipped_configurations_pass():
          "config key studies.elcentro.runs[0].modes[1]='4d': must be one of"),
         (lambda c: c["studies"]["elcentro"].update(modes=["3d"]),
          "unknown config key 'modes' in studies.elcentro; allowed: R, chunk_R, component, "
-         "diameter, ensemble, hazard, height, intensity_measures, inventory, mu, reproduces, runs, stripes, "
-         "tilt_map, upper"),
+         "diameter, ensemble, hazard, height, intensity_measures, inventory, mu, reproduces, "
+         "runs, stripes, tilt_map, upper"),
         (lambda c: c.update(accuracy="fastest"), "config key accuracy='fastest'"),
     ],
 )

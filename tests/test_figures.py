@@ -1109,3 +1109,25 @@ def test_a_bad_figure_entry_is_refused_naming_the_field():
     # a figure of a reproduction only has no caption of a study of one's own
     with pytest.raises(ValueError, match="drawn only for a reproduction"):
         registry.caption("fig03_wobbling_period", paper=False)
+
+
+def test_fig12_unresolved_note_names_each_record_once_and_footnotes_fit_the_figure():
+    from matplotlib.text import Text
+
+    from rocking.plot._style import footnote, new_figure
+    from rocking.plot.fig12_2d_vs_3d import _unresolved_note
+
+    counts = [("El Centro", "3D overturning", 17, 20), ("El Centro", "2D, x overturning", 20, 20),
+              ("Loma Prieta", "3D overturning", 20, 20)]
+    note = _unresolved_note(counts)
+    assert note.count("El Centro") == 1 and note.count("Loma Prieta") == 1
+    assert "3D overturning 17/20" in note and "2D, x overturning 20/20" in note
+    assert _unresolved_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
+    # a long footnote is wrapped inside the figure's width
+    fig, _ = new_figure(8.0, 4.0)
+    footnote(fig, [note * 4])
+    fig.canvas.draw()
+    width = fig.bbox.width
+    for t in fig.findobj(Text):
+        if t.get_text() and t.get_window_extent().x1 > 0:
+            assert t.get_window_extent().x1 <= width + 1, t.get_text()[:60]

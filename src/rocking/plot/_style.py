@@ -169,8 +169,8 @@ def footnote(fig: Figure, lines: Sequence[str], size: float = 7.0) -> None:
     For what every figure must say but no axis label holds: which physical direction x and
     y are, and what a reduced run left out.
     """
-    # ~0.55 font sizes per character: wrap to the figure's width
-    width = int(fig.get_figwidth() * 72.0 / (0.55 * size))
+    # ~0.6 font sizes per character (DejaVu Sans, with margins): wrap to the figure's width
+    width = int(fig.get_figwidth() * 72.0 / (0.6 * size))
     lines = [w for line in lines if line for w in textwrap.wrap(str(line), width)]
     if not lines:
         return

@@ -248,17 +248,18 @@ MODE_MARKERS = {MODE_3D: "o", MODE_2D_X: "s", MODE_2D_Y: "^"}
 """Small markers per mode, so that line styles stay readable where curves cross."""
 
 
-def _unresolved_note(counts: list[tuple[str, int, int]]) -> str:
+def _unresolved_note(counts: list[tuple[str, str, int, int]]) -> str:
     """One line on the means that include answers flagged unresolved (they may lie lower):
-    the exceptions only, when most curves have them at every size."""
-    short = [(label, k, n) for label, k, n in counts if k < n]
-    head = "Means that include answers flagged unresolved (they may lie lower): "
-    if not short:
-        return head + f"every size of all {len(counts)} curves."
-    if len(short) * 2 < len(counts):
-        return head + f"every size of {len(counts) - len(short)} of {len(counts)} curves; " \
-            + "; ".join(f"{label}: {k} of {n} sizes" for label, k, n in short) + "."
-    return head + "; ".join(f"{label}: {k} of {n} sizes" for label, k, n in counts) + "."
+    per record, each curve's count of such sizes out of its sizes, said once per record."""
+    if all(k == n for _, _, k, n in counts):
+        return ("Means that include answers flagged unresolved (they may lie lower): every "
+                f"size of all {len(counts)} curves.")
+    per: dict[str, list[str]] = {}
+    for record, curve, k, n in counts:
+        per.setdefault(record, []).append(f"{curve} {k}/{n}")
+    return ("Sizes whose mean includes answers flagged unresolved (they may lie lower), per "
+            "curve: " + "; ".join(f"{record}: {', '.join(items)}"
+                                  for record, items in per.items()) + ".")
 
 
 def _write_ratios(ax, R: np.ndarray, curves: dict, color, censored: dict | None = None) -> None:
@@ -296,7 +297,7 @@ def plot(d: dict) -> Figure:
                                             ncols=len(titles), legend_share=0.22)
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
-    unresolved: list[str] = []  # curves with means over answers flagged unresolved
+    unresolved: list[tuple] = []  # curves with means over answers flagged unresolved
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
@@ -320,8 +321,8 @@ def plot(d: dict) -> Figure:
                 flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_unresolved")
                 if flagged is not None and (np.nan_to_num(flagged) > 0).any():
                     k = int((np.nan_to_num(flagged) > 0).sum())  # counted, not ringed
-                    unresolved.append((f"{ens['record']} {MODE_STYLE[mode]['label']} "
-                                       f"{title}", k, int(np.isfinite(y).sum())))
+                    unresolved.append((ens["record"], f"{MODE_STYLE[mode]['label']} {title}",
+                                       k, int(np.isfinite(y).sum())))
                 if mode not in modes_seen:
                     modes_seen.append(mode)
             _write_ratios(ax, ens["R"], curves, color, censored)
