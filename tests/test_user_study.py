@@ -384,7 +384,7 @@ def test_figs_10_and_12_count_means_over_unresolved_answers(tmp_path):
     assert not [ln for ax in fig.axes[:2] for ln in ax.get_lines()
                 if ln.get_marker() == "D" and len(ln.get_xdata())]
     note = "".join(t.get_text() for t in fig.texts)
-    assert "flagged unresolved" in note and f"overturning: 2 of {len(fs.R)}" in note
+    assert "flagged unresolved" in note and f"overturning 2/{len(fs.R)}" in note
     # a study of one's own: no paper ensembles asked for, no paper axes note, no Fig number
     assert d12["missing"] == [] and "22.33" not in note and "Fig 12" not in note
     assert "(Fig 12)" not in fig._suptitle.get_text()
