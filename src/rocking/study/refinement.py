@@ -91,21 +91,29 @@ class SampleSpec:
 def answered_cells(store) -> pd.DataFrame:
     """Cells of a spectra store with an answer (reached, finite): mode, limit_state, motion,
     tan_alpha, R, answer [PGA/(g tan α)]."""
-    from ..spectra.limit_states import parse_limit_state
 
     ds = store
     crit = ds["pga_crit"].transpose("mode", "limit_state", "motion", "tan_alpha", "R")
     reached = ~ds["not_reached"].transpose(*crit.dims).values.astype(bool)
     values = crit.values.astype(float)
-    idx = np.argwhere(np.isfinite(values) & reached)
-    coords = [np.asarray(ds[d].values) for d in crit.dims]
+    return _cell_frame(ds, crit.dims, values, np.isfinite(values) & reached)
+
+
+def _cell_frame(ds, dims, values: np.ndarray, keep: np.ndarray, **extra) -> pd.DataFrame:
+    """One row per kept cell of a (mode, limit_state, motion, tan_alpha, R) array: its
+    labels, ``answer`` and each of ``extra`` (arrays of the same shape)."""
+    from ..spectra.limit_states import parse_limit_state
+
+    idx = np.argwhere(keep)
+    coords = [np.asarray(ds[d].values) for d in dims]
+    at = tuple(idx.T)
     return pd.DataFrame({
         "mode": [_text(coords[0][i]) for i in idx[:, 0]],
         "limit_state": [parse_limit_state(_text(coords[1][i])).name for i in idx[:, 1]],
         "motion": [_text(coords[2][i]) for i in idx[:, 2]],
         "tan_alpha": coords[3][idx[:, 3]].astype(float),
         "R": coords[4][idx[:, 4]].astype(float),
-        "answer": values[tuple(idx.T)],
+        "answer": values[at], **{k: v[at] for k, v in extra.items()},
     })
 
 
@@ -436,7 +444,6 @@ def lambda_shifts(points: pd.DataFrame, hazard) -> pd.DataFrame:
 def store_cells(store, bound: float | None = None) -> pd.DataFrame:
     """:func:`critical_cells` of a spectra store (an xarray Dataset): what
     :func:`rocking.spectra.fragility.fragility_table` fits, cell by cell."""
-    from ..spectra.limit_states import parse_limit_state
 
     crit = store["pga_crit"].transpose("mode", "limit_state", "motion", "tan_alpha", "R")
     values = crit.values.astype(float).copy()
@@ -447,17 +454,7 @@ def store_cells(store, bound: float | None = None) -> pd.DataFrame:
             raise ValueError("not-reached cells without a value and no censoring bound: "
                              "pass bound=<search bound>")
         values[unbounded] = bound
-    idx = np.argwhere(np.isfinite(values))
-    coords = [np.asarray(store[d].values) for d in crit.dims]
-    return pd.DataFrame({
-        "mode": [_text(coords[0][i]) for i in idx[:, 0]],
-        "limit_state": [parse_limit_state(_text(coords[1][i])).name for i in idx[:, 1]],
-        "motion": [_text(coords[2][i]) for i in idx[:, 2]],
-        "tan_alpha": coords[3][idx[:, 3]].astype(float),
-        "R": coords[4][idx[:, 4]].astype(float),
-        "answer": values[tuple(idx.T)],
-        "censored": censored[tuple(idx.T)],
-    })
+    return _cell_frame(store, crit.dims, values, np.isfinite(values), censored=censored)
 
 
 def write_refinement_risk(cells: pd.DataFrame, sample_csv: str | Path, hazard,
