@@ -37,7 +37,7 @@ for _ensemble in config.get("ensembles", {}).values():
 
 # Schema errors in one line naming the key, then cross-field checks (records and their
 # files, tilt goals against every tan_alpha), all before any job is planned.
-from rocking.study.config_checks import validate_config
+from rocking.config.checks import validate_config
 
 validate_config(config, Path(workflow.basedir, "workflow/schemas/config.schema.yaml"), validate)
 

@@ -16,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from rocking.study.damping import Damping
-from rocking.study.ensemble_spec import EnsembleSpec
-from rocking.study.plan import plan_study
-from rocking.study.product_specs import SpectraSpec, TiltMapSpec
+from rocking.config.damping import Damping
+from rocking.config.ensemble import EnsembleSpec
+from rocking.config.plan import plan_study
+from rocking.config.products import SpectraSpec, TiltMapSpec
 
 MODES = ["3d", "3d-damped", "2d-x", "2d-y"]
 LIMIT_STATES = ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]

@@ -1,9 +1,9 @@
-"""The monitors benchmark (:mod:`rocking.benchmarks.monitors`): interleaved trees, answers
+"""The monitors benchmark (:mod:`benchmarks.monitors`): interleaved trees, answers
 compared to the bit."""
 
 import pytest
 
-from rocking.benchmarks import monitors
+from benchmarks import monitors
 
 
 def test_two_copies_of_one_tree_give_the_same_answers():

@@ -18,8 +18,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rocking import store
+from rocking.execution import cluster, logs, tasks
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study import cluster, logs, store, tasks
 
 # the workers cannot import the tests folder: send the stand-ins' code along
 cloudpickle.register_pickle_by_value(standin)
@@ -67,7 +68,7 @@ def test_store_filled_by_worker_processes_equals_serial_fill(tmp_path, caplog):
     for i in range(layout.n_regions):
         tasks.fill_spectra_region(serial, i, ensemble, batch=standin.batch)
     fn = partial(tasks.fill_spectra_region, batch=standin.batch)
-    with caplog.at_level(logging.INFO, logger="rocking.study.cluster"):
+    with caplog.at_level(logging.INFO, logger="rocking.execution.cluster"):
         summary = cluster.fill_store(store.StoreHandle.open(path, "r+"), fn, ensemble,
                                      config_digest="d1", n_workers=2,
                                      progress_interval=0.0, scheduler_address=None)
@@ -105,7 +106,7 @@ def test_log_to_captures_this_and_child_processes(tmp_path):
     log = tmp_path / "logs" / "rule.log"
     with logs.log_to(log):
         print("from the parent", flush=True)
-        logging.getLogger("rocking.study.cluster").info("a log record")
+        logging.getLogger("rocking.execution.cluster").info("a log record")
         subprocess.run([sys.executable, "-c", "import sys; sys.stderr.write('from a child\\n')"],
                        check=True)
     text = log.read_text()
@@ -143,7 +144,7 @@ def test_cluster_without_workers_mid_run_fails_within_the_timeout_with_heartbeat
 
     from rocking._progress import Progress
 
-    caplog.set_level(logging.INFO, logger="rocking.study.cluster")
+    caplog.set_level(logging.INFO, logger="rocking.execution.cluster")
     with LocalCluster(n_workers=0, scheduler_port=0, dashboard_address=":0",
                       processes=False) as empty, Client(empty.scheduler_address) as client:
         lines = []

@@ -231,7 +231,7 @@ def rotd50_suite():
 
 
 def test_rotd50_study_under_a_rotd50_hazard_gives_the_independent_quadrature(rotd50_suite):
-    from rocking.risk.fragilities import read_fragilities
+    from rocking.fragility.table import read_fragilities
     from rocking.risk.hazard import HazardCurve
     from rocking.risk.table import risk_table
 
@@ -265,7 +265,7 @@ def test_the_same_fits_in_two_components_differ_by_each_motions_ratio(rotd50_sui
 
 
 def test_a_hazard_in_another_component_is_refused_in_one_line(rotd50_suite):
-    from rocking.risk.fragilities import read_fragilities
+    from rocking.fragility.table import read_fragilities
     from rocking.risk.hazard import HazardCurve, hazard_component
     from rocking.risk.table import risk_table
 
@@ -301,7 +301,7 @@ def test_a_hazard_file_may_state_its_component(tmp_path):
 # --- stripes in a component ---------------------------------------------------------------
 
 def test_stripes_scale_each_motion_to_its_measure_in_the_component(records):
-    from rocking.spectra.stripes import from_outcomes, measure_ratio
+    from rocking.fragility.stripes import from_outcomes, measure_ratio
 
     m = records["el-centro-1940"]
     tan_alpha, x = 0.2, 1.5
@@ -326,7 +326,7 @@ def test_stripes_scale_each_motion_to_its_measure_in_the_component(records):
 
 
 def test_a_study_component_reaches_its_stripes_and_their_store_hash():
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.study import StudySpec
 
     cfg = yaml.safe_load((ROOT / "config/config.yaml").read_text())
     name = next(s for s, v in cfg["studies"].items() if v.get("stripes"))

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from rocking.study.config_checks import check_config, schema_error
+from rocking.config.checks import check_config, schema_error
 
 REPO = Path(__file__).resolve().parents[1]
 SCHEMA = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
@@ -131,7 +131,7 @@ def test_what_a_real_run_rejects_is_rejected_before_work(change, message, tmp_pa
 
 
 def test_numbers_given_as_strings_are_taken_as_numbers():
-    from rocking.study.config_checks import coerce_strings
+    from rocking.config.checks import coerce_strings
 
     cfg = _cfg(lambda c: c.update(dask={"scheduler_address": "null", "progress_interval": "2",
                                         "worker_timeout": "1e2"}))
@@ -184,8 +184,8 @@ def _column(**study):
 def test_height_and_diameter_become_R_and_tan_alpha_printed(capsys):
     from snakemake.utils import validate
 
-    from rocking.study.config_checks import validate_config
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.checks import validate_config
+    from rocking.config.study import StudySpec
 
     R = (0.33**2 + 3.0**2) ** 0.5  # sqrt(b² + h²), written out
     cfg = _column()
@@ -226,7 +226,7 @@ def test_height_and_diameter_become_R_and_tan_alpha_printed(capsys):
 def test_bad_dimensions_are_one_line(study, message):
     from snakemake.utils import validate
 
-    from rocking.study.config_checks import validate_config
+    from rocking.config.checks import validate_config
 
     with pytest.raises(ValueError) as err:
         validate_config(_column(**study), REPO / "workflow/schemas/config.schema.yaml", validate)
@@ -282,7 +282,7 @@ def test_vertical_bad_input_is_one_line_before_work(given, message, tmp_path):
 def test_vertical_true_passes_for_the_shipped_records_and_three_files(tmp_path):
     """The four shipped records have their UP/DWN file; three files of one dt and length
     pass; the spec keeps the flag per record of a suite."""
-    from rocking.study.ensemble_spec import EnsembleSpec
+    from rocking.config.ensemble import EnsembleSpec
 
     cfg = _cfg(lambda c: None)
     cfg["ensembles"]["elcentro"] = {

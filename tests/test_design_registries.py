@@ -94,9 +94,9 @@ def test_every_file_a_maintainer_list_names_exists(title):
 
 
 def test_adding_a_model_names_every_registry_a_mode_needs():
+    from rocking.execution.tasks import MODE_COST
     from rocking.plot._style import MODE_STYLE
     from rocking.spectra.modes import MODES
-    from rocking.study.tasks import MODE_COST
 
     text = section("Adding a model")
     for name in ("MODE_STYLE", "MODE_COST", "MODES", "HISTORY_COLUMNS", "Model"):
@@ -108,8 +108,8 @@ def test_adding_a_model_names_every_registry_a_mode_needs():
 
 
 def test_a_mode_without_cost_or_style_is_an_error_naming_it():
+    from rocking.execution.tasks import mode_cost
     from rocking.plot._style import MODE_STYLE
-    from rocking.study.tasks import mode_cost
 
     with pytest.raises(KeyError, match="'3d-new' has no cost .*MODE_COST"):
         mode_cost("3d-new")

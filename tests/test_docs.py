@@ -170,8 +170,8 @@ def test_library_never_imports_snakemake():
 
 # Layers of docs/design.md, "Layers", from the ground up; packages on one floor do not import
 # each other. A module of src/rocking outside these packages is a shared helper (floor 0).
-LAYERS = (("motions",), ("dynamics",), ("spectra",), ("risk",), ("study",), ("plot",),
-          ("cli", "benchmarks"))
+LAYERS = (("motions",), ("dynamics",), ("spectra",), ("fragility",), ("risk",), ("store",),
+          ("config",), ("execution",), ("study",), ("plot",), ("report",), ("cli",))
 
 
 def _import_graph() -> dict[str, set[str]]:
@@ -239,6 +239,29 @@ def test_no_import_circle():
     for m in sorted(graph):
         if m not in state and (circle := visit(m, [])):
             raise AssertionError("import circle: " + " -> ".join(circle))
+
+
+def imports_table() -> str:
+    """The table of docs/design.md, "Layers": per package, the packages it imports (measured)."""
+    graph = _import_graph()
+    packages = [p for floor in LAYERS for p in floor]
+    rows = ["| package | imports from |", "|---|---|"]
+    for pkg in reversed(packages):
+        used = {b.split(".")[1] for a, targets in graph.items() if a.split(".")[1:2] == [pkg]
+                for b in targets if b.count(".") and b.split(".")[1] != pkg
+                and b.split(".")[1] in packages}
+        below = [p for p in reversed(packages) if p in used]
+        rows.append(f"| `rocking.{pkg}` | " + (", ".join(f"`{p}`" for p in below) or "—")
+                    + " and the shared helpers |")
+    return "\n".join(rows)
+
+
+def test_design_imports_table_is_measured():
+    """docs/design.md's table of who imports whom is the tree's (regenerate: the block is
+    ``imports_table()`` of this module)."""
+    text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    block = text.split("<!-- BEGIN imports-table -->\n", 1)[1].split("<!-- END", 1)[0]
+    assert block.strip() == imports_table(), "docs/design.md, imports-table:\n" + imports_table()
 
 
 def test_design_lists_the_layers():
@@ -375,8 +398,8 @@ def test_every_command_shown_parses():
 def test_own_records_config_is_valid():
     import yaml
 
-    from rocking.study.config_checks import schema_error
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.checks import schema_error
+    from rocking.config.study import StudySpec
 
     blocks = [yaml.safe_load(b) for b in _fenced(README.read_text(encoding="utf-8"), "yaml")]
     def reads_files(e: dict) -> bool:

@@ -191,8 +191,8 @@ def test_the_stripe_section_names_each_interval_by_its_level():
     """The report's stripe section: the brackets beside the median in PGA/(g tan α) are the
     Wald interval at ``CONFIDENCE`` (95 %), those beside the median in g the bootstrap's
     5–95 % percentiles (90 %); the section says which is which, from the same constants."""
-    from rocking.plot.tables import stripes_section
-    from rocking.spectra.stripes import BOOTSTRAP_LEVEL, CONFIDENCE
+    from rocking.fragility.stripes import BOOTSTRAP_LEVEL, CONFIDENCE
+    from rocking.report.tables import stripes_section
 
     assert (CONFIDENCE, BOOTSTRAP_LEVEL) == (0.95, 0.90)
     page = "\n".join(stripes_section(GALLERY / "elcentro/stripe_fragility.csv"))

@@ -25,8 +25,8 @@ import pandas as pd
 import pytest
 from scipy import stats
 
+from rocking.fragility.table import median_beta
 from rocking.risk.exposure import component_of, write_exposure
-from rocking.risk.fragilities import median_beta
 
 NS = {"n": "http://openquake.org/xmlns/nrml/0.5"}
 HERE = Path(__file__).parent

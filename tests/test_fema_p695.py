@@ -82,9 +82,9 @@ def test_a_suite_naming_the_far_field_set_expands_to_its_22_pairs():
     from snakemake.utils import validate
     from test_config_checks import REPO
 
-    from rocking.study.config_checks import check_config
-    from rocking.study.ensemble_spec import EnsembleSpec
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.checks import check_config
+    from rocking.config.ensemble import EnsembleSpec
+    from rocking.config.study import StudySpec
 
     for records in ("fema-p695:far-field", ["fema-p695:far-field"],
                     [{"record": "fema-p695:far-field", "highpass": "none"}]):

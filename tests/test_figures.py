@@ -21,7 +21,9 @@ import yaml
 
 from rocking import Cylinder, GroundMotion
 from rocking import plot as figures
+from rocking.config.study import StudySpec
 from rocking.constants import G
+from rocking.execution.prepare import keyed
 from rocking.motions.principal import rotate
 from rocking.plot import (
     _axes,
@@ -41,8 +43,6 @@ from rocking.plot import (
 from rocking.plot.registry import SCOPES, caption
 from rocking.plot.registry import figures as registered
 from rocking.spectra.limit_states import limit_state_title
-from rocking.study.prepare import keyed
-from rocking.study.study_spec import StudySpec
 
 ROOT = Path(__file__).parents[1]
 
@@ -105,8 +105,8 @@ def test_every_figure_is_one_entry_in_its_own_module():
     assert 'script:\n            "../scripts/figure.py"' in rules
     scripts = {p.stem for p in (ROOT / "workflow/scripts").glob("*.py")}
     common = (ROOT / "workflow/rules/figures_common.smk").read_text()
-    plan = (ROOT / "src/rocking/study/plan.py").read_text()
-    report_py = (ROOT / "src/rocking/plot/report.py").read_text()
+    plan = (ROOT / "src/rocking/config/plan.py").read_text()
+    report_py = (ROOT / "src/rocking/report/html.py").read_text()
     for name in entries:
         assert name not in scripts and name not in common and name not in plan, name
         assert f'"{name}"' not in report_py and f"rule {name}:" not in rules, name
@@ -877,7 +877,7 @@ def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tm
                                                                         record):
     # the paper draws Fig 10 for El Centro only: a reproduction study on another record
     # is not "a reduced run" of it, and its figure names no paper's goal as missing
-    from rocking.study.store_attrs import decode_attrs
+    from rocking.store.attrs import decode_attrs
 
     with xr.open_dataset(study["means"]) as ds:
         agg = ds.load()
@@ -950,8 +950,8 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
 
 
 def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study, tmp_path):
+    from rocking.fragility import lognormal as fragility
     from rocking.plot import _load, fragility_curves
-    from rocking.spectra import fragility
 
     table = fragility.fragility_table(_load.open_store(study["store"]), upper=fs.UPPER)
     table.to_netcdf(tmp_path / "f.nc")

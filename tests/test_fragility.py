@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 from scipy import stats
 
-from rocking.spectra.fragility import fit_line, fit_lognormal, fragility_table, linear_fit_table
+from rocking.fragility.lognormal import fit_line, fit_lognormal, fragility_table, linear_fit_table
 
 THETA, BETA = 3.0, 0.4
 

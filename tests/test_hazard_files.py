@@ -11,8 +11,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from rocking.motions.measures import same_measure
 from rocking.risk.annual_frequency import annual_frequency_parts, mean_annual_frequency
-from rocking.risk.hazard import HazardCurve, imt_measure, parse_hazard, same_measure
+from rocking.risk.hazard import HazardCurve, imt_measure, parse_hazard
 
 
 def closed_form(k0, k, median, beta):
@@ -231,9 +232,9 @@ def curved(im):
 
 
 def test_a_table_starting_above_the_median_is_counted_and_warned(tmp_path):
-    from rocking.risk.fragilities import read_fragilities
-    from rocking.risk.report import BELOW_FIRST_WARN, below_first_warning, risk_section_html
-    from rocking.risk.table import risk_table
+    from rocking.fragility.table import read_fragilities
+    from rocking.report.risk import risk_section_html
+    from rocking.risk.table import BELOW_FIRST_WARN, below_first_warning, risk_table
 
     im = np.geomspace(0.005, 4.0, 40)
     full = HazardCurve(im, curved(im))

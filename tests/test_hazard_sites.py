@@ -14,12 +14,12 @@ import pytest
 import yaml
 
 from rocking.cli import main
+from rocking.config.checks import schema_error
+from rocking.fragility.table import read_fragilities
+from rocking.report.risk import risk_section_html
 from rocking.risk.annual_frequency import mean_annual_frequency
-from rocking.risk.fragilities import read_fragilities
 from rocking.risk.hazard import MAX_DISTANCE_KM, HazardCurve, parse_hazard
-from rocking.risk.report import risk_section_html
 from rocking.risk.table import risk_table
-from rocking.study.config_checks import schema_error
 
 ROOT = Path(__file__).resolve().parents[1]
 

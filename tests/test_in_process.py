@@ -1,7 +1,7 @@
 """Small stores filled in the rule's own process: same values as a serial fill, no cluster.
 
 Starting an embedded LocalCluster costs more than a few hundred analyses
-(rocking.study.cluster.IN_PROCESS_ANALYSES); fill_store then runs the same task bodies in
+(rocking.execution.cluster.IN_PROCESS_ANALYSES); fill_store then runs the same task bodies in
 its own process. The stand-in engine is tests/_store_standins.py.
 """
 
@@ -14,7 +14,9 @@ import _store_standins as standin
 import pytest
 from test_cluster import _spectra_store, _values
 
-from rocking.study import cluster, integrity, products, store, tasks
+from rocking import store
+from rocking.execution import cluster, products, tasks
+from rocking.store import integrity
 
 
 def test_small_store_is_filled_in_process_with_the_serial_values(tmp_path, caplog):
@@ -27,7 +29,7 @@ def test_small_store_is_filled_in_process_with_the_serial_values(tmp_path, caplo
     work = cluster.estimated_analyses(layout, range(layout.n_regions),
                                       products.SPECTRA_ANALYSES_PER_POINT)
     assert work == 16 * products.SPECTRA_ANALYSES_PER_POINT
-    with caplog.at_level(logging.INFO, logger="rocking.study.cluster"):
+    with caplog.at_level(logging.INFO, logger="rocking.execution.cluster"):
         summary = cluster.fill_store(store.StoreHandle.open(path, "r+"), fn, ensemble,
                                      config_digest="d1", n_workers=2,
                                      progress_interval=0.0, in_process_analyses=work,

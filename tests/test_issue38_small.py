@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def _cli_stripes(monkeypatch, *options: str) -> np.ndarray:
     """The stripes ``rocking stripes`` hands to the library (stopped before any analysis)."""
-    import rocking.spectra.stripes as stripes
+    import rocking.fragility.stripes as stripes
 
     seen = {}
 
@@ -34,7 +34,7 @@ def _cli_stripes(monkeypatch, *options: str) -> np.ndarray:
 
 def _workflow_stripes(grid: dict) -> np.ndarray:
     """The stripes a study's ``stripes.intensity`` gives the workflow."""
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.study import StudySpec
 
     config = {"ensembles": {"e": {"record": "el-centro-1940"}},
               "studies": {"s": {"ensemble": "e", "R": [1.0],
@@ -81,7 +81,7 @@ def test_height_below_diameter_warns_naming_both(capsys):
     assert main(argv) == 2  # --R beside the dimensions disagrees: stopped before any work
     err = capsys.readouterr().err
     assert "did you swap" not in err  # refused first: nothing was derived
-    from rocking.study.dimensions import resolve_dimensions
+    from rocking.config.dimensions import resolve_dimensions
 
     said = []
     config = {"studies": {"col": {"height": 0.4, "diameter": 2.0, "runs": [{}]}}}
@@ -95,7 +95,7 @@ def test_height_below_diameter_warns_naming_both(capsys):
 def test_cli_prints_the_swap_warning_and_continues(capsys, monkeypatch):
     x = _cli_stripes(monkeypatch, "--stripes", "2")  # a body by R: no warning
     assert x.size == 2 and "swap" not in capsys.readouterr().err
-    import rocking.spectra.stripes as stripes
+    import rocking.fragility.stripes as stripes
 
     monkeypatch.setattr(stripes, "stripe_fragility",
                         lambda *a, **k: (_ for _ in ()).throw(RuntimeError("stop")))
@@ -108,7 +108,7 @@ def test_cli_prints_the_swap_warning_and_continues(capsys, monkeypatch):
 
 
 def test_each_report_describes_only_its_own_studies():
-    from rocking.study.study_spec import report_studies
+    from rocking.config.study import report_studies
 
     def study(ensemble, modes):
         return {"ensemble": ensemble, "R": [1.0],

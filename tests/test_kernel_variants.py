@@ -154,7 +154,7 @@ def test_monitors_must_be_a_bool(segment):
 def test_warm_up_compiles_the_variants_a_configuration_asks_for():
     """The workflow's warm-up reads which variants a configuration may need: a study's
     ``mu`` or a sliding goal anywhere (monitors), ``vertical: true`` (vertical forcing)."""
-    from rocking.study.warmup import variants_asked
+    from rocking.execution.warmup import variants_asked
 
     plain = {"study": {"mu": None, "limit_states": ["overturning", "tilt:1/3"]},
              "ensemble": {"vertical": False}}

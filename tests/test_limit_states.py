@@ -171,7 +171,7 @@ def test_every_spelling_selects_the_same_store_entry():
     import numpy as np
     import xarray as xr
 
-    from rocking.study import select
+    from rocking.store.select import select
 
     for stored in ("tilt:0.3333", "tilt:1/3"):
         ds = xr.Dataset({"pga_crit": (("limit_state", "R"), np.array([[1.0, 2.0], [3.0, 4.0]]))},

@@ -14,10 +14,10 @@ import pytest
 import yaml
 
 from rocking.cli import build_parser
+from rocking.config.fields import DEFAULTS
 from rocking.dynamics import analysis, models, names
 from rocking.dynamics.bodies import Block, Cylinder
 from rocking.spectra import modes
-from rocking.study.config_fields import DEFAULTS
 
 SCHEMA = yaml.safe_load((Path(__file__).parents[1]
                          / "workflow/schemas/config.schema.yaml").read_text())

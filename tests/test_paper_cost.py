@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import rocking
-from rocking.benchmarks import paper_cost
+from benchmarks import paper_cost
 from rocking.motions.motion import GroundMotion
 
 LOG = """\

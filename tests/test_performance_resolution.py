@@ -16,11 +16,12 @@ import pytest
 import xarray as xr
 from test_performance_search import ALPHA, fake_analysis, smooth_response
 
+from rocking import store
+from rocking.execution import tasks
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.accuracy import PRESETS
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.spectra.search import search_critical, window_warning
-from rocking.study import store, tasks
 from rocking.study.aggregate import critical_frame
 
 FIXED = PRESETS["default"].with_(scan="fixed", scan_step=0.01, refine_budget=0)

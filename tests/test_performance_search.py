@@ -22,7 +22,7 @@ FIXED = PRESETS["default"].with_(name="fixed 1 %", scan_step=0.01, refine_budget
 refinement of near misses: tests/test_search_refine.py covers that)."""
 ADAPTIVE = PRESETS["default"].with_(name="adaptive", scan="adaptive", scan_step=0.005,
                                     scan_step_max=0.05, tilt_growth=60.0)
-"""The adaptive scan measured against it (rocking.benchmarks.spectra.ADAPTIVE)."""
+"""The adaptive scan measured against it (benchmarks.spectra.ADAPTIVE)."""
 SCANS = [FIXED, ADAPTIVE]
 
 

@@ -13,11 +13,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rocking import store
+from rocking.config.plan import plan_study
+from rocking.execution import tasks
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.study import store, tasks
 from rocking.study.aggregate import ensemble_statistics
-from rocking.study.plan import plan_study
 
 RUNS = [
     {"purpose": "Fig 10", "modes": ["3d"], "tan_alpha": [0.2],

@@ -13,6 +13,8 @@ import pytest
 from conftest import DATA
 
 from rocking.cli import main
+from rocking.fragility.lognormal import fit_lognormal
+from rocking.fragility.surface import FragilitySurface
 from rocking.risk.annual_frequency import (
     annual_frequency_parts,
     mean_annual_frequencies,
@@ -21,8 +23,6 @@ from rocking.risk.annual_frequency import (
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.inventory import read_hazard_sites, read_inventory
 from rocking.risk.portfolio import COLUMNS, RateTable, portfolio_table
-from rocking.risk.surface import FragilitySurface
-from rocking.spectra.fragility import fit_lognormal
 from rocking.units import read_table
 
 STUDY = "results/paper/elcentro"

@@ -7,10 +7,11 @@ import _store_standins as standin
 import numpy as np
 import pytest
 
+from rocking import store
+from rocking.config.study import StudySpec
+from rocking.execution import prepare, products, tasks
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.study import prepare, products, store, tasks
-from rocking.study.store_attrs import config_hash
-from rocking.study.study_spec import StudySpec
+from rocking.store.attrs import config_hash
 
 
 def _spec(upper: float) -> dict:

@@ -4,7 +4,7 @@ Each case damages one thing a tiny study depends on (its motions file, a record 
 a coordinate, its configuration, its cluster, a concurrent run) and asserts the outcome: the
 tables identical to an undamaged run's, or an error that names what is wrong and the way out;
 never a changed number. The study runs the real preparation, verification, fill and table code
-(:mod:`rocking.study.prepare`, :mod:`rocking.study.cluster`, :mod:`rocking.study.integrity`,
+(:mod:`rocking.execution.prepare`, :mod:`rocking.execution.cluster`, :mod:`rocking.store.integrity`,
 :mod:`rocking.study.aggregate`, :mod:`rocking.study.records`) with the closed-form stand-in
 engine of tests/_store_standins.py, so that a case runs in about a second.
 """
@@ -30,6 +30,10 @@ import xarray as xr
 import yaml
 import zarr
 
+from rocking import store
+from rocking.config.checks import check_config
+from rocking.config.study import StudySpec
+from rocking.execution import cluster, prepare, products, tasks
 from rocking.motions.ensemble_io import (
     MotionsDigestError,
     digest_path,
@@ -37,11 +41,9 @@ from rocking.motions.ensemble_io import (
     save_ensemble,
 )
 from rocking.motions.readers import RecordFormatError, read_at2, read_text
-from rocking.study import cluster, integrity, prepare, products, store, tasks
+from rocking.store import integrity
 from rocking.study.aggregate import ensemble_statistics, requested_answers, write_statistics
-from rocking.study.config_checks import check_config
 from rocking.study.records import write_record_tables
-from rocking.study.study_spec import StudySpec
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIG = {"accuracy": "fast", "search": {"upper": 20.0},
@@ -485,7 +487,7 @@ def test_worker_of_this_environment_passes_the_check():
 
 HOLD = textwrap.dedent("""
     import sys, time
-    from rocking.study import store
+    from rocking import store
     with store.locked(sys.argv[1]):
         print("held", flush=True)
         time.sleep(float(sys.argv[2]))
@@ -548,8 +550,8 @@ STRIPES = StudySpec.from_config({
 def _stripes_study(folder: Path, gain: float = 1.0) -> tuple[Path, Path]:
     """A filled stripes store of three stand-in motions (``gain`` scales them: another
     study's motions under the same names) and its motions file."""
+    from rocking.execution import stripes as st
     from rocking.motions.motion import GroundMotion
-    from rocking.study import stripes as st
 
     folder.mkdir(parents=True, exist_ok=True)
     ens = folder / "motions.nc"
@@ -566,7 +568,7 @@ def _stripes_study(folder: Path, gain: float = 1.0) -> tuple[Path, Path]:
 @pytest.fixture(scope="module")
 def stripe_studies(tmp_path_factory):
     """Two studies' stripes (other motions), each with its stripe table written once."""
-    from rocking.study import stripes as st
+    from rocking.execution import stripes as st
 
     root = tmp_path_factory.mktemp("stripes")
     out = {}
@@ -585,7 +587,7 @@ def stripe_studies(tmp_path_factory):
 def _rewrite(study, folder: Path, cache_from: Path | None = None):
     """The stripe table of ``study`` written again in ``folder`` (its store and motions
     copied there), its refinement cache replaced by ``cache_from``'s."""
-    from rocking.study import stripes as st
+    from rocking.execution import stripes as st
 
     path, ens, _ = study
     folder.mkdir()
@@ -604,7 +606,7 @@ def _rewrite(study, folder: Path, cache_from: Path | None = None):
 def test_refinement_cache_of_another_study_is_detected_and_redone(stripe_studies, tmp_path,
                                                                    caplog):
     """Silent before: a copied .refined.jsonl (other motions, same keys) moved the medians."""
-    from rocking.study import stripes as st
+    from rocking.execution import stripes as st
 
     foreign = st.refine_cache_path(stripe_studies["b"][0])
     with caplog.at_level("WARNING"):
@@ -636,7 +638,7 @@ def test_flipped_byte_in_the_refinement_cache_names_file_and_way_out(stripe_stud
                                                                      mask):
     """Traceback before (JSONDecodeError, file not named), or a changed number unseen."""
     from rocking._provenance import ProvenanceError
-    from rocking.study import stripes as st
+    from rocking.execution import stripes as st
 
     damaged = tmp_path / "damaged.jsonl"
     shutil.copy(st.refine_cache_path(stripe_studies["a"][0]), damaged)
@@ -649,7 +651,7 @@ def test_flipped_byte_in_the_refinement_cache_names_file_and_way_out(stripe_stud
 
 
 def test_legacy_refinement_cache_without_provenance_is_redone(stripe_studies, tmp_path):
-    from rocking.study import stripes as st
+    from rocking.execution import stripes as st
 
     lines = st.refine_cache_path(stripe_studies["a"][0]).read_text().splitlines()[1:]
     old = tmp_path / "old.jsonl"
@@ -664,7 +666,7 @@ def test_bootstrap_of_another_study_is_refused_by_the_risk_table(stripe_studies,
                                                                  table):
     """Silent before: only the row count was checked, the interval moved."""
     from rocking._provenance import ProvenanceError
-    from rocking.risk.fragilities import read_fragilities
+    from rocking.fragility.table import read_fragilities
 
     a, b = stripe_studies["a"][2], stripe_studies["b"][2]
     here = tmp_path / table
@@ -684,7 +686,7 @@ def test_bootstrap_of_another_study_is_refused_by_the_risk_table(stripe_studies,
 def test_truncated_bootstrap_names_file_and_way_out(stripe_studies, tmp_path):
     """Traceback before: ValueError: When changing to a larger dtype..."""
     from rocking._provenance import ProvenanceError
-    from rocking.risk.fragilities import read_fragilities
+    from rocking.fragility.table import read_fragilities
 
     a = stripe_studies["a"][2]
     here = tmp_path / "stripe_fragility.csv"
@@ -699,7 +701,7 @@ def test_truncated_bootstrap_names_file_and_way_out(stripe_studies, tmp_path):
 
 
 def test_missing_bootstrap_is_said_never_a_silent_blank(stripe_studies, tmp_path, caplog):
-    from rocking.risk.fragilities import read_fragilities
+    from rocking.fragility.table import read_fragilities
 
     here = tmp_path / "stripe_fragility.csv"
     shutil.copy(stripe_studies["a"][2], here)
@@ -713,7 +715,7 @@ def test_suite_bootstrap_records_table_and_store(study, tmp_path):
     """suite_fragility_bootstrap.nc records its table's sha256, the store's config hash, the
     motions' sha256 and the measures; another run's table is refused."""
     from rocking._provenance import ProvenanceError, file_sha256
-    from rocking.risk.bootstrap import read_bootstrap
+    from rocking.fragility.bootstrap import read_bootstrap
 
     out = tmp_path / "t"
     out.mkdir()
@@ -739,7 +741,7 @@ def _log_block(tmp_path, body, log=None, outputs=()):
     code = textwrap.dedent(f"""
         import sys
         sys.path[:0] = {[str(REPO / "src"), str(REPO / "tests")]!r}
-        from rocking.study.logs import log_to
+        from rocking.execution.logs import log_to
         with log_to({str(log or tmp_path / "job.log")!r}, outputs={list(map(str, outputs))!r}):
             {body}
         """)
@@ -789,7 +791,7 @@ def test_table_on_a_full_disk_keeps_nothing_half_written(stripe_studies, tmp_pat
     the table nor its samples left half-written."""
     path, ens, _ = stripe_studies["a"]
     csv, nc = full_disk / "stripe_fragility.csv", full_disk / "stripe_fragility_bootstrap.nc"
-    rc, err = _log_block(tmp_path, "from rocking.study.stripes import write_stripe_fragility; "
+    rc, err = _log_block(tmp_path, "from rocking.execution.stripes import write_stripe_fragility; "
                          f"write_stripe_fragility({str(path)!r}, {str(csv)!r}, {str(nc)!r}, "
                          f"motions={str(ens)!r}, refine=4, resamples=2000)",
                          outputs=[csv, nc])
@@ -983,8 +985,13 @@ def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
         from functools import partial
         import _store_standins as standin
         from rocking.motions.ensemble_io import save_ensemble
-        from rocking.study import cluster, integrity, prepare, products, store, tasks
-        from rocking.study.study_spec import StudySpec
+        from rocking.execution import cluster
+        from rocking.store import integrity
+        from rocking.execution import prepare
+        from rocking.execution import products
+        from rocking import store
+        from rocking.execution import tasks
+        from rocking.config.study import StudySpec
         spec = StudySpec.from_config({CONFIG!r}, "s").spectra
         motions = {str(tmp_path / "m.nc")!r}
         save_ensemble(motions, standin.motions(n=3))

@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from rocking.config.ensemble import EnsembleSpec
 from rocking.motions.build import build_ensemble, read_motion
 from rocking.motions.stochastic.fit import RDKFit
 from rocking.motions.stochastic.params import RDKParams
@@ -25,7 +26,6 @@ from rocking.motions.stochastic.recorded import (
     round_significant,
     rounded_fit,
 )
-from rocking.study.ensemble_spec import EnsembleSpec
 
 ROOT = Path(__file__).resolve().parents[1]
 FILES = {"elcentro": ROOT / "config" / "ensembles" / "elcentro.params.json",

@@ -200,7 +200,8 @@ def test_the_report_quotes_the_shift_beside_its_headline_numbers(tmp_path):
     fragility medians (the sample's shift), and say what the sample was."""
     from pathlib import Path
 
-    from rocking.plot import FIGURES, report
+    from rocking.plot import FIGURES
+    from rocking.report import html as report
 
     root = Path(__file__).resolve().parents[1] / "results" / "paper"
     study = root / "elcentro"
@@ -309,7 +310,7 @@ def test_lambda_moves_as_the_closed_form_of_a_lognormal_against_a_power_law(tmp_
     # a hazard of another measure or component: the header only, never a wrong λ, and the
     # findings then say nothing of λ's move
     assert refinement.write_refinement_risk(cells, csv, hazard, out, applies=False) == 0
-    from rocking.plot.findings import study_findings
+    from rocking.report.findings import study_findings
 
     risk = tmp_path / "risk.csv"
     risk.write_text("fragility,mode,tan_alpha [-],R [m],limit_state,median_pga_g [g],beta [-],"
@@ -325,8 +326,8 @@ def test_a_censored_cell_stays_censored_and_the_store_refit_is_the_studys_fit(tm
     and β; a sampled cell that was censored is not substituted."""
     import figures_synthetic as fs
 
+    from rocking.fragility.lognormal import fragility_table
     from rocking.plot import open_store
-    from rocking.spectra.fragility import fragility_table
     from rocking.spectra.limit_states import parse_limit_state
 
     paths = fs.write_study(tmp_path / "study", with_tilt_map=False)
@@ -354,7 +355,7 @@ def test_the_combined_fig12_finding_moves_each_study_by_its_own_sample():
     """Fig 12's finding quotes every study it draws: each study's R = 10 m mean and ratios
     carry the shift of that study's own sample (here −10 % and −20 %, every cell of each
     mean refined), and the note says which sample each rests on, with its k and seed."""
-    from rocking.plot.findings import paper_findings
+    from rocking.report.findings import paper_findings
 
     notes = {"R": 10.0}
     for ens in ("elcentro", "lomaprieta"):
@@ -402,7 +403,8 @@ def test_the_gallery_report_moves_lambda_and_both_studies_by_their_own_samples(t
     import re
     from pathlib import Path
 
-    from rocking.plot import FIGURES, report
+    from rocking.plot import FIGURES
+    from rocking.report import html as report
     from rocking.risk.hazard import parse_hazard
     from rocking.units import read_table
 

@@ -12,23 +12,21 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from rocking.fragility import lognormal as fragility
 from rocking.plot import (
     FIGURES,
     _load,
     _style,
-    entries,
     fig08_motions,
     fig09_spectra,
     fig10_goals,
     figure_name,
     render,
-    report,
-    run_summary,
-    tables,
 )
 from rocking.plot import comparisons as cmp
 from rocking.plot.registry import caption, figures
-from rocking.spectra import fragility
+from rocking.report import entries, run_summary, tables
+from rocking.report import html as report
 
 CAPTIONS = {name: caption(name) for name in figures()}
 """Every figure's caption in a reproduction of the paper, in the paper's order."""
@@ -377,7 +375,7 @@ def test_fit_quality_of_fig08_is_tabulated(outputs):
 
 
 def test_link_images_replaces_every_embedded_png_and_nothing_else():
-    from rocking.plot.report import link_images
+    from rocking.report.html import link_images
 
     page = ("<p>x</p><figure id='fig03_wobbling_period'><img alt='fig03_wobbling_period' "
             "src='data:image/png;base64,iVBORw0KGgo='><figcaption>c</figcaption></figure>"

@@ -210,7 +210,7 @@ def test_config_readme_lists_every_schema_key_and_no_other():
 
 
 def test_findings_quote_lambda_with_its_interval_and_the_most_dangerous_record(tmp_path):
-    from rocking.plot.findings import study_findings
+    from rocking.report.findings import study_findings
 
     risk = tmp_path / "risk.csv"
     risk.write_text(

@@ -22,7 +22,8 @@ from scipy import stats
 
 import rocking
 from rocking.cli import main
-from rocking.risk import fragilities, nrml, pelicun
+from rocking.fragility import table as fragilities
+from rocking.risk import nrml, pelicun
 from rocking.risk.annual_frequency import annual_frequency_parts, probability_in
 from rocking.risk.hazard import HazardCurve, parse_hazard
 from rocking.risk.table import risk_table
@@ -382,7 +383,7 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
 
 
 def test_report_section_states_the_assumptions_and_tabulates_lambda():
-    from rocking.risk.report import risk_section_html, summary_table
+    from rocking.report.risk import risk_section_html, summary_table
 
     t = risk_table(fragilities.read_fragilities(table(ROWS)),
                    HazardCurve.from_openquake_csv(EXAMPLE, site=0))
@@ -527,8 +528,8 @@ STRIPE_DIMS = ("mode", "limit_state", "motion", "R", "intensity")
 
 @pytest.fixture()
 def stripe_csv(tmp_path):
-    """stripe_fragility.csv as the workflow's rule writes it (rocking.study.stripes)."""
-    from rocking.study.stripes import STRIPES_DIMS, stripe_table
+    """stripe_fragility.csv as the workflow's rule writes it (rocking.execution.stripes)."""
+    from rocking.execution.stripes import STRIPES_DIMS, stripe_table
     from rocking.units import header
 
     assert STRIPES_DIMS == STRIPE_DIMS  # the layout this stand-in store follows
@@ -652,7 +653,7 @@ def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path)
 
 def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
     from rocking.plot import risk as fig
-    from rocking.risk.report import WHICH_TO_USE, comparison_table, risk_section_html
+    from rocking.report.risk import WHICH_TO_USE, comparison_table, risk_section_html
     from rocking.risk.table import risk_tables
 
     h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
@@ -687,7 +688,7 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
 def test_docs_quote_the_two_mafs_of_the_committed_gallery():
     """docs/risk.md's stripe / first-exceedance numbers are those of results/paper/elcentro
     under the example hazard (recomputed here from the two committed fragility tables)."""
-    from rocking.risk.report import comparison_table
+    from rocking.report.risk import comparison_table
     from rocking.risk.table import risk_tables
 
     gallery = ROOT / "results/paper/elcentro"

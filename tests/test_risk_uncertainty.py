@@ -16,14 +16,14 @@ import xarray as xr
 from scipy import integrate, optimize, stats
 
 from rocking.cli import main
+from rocking.fragility import lognormal as F
+from rocking.fragility.bootstrap import bootstrap_path, read_bootstrap
+from rocking.fragility.table import read_fragilities
+from rocking.report.risk import risk_section_html, small_suite_warnings
 from rocking.risk.annual_frequency import annual_frequency_interval, mean_annual_frequencies
-from rocking.risk.bootstrap import bootstrap_path, read_bootstrap
 from rocking.risk.exports import write_risk_outputs
-from rocking.risk.fragilities import read_fragilities
 from rocking.risk.hazard import HazardCurve
-from rocking.risk.report import risk_section_html, small_suite_warnings
 from rocking.risk.table import risk_table
-from rocking.spectra import fragility as F
 
 SEED = 3
 
@@ -146,7 +146,7 @@ def store(n=14, seed=SEED):
 @pytest.fixture()
 def fragility_csv(tmp_path):
     """fragility.csv and fragility_bootstrap.nc as the fragility rule writes them."""
-    from rocking.risk.bootstrap import write_bootstrap
+    from rocking.fragility.bootstrap import write_bootstrap
 
     s = store()
     table = F.fragility_table(s, upper=12.0)
@@ -352,7 +352,7 @@ def test_a_study_without_any_fit_gets_its_statuses_not_an_error(tmp_path):
 
 
 def test_fast_preset_warns_and_small_suites_are_flagged(fragility_csv):
-    from rocking.risk.report import PRESET_ERRORS
+    from rocking.risk.table import PRESET_ERRORS
 
     h = HazardCurve.from_power_law(2e-4, 2.2)
     t = risk_table(read_fragilities(fragility_csv), h, preset="fast")

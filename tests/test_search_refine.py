@@ -126,7 +126,7 @@ def test_a_bad_budget_is_one_line_naming_the_key(value):
 def test_the_config_schema_names_the_budget_key(value):
     from pathlib import Path
 
-    from rocking.study.config_checks import schema_error
+    from rocking.config.checks import schema_error
 
     root = Path(__file__).resolve().parents[1]
     schema = yaml.safe_load((root / "workflow/schemas/config.schema.yaml").read_text())
@@ -154,7 +154,7 @@ def test_refinement_settings_round_trip_through_a_record():
 
 def test_budget_spent_is_a_column_of_the_store_the_cli_and_critical_csv():
     from rocking.cli.spectra import COLUMNS
-    from rocking.study import tasks
+    from rocking.execution import tasks
     from rocking.study.aggregate import CRITICAL_COLUMNS
     from rocking.units import header
 

@@ -168,8 +168,8 @@ def _study_config(mu=0.6):
 def test_a_study_with_a_sliding_goal_and_mu_passes_the_config_checks():
     import yaml
 
-    from rocking.study.config_checks import schema_error
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.checks import schema_error
+    from rocking.config.study import StudySpec
 
     schema_path = __file__.replace("tests/test_sliding.py", "workflow/schemas/config.schema.yaml")
     schema = yaml.safe_load(open(schema_path, encoding="utf-8"))
@@ -187,7 +187,7 @@ def test_a_study_with_a_sliding_goal_and_mu_passes_the_config_checks():
 
 @pytest.mark.parametrize("mu", [0, -1, float("inf")])
 def test_a_study_mu_at_or_below_zero_is_one_line_naming_the_key(mu):
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.study import StudySpec
 
     with pytest.raises(ValueError) as err:
         StudySpec.from_config(_study_config(mu), "s")
@@ -199,8 +199,10 @@ def test_a_store_with_a_sliding_goal_carries_the_flags_to_its_tables(tmp_path):
     store, critical.csv's frame and mean_spectra's counts, equal to the library's answers."""
     import xarray as xr
 
+    from rocking import store
+    from rocking.execution import tasks
     from rocking.motions.ensemble_io import save_ensemble
-    from rocking.study import aggregate, store, tasks
+    from rocking.study import aggregate
 
     motion = _pulse()
     ensemble = tmp_path / "motions.nc"
@@ -231,7 +233,7 @@ def test_a_store_with_a_sliding_goal_carries_the_flags_to_its_tables(tmp_path):
 def test_the_report_counts_the_answers_that_slide_or_lift_off():
     import xarray as xr
 
-    from rocking.plot.run_summary import validity_text
+    from rocking.report.run_summary import validity_text
 
     dims = ("mode", "limit_state", "motion")
     lifts = np.zeros((2, 2, 3), dtype=bool)
@@ -279,7 +281,7 @@ def test_tables_leave_lifts_off_empty_where_nothing_was_monitored():
 
 
 def test_stripes_mu_adds_the_sliding_fragility_and_refuses_zero(capsys, monkeypatch):
-    import rocking.spectra.stripes as stripes
+    import rocking.fragility.stripes as stripes
     from rocking.cli import main
 
     seen = {}
@@ -307,7 +309,7 @@ def test_exports_keep_sliding_out_of_the_damage_chain(tmp_path):
 
     import pandas as pd
 
-    from rocking.risk import fragilities
+    from rocking.fragility import table as fragilities
     from rocking.risk.exports import write_fragility_exports
     from rocking.risk.nrml import NAMESPACE, write_nrml
 
@@ -374,7 +376,7 @@ def test_the_fall_of_an_overturning_body_is_not_sliding():
 def test_the_report_says_in_words_whether_the_column_slides_before_it_overturns():
     import xarray as xr
 
-    from rocking.plot.run_summary import sliding_text
+    from rocking.report.run_summary import sliding_text
 
     dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
     g = np.full((1, 2, 3, 1, 1), np.nan)

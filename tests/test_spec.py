@@ -1,4 +1,4 @@
-"""The study as one typed object (rocking.study.study_spec and its parts): built from a
+"""The study as one typed object (rocking.config.study and its parts): built from a
 configuration with the schema's defaults, grids expanded as the workflow always did,
 round-tripped through store attributes, and hashed so that what decides the numbers changes
 the hash and nothing else does."""
@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 import yaml
 
-from rocking.study.config_fields import DEFAULTS, expand_grid
-from rocking.study.ensemble_spec import EnsembleSpec
-from rocking.study.product_specs import SpectraSpec, StripesSpec, TiltMapSpec
-from rocking.study.store_attrs import config_hash, decode_attrs
-from rocking.study.study_spec import StudySpec
+from rocking.config.ensemble import EnsembleSpec
+from rocking.config.fields import DEFAULTS, expand_grid
+from rocking.config.products import SpectraSpec, StripesSpec, TiltMapSpec
+from rocking.config.study import StudySpec
+from rocking.store.attrs import config_hash, decode_attrs
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = ["config/config.yaml", "config/paper.yaml"]
@@ -53,7 +53,7 @@ def _legacy_grid(spec, field):
 def _legacy_spectra_spec(config: dict, study: str) -> dict:
     """common.smk's spectra_spec before rocking.study.spec (reference copy): its hash is the
     config_hash of every spectra store made so far."""
-    from rocking.study.plan import plan_study
+    from rocking.config.plan import plan_study
 
     s = config["studies"][study]
     name = s["ensemble"]

@@ -15,11 +15,13 @@ import pytest
 import xarray as xr
 import zarr
 
+from rocking import store
+from rocking.execution import tasks
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.study import integrity, store, tasks
-from rocking.study.layout import region_coords
-from rocking.study.store_attrs import config_hash
+from rocking.store import integrity
+from rocking.store.attrs import config_hash
+from rocking.store.layout import region_coords
 
 MODES = ["3d", "2d-x"]
 LIMIT_STATES = [s.name for s in parse_limit_states(["overturning", "tilt:1/3", "tilt:0.5"])]
@@ -337,7 +339,7 @@ def test_unreadable_done_mask_names_the_store_and_the_remedy(tmp_path, ensemble)
 def test_store_without_checksums_is_reported_and_verified_by_decoding(tmp_path, ensemble,
                                                                       monkeypatch):
     path = tmp_path / "old.zarr"
-    from rocking.study import store_write  # where create_store looks its codecs up
+    from rocking.store import write as store_write
 
     monkeypatch.setattr(store_write, "chunk_codecs", lambda: [zarr.codecs.ZstdCodec(level=0)])
     layout = make_spectra_store(path, ensemble)

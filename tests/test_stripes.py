@@ -1,4 +1,4 @@
-"""Multiple-stripe fragility (rocking.spectra.stripes): the binomial fit against an independent
+"""Multiple-stripe fragility (rocking.fragility.stripes): the binomial fit against an independent
 maximum-likelihood fit and against counts drawn from a known lognormal, its undefined cases,
 the analyses against the engine, bad input, and the ``rocking stripes`` command."""
 
@@ -12,7 +12,7 @@ from scipy import optimize, stats
 
 import rocking
 from rocking.dynamics.analysis import ground_response
-from rocking.spectra.stripes import (
+from rocking.fragility.stripes import (
     BETA_MAX,
     fit_stripes,
     from_outcomes,
@@ -231,7 +231,7 @@ def test_cli_stripes_bad_input(capsys):
 
 def test_cli_default_matches_library():
     from rocking.cli import stripes as cli
-    from rocking.spectra import stripes as lib
+    from rocking.fragility import stripes as lib
 
     assert cli.DEFAULT_STRIPES == lib.DEFAULT_STRIPES
     assert cli.DEFAULT_REFINE == lib.DEFAULT_REFINE
@@ -268,7 +268,7 @@ def test_cli_stripes_in_sa_refined_and_bootstrapped(tmp_path, capsys):
     import json
 
     from rocking.cli import main
-    from rocking.spectra.stripes import refine_stripes, stripe_analyzer
+    from rocking.fragility.stripes import refine_stripes, stripe_analyzer
 
     args = ["stripes", "--R", "2", "--tan-alpha", "0.15", "--record", "el-centro-1940",
             "--intensities", "2,4,8", "--limit-states", "overturning", "--measure", "sa:1.0",

@@ -1,4 +1,4 @@
-"""Stripes beyond the first fit (rocking.spectra.stripes): stripes in another intensity measure
+"""Stripes beyond the first fit (rocking.fragility.stripes): stripes in another intensity measure
 against the engine at the scale an independent Sa gives, refinement of a separated fit against
 a dense-stripe reference, and the bootstrap over motions against a resampling written here."""
 
@@ -13,7 +13,7 @@ from test_stripes import independent_mle
 
 import rocking
 from rocking.dynamics.analysis import ground_response
-from rocking.spectra.stripes import (
+from rocking.fragility.stripes import (
     BOOTSTRAP_SEED,
     bootstrap_interval,
     bootstrap_stripes,

@@ -9,13 +9,14 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from rocking import store
+from rocking.config.study import StudySpec
 from rocking.dynamics.bodies import Cylinder
+from rocking.execution import products
+from rocking.execution import stripes as st
+from rocking.fragility.stripes import stripe_fragility
 from rocking.motions.ensemble_io import save_ensemble
-from rocking.spectra.stripes import stripe_fragility
-from rocking.study import products, store
-from rocking.study import stripes as st
-from rocking.study.layout import region_coords
-from rocking.study.study_spec import StudySpec
+from rocking.store.layout import region_coords
 
 SPEC = StudySpec.from_config({
     "ensembles": {"test": {"record": "el-centro-1940"}},
@@ -130,7 +131,7 @@ def test_figure_per_mode(filled, tmp_path):
 def test_verification_reads_a_stripes_store_and_finds_a_damaged_chunk(filled):
     # a stripes store has no (mode, limit_state, tan_alpha) mask: the verification pass that
     # every run starts with must still read it (it once failed on the missing tan_alpha)
-    from rocking.study import integrity
+    from rocking.store import integrity
 
     path, _ = filled
     said = []
@@ -153,7 +154,7 @@ def test_refinement_resumes_after_a_kill_and_gives_the_same_bytes(filled, tmp_pa
     """stripe_fragility.csv with refinement and bootstrap: the stripes added are analysed as
     the library analyses them; a run killed part way (the refinement file cut mid-line)
     redoes only the analyses lost and writes the same bytes."""
-    import rocking.spectra.stripes as lib
+    import rocking.fragility.stripes as lib
 
     path, ens = filled
     csv, nc = tmp_path / "a.csv", tmp_path / "a.nc"
@@ -280,7 +281,7 @@ def test_stripes_in_sa(tmp_path):
     assert table["first_median"].isna().all()
     np.testing.assert_allclose(ds["im"].values, [0.3, 0.6, 1.2])
     # the report's section names the measure and gives each row its answer or its bracket
-    from rocking.plot.tables import stripes_section
+    from rocking.report.tables import stripes_section
 
     csv = tmp_path / "s.csv"
     table = st.write_stripe_fragility(path, csv, tmp_path / "s.nc", motions=ens, refine=0,
@@ -317,7 +318,7 @@ def test_a_stripes_store_held_by_another_run_is_left_alone(filled):
     path, ens = filled
     hold = textwrap.dedent("""
         import sys, time
-        from rocking.study import store
+        from rocking import store
         with store.locked(sys.argv[1]):
             print("held", flush=True)
             time.sleep(30)

@@ -12,6 +12,10 @@ import numpy as np
 import pytest
 from conftest import ELC180, ELC270, package_record
 
+from rocking.config import ensemble as spec_module
+from rocking.config.checks import check_config
+from rocking.config.ensemble import EnsembleSpec, RecordSpec
+from rocking.config.study import StudySpec
 from rocking.constants import G
 from rocking.motions.build import HIGHPASS_KINDS, build_ensemble, build_suite, cut
 from rocking.motions.catalogue import load_record
@@ -24,10 +28,6 @@ from rocking.motions.measures import (
 from rocking.motions.motion import GroundMotion
 from rocking.motions.principal import rotate
 from rocking.motions.response_spectrum import pseudo_acceleration
-from rocking.study import ensemble_spec as spec_module
-from rocking.study.config_checks import check_config
-from rocking.study.ensemble_spec import EnsembleSpec, RecordSpec
-from rocking.study.study_spec import StudySpec
 
 
 def _suite_config() -> dict:
@@ -151,9 +151,9 @@ def _user_pair(tmp_path):
 def test_mw_is_checked_only_where_the_highpass_needs_it(tmp_path):
     from snakemake.utils import validate
 
-    from rocking.study.config_checks import validate_config
+    from rocking.config.checks import validate_config
 
-    schema = spec_module.__file__.replace("src/rocking/study/ensemble_spec.py",
+    schema = spec_module.__file__.replace("src/rocking/config/ensemble.py",
                                           "workflow/schemas/config.schema.yaml")
     cfg = _suite_config()
     # the ensemble's fc_hz is every record's default: this one asks for the Brune corner
@@ -307,12 +307,12 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     import xarray as xr
     from test_workflow import snakemake
 
+    from rocking.config.ensemble import EnsembleSpec
     from rocking.dynamics.analysis import ground_response
     from rocking.dynamics.bodies import Cylinder
     from rocking.motions.ensemble_io import load_ensemble
     from rocking.spectra.accuracy import get_accuracy
     from rocking.spectra.critical import critical_intensity
-    from rocking.study.ensemble_spec import EnsembleSpec
     from rocking.units import read_table
 
     snakemake(tmp_path, "results/three/records.csv", configfile=_write(tmp_path, SUITE))
@@ -393,7 +393,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
 
 # --- docs/records.md ----------------------------------------------------------------------
 
-DOC = spec_module.__file__.replace("src/rocking/study/ensemble_spec.py", "docs/records.md")
+DOC = spec_module.__file__.replace("src/rocking/config/ensemble.py", "docs/records.md")
 
 
 def test_records_page_config_is_valid_and_its_columns_are_the_tables():
@@ -401,13 +401,13 @@ def test_records_page_config_is_valid_and_its_columns_are_the_tables():
 
     import yaml
 
-    from rocking.study.config_checks import schema_error
+    from rocking.config.checks import schema_error
     from rocking.study.records import RECORD_COLUMNS
 
     text = open(DOC, encoding="utf-8").read()
     blocks = [yaml.safe_load(b) for b in re.findall(r"```yaml\n(.*?)```", text, re.S)]
     assert blocks
-    schema_path = spec_module.__file__.replace("src/rocking/study/ensemble_spec.py",
+    schema_path = spec_module.__file__.replace("src/rocking/config/ensemble.py",
                                                "workflow/schemas/config.schema.yaml")
     schema = yaml.safe_load(open(schema_path, encoding="utf-8"))
     for config in blocks:
@@ -525,7 +525,7 @@ def test_exceeds_as_recorded_is_an_analysis_at_scale_one(R):
 
 
 def test_suite_fragility_censors_at_the_bound_in_every_measure():
-    from rocking.spectra.fragility import fit_lognormal
+    from rocking.fragility.lognormal import fit_lognormal
     from rocking.study.records import record_table, suite_fragility
 
     motions = _motions()

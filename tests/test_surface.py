@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from rocking.risk.surface import FragilitySurface, OutsideGrid
+from rocking.fragility.surface import FragilitySurface, OutsideGrid
 from rocking.units import read_table
 
 STUDY = "results/paper/elcentro"
@@ -136,8 +136,8 @@ def test_leave_one_out_is_stated_per_direction(surface):
 
 
 def test_a_two_by_two_grid_states_no_interpolation_error_rather_than_inventing_one():
+    from rocking.fragility.surface import LimitStateGrid
     from rocking.risk.portfolio import error_words
-    from rocking.risk.surface import LimitStateGrid
 
     ta, R = np.array([0.15, 0.2]), np.array([1.0, 3.0])
     median = np.array([[0.2, 0.4], [0.25, 0.5]])

@@ -109,7 +109,7 @@ def test_own_study_draws_no_empty_figure(own_run):
         assert missing == [] or name == "fig08_motions", (name, missing)
         assert not any("paper" in s for s in missing), (name, missing)
     res = own_run / "results/column"
-    from rocking.study.ensemble_spec import EnsembleSpec
+    from rocking.config.ensemble import EnsembleSpec
 
     motions = own_run / f"results/motions/own-{EnsembleSpec.from_config(OWN, 'own').digest}.nc"
     # every panel of every spectrum figure holds the study's numbers at its own tan α
@@ -290,7 +290,7 @@ def test_a_suite_study_speaks_its_own_language(tmp_path):
 
 
 def test_reproduces_is_checked_and_decides_no_store():
-    from rocking.study.study_spec import StudySpec
+    from rocking.config.study import StudySpec
 
     config = yaml.safe_load((REPO / "config/paper.yaml").read_text())
     spec = StudySpec.from_config(config, "lomaprieta")
@@ -336,7 +336,7 @@ def test_panels_and_slenderness_follow_the_study():
 def test_risk_summary_follows_the_table():
     import pandas as pd
 
-    from rocking.risk.report import main_tan_alpha, risk_section_html, summary_table
+    from rocking.report.risk import main_tan_alpha, risk_section_html, summary_table
 
     rows = [{"mode": "3d", "limit_state": ls, "tan_alpha": TAN_ALPHA, "R": R,
              "maf": 1e-3 / R / (2 if ls == "overturning" else 1)}

@@ -141,9 +141,9 @@ def test_motions_that_differ_from_the_gallery_s_are_named(tmp_path, capsys):
     """An output root: <study>/config.yaml, the tables, motions/<name>-<digest>.nc."""
     import numpy as np
 
+    from rocking.config.ensemble import EnsembleSpec
     from rocking.motions.ensemble_io import save_ensemble
     from rocking.motions.motion import GroundMotion
-    from rocking.study.ensemble_spec import EnsembleSpec
 
     run = tmp_path / "results"
     for study in ("elcentro", "lomaprieta"):

@@ -27,12 +27,12 @@ import xarray as xr
 import yaml
 from conftest import ELC180, ELC270, package_record
 
+from rocking.config.ensemble import EnsembleSpec
+from rocking.config.study import StudySpec
 from rocking.dynamics.bodies import Cylinder
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.tilt_map import tilt_map
-from rocking.study.ensemble_spec import EnsembleSpec
-from rocking.study.study_spec import StudySpec
 from rocking.units import read_table
 
 pytestmark = pytest.mark.slow
@@ -534,7 +534,7 @@ def test_every_output_is_self_describing(reference):
 def test_store_entry_reproduced_by_the_cli_and_the_library_bit_for_bit(reference, tmp_path,
                                                                          mode, motion, R, states):
     from rocking.cli import main
-    from rocking.study import select
+    from rocking.store.select import select
 
     ds = xr.open_zarr(reference / SPECTRA, consolidated=True)
     out = tmp_path / "spectrum.json"  # every bit (the CSV rounds to 10 digits)

@@ -25,16 +25,16 @@ import yaml
 from conftest import package_record
 from test_workflow import snakemake
 
+from rocking.config.ensemble import EnsembleSpec
 from rocking.dynamics.bodies import Cylinder
+from rocking.fragility.stripes import stripe_outcomes
 from rocking.motions.catalogue import RECORDS
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.motions.source import load_motion, process_motion
 from rocking.spectra.accuracy import get_accuracy
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.spectra.stripes import stripe_outcomes
 from rocking.spectra.tilt_map import tilt_map
-from rocking.study.ensemble_spec import EnsembleSpec
 from rocking.units import read_table
 
 pytestmark = pytest.mark.slow

@@ -26,12 +26,12 @@ from pathlib import Path
 import yaml
 
 from rocking import __version__
+from rocking.config.ensemble import EnsembleSpec
+from rocking.config.study import StudySpec
+from rocking.execution.prepare import keyed
 from rocking.plot.gallery_quotes import marked_documents, write_documents
-from rocking.plot.report import link_images, relink_docs
+from rocking.report.html import link_images, relink_docs
 from rocking.study.aggregate import write_critical_table
-from rocking.study.ensemble_spec import EnsembleSpec
-from rocking.study.prepare import keyed
-from rocking.study.study_spec import StudySpec
 
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",

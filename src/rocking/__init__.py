@@ -14,8 +14,8 @@ figures and the report, which read the study's outputs). The names below are the
 each is imported on first use.
 """
 
-from ._lazy import lazy_exports
-from .constants import G
+from rocking._lazy import lazy_exports
+from rocking.constants import G
 
 __version__ = "0.1.0"
 
@@ -61,12 +61,12 @@ _EXPORTS = {
     "critical_intensity_batch": "spectra.critical",
     "tilt_map": "spectra.tilt_map",
     "match_limit_state": "spectra.limit_states",
-    "stripe_fragility": "spectra.stripes",
-    "fit_lognormal": "spectra.fragility",
-    "LognormalFit": "spectra.fragility",
-    "StripeFragility": "spectra.stripes",
+    "stripe_fragility": "fragility.stripes",
+    "fit_lognormal": "fragility.lognormal",
+    "LognormalFit": "fragility.lognormal",
+    "StripeFragility": "fragility.stripes",
     # study outputs
-    "select": "study.select",
+    "select": "store.select",
     # risk: hazard curves and mean annual frequencies
     "HazardCurve": "risk.hazard",
     "mean_annual_frequency": "risk.annual_frequency",

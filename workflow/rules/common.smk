@@ -1,5 +1,5 @@
 # Shared helpers: the validated configuration turned into store specifications (one
-# rocking.study.study_spec.StudySpec per study: grids, runs, hashes) and target paths. Pure
+# rocking.config.study.StudySpec per study: grids, runs, hashes) and target paths. Pure
 # functions of `config`; no work happens here.
 
 import posixpath
@@ -7,12 +7,12 @@ import re
 import sys
 from functools import cache
 
-from rocking.study.prepare import keyed
-from rocking.study.products import PRODUCTS
-from rocking.study.damping import Damping
-from rocking.study.ensemble_spec import EnsembleSpec
-from rocking.study.store_attrs import config_hash
-from rocking.study.study_spec import StudySpec, report_studies
+from rocking.execution.prepare import keyed
+from rocking.execution.products import PRODUCTS
+from rocking.config.damping import Damping
+from rocking.config.ensemble import EnsembleSpec
+from rocking.store.attrs import config_hash
+from rocking.config.study import StudySpec, report_studies
 from snakemake.exceptions import WorkflowError
 
 
@@ -63,7 +63,7 @@ def planned_ensemble(name, digest):
 
 @cache
 def study_spec(study):
-    """The study as one checked object (rocking.study.study_spec.StudySpec)."""
+    """The study as one checked object (rocking.config.study.StudySpec)."""
     return StudySpec.from_config(config, study)
 
 
@@ -73,7 +73,7 @@ def damped_options(modes):
 
 
 def study_plan(study):
-    """The study's runs checked and united (rocking.study.plan): modes, tan α, limit states
+    """The study's runs checked and united (rocking.config.plan): modes, tan α, limit states
     and which of their cells are requested."""
     return study_spec(study).spectra.plan
 
@@ -83,7 +83,7 @@ def search_upper(study):
     return study_spec(study).spectra.upper
 
 
-# A study's products (rocking.study.products.PRODUCTS: spectra, tilt_map, stripes) by name:
+# A study's products (rocking.execution.products.PRODUCTS: spectra, tilt_map, stripes) by name:
 # each is a part of the study (None when not configured) with its own store and compute rule.
 def has_product(kind, study):
     return getattr(study_spec(study), kind) is not None
@@ -118,7 +118,7 @@ NUMBA_CACHE = out_path("numba_cache.json")
 # The stores are prepared and filled by their compute rule and are not Snakemake outputs (see
 # products.smk); other rules take the rule's completion marker as input and the store path as
 # a parameter. Everything else is named by the rule that writes it (rules.<name>.output).
-# A store's name holds the digest of what decides its numbers (rocking.study.prepare.keyed):
+# A store's name holds the digest of what decides its numbers (rocking.execution.prepare.keyed):
 # a changed setting adds a store, changing it back finds the earlier one.
 def product_store(kind, study):
     return str(keyed(out_path(f"{study}/{kind}.zarr"), product_hash(kind, study)))
@@ -191,7 +191,7 @@ def _dry_run():
 
 def _check_config():
     """Grids and specs build without error (the cross-field checks of
-    rocking.study.config_checks ran in the Snakefile); each error names the key and value."""
+    rocking.config.checks ran in the Snakefile); each error names the key and value."""
     for study in config["studies"]:
         for kind in PRODUCTS:
             if has_product(kind, study):

@@ -1,4 +1,4 @@
-# The compute rule of every product of a study (rocking.study.products.PRODUCTS: the
+# The compute rule of every product of a study (rocking.execution.products.PRODUCTS: the
 # performance spectra, the Fig 7 tilt map, the stripes), written once: the chunked analyses
 # of a study on Dask, written to its zarr store <root>/<study>/<product>-<digest>.zarr
 # (<product>.zarr links to the latest). The store is prepared by the rule itself (created for

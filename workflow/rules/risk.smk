@@ -9,7 +9,7 @@
 # row is written, with its status where there is no fit. Helpers in risk_common.smk.
 
 from rocking.plot.risk import CAPTION as RISK_CAPTION
-from rocking.risk.bootstrap import bootstrap_path
+from rocking.fragility.bootstrap import bootstrap_path
 
 
 rule risk:

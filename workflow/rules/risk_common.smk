@@ -5,7 +5,8 @@
 from functools import cache
 from pathlib import Path
 
-from rocking.risk.hazard import parse_hazard, same_measure
+from rocking.motions.measures import same_measure
+from rocking.risk.hazard import parse_hazard
 
 
 def hazard_spec(study):

@@ -1,10 +1,10 @@
-"""Compute rule of a product (spectra, tilt map, stripes: rocking.study.products): prepare the
+"""Compute rule of a product (spectra, tilt map, stripes: rocking.execution.products): prepare the
 study's store (resume in it, or make it anew for a new configuration), fill it on Dask, write
 the completion marker (the rule's output)."""
 
 from rocking import _json
-from rocking.study import logs, products
-from rocking.study.cluster import dask_options
+from rocking.execution import logs, products
+from rocking.execution.cluster import dask_options
 
 
 def main(snakemake):

@@ -1,7 +1,7 @@
 """Every answer of a study's spectra store as one table (Snakemake script): critical.csv."""
 
+from rocking.execution.logs import log_to
 from rocking.study.aggregate import write_critical_table
-from rocking.study.logs import log_to
 
 
 def main(snakemake):

@@ -3,8 +3,8 @@
 
 import pandas as pd
 
+from rocking.execution.logs import log_to
 from rocking.risk.exposure import write_exposure
-from rocking.study.logs import log_to
 
 
 def main(snakemake):

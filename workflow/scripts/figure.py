@@ -2,8 +2,8 @@
 figure named by ``params.figure`` drawn by its module from the rule's inputs and parameters
 (rocking.plot.draw)."""
 
+from rocking.execution.logs import log_to
 from rocking.plot import draw
-from rocking.study.logs import log_to
 
 
 def _plain(value):

@@ -3,11 +3,11 @@ the motions, line fits of the mean spectra."""
 
 import time
 
+from rocking.execution.logs import log_to
+from rocking.fragility import lognormal as fragility
+from rocking.fragility.bootstrap import write_bootstrap
 from rocking.plot import open_means, open_store
-from rocking.risk.bootstrap import write_bootstrap
-from rocking.spectra import fragility
-from rocking.study.logs import log_to
-from rocking.study.store_attrs import store_provenance
+from rocking.store.attrs import store_provenance
 
 
 def main(snakemake):

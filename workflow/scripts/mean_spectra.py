@@ -2,9 +2,9 @@
 
 import xarray as xr
 
+from rocking.execution.logs import log_to
+from rocking.store.integrity import require_intact
 from rocking.study.aggregate import ensemble_statistics, write_statistics
-from rocking.study.integrity import require_intact
-from rocking.study.logs import log_to
 
 
 def main(snakemake):

@@ -11,6 +11,7 @@ method (Fig 8 only; a suite's holds its recorded motions).
 import logging
 
 from rocking import _json
+from rocking.execution.logs import heartbeat, log_to, terminal
 from rocking.motions.build import (
     ENSEMBLE_ATTRS,
     SUITE_RECORD_KEYS,
@@ -22,7 +23,6 @@ from rocking.motions.build import (
 )
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.motions.stochastic.recorded import entries_for, write_params_file
-from rocking.study.logs import heartbeat, log_to, terminal
 
 
 def main(snakemake):

@@ -5,8 +5,8 @@ import time
 
 import numba
 
-from rocking.study.logs import log_to
-from rocking.study.warmup import variants_asked, warm_numba_cache
+from rocking.execution.logs import log_to
+from rocking.execution.warmup import variants_asked, warm_numba_cache
 
 
 def main(snakemake):

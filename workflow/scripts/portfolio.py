@@ -3,9 +3,9 @@ from the study's fragility surface and its hazard (rocking.risk.portfolio.site_p
 
 from pathlib import Path
 
+from rocking.execution.logs import log_to
 from rocking.plot.portfolio import render_figures
 from rocking.risk.portfolio import site_portfolio, write_portfolio
-from rocking.study.logs import log_to
 
 
 def main(snakemake):

@@ -3,8 +3,8 @@
 rocking.study.records.write_record_tables does the work; this script checks the store first.
 """
 
-from rocking.study.integrity import require_intact
-from rocking.study.logs import log_to
+from rocking.execution.logs import log_to
+from rocking.store.integrity import require_intact
 from rocking.study.records import write_record_tables
 
 

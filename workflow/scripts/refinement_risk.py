@@ -2,10 +2,10 @@
 of every point holding a refined cell fitted again with the refined answers substituted and
 integrated with the study's hazard curve, as risk.csv is (rocking.study.refinement)."""
 
+from rocking.execution.logs import log_to
+from rocking.fragility.lognormal import censoring_bound
 from rocking.plot import open_store
 from rocking.risk.hazard import parse_hazard
-from rocking.spectra.fragility import censoring_bound
-from rocking.study.logs import log_to
 from rocking.study.refinement import store_cells, write_refinement_risk
 
 

@@ -4,8 +4,8 @@ sample of the study's cells searched again with a fixed 0.05 % scan
 
 import time
 
-from rocking.study.integrity import require_intact
-from rocking.study.logs import log_to
+from rocking.execution.logs import log_to
+from rocking.store.integrity import require_intact
 from rocking.study.refinement import SampleSpec, write_refinement_sample
 
 

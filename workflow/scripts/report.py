@@ -4,9 +4,9 @@ the paper's statements against this run's numbers."""
 from datetime import datetime
 from pathlib import Path
 
-from rocking.plot.report import build
-from rocking.plot.run_summary import what_was_run
-from rocking.study.logs import log_to
+from rocking.execution.logs import log_to
+from rocking.report.html import build
+from rocking.report.run_summary import what_was_run
 
 
 def workflow_elapsed() -> float | None:

@@ -3,10 +3,10 @@ rows in the hazard's measure, and stripe rows when the study has stripes), risk 
 
 import json
 
+from rocking.execution.logs import log_to
 from rocking.plot import render
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import parse_hazard
-from rocking.study.logs import log_to
 
 
 def _one(files):

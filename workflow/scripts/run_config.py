@@ -2,7 +2,7 @@
 
 import yaml
 
-from rocking.study.logs import log_to
+from rocking.execution.logs import log_to
 
 
 def main(snakemake):

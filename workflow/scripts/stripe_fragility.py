@@ -2,8 +2,8 @@
 state, R) of the stripes store, refined where separated and bootstrapped over the motions,
 beside the first-exceedance fit of the spectra; and the bootstrap samples."""
 
-from rocking.study.logs import log_to
-from rocking.study.stripes import write_stripe_fragility
+from rocking.execution.logs import log_to
+from rocking.execution.stripes import write_stripe_fragility
 
 
 def main(snakemake):

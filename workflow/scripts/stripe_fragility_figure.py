@@ -1,8 +1,8 @@
 """Stripe against first-exceedance fragility of one mode (Snakemake script)."""
 
+from rocking.execution.logs import log_to
 from rocking.plot import stripe_fragility as fig
 from rocking.plot._style import save, write_notes
-from rocking.study.logs import log_to
 
 
 def main(snakemake):

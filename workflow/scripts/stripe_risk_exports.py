@@ -3,8 +3,8 @@ stripe_fragility.csv, ids saying they carry the multiple-stripe fragility."""
 
 import json
 
+from rocking.execution.logs import log_to
 from rocking.risk.exports import write_fragility_exports
-from rocking.study.logs import log_to
 
 
 def main(snakemake):

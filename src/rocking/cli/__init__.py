@@ -19,7 +19,7 @@ import re
 import sys
 from collections.abc import Iterable, Sequence
 
-from .. import __version__
+from rocking import __version__
 
 SUBCOMMANDS: dict[str, str] = {
     "simulate": "one rocking analysis (free vibration or ground motion) -> history + summary",

@@ -1,5 +1,5 @@
 """``python -m rocking.cli``: the same as the ``rocking`` command."""
 
-from . import main
+from rocking.cli import main
 
 raise SystemExit(main())

@@ -59,8 +59,8 @@ def say_compile(command: str, mode: str, quiet: bool = False, monitors: bool = F
     ``--quiet``. Only that model is compiled."""
     import sys
 
-    from ..dynamics.compiled import compile_notice
-    from ..spectra.modes import MODES
+    from rocking.dynamics.compiled import compile_notice
+    from rocking.spectra.modes import MODES
 
     line = None if quiet else compile_notice(MODES[mode][0], monitors)
     if line:
@@ -89,7 +89,7 @@ def floats(text: str) -> list[float]:
 def add_cylinders(p: argparse.ArgumentParser) -> None:
     """``--R``, ``--tan-alpha`` (or ``--height``/``--diameter``) and ``--mode``: the cylinders
     and the model of a command that runs many sizes (``spectra``, ``stripes``)."""
-    from ..spectra.modes import MODE_3D, MODES
+    from rocking.spectra.modes import MODE_3D, MODES
 
     p.add_argument("--R", dest="R", type=floats, action="extend", default=None,
                    help="cylinder semi-diagonals [m], comma-separated or repeated (or "
@@ -104,8 +104,8 @@ def add_cylinders(p: argparse.ArgumentParser) -> None:
 def add_contact(p: argparse.ArgumentParser) -> None:
     """``--omega-n``, ``--zeta``: the damped mode's contact spring–dashpot (None: the model's
     defaults, which the help states)."""
-    from ..dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
-    from ..spectra.modes import MODE_3D_DAMPED
+    from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
+    from rocking.spectra.modes import MODE_3D_DAMPED
 
     p.add_argument("--omega-n", type=float, default=None,
                    help=f"contact spring frequency of mode {MODE_3D_DAMPED} [rad/s] "
@@ -127,10 +127,10 @@ def add_dimensions(p: argparse.ArgumentParser) -> None:
 def resolve_body(args: argparse.Namespace, command: str, *, many: bool) -> None:
     """Set ``args.R`` and ``args.tan_alpha`` from ``--height``/``--diameter`` (printing the
     derived body on stderr), or check that both were given: one line naming the options
-    before any work (:func:`rocking.study.dimensions.body_size`)."""
+    before any work (:func:`rocking.config.dimensions.body_size`)."""
     import sys
 
-    from ..dynamics.dimensions import body_line, body_size, swap_warning
+    from rocking.dynamics.dimensions import body_line, body_size, swap_warning
 
     R = args.R if args.R is None or many else [args.R]
     size = body_size(args.height, args.diameter, R=R, tan_alpha=args.tan_alpha,
@@ -212,7 +212,7 @@ def add_quiet(p: argparse.ArgumentParser) -> None:
 
 def motion_from_args(args: argparse.Namespace, default_record: str | None = None):
     """The motion the options ask for, processed as asked (None: no source given)."""
-    from ..motions.source import load_motion, process_motion
+    from rocking.motions.source import load_motion, process_motion
 
     ensemble = getattr(args, "ensemble", None)
     record = args.record

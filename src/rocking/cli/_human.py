@@ -81,7 +81,7 @@ def processing(motion, stored: bool = False) -> str:
     workflow's processing; a motion ``stored`` in an ensemble file is used as it is, so it
     gets none (its processing is the ensemble's).
     """
-    from ..motions.identity import identity
+    from rocking.motions.identity import identity
 
     who = identity(motion)
     rot, fc = who["rotation_deg"], who["highpass_fc_hz"]
@@ -104,7 +104,7 @@ def processing(motion, stored: bool = False) -> str:
 def processing_fields(motion) -> dict[str, Any]:
     """The processing as JSON fields: ``rotation_deg`` (None: recorded axes),
     ``highpass`` (kind or None) and ``highpass_fc_hz`` [Hz] (None: none)."""
-    from ..motions.identity import identity
+    from rocking.motions.identity import identity
 
     who = identity(motion)
     fc = who["highpass_fc_hz"]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from . import _common
+from rocking.cli import _common
 
 EXAMPLES = """\
   rocking motions --record el-centro-1940 -n 10 --seed 2017 -o results/motions/elcentro.nc
@@ -66,10 +66,10 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     """Build the ensemble, write the NetCDF and JSON files; returns 0."""
-    from .. import _json
-    from ..motions.build import ENSEMBLE_ATTRS, build_ensemble, comparison_path, quality_lines
-    from ..motions.ensemble_io import save_ensemble, write_digest
-    from ..motions.source import load_motion
+    from rocking import _json
+    from rocking.motions.build import ENSEMBLE_ATTRS, build_ensemble, comparison_path, quality_lines
+    from rocking.motions.ensemble_io import save_ensemble, write_digest
+    from rocking.motions.source import load_motion
 
     def say(message: str) -> None:
         if not args.quiet:
@@ -90,7 +90,7 @@ def run(args) -> int:
     motion = load_motion(record, args.files, name=args.name,
                          order_by_azimuth=args.order_by_azimuth, dt=args.dt, units=args.units,
                          vertical=args.vertical)
-    from ..study.config_checks import check_ensemble_size, check_magnitude
+    from rocking.config.checks import check_ensemble_size, check_magnitude
 
     check_ensemble_size("--n-synthetic", args.n_synthetic, motion.npts)
     check_magnitude("--mw", args.mw)
@@ -117,8 +117,8 @@ def run(args) -> int:
     with _common.replacing(params_out) as tmp:
         _json.write(tmp, params, sort_keys=True)
     if args.write_params is not None:
-        from ..motions.build import recorded_entries
-        from ..motions.stochastic.recorded import write_params_file
+        from rocking.motions.build import recorded_entries
+        from rocking.motions.stochastic.recorded import write_params_file
 
         settings = {"record": record, "paths": None if not args.files else
                     [str(f) for f in args.files], "units": args.units, "dt": args.dt,

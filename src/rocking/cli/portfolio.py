@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import _common, _human
+from rocking.cli import _common, _human
 
 EXAMPLES = """  rocking portfolio --surface results/paper/elcentro \\
       --inventory config/inventory/example_columns.csv \\
@@ -103,7 +103,7 @@ def run(args) -> int:
     """Check everything, then compute, print or write portfolio.csv; returns 0."""
     import sys
 
-    from ..risk.portfolio import site_portfolio, write_portfolio
+    from rocking.risk.portfolio import site_portfolio, write_portfolio
 
     if args.max_distance_km <= 0:
         raise ValueError(f"--max-distance-km must be > 0, got {args.max_distance_km:g}")
@@ -129,11 +129,11 @@ def run(args) -> int:
     if args.out is not None:
         path = write_portfolio(table, args.out, inventory.skipped)
         if args.figures:
-            from ..plot.portfolio import render_figures
+            from rocking.plot.portfolio import render_figures
 
             render_figures(table, args.out, hazard=str(args.hazard), study=str(args.surface))
         if args.export:
-            from ..risk.exposure import write_exposure
+            from rocking.risk.exposure import write_exposure
 
             export = write_exposure(table, args.out / "exposure", taxonomy_by=args.export,
                                     component=str(table["component"].iloc[0]))
@@ -141,7 +141,7 @@ def run(args) -> int:
                   f"({len(export.taxonomies)} taxonomies): {args.out / 'exposure'}",
                   file=sys.stderr)
     if args.json:
-        from .. import _json
+        from rocking import _json
 
         print(_json.dumps({"surface": str(args.surface), "hazard": str(args.hazard),
                            "skipped": inventory.skipped_note(), "notes": result.notes,
@@ -157,7 +157,7 @@ def run(args) -> int:
 
 def human(table, inventory, args) -> str:
     """The highest-λ columns of each limit state, for people."""
-    from ..risk.portfolio import error_words
+    from rocking.risk.portfolio import error_words
 
     head = _human.block([("surface", str(args.surface)), ("inventory", str(args.inventory)),
                          ("hazard", str(args.hazard)),

@@ -16,8 +16,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import _common, _human
-from .stripes import COMPONENT_NAMES
+from rocking.cli import _common, _human
+from rocking.cli.stripes import COMPONENT_NAMES
 
 EXAMPLES = """\
   rocking risk --fragility results/paper/elcentro/fragility.csv \\
@@ -106,7 +106,8 @@ def add_parser(subparsers) -> None:
 
 
 def _hazard(args):
-    from ..risk.hazard import parse_hazard, same_measure
+    from rocking.motions.measures import same_measure
+    from rocking.risk.hazard import parse_hazard
 
     spec = {"file": args.hazard}
     site = _site(args)
@@ -167,7 +168,7 @@ def _select(frag, args):
 
     import pandas as pd
 
-    from ..spectra.limit_states import parse_limit_states
+    from rocking.spectra.limit_states import parse_limit_states
 
     both = pd.concat([frag.rows.assign(_fit=True), frag.skipped.assign(_fit=False)],
                      ignore_index=True)
@@ -196,7 +197,7 @@ def _body_rows(rows, args):
     stderr), or a line saying which bodies the table has."""
     import sys
 
-    from ..dynamics.dimensions import AGREE_RTOL, body_line, body_size, swap_warning
+    from rocking.dynamics.dimensions import AGREE_RTOL, body_line, body_size, swap_warning
 
     size = body_size(args.height, args.diameter, tan_alpha=args.tan_alpha,
                      names=("--height", "--diameter", "--R", "--tan-alpha"))
@@ -222,10 +223,10 @@ def _body_rows(rows, args):
 
 def run(args) -> int:
     """Print or write the risk table (and the exports when asked); returns 0."""
-    from ..risk.fragilities import read_fragilities
-    from ..risk.nrml import write_nrml
-    from ..risk.pelicun import write_pelicun_csv
-    from ..risk.table import risk_table
+    from rocking.fragility.table import read_fragilities
+    from rocking.risk.nrml import write_nrml
+    from rocking.risk.pelicun import write_pelicun_csv
+    from rocking.risk.table import risk_table
 
     if args.out is not None:
         _common.check_output(args.out, (".csv",))
@@ -247,11 +248,11 @@ def run(args) -> int:
         with _common.replacing(args.out) as tmp:
             table.to_csv(tmp, index=False, float_format="%.6g")
     if args.json:
-        from .. import _json
-        from ..units import strip_units
+        from rocking import _json
+        from rocking.units import strip_units
 
         plain = table.rename(columns={c: strip_units(c) for c in table.columns})
-        from ..risk.report import below_first_warning
+        from rocking.report.risk import below_first_warning
 
         print(_json.dumps({"hazard": hazard.source, "fragility": frag.kind,
                            "measure": hazard.measure, "hazard_note": hazard.note,
@@ -269,9 +270,9 @@ def run(args) -> int:
 
 def human(table, frag, hazard, args) -> str:
     """The risk table for people: the hazard, which fragility, then one row per fit."""
-    from ..risk.fragilities import KINDS
-    from ..risk.report import below_first_warning
-    from ..units import strip_units
+    from rocking.fragility.table import KINDS
+    from rocking.report.risk import below_first_warning
+    from rocking.units import strip_units
 
     what = hazard.source if hazard.imt in hazard.source else f"{hazard.source} ({hazard.imt})"
     said = [("hazard", what)]

@@ -16,9 +16,9 @@ import math
 import sys
 from pathlib import Path
 
-from ..dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
-from ..spectra.modes import MODE_3D, MODES
-from . import _common, _human
+from rocking.cli import _common, _human
+from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
+from rocking.spectra.modes import MODE_3D, MODES
 
 EXAMPLES = """\
   rocking simulate --R 6 --tan-alpha 0.2 --theta0 0.1 --phi-dot0 1e-8 --duration 20 -o run
@@ -89,9 +89,9 @@ def add_parser(subparsers) -> None:
 
 
 def _ground(args, body, model: str, component: str | None, motion, common: dict):
-    from ..constants import G
-    from ..dynamics.analysis import ground_response
-    from ..motions.identity import identity
+    from rocking.constants import G
+    from rocking.dynamics.analysis import ground_response
+    from rocking.motions.identity import identity
 
     excitation = motion if component is None else motion.component(component)
     # the pair's vector PGA normalizes the intensity in every mode, as in the spectra
@@ -114,10 +114,10 @@ def run(args: argparse.Namespace) -> int:
     """Run the analysis, write history.csv and summary.json; 0, or 1 if it failed."""
     import numpy as np
 
-    from .. import _json
-    from ..dynamics.analysis import free_vibration
-    from ..dynamics.bodies import Block, Cylinder
-    from ..units import QUANTITIES, header
+    from rocking import _json
+    from rocking.dynamics.analysis import free_vibration
+    from rocking.dynamics.bodies import Block, Cylinder
+    from rocking.units import QUANTITIES, header
 
     _common.resolve_body(args, "simulate", many=False)
     for option, value in (("--scale", args.scale), ("--pga-ratio", args.pga_ratio),

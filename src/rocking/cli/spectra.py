@@ -13,8 +13,8 @@ import sys
 import time
 from pathlib import Path
 
-from ..spectra.accuracy import PRESETS
-from . import _common, _human
+from rocking.cli import _common, _human
+from rocking.spectra.accuracy import PRESETS
 
 EXAMPLES = """\
   rocking spectra --R 0.5,1,2,5,10 --tan-alpha 0.2 --record el-centro-1940 -o spectrum.csv
@@ -72,7 +72,7 @@ def add_parser(subparsers) -> None:
 
 def rows(results, motion) -> list[dict]:
     """One dict per (R, limit state) with the columns of :data:`COLUMNS`."""
-    from ..motions.identity import identity
+    from rocking.motions.identity import identity
 
     who = identity(motion)
     out = []
@@ -160,12 +160,12 @@ def run(args) -> int:
     """Compute the spectrum and write it; returns 0."""
     import pandas as pd
 
-    from .. import _json
-    from ..motions.identity import identity
-    from ..spectra.accuracy import get_accuracy
-    from ..spectra.critical import critical_intensity_batch
-    from ..spectra.limit_states import parse_limit_states
-    from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
+    from rocking import _json
+    from rocking.motions.identity import identity
+    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.critical import critical_intensity_batch
+    from rocking.spectra.limit_states import parse_limit_states
+    from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
     _common.resolve_body(args, "spectra", many=True)
     _check_numbers(args)

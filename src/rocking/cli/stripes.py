@@ -1,7 +1,7 @@
 """``rocking stripes``: multiple-stripe fragility of cylinders under an ensemble of motions.
 
 At each stripe intensity every motion is analysed once; the share exceeding each limit state
-is fitted by a lognormal CDF by binomial maximum likelihood (:mod:`rocking.spectra.stripes`).
+is fitted by a lognormal CDF by binomial maximum likelihood (:mod:`rocking.fragility.stripes`).
 Printed as labelled tables (medians as PGA/(g tan α) and PGA [g] with their intervals, the
 motions' processing, each stripe's count) or as JSON (``--json``); ``-o`` writes CSV or JSON.
 """
@@ -13,8 +13,8 @@ import sys
 import time
 from pathlib import Path
 
-from ..spectra.accuracy import PRESETS
-from . import _common, _human
+from rocking.cli import _common, _human
+from rocking.spectra.accuracy import PRESETS
 
 EXAMPLES = """\
   rocking stripes --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --mode 3d \\
@@ -23,11 +23,11 @@ EXAMPLES = """\
   rocking stripes --height 6 --diameter 0.66 --record el-centro-1940 --intensities 1.5,2,3,4"""
 
 DEFAULT_STRIPES = 40
-"""Default number of stripes (:data:`rocking.spectra.stripes.DEFAULT_STRIPES`, checked equal
+"""Default number of stripes (:data:`rocking.fragility.stripes.DEFAULT_STRIPES`, checked equal
 in the tests; the library is not imported to print the help)."""
 
 DEFAULT_REFINE = 8
-"""Default refinement budget (:data:`rocking.spectra.stripes.DEFAULT_REFINE`, likewise)."""
+"""Default refinement budget (:data:`rocking.fragility.stripes.DEFAULT_REFINE`, likewise)."""
 
 COMPONENT_NAMES = ("vector_peak", "rotd100", "rotd50", "geometric_mean", "larger")
 """The components of :data:`rocking.motions.measures.COMPONENTS` (held equal by a test)."""
@@ -107,7 +107,7 @@ def add_parser(subparsers) -> None:
 def _motions(args):
     """Every motion of --ensemble (or the one named by --motion), else the one record."""
     if args.ensemble is not None and args.motion is None:
-        from ..motions.ensemble_io import load_ensemble
+        from rocking.motions.ensemble_io import load_ensemble
 
         if any(getattr(args, k, None) is not None
                for k in ("rotation", "fc_hz", "mw", "max_duration")) or args.highpass != "none":
@@ -125,7 +125,7 @@ def tables(results, boot=None):
 
     import pandas as pd
 
-    from ..spectra.stripes import bootstrap_interval
+    from rocking.fragility.stripes import bootstrap_interval
 
     fits, stripes = [], []
     for i, per_state in enumerate(results):
@@ -142,7 +142,7 @@ def tables(results, boot=None):
 
 def _refined(result, body, motions, args, acc) -> dict:
     """Per limit state, the fit refined where separated (--refine stripes at most)."""
-    from ..spectra.stripes import refine_stripes, stripe_analyzer
+    from rocking.fragility.stripes import refine_stripes, stripe_analyzer
 
     analyze = stripe_analyzer(body, motions, list(result.limit_states), mode=args.mode,
                               accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
@@ -165,7 +165,7 @@ def _motions_line(motions, args) -> tuple[str, str]:
 
 
 def _identity_line(motion) -> str:
-    from ..motions.identity import identity
+    from rocking.motions.identity import identity
 
     return identity(motion)["processing"]
 
@@ -175,7 +175,7 @@ def human(fits, stripes, motions, args, accuracy: str, x, unit: str = "g") -> st
     95 % intervals, β, status; then each stripe's count of motions exceeding."""
     ta = args.tan_alpha
     motion_line, processing_line = _motions_line(motions, args)
-    from ..spectra.stripes import measure_scale
+    from rocking.fragility.stripes import measure_scale
 
     name = "PGA" if args.measure == "pga" else args.measure
     scale = measure_scale(args.measure, ta)
@@ -213,19 +213,19 @@ def human(fits, stripes, motions, args, accuracy: str, x, unit: str = "g") -> st
 
 def run(args) -> int:
     """Analyse every stripe and motion, fit, and write; returns 0."""
-    from .. import _json
-    from ..dynamics.bodies import Cylinder
-    from ..motions.identity import identity
-    from ..motions.measures import MEASURE_UNITS, parse_measure
-    from ..spectra.accuracy import get_accuracy
-    from ..spectra.limit_states import parse_limit_states
-    from ..spectra.stripes import (
+    from rocking import _json
+    from rocking.dynamics.bodies import Cylinder
+    from rocking.fragility.stripes import (
         MEASURE_COLUMNS,
         bootstrap_stripes,
         stripe_fragility,
         stripe_intensities,
     )
-    from ..units import CSV_FLOAT_FORMAT, QUANTITIES, header
+    from rocking.motions.identity import identity
+    from rocking.motions.measures import MEASURE_UNITS, parse_measure
+    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.limit_states import parse_limit_states
+    from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
     out = args.out
     _common.resolve_body(args, "stripes", many=True)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import _common
+from rocking.cli import _common
 
 EXAMPLES = """\
   snakemake --cores 2 --configfile config/paper.yaml && rocking verify results
@@ -40,7 +40,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..study.verify import format_verdicts, motions_lines, verify_run
+    from rocking.study.verify import format_verdicts, motions_lines, verify_run
 
     if args.show < 0:
         raise ValueError(f"--show must be >= 0, got {args.show}")

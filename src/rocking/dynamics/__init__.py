@@ -6,7 +6,7 @@
 :mod:`.analysis` (:func:`free_vibration`, :func:`ground_response`).
 """
 
-from .._lazy import lazy_exports
+from rocking._lazy import lazy_exports
 
 _EXPORTS = {
     "Cylinder": "bodies",

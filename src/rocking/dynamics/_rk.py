@@ -7,7 +7,7 @@ by hand:
 - ``DP5``: Dormand–Prince 5(4), 6 new right-hand-side evaluations per step (FSAL);
 - ``DOP853``: Hairer's 8(5,3) pair, 12 new evaluations per step.
 
-Why DP5 is the default of the undamped models (measured, ``python -m rocking.benchmarks
+Why DP5 is the default of the undamped models (measured, ``python -m benchmarks
 dynamics``, right-hand-side evaluations being the machine-independent cost): the ground
 acceleration is only piecewise linear, so every step ends on a record sample and no step
 exceeds the record dt. With steps capped that short the 8th-order pair cannot take the long
@@ -29,8 +29,8 @@ from numba import njit
 from scipy.integrate import DOP853 as _SCIPY_DOP853
 from scipy.integrate import RK45 as _SCIPY_RK45
 
-from ._numerics import error_scale
-from .driver import control_array
+from rocking.dynamics._numerics import error_scale
+from rocking.dynamics.driver import control_array
 
 DP5 = 0
 """Dormand–Prince 5(4)."""

@@ -34,8 +34,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ._numerics import error_scale
-from .driver import control_array
+from rocking.dynamics._numerics import error_scale
+from rocking.dynamics.driver import control_array
 
 
 class Tableau(NamedTuple):

@@ -26,13 +26,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validate import finite, nonnegative_finite, positive_finite
-from ..constants import G
-from ..motions.motion import GroundMotion
-from . import codes, cylinder3d, cylinder3d_damped, driver, housner2d, models
-from .bodies import Block, Cylinder
-from .names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
-from .result import QuasiImpacts, Response, Status
+from rocking._validate import finite, nonnegative_finite, positive_finite
+from rocking.constants import G
+from rocking.dynamics import codes, cylinder3d, cylinder3d_damped, driver, housner2d, models
+from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
+from rocking.dynamics.result import QuasiImpacts, Response, Status
+from rocking.motions.motion import GroundMotion
 
 MODELS = tuple(models.MODELS)
 

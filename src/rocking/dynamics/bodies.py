@@ -29,9 +29,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from .._validate import positive_finite
-from ..constants import G
-from . import inertia as _inertia
+from rocking._validate import positive_finite
+from rocking.constants import G
+from rocking.dynamics import inertia as _inertia
 
 
 def _restitution(name: str, value: float | None, default: float) -> float:

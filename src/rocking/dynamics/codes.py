@@ -8,7 +8,7 @@ compares codes as bare integers.
 
 from __future__ import annotations
 
-from .result import Status
+from rocking.dynamics.result import Status
 
 OK = 0
 """Reached the end time."""

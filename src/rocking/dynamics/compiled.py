@@ -22,7 +22,7 @@ def _dispatchers(model: str, monitors: bool = False, vertical: bool = False) -> 
     """The numba dispatchers an analysis of ``model`` calls: its compiled fields and the
     kernel variant with or without the validity monitors and the vertical forcing
     (:meth:`~rocking.dynamics.models.Model.kernel`; each variant compiles on its own)."""
-    from .models import MODELS
+    from rocking.dynamics.models import MODELS
 
     if model not in MODELS:
         raise ValueError(f"model must be one of {sorted(MODELS)}, got {model!r}")

@@ -31,11 +31,11 @@ import numpy as np
 from numba import njit
 from scipy.optimize import brentq
 
-from ..constants import G
-from . import driver, inertia
-from ._numerics import EPS
-from ._rk import rk_step
-from .bodies import Cylinder, mu
+from rocking.constants import G
+from rocking.dynamics import driver, inertia
+from rocking.dynamics._numerics import EPS
+from rocking.dynamics._rk import rk_step
+from rocking.dynamics.bodies import Cylinder, mu
 
 STATE = ("theta", "phi", "theta_dot", "phi_dot")
 

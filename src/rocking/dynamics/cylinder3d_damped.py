@@ -40,7 +40,7 @@ with the analytic Jacobian, through the driver (:mod:`.driver`). The fast eigenv
 ≈ −2ζωn when ζ > 1 and a lightly damped pair −ζωn ± iωn otherwise, so explicit methods are
 stability-limited; a Rosenbrock step needs no Newton iteration (which converges badly in
 quasi-impacts where φ̇ reaches 1e8–1e9 rad/s). The choice and its rtol (in :mod:`.models`) were
-measured with ``python -m rocking.benchmarks damped``. The 7×7 stage systems reduce to 3×3
+measured with ``python -m benchmarks damped``. The 7×7 stage systems reduce to 3×3
 ones because the state is (q, q̇, D): with c = 1/(hγ), (c² I − c A_v − A_q) k_v =
 c r_v + A_q r_q, k_q = (r_q + k_v)/c and k_D = (r_D + ∂Ḋ/∂ẇ k_ẇ)/c, where A_q and A_v are
 the Jacobians of the accelerations with respect to q = (θ, φ, w) and q̇; the 3×3 matrix is
@@ -61,12 +61,12 @@ import math
 import numpy as np
 from numba import njit
 
-from .._validate import nonnegative_finite, positive_finite
-from ..constants import G
-from . import driver, inertia
-from ._rosenbrock import ros_step
-from .bodies import Cylinder
-from .cylinder3d import support_force
+from rocking._validate import nonnegative_finite, positive_finite
+from rocking.constants import G
+from rocking.dynamics import driver, inertia
+from rocking.dynamics._rosenbrock import ros_step
+from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.cylinder3d import support_force
 
 STATE = ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
 """Output state; the kernel state appends the dissipated energy D."""

@@ -4,7 +4,7 @@ A column is measured as its height 2h and diameter 2b [m]; the model takes its
 semi-diagonal R = √(b² + h²) and slenderness tan α = b/h
 (:meth:`rocking.dynamics.bodies.Cylinder.from_dimensions`). :func:`body_size` turns the
 one into the other, for the command line and the workflow's configuration
-(:mod:`rocking.study.dimensions`), and refuses, in one line naming the keys and values, a
+(:mod:`rocking.config.dimensions`), and refuses, in one line naming the keys and values, a
 dimension without the other, one that is not a length > 0, and an R or tan α given beside
 them that disagrees.
 """
@@ -58,7 +58,7 @@ def body_size(height: float | None, diameter: float | None, *, R: Sequence[float
         One line naming the keys and values: one dimension without the other, a dimension
         that is not a finite length > 0, an R or tan α that disagrees with them.
     """
-    from .bodies import Cylinder
+    from rocking.dynamics.bodies import Cylinder
 
     h_name, d_name, r_name, t_name = names
     if height is None and diameter is None:

@@ -30,7 +30,7 @@ Hermite interpolant by small separate functions. A model is a set of compiled ho
 A model's hooks come in variants compiled only where asked (:data:`VARIANTS`): with or
 without the monitors, with or without the vertical forcing (an ``rhs`` that reads a_z, or
 one with gravity exactly g). The monitors and the vertical forcing cost up to +13.5 % per
-analysis (``python -m rocking.benchmarks monitors``) and change nothing else: without a
+analysis (``python -m benchmarks monitors``) and change nothing else: without a
 vertical component a_z = 0 and g + 0 = g to the bit, and the monitors only read the state.
 Each variant is a separate compiled entry point of the model (one line binding the hooks),
 so a study compiles, and caches, only those its analyses call.
@@ -70,8 +70,16 @@ import math
 import numpy as np
 from numba import njit
 
-from . import codes
-from ._numerics import EPS, error_scale, hermite_root, record, recorded, recorder, set_forcing
+from rocking.dynamics import codes
+from rocking.dynamics._numerics import (
+    EPS,
+    error_scale,
+    hermite_root,
+    record,
+    recorded,
+    recorder,
+    set_forcing,
+)
 
 # Layout of the model (int64 array ``layout`` of the run tuple).
 L_NOUT, L_ITHD, L_IMPACTS, L_MINIMA, L_POSITIVE, L_NDIAG = 0, 1, 2, 3, 4, 5

@@ -31,10 +31,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ..constants import G
-from . import driver
-from ._rk import rk_step
-from .bodies import Block, Cylinder
+from rocking.constants import G
+from rocking.dynamics import driver
+from rocking.dynamics._rk import rk_step
+from rocking.dynamics.bodies import Block, Cylinder
 
 STATE = ("theta", "theta_dot")
 

@@ -14,10 +14,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..constants import G
-from . import _rk, _rosenbrock, cylinder3d, cylinder3d_damped, driver, housner2d
-from .bodies import Block, Cylinder
-from .names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
+from rocking.constants import G
+from rocking.dynamics import _rk, _rosenbrock, cylinder3d, cylinder3d_damped, driver, housner2d
+from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 
 ZENO_RATE = 1e-6
 """Impact rate, as a fraction of p α, below which a 2D body is back at rest whatever the rest
@@ -165,19 +165,19 @@ DEFAULT_RTOL = 1e-8
 """Default relative tolerance of the undamped models [-] (the damped one's is
 :data:`DEFAULT_RTOL_DAMPED`).
 
-From ``python -m rocking.benchmarks dynamics``: in every benchmark case the θmax error is
+From ``python -m benchmarks dynamics``: in every benchmark case the θmax error is
 ≤ 1e-3 with the right limit-state decision from rtol 1e-6 on ("3d" El Centro: 1.6e-4 at 1e-6,
 1.1e-2 at 1e-5; "2d": < 1e-10 at any rtol, the record dt caps its steps). The undamped 3D
 default is tighter, 1e-8 (θmax error 9e-6, +24 % steps), because releases at 0.999α must
 survive: the energy margin to the barrier at θ = α is only gR(0.001α)²/2 ≈ 2e-8 gR for
 tan α = 0.2, and the energy drift through quasi-impacts is ~1e-7 at rtol 1e-6 but ~1e-9 at
 1e-8 (tests/test_cylinder3d.py). The 2D default follows for consistency of comparisons. The
-damped default, 1e-8, comes from ``python -m rocking.benchmarks damped``: θmax error ≤ 5e-5 on
+damped default, 1e-8, comes from ``python -m benchmarks damped``: θmax error ≤ 5e-5 on
 the paper's whole (ωn, ζ) grid, where 1e-6 reaches 1e-2 at ωn = 2000, ζ = 0.5."""
 
 DEFAULT_RTOL_DAMPED = 1e-8
 """Measured default relative tolerance of the damped model [-]: θmax error ≤ 5e-5 on the
-paper's (ωn, ζ) grid for the 40 s El Centro case (``python -m rocking.benchmarks damped``)."""
+paper's (ωn, ζ) grid for the 40 s El Centro case (``python -m benchmarks damped``)."""
 
 REST_LIFT = 5e-6
 """Rim lift [m] below which an episode of the undamped 3D model ends (docs/equations.md,
@@ -189,7 +189,7 @@ rocking by micrometres, with ever faster quasi-impacts, until the next strong pu
 1.5 M steps (1.3 s) for one analysis whose peak tilt is 1e-6 rad. Any real contact (and the
 damped model) dissipates that energy, and no rigid contact model means anything below the
 roughness of the contact surfaces (tens of µm for dressed stone or concrete). The value is
-the measured trade (``python -m rocking.benchmarks micro``): the cost of the slowest
+the measured trade (``python -m benchmarks micro``): the cost of the slowest
 analysis near uplift against how many critical intensities move."""
 
 THETA_REST_2D = 0.0

@@ -33,4 +33,4 @@ PAPER_CONTACT_GRID: tuple[tuple[float, float], ...] = tuple(
     (wn, z) for wn in (200.0, 2000.0) for z in (0.05, 0.5, 5.0, 50.0))
 """The paper's eight contact parameters (ωn [rad/s], ζ [-]) of the damped model (§3; the
 paper's values, not tied to the defaults above): Fig 4 overlays them,
-``python -m rocking.benchmarks damped`` measures the tolerance on them."""
+``python -m benchmarks damped`` measures the tolerance on them."""

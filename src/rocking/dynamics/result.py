@@ -8,7 +8,7 @@ from enum import StrEnum
 
 import numpy as np
 
-from .names import MODEL_2D, MODEL_3D_DAMPED
+from rocking.dynamics.names import MODEL_2D, MODEL_3D_DAMPED
 
 
 class Status(StrEnum):

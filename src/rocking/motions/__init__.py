@@ -2,7 +2,7 @@
 spectra, Rezaeian–Der Kiureghian stochastic ensembles (:mod:`.stochastic`) and ensemble files.
 """
 
-from .._lazy import lazy_exports
+from rocking._lazy import lazy_exports
 
 _EXPORTS = {
     "GroundMotion": "motion",

@@ -22,15 +22,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .._validate import positive_finite
-from ..constants import G
-from .catalogue import load_record, loma_prieta_pair
-from .highpass import brune_corner, highpass_motion
-from .motion import GroundMotion
-from .principal import to_principal_axes
-from .stochastic import fit_rdk, synthesize
-from .stochastic.quality import ensemble_quality, format_quality
-from .stochastic.recorded import (
+from rocking._validate import positive_finite
+from rocking.constants import G
+from rocking.motions.catalogue import load_record, loma_prieta_pair
+from rocking.motions.highpass import brune_corner, highpass_motion
+from rocking.motions.motion import GroundMotion
+from rocking.motions.principal import to_principal_axes
+from rocking.motions.stochastic import fit_rdk, synthesize
+from rocking.motions.stochastic.quality import ensemble_quality, format_quality
+from rocking.motions.stochastic.recorded import (
     SIGNIFICANT_DIGITS,
     pairs_match,
     pairs_sha256,

@@ -28,9 +28,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from .fema_p695 import is_fema_name, load_fema_record
-from .motion import GroundMotion
-from .readers import header_azimuth, pair_from_records, read_record, with_vertical
+from rocking.motions.fema_p695 import is_fema_name, load_fema_record
+from rocking.motions.motion import GroundMotion
+from rocking.motions.readers import header_azimuth, pair_from_records, read_record, with_vertical
 
 __all__ = ["RECORDS", "RecordSource", "load_record", "loma_prieta_pair"]
 

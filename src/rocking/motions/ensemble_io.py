@@ -39,11 +39,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .. import _json
-from ..units import attrs as _attrs
-from .identity import identity
-from .motion import GroundMotion
-from .readers import file_sha256
+from rocking import _json
+from rocking.motions.identity import identity
+from rocking.motions.motion import GroundMotion
+from rocking.motions.readers import file_sha256
+from rocking.units import attrs as _attrs
 
 __all__ = ["FORMAT", "IDENTITY", "MotionsDigestError", "digest_path", "ensemble_attrs",
            "load_ensemble", "open_netcdf", "save_ensemble", "verify_digest", "write_digest"]

@@ -25,9 +25,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..constants import G
-from .motion import GroundMotion
-from .readers import Record, pair_from_records
+from rocking.constants import G
+from rocking.motions.motion import GroundMotion
+from rocking.motions.readers import Record, pair_from_records
 
 __all__ = ["FEMA_IDS", "FEMA_PREFIX", "FEMA_SETS", "is_fema_name", "load_fema_record",
            "set_members"]

@@ -26,8 +26,8 @@ from typing import Any, NamedTuple
 import numpy as np
 from scipy import integrate, linalg, signal
 
-from .._validate import positive_finite
-from .motion import GroundMotion
+from rocking._validate import positive_finite
+from rocking.motions.motion import GroundMotion
 
 __all__ = [
     "Residuals",

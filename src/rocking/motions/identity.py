@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .motion import GroundMotion
+from rocking.motions.motion import GroundMotion
 
 __all__ = ["describe_processing", "identity"]
 
@@ -92,7 +92,7 @@ def identity(motion: GroundMotion) -> dict[str, Any]:
 
 
 def _arias(motion: GroundMotion) -> dict[str, float]:
-    from .intensity import arias  # scipy: loaded only when a motion is described
+    from rocking.motions.intensity import arias  # scipy: loaded only when a motion is described
 
     with np.errstate(over="ignore"):  # an absurd test signal may overflow to inf: say so
         return {"Ia_x": float(arias(motion.ax, motion.dt)),

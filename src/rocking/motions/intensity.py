@@ -17,8 +17,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import cumulative_trapezoid
 
-from .._validate import positive_finite
-from ..constants import G
+from rocking._validate import positive_finite
+from rocking.constants import G
 
 
 def _signal(name: str, a: ArrayLike, min_len: int = 2) -> NDArray[np.float64]:

@@ -31,12 +31,13 @@ its scale.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import G
-from .motion import GroundMotion
+from rocking.constants import G
+from rocking.motions.motion import GroundMotion
 
 __all__ = ["COMPONENTS", "DEFAULT_COMPONENT", "DEFAULT_DAMPING", "MEASURES", "MEASURE_PATTERN",
            "MEASURE_UNITS", "ROTD_ANGLES", "Component", "IntensityMeasure", "component_peak",
@@ -214,7 +215,7 @@ def vector_sa(motion: GroundMotion, period: float, damping: float = DEFAULT_DAMP
     damping : float
         Damping ratio ζ [-].
     """
-    from .response_spectrum import sdof_response
+    from rocking.motions.response_spectrum import sdof_response
 
     ux, _ = sdof_response(motion.ax, motion.dt, period, damping)
     uy, _ = sdof_response(motion.ay, motion.dt, period, damping)
@@ -237,7 +238,7 @@ def measure_series(motion: GroundMotion, name: str,
 
         return (cumulative_trapezoid(motion.ax, dx=motion.dt, initial=0.0),
                 cumulative_trapezoid(motion.ay, dx=motion.dt, initial=0.0))
-    from .response_spectrum import sdof_response
+    from rocking.motions.response_spectrum import sdof_response
 
     w2 = (2.0 * math.pi / period) ** 2 / G
     ux, _ = sdof_response(motion.ax, motion.dt, period, damping)
@@ -281,3 +282,22 @@ def component_ratio(motion: GroundMotion, name: str, to: str, frm: str) -> float
     """Measure ``name`` of ``motion`` in component ``to`` over the same in ``frm`` [-]: the
     factor from one component to the other, the same at every scale of the motion."""
     return intensity_measure(motion, name, to) / intensity_measure(motion, name, frm)
+
+
+SA_NAME = re.compile(r"^SA\(\s*([0-9.eE+-]+)\s*\)$", re.IGNORECASE)
+"""OpenQuake's name of a spectral acceleration, ``SA(1.0)``: its period in group 1."""
+
+
+def same_measure(a: str, b: str) -> bool:
+    """Whether two names (either spelling, ``SA(1.0)`` or ``sa:1.0``) denote the same
+    intensity measure (any measure the study knows, pgv included)."""
+    def key(name):
+        text = str(name).strip()
+        hit = SA_NAME.match(text)
+        try:
+            return parse_measure(f"sa:{hit.group(1)}" if hit else text)
+        except ValueError:
+            return None
+
+    ka = key(a)
+    return ka is not None and ka == key(b)

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from .._validate import finite_array, positive_finite
-from ..constants import G
+from rocking._validate import finite_array, positive_finite
+from rocking.constants import G
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,9 +24,9 @@ import math
 
 import numpy as np
 
-from .._validate import finite
-from ..constants import G
-from .motion import GroundMotion
+from rocking._validate import finite
+from rocking.constants import G
+from rocking.motions.motion import GroundMotion
 
 __all__ = [
     "arias_tensor",

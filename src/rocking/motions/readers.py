@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
-from ..constants import G
-from .motion import GroundMotion
+from rocking.constants import G
+from rocking.motions.motion import GroundMotion
 
 __all__ = [
     "Record",

@@ -24,7 +24,7 @@ import numba
 import numpy as np
 from scipy import linalg
 
-from .._validate import positive_finite
+from rocking._validate import positive_finite
 
 _SMALL_WDT = 1e-2
 """Below this ωΔt the coefficients come from the matrix exponential."""

@@ -20,8 +20,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .identity import describe_processing, identity
-from .motion import GroundMotion
+from rocking.motions.identity import describe_processing, identity
+from rocking.motions.motion import GroundMotion
 
 __all__ = ["describe_processing", "identity", "load_motion", "process_motion"]
 
@@ -86,7 +86,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         return _from_ensemble(Path(ensemble), motion, vertical)
     if motion is not None:
         raise ValueError(f"motion={motion!r} names a motion of an ensemble file; give ensemble")
-    from .catalogue import load_record, loma_prieta_pair
+    from rocking.motions.catalogue import load_record, loma_prieta_pair
 
     if not files:
         if record is None:
@@ -109,7 +109,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
         return load_record(record or name or stems, files, order_by_azimuth=order_by_azimuth,
                            dt=dt, units=units)
     if len(files) == 1 and record is None:
-        from .readers import read_record
+        from rocking.motions.readers import read_record
 
         rec = read_record(files[0], units, dt=dt)
         return GroundMotion(rec.acc, None, rec.dt, name or Path(files[0]).stem,
@@ -119,7 +119,7 @@ def load_motion(record: str | None = None, files=None, ensemble: str | Path | No
 
 
 def _from_ensemble(path: Path, name: str | None, vertical: bool = False) -> GroundMotion:
-    from .ensemble_io import load_ensemble
+    from rocking.motions.ensemble_io import load_ensemble
 
     motions = load_ensemble(path)
     by_name = {m.name: m for m in motions}
@@ -164,15 +164,15 @@ def process_motion(motion: GroundMotion, *, rotation: float | str | None = None,
         same settings (the workflow's ensemble files); the steps are in
         ``metadata["processing"]``.
     """
-    from .build import build_ensemble
+    from rocking.motions.build import build_ensemble
 
     if rotation is not None:
         return build_ensemble(motion, 0, 0, rotation=rotation, highpass=highpass, fc_hz=fc_hz,
                               mw=mw, max_duration=max_duration).motions[0]
     out = motion
     if highpass != "none":
-        from .build import HIGHPASS_KINDS
-        from .highpass import brune_corner, highpass_motion
+        from rocking.motions.build import HIGHPASS_KINDS
+        from rocking.motions.highpass import brune_corner, highpass_motion
 
         if highpass not in HIGHPASS_KINDS:
             raise ValueError(f"highpass must be one of {HIGHPASS_KINDS}, got {highpass!r}")
@@ -183,7 +183,7 @@ def process_motion(motion: GroundMotion, *, rotation: float | str | None = None,
             fc_hz = brune_corner(mw)
         out = highpass_motion(out, highpass, fc_hz)
     if max_duration is not None:
-        from .build import cut
+        from rocking.motions.build import cut
 
         out = cut(out, max_duration)
     return out

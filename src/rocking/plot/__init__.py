@@ -17,15 +17,15 @@ import importlib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from ._load import open_means, open_store
-from ._style import save, write_notes
+from rocking.plot._load import open_means, open_store
+from rocking.plot._style import save, write_notes
 
 
 def __getattr__(name: str):
     # FIGURES is read from the registry when first asked for: the figure modules import
     # this package, so it cannot list them while it is being imported
     if name == "FIGURES":
-        from .registry import figures
+        from rocking.plot.registry import figures
 
         return tuple(figures())
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -45,7 +45,7 @@ that name here, with ``data()`` and ``plot()`` like a registry entry's."""
 def module(name: str):
     """The module of figure ``name`` (a name of :func:`.registry.figures` or of
     :data:`SECTION_FIGURES`)."""
-    from .registry import figure
+    from rocking.plot.registry import figure
 
     if name in SECTION_FIGURES:
         return importlib.import_module(f".{name}", __name__)
@@ -60,7 +60,7 @@ def figure_name(path: str | Path) -> str:
     ValueError
         If no figure name starts the stem.
     """
-    from .registry import figures
+    from rocking.plot.registry import figures
 
     stem = Path(path).stem
     names = list(figures())
@@ -102,7 +102,7 @@ def draw(name: str, inputs: Mapping, params: Mapping,
     """Draw figure ``name`` from the workflow's resolved ``inputs`` and ``params`` into
     ``outputs`` (``png``, ``pdf``, ``notes``): the body of the one figure script
     (``workflow/scripts/figure.py``); its entry turns them into ``data()``'s keywords."""
-    from .registry import figure
+    from rocking.plot.registry import figure
 
     return render(name, [outputs["png"], outputs["pdf"]], outputs["notes"],
                   **figure(name).data_kwargs(inputs, params))

@@ -82,7 +82,7 @@ def from_ensemble(path: str | Path | None) -> dict[str, str]:
     """:func:`describe` of the first motion (the record) of an ensemble file; unknown if None."""
     if path is None:
         return describe(None)
-    from ..motions.ensemble_io import load_ensemble  # imported late: netCDF reading is heavy
+    from rocking.motions.ensemble_io import load_ensemble  # imported late: netCDF reading is heavy
 
     motions = load_ensemble(path)
     return describe(motions[0].metadata if motions else None)
@@ -95,7 +95,7 @@ def of_records(path: str | Path | None) -> dict[str, str]:
     with recorded azimuths (then :func:`from_ensemble` says it)."""
     if path is None:
         return {"text": ""}
-    from ..motions.ensemble_io import load_ensemble
+    from rocking.motions.ensemble_io import load_ensemble
 
     # records: motions that name no source record and carry their directions
     records = [m for m in load_ensemble(path) if not (m.metadata or {}).get("record")

@@ -9,15 +9,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..spectra.limit_states import (
+from rocking.spectra.limit_states import (
     EXCESSIVE_TILT,
     OVERTURNING,
     match_limit_state,
     parse_limit_state,
     severity,
 )
-from ..spectra.modes import MODE_3D
-from ..study.store_attrs import decode_attrs
+from rocking.spectra.modes import MODE_3D
+from rocking.store.attrs import decode_attrs
 
 
 def open_store(path: str | Path) -> xr.Dataset:

@@ -14,9 +14,9 @@ from typing import ParamSpec
 
 import matplotlib
 
-from .. import _json
-from ..spectra.limit_states import TILT_AXIS, severity
-from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
+from rocking import _json
+from rocking.spectra.limit_states import TILT_AXIS, severity
+from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 
 # Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
 matplotlib.use("Agg")

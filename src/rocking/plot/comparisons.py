@@ -162,8 +162,8 @@ def compare(notes: Mapping[str, Mapping], figures: list[str] | None = None) -> l
         :func:`rocking.plot.registry.figures`); each module's ``compare(notes)`` gives the
         rows (a figure without ``compare`` none).
     """
-    from .registry import figure
-    from .registry import figures as registered
+    from rocking.plot.registry import figure
+    from rocking.plot.registry import figures as registered
 
     out = []
     for name in figures or list(registered()):

@@ -13,9 +13,9 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..dynamics.bodies import Cylinder
-from ._style import new_figure, styled
-from .comparisons import REPRODUCED, Comparison, finite, first_notes, judged
+from rocking.dynamics.bodies import Cylinder
+from rocking.plot._style import new_figure, styled
+from rocking.plot.comparisons import REPRODUCED, Comparison, finite, first_notes, judged
 
 TAN_ALPHAS = (0.1, 0.2, 1.0, 1000.0)
 """Slendernesses of the paper's Fig 3 (1000 is the Euler's-disk limit)."""
@@ -171,7 +171,7 @@ def compare(notes: Mapping) -> list[Comparison]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 FIGURE = FigureSpec(
     name="fig03_wobbling_period", module=__name__, number=3, label="Fig 3",

@@ -28,16 +28,25 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from scipy.signal import find_peaks
 
-from ..dynamics.bodies import Cylinder
-from ..dynamics.names import (
+from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.names import (
     DAMPED_OMEGA_N,
     DAMPED_ZETA,
     MODEL_3D,
     MODEL_3D_DAMPED,
     PAPER_CONTACT_GRID,
 )
-from ._style import styled
-from .comparisons import EQUATIONS, Comparison, close, finite, first_notes, fmt, judged, value_range
+from rocking.plot._style import styled
+from rocking.plot.comparisons import (
+    EQUATIONS,
+    Comparison,
+    close,
+    finite,
+    first_notes,
+    fmt,
+    judged,
+    value_range,
+)
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -217,7 +226,9 @@ def data(
 def _run(body: Cylinder, theta0: float, spin: float, duration: float, model: str,
          rtol: float | None, **contact) -> dict:
     """One free-vibration history with the densified centre-of-mass orbit."""
-    from ..dynamics.analysis import free_vibration  # imported late: figures stay light to import
+    from rocking.dynamics.analysis import (
+        free_vibration,  # imported late: figures stay light to import
+    )
 
     res = free_vibration(body, theta0, spin, duration=duration, model=model, rtol=rtol,
                          **contact)
@@ -476,7 +487,7 @@ def _gap_row(name: str, m: Mapping, kind: str, cases, tol: float, statement: str
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 FIGURE = FigureSpec(
     name="fig04_free_vibration", module=__name__, number=4, label="Fig 4",

@@ -18,12 +18,20 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..dynamics.bodies import Cylinder
-from ..dynamics.names import MODEL_3D, MODEL_3D_DAMPED
-from ..motions.motion import GroundMotion
-from . import _axes
-from ._style import footnote, new_figure, styled
-from .comparisons import Comparison, close, finite, first_notes, fmt, judged, value_range
+from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.names import MODEL_3D, MODEL_3D_DAMPED
+from rocking.motions.motion import GroundMotion
+from rocking.plot import _axes
+from rocking.plot._style import footnote, new_figure, styled
+from rocking.plot.comparisons import (
+    Comparison,
+    close,
+    finite,
+    first_notes,
+    fmt,
+    judged,
+    value_range,
+)
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -83,7 +91,9 @@ def data(
         and ``t_end`` (end of the record) [s]; ``measured``: peak tilt per model [rad] and
         the time the two models' tilts part; ``axes``; ``explanation``.
     """
-    from ..dynamics.analysis import ground_response  # imported late: figures stay light to import
+    from rocking.dynamics.analysis import (
+        ground_response,  # imported late: figures stay light to import
+    )
 
     if motion.is_unidirectional:
         raise ValueError(f"motion {motion.name!r} has a zero component; Fig 6 needs a pair")
@@ -277,12 +287,12 @@ def _theta_reason(sens: Mapping, model: str, paper: float) -> str:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _arguments(inputs: Mapping, params: Mapping) -> dict:
     """The ensemble's first motion (the record) and the companion figure's notes."""
-    from ..motions.ensemble_io import load_ensemble
+    from rocking.motions.ensemble_io import load_ensemble
 
     return {"motion": load_ensemble(inputs["motions"])[0],
             "sensitivity": inputs["sensitivity"], **params["model_options"]}

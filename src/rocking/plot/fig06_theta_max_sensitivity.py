@@ -16,13 +16,13 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..constants import G
-from ..dynamics.bodies import Cylinder
-from ..dynamics.names import MODEL_3D, MODEL_3D_DAMPED
-from ..motions.motion import GroundMotion
-from . import _axes
-from ._style import footnote, styled, with_legend_row
-from .comparisons import NOT_IN_PAPER, Comparison, first_notes, fmt
+from rocking.constants import G
+from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.names import MODEL_3D, MODEL_3D_DAMPED
+from rocking.motions.motion import GroundMotion
+from rocking.plot import _axes
+from rocking.plot._style import footnote, styled, with_legend_row
+from rocking.plot.comparisons import NOT_IN_PAPER, Comparison, first_notes, fmt
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -66,7 +66,7 @@ def record_versions(record: GroundMotion, *, mw: float | None = None, seed: int 
         Keep the first ``max_duration`` seconds, as a run with ``motions.max_duration`` does
         with every motion [s].
     """
-    from ..motions.build import build_ensemble  # imported late: figures stay light to import
+    from rocking.motions.build import build_ensemble  # imported late: figures stay light to import
 
     def processed(rotation):
         return build_ensemble(record, 0, seed, rotation=rotation, mw=mw,
@@ -114,7 +114,7 @@ def data(record: GroundMotion | None = None, *,
         PGA at scale 1) [g]; ``measured``: θmax at scale 1 and its range within ±:data:`BAND`
         of scale per version and model; ``paper``.
     """
-    from ..dynamics.analysis import ground_response  # imported late: figures stay light
+    from rocking.dynamics.analysis import ground_response  # imported late: figures stay light
 
     if versions is None:
         if record is None:
@@ -261,12 +261,12 @@ def run_rows(notes: Mapping) -> list[tuple[str, str]]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _arguments(inputs: Mapping, params: Mapping) -> dict:
     """The record as recorded (the ensemble's files), processed like the ensemble."""
-    from ..motions.build import read_motion
+    from rocking.motions.build import read_motion
 
     spec = params["spec"]
     return {"record": read_motion(spec["record"], spec["paths"]), "mw": spec["mw"],

@@ -17,11 +17,11 @@ from matplotlib.cm import ScalarMappable
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 
-from ..spectra.modes import MODE_3D, MODE_3D_DAMPED
-from ..study.store_attrs import decode_attrs
-from . import _axes, _load
-from ._style import footnote, new_figure, pga_g_axis, styled
-from .comparisons import Comparison, finite, first_notes, fmt, judged, rank_correlation
+from rocking.plot import _axes, _load
+from rocking.plot._style import footnote, new_figure, pga_g_axis, styled
+from rocking.plot.comparisons import Comparison, finite, first_notes, fmt, judged, rank_correlation
+from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
+from rocking.store.attrs import decode_attrs
 
 VARIABLE = "theta_max_over_alpha"
 MODEL_ORDER = (MODE_3D, MODE_3D_DAMPED)
@@ -249,7 +249,7 @@ def compare(notes: Mapping) -> list[Comparison]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 FIGURE = FigureSpec(
     name="fig07_tilt_map", module=__name__, number=7, label="Fig 7",

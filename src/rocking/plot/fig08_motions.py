@@ -18,12 +18,12 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ..constants import G
-from ..motions.motion import GroundMotion
-from ..motions.response_spectrum import pseudo_acceleration
-from ..motions.stochastic import quality
-from ._style import motion_styles, paper_tag, styled
-from .comparisons import (
+from rocking.constants import G
+from rocking.motions.motion import GroundMotion
+from rocking.motions.response_spectrum import pseudo_acceleration
+from rocking.motions.stochastic import quality
+from rocking.plot._style import motion_styles, paper_tag, styled
+from rocking.plot.comparisons import (
     NOT_COMPUTED,
     NOT_IN_PAPER,
     Comparison,
@@ -328,12 +328,12 @@ def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _arguments(inputs: Mapping, params: Mapping) -> dict:
     """The ensemble and the pairs of the other identification method, read."""
-    from ..motions.ensemble_io import load_ensemble
+    from rocking.motions.ensemble_io import load_ensemble
 
     return {"motions": load_ensemble(inputs["motions"]),
             "comparison": load_ensemble(inputs["comparison"]),

@@ -21,10 +21,8 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ..spectra.limit_states import limit_state_title
-from ..spectra.modes import MODE_3D, MODE_3D_DAMPED
-from . import _axes, _load, criteria, refined
-from ._style import (
+from rocking.plot import _axes, _load, criteria, refined
+from rocking.plot._style import (
     MODE_STYLE,
     motion_styles,
     new_figure,
@@ -36,7 +34,9 @@ from ._style import (
     unresolved_suffix,
     validity_suffix,
 )
-from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
+from rocking.plot.comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
+from rocking.spectra.limit_states import limit_state_title
+from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
 DAMPED = MODE_3D_DAMPED
 """The damped mode, drawn beside the undamped "3d" where the study ran it."""
@@ -475,8 +475,8 @@ def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .captions import UNRESOLVED  # noqa: E402
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.captions import UNRESOLVED  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _own_caption(notes: Mapping | None) -> str:

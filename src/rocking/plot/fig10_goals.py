@@ -17,17 +17,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..spectra.fragility import fit_line
-from ..spectra.limit_states import (
-    DEFAULT_LIMIT_STATES,
-    limit_state_title,
-    match_limit_state,
-    severity,
-)
-from ..spectra.modes import MODE_3D
-from ..study.store_attrs import decode_attrs
-from . import _axes, _load, refined
-from ._style import (
+from rocking.fragility.lognormal import fit_line
+from rocking.plot import _axes, _load, refined
+from rocking.plot._style import (
     MODE_STYLE,
     goal_color,
     new_figure,
@@ -37,10 +29,10 @@ from ._style import (
     styled,
     unresolved_suffix,
 )
-from ._style import (
+from rocking.plot._style import (
     missing_and_axes_note as _missing_and_axes_note,
 )
-from .comparisons import (
+from rocking.plot.comparisons import (
     EQUATIONS,
     NOT_COMPUTED,
     NOT_IN_PAPER,
@@ -50,6 +42,14 @@ from .comparisons import (
     fmt,
     judged,
 )
+from rocking.spectra.limit_states import (
+    DEFAULT_LIMIT_STATES,
+    limit_state_title,
+    match_limit_state,
+    severity,
+)
+from rocking.spectra.modes import MODE_3D
+from rocking.store.attrs import decode_attrs
 
 PAPER_GOALS = DEFAULT_LIMIT_STATES
 """The seven performance goals of the paper's Fig 10."""
@@ -371,7 +371,7 @@ def _bend_reason(fit: Mapping) -> str:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 FIGURE = FigureSpec(
     name="fig10_goals", module=__name__, number=10, label="Fig 10",

@@ -13,12 +13,19 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..spectra.fragility import fit_line
-from ..spectra.limit_states import limit_state_title
-from ..spectra.modes import MODE_3D
-from . import _axes, _load
-from ._style import MODE_STYLE, new_figure, paper_tag, r_axis, styled, suptitle_and_notes
-from .comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
+from rocking.fragility.lognormal import fit_line
+from rocking.plot import _axes, _load
+from rocking.plot._style import (
+    MODE_STYLE,
+    new_figure,
+    paper_tag,
+    r_axis,
+    styled,
+    suptitle_and_notes,
+)
+from rocking.plot.comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
+from rocking.spectra.limit_states import limit_state_title
+from rocking.spectra.modes import MODE_3D
 
 PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)
 """The slendernesses of the paper's Fig 11."""
@@ -137,7 +144,7 @@ def compare(notes: Mapping) -> list[Comparison]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _wanted(subject) -> bool:

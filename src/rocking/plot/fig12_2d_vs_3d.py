@@ -23,12 +23,20 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ..spectra.limit_states import limit_state_title, parse_limit_state
-from ..spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, PLANAR_MODES
-from ..study.store_attrs import decode_attrs
-from . import _axes, _load, criteria, refined
-from ._style import MODE_STYLE, footnote, paper_tag, pga_g_axis, r_axis, styled, with_legend_row
-from .comparisons import DIFFERS, Comparison, finite, first_notes, fmt, judged
+from rocking.plot import _axes, _load, criteria, refined
+from rocking.plot._style import (
+    MODE_STYLE,
+    footnote,
+    paper_tag,
+    pga_g_axis,
+    r_axis,
+    styled,
+    with_legend_row,
+)
+from rocking.plot.comparisons import DIFFERS, Comparison, finite, first_notes, fmt, judged
+from rocking.spectra.limit_states import limit_state_title, parse_limit_state
+from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, PLANAR_MODES
+from rocking.store.attrs import decode_attrs
 
 MODES = (MODE_3D, *PLANAR_MODES)
 REFERENCE_R = 10.0
@@ -601,7 +609,7 @@ def _ratio_reason(m: Mapping, ens: str | None, title: str, mode: str, who: str,
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 FIGURE = FigureSpec(
     name="fig12_2d_vs_3d", module=__name__, number=12, label="Fig 12",

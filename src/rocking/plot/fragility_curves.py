@@ -1,6 +1,6 @@
 """Fragility curves (beyond the paper): P(limit state exceeded | PGA/(g tan α)) per size R.
 
-Lines are the lognormal maximum-likelihood fits of :mod:`rocking.spectra.fragility` (stored in
+Lines are the lognormal maximum-likelihood fits of :mod:`rocking.fragility.lognormal` (stored in
 ``results/<study>/fragility.nc``); markers are the ensemble's empirical fractions of motions
 whose critical intensity is at most the abscissa (not-reached motions never count).
 """
@@ -19,11 +19,11 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from scipy import stats
 
-from ..spectra.limit_states import limit_state_title
-from ..spectra.modes import MODE_3D
-from . import _axes, _load
-from ._style import MODE_STYLE, pga_g_axis, styled, suptitle_and_notes, with_legend_row
-from .comparisons import NOT_IN_PAPER, Comparison
+from rocking.plot import _axes, _load
+from rocking.plot._style import MODE_STYLE, pga_g_axis, styled, suptitle_and_notes, with_legend_row
+from rocking.plot.comparisons import NOT_IN_PAPER, Comparison
+from rocking.spectra.limit_states import limit_state_title
+from rocking.spectra.modes import MODE_3D
 
 MEDIAN_SYMBOL = "IM₅₀"
 """Symbol of the fitted median intensity (θ is the tilt everywhere else)."""
@@ -199,7 +199,7 @@ def compare(notes: Mapping) -> list[Comparison]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from .registry import FigureSpec  # noqa: E402
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
 FIGURE = FigureSpec(
     name="fragility_curves", module=__name__, number=13, label="fragility",

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from html.parser import HTMLParser
 from pathlib import Path
 
-from .comparisons import DIFFERS, REPRODUCED, VERDICTS
+from rocking.plot.comparisons import DIFFERS, REPRODUCED, VERDICTS
 
 BLOCK = re.compile(r"(?P<begin><!-- BEGIN gallery:(?P<name>[\w-]+) -->)(?P<body>.*?)"
                    r"(?P<end><!-- END gallery:(?P=name) -->)", re.DOTALL)

@@ -20,10 +20,10 @@ import pandas as pd
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 
-from ..risk.portfolio import error_words
-from ..risk.report import shown_limit_states
-from ..spectra.limit_states import limit_state_title, severity
-from ._style import footnote, new_figure, styled
+from rocking.plot._style import footnote, new_figure, styled
+from rocking.risk.portfolio import error_words
+from rocking.risk.table import shown_limit_states
+from rocking.spectra.limit_states import limit_state_title, severity
 
 CAPTION_MAP = (
     "Each column of the inventory at its position, coloured by its mean annual frequency λ "
@@ -209,7 +209,7 @@ def render_figures(portfolio: str | Path | pd.DataFrame, out: str | Path, *,
     """Draw :data:`FIGURES` into ``out`` (``portfolio_map.png``, ``portfolio_ranked.png``),
     each with its JSON sidecar (caption, what it measured, the columns left off the map);
     returns the image paths."""
-    from ._style import save, write_notes
+    from rocking.plot._style import save, write_notes
 
     out = Path(out)
     d = data(portfolio, hazard=hazard, study=study)
@@ -223,46 +223,3 @@ def render_figures(portfolio: str | Path | pd.DataFrame, out: str | Path, *,
     return written
 
 
-SHOWN_IN_REPORT = 10
-"""Columns of the ranked table in the report (the highest λ of the most severe state)."""
-
-
-def section_html(portfolio: str | Path | pd.DataFrame) -> list[str]:
-    """The report's section on the inventory: what was computed, the ranked columns of the
-    most severe limit state with their intervals, and the two figures (captions from their
-    sidecars, beside ``figures/`` of the study)."""
-    import html
-
-    from .tables import table_html
-
-    frame = portfolio if isinstance(portfolio, pd.DataFrame) else pd.read_csv(portfolio)
-    states = sorted(frame["limit_state"].unique(), key=severity, reverse=True)
-    top = frame[frame["limit_state"] == states[0]].sort_values("rank", kind="stable")
-    error = float(top["interp_error"].iloc[0])
-    sites = sorted(set(frame["hazard_site"].astype(str)))
-    extrapolated = int(frame.drop_duplicates("id")["extrapolated"].astype(bool).sum())
-    text = (f"{frame['id'].nunique()} columns of the inventory, each with the study's "
-            f"fragility interpolated at its R and tan α (mode {frame['mode'].iloc[0]}, PGA "
-            f"in the {frame['component'].iloc[0]} component; interpolation error of the "
-            f"median for {limit_state_title(states[0])}: {error_words(error)}) and "
-            "integrated against the hazard curve of its "
-            f"site ({len(sites)} site(s) used: {', '.join(sites[:5])}"
-            f"{' …' if len(sites) > 5 else ''}). Intervals are 90 % over bootstrap "
-            "resamples of the motions. "
-            + (f"{extrapolated} column(s) lie beyond the study's grid (extrapolated, "
-               "marked in portfolio.csv). " if extrapolated else "")
-            + "Every column and limit state: portfolio.csv.")
-    shown = top.head(SHOWN_IN_REPORT)
-    table = pd.DataFrame({
-        "rank": shown["rank"], "id": shown["id"], "R [m]": shown["R"],
-        "tan α [-]": shown["tan_alpha"], "median [g]": shown["median"],
-        "β [-]": shown["beta"], "λ [1/yr]": shown["lambda"],
-        "λ 5 % [1/yr]": shown["lambda_p05"], "λ 95 % [1/yr]": shown["lambda_p95"],
-        "return period [yr]": shown["return_period"], "P(50 yr) [-]": shown["p_50yr"],
-        "hazard site": shown["hazard_site"], "distance [km]": shown["hazard_distance_km"]})
-    more = (f" (the {SHOWN_IN_REPORT} highest of {len(top)})"
-            if len(top) > SHOWN_IN_REPORT else "")
-    return ["<h2 id='portfolio'>Every column of the site (beyond the paper)</h2>",
-            f"<p>{html.escape(text)}</p>",
-            f"<p>{html.escape(limit_state_title(states[0]))}, ranked by λ{more}:</p>",
-            table_html(table)]

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..spectra.modes import MODE_3D
-from ..study.refinement import REFINED_STEP
+from rocking.spectra.modes import MODE_3D
+from rocking.study.refinement import REFINED_STEP
 
 SAMPLE_FILE = "refinement_sample.csv"
 """The sample's file name in a study's folder (beside ``mean_spectra.nc``)."""

@@ -55,7 +55,7 @@ ENTRY_POINTS = "rocking.figures"
 class Subject:
     """What a figure is asked about: the configuration, and a study and/or an ensemble.
 
-    ``study_spec`` (default :meth:`rocking.study.study_spec.StudySpec.from_config`) lets a
+    ``study_spec`` (default :meth:`rocking.config.study.StudySpec.from_config`) lets a
     caller hand in its own cached specs (the workflow's ``study_spec``).
     """
 
@@ -65,18 +65,18 @@ class Subject:
     study_spec: Callable[[str], Any] | None = field(default=None, compare=False)
 
     def spec(self, study: str | None = None):
-        """The :class:`~rocking.study.study_spec.StudySpec` of ``study`` (default: this
+        """The :class:`~rocking.config.study.StudySpec` of ``study`` (default: this
         subject's)."""
         name = study or self.study
         if self.study_spec is not None:
             return self.study_spec(name)
-        from ..study.study_spec import StudySpec
+        from rocking.config.study import StudySpec
 
         return StudySpec.from_config(self.config, name)
 
     @property
     def plan(self):
-        """The study's :class:`~rocking.study.plan.StudyPlan`."""
+        """The study's :class:`~rocking.config.plan.StudyPlan`."""
         return self.spec().spectra.plan
 
     @property

@@ -21,13 +21,13 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from ..motions.measures import COMPONENTS
-from ..risk.fragilities import FIRST_EXCEEDANCE
-from ..risk.fragilities import STRIPES as STRIPE_FRAGILITY
-from ..risk.report import main_tan_alpha, read_risk_table, shown_limit_states
-from ..spectra.limit_states import limit_state_title
-from ..spectra.modes import PLANAR_MODES
-from ._style import MODE_STYLE, footnote, styled, with_legend_row
+from rocking.fragility.table import FIRST_EXCEEDANCE
+from rocking.fragility.table import STRIPES as STRIPE_FRAGILITY
+from rocking.motions.measures import COMPONENTS
+from rocking.plot._style import MODE_STYLE, footnote, styled, with_legend_row
+from rocking.risk.table import main_tan_alpha, read_risk_table, shown_limit_states
+from rocking.spectra.limit_states import limit_state_title
+from rocking.spectra.modes import PLANAR_MODES
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -44,7 +44,7 @@ CAPTION = (
     "study has one size); a gap in a line "
     "is a size without a fit, a bracket there the range of λ the bracketing stripes imply."
 )
-"""Caption (the workflow makes the figure; the report's section: :mod:`rocking.risk.report`)."""
+"""Caption (the workflow makes the figure; the report's section: :mod:`rocking.report.risk`)."""
 
 R_NOTES = (2.0, 6.0, 10.0)
 
@@ -88,8 +88,8 @@ def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
 def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
          hazard: str = "", study: str = "") -> dict:
     """λ_LS against R per mode for the study's limit states (overturning and excessive tilt
-    in the paper; :func:`rocking.risk.report.shown_limit_states`) at ``tan_alpha`` (default
-    the study's, :func:`rocking.risk.report.main_tan_alpha`).
+    in the paper; :func:`rocking.report.risk.shown_limit_states`) at ``tan_alpha`` (default
+    the study's, :func:`rocking.report.risk.main_tan_alpha`).
 
     Returns
     -------
@@ -202,7 +202,7 @@ def _draw(ax, c: dict, style: dict, *, marker: str, mfc, linestyle: str, label: 
 
 def _hazard_line(d: dict) -> str:
     """The title's hazard line: the file, EXAMPLE when it is the repository's example curve
-    (config/hazard/README.md; :func:`rocking.risk.report.assumptions` says the same), and
+    (config/hazard/README.md; :func:`rocking.report.risk.assumptions` says the same), and
     the component of its intensity measure."""
     hazard = d.get("hazard") or "the study's hazard curve"
     line = f"hazard: {hazard}"

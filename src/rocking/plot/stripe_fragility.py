@@ -2,9 +2,9 @@
 
 One panel per (limit state, R): the share of the motions exceeding at each stripe (markers,
 refined stripes filled) and its binomial maximum-likelihood lognormal (solid,
-:mod:`rocking.spectra.stripes`) with the bootstrap's 90 % interval of its median IM₅₀, beside
+:mod:`rocking.fragility.stripes`) with the bootstrap's 90 % interval of its median IM₅₀, beside
 the lognormal fitted to the motions' first-exceedance intensities (dashed,
-:func:`rocking.spectra.fragility.fragility_table`; PGA stripes only). The first answers "at
+:func:`rocking.fragility.lognormal.fragility_table`; PGA stripes only). The first answers "at
 which intensity do half of the motions exceed", the second "at which intensity does a motion
 first exceed"; a body that exceeds in a narrow window of intensity and survives above it
 pulls the second down only. A row without a fit is drawn as the span of intensities that
@@ -21,9 +21,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
-from ..spectra.limit_states import limit_state_title
-from ..spectra.modes import MODE_3D
-from ._style import MODE_STYLE, footnote, new_figure, styled
+from rocking.plot._style import MODE_STYLE, footnote, new_figure, styled
+from rocking.spectra.limit_states import limit_state_title
+from rocking.spectra.modes import MODE_3D
 
 CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stripes added "
            "where the fit separated); solid: its binomial maximum-likelihood lognormal, "
@@ -62,9 +62,9 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``first``: (median, beta, status) [measure unit]}], ``measured``, ``missing``,
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
-    from ..study import stripes as st
-    from ..study.store_attrs import decode_attrs
-    from ..units import read_table
+    from rocking.execution import stripes as st
+    from rocking.store.attrs import decode_attrs
+    from rocking.units import read_table
 
     ds = xr.open_zarr(stripes, consolidated=True)
     if mode not in [str(m) for m in ds["mode"].values]:

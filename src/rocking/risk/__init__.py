@@ -12,7 +12,7 @@ fragility and λ, ranked) and :mod:`.exposure` (an inventory as OpenQuake's expo
 pelicun's assets).
 """
 
-from .._lazy import lazy_exports
+from rocking._lazy import lazy_exports
 
 _EXPORTS = {
     "HazardCurve": "hazard",
@@ -21,9 +21,7 @@ _EXPORTS = {
     "annual_frequency_parts": "annual_frequency",
     "annual_frequency_interval": "annual_frequency",
     "mean_annual_frequencies": "annual_frequency",
-    "read_bootstrap": "bootstrap",
     "probability_in": "annual_frequency",
-    "read_fragilities": "fragilities",
     "write_nrml": "nrml",
     "write_pelicun_csv": "pelicun",
     "risk_table": "table",
@@ -31,7 +29,6 @@ _EXPORTS = {
     "write_fragility_exports": "exports",
     "write_risk_outputs": "exports",
     "write_exposure": "exposure",
-    "FragilitySurface": "surface",
     "read_inventory": "inventory",
     "read_hazard_sites": "inventory",
     "portfolio_table": "portfolio",

@@ -46,7 +46,7 @@ import math
 import numpy as np
 from scipy import special
 
-from .hazard import HazardCurve
+from rocking.risk.hazard import HazardCurve
 
 
 def _check(median_g: float, beta: float) -> tuple[float, float]:
@@ -193,7 +193,7 @@ def annual_frequency_interval(median_g, beta, hazard: HazardCurve,
     Parameters
     ----------
     median_g, beta : array_like
-        θ [g] and β [-] of each resample (:func:`rocking.spectra.fragility.bootstrap_lognormal`;
+        θ [g] and β [-] of each resample (:func:`rocking.fragility.lognormal.bootstrap_lognormal`;
         NaN where a resample has no fit).
     hazard : HazardCurve
     ci : float

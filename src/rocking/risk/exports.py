@@ -3,7 +3,7 @@
 What the workflow's ``risk`` and ``stripe_risk_exports`` rules run
 (``workflow/scripts/risk.py``) and what a user runs on a finished study's ``fragility.csv``
 and ``stripe_fragility.csv``. Each export says which fragility it carries
-(:data:`rocking.risk.fragilities.KINDS`): the NRML model id and description, the pelicun
+(:data:`rocking.fragility.table.KINDS`): the NRML model id and description, the pelicun
 component ids, the risk table's ``fragility`` column.
 """
 
@@ -11,11 +11,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .fragilities import Fragilities, read_fragilities
-from .hazard import HazardCurve
-from .nrml import nrml_model_id, write_nrml
-from .pelicun import write_pelicun_csv
-from .table import risk_tables
+from rocking.fragility.table import Fragilities, read_fragilities
+from rocking.risk.hazard import HazardCurve
+from rocking.risk.nrml import nrml_model_id, write_nrml
+from rocking.risk.pelicun import write_pelicun_csv
+from rocking.risk.table import risk_tables
 
 
 def _read(fragility) -> Fragilities:
@@ -113,7 +113,7 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
         the rows without a fit (``skipped``), the hazard's site, kind and unit, and the
         preset's and the hazard's first level's warnings, for the rule's log.
     """
-    from .report import below_first_warning, preset_warning
+    from rocking.risk.table import below_first_warning, preset_warning
 
     pga = read_fragilities(fragility)
     summary = write_fragility_exports(pga, nrml=nrml, pelicun=pelicun,
@@ -156,7 +156,7 @@ def _stripes_in(stripes, hazard: HazardCurve, component: str | None = None) -> F
     except ValueError as exc:
         import pandas as pd
 
-        from .fragilities import COLUMNS
+        from rocking.fragility.table import COLUMNS
 
         empty = pd.DataFrame(columns=list(COLUMNS))
         return Fragilities(empty, empty, 0, "stripes", hazard.measure,

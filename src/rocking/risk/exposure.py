@@ -74,12 +74,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..motions.measures import COMPONENTS
-from ..spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
-from .fragilities import lognormal_moments
-from .hazard import measure_imt, same_measure
-from .nrml import MAX_IML_SIGMAS, MODEL_ID, NAMESPACE, nrml_limit_state
-from .pelicun import DEMAND_TYPE, columns
+from rocking.fragility.table import lognormal_moments
+from rocking.motions.measures import COMPONENTS, same_measure
+from rocking.risk.hazard import measure_imt
+from rocking.risk.nrml import MAX_IML_SIGMAS, MODEL_ID, NAMESPACE, nrml_limit_state
+from rocking.risk.pelicun import DEMAND_TYPE, columns
+from rocking.spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 
 REQUIRED = ("id", "lon", "lat", "limit_state", "median", "beta")
 """Columns the table must have (``R`` and ``tan_alpha`` too for size classes)."""

@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..motions.measures import parse_measure
+from rocking.motions.measures import SA_NAME, parse_measure
 
 log = logging.getLogger(__name__)
 
@@ -49,7 +49,6 @@ POWER_LAW_IML = np.geomspace(1e-3, 10.0, 41)
 
 _TIME = re.compile(r"investigation_time\s*=\s*['\"]?([0-9.eE+-]+)")
 _IMT = re.compile(r"\bimt\s*=\s*['\"]?([A-Za-z0-9().:]+)")
-_SA = re.compile(r"^SA\(\s*([0-9.eE+-]+)\s*\)$", re.IGNORECASE)
 _KIND = re.compile(r"\bkind\s*=\s*['\"]?([A-Za-z0-9_.-]+)")
 _KIND_NAME = re.compile(r"^(mean|quantile-(0?\.[0-9]+)|rlz-[0-9]+)$")
 _HEADER_UNIT = re.compile(r"^(.*?)\s*\[([^\]]*)\]\s*$")
@@ -92,7 +91,7 @@ def imt_measure(imt: str) -> str:
     too. Raises ValueError for any other (PGV and the rest: the study's PGV is in m/s, an
     engine's in cm/s, so it is refused rather than guessed)."""
     text = str(imt).strip()
-    hit = _SA.match(text)
+    hit = SA_NAME.match(text)
     if hit:
         text = f"sa:{hit.group(1)}"
     try:
@@ -113,21 +112,6 @@ def measure_imt(measure: str) -> str:
     if kind == "pga":
         return "PGA"
     return f"SA({period:.1f})" if period == round(period, 1) else f"SA({period:g})"
-
-
-def same_measure(a: str, b: str) -> bool:
-    """Whether two names (either spelling, ``SA(1.0)`` or ``sa:1.0``) denote the same
-    intensity measure (any measure the study knows, pgv included)."""
-    def key(name):
-        text = str(name).strip()
-        hit = _SA.match(text)
-        try:
-            return parse_measure(f"sa:{hit.group(1)}" if hit else text)
-        except ValueError:
-            return None
-
-    ka = key(a)
-    return ka is not None and ka == key(b)
 
 
 @dataclass(frozen=True, eq=False)
@@ -687,7 +671,7 @@ _COMPONENT = re.compile(r"\bcomponent\s*=\s*['\"]?([A-Za-z_0-9]+)")
 
 def _file_component(comments: list[str], path: Path) -> str | None:
     """A ``component='rotd50'`` in a file's comment lines, None without one."""
-    from ..motions.measures import parse_component
+    from rocking.motions.measures import parse_component
 
     hit = _COMPONENT.search(" ".join(comments))
     return None if hit is None else parse_component(hit.group(1), f"{path}: component")
@@ -695,7 +679,7 @@ def _file_component(comments: list[str], path: Path) -> str | None:
 
 def _declared_component(spec: dict) -> str | None:
     """The hazard mapping's ``component`` key, checked (None without one)."""
-    from ..motions.measures import parse_component
+    from rocking.motions.measures import parse_component
 
     if "component" not in spec:
         return None
@@ -891,5 +875,5 @@ def _resolve(path, base) -> Path:
 __all__ = ["HAZARD_FORMATS", "HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G",
            "POWER_LAW_IML", "POWER_LAW_KEYS", "UNITS", "HazardCurve", "HazardFormat", "Site",
            "check_kind", "check_plausible", "file_kind", "file_sites", "great_circle_km",
-           "hazard_component", "imt_measure", "measure_imt", "parse_hazard", "same_measure",
+           "hazard_component", "imt_measure", "measure_imt", "parse_hazard",
            "select_site", "unit_factor"]

@@ -38,8 +38,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..dynamics.dimensions import body_size
-from .hazard import (
+from rocking.dynamics.dimensions import body_size
+from rocking.risk.hazard import (
     MAX_DISTANCE_KM,
     HazardCurve,
     Site,
@@ -161,7 +161,7 @@ def read_inventory(path: str | Path, *, surface=None, hazard: HazardSites | None
     ----------
     path : path
         The CSV file (``#`` lines are comments).
-    surface : rocking.risk.surface.FragilitySurface, optional
+    surface : rocking.fragility.surface.FragilitySurface, optional
         Columns beyond its grid are refused (or, with ``extrapolate``, kept).
     hazard : HazardSites, optional
         Each column is given its site (``hazard_index``, ``hazard_distance_km``).

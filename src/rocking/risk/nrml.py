@@ -14,7 +14,7 @@ Layout (element order matters to OpenQuake's reader)::
 - One function per (mode, tan α, R): the taxonomy id ``<mode>/tan<tan α>/R<R>m``.
 - ``mean`` and ``stddev`` are the arithmetic mean and standard deviation of the lognormal
   capacity in g, not its median θ and β: mean = θ·exp(β²/2), stddev = mean·√(exp(β²) − 1)
-  (:func:`rocking.risk.fragilities.lognormal_moments`).
+  (:func:`rocking.fragility.table.lognormal_moments`).
 - Limit-state names must be identifiers in OpenQuake (letters, digits, ``_``, ``.``, ``-``):
   ``tilt:1/3`` is written ``tilt_1over3``, ``tilt:0.1`` ``tilt_0p1``, overturning as is
   (:func:`nrml_limit_state`; the description lists the mapping).
@@ -48,8 +48,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
-from .fragilities import KINDS, Fragilities, lognormal_moments
+from rocking.fragility.table import KINDS, Fragilities, lognormal_moments
+from rocking.spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 
 NAMESPACE = "http://openquake.org/xmlns/nrml/0.5"
 MAX_IML_SIGMAS = 4.0
@@ -131,7 +131,7 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
     Parameters
     ----------
     frag : Fragilities
-        From :func:`rocking.risk.fragilities.read_fragilities`.
+        From :func:`rocking.fragility.table.read_fragilities`.
     path : path
         Output ``.xml`` file.
     search_upper : float, optional

@@ -38,7 +38,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from .fragilities import FIRST_EXCEEDANCE, KINDS, Fragilities
+from rocking.fragility.table import FIRST_EXCEEDANCE, KINDS, Fragilities
 
 BASE_COLUMNS = ("ID", "Incomplete", "Demand-Type", "Demand-Unit", "Demand-Offset",
                 "Demand-Directional")
@@ -67,7 +67,7 @@ def write_pelicun_csv(frag: Fragilities, path: str | Path) -> dict[str, list[str
     Parameters
     ----------
     frag : Fragilities
-        From :func:`rocking.risk.fragilities.read_fragilities`.
+        From :func:`rocking.fragility.table.read_fragilities`.
     path : path
         Output ``.csv`` file.
 

@@ -1,6 +1,6 @@
 """Every column of an inventory under its site's hazard: ``portfolio.csv``.
 
-From a :class:`rocking.risk.surface.FragilitySurface` (the study's fragility over R and tan α),
+From a :class:`rocking.fragility.surface.FragilitySurface` (the study's fragility over R and tan α),
 an inventory (:mod:`rocking.risk.inventory`) and a hazard file of one or many sites,
 :func:`portfolio_table` gives, per column and limit state, the interpolated lognormal
 fragility with its bootstrap interval and its interpolation error, the mean annual frequency
@@ -64,11 +64,11 @@ import numpy as np
 import pandas as pd
 from scipy.interpolate import RectBivariateSpline
 
-from .annual_frequency import mean_annual_frequencies
-from .hazard import HazardCurve
-from .inventory import HazardSites, Inventory
-from .surface import interval
-from .table import YEARS
+from rocking.fragility.surface import interval
+from rocking.risk.annual_frequency import mean_annual_frequencies
+from rocking.risk.hazard import HazardCurve
+from rocking.risk.inventory import HazardSites, Inventory
+from rocking.risk.table import YEARS
 
 COLUMNS = ("id", "lon", "lat", "site", "height", "diameter", "R", "tan_alpha", "mu", "mode",
            "limit_state", "fragility", "measure", "component",
@@ -132,7 +132,7 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
 
     Parameters
     ----------
-    surface : rocking.risk.surface.FragilitySurface
+    surface : rocking.fragility.surface.FragilitySurface
     inventory : Inventory
         Checked columns with their hazard site (:func:`rocking.risk.inventory.read_inventory`
         with this ``hazard``).
@@ -152,7 +152,7 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
     pandas.DataFrame
         :data:`COLUMNS`, one row per column and limit state, by limit state then rank.
     """
-    from ..spectra.limit_states import parse_limit_state
+    from rocking.spectra.limit_states import parse_limit_state
 
     cols = inventory.columns
     if (cols["hazard_index"] < 0).any():
@@ -301,11 +301,11 @@ def site_portfolio(study: str | Path, inventory: str | Path, hazard, *, site=Non
     progress_from : int
         Inventories of this many columns or more show a progress bar on the terminal.
     """
-    from .._progress import Progress
-    from ..spectra.fragility import BOOTSTRAP_RESAMPLES
-    from .hazard import MAX_DISTANCE_KM, hazard_component
-    from .inventory import read_hazard_sites, read_inventory
-    from .surface import FragilitySurface
+    from rocking._progress import Progress
+    from rocking.fragility.lognormal import BOOTSTRAP_RESAMPLES
+    from rocking.fragility.surface import FragilitySurface
+    from rocking.risk.hazard import MAX_DISTANCE_KM, hazard_component
+    from rocking.risk.inventory import read_hazard_sites, read_inventory
 
     entry = dict(hazard) if isinstance(hazard, dict) else {"file": str(hazard)}
     kind = kind if kind is not None else entry.get("kind")
@@ -339,7 +339,7 @@ def write_portfolio(table: pd.DataFrame, out_dir: str | Path,
                     skipped: pd.DataFrame | None = None) -> Path:
     """``<out_dir>/portfolio.csv`` (and ``portfolio_skipped.csv`` listing the rows left out,
     when any), written under temporary names and renamed; returns the table's path."""
-    from .._provenance import write_atomic
+    from rocking._provenance import write_atomic
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

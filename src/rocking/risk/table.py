@@ -4,12 +4,12 @@ One row per requested (mode, tan α, R, limit state) of each fragility, with or 
 the median capacity and β, the mean annual frequency λ_LS [1/yr]
 (:func:`rocking.risk.annual_frequency.mean_annual_frequency`) with its 90 % bootstrap interval
 over the motions (``lambda_p05``, ``lambda_p95``: each resample of the motions refitted and
-integrated, :mod:`rocking.risk.bootstrap`), the return period 1/λ_LS [yr], the probability of
+integrated, :mod:`rocking.fragility.bootstrap`), the return period 1/λ_LS [yr], the probability of
 at least one exceedance in 50 years (Poisson), the share of λ_LS that rests on extrapolating
 the hazard curve's last slope (``share_extrapolated``) and on its first slope extrapolated
 below its first level (``share_below_first``: the hazard table says nothing there, levels
 with probability of exceedance 1 dropped included; warned about above
-:data:`rocking.risk.report.BELOW_FIRST_WARN`), and the hazard's site and kind
+:data:`rocking.report.risk.BELOW_FIRST_WARN`), and the hazard's site and kind
 (``hazard_site``, ``hazard_kind``: :class:`rocking.risk.hazard.HazardCurve`).
 
 A row without a fit (median NaN: too few motions exceeded, or a separated stripe fit) is
@@ -19,7 +19,7 @@ to all exceeding (``lambda_lo`` = λ(bracket_hi), ``lambda_hi`` = λ(bracket_lo)
 side is open).
 
 The first column, ``fragility``, says which fragility the row integrates
-(``first_exceedance`` or ``stripes``, :data:`rocking.risk.fragilities.KINDS`), ``measure`` in
+(``first_exceedance`` or ``stripes``, :data:`rocking.fragility.table.KINDS`), ``measure`` in
 which intensity measure, ``component`` in which horizontal component (that of the
 fragility and of the hazard: they are never mixed); the last, ``status``, the fit's
 status. :func:`risk_tables` stacks the tables of several fragilities of a study, so that
@@ -29,14 +29,31 @@ both answers stand side by side in one ``risk.csv``.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..units import header
-from .annual_frequency import annual_frequency_interval, annual_frequency_parts, probability_in
-from .fragilities import Fragilities, read_fragilities, sort_rows
-from .hazard import HazardCurve, same_measure
+from rocking.fragility.table import (
+    FIRST_EXCEEDANCE,
+    Fragilities,
+    read_fragilities,
+    sort_rows,
+)
+from rocking.motions.measures import same_measure
+from rocking.risk.annual_frequency import (
+    annual_frequency_interval,
+    annual_frequency_parts,
+    probability_in,
+)
+from rocking.risk.hazard import HazardCurve
+from rocking.spectra.limit_states import (
+    EXCESSIVE_TILT,
+    OVERTURNING,
+    parse_limit_state,
+    severity,
+)
+from rocking.units import header, strip_units
 
 YEARS = 50.0
 """Exposure time of the probability column [yr] (``p_50yr``)."""
@@ -60,7 +77,7 @@ def risk_table(fragility, hazard: HazardCurve, *, preset: str = "",
     ----------
     fragility : Fragilities, path, DataFrame or Dataset
         The study's fragilities, or anything
-        :func:`rocking.risk.fragilities.read_fragilities` reads (in the hazard's measure).
+        :func:`rocking.fragility.table.read_fragilities` reads (in the hazard's measure).
     hazard : HazardCurve
         The site's hazard curve, in the fragility's intensity measure.
     preset : str
@@ -201,5 +218,119 @@ def lambda_line(row) -> str:
     return f"no fit ({get('status', '')}): no λ"
 
 
-__all__ = ["CI", "COLUMNS", "YEARS", "check_components", "lambda_line", "risk_table",
-           "risk_tables"]
+__all__ = ["BELOW_FIRST_WARN", "CI", "COLUMNS", "FAST_BIAS", "MIN_RECORDS", "PAPER_LIMIT_STATES",
+           "PRESET_ERRORS", "YEARS", "below_first_warning", "check_components", "lambda_line",
+           "main_tan_alpha", "preset_note", "preset_warning", "read_risk_table", "risk_table",
+           "risk_tables", "shown_limit_states"]
+
+
+PAPER_LIMIT_STATES = (OVERTURNING, EXCESSIVE_TILT)
+"""The limit states shown when a study has them (the paper's overturning and θ > α/3)."""
+
+
+
+def read_risk_table(risk: str | Path | pd.DataFrame) -> pd.DataFrame:
+    """``risk.csv`` (or its frame) with unit-free column names, canonical limit-state names,
+    and a ``fragility`` column (a table written before the stripe rows: first exceedance)."""
+    frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
+    frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
+    frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
+    if "fragility" not in frame.columns:  # a risk.csv written before the stripe rows
+        frame["fragility"] = FIRST_EXCEEDANCE
+    return frame
+
+
+
+PRESET_ERRORS = {
+    "fast": (7.7, 35.0),
+    "default": (1.6, 15.0),
+    "precise": (0.93, 10.0),
+}
+"""Preset → error of its critical intensities against a converged reference [%]: median and
+90th percentile (docs/performance.md, "Accuracy of the presets against the converged
+reference", two goals). Always on the high side: the search steps over narrow windows of
+exceedance, so capacities come out too high and λ too low."""
+
+
+
+FAST_BIAS = ("on the four shipped records (tan α 0.11, R 3–3.02 m, docs/risk.md) the fast "
+             "preset's median capacity ran 9–11 % above the default preset's (one record's "
+             "30–46 %) and λ of overturning 27–38 % lower; on issue 29's four records 20–37 % "
+             "and about 40 %")
+"""The measured cost of the fast preset in risk (docs/risk.md, and the issue's case)."""
+
+
+
+MIN_RECORDS = 10
+"""Fewer motions behind a fragility than this get a warning on the width of its interval."""
+
+
+
+def preset_note(preset: str) -> str:
+    """The measured error of the preset that was run, with its sign ('' for an unknown one)."""
+    if preset not in PRESET_ERRORS:
+        return ""
+    median, p90 = PRESET_ERRORS[preset]
+    return (f"Search preset '{preset}': its critical intensities are {median:g} % off on "
+            f"median and {p90:g} % at the 90th percentile against a converged reference, "
+            "always too high (first exceedances step over narrow windows of exceedance), so "
+            "capacities are overestimated and λ is too low (docs/performance.md).")
+
+
+
+def preset_warning(preset: str) -> str:
+    """One line for a risk computed from ``fast`` answers ('' otherwise)."""
+    if preset != "fast":
+        return ""
+    median, p90 = PRESET_ERRORS["fast"]
+    return (f"WARNING: λ computed from fast-preset answers, unconservative: capacities "
+            f"{median:g} % (median) to {p90:g} % (90th percentile) too high, {FAST_BIAS}; "
+            "rerun with accuracy: default before using λ.")
+
+
+
+BELOW_FIRST_WARN = 0.01
+"""Share of λ above which its part from below the hazard's first level is warned about: the
+hazard table says nothing there (its first log-log slope is extrapolated), so more than 1 %
+of λ resting on it is a number the hazard does not support."""
+
+
+
+def below_first_warning(risk) -> str:
+    """One line when some λ rest for more than :data:`BELOW_FIRST_WARN` on the hazard below
+    its first level ('' otherwise, and for a table written before ``share_below_first``)."""
+    frame = read_risk_table(risk)
+    if "share_below_first" not in frame.columns:
+        return ""
+    share = frame["share_below_first"].astype(float)
+    big = frame[share > BELOW_FIRST_WARN]
+    if big.empty:
+        return ""
+    worst = big.loc[big["share_below_first"].astype(float).idxmax()]
+    return (f"WARNING: {len(big)} of {int(np.isfinite(share).sum())} λ rest for more than "
+            f"{100 * BELOW_FIRST_WARN:g} % on the hazard below its first level, where the hazard "
+            f"table says nothing and its first log-log slope is extrapolated (up to "
+            f"{100 * float(worst['share_below_first']):.0f} % at {worst['mode']}, R = "
+            f"{float(worst['R']):g} m, {worst['limit_state']}, median "
+            f"{float(worst['median_im']):.3g} g): use a hazard curve whose levels start well "
+            "below the fragility medians (share_below_first in risk.csv).")
+
+
+
+def main_tan_alpha(frame: pd.DataFrame) -> float | None:
+    """The slenderness with the most risk rows (the paper's 0.2, where every mode ran);
+    among equals the middle one; None for an empty table."""
+    counts = frame.groupby("tan_alpha").size()
+    best = [float(t) for t, n in counts.items() if n == counts.max()]
+    return best[len(best) // 2] if best else None
+
+
+
+def shown_limit_states(frame: pd.DataFrame) -> list[str]:
+    """The paper's overturning and θ > α/3 where the table has them, else the study's own
+    limit states, most severe first (at most two)."""
+    present = list(dict.fromkeys(frame["limit_state"]))
+    paper = [ls for ls in PAPER_LIMIT_STATES if ls in present]
+    own = sorted(present, key=severity, reverse=True)
+    return paper if len(paper) == len(PAPER_LIMIT_STATES) else (paper + [
+        ls for ls in own if ls not in paper])[:2]

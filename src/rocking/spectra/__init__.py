@@ -1,10 +1,9 @@
 """Seismic performance rocking spectra: limit states, accuracy presets, the critical-intensity
 search (:mod:`.search`) bound to the dynamics (:mod:`.critical`), the Fig 7 tilt map
-(:mod:`.tilt_map`), fragility curves (:mod:`.fragility`) and the multiple-stripe
-fragility (:mod:`.stripes`).
+(:mod:`.tilt_map`).
 """
 
-from .._lazy import lazy_exports
+from rocking._lazy import lazy_exports
 
 _EXPORTS = {
     "LimitState": "limit_states",
@@ -18,9 +17,6 @@ _EXPORTS = {
     "critical_intensity_batch": "critical",
     "MODES": "critical",
     "tilt_map": "tilt_map",
-    "stripe_fragility": "stripes",
-    "StripeFragility": "stripes",
-    "fit_stripes": "stripes",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -25,7 +25,7 @@ what it costs:
 A coarser scan is cheaper but may step over a narrow window of exceedance below the first
 one it sees (rocking response is not monotonic in the intensity); the bisection tolerance
 bounds the error inside the bracket; the ODE tolerance moves the boundary itself where the
-response is sensitive. The presets were chosen from ``python -m rocking.benchmarks spectra``
+response is sensitive. The presets were chosen from ``python -m benchmarks spectra``
 (results/benchmarks/spectra.md): "default" aims at ≤ 1 % median error in I_crit at the
 lowest cost.
 
@@ -55,7 +55,7 @@ About 10 % of the answers stay several per cent off at any affordable step (wind
 than the step are missed); the result flags ``non_monotonic`` wherever the search saw such a
 window, and ``unresolved`` where such windows may lie unseen below the answer.
 
-Measured again against a converged 0.02–0.05 % grid (``python -m rocking.benchmarks
+Measured again against a converged 0.02–0.05 % grid (``python -m benchmarks
 resolution``, docs/performance.md "Resolution of the critical intensity"): the windows are
 0.02–0.25 % wide, so the error of every affordable scan is larger than the 0.5 % reference
 above says; the table there replaces the numbers of this docstring.
@@ -66,7 +66,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ..dynamics.names import MODEL_3D_DAMPED
+from rocking.dynamics.names import MODEL_3D_DAMPED
 
 SCANS = ("fixed", "adaptive", "seek")
 """Kinds of coarse scan (:attr:`Accuracy.scan`)."""

@@ -13,16 +13,21 @@ from dataclasses import replace
 
 import numpy as np
 
-from .._progress import maybe as _progress
-from .._validate import positive_finite
-from ..constants import G
-from ..dynamics.bodies import Block, Cylinder
-from ..dynamics.result import Status
-from ..motions.motion import GroundMotion
-from .accuracy import Accuracy, get_accuracy
-from .limit_states import MU_REQUIRED_MAX, NORMAL_FORCE_MIN, parse_limit_states, whole_record
-from .modes import MODE_3D, MODES, check_mode, is_damped
-from .search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, run_search
+from rocking._progress import maybe as _progress
+from rocking._validate import positive_finite
+from rocking.constants import G
+from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.result import Status
+from rocking.motions.motion import GroundMotion
+from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.limit_states import (
+    MU_REQUIRED_MAX,
+    NORMAL_FORCE_MIN,
+    parse_limit_states,
+    whole_record,
+)
+from rocking.spectra.modes import MODE_3D, MODES, check_mode, is_damped
+from rocking.spectra.search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, run_search
 
 __all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batch",
            "make_analysis", "uplift_intensity"]
@@ -79,7 +84,7 @@ def make_analysis(
     (the same θmax, status and steps to the bit, for less work: no other answer reads them)
     and ``other_peaks`` is empty.
     """
-    from ..dynamics.analysis import ground_response  # the engine is imported only when needed
+    from rocking.dynamics.analysis import ground_response  # the engine is imported only when needed
 
     check_mode(mode)
     model, component = MODES[mode]

@@ -59,7 +59,7 @@ from typing import ClassVar, Protocol
 
 import numpy as np
 
-from ..dynamics.result import contact_slides, leaves_support
+from rocking.dynamics.result import contact_slides, leaves_support
 
 THETA_MAX = "theta_max"
 """Largest |θ| reached by an analysis [rad]."""

@@ -8,7 +8,7 @@ without loading the dynamics engine.
 
 from __future__ import annotations
 
-from ..dynamics.names import MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
+from rocking.dynamics.names import MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 
 MODE_3D = "3d"
 """The undamped 3D rocking/wobbling cylinder under both components."""

@@ -39,10 +39,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from .._validate import positive_finite
-from ..dynamics.result import Status, slid_in_contact
-from .accuracy import Accuracy, get_accuracy
-from .limit_states import (
+from rocking._validate import positive_finite
+from rocking.dynamics.result import Status, slid_in_contact
+from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.limit_states import (
     MU_REQUIRED_MAX,
     NORMAL_FORCE_MIN,
     OVERTURNED,
@@ -251,7 +251,7 @@ class CriticalResult:
 
     def index(self, limit_state: str | LimitState) -> int:
         """Position of ``limit_state`` in the arrays (any accepted spelling)."""
-        from .limit_states import match_limit_state
+        from rocking.spectra.limit_states import match_limit_state
 
         try:
             return self.limit_states.index(match_limit_state(limit_state,

@@ -8,16 +8,16 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
-from .._progress import maybe as _progress
-from .._validate import positive_finite
-from ..dynamics.bodies import Cylinder
-from ..dynamics.result import Status
-from ..motions.motion import GroundMotion
-from ..units import attrs
-from .accuracy import Accuracy, get_accuracy
-from .critical import make_analysis, uplift_intensity
-from .modes import MODE_3D, MODES, check_mode
-from .search import RETRY_RTOL_FACTOR, checked
+from rocking._progress import maybe as _progress
+from rocking._validate import positive_finite
+from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.result import Status
+from rocking.motions.motion import GroundMotion
+from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.critical import make_analysis, uplift_intensity
+from rocking.spectra.modes import MODE_3D, MODES, check_mode
+from rocking.spectra.search import RETRY_RTOL_FACTOR, checked
+from rocking.units import attrs
 
 
 def tilt_map(

@@ -11,7 +11,7 @@ and ``median_all`` is the median over all motions with those counted above the b
 Kaplan–Meier median, exact here because every censored value lies above every observed one;
 it is NaN when half or more of the motions were not reached (the median is then somewhere
 above the bound). Cells no run of the study asked for (``requested`` false, see
-:mod:`rocking.study.plan`) were never computed: their statistics are NaN with count 0, and
+:mod:`rocking.config.plan`) were never computed: their statistics are NaN with count 0, and
 ``requested`` is carried over so that a reader can tell "not computed" from "not reached".
 """
 
@@ -24,8 +24,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ..units import CSV_FLOAT_FORMAT, attrs, header
-from .store import REPAIR
+from rocking.store import REPAIR
+from rocking.units import CSV_FLOAT_FORMAT, attrs, header
 
 STAT_DIMS = ("mode", "limit_state", "tan_alpha", "R")
 """Dimensions of the aggregated spectra."""
@@ -107,8 +107,8 @@ def monitored(ds: xr.Dataset) -> xr.DataArray:
     of that (mode, tan α) watches them (sliding; :func:`rocking.spectra.critical.make_analysis`
     compiles them in only there). Elsewhere ``lifts_off`` is false without having been looked
     at, and the tables leave it empty."""
-    from ..spectra.limit_states import parse_limit_state
-    from .store_attrs import decode_attrs
+    from rocking.spectra.limit_states import parse_limit_state
+    from rocking.store.attrs import decode_attrs
 
     mu = decode_attrs(ds.attrs).get("search_options", {}).get("mu")
     dims = tuple(d for d in ("mode", "tan_alpha") if d in ds.dims)
@@ -275,7 +275,7 @@ CRITICAL_FLOAT_FORMAT = "%.10g"
 def write_critical_table(store: str | Path, csv: str | Path) -> Path:
     """``critical.csv``: the spectra store of a study as one row per computed answer
     (:func:`critical_frame`), written under a temporary name and renamed; returns ``csv``."""
-    from .._provenance import write_atomic
+    from rocking._provenance import write_atomic
 
     with xr.open_zarr(store, consolidated=True) as ds:
         frame = critical_frame(ds)

@@ -20,7 +20,7 @@ than the study's is met by the fragility in the hazard's own component: each mot
 critical measure is its critical scale times its measure in that component, i.e. its
 critical measure in the study's component times the motion's ratio of the two components.
 :func:`suite_fragility` fits a lognormal fragility
-(:func:`rocking.spectra.fragility.fit_lognormal`, right-censored at the search bound where a
+(:func:`rocking.fragility.lognormal.fit_lognormal`, right-censored at the search bound where a
 motion never exceeded the limit state) in each measure, over the recorded motions and,
 separately, over the synthetic pairs.
 """
@@ -33,11 +33,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..motions.identity import identity
-from ..motions.measures import DEFAULT_COMPONENT, MEASURE_UNITS, intensity_measure, parse_measure
-from ..motions.motion import GroundMotion
-from .aggregate import nullable_flag, requested_answers, unmonitored_empty
-from .store_attrs import store_provenance
+from rocking.motions.identity import identity
+from rocking.motions.measures import (
+    DEFAULT_COMPONENT,
+    MEASURE_UNITS,
+    intensity_measure,
+    parse_measure,
+)
+from rocking.motions.motion import GroundMotion
+from rocking.store.attrs import store_provenance
+from rocking.study.aggregate import nullable_flag, requested_answers, unmonitored_empty
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
            "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
@@ -200,7 +205,7 @@ def as_recorded(table, motions: Sequence[GroundMotion], *, accuracy="default",
 
     Every (motion, mode, tan α, R) of ``table`` is analysed once at the record's own
     intensity, PGA/(g tan α) = ``pga_g``/tan α, with the engine and tolerances of the
-    spectra (:func:`rocking.spectra.stripes.stripe_outcomes`: a failed analysis is retried
+    spectra (:func:`rocking.fragility.stripes.stripe_outcomes`: a failed analysis is retried
     at a tighter tolerance), and every limit state of its rows is decided from that one
     response.
 
@@ -226,10 +231,10 @@ def as_recorded(table, motions: Sequence[GroundMotion], *, accuracy="default",
     """
     import pandas as pd
 
-    from ..dynamics.bodies import Cylinder
-    from ..spectra.accuracy import get_accuracy
-    from ..spectra.limit_states import parse_limit_states
-    from ..spectra.stripes import stripe_outcomes
+    from rocking.dynamics.bodies import Cylinder
+    from rocking.fragility.stripes import stripe_outcomes
+    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.limit_states import parse_limit_states
 
     acc = get_accuracy(accuracy)
     by_name = {m.name: m for m in motions}
@@ -295,15 +300,15 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None,
     pandas.DataFrame
         Per ``motions`` (``"records"``, and ``"synthetic"`` when there are any), mode,
         tan α, limit state, R and ``measure``: ``unit``, ``median``, ``beta``, ``n``,
-        ``n_censored``, ``status`` (:class:`rocking.spectra.fragility.LognormalFit`),
+        ``n_censored``, ``status`` (:class:`rocking.fragility.lognormal.LognormalFit`),
         ``median_p05``, ``median_p95`` (90 % interval of the median over 1000 resamples of
-        the motions, :func:`rocking.spectra.fragility.bootstrap_lognormal`) and
+        the motions, :func:`rocking.fragility.lognormal.bootstrap_lognormal`) and
         ``bootstrap_fitted`` (resamples with a fit); ``attrs["bootstrap"]`` holds the
         resamples' θ and β, (rows, resamples) each.
     """
     import pandas as pd
 
-    from ..spectra.fragility import fit_lognormal
+    from rocking.fragility.lognormal import fit_lognormal
 
     keys = ["mode", "tan_alpha", "limit_state", "R"]
     out, samples = [], []
@@ -352,9 +357,13 @@ def suite_fragilities(tables: dict, measures: Sequence[str], upper: float | None
 
 def _bootstrap(values: np.ndarray, censored: np.ndarray, fit: dict, samples: list) -> dict:
     """The 90 % interval of the median over resamples of the motions
-    (:func:`rocking.spectra.fragility.bootstrap_lognormal`); the resamples go to ``samples``
+    (:func:`rocking.fragility.lognormal.bootstrap_lognormal`); the resamples go to ``samples``
     (one entry per row of the table, NaN where the row has no fit)."""
-    from ..spectra.fragility import BOOTSTRAP_RESAMPLES, bootstrap_lognormal, percentile_interval
+    from rocking.fragility.lognormal import (
+        BOOTSTRAP_RESAMPLES,
+        bootstrap_lognormal,
+        percentile_interval,
+    )
 
     if math.isfinite(fit["median"]):
         med, beta = bootstrap_lognormal(values, censored)
@@ -423,10 +432,10 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     """
     import xarray as xr
 
-    from ..motions.ensemble_io import load_ensemble
-    from ..spectra.fragility import censoring_bound
-    from ..units import CSV_FLOAT_FORMAT
-    from .store import open_group, read_attrs
+    from rocking.fragility.lognormal import censoring_bound
+    from rocking.motions.ensemble_io import load_ensemble
+    from rocking.store import open_group, read_attrs
+    from rocking.units import CSV_FLOAT_FORMAT
 
     motions = load_ensemble(motions_path)
     components = list(dict.fromkeys([component, *also]))
@@ -451,11 +460,11 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
 
 def _write_bootstrap(fragility, fragility_csv: str | Path, provenance: dict) -> None:
     """``suite_fragility_bootstrap.nc`` beside the table: θ [the row's unit] and β of every
-    resample, rows in the CSV's order (:mod:`rocking.risk.bootstrap`)."""
+    resample, rows in the CSV's order (:mod:`rocking.fragility.bootstrap`)."""
     import xarray as xr
 
-    from ..risk.bootstrap import bootstrap_path, write_bootstrap
-    from ..spectra.fragility import BOOTSTRAP_SEED
+    from rocking.fragility.bootstrap import bootstrap_path, write_bootstrap
+    from rocking.fragility.lognormal import BOOTSTRAP_SEED
 
     med, beta = fragility.attrs["bootstrap"]
     ds = xr.Dataset({"median": (("row", "resample"), med.reshape(len(fragility), -1)),

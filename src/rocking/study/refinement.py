@@ -26,7 +26,7 @@ states its sample). The report reads it through :mod:`rocking.plot.refined`.
 λ under refinement (:func:`write_refinement_risk`, ``refinement_risk.csv``): at every point
 (mode, limit state, tan α, R) holding a refined cell, the lognormal fragility is fitted again
 with the refined answers substituted (the study's own fit,
-:func:`rocking.spectra.fragility.fit_lognormal`, censoring included) and integrated with the
+:func:`rocking.fragility.lognormal.fit_lognormal`, censoring included) and integrated with the
 study's hazard curve (:func:`rocking.risk.annual_frequency.mean_annual_frequency`, the
 function of ``risk.csv``); exact where every cell of the point was refined (the headline
 point), a part of the move elsewhere.
@@ -102,7 +102,7 @@ def answered_cells(store) -> pd.DataFrame:
 def _cell_frame(ds, dims, values: np.ndarray, keep: np.ndarray, **extra) -> pd.DataFrame:
     """One row per kept cell of a (mode, limit_state, motion, tan_alpha, R) array: its
     labels, ``answer`` and each of ``extra`` (arrays of the same shape)."""
-    from ..spectra.limit_states import parse_limit_state
+    from rocking.spectra.limit_states import parse_limit_state
 
     idx = np.argwhere(keep)
     coords = [np.asarray(ds[d].values) for d in dims]
@@ -120,7 +120,7 @@ def _cell_frame(ds, dims, values: np.ndarray, keep: np.ndarray, **extra) -> pd.D
 def cells_from_table(path: str | Path) -> pd.DataFrame:
     """:func:`answered_cells` of a ``critical.csv`` (the table a study writes beside its
     store): the reached rows with a finite answer."""
-    from ..spectra.limit_states import parse_limit_state
+    from rocking.spectra.limit_states import parse_limit_state
 
     df = pd.read_csv(path)
     col = {c.split(" [")[0]: c for c in df.columns}
@@ -166,8 +166,8 @@ def choose_cells(cells: pd.DataFrame, spec: SampleSpec) -> pd.DataFrame:
 def headline_cells(cells: pd.DataFrame) -> pd.DataFrame:
     """Cells of the headline mean: mode "3d" (else the first mode), overturning (else the
     most severe limit state), tan α 0.2 (else the most frequent), the largest R."""
-    from ..spectra.limit_states import severity
-    from ..spectra.modes import MODE_3D
+    from rocking.spectra.limit_states import severity
+    from rocking.spectra.modes import MODE_3D
 
     modes = list(dict.fromkeys(cells["mode"]))
     mode = MODE_3D if MODE_3D in modes else modes[0]
@@ -216,12 +216,12 @@ def refine_point(motion, mode: str, R: float, tan_alpha: float, answers: Mapping
     dict
         ``refined``: {limit state: refined answer}, ``analyses``, ``truncated``.
     """
-    from ..dynamics.bodies import Cylinder
-    from ..dynamics.result import Status
-    from ..spectra.accuracy import get_accuracy
-    from ..spectra.critical import MODES, make_analysis, uplift_intensity
-    from ..spectra.limit_states import classify, parse_limit_states, stop_for
-    from ..spectra.search import RETRY_RTOL_FACTOR
+    from rocking.dynamics.bodies import Cylinder
+    from rocking.dynamics.result import Status
+    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.critical import MODES, make_analysis, uplift_intensity
+    from rocking.spectra.limit_states import classify, parse_limit_states, stop_for
+    from rocking.spectra.search import RETRY_RTOL_FACTOR
 
     acc = get_accuracy(accuracy)
     body = Cylinder(float(R), float(tan_alpha))
@@ -314,9 +314,9 @@ def write_refinement_sample(store_path: str | Path, motions_path: str | Path,
 
     import xarray as xr
 
-    from ..motions.ensemble_io import load_ensemble
-    from ..units import CSV_FLOAT_FORMAT
-    from .store import read_attrs
+    from rocking.motions.ensemble_io import load_ensemble
+    from rocking.store import read_attrs
+    from rocking.units import CSV_FLOAT_FORMAT
 
     with warnings.catch_warnings():  # a store written without consolidated metadata is read too
         warnings.simplefilter("ignore", RuntimeWarning)
@@ -346,9 +346,9 @@ def critical_cells(path: str | Path, bound: float | None = None) -> pd.DataFrame
     """Every computed cell of a ``critical.csv``, as the fragility fit sees it: mode,
     limit_state, motion, tan_alpha, R, answer [PGA/(g tan α)], censored. A not-reached cell
     is right-censored at its stored value, or at ``bound`` (the search bound) where none is
-    stored, as :func:`rocking.spectra.fragility.fragility_table` does; a cell without a value
+    stored, as :func:`rocking.fragility.lognormal.fragility_table` does; a cell without a value
     that was not censored (never computed, failed) is left out, as there."""
-    from ..spectra.limit_states import parse_limit_state
+    from rocking.spectra.limit_states import parse_limit_state
 
     df = pd.read_csv(path)
     col = {c.split(" [")[0]: c for c in df.columns}
@@ -376,7 +376,7 @@ def critical_cells(path: str | Path, bound: float | None = None) -> pd.DataFrame
 def refit_points(cells: pd.DataFrame, sample: pd.DataFrame) -> pd.DataFrame:
     """The lognormal fragility of every point (mode, limit state, tan α, R) holding a refined
     cell of ``sample``, fitted as the study fits it
-    (:func:`rocking.spectra.fragility.fit_lognormal`) from ``cells``
+    (:func:`rocking.fragility.lognormal.fit_lognormal`) from ``cells``
     (:func:`critical_cells`) as they are and with the sample's refined answers substituted.
 
     Returns
@@ -386,7 +386,7 @@ def refit_points(cells: pd.DataFrame, sample: pd.DataFrame) -> pd.DataFrame:
         refined), median, beta, median_refined, beta_refined (medians in PGA/(g tan α); NaN
         where the fit has none).
     """
-    from ..spectra.fragility import fit_lognormal
+    from rocking.fragility.lognormal import fit_lognormal
 
     ok = sample[~sample["truncated"].astype(bool)
                 & np.isfinite(sample["refined"].astype(float))]
@@ -424,7 +424,7 @@ def lambda_shifts(points: pd.DataFrame, hazard) -> pd.DataFrame:
     hazard : HazardCurve
         The study's hazard curve, of PGA [g].
     """
-    from ..risk.annual_frequency import mean_annual_frequency
+    from rocking.risk.annual_frequency import mean_annual_frequency
 
     def lam(median, beta, t) -> float:
         if not (np.isfinite(median) and np.isfinite(beta) and beta > 0):
@@ -443,7 +443,7 @@ def lambda_shifts(points: pd.DataFrame, hazard) -> pd.DataFrame:
 
 def store_cells(store, bound: float | None = None) -> pd.DataFrame:
     """:func:`critical_cells` of a spectra store (an xarray Dataset): what
-    :func:`rocking.spectra.fragility.fragility_table` fits, cell by cell."""
+    :func:`rocking.fragility.lognormal.fragility_table` fits, cell by cell."""
 
     crit = store["pga_crit"].transpose("mode", "limit_state", "motion", "tan_alpha", "R")
     values = crit.values.astype(float).copy()
@@ -481,7 +481,7 @@ def write_refinement_risk(cells: pd.DataFrame, sample_csv: str | Path, hazard,
     int
         Rows written.
     """
-    from ..units import CSV_FLOAT_FORMAT
+    from rocking.units import CSV_FLOAT_FORMAT
 
     sample = pd.read_csv(sample_csv)
     if applies and len(sample):

@@ -141,9 +141,9 @@ def _flatten(d: Any, prefix: str = "") -> dict[str, Any]:
 
 
 def _default(key: str) -> Any:
-    """The schema default of a dotted key (:data:`rocking.study.config_fields.DEFAULTS`), or
+    """The schema default of a dotted key (:data:`rocking.config.fields.DEFAULTS`), or
     a marker that equals nothing when it has none."""
-    from .config_fields import DEFAULTS
+    from rocking.config.fields import DEFAULTS
 
     parts = key.split(".")
     where: tuple[str, ...] = ()
@@ -217,9 +217,9 @@ def _critical_from_store(run: Path, study: str, config: dict[str, Any]) -> pd.Da
     """The answers of a run's study from its spectra store (None if there is none)."""
     import xarray as xr
 
-    from .aggregate import critical_frame
-    from .prepare import keyed
-    from .study_spec import StudySpec
+    from rocking.config.study import StudySpec
+    from rocking.execution.prepare import keyed
+    from rocking.study.aggregate import critical_frame
 
     store = keyed(run / study / "spectra.zarr", StudySpec.from_config(config, study)
                   .spectra.digest)
@@ -291,7 +291,7 @@ def _hazard_slope(config: dict[str, Any], study: str) -> float:
     if spec is None:
         return 4.0
     try:
-        from ..risk.hazard import parse_hazard
+        from rocking.risk.hazard import parse_hazard
 
         curve = parse_hazard(spec)
         im, rate = np.log(np.asarray(curve.im_g)), np.log(np.asarray(curve.annual_rate))
@@ -503,8 +503,8 @@ def motions_lines(run: str | Path, against: str | Path = "results/paper") -> lis
     copy keeps no motions). Motions that differ in their bits explain answers that do."""
     import json
 
-    from ..motions.ensemble_io import load_ensemble
-    from .ensemble_spec import EnsembleSpec
+    from rocking.config.ensemble import EnsembleSpec
+    from rocking.motions.ensemble_io import load_ensemble
 
     run, against = Path(run), Path(against)
     manifest = against / "MANIFEST.json"
@@ -552,7 +552,7 @@ def verify_run(run: str | Path, against: str | Path = "results/paper") -> list[T
         ``run`` is no run, a partial run (a table or store missing), or of another
         configuration (the differing keys named).
     """
-    from ..spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import get_accuracy
 
     run, against = Path(run), Path(against)
     config, rframes, gframes = _load(run, against)

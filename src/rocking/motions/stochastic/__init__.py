@@ -10,12 +10,16 @@ ensemble's elastic spectrum matches its record's), :mod:`.ensemble` (reproducibl
 bidirectional ensembles).
 """
 
-from .ensemble import synthesize
-from .envelope import GammaEnvelope, alphas_from_physical, physical_from_alphas
-from .fit import RDKFit, fit_component, fit_rdk
-from .params import RDKParams
-from .quality import ensemble_quality
-from .spectrum_fit import fit_spectrum
+from rocking.motions.stochastic.ensemble import synthesize
+from rocking.motions.stochastic.envelope import (
+    GammaEnvelope,
+    alphas_from_physical,
+    physical_from_alphas,
+)
+from rocking.motions.stochastic.fit import RDKFit, fit_component, fit_rdk
+from rocking.motions.stochastic.params import RDKParams
+from rocking.motions.stochastic.quality import ensemble_quality
+from rocking.motions.stochastic.spectrum_fit import fit_spectrum
 
 __all__ = [
     "GammaEnvelope",

@@ -18,12 +18,12 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ..._validate import positive_finite
-from ..motion import GroundMotion
-from .filter import DEFAULT_FLOOR_HZ, normalized_irf
-from .fit import RDKFit
-from .params import RDKParams
-from .simulate import DEFAULT_FC_HZ, noise_rows, spectral, time_domain
+from rocking._validate import positive_finite
+from rocking.motions.motion import GroundMotion
+from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ, normalized_irf
+from rocking.motions.stochastic.fit import RDKFit
+from rocking.motions.stochastic.params import RDKParams
+from rocking.motions.stochastic.simulate import DEFAULT_FC_HZ, noise_rows, spectral, time_domain
 
 __all__ = ["DEFAULT_FC_HZ", "energy_correction", "simulate_component", "synthesize"]
 
@@ -57,7 +57,7 @@ def _apply_highpass(
     x: np.ndarray, dt: float, kind: str, fc_hz: float, order: int
 ) -> tuple[np.ndarray, dict[str, Any]]:
     """High-pass all rows of ``x`` at once with :mod:`rocking.motions.highpass` (padding kept)."""
-    from ..highpass import highpass_rows
+    from rocking.motions.highpass import highpass_rows
 
     if kind not in ("oscillator", "butterworth"):
         raise ValueError(
@@ -250,7 +250,7 @@ def synthesize(
         meta = _metadata(fit, seed, r, streams, processing)
         gm = GroundMotion(comps[0][r], comps[1][r], dt, f"{base}-{r:03d}", meta)
         if axes == "record":
-            from ..principal import rotate
+            from rocking.motions.principal import rotate
 
             gm = rotate(gm, -fit.angle)
             gm.metadata["axes"] = "record"
@@ -260,7 +260,7 @@ def synthesize(
 
 def _metadata(fit: RDKFit, seed: int, r: int, streams, processing: list[dict]) -> dict:
     """Metadata of realization ``r``: parameters, seed, stream ids and processing steps."""
-    from ... import __version__  # here: the package imports this module while initializing
+    from rocking import __version__  # here: the package imports this module while initializing
 
     return {
         "generator": "Rezaeian-Der Kiureghian (rocking.motions.stochastic)",

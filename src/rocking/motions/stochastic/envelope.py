@@ -18,8 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 from scipy.special import gammainc, gammaincinv, gammaln
 
-from ..._validate import finite, positive_finite
-from ...constants import G
+from rocking._validate import finite, positive_finite
+from rocking.constants import G
 
 #: Bracket of the gamma shape k searched when inverting the duration ratio (R(k) spans
 #: about 3e-33 … 30 over it, far beyond any recorded ground motion; below k = 1e-2 the

@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validate import finite, nonnegative_finite, positive_finite
+from rocking._validate import finite, nonnegative_finite, positive_finite
 
 #: Default floor of the filter frequency [Hz] (the SimCenter Dabaghi–Der Kiureghian value):
 #: a linear ω_f with a negative slope would otherwise reach zero on long records.

@@ -33,15 +33,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from ..._json import to_plain
-from ..._validate import finite_array, positive_finite
-from ..counts import pmnm_cum, zero_upcrossings_cum
-from ..intensity import husid, times_from_husid
-from ..motion import GroundMotion
-from .filter import DEFAULT_FLOOR_HZ
-from .params import RDKParams
-from .simulate import DEFAULT_FC_HZ, time_domain
-from .spectrum_fit import fit_spectrum
+from rocking._json import to_plain
+from rocking._validate import finite_array, positive_finite
+from rocking.motions.counts import pmnm_cum, zero_upcrossings_cum
+from rocking.motions.intensity import husid, times_from_husid
+from rocking.motions.motion import GroundMotion
+from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ
+from rocking.motions.stochastic.params import RDKParams
+from rocking.motions.stochastic.simulate import DEFAULT_FC_HZ, time_domain
+from rocking.motions.stochastic.spectrum_fit import fit_spectrum
 
 #: Identification methods of :func:`fit_component` and :func:`fit_rdk`.
 METHODS = ("spectrum", "counts")
@@ -316,7 +316,7 @@ def highpass_post(
             f"highpass must be True, False, 'oscillator' or 'butterworth', got {highpass!r}"
         )
     fc_hz = positive_finite("fc_hz", fc_hz)
-    from ..highpass import highpass_rows
+    from rocking.motions.highpass import highpass_rows
 
     def post(x: NDArray[np.float64]) -> NDArray[np.float64]:
         return highpass_rows(x, dt, kind, fc_hz, order)[0]
@@ -414,7 +414,7 @@ def fit_rdk(
     -------
     RDKFit
     """
-    from ..principal import to_principal_axes
+    from rocking.motions.principal import to_principal_axes
 
     if not isinstance(motion, GroundMotion):
         raise ValueError(f"motion must be a GroundMotion, got {type(motion).__name__}")

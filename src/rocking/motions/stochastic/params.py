@@ -16,10 +16,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._json import to_plain
-from ..._validate import finite, positive_finite
-from .envelope import GammaEnvelope, alphas_from_physical
-from .filter import DEFAULT_FLOOR_HZ, check_low, check_zeta, omega_f
+from rocking._json import to_plain
+from rocking._validate import finite, positive_finite
+from rocking.motions.stochastic.envelope import GammaEnvelope, alphas_from_physical
+from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ, check_low, check_zeta, omega_f
 
 #: Fractions of the expected Husid function between which ω_f follows its fitted line;
 #: outside, it is held at the end values (the window over which the line is fitted).

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..motion import GroundMotion
-from ..response_spectrum import pseudo_acceleration
+from rocking.motions.motion import GroundMotion
+from rocking.motions.response_spectrum import pseudo_acceleration
 
 BANDS: tuple[tuple[float, float], ...] = ((0.1, 0.3), (0.3, 1.0), (1.0, 4.0))
 """Period bands of the fit-quality report [s]."""

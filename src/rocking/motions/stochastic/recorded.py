@@ -33,9 +33,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..motion import GroundMotion
-from .fit import RDKFit
-from .params import RDKParams
+from rocking.motions.motion import GroundMotion
+from rocking.motions.stochastic.fit import RDKFit
+from rocking.motions.stochastic.params import RDKParams
 
 __all__ = ["FIT_SETTINGS", "FORMAT", "SIGNIFICANT_DIGITS", "check_settings", "entries_for",
            "fit_sha256",

@@ -28,9 +28,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._validate import positive_finite
-from .filter import DEFAULT_FLOOR_HZ, normalized_irf, unit_psd
-from .params import RDKParams
+from rocking._validate import positive_finite
+from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ, normalized_irf, unit_psd
+from rocking.motions.stochastic.params import RDKParams
 
 #: Corner of the post-processing high-pass used by RDK (2010) [Hz]. For the Vassiliou et al.
 #: reproduction pass the Brune corner instead (``rocking.motions.highpass.brune_corner``).
