@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import math
 import os
 import tempfile
 from collections.abc import Iterator
@@ -71,10 +70,10 @@ def friction(args: argparse.Namespace) -> float | None:
     """``--mu`` checked where it enters the command line (a finite number > 0), None without
     it: the one check of the command line's μ, which is then carried on as a number (every
     command that takes ``--mu`` calls this before any work)."""
+    from rocking._validate import positive_finite
+
     mu = getattr(args, "mu", None)
-    if mu is not None and not (math.isfinite(mu) and mu > 0):
-        raise ValueError(f"--mu must be a finite number > 0, got {mu!r}")
-    return mu
+    return None if mu is None else positive_finite("--mu", mu)
 
 
 def floats(text: str) -> list[float]:

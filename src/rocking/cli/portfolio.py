@@ -103,10 +103,10 @@ def run(args) -> int:
     """Check everything, then compute, print or write portfolio.csv; returns 0."""
     import sys
 
+    from rocking._validate import positive_finite
     from rocking.risk.portfolio import site_portfolio, write_portfolio
 
-    if args.max_distance_km <= 0:
-        raise ValueError(f"--max-distance-km must be > 0, got {args.max_distance_km:g}")
+    positive_finite("--max-distance-km", args.max_distance_km)
     if args.resamples < 0:
         raise ValueError(f"--resamples must be >= 0, got {args.resamples}")
     if args.out is not None:

@@ -115,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from rocking import _json
+    from rocking._validate import positive_finite
     from rocking.dynamics.analysis import free_vibration
     from rocking.dynamics.bodies import Block, Cylinder
     from rocking.units import QUANTITIES, header
@@ -122,8 +123,8 @@ def run(args: argparse.Namespace) -> int:
     _common.resolve_body(args, "simulate", many=False)
     for option, value in (("--scale", args.scale), ("--pga-ratio", args.pga_ratio),
                           ("--pga-g", args.pga_g)):
-        if value is not None and not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{option} must be a finite number > 0, got {value!r}")
+        if value is not None:
+            positive_finite(option, value)
     model, component = MODES[args.mode]
     if args.body == "block" and model != MODEL_2D:
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
