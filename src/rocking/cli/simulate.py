@@ -137,16 +137,17 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out must be a folder, {str(out)!r} is a file")
     _common.writable_folder(out)
-    _common.say_compile("simulate", args.mode, args.quiet, monitors=True)
-    if motion is not None:
-        res, meta = _ground(args, body, model, component, motion, common)
-    else:
-        if args.theta0 is None or args.duration is None:
-            raise ValueError("free vibration needs --theta0 and --duration (or give a ground "
-                             "motion: --record, --files or --ensemble)")
-        res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
-                             model=model, **common)
-        meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0, "duration": args.duration}
+    if motion is None and (args.theta0 is None or args.duration is None):
+        raise ValueError("free vibration needs --theta0 and --duration (or give a ground "
+                         "motion: --record, --files or --ensemble)")
+    with _common.saying_compile("simulate", args.mode, args.quiet):
+        if motion is not None:
+            res, meta = _ground(args, body, model, component, motion, common)
+        else:
+            res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
+                                 model=model, **common)
+            meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0,
+                    "duration": args.duration}
     cols = HISTORY_COLUMNS[model]
     # numpy, not pandas: the table is plain numbers and pandas costs half a second to load
     with _common.replacing(out / "history.csv") as tmp:
