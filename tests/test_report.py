@@ -110,7 +110,8 @@ def outputs(tmp_path_factory):
         done=[done], elapsed_seconds=840.0)
     page = report.build(root / "report.html", title="synthetic study", figures=pngs,
                         linear_fit=root / "linear_fit.csv", fragility=root / "fragility.csv",
-                        notes=["The Loma Prieta record is a stand-in."], run=run)
+                        notes=["The Loma Prieta record is a stand-in."], run=run,
+                        verdicts_csv=root / "verdicts.csv")
     return {"root": root, "pngs": pngs, "html": page, "run": dict(run), "paths": paths}
 
 
@@ -192,6 +193,14 @@ def test_every_figure_has_a_verdict(outputs):
     text = outputs["html"].read_text()
     for verdict in ("reproduced", "differs because", "not computed in this run"):
         assert verdict in text
+    # the verdict table as data: the page's rows, in its order
+    table = pd.read_csv(outputs["root"] / "verdicts.csv", keep_default_na=False)
+    assert list(table.columns) == list(entries.VERDICT_COLUMNS)
+    shown = [c for rows in verdicts.values() for c in rows]
+    assert [tuple(r) for r in table.itertuples(index=False)] == [
+        (c.figure, c.statement, c.paper, c.ours, c.verdict, c.reason) for c in shown]
+    page = text[text.index("<h2 id='verdicts'>"):]
+    assert page[:page.index("</table>")].count("<tr><td>") == len(table) > 20
 
 
 def test_verdicts_follow_from_the_numbers(outputs):

@@ -10,7 +10,7 @@ anything: every figure (PNG and its JSON sidecar of measured numbers), each stud
 fragility, linear fits as CSV) and the fitted ensemble parameters. Stores (zarr, NetCDF) and
 PDFs stay out. ``MANIFEST.json`` records the commit, the configuration and the run time.
 Written to the repository's ``results/paper``, it then rewrites the numbers README.md and
-docs/*.md quote from it (:mod:`rocking.plot.gallery_quotes`).
+docs/*.md quote from it (``gallery_quotes.py`` beside this script).
 """
 
 from __future__ import annotations
@@ -24,16 +24,16 @@ import sys
 from pathlib import Path
 
 import yaml
+from gallery_quotes import marked_documents, write_documents  # beside this script
 
 from rocking import __version__
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.study import StudySpec
 from rocking.execution.prepare import keyed
-from rocking.plot.gallery_quotes import marked_documents, write_documents
 from rocking.report.html import link_images, relink_docs
 from rocking.study.aggregate import write_critical_table
 
-TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
+TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv", "verdicts.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",
                   "fragility.nrml.xml", "fragility.pelicun.csv", "stripe_fragility.nrml.xml",
                   "stripe_fragility.pelicun.csv", "refinement_sample.csv",
@@ -202,6 +202,9 @@ def readme(manifest: dict, out: Path) -> str:
         "- `<study>/critical.csv`: every answer of the study, one row per (mode, limit state, "
         "motion, tan α, R): the critical PGA/(g tan α) and PGA [g], the search's flags "
         "(not reached, non-monotonic, failed) and its analyses.",
+        "- `<study>/verdicts.csv`: the report's verdict table as data, one row per statement "
+        "of the paper (figure, statement, paper, this run, verdict, its tolerance or "
+        "reason): what README.md and docs/*.md quote.",
         "- `<study>/mean_spectra.csv`: mean, standard deviation, median and count over the "
         "motions per (mode, limit state, tan α, R).",
         "- `<study>/fragility.csv`, `<study>/linear_fit.csv`: lognormal fragility curves and "

@@ -34,6 +34,7 @@ from rocking.report.entries import (
     figure_tables,
     load_figures,
     measured_lines,
+    write_verdicts,
 )
 from rocking.report.findings import findings_html, paper_findings, study_findings
 from rocking.report.risk import risk_section_html
@@ -156,7 +157,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
           study: str = "", refinement: str | Path | Sequence[str | Path] | None = None,
           refinement_risk: str | Path | None = None,
-          portfolio: str | Path | None = None) -> Path:
+          portfolio: str | Path | None = None, verdicts_csv: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -213,6 +214,9 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     refinement_risk : path, optional
         ``refinement_risk.csv``: how far refinement moves λ (fragility refitted, integrated
         again with the study's hazard curve).
+    verdicts_csv : path, optional
+        Also write the verdict table as data there (``verdicts.csv``,
+        :func:`.entries.write_verdicts`; no rows unless ``paper``).
 
     Returns
     -------
@@ -244,9 +248,10 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts.append(table_html(pd.DataFrame(run, columns=["item", "value"])) if run
                  else "<p>Not recorded.</p>")
     docs = docs_href(Path(out).parent)
+    table = [c for rows in verdicts.values() for c in rows]
     if paper:
         parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
-        parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
+        parts.append(_verdict_html(table, True, docs))
     parts.append("<h2>Figures</h2>")
     parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs,
                            paper)
@@ -285,6 +290,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
+    if verdicts_csv is not None:
+        write_verdicts(table, verdicts_csv)
     return out
 
 
