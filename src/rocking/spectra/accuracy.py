@@ -26,7 +26,7 @@ A coarser scan is cheaper but may step over a narrow window of exceedance below 
 one it sees (rocking response is not monotonic in the intensity); the bisection tolerance
 bounds the error inside the bracket; the ODE tolerance moves the boundary itself where the
 response is sensitive. The presets were chosen from ``python -m benchmarks spectra``
-(results/benchmarks/spectra.md): "default" aims at ≤ 1 % median error in I_crit at the
+(docs/performance.md): "default" aims at ≤ 1 % median error in I_crit at the
 lowest cost.
 
 What that benchmark measured (El Centro, tan α = 0.2, 18 (R, mode) points, 126 answers with
