@@ -138,25 +138,18 @@ def package_versions() -> dict[str, str]:
 
 
 def figure_caption(stem: str) -> str:
-    """A gallery figure's caption: a registered figure's (its entry, as for a reproduction
-    of the paper), else the caption the report gives the stripe, the risk and the portfolio
-    figures."""
-    from rocking.plot import figure_name
-    from rocking.plot.portfolio import FIGURES as PORTFOLIO_FIGURES
-    from rocking.plot.registry import caption
-    from rocking.plot.risk import CAPTION as RISK_CAPTION
-    from rocking.plot.stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
+    """A gallery figure's caption: its entry's, as for a reproduction of the paper (a figure
+    of a report's own section: its caption alone).
 
-    try:
-        return caption(figure_name(stem))
-    except ValueError:
-        pass
-    sections = [("stripe_fragility", STRIPE_CAPTION), ("risk", RISK_CAPTION),
-                *((stem, text) for stem, (_, text) in PORTFOLIO_FIGURES.items())]
-    for start, text in sections:
-        if stem.startswith(start):
-            return text
-    raise ValueError(f"gallery figure {stem!r} has no caption (no figure entry)")
+    Raises
+    ------
+    ValueError
+        For a file of no registered figure.
+    """
+    from rocking.plot import figure_name
+    from rocking.plot.registry import caption
+
+    return caption(figure_name(stem))
 
 
 def readme(manifest: dict, out: Path) -> str:

@@ -36,7 +36,6 @@ def main(snakemake):
               risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
               stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None,
               records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
-              stripe_figures=list(inp.get("stripe_figures", [])),
               paper_record=bool(snakemake.params.paper_record),
               study=str(snakemake.params.study), refinement=list(inp.get("refinement", [])),
               refinement_risk=inp.get("refinement_risk"), portfolio=inp.get("portfolio"),

@@ -129,9 +129,12 @@ def run(args) -> int:
     if args.out is not None:
         path = write_portfolio(table, args.out, inventory.skipped)
         if args.figures:
-            from rocking.plot.portfolio import render_figures
+            from rocking.plot import render
+            from rocking.plot.registry import figures
 
-            render_figures(table, args.out, hazard=str(args.hazard), study=str(args.surface))
+            for name in (n for n, f in figures().items() if f.section == "portfolio"):
+                render(name, [args.out / f"{name}.png"], args.out / f"{name}.json",
+                       portfolio=table, hazard=str(args.hazard), study=str(args.surface))
         if args.export:
             from rocking.risk.exposure import write_exposure
 

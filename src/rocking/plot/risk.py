@@ -305,3 +305,22 @@ def _inverse(x):
     x = np.asarray(x, dtype=float)
     with np.errstate(divide="ignore"):
         return np.where(x > 0, 1.0 / np.where(x > 0, x, 1.0), np.inf)
+
+
+def _arguments(inputs, params) -> dict:
+    """``data()``'s keywords: the hazard named as the risk rule read it."""
+    from rocking.risk.hazard import parse_hazard
+
+    return {"risk": inputs["risk"], "hazard": parse_hazard(params["hazard"]).source,
+            "study": f"study {params['study']} (ensemble {params['ensemble']})"}
+
+
+from rocking.plot.registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="risk", rule="risk_figure", module=__name__, number=15, label="risk",
+    caption=CAPTION, scope="study", wanted=lambda s: s.spec().hazard is not None,
+    inputs={"risk": "risk"},
+    params={"hazard": "hazard", "study": "study", "ensemble": "ensemble"},
+    arguments=_arguments, section="risk", category="Beyond the paper")
+"""The risk figure, in the report's risk section of every study with a hazard."""
