@@ -288,6 +288,23 @@ def test_fig04_plot_draws_every_run_and_names_the_pairs(fig04_data):
     legend = [t.get_text() for t in fig.legends[0].get_texts()]
     assert legend[0] == "undamped" and len(legend) == 9
     assert "ωn = 200, ζ = 0.05" in legend and "ωn = 2000, ζ = 50" in legend
+    # the symlog of φ̇ is explained under the figure, not in a box over its spikes
+    assert not [t for ax in fig.axes for t in ax.texts if t.get_text()]
+    assert "symmetric log scale" in fig.legends[0].get_title().get_text()
+
+
+def test_fig06_says_the_clipped_spikes_above_their_panel():
+    """Where φ̇'s spikes are clipped, the panel's title says so and how far they reach; no
+    text is drawn over the axes."""
+    from rocking.plot._style import new_figure
+
+    t = np.linspace(0.0, 10.0, 1001)
+    spiky = np.where(np.abs(t - 5.0) < 0.02, 900.0, np.sin(t))
+    run = {"t": t, "phi_dot": spiky, "theta": np.where(np.abs(t - 5.0) < 0.02, 0.0, 0.02)}
+    fig, ax = new_figure(4.0, 2.0)
+    fig06_el_centro._clip_spikes(ax, [run], 10.0)
+    assert ax.get_ylim()[1] == pytest.approx(1.2) and not ax.texts
+    assert "reach 900 rad/s" in ax.get_title(loc="left")
 
 
 # ---------------------------------------------------------------- Fig 6: El Centro response
@@ -467,6 +484,14 @@ def test_fig09_lines_are_the_store_and_the_aggregate(study):
             _same(y, agg["mean"].sel(mode=mode, limit_state=ls, tan_alpha=0.2))
     # two cut-off motions leave NaN, never the search bound, in the drawn overturning curves
     assert np.isnan(d["panels"][0]["curves"]["3d"]["synthetic-01"][0])
+    # the record is drawn over the means (broad, grey, under every motion), not hidden
+    # beneath them where it runs along them
+    ax = fig.axes[0]
+    record = [ln for ln in ax.get_lines()[:8] if ln.get_color() == "black"]
+    means = ax.get_lines()[8:10]
+    assert len(record) == 2 and all(ln.get_color() != "black" for ln in means)
+    assert min(ln.get_zorder() for ln in record) > max(ln.get_zorder() for ln in means)
+    assert min(ln.get_linewidth() for ln in means) > 3 * max(ln.get_linewidth() for ln in record)
 
 
 def _canvas(fig):
@@ -735,6 +760,18 @@ def test_fig08_traces_spectra_and_fit_quality():
     alone = fig08_motions.data(motions[:2], periods=np.array([0.5]))
     assert alone["groups"][0]["fit_quality"] is None  # one pair: no range to compare with
     assert any("comparison" in m for m in alone["missing"])
+    # a stand-in record is said of what was drawn, never "not computed in this run"
+    from rocking.report.entries import FigureEntry, measured_lines
+
+    stand_in = GroundMotion(record.ax, record.ay, dt, "stand-in",
+                            {**record.metadata, "stand_in": True})
+    d = fig08_motions.data([stand_in, *motions[1:]], comparison,
+                           periods=np.array([0.5]))
+    assert d["remarks"][0] == "stand-in is a stand-in" and d["missing"] == []
+    assert "only 3 synthetic pairs" in d["remarks"][1]
+    lines = measured_lines(FigureEntry("fig08_motions", Path("f.png"),
+                                       {k: d[k] for k in ("remarks", "missing")}))
+    assert len(lines) == 1 and lines[0].startswith("Note: stand-in is a stand-in; only 3")
 
 
 # ---------------------------------------------------------------- the Snakemake rules
@@ -965,6 +1002,42 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
     assert "coincide" in _texts(fig10_goals.plot(d))
 
 
+def test_fig10_calls_a_stretch_flat_only_where_the_data_are_flat(tmp_path):
+    """The shape said under Fig 10 and in its verdict comes from the data: a spectrum that
+    rises from its first size on is "rising, bending upward", never "flat up to" its first
+    R; one flat over three sizes or more is said flat there; nothing is written over the
+    axes (the legend and the notes sit under them)."""
+    R = np.linspace(0.5, 10.0, 20)
+    convex = 1.0 + 0.2 * R**2                       # +14 % from the first to the second R
+    slope, intercept = np.polyfit(R, convex, 1)
+    fit = fig10_goals.shape(R, convex, slope, intercept)
+    assert fit["flat_sizes"] == 1 and fit["curvature"] == pytest.approx(0.2)
+    text = fig10_goals.shape_text(fit)
+    assert "flat" not in text and "bending upward" in text
+    assert text.startswith("rising from 1.05 at R = 0.5 m to 21.00 at R = 10 m")
+    worst = R[np.argmax(np.abs(convex - slope * R - intercept))]
+    assert f"misses it most at R = {worst:g} m" in text
+    knee = np.maximum(1.1, 0.5 * R)                 # flat up to R = 2 m (4 sizes)
+    fit = fig10_goals.shape(R, knee, *np.polyfit(R, knee, 1))
+    assert "within 10 % of 1.10 up to R = 2 m (4 sizes)" in fig10_goals.shape_text(fit)
+    # the figure: notes under it, the legend under the axes
+    agg = xr.Dataset(
+        {k: (("mode", "limit_state", "tan_alpha", "R"), convex[None, None, None, :])
+         for k in ("mean", "median", "std", "count")},
+        coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2], "R": R})
+    agg.to_netcdf(tmp_path / "means.nc")
+    d = fig10_goals.data(tmp_path / "means.nc")
+    fig = fig10_goals.plot(d)
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    inside = [t for t in ax.texts if t.get_text()]
+    assert inside == []
+    assert ax.get_legend().get_window_extent().y1 <= ax.get_window_extent().y0
+    assert any("bending upward" in t.get_text() for t in fig.texts)
+    # the title in whole lines (what, from what), never wrapped inside the ensemble's name
+    assert ax.get_title().splitlines()[1] == d["title"]
+
+
 def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study, tmp_path):
     from rocking.fragility import lognormal as fragility
     from rocking.plot import _load, fragility_curves
@@ -978,6 +1051,8 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
     panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
     assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
+    # what is drawn: the distribution of first-exceedance intensities, not P(exceeded at x)
+    assert all(ax.get_ylabel() == "P(first exceedance ≤ PGA/(g tan α)) [-]" for ax in panels)
     # one colour bar for R instead of a legend entry per size; its ticks the named sizes
     bar = [ax for ax in fig.axes if ax.get_ylabel() == "cylinder size R [m]"]
     assert bar

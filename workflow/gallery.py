@@ -152,6 +152,26 @@ def figure_caption(stem: str) -> str:
     return caption(figure_name(stem))
 
 
+def flag_lines() -> list[str]:
+    """One line per flag column of ``critical.csv`` (the columns the code writes,
+    :data:`rocking.study.aggregate.CRITICAL_COLUMNS`), in the words the command line uses for
+    them (``rocking.cli.spectra.FLAG_NOTES``): the list cannot fall behind the table.
+
+    Raises
+    ------
+    ValueError
+        For a flag column no words describe.
+    """
+    from rocking.cli.spectra import FLAG_NOTES
+    from rocking.study.aggregate import CRITICAL_COLUMNS
+
+    flags = [c for c in CRITICAL_COLUMNS if c not in ("pga_crit", "pga_crit_g", "n_analyses")]
+    unsaid = [f for f in flags if f not in FLAG_NOTES]
+    if unsaid:
+        raise ValueError(f"critical.csv flags {unsaid} have no words in FLAG_NOTES")
+    return [f"  - `{f}`: {FLAG_NOTES[f].split(': ', 1)[1]}" for f in flags]
+
+
 def readme(manifest: dict, out: Path) -> str:
     """The gallery's README: how it was made, where each figure and table is."""
     minutes = manifest["elapsed_seconds"] / 60.0
@@ -193,8 +213,9 @@ def readme(manifest: dict, out: Path) -> str:
     lines += [
         "", "## Tables (CSV, headers with units)", "",
         "- `<study>/critical.csv`: every answer of the study, one row per (mode, limit state, "
-        "motion, tan α, R): the critical PGA/(g tan α) and PGA [g], the search's flags "
-        "(not reached, non-monotonic, failed) and its analyses.",
+        "motion, tan α, R): the critical PGA/(g tan α) and PGA [g], the search's flags and "
+        "its analyses (`n_analyses`). The flags, as the table writes them:",
+        *flag_lines(),
         "- `<study>/verdicts.csv`: the report's verdict table as data, one row per statement "
         "of the paper (figure, statement, paper, this run, verdict, its tolerance or "
         "reason): what README.md and docs/*.md quote.",

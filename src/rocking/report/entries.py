@@ -109,12 +109,15 @@ def write_verdicts(rows: Sequence[Comparison], path: str | Path) -> Path:
 
 
 def measured_lines(entry: FigureEntry) -> list[str]:
-    """What a figure's notes say beyond the comparisons: directions of x/y, missing parts."""
+    """What a figure's notes say beyond the comparisons: directions of x/y, its remarks (a
+    stand-in record), what the run left out."""
     lines = []
     axes = entry.notes.get("axes")
     if isinstance(axes, dict) and "text" in axes:
         lines.append(f"Axes: {axes['text']}.")
-    missing = entry.notes.get("missing", [])
+    remarks, missing = entry.notes.get("remarks", []), entry.notes.get("missing", [])
+    if remarks:  # what it drew, said (a stand-in record): not something left out
+        lines.append("Note: " + "; ".join(remarks) + ".")
     if missing:
         lines.append("Not computed in this run: " + "; ".join(missing) + ".")
     return lines
