@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 
 def positive_finite(name: str, value: float) -> float:
     """``float(value)`` when it is a finite number > 0, else ``ValueError`` in one line
@@ -43,8 +41,10 @@ def finite(name: str, value: float) -> float:
     return v
 
 
-def finite_array(name: str, values) -> np.ndarray:
+def finite_array(name: str, values):
     """Return a 1-D float64 copy of ``values``; raise naming the first non-finite sample."""
+    import numpy as np  # here: the checks of numbers above load no numpy (the CLI's help)
+
     a = np.asarray(values, dtype=np.float64)
     if a.ndim != 1:
         raise ValueError(f"{name} must be one-dimensional, got shape {a.shape}")
