@@ -264,6 +264,34 @@ def test_design_imports_table_is_measured():
     assert block.strip() == imports_table(), "docs/design.md, imports-table:\n" + imports_table()
 
 
+def same_names() -> dict[str, set[str]]:
+    """Every module or package name that occurs in more than one package of src/rocking:
+    name → where (``package.module`` or ``package/``; the shared helpers at the top, and
+    ``__init__``/``__main__``, left out)."""
+    where: dict[str, set[str]] = {}
+    src = ROOT / "src" / "rocking"
+    for path in src.rglob("*.py"):
+        rel = path.relative_to(src)
+        if len(rel.parts) > 1 and path.stem not in ("__init__", "__main__"):
+            where.setdefault(path.stem, set()).add(".".join(rel.with_suffix("").parts))
+    for pkg in src.iterdir():
+        if (pkg / "__init__.py").is_file():
+            where.setdefault(pkg.name, set()).add(f"{pkg.name}/")
+    return {name: places for name, places in where.items()
+            if len({p.split(".")[0].rstrip("/") for p in places}) > 1}
+
+
+def test_one_name_is_one_concept_and_the_design_lists_every_shared_name():
+    """docs/design.md, "One name, one concept": its table names exactly the modules and
+    packages whose name occurs in more than one package, each where it occurs."""
+    text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    block = text.split("<!-- BEGIN same-names -->\n", 1)[1].split("<!-- END", 1)[0]
+    rows = [line.split("|")[1:3] for line in block.splitlines()[2:] if line.startswith("| `")]
+    listed = {name.strip().strip("`"): {w.strip().strip("`") for w in where.split(",")}
+              for name, where in rows}
+    assert listed == same_names()
+
+
 def test_design_lists_the_layers():
     """The diagram of docs/design.md, "Layers", names the packages in the order of LAYERS."""
     text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")

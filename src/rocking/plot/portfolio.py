@@ -22,7 +22,7 @@ from matplotlib.figure import Figure
 
 from rocking.plot._style import footnote, new_figure, styled
 from rocking.risk.portfolio import error_words
-from rocking.risk.table import shown_limit_states
+from rocking.risk.risk_table import shown_limit_states
 from rocking.spectra.limit_states import limit_state_title, severity
 
 CAPTION_MAP = (

@@ -1,6 +1,6 @@
 """Risk (beyond the paper): mean annual frequency of overturning and excessive tilt against R.
 
-Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.table.risk_table`): for each mode at
+Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.risk_table.risk_table`): for each mode at
 one slenderness, the mean annual frequency λ_LS [1/yr] of each size R under the study's
 hazard curve, on a log scale, one panel per limit state, with the 90 % bootstrap band
 (``lambda_p05``–``lambda_p95``) shaded. A size without a fit leaves a gap in its line (never
@@ -25,7 +25,7 @@ from rocking.fragility.table import FIRST_EXCEEDANCE
 from rocking.fragility.table import STRIPES as STRIPE_FRAGILITY
 from rocking.motions.measures import COMPONENTS
 from rocking.plot._style import MODE_STYLE, footnote, styled, with_legend_row
-from rocking.risk.table import main_tan_alpha, read_risk_table, shown_limit_states
+from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import PLANAR_MODES
 
