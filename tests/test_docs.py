@@ -16,6 +16,7 @@ case-insensitively with whitespace collapsed.
 from __future__ import annotations
 
 import ast
+import importlib
 import re
 from pathlib import Path
 
@@ -290,6 +291,83 @@ def test_one_name_is_one_concept_and_the_design_lists_every_shared_name():
     listed = {name.strip().strip("`"): {w.strip().strip("`") for w in where.split(",")}
               for name, where in rows}
     assert listed == same_names()
+
+
+def _package_tables() -> dict[str, list[tuple[list[str], list[str]]]]:
+    """docs/design.md, "Packages": per package (``""`` for the shared helpers) its table's
+    rows as (modules, names in backticks of the "holds" column)."""
+    text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
+    section = text.split("\n## Packages\n", 1)[1].split("\n## ", 1)[0]
+    out = {}
+    for part in section.split("\n### ")[1:]:
+        title, _, body = part.partition("\n")
+        hit = re.match(r"`rocking\.(\w+)`", title)
+        if not hit and not title.startswith("Shared helpers"):
+            continue
+        rows = []
+        for line in body.splitlines():
+            if line.startswith("| `"):
+                first, holds = line.split("|")[1:3]
+                rows.append((re.findall(r"`([\w/]+)`", first),
+                             re.findall(r"`([A-Za-z_][A-Za-z0-9_]*)`", holds)))
+        out[hit[1] if hit else ""] = rows
+    return out
+
+
+def test_design_package_tables_are_the_tree():
+    """Every package's table in docs/design.md lists exactly its modules (and subpackages),
+    and every name in backticks beside a module is one that module (or, for a subpackage,
+    the subpackage) defines: the tables cannot go stale after a move."""
+    src = ROOT / "src" / "rocking"
+    tables = _package_tables()
+    packages = sorted(p.name for p in src.iterdir() if (p / "__init__.py").is_file())
+    assert sorted(k for k in tables if k) == packages
+    unknown = []
+    for pkg, rows in tables.items():
+        base = src / pkg if pkg else src
+        modules = {p.stem for p in base.glob("*.py")}
+        if pkg:  # its subpackages (of the top: the packages, each a table of its own)
+            modules |= {f"{p.name}/" for p in base.iterdir() if (p / "__init__.py").is_file()}
+        else:
+            modules -= {"__init__"}
+        listed = [m for mods, _ in rows for m in mods]
+        assert sorted(listed) == sorted(modules - ({"__init__", "__main__"} - set(listed))), pkg
+        for mods, names in rows:
+            found = []
+            for m in mods:
+                if m == "__main__":  # runs the command line when imported
+                    continue
+                dotted = "rocking" + (f".{pkg}" if pkg else "") + f".{m.rstrip('/')}"
+                mod = importlib.import_module(dotted.removesuffix(".__init__"))
+                if m.endswith("/"):  # a subpackage: its modules are its names
+                    for sub in (src / pkg / m).glob("*.py"):
+                        importlib.import_module(f"{dotted}.{sub.stem}")
+                found.append(mod)
+            unknown += [f"{pkg or 'shared'} {mods}: {n}" for n in names
+                        if not any(hasattr(mod, n) for mod in found) and n not in mods]
+    assert not unknown, f"docs/design.md names what its modules do not define: {unknown}"
+
+
+def test_every_dotted_name_of_the_documents_resolves():
+    """Every ``rocking.x.y`` README.md, config/README.md and docs/*.md name is a module or a
+    name in one (the entry-point group ``rocking.figures`` is a name of the packaging, not
+    of the code): no name left behind by a move or a rename."""
+    text = "\n".join(p.read_text(encoding="utf-8") for p in _pages())
+    stale = []
+    for ref in sorted(set(re.findall(r"\b(rocking(?:\.[A-Za-z_]\w*)+)", text)) -
+                      {"rocking.figures"}):
+        parts = ref.split(".")
+        for i in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:i]))
+            except ImportError:
+                continue
+            for name in parts[i:]:
+                obj = getattr(obj, name, None)
+            break
+        if obj is None:
+            stale.append(ref)
+    assert not stale, f"the documents name what does not exist: {stale}"
 
 
 def test_design_lists_the_layers():
