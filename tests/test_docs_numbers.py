@@ -21,8 +21,7 @@ GALLERY = ROOT / "results/paper"
 
 
 def _tool(name: str):
-    """A maintainer's script of ``workflow/`` as a module (registered under its name, so that
-    ``workflow/gallery.py`` finds its sibling ``gallery_quotes`` as it does when run)."""
+    """A maintainer's script of ``workflow/`` as a module (loaded once)."""
     if name not in sys.modules:
         spec = importlib.util.spec_from_file_location(name, ROOT / "workflow" / f"{name}.py")
         module = importlib.util.module_from_spec(spec)

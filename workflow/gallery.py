@@ -24,7 +24,6 @@ import sys
 from pathlib import Path
 
 import yaml
-from gallery_quotes import marked_documents, write_documents  # beside this script
 
 from rocking import __version__
 from rocking.config.ensemble import EnsembleSpec
@@ -252,7 +251,20 @@ def requote(out: Path, root: Path = REPOSITORY) -> list[Path]:
     documents changed (none for a gallery written elsewhere)."""
     if out.resolve() != (root / "results" / "paper").resolve():
         return []
-    return write_documents(marked_documents(root), out)
+    quotes = _quotes()
+    return quotes.write_documents(quotes.marked_documents(root), out)
+
+
+def _quotes():
+    """``gallery_quotes.py`` beside this script, as a module (whether this script runs or is
+    loaded from its path)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "gallery_quotes", Path(__file__).resolve().with_name("gallery_quotes.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def main(argv: list[str] | None = None) -> int:
