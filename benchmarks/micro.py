@@ -1,6 +1,6 @@
 """Benchmark of the micro-uplift rest criterion: do the answers move, and what does it save?
 
-``python -m benchmarks micro [--quick]`` writes ``results/benchmarks/micro.csv`` /
+``python -m benchmarks micro [--quick]`` writes ``docs/benchmarks/micro.csv`` /
 ``.md``: on (R, tan α, motion) points of the undamped 3D mode, the critical intensities of the
 seven limit states with the "default" preset (fixed 1 % scan; an episode ends below a 5 µm
 rim lift, :data:`rocking.dynamics.models.REST_LIFT`) and with the adaptive scan, each against

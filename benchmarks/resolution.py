@@ -1,7 +1,7 @@
 """Resolution of the critical intensity: how far the answer moves when the scan is refined.
 
 ``python -m benchmarks resolution [--points N] [--jobs J] [--reuse]`` writes under
-``results/benchmarks/``:
+``docs/benchmarks/`` (its traces under ``results/benchmarks/``):
 
 - ``resolution.csv`` / ``.md``: per (point, limit state) the first exceedance on scan grids of
   1, 0.5, 0.2, 0.1, 0.05 and 0.02 % from uplift, whether and where it converges, and the

@@ -1,7 +1,7 @@
 """Benchmark of the critical-intensity search: accuracy versus cost, and the paper study's cost.
 
 ``python -m benchmarks spectra [--quick] [--only accuracy|cost]`` writes two tables
-under ``results/benchmarks/``:
+under ``docs/benchmarks/``:
 
 - ``spectra.csv`` / ``.md`` (accuracy): error of I_crit against a converged reference (fixed
   0.5 % scan, 0.01 % brackets, rtol 1e-11) on El Centro, tan α = 0.2, 18 (R, mode) points,

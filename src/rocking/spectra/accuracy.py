@@ -26,7 +26,7 @@ A coarser scan is cheaper but may step over a narrow window of exceedance below 
 one it sees (rocking response is not monotonic in the intensity); the bisection tolerance
 bounds the error inside the bracket; the ODE tolerance moves the boundary itself where the
 response is sensitive. The presets were chosen from ``python -m benchmarks spectra``
-(results/benchmarks/spectra.md): "default" aims at ≤ 1 % median error in I_crit at the
+(docs/performance.md): "default" aims at ≤ 1 % median error in I_crit at the
 lowest cost.
 
 What that benchmark measured (El Centro, tan α = 0.2, 18 (R, mode) points, 126 answers with
@@ -66,6 +66,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from rocking._validate import positive_finite
 from rocking.dynamics.names import MODEL_3D_DAMPED
 
 SCANS = ("fixed", "adaptive", "seek")
@@ -150,12 +151,12 @@ class Accuracy:
         if self.rtol_damped is None:
             object.__setattr__(self, "rtol_damped", self.rtol)
         _check_range("rtol_damped", self.rtol_damped, 0.0, 1e-2)
-        _check_range("scan_step", self.scan_step, 0.0, math.inf)
+        positive_finite("scan_step", self.scan_step)
         _check_range("bisection_tol", self.bisection_tol, 0.0, 1.0, upper_open=True)
         if self.scan not in SCANS:
             raise ValueError(f"scan must be one of {list(SCANS)}, got {self.scan!r}")
-        _check_range("tilt_growth", self.tilt_growth, 0.0, math.inf)
-        _check_range("scan_step_max", self.scan_step_max, 0.0, math.inf)
+        positive_finite("tilt_growth", self.tilt_growth)
+        positive_finite("scan_step_max", self.scan_step_max)
         if self.rest_tilt is not None:
             # ≤ 1e-4 rad stays below the engine's bound 0.01 α for every tan α > 0.0101, so a
             # valid study configuration never fails inside a worker

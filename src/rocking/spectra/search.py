@@ -786,9 +786,7 @@ def search_critical(
     acc = get_accuracy(accuracy)
     alpha = positive_finite("alpha", alpha)
     upper = positive_finite("upper", upper)
-    lower = float(lower)
-    if math.isnan(lower) or lower <= 0.0:
-        raise ValueError(f"lower must be > 0, got {lower!r}")
+    lower = positive_finite("lower", lower)
     rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
     return run_search(analyze, states, alpha, lower, upper, acc, rtol, mu)
 
