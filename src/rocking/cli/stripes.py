@@ -83,7 +83,7 @@ def add_parser(subparsers) -> None:
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
     g.add_argument("--measure", default="pga", help=measure_help())
-    g.add_argument("--component", default="vector_peak", choices=COMPONENT_NAMES,
+    g.add_argument("--component", default="vector_peak", choices=COMPONENT_NAMES, type=str.lower,
                    help="horizontal component of --measure (default: %(default)s)")
     g.add_argument("--refine", type=int, default=DEFAULT_REFINE,
                    help="most stripes added per (R, limit state) where the fit separates "
@@ -175,10 +175,10 @@ def human(fits, stripes, motions, args, accuracy: str, x, unit: str = "g") -> st
     95 % intervals, β, status; then each stripe's count of motions exceeding."""
     ta = args.tan_alpha
     motion_line, processing_line = _motions_line(motions, args)
-    from rocking.fragility.stripes import measure_scale
+    from rocking.motions.measures import Measure
 
-    name = "PGA" if args.measure == "pga" else args.measure
-    scale = measure_scale(args.measure, ta)
+    name = Measure.of(args.measure).label
+    scale = Measure.of(args.measure).per_normalized(ta)
     head = _human.block([
         ("motion" if len(motions) == 1 else "motions", motion_line),
         ("processing", processing_line),
@@ -222,7 +222,7 @@ def run(args) -> int:
         stripe_intensities,
     )
     from rocking.motions.identity import identity
-    from rocking.motions.measures import MEASURE_UNITS, parse_measure
+    from rocking.motions.measures import Measure
     from rocking.spectra.accuracy import get_accuracy
     from rocking.spectra.limit_states import parse_limit_states
     from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
@@ -243,7 +243,7 @@ def run(args) -> int:
     if args.refine < 0 or args.bootstrap < 0:
         raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
                          f"{args.bootstrap}")
-    parse_measure(args.measure)
+    Measure.of(args.measure)
     _common.say_compile("stripes", args.mode, args.quiet,
                         monitors=getattr(args, "mu", None) is not None)
     results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
@@ -257,7 +257,7 @@ def run(args) -> int:
                 for i, per in enumerate(refined) for ls, r in per.items()}
     seconds = time.perf_counter() - t0
     fits, stripes = tables(refined, boot)
-    unit = MEASURE_UNITS[parse_measure(args.measure)[0]]
+    unit = Measure.of(args.measure).unit
 
     def titles(c: str) -> str:  # the measure's columns in its unit
         return f"{c} [{unit}]" if c in (*MEASURE_COLUMNS, "im") else header(c)

@@ -28,7 +28,8 @@ from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import StripesSpec
 from rocking.execution import tasks
-from rocking.fragility.stripes import MEASURE_COLUMNS, measure_scale
+from rocking.fragility.stripes import MEASURE_COLUMNS
+from rocking.motions.measures import Measure
 from rocking.spectra.accuracy import get_accuracy
 from rocking.store.attrs import decode_attrs, store_provenance
 from rocking.store.layout import Layout, Variable, label_coord, region_coords, value_coord
@@ -98,11 +99,11 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
     if s.measure == "pga" and s.component == "vector_peak":
         extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
     else:  # every motion scaled so that its measure equals the stripe's
-        scale = measure_scale(s.measure, s.tan_alpha)
+        scale = Measure.of(s.measure).per_normalized(s.tan_alpha)
         attrs["measure"] = s.measure
         attrs["component"] = s.component
         attrs["intensity_definition"] = (
-            f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, {s.component} of the "
+            f"{s.measure}/(g tan alpha) ({Measure.of(s.measure).label}, {s.component} of the "
             "pair): each motion scaled so that its measure equals the stripe's")
         extra = {"im": ("intensity", [i * scale for i in s.intensity])}
     store.create_store(path, layout, attrs, config_digest,
@@ -161,14 +162,6 @@ def store_component(attrs) -> str:
     """The horizontal component of a stripes store's measure (``"vector_peak"`` for a store
     without one: the spectra's PGA, and stores made before components)."""
     return str(attrs.get("component", "vector_peak"))
-
-
-def measure_label(measure: str) -> str:
-    """``"PGA"``, ``"PGV"``, ``"Sa(1 s)"``: the measure as an axis names it."""
-    from rocking.motions.measures import parse_measure
-
-    kind, period = parse_measure(measure)
-    return f"Sa({period:g} s)" if kind == "sa" else kind.upper()
 
 
 def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
@@ -437,11 +430,10 @@ share of resamples with a median."""
 def table_headers(table: pd.DataFrame) -> dict[str, str]:
     """CSV titles of a stripe table: :func:`rocking.units.header`, and the unit of the
     table's measure for :data:`MEASURE_COLUMNS`."""
-    from rocking.motions.measures import MEASURE_UNITS, parse_measure
     from rocking.units import header
 
     measures = set(table["measure"]) if len(table) else {"pga"}
-    units = {MEASURE_UNITS[parse_measure(m)[0]] for m in measures}
+    units = {Measure.of(m).unit for m in measures}
     unit = units.pop() if len(units) == 1 else "measure unit"
     return {c: f"{c} [{unit}]" if c in MEASURE_COLUMNS else
             ("n_refined" if c == "n_refined" else header(c)) for c in table.columns}
@@ -518,15 +510,13 @@ def bootstrap_dataset(table: pd.DataFrame, rows: dict, boot: dict, *, seed: int 
     unit] and ``beta`` [-] over (``row``, ``resample``), ``row`` in the table's order
     (its mode, limit_state, R, measure as coordinates), ``status`` codes of each fit."""
     from rocking.fragility.stripes import BOOT_CODES, BOOTSTRAP_SEED
-    from rocking.motions.measures import MEASURE_UNITS, parse_measure
-
     keys = list(zip(table["mode"], table["limit_state"], table["R"], strict=True))
     median = np.stack([boot[k]["median"] * rows[k].scale for k in keys]) if keys \
         else np.zeros((0, 0))
     beta = np.stack([boot[k]["beta"] for k in keys]) if keys else np.zeros((0, 0))
     status = np.stack([boot[k]["status"] for k in keys]) if keys else np.zeros((0, 0), np.int8)
     measure = str(table["measure"].iloc[0]) if keys else "pga"
-    unit = MEASURE_UNITS[parse_measure(measure)[0]]
+    unit = Measure.of(measure).unit
     dims = ("row", "resample")
     ds = xr.Dataset(
         {"median": (dims, median, {"units": unit, "long_name": f"median {measure} of the "
@@ -568,7 +558,7 @@ def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
 
 __all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS",
            "RefineCache", "bootstrap_dataset", "bootstrap_rows", "create_stripes_store",
-           "fill_stripes_region", "measure_label", "refine_cache_path",
+           "fill_stripes_region", "refine_cache_path",
            "store_component", "store_measure", "stripe_fits", "stripe_rows", "stripe_table",
            "stripes_layout",
            "table_headers", "write_stripe_fragility"]

@@ -68,7 +68,7 @@ __all__ = ["BOOTSTRAP_SEED", "DEFAULT_BOOTSTRAP", "DEFAULT_REFINE", "DEFAULT_STR
            "MEASURE_COLUMNS",
            "STRIPE_RANGE", "StripeFit", "StripeFragility", "bootstrap_interval",
            "bootstrap_stripes", "bracket",
-           "fit_stripes", "measure_ratio", "measure_scale", "refine_stripes",
+           "fit_stripes", "measure_ratio", "refine_stripes",
            "refinement_point", "stripe_analyzer", "stripe_fragility", "stripe_intensities"]
 
 DEFAULT_STRIPES = 40
@@ -142,16 +142,6 @@ def _check_intensities(intensities) -> np.ndarray:
     return x
 
 
-def measure_scale(measure: str, tan_alpha: float) -> float:
-    """Factor from a normalized stripe intensity, measure/(g tan α), to the measure in its
-    unit (:data:`rocking.motions.measures.MEASURE_UNITS`: g for pga and sa:T, m/s for pgv)."""
-    from rocking.constants import G
-    from rocking.motions.measures import parse_measure
-
-    kind, _ = parse_measure(measure)
-    return float(tan_alpha) * (G if kind == "pgv" else 1.0)
-
-
 def measure_ratio(motion: GroundMotion, measure: str = "pga",
                   component: str = "vector_peak") -> float:
     """PGA/(g tan α) of ``motion`` scaled so that its ``measure`` in ``component`` over
@@ -161,17 +151,17 @@ def measure_ratio(motion: GroundMotion, measure: str = "pga",
     at PGA/(g tan α) = x · this ratio (every measure is linear in the scale). 1 for ``"pga"``
     in the vector peak (the spectra's own intensity).
     """
-    from rocking.constants import G
-    from rocking.motions.measures import intensity_measure, parse_component, parse_measure
+    from rocking.motions.measures import Measure, parse_component
 
-    kind, _ = parse_measure(measure)
-    if kind == "pga" and parse_component(component) == "vector_peak":
+    im = Measure.of(measure)
+    if im == Measure("pga") and parse_component(component) == "vector_peak":
         return 1.0
-    im = intensity_measure(motion, measure, component)
-    if not (math.isfinite(im) and im > 0.0):
-        raise ValueError(f"motion {motion.name!r} has {measure} = {im!r}: it cannot be scaled "
+    value = im.of_motion(motion, component)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"motion {motion.name!r} has {im} = {value!r}: it cannot be scaled "
                          "to a stripe of that measure")
-    return motion.pga_g * (G if kind == "pgv" else 1.0) / im
+    # the stripe x is the measure x·(g tan α) in its unit: the scale x·per_normalized/value
+    return motion.pga_g * im.per_normalized(1.0) / value
 
 
 # --------------------------------------------------------------------------------------
@@ -489,7 +479,9 @@ class StripeFragility:
     @property
     def scale(self) -> float:
         """Factor from the normalized intensities to the measure in its unit (g, m/s)."""
-        return measure_scale(self.measure, self.tan_alpha)
+        from rocking.motions.measures import Measure
+
+        return Measure.of(self.measure).per_normalized(self.tan_alpha)
 
     @property
     def n_exceeding(self) -> np.ndarray:
@@ -715,9 +707,9 @@ def stripe_fragility(
     StripeFragility
     """
     check_mode(mode)
-    from rocking.motions.measures import parse_component, parse_measure
+    from rocking.motions.measures import Measure, parse_component
 
-    parse_measure(measure)
+    Measure.of(measure)
     component = parse_component(component)
     motions = _check_motions(motions)
     states = parse_limit_states(limit_states, sort=False)

@@ -21,6 +21,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
+from rocking.motions.measures import Measure
 from rocking.plot._style import MODE_STYLE, footnote, new_figure, styled
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D
@@ -111,8 +112,8 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
     measure = st.store_measure(attrs)
     return {"panels": panels, "measured": measured, "missing": missing, "mode": mode,
             "tan_alpha": float(ds.attrs.get("tan_alpha", np.nan)), "measure": measure,
-            "measure_label": st.measure_label(measure),
-            "unit": "m/s" if measure == "pgv" else "g",
+            "measure_label": Measure.of(measure).label,
+            "unit": Measure.of(measure).unit,
             "study": str(attrs.get("config", {}).get("study", "")),
             "ensemble": str(ens.get("name", "")), "n_motions": int(ds.sizes["motion"])}
 
