@@ -163,8 +163,8 @@ def test_from_file_reads_a_hazard_file_once_with_its_component(tmp_path, monkeyp
     path.write_text("# component='rotd50', investigation_time=1\npga,annual_rate\n"
                     "0.1,1e-2\n0.5,1e-4\n")
     calls = []
-    real = hazard._read_csv
-    monkeypatch.setattr(hazard, "_read_csv", lambda p: calls.append(p) or real(p))
+    real = hazard._text
+    monkeypatch.setattr(hazard, "_text", lambda p: calls.append(p) or real(p))
     curve = hazard.parse_hazard({"file": str(path)})
     assert curve.component == "rotd50" and len(calls) == 1
     assert hazard.parse_hazard({"file": str(path), "component": "larger"}).component == "larger"
