@@ -95,6 +95,9 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         "rocking_version": __version__,
         "ensemble": ensemble,
         "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
+        # each analysis at its stripe times exp(u), u uniform in [-jitter, jitter] drawn
+        # from its identity (rocking.fragility.stripes.jittered)
+        "jitter": float(s.jitter),
     }
     if s.measure == "pga" and s.component == "vector_peak":
         extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
@@ -137,7 +140,8 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
         e, f, n = stripe_outcomes(Cylinder(float(R), tan_alpha), motion, states, x, str(mode),
                                   acc, **attrs.get("model_options", {}),
                                   measure=store_measure(attrs),
-                                  component=store_component(attrs))
+                                  component=store_component(attrs),
+                                  jitter=store_jitter(attrs))
         exc.append(e.T)  # (limit_state, intensity)
         fail.append(f)
         runs.append(n)
@@ -156,6 +160,12 @@ def store_measure(attrs) -> str:
     """The intensity measure of a stripes store's stripes (``"pga"`` for a store without
     one: those made before stripes had a measure)."""
     return str(attrs.get("measure", "pga"))
+
+
+def store_jitter(attrs) -> float:
+    """The half-width in ln s of a stripes store's jitter (0 for a store without one: its
+    stripes were analysed exactly)."""
+    return float(attrs.get("jitter", 0.0))
 
 
 def store_component(attrs) -> str:
@@ -186,7 +196,8 @@ def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
             out[(mode, float(R))] = from_outcomes(
                 x, states, motions, exc, failed[i, :, k, :].T, mode=mode, R=float(R),
                 tan_alpha=tan_alpha, n_analyses=int(n_runs[i, :, k].sum()),
-                measure=store_measure(ds.attrs), component=store_component(ds.attrs))
+                measure=store_measure(ds.attrs), component=store_component(ds.attrs),
+                jitter=store_jitter(ds.attrs))
     return out
 
 
@@ -346,7 +357,8 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
                 e, f, r = stripe_outcomes(body, tasks.motion_named(motions, name), states,
                                           np.array([float(x)]), result.mode, acc, **options,
                                           measure=result.measure,
-                                          component=result.component)
+                                          component=result.component,
+                                          jitter=result.jitter)
                 hit = (tuple(bool(v) for v in e[0]), bool(f[0]), int(r))
                 cache.put(key, hit)
             exc[m], fail[m], runs = hit[0], hit[1], runs + hit[2]
@@ -410,7 +422,7 @@ def from_outcomes_of(result, j: int):
                          result.exceeded[:, :, [j]], result.failed, mode=result.mode,
                          accuracy=result.accuracy, R=result.R, tan_alpha=result.tan_alpha,
                          n_analyses=result.n_analyses, measure=result.measure,
-                         component=result.component)
+                         component=result.component, jitter=result.jitter)
 
 
 TABLE_COLUMNS = ("mode", "limit_state", "tan_alpha", "R", "median", "median_lo", "median_hi",
@@ -558,7 +570,7 @@ def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
 
 __all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS",
            "RefineCache", "bootstrap_dataset", "bootstrap_rows", "create_stripes_store",
-           "fill_stripes_region", "refine_cache_path",
+           "fill_stripes_region", "refine_cache_path", "store_jitter",
            "store_component", "store_measure", "stripe_fits", "stripe_rows", "stripe_table",
            "stripes_layout",
            "table_headers", "write_stripe_fragility"]
@@ -568,16 +580,22 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
                            fragility: str | Path | None = None,
                            motions: tasks.MotionSource | None = None, refine: int = 0,
                            resamples: int = 0, study: str = "",
-                           refined: str | Path | None = None) -> pd.DataFrame:
+                           refined: str | Path | None = None,
+                           exceedance: str | Path | None = None) -> pd.DataFrame:
     """``stripe_fragility.csv`` and ``stripe_fragility_bootstrap.nc`` of a stripes store.
 
     Refines separated rows (analyses kept in :func:`refine_cache_path`, so a killed run
-    resumes), bootstraps every row over the motions, and writes both files (the samples
-    record the table's sha256 and the store's provenance). ``refined``: the refined
-    analyses are also written there, whole (what the figure replays). Returns the table
-    (bare column names).
+    resumes), bootstraps every row over the motions, and writes both files (the table with
+    its estimator, measure, component, unit and jitter, :func:`rocking.fragility.table.
+    write_fragilities`; the samples record the table's sha256 and the store's provenance).
+    ``refined``: the refined analyses are also written there, whole (what the figure
+    replays). ``exceedance``: the ensemble's exceedance probability at every stripe with its
+    bootstrap interval over the motions (:func:`rocking.fragility.stripes.exceedance_table`,
+    ``stripe_exceedance.csv``). Returns the table (bare column names).
     """
     from rocking._provenance import write_atomic
+    from rocking.fragility.stripes import exceedance_table
+    from rocking.fragility.table import STRIPES, write_fragilities
 
     first = None
     if fragility is not None:
@@ -592,8 +610,20 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
              sum(r.n_refined for r in rows.values()), time.perf_counter() - t0)
     boot = bootstrap_rows(rows, resamples) if resamples > 0 else None
     table = stripe_table(ds, first, rows=rows, boot=boot)
-    write_atomic(csv, lambda tmp: table.rename(columns=table_headers(table)).to_csv(
-        tmp, index=False, float_format="%.10g"))
+    jitter = store_jitter(ds.attrs)
+    quantity = {"quantity": "mean_local_exceedance" if jitter else "fixed_stripes",
+                "p": float("nan"), "w": jitter}
+    write_fragilities(table.rename(columns=table_headers(table)), csv, estimator=STRIPES,
+                      measure=store_measure(ds.attrs), component=store_component(ds.attrs),
+                      quantity=quantity)
+    if exceedance is not None:
+        shares = pd.concat([exceedance_table(r, max(resamples, 1)).assign(
+            mode=mode, tan_alpha=r.tan_alpha, R=R) for (mode, _, R), r in rows.items()],
+            ignore_index=True)
+        front = ["mode", "tan_alpha", "R"]
+        shares = shares[front + [c for c in shares.columns if c not in front]]
+        write_atomic(exceedance, lambda tmp: shares.to_csv(tmp, index=False,
+                                                           float_format="%.10g"))
     empty = {k: {"median": np.zeros(0), "beta": np.zeros(0), "status": np.zeros(0, np.int8)}
              for k in rows}
     from rocking.fragility.bootstrap import write_bootstrap
