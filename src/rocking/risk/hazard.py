@@ -958,11 +958,10 @@ def parse_hazard(spec, *, base: str | Path | None = None,
         The hazard's component declared outside the entry (``--component``): wins over the
         entry's and the file's.
     """
-    factor, declared = 1.0, None
+    entry = dict(spec) if isinstance(spec, dict) else {}
+    _declared_component(entry)  # a bad or doubled component refused before the file is read
     if isinstance(spec, dict):
-        declared = _declared_component(spec)
-        spec = {k: v for k, v in spec.items() if k != "component"}
-        factor = spec.pop("im_factor", 1.0)
+        spec = {k: v for k, v in spec.items() if k not in ("component", "im_factor")}
         if {"k0", "k"} <= set(spec) and set(spec) <= POWER_LAW_KEYS:
             curve = HazardCurve.from_power_law(spec["k0"], spec["k"],
                                                imt=spec.get("measure", measure or "pga"))
@@ -993,11 +992,21 @@ def parse_hazard(spec, *, base: str | Path | None = None,
         raise ValueError(f"hazard must be a file path, 'k0,k' or a mapping, got {spec!r}")
     if curve.note:
         log.warning(curve.note)
+    return as_declared(curve, entry, component)
+
+
+def as_declared(curve: HazardCurve, entry: dict, component: str | None = None) -> HazardCurve:
+    """A curve read from a file with what its hazard entry declares: the entry's
+    ``component`` (or ``component``, the command line's: it wins) over the file's and the
+    default, or the entry's ``im_factor`` (the levels converted by the user,
+    :meth:`HazardCurve.scaled`); the two together are refused."""
+    declared = _declared_component(entry)
     if component is not None:
         declared = parse_component(component, "--component")
     if declared is not None:  # declared wins over the file's comment and the default
         curve = dataclasses.replace(curve, component=declared, component_source="declared")
-    return curve.scaled(float(factor)) if factor != 1.0 else curve
+    factor = float(entry.get("im_factor", 1.0))
+    return curve.scaled(factor) if factor != 1.0 else curve
 
 
 def _from_poe(iml: np.ndarray, poe: np.ndarray, years: float, imt: str,
@@ -1068,7 +1077,6 @@ def _resolve(path, base) -> Path:
 
 __all__ = ["HAZARD_FORMATS", "HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G",
            "OPENQUAKE_COMPONENT", "POWER_LAW_IML", "POWER_LAW_KEYS", "UNITS", "HazardCurve",
-           "HazardFile", "HazardFormat", "Site", "check_kind", "check_plausible", "file_kind",
-           "file_sites", "great_circle_km", "hazard_format", "hazard_measure", "lon_lat_problem",
-           "parse_hazard",
-           "read_hazard_file", "select_site", "unit_factor"]
+           "HazardFile", "HazardFormat", "Site", "as_declared", "check_kind", "check_plausible",
+           "file_kind", "file_sites", "great_circle_km", "hazard_format", "hazard_measure",
+           "lon_lat_problem", "parse_hazard", "read_hazard_file", "select_site", "unit_factor"]
