@@ -32,8 +32,9 @@ NS = {"n": "http://openquake.org/xmlns/nrml/0.5"}
 HERE = Path(__file__).parent
 OQ = importlib.util.find_spec("openquake") is not None
 OQ_REASON = ("OpenQuake's engine is not installed (pip install --no-deps openquake-engine "
-             "pyzmq toml decorator shapely pyproj fiona alpha-shapes h3 geopandas; "
-             "docs/risk.md); the independent reader below checks the same files")
+             "pyzmq h5py toml decorator shapely pyproj fiona psutil numba docutils requests "
+             "alpha-shapes h3 geopandas; docs/risk.md); the independent reader below checks "
+             "the same files")
 
 
 def portfolio(n: int = 5) -> pd.DataFrame:
@@ -334,3 +335,12 @@ def test_pelicun_damage_of_one_asset(tmp_path, taxonomy_by):
     p = stats.norm.cdf(np.log(pga / rows.loc[states, "median"]) / rows.loc[states, "beta"])
     # n realisations: binomial standard error ≤ 0.5/√n = 0.008; 4 of them
     np.testing.assert_allclose(got["p_ds_ge"], p, atol=4 * 0.5 / np.sqrt(n))
+
+
+def test_a_taxonomy_column_of_the_table_is_used(tmp_path):
+    """The docstring allows a ``taxonomy`` column: each column keeps its own (a KeyError
+    before: the table's taxonomy and the assets' were merged twice)."""
+    table = portfolio().assign(taxonomy=lambda t: "tx_" + t["id"].astype(str))
+    out = write_exposure(table, tmp_path)
+    assert sorted(out.taxonomies) == sorted("tx_" + table["id"].astype(str).unique())
+

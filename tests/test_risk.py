@@ -672,7 +672,7 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
         assert r["stripes / first [-]"] == pytest.approx(lam[("stripes", *key)]
                                                          / lam[("first_exceedance", *key)])
     text = risk_section_html(risk, hazard=str(EXAMPLE))
-    assert "Which λ to use: the stripe one" in text and WHICH_TO_USE[:40] in text
+    assert "Which λ risk uses: the lognormal" in text and WHICH_TO_USE[:40] in text
     ratio = both["stripes / first [-]"]
     assert f"{ratio.min():.2g}–{ratio.max():.2g} times" in text
     # without stripe rows: no comparison, the first-exceedance table as before

@@ -315,7 +315,7 @@ def refit_study(study: str | Path, measure="pga", component: str = DEFAULT_COMPO
         f"({folder / MOTION_MEASURES})")
     quantity = _study_quantity(folder)
     return replace(frag, samples=samples if n_resamples else None, source=str(critical),
-                   quantity=quantity, note=note)
+                   quantity=quantity, note=note, refitted=not vector_pga)
 
 
 def _study_quantity(folder: Path) -> dict:

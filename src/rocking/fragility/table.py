@@ -116,6 +116,9 @@ class Fragilities:
     note : str
         How the fragility was brought into these terms, when it was (a refit), for the
         outputs to say.
+    refitted : bool
+        Refitted from the study's per-motion answers in another measure or component than
+        its table's (:func:`rocking.fragility.refit.refit_study`).
     """
 
     rows: pd.DataFrame
@@ -128,6 +131,7 @@ class Fragilities:
     component: str = "vector_peak"
     quantity: dict = field(default_factory=lambda: dict(LEGACY_QUANTITY))
     note: str = ""
+    refitted: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:

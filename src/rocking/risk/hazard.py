@@ -541,7 +541,7 @@ def check_plausible(curve: HazardCurve, declared: bool, what: str = "") -> Hazar
         f"the levels were taken as g{' (' + what + ')' if what else ''}")
     fix = ("; check the unit declared" if declared else
            "; if they are in cm/s2 or m/s2, say so: hazard.unit: cm/s2 (rocking risk "
-           "--hazard-unit) or a header such as 'pga [cm/s2]'")
+           "or rocking portfolio --hazard-unit) or a header such as 'pga [cm/s2]'")
     if high.any():
         i = int(np.flatnonzero(high)[0])
         raise ValueError(f"{curve.source}: {im[i]:.4g} g exceeded {lam[i]:.3g} times a year "

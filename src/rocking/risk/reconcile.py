@@ -121,7 +121,8 @@ def decide(hazard_measure, hazard_component: str | None, *, have: Iterable[tuple
         return Terms(measure.name, component, False, "; ".join(notes))
     if (measure.name, component) in refittable:
         notes.append(f"{where} refitted in {measure.name} {component} (the hazard's) from "
-                     "each motion's critical intensity and its ratio of the two components")
+                     "each motion's critical PGA (critical.csv) and its ratio of "
+                     f"{measure.name} {component} to it (motion_measures.csv)")
         return Terms(measure.name, component, True, "; ".join(notes))
     theirs = sorted({c for m, c in have if m == measure.name})
     if kind == STRIPES:
@@ -197,7 +198,7 @@ def reconcile(fragility, hazard, *, kind: str | None = None,
     if terms.refit:
         from rocking.fragility.refit import refit_study
 
-        frag = refit_study(folder, terms.measure, terms.component)
+        frag = replace(refit_study(folder, terms.measure, terms.component), note="")
     elif isinstance(fragility, Fragilities):
         frag = fragility
     else:
@@ -230,7 +231,7 @@ def reconcile_surface(study, hazard_measure, hazard_component: str | None, *,
         folder, mode=mode, limit_states=limit_states,
         n_resamples=BOOTSTRAP_RESAMPLES if n_resamples is None else n_resamples,
         measure=terms.measure, component=terms.component)
-    return replace(surface, note="; ".join(n for n in (terms.note, surface.note) if n))
+    return replace(surface, note=terms.note)  # the refit's own note says it again
 
 
 def study_terms(hazard_measure, hazard_component: str | None, measures: Iterable[str], *,

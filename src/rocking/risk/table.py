@@ -115,7 +115,7 @@ def _component_source(hazard: HazardCurve, frag: Fragilities) -> str:
     (the hazard states none); ``+refit`` where the fragility was refitted in it."""
     said = {"declared": "declared", "file": "file", "default": "openquake-default"}.get(
         hazard.component_source, "assumed")
-    return said + ("+refit" if "refitted" in frag.note else "")
+    return said + ("+refit" if frag.refitted else "")
 
 
 def _base(r, frag: Fragilities) -> dict:
