@@ -18,6 +18,7 @@ rule motion_measures:
         "../envs/rocking.yaml"
     input:
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
+        provenance=lambda wildcards: motion_measures_stamp(wildcards.study),
     output:
         out_path("{study}/motion_measures.csv"),
     params:

@@ -130,6 +130,16 @@ def motion_measures_csv(study):
     return out_path(f"{study}/motion_measures.csv")
 
 
+def motion_measures_stamp(study):
+    """``<root>/<study>/.provenance/motion_measures.json``: the motions file and the measures
+    motion_measures.csv is made of, rewritten only when they change (a declared input: a
+    measure added remakes the table by its date alone, also in a folder copied with `cp -a`,
+    which Snakemake's own record of the rule's params does not cover)."""
+    return provenance_stamp(out_path(f"{study}/.provenance/motion_measures.json"), {
+        "motions": ensemble_file(ensemble_of(study)),
+        "measures": motion_measure_names(study)})
+
+
 def motion_measure_names(study):
     """The measures motion_measures.csv gives: the study's and its hazard's."""
     names = list(study_spec(study).intensity_measures)

@@ -14,15 +14,12 @@ of a scaled record is that scale times the record's measure (:mod:`rocking.motio
 so the critical PGV or Sa(T) is exactly the critical scale factor times the record's PGV or
 Sa(T) — although the rocking response itself is not linear in the scale. The same holds in
 every horizontal component (:data:`rocking.motions.measures.COMPONENTS`): the measures of
-``records.csv`` are in the study's component (its ``component`` column), and
-:func:`suite_fragility` fits each component asked, so that a hazard in another component
-than the study's is met by the fragility in the hazard's own component: each motion's
-critical measure is its critical scale times its measure in that component, i.e. its
-critical measure in the study's component times the motion's ratio of the two components.
-:func:`suite_fragility` fits a lognormal fragility
-(:func:`rocking.fragility.lognormal.fit_lognormal`, right-censored at the search bound where a
-motion never exceeded the limit state) in each measure, over the recorded motions and,
-separately, over the synthetic pairs.
+``records.csv`` are in the study's component (its ``component`` column).
+:func:`suite_fragility` fits a lognormal fragility in each measure
+(:func:`rocking.fragility.refit.fit_cells`, right-censored at the search bound where a motion
+never exceeded the limit state), over the recorded motions and, separately, over the
+synthetic pairs. Risk under a hazard of another measure or component refits the study's
+fragility over all its motions (:mod:`rocking.fragility.refit`), not these per-group fits.
 """
 
 from __future__ import annotations
