@@ -66,11 +66,12 @@ NOT_COMPUTED = "not-computed"
 FIRST_EXCEEDANCE = "first_exceedance"
 STRIPES = "stripes"
 KINDS = {
-    FIRST_EXCEEDANCE: "first-exceedance fragility: lognormal fitted to each motion's smallest "
-                      "intensity exceeding the limit state (motions not reached censored at "
-                      "the search bound)",
+    FIRST_EXCEEDANCE: "first-exceedance fragility: lognormal fitted to each motion's critical "
+                      "intensity (the study's quantity, the table's quantity column: I10 by "
+                      "default; motions not reached censored at the search bound)",
     STRIPES: "multiple-stripe fragility: lognormal fitted by binomial maximum likelihood to "
-             "the share of motions exceeding the limit state at fixed intensities",
+             "the share of motions exceeding the limit state at each stripe (jittered "
+             "within +-w in ln s: the motions' mean local exceedance probability F(s))",
 }
 """Which fragility a table holds → one line saying what it is (descriptions of the exports)."""
 

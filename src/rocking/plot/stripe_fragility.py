@@ -70,6 +70,12 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
     from rocking.execution import stripes as st
+    from rocking.fragility.stripe_table import (
+        store_jitter,
+        store_measure,
+        stripe_fits,
+        stripe_table,
+    )
     from rocking.fragility.stripes import exceedance_table
     from rocking.store.attrs import decode_attrs
     from rocking.units import read_table
@@ -88,8 +94,8 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
             with xr.open_dataset(fragility) as f:
                 first = f.load()
         rows = st.stripe_rows(ds)
-        tab = st.stripe_table(ds, first, rows=rows)
-    base = {k: set(r.intensities.tolist()) for k, r in st.stripe_fits(ds).items()}
+        tab = stripe_table(ds, first, rows=rows)
+    base = {k: set(r.intensities.tolist()) for k, r in stripe_fits(ds).items()}
     sizes = [float(v) for v in ds["R"].values]
     panels, measured, missing = [], {}, []
     for row in tab[tab["mode"] == mode].itertuples():
@@ -119,9 +125,9 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
             missing.append(f"{key}: {row.status}")
     attrs = decode_attrs(ds.attrs)
     ens = attrs.get("ensemble", {})
-    measure = st.store_measure(attrs)
+    measure = store_measure(attrs)
     return {"panels": panels, "measured": measured, "missing": missing, "mode": mode,
-            "jitter": st.store_jitter(attrs),
+            "jitter": store_jitter(attrs),
             "tan_alpha": float(ds.attrs.get("tan_alpha", np.nan)), "measure": measure,
             "measure_label": Measure.of(measure).label,
             "unit": Measure.of(measure).unit,
