@@ -75,6 +75,7 @@ def test_a_rotd50_study_under_a_rotd50_hazard_same_in_risk_and_portfolio(study, 
     computed = read_risk_table(risk_table(folder / "fragility.csv", hazard))
     written = read_risk_table(folder / "risk.csv")
     assert set(written["component"]) == {"rotd50"}
+    assert set(written["component_source"]) == {"declared+refit"}
     inventory = tmp_path / "node.csv"
     inventory.write_text("id,R,tan_alpha,lon,lat\nnode,3,0.2,0,0\n")
     result = site_portfolio(folder, inventory, {"file": HAZARD, "component": "rotd50"},
