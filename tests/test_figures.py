@@ -1052,8 +1052,9 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
     panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
     assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
-    # what is drawn: the distribution of first-exceedance intensities, not P(exceeded at x)
-    assert all(ax.get_ylabel() == "P(first exceedance ≤ PGA/(g tan α)) [-]" for ax in panels)
+    # what is drawn: the distribution of the motions' critical intensities, not P(exceeded at x)
+    assert all(ax.get_ylabel() == "share of motions whose critical intensity ≤ PGA/(g tan α) [-]"
+               for ax in panels)
     # one colour bar for R instead of a legend entry per size; its ticks the named sizes
     bar = [ax for ax in fig.axes if ax.get_ylabel() == "cylinder size R [m]"]
     assert bar

@@ -947,7 +947,8 @@ def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp
     """Before: a deleted stripe_fragility_bootstrap.nc was not remade after a hazard change
     (risk.csv's stripe intervals silently blank); a folder copied with `cp -a` kept its
     suite_fragility.csv when a measure was added (risk: "add sa:1.0 to the study's
-    intensity_measures" although it was there)."""
+    intensity_measures" although it was there). Risk refits in a hazard's measure from
+    motion_measures.csv now: that table is remade, by its stamp's date."""
     cfg = json.loads(json.dumps(TINY_RISK))
     targets = ["results/tiny/risk.csv", "results/tiny/suite_fragility.csv",
                "results/tiny/figures/stripe_fragility_3d.png"]
@@ -969,8 +970,8 @@ def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp
     cfg.update(output="copy")
     cfg["studies"]["tiny"].update(intensity_measures=["pga", "sa:1.0"],
                                   hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
-    assert {"records_table", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
-                                                            "copy/tiny/risk.csv"))
+    assert {"motion_measures", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
+                                                              "copy/tiny/risk.csv"))
     _snakemake(tmp_path, cfg, "copy/tiny/risk.csv")
     risk = pd.read_csv(tmp_path / "copy/tiny/risk.csv")
     assert set(risk["measure"]) == {"sa:1.0"}

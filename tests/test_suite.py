@@ -546,8 +546,10 @@ def test_suite_fragility_censors_at_the_bound_in_every_measure():
     assert pgv[1] / pgv[0] == pytest.approx(0.6 / 0.4, rel=1e-12)
     want = fit_lognormal(pgv, [False, False, True])
     got = over[over.measure == "pgv"].iloc[0]
-    assert got["median"] == pytest.approx(want.median, rel=1e-12)
-    assert got["beta"] == pytest.approx(want.beta, rel=1e-12) and got["unit"] == "m/s"
+    # the censored likelihood's optimum to the optimizer's tolerance (gtol 1e-9): the suite
+    # hands the motions in the store's order, this list another
+    assert got["median"] == pytest.approx(want.median, rel=1e-7)
+    assert got["beta"] == pytest.approx(want.beta, rel=1e-7) and got["unit"] == "m/s"
     # one synthetic motion: no fit, said so
     syn = frag[frag.motions == "synthetic"]
     assert set(syn["status"]) == {"too-few-observed"} and set(syn["n"]) == {1}

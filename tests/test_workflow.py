@@ -327,7 +327,8 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "studies.tiny.hazard: hazard must be an existing hazard-curve file"),
         (lambda c: c["studies"][STUDY].update(hazard={"k0": 1e-4, "k": 2.0,
                                                      "measure": "sa:1.0"}),
-         "which is not one of the study's intensity measures"),
+         "studies.tiny.hazard: the hazard (power law k0=0.0001/yr, k=2 (SA(1.0))) is of "
+         "SA(1.0), study tiny of pga, pgv only: add sa:1.0 to the study's intensity_measures"),
         (lambda c: c["studies"][STUDY].update(R=[float("nan")]),
          "studies.tiny.R[0]=nan: must be a finite number"),
         (lambda c: c["studies"][STUDY]["tilt_map"].update(intensity=[1.0, float("inf")]),

@@ -56,6 +56,8 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "bracket_hi": ("1", "g tan(alpha)", "smallest exceeding intensity found (the answer)"),
     "lower": ("1", "g tan(alpha)", "uplift intensity (start of the search)"),
     "upper": ("1", "g tan(alpha)", "highest intensity searched"),
+    "censoring_bound": ("1", "g tan(alpha)", "search bound the motions not reached are "
+                        "censored at in the fragility's fit"),
     "accuracy": ("1", "", "accuracy preset of the search"),
     # tilt map
     "theta_max_over_alpha": ("1", "-", "peak tilt theta_max/alpha (pi/(2 alpha) if overturned)"),

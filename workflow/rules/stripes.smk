@@ -2,7 +2,10 @@
 # stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (by the compute
 # rule of every product, products.smk; the output is the completion marker), then
 # fitted and set beside the first-exceedance fragility: stripe_fragility.csv (the figure
-# loop of figures.smk draws one figure per mode from it). The stripes are in the study's `stripes.measure` (PGA by default).
+# loop of figures.smk draws one figure per mode from it). The stripes are in the study's `stripes.measure` (PGA by default); each analysis
+# is jittered about its stripe by `stripes.jitter` in ln s (default 0.02), so the share of
+# motions exceeding estimates the mean over motions of their local exceedance probability:
+# stripe_exceedance.csv gives it at every stripe with its bootstrap interval.
 
 
 # Separated fits are refined here, in-process (a few stripes: their analyses are kept in
@@ -22,6 +25,7 @@ rule stripe_fragility:
         # the refined analyses the table used (the store's cache, copied whole): the figure
         # replays them from here, a declared input
         refined=out_path("{study}/stripe_fragility_refined.jsonl"),
+        exceedance=out_path("{study}/stripe_exceedance.csv"),
     params:
         store=lambda wildcards: product_store("stripes", wildcards.study),
         refine=lambda wildcards: study_spec(wildcards.study).stripes.refine,

@@ -5,7 +5,7 @@ drawn by the figure loop."""
 from pathlib import Path
 
 from rocking.execution.logs import log_to
-from rocking.risk.portfolio import site_portfolio, write_portfolio
+from rocking.risk.portfolio import site_lines, site_portfolio, write_portfolio
 
 
 def main(snakemake):
@@ -15,8 +15,9 @@ def main(snakemake):
         result = site_portfolio(Path(snakemake.input.fragility).parent,
                                 snakemake.input.inventory, params.hazard,
                                 extrapolate=inventory["extrapolate"],
-                                resamples=inventory["resamples"])
-        for note in result.notes:
+                                resamples=inventory["resamples"],
+                                study_component=params.study_component)
+        for note in [*result.inventory.notes, *result.notes, *site_lines(result.site)]:
             print(note)
         write_portfolio(result.table, Path(out.table).parent, result.inventory.skipped)
         print(f"{result.table['id'].nunique()} columns: {out.table}")

@@ -24,10 +24,9 @@ def main(snakemake):
                                      pelicun=out.pelicun, table=out.table,
                                      search_upper=float(params.upper), study=params.study,
                                      stripes=_one(snakemake.input.get("stripes")),
-                                     suite=_one(snakemake.input.get("suite")),
-                                     preset=params.preset, component=params.component,
+                                     preset=params.preset,
                                      study_component=params.study_component)
-        for note in ("preset_warning", "below_first_warning", "component_note"):
+        for note in ("preset_warning", "below_first_warning", "terms_note", "stripes_note"):
             if summary[note]:
                 print(summary[note])
         print(json.dumps(summary, indent=1, ensure_ascii=False))

@@ -35,7 +35,7 @@ DEFAULTS: dict[str, Any] = {
                  "chunk_R": 1},
     "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,
                 "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1, "measure": "pga",
-                "refine": 8, "bootstrap": 1000},
+                "refine": 8, "bootstrap": 1000, "jitter": 0.02},
 }
 """The schema's defaults (tests/test_spec.py holds them equal), for configurations read
 without the workflow (the benchmark drivers); the workflow has filled them in already."""

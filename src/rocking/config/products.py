@@ -214,6 +214,9 @@ class StripesSpec(_IntensityGrid):
         store: the refined analyses go beside it).
     bootstrap : int
         Resamples of the motions for the interval of the median (0: none; decides no store).
+    jitter : float
+        Half-width w in ln s of each analysis's jitter about its stripe
+        (:func:`rocking.fragility.stripes.jittered`; 0: the stripes exactly).
     """
 
     limit_states: tuple[str, ...] = ()
@@ -221,12 +224,15 @@ class StripesSpec(_IntensityGrid):
     refine: int = dc_field(default=8, compare=False)
     bootstrap: int = dc_field(default=1000, compare=False)
     component: str = "vector_peak"
+    jitter: float = 0.0
 
     def to_attrs(self) -> dict[str, Any]:
         # the measure PGA is left out: stores made before stripes had a measure keep their hash
         extra = {} if self.measure == "pga" else {"measure": self.measure}
         if self.component != "vector_peak":  # likewise: the vector peak keeps the old hash
             extra["component"] = self.component
+        if self.jitter:  # likewise: exact stripes keep the old hash
+            extra["jitter"] = float(self.jitter)
         return {**super().to_attrs(), "limit_states": list(self.limit_states), **extra}
 
     @classmethod
@@ -235,7 +241,8 @@ class StripesSpec(_IntensityGrid):
         take their defaults)."""
         return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]),
                    measure=attrs.get("measure", "pga"),
-                   component=attrs.get("component", "vector_peak"))
+                   component=attrs.get("component", "vector_peak"),
+                   jitter=float(attrs.get("jitter", 0.0)))
 
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:
@@ -277,5 +284,10 @@ def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
 
     component = parse_component((config.get("studies") or {}).get(study, {}).get(
         "component", DEFAULTS["study"]["component"]), f"studies.{study}.component")
+    jitter = t["jitter"]
+    if isinstance(jitter, bool) or not isinstance(jitter, int | float) or \
+            not 0.0 <= jitter < 0.5:
+        raise ValueError(f"{field}.jitter must be a number in [0, 0.5), got {jitter!r}")
     return StripesSpec(*common, limit_states=tuple(states), measure=t["measure"],
-                       refine=t["refine"], bootstrap=t["bootstrap"], component=component)
+                       refine=t["refine"], bootstrap=t["bootstrap"], component=component,
+                       jitter=float(jitter))

@@ -23,7 +23,7 @@ from matplotlib.lines import Line2D
 
 from rocking.fragility.table import FIRST_EXCEEDANCE
 from rocking.fragility.table import STRIPES as STRIPE_FRAGILITY
-from rocking.motions.measures import COMPONENTS
+from rocking.motions.measures import COMPONENTS, Measure
 from rocking.plot._style import MODE_STYLE, footnote, styled, with_legend_row
 from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
 from rocking.spectra.limit_states import limit_state_title
@@ -211,7 +211,7 @@ def _hazard_line(d: dict) -> str:
     component = d.get("component") or ""
     if component:
         known = COMPONENTS.get(component)
-        unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
+        unit = Measure.of(d.get("measure", "pga")).label
         line += (f"\nintensity: {unit}, horizontal component {component}"
                  + (f" ({known.description})" if known else "")
                  + ", the fragility's and the hazard's")
@@ -250,7 +250,7 @@ def plot(d: dict) -> Figure:
                         sizes[0] + 4 * step * len(curves) / 2)
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("R [m]")
-        unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
+        unit = Measure.of(d.get("measure", "pga")).label
         ax.set_ylabel(f"mean annual frequency λ [1/yr] ({unit} hazard)")
         ax.grid(True, which="both", alpha=0.3)
         if panel["curves"]:

@@ -34,12 +34,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rocking.fragility.table import (
-    FIRST_EXCEEDANCE,
-    Fragilities,
-    read_fragilities,
-    sort_rows,
-)
+from rocking.fragility.table import FIRST_EXCEEDANCE, Fragilities, sort_rows
 from rocking.motions.measures import same_measure
 from rocking.risk.annual_frequency import (
     annual_frequency_interval,
@@ -61,7 +56,8 @@ YEARS = 50.0
 CI = 0.90
 """Central probability of the bootstrap interval of λ (5th to 95th percentile)."""
 
-COLUMNS = ("fragility", "measure", "component", "mode", "tan_alpha", "R", "limit_state",
+COLUMNS = ("fragility", "measure", "component", "component_source", "mode", "tan_alpha", "R",
+           "limit_state",
            "median_im", "median_pga_g", "beta", "n", "maf", "lambda_p05", "lambda_p95",
            "lambda_lo", "lambda_hi", "return_period", "p_50yr", "share_extrapolated",
            "share_below_first", "hazard_site", "hazard_kind", "preset", "status")
@@ -69,7 +65,7 @@ COLUMNS = ("fragility", "measure", "component", "mode", "tan_alpha", "R", "limit
 
 
 def risk_table(fragility, hazard: HazardCurve, *, preset: str = "",
-               component: str | None = None) -> pd.DataFrame:
+               assumed: tuple[str, str] | None = None) -> pd.DataFrame:
     """Mean annual frequency, its interval, return period and 50-year probability of each
     limit state.
 
@@ -77,52 +73,49 @@ def risk_table(fragility, hazard: HazardCurve, *, preset: str = "",
     ----------
     fragility : Fragilities, path, DataFrame or Dataset
         The study's fragilities, or anything
-        :func:`rocking.fragility.table.read_fragilities` reads (in the hazard's measure).
+        :func:`rocking.fragility.table.read_fragilities` reads: brought into the hazard's
+        measure, component and unit by :func:`rocking.risk.reconcile.reconcile` (refitted
+        from the study's motions where its table is in another component), or refused.
     hazard : HazardCurve
-        The site's hazard curve, in the fragility's intensity measure.
+        The site's hazard curve.
     preset : str
         The accuracy preset of the analyses behind the fragility ('' unknown), carried in
         the ``preset`` column (the report warns about ``fast``).
-    component : str, optional
-        The hazard's horizontal component (:func:`rocking.risk.hazard.hazard_component`);
-        a fragility in another component is refused in one line. None: the hazard is
-        taken in the fragility's component (the ``component`` column says which).
+    assumed : (str, str), optional
+        The component taken where the hazard states none, and whose it is (the workflow:
+        the study's); default the fragility's.
 
     Returns
     -------
     pandas.DataFrame
         :data:`COLUMNS`, titles with units (``maf [1/yr]``, ``return_period [yr]`` ...);
-        ``attrs["skipped"]`` names the rows without a fit.
+        ``attrs["skipped"]`` names the rows without a fit, ``attrs["note"]`` what was
+        assumed or refitted to meet the hazard's terms.
     """
-    frag = (fragility if isinstance(fragility, Fragilities)
-            else read_fragilities(fragility, measure=hazard.measure, component=component))
-    check_components(frag, component, hazard.source)
-    if not same_measure(frag.measure, hazard.measure):
-        raise ValueError(f"the hazard ({hazard.source}) is of {hazard.imt}, the "
-                         f"{frag.kind} fragility of {frag.measure}: they must be the same "
-                         "intensity measure")
+    from rocking.risk.reconcile import reconcile
+
+    frag = reconcile(fragility, hazard, assumed=assumed)
+    source = _component_source(hazard, frag)
     out = [_fitted_row(r, frag, hazard) for r in frag.rows.itertuples()]
     out += [_unfitted_row(r, frag, hazard) for r in frag.skipped.itertuples()]
     table = pd.DataFrame(out, columns=list(COLUMNS))
     table["preset"] = preset
+    table["component_source"] = source
     table = sort_rows(table).rename(columns=header)
     table.attrs["skipped"] = frag.skipped_note()
     table.attrs["hazard"] = hazard.source
     table.attrs["fragility"] = frag.kind
+    table.attrs["note"] = frag.note
     return table
 
 
-def check_components(frag: Fragilities, component: str | None, source: str = "") -> None:
-    """Refuse, in one line, a fragility in another horizontal component than the hazard's."""
-    if component is None or frag.component == component:
-        return
-    where = f" ({frag.source})" if frag.source else ""
-    raise ValueError(f"the {frag.kind} fragility{where} is in the component {frag.component}, "
-                     f"the hazard{f' ({source})' if source else ''} in {component}: compute "
-                     f"the fragility in {component} (studies.<name>.component: {component}, "
-                     "or a suite_fragility.csv that has it), or declare the hazard's "
-                     f"component as hazard: {{file, component: {frag.component}}} if it is "
-                     "that")
+def _component_source(hazard: HazardCurve, frag: Fragilities) -> str:
+    """Where the component of a risk row comes from: ``declared``, ``file``,
+    ``openquake-default`` (:data:`rocking.risk.hazard.OPENQUAKE_COMPONENT`) or ``assumed``
+    (the hazard states none); ``+refit`` where the fragility was refitted in it."""
+    said = {"declared": "declared", "file": "file", "default": "openquake-default"}.get(
+        hazard.component_source, "assumed")
+    return said + ("+refit" if frag.refitted else "")
 
 
 def _base(r, frag: Fragilities) -> dict:
@@ -169,7 +162,7 @@ def _unfitted_row(r, frag: Fragilities, hazard: HazardCurve) -> dict:
 
 
 def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "",
-                component: str | None = None) -> pd.DataFrame:
+                assumed: tuple[str, str] | None = None) -> pd.DataFrame:
     """:func:`risk_table` of each fragility, stacked (the ``fragility`` column tells them apart).
 
     Parameters
@@ -179,7 +172,7 @@ def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "",
         refused (their rows could not be told apart).
     hazard : HazardCurve
         The site's hazard curve.
-    preset, component : str
+    preset, assumed
         As for :func:`risk_table`.
 
     Returns
@@ -187,7 +180,7 @@ def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "",
     pandas.DataFrame
         The rows of every table, in the order given; ``attrs["skipped"]`` joins their notes.
     """
-    tables = [risk_table(f, hazard, preset=preset, component=component) for f in fragilities]
+    tables = [risk_table(f, hazard, preset=preset, assumed=assumed) for f in fragilities]
     kinds = [t.attrs["fragility"] for t in tables]
     if len(set(kinds)) != len(kinds):
         raise ValueError(f"fragilities: one table per kind, got kinds {kinds}")
@@ -197,6 +190,8 @@ def risk_tables(fragilities, hazard: HazardCurve, *, preset: str = "",
     out.attrs["skipped"] = " ".join(f"[{t.attrs['fragility']}] {t.attrs['skipped']}"
                                     for t in tables if t.attrs["skipped"])
     out.attrs["hazard"] = hazard.source
+    out.attrs["note"] = "; ".join(dict.fromkeys(t.attrs["note"] for t in tables
+                                                if t.attrs["note"]))
     return out
 
 
@@ -219,7 +214,7 @@ def lambda_line(row) -> str:
 
 
 __all__ = ["BELOW_FIRST_WARN", "CI", "COLUMNS", "FAST_BIAS", "MIN_RECORDS", "PAPER_LIMIT_STATES",
-           "PRESET_ERRORS", "YEARS", "below_first_warning", "check_components", "lambda_line",
+           "PRESET_ERRORS", "YEARS", "below_first_warning", "lambda_line",
            "main_tan_alpha", "preset_note", "preset_warning", "read_risk_table", "risk_table",
            "risk_tables", "shown_limit_states"]
 
