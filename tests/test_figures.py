@@ -773,10 +773,6 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
         "pga_crit_g [g],scale_factor [-],exceeds_as_recorded,as_recorded_disagrees\n")
     (wd / "results/synth/suite_fragility.csv").write_text(
         "motions,mode,tan_alpha,limit_state,R,measure,unit,median,beta,n,n_censored,status\n")
-    # the refinement sample its rule writes (rocking.study.refinement): one refined cell
-    (wd / "results/synth/refinement_sample.csv").write_text(
-        "mode,limit_state,motion,tan_alpha,R,why,answer,refined,shift,analyses,truncated\n"
-        "3d,overturning,el-centro-1940,0.2,10.0,headline,5.0,4.9,-0.02,3000,False\n")
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
     cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",
@@ -896,32 +892,6 @@ def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tm
         assert not d["in_paper"] and "reduced run" not in title and "Fig 10)" not in title
         assert "beyond the paper" in title
         assert not any("paper's" in m for m in d["missing"])
-
-
-def test_figs_9_10_12_say_in_their_notes_when_no_refinement_sample_measures_a_move(study):
-    # no refinement_sample.csv beside the synthetic study's means: the legends quote no move
-    # under refinement and the sidecars say why, instead of a number made up
-    from rocking.plot import refined
-
-    assert not (Path(study["means"]).parent / refined.SAMPLE_FILE).exists()
-    d9 = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
-    for panel in d9["panels"]:
-        assert panel["refinement"] == ""
-        note = d9["measured"][f"{refined.NOT_MEASURED}|{panel['limit_state']}"]
-        assert note.startswith("not measured: no refinement_sample.csv")
-    assert "refinement (0.05 % scan)" not in _texts(fig09_spectra.plot(d9))
-    d10 = fig10_goals.data(study["means"])
-    assert "refinement" not in d10["measured"]
-    assert d10["measured"][refined.NOT_MEASURED].startswith("not measured")
-    d12 = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"], study["motions"])])
-    assert d12["measured"][f"elcentro|{refined.NOT_MEASURED}"].startswith("not measured")
-    # a sample without a cell of the goal: named as such
-    sample = pd.DataFrame({"mode": ["3d"], "limit_state": ["tilt:0.1"], "R": [1.0],
-                           "tan_alpha": [0.2], "answer": [2.0], "refined": [1.9],
-                           "shift": [-0.05], "truncated": [False]})
-    assert refined.not_measured(sample, "3d", "overturning") == (
-        "not measured: refinement_sample.csv holds no refined cell of 3d overturning")
-    assert refined.not_measured(sample, "3d", "tilt:0.1") == ""
 
 
 def test_fig10_says_when_two_goals_coincide(tmp_path):

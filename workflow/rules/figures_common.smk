@@ -127,8 +127,6 @@ FIGURE_INPUTS = {
     "spectra": lambda fig, w: _per_study(fig, w, lambda s: product_complete("spectra", s)),
     "tilt_map": lambda fig, w: _per_study(fig, w, lambda s: product_complete("tilt_map", s)),
     "means": lambda fig, w: _per_study(fig, w, mean_spectra),
-    "refinement": lambda fig, w: _per_study(
-        fig, w, lambda s: out_path(f"{s}/refinement_sample.csv")),
     "fragility_nc": lambda fig, w: _per_study(fig, w, lambda s: out_path(f"{s}/fragility.nc")),
     "fragility_csv": lambda fig, w: _per_study(
         fig, w, lambda s: out_path(f"{s}/fragility.csv")),
@@ -224,8 +222,7 @@ def report_inputs(study):
             "linear_fit": rules.fragility.output.linear_csv.format(study=study),
             "fragility": rules.fragility.output.fragility_csv.format(study=study),
             **({"risk": rules.risk.output.table.format(study=study),
-                "risk_png": rules.risk.output.png.format(study=study),
-                "refinement_risk": rules.refinement_risk.output.csv.format(study=study)}
+                "risk_png": rules.risk.output.png.format(study=study)}
                if hazard_spec(study) is not None else {}),
             **({"stripes": out_path(f"{study}/stripe_fragility.csv"),
                 "stripe_figures": [out_path(f"{study}/figures/stripe_fragility_{mode}.png")
@@ -236,9 +233,6 @@ def report_inputs(study):
                                       rules.portfolio.output.ranked.format(study=study)]}
                if study_spec(study).inventory is not None else {}),
             "records": out_path(f"{study}/records.csv"),
-            # the samples of every study the report quotes (Fig 12's finding), its own first
-            "refinement": [out_path(f"{s}/refinement_sample.csv") for s in
-                           dict.fromkeys([study, *report_studies(config, study)])],
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 

@@ -38,8 +38,7 @@ def main(snakemake):
               records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
               stripe_figures=list(inp.get("stripe_figures", [])),
               paper_record=bool(snakemake.params.paper_record),
-              study=str(snakemake.params.study), refinement=list(inp.get("refinement", [])),
-              refinement_risk=inp.get("refinement_risk"), portfolio=inp.get("portfolio"))
+              study=str(snakemake.params.study), portfolio=inp.get("portfolio"))
 
 
 if __name__ == "__main__":

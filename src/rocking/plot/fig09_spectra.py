@@ -21,7 +21,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from rocking.plot import _axes, _load, criteria, refined
+from rocking.plot import _axes, _load, criteria
 from rocking.plot._style import (
     MODE_STYLE,
     motion_styles,
@@ -98,14 +98,7 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
     for ls in _load.panel_limit_states(drawn or states):
         panels.append(_panel(ds, agg, ls, modes, motion_names, missing, tan_alpha))
     measured: dict = {"R": ds["R"].values.astype(float).tolist()}
-    sample = refined.beside(means)
     for panel in panels:
-        panel["refinement"] = refined.legend_phrase(sample, modes[0], panel["limit_state"])
-        if panel["refinement"]:
-            measured[f"refinement|{panel['limit_state']}"] = panel["refinement"]
-        else:  # said in the sidecar, never made up in the legend
-            measured[f"{refined.NOT_MEASURED}|{panel['limit_state']}"] = refined.not_measured(
-                sample, modes[0], panel["limit_state"])
         eff = panel["damping"]
         if eff is not None:
             measured[DAMPING_NOTE + panel["limit_state"]] = eff
@@ -296,9 +289,7 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
           *panel["means"].values()]
     top = max((float(np.nanmax(y)) for y in ys if np.isfinite(y).any()), default=1.0)
     ax.set_ylim(0.0, 1.06 * top)
-    title = "\n".join(t for t in (
-        "unresolved: the answer may lie lower" if any(counts.values()) else "",
-        panel.get("refinement", "")) if t) or None
+    title = "unresolved: the answer may lie lower" if any(counts.values()) else None
     below = -0.03 if DAMPED in d.get("modes", ()) else -0.12  # under the R axis if it has one
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, below), ncols=ncols,
               fontsize=6.5, title=title, title_fontsize=6.5, frameon=False)
@@ -517,9 +508,7 @@ FIGURE = FigureSpec(
         "straight lines in R."
     ),
     scope="study", wanted=lambda s: bool(s.plan.modes),
-    inputs={"complete": "spectra", "means": "means", "motions": "motions",
-            # read beside the means: the legend says how far refinement moves the answers
-            "refinement": "refinement"},
+    inputs={"complete": "spectra", "means": "means", "motions": "motions"},
     params={"store": "spectra_store", "paper": "paper"},
     el_centro_only=True, own_caption=_own_caption)
 """Fig 9, for every study (its primary mode at one tan α)."""

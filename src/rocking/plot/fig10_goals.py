@@ -18,7 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rocking.fragility.lognormal import fit_line
-from rocking.plot import _axes, _load, refined
+from rocking.plot import _axes, _load
 from rocking.plot._style import (
     MODE_STYLE,
     goal_color,
@@ -127,12 +127,6 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
         measured[COINCIDE_NOTE] = same
-    sample = refined.beside(means)
-    moved = refined.legend_phrase(sample, mode)
-    if moved:
-        measured["refinement"] = moved
-    else:  # said in the sidecar, never made up in the legend
-        measured[refined.NOT_MEASURED] = refined.not_measured(sample, mode)
     return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
             "mode": mode, "missing": missing, "reproduction": paper, "in_paper": in_paper,
             "measured": measured,
@@ -255,9 +249,7 @@ def plot(d: dict) -> Figure:
     unresolved = any(np.any(f) for f in d.get("unresolved", {}).values())
     ax.legend(loc="upper left", fontsize=7, title_fontsize=7,
               title="performance goal" + (" (line fit)" if fitted else "")
-              + ("; unresolved means may lie lower" if unresolved else "")
-              + (f"\n{d['measured']['refinement']}" if d["measured"].get("refinement")
-                 else ""))
+              + ("; unresolved means may lie lower" if unresolved else ""))
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None
     fit = d["measured"].get(LINE_NOTE + top, {}) if top else {}
@@ -392,7 +384,7 @@ FIGURE = FigureSpec(
         "named in the figure."
     ),
     scope="study", wanted=lambda s: bool(s.plan.modes),
-    inputs={"means": "means", "motions": "motions", "refinement": "refinement"},
+    inputs={"means": "means", "motions": "motions"},
     params={"paper": "paper"},
     el_centro_only=True, general=lambda statement: statement.startswith(LINEAR_STATEMENT))
 """Fig 10, for every study; its linearity in R is stated of rocking spectra in general

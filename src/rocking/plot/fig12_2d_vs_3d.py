@@ -23,7 +23,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from rocking.plot import _axes, _load, criteria, refined
+from rocking.plot import _axes, _load, criteria
 from rocking.plot._style import (
     MODE_STYLE,
     footnote,
@@ -139,16 +139,7 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
                 if stat in agg and np.issubdtype(agg[stat].dtype, np.number):
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
-    R_all = agg["R"].values.astype(float)
-    sample = refined.beside(means)
-    moved = refined.shift_text(refined.cell_shift(
-        sample, MODE_3D, "overturning", float(R_all.max()) if R_all.size else None,
-        n, tan_alpha)) if n else ""
     return {"name": name, "label": label, "record": record, "stand_in": stand_in,
-            "refinement": (f"{record}: 3D overturning mean at R = {R_all.max():g} m: {moved}"
-                           if moved else ""),
-            refined.NOT_MEASURED: "" if moved else refined.not_measured(
-                sample, MODE_3D, "overturning"),
             "n_motions": n, "upper": _load.search_bound(attrs),
             "axes": _axes.from_ensemble(motions),
             "R": agg["R"].values.astype(float), "panels": panels, "spread": spread,
@@ -223,10 +214,6 @@ def at_size(ensembles: list[dict], R: float) -> dict:
                             np.interp(R, ens["R"][ok], s[ok]))
         for key, fit in ens.get("medians", {}).items():
             out[f"{ens['name']}|{key}|mle"] = fit
-        if ens.get("refinement"):
-            out[f"{ens['name']}|refinement"] = ens["refinement"]
-        elif ens.get(refined.NOT_MEASURED):  # said in the sidecar, not made up in the legend
-            out[f"{ens['name']}|{refined.NOT_MEASURED}"] = ens[refined.NOT_MEASURED]
         out[f"{ens['name']}|label"] = ens["label"]
         out[f"{ens['name']}|n_motions"] = ens["n_motions"]
         out[f"{ens['name']}|upper"] = ens.get("upper")
@@ -344,8 +331,6 @@ def plot(d: dict) -> Figure:
     handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"
                           + ("\n≥×k: the 2D mean there leaves out motions\n(open marker), "
                              "a lower bound; ≤: the 3D one" if partial else "")))
-    handles += [Line2D([], [], ls="", label="\n".join(textwrap.wrap(e["refinement"], 48)))
-                for e in d["ensembles"] if e.get("refinement")]
     if unresolved:
         notes.append(_unresolved_note(unresolved))
     for ax, title in zip(axes, titles, strict=True):
@@ -623,8 +608,7 @@ FIGURE = FigureSpec(
         "azimuths. Open circles: the mean covers fewer motions than the ensemble, the "
         "others not having reached the limit state at the search bound (such a mean "
         "understates the intensity). Means over answers flagged unresolved are counted per "
-        "curve in the legend, and the legend says how far refinement moves the 3D "
-        "overturning mean at the largest R (refinement_sample.csv). The verdicts read the "
+        "curve in the legend. The verdicts read the "
         "2D/3D ratios from the censoring-aware medians of the lognormal fits across every "
         "size, not from these means at one size. The 2D model is Housner's, with the "
         "restitution e = 0.942 (Eq 31) that dissipates energy at every impact; the undamped "
@@ -636,10 +620,9 @@ FIGURE = FigureSpec(
         "unidirectionally (El Centro black, Loma Prieta red)."
     ),
     scope="studies", wanted=lambda s: s.plan.compares_2d_with_3d(),
-    # read beside the means: the censoring-aware medians of the 2D/3D verdicts and the
-    # refinement sample of the legend
+    # read beside the means: the censoring-aware medians of the 2D/3D verdicts
     inputs={"means": "means", "complete": "spectra", "motions": "motions",
-            "fragility": "fragility_csv", "refinement": "refinement"},
+            "fragility": "fragility_csv"},
     params={"studies": "studies", "stores": "spectra_store", "paper": "paper"},
     arguments=lambda inputs, params: {
         "studies": list(zip(params["studies"], inputs["means"], params["stores"],

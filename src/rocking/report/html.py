@@ -24,7 +24,6 @@ from pathlib import Path
 import pandas as pd
 
 from rocking.plot.comparisons import Comparison
-from rocking.plot.refined import read_refinements, refinement_note
 from rocking.plot.registry import caption, figure
 from rocking.report.entries import (
     FigureEntry,
@@ -154,9 +153,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           stripes: str | Path | None = None, paper: bool = True,
           records: str | Path | None = None, suite_fragility: str | Path | None = None,
           stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
-          study: str = "", refinement: str | Path | Sequence[str | Path] | None = None,
-          refinement_risk: str | Path | None = None,
-          portfolio: str | Path | None = None) -> Path:
+          study: str = "", portfolio: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -201,18 +198,10 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         linearity and 12), and the El Centro-only rows stay in the El Centro report.
     study : str
         The study's name (its curves of Fig 12 come first in the findings).
-    refinement : path or sequence of path, optional
-        ``refinement_sample.csv`` (:mod:`rocking.study.refinement`): the findings say how
-        far refinement moves each headline number, measured on the sample. A sequence: the
-        study's own first, then those of the other studies Fig 12's finding quotes (each
-        named by its folder).
     portfolio : path, optional
         ``portfolio.csv`` (:mod:`rocking.risk.portfolio`): adds the section on every
         column of the inventory, with ``figures/portfolio_map.png`` and
         ``portfolio_ranked.png`` beside it.
-    refinement_risk : path, optional
-        ``refinement_risk.csv``: how far refinement moves λ (fragility refitted, integrated
-        again with the study's hazard curve).
 
     Returns
     -------
@@ -226,14 +215,11 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
                     verdicts.items()}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
-    samples = read_refinements(refinement, study)
-    refined = samples.get(study)
-    found = (paper_findings(entries, verdicts, study, samples) if paper else []) + \
+    found = (paper_findings(entries, verdicts, study) if paper else []) + \
         study_findings(entries=entries, fragility=fragility, records=records, risk=risk,
-                       stripes=stripes, refinement=refined, refinement_risk=refinement_risk)
+                       stripes=stripes)
     parts.append("<h2 id='findings'>Findings</h2>")
     parts.append(findings_html(found))
-    parts.append(f"<p>{html.escape(refinement_note(refined, samples, study))}</p>")
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
     if paper and not paper_record:
         parts.append("<p>The paper's figures of the model (Figs 3, 4 and 6) and the statements "
