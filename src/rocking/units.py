@@ -36,8 +36,19 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "pga_g": ("gravity", "g", "vector peak ground acceleration PGA"),
     # spectra store and critical-intensity tables
     "pga_crit": ("1", "g tan(alpha)",
-                 "critical intensity PGA/(g tan(alpha)): smallest exceeding the limit state"),
-    "pga_crit_g": ("gravity", "g", "critical PGA: smallest exceeding the limit state"),
+                 "critical intensity PGA/(g tan(alpha)): the quantity's answer (I_p = "
+                 "inf{s: P(s) >= p} by default, or the first exceedance on the scan grid)"),
+    "pga_crit_g": ("gravity", "g", "critical PGA: the quantity's answer in g"),
+    "quantity": ("1", "", "what the critical intensity is: exceedance_quantile (I_p) or "
+                 "first_exceedance (on the scan grid)"),
+    "quantity_p": ("1", "-", "exceedance share p of I_p = inf{s: P(s) >= p}"),
+    "quantity_w": ("1", "-", "half-width w of the window of P(s) in ln s"),
+    "i50": ("1", "g tan(alpha)", "I_0.5 = inf{s: P(s) >= 0.5} from the same local samples"),
+    "first_exceedance": ("1", "g tan(alpha)", "smallest exceeding intensity on the scan "
+                         "grid (step scan_step)"),
+    "scan_step": ("1", "-", "relative step of the search's scan grid"),
+    "plateau": ("1", "", "P(s) rises near p without crossing it more than a window below "
+                "the answer: I_p is ill-conditioned there"),
     "not_reached": ("1", "", "limit state not exceeded up to the search bound"),
     "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
     "failed": ("1", "", "an analysis failed even after a retry"),

@@ -167,16 +167,11 @@ class LimitState(ABC):
         Its quantity can grow after the tilt is decided: an analysis deciding it may not end
         early once its peak tilt is decided (``stop_when_decided``), and it never stops at a
         tilt.
-    warns_of_windows : bool
-        The search's ``unresolved`` warning (:func:`rocking.spectra.search.window_warning`,
-        calibrated on the peak tilt) applies to it; False: its answers are never flagged
-        unresolved.
     """
 
     name: str
     at_rest: ClassVar[bool] = False
     whole_record: ClassVar[bool] = False
-    warns_of_windows: ClassVar[bool] = True
 
     @property
     @abstractmethod
@@ -367,9 +362,7 @@ class Sliding(LimitState):
     is monitored along the whole analysis and can grow after the tilt is decided (and at
     rest: |a_h|/(g + a_z)), so an analysis deciding it runs to its end and the search looks
     for it below uplift too. Its exceedance need not grow with the intensity (as a tilt
-    goal's); the search reports the smallest exceeding intensity it found, like for any
-    goal, and never flags it unresolved (that warning is calibrated on the peak tilt).
-    Where the answer lies above the overturning answer of the same motion, the body
+    goal's); the search answers it like any goal (:mod:`rocking.spectra.quantity`). Where the answer lies above the overturning answer of the same motion, the body
     overturns before it slides.
 
     Attributes
@@ -384,7 +377,6 @@ class Sliding(LimitState):
     mu: float
     at_rest: ClassVar[bool] = True
     whole_record: ClassVar[bool] = True
-    warns_of_windows: ClassVar[bool] = False
 
     quantity = property(lambda self: MU_REQUIRED_MAX, doc="``mu_required_max``.")
     severity = property(lambda self: (SLIDING_AXIS, self.mu), doc="(sliding axis, μ).")
