@@ -21,6 +21,7 @@ from rocking.execution import tasks
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.accuracy import PRESETS
 from rocking.spectra.limit_states import parse_limit_states
+from rocking.spectra.quantity import Quantity
 from rocking.spectra.search import search_critical, window_warning
 from rocking.study.aggregate import critical_frame
 
@@ -156,7 +157,8 @@ def _store(tmp_path, drop_unresolved: bool):
     if drop_unresolved:  # a store made before the variable existed
         del layout.variables["unresolved"]
     path = tmp_path / "s.zarr"
-    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0},
+    attrs = {"tolerances": {"name": "fast"}, "quantity": Quantity().to_dict(),
+             "search_options": {"upper": 20.0},
              "ensemble": tasks.ensemble_attrs(ensemble, "test"), "config": {"x": 1}}
     store.create_store(path, layout, attrs, "h0")
     for i in range(layout.n_regions):

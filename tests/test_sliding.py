@@ -22,6 +22,7 @@ from rocking.spectra.limit_states import (
     parse_limit_states,
     severity,
 )
+from rocking.spectra.quantity import Quantity
 
 TAN_ALPHA = 0.2
 
@@ -209,7 +210,8 @@ def test_a_store_with_a_sliding_goal_carries_the_flags_to_its_tables(tmp_path):
     save_ensemble(ensemble, [motion])
     states = ["tilt:1/3", "overturning", "sliding:0.22"]
     layout = tasks.spectra_layout(["2d-x"], states, [motion.name], [TAN_ALPHA], [1.0], 1)
-    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0, "mu": 0.22},
+    attrs = {"tolerances": {"name": "fast"}, "quantity": Quantity().to_dict(),
+             "search_options": {"upper": 20.0, "mu": 0.22},
              "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     path = tmp_path / "s.zarr"
     store.create_store(path, layout, attrs, "d1")

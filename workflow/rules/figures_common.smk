@@ -233,6 +233,11 @@ def report_inputs(study):
                                       rules.portfolio.output.ranked.format(study=study)]}
                if study_spec(study).inventory is not None else {}),
             "records": out_path(f"{study}/records.csv"),
+            # the headline's first exceedances on four grids, of every study the findings
+            # quote that has them (its own first)
+            "headline": [out_path(f"{s}/headline.csv") for s in
+                         dict.fromkeys([study, *report_studies(config, study)])
+                         if is_paper_record_study(s)],
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 

@@ -28,10 +28,10 @@ from rocking.plot._style import (
     new_figure,
     paper_tag,
     pga_g_axis,
+    plateau_suffix,
     r_axis,
     styled,
     suptitle_and_notes,
-    unresolved_suffix,
     validity_suffix,
 )
 from rocking.plot.comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
@@ -68,8 +68,10 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
     dict
         ``R`` [m]; ``motions``; ``panels``: list of {``limit_state``, ``curves``:
         {mode: {motion: pga_crit (R,)}}, ``means``: {mode: mean (R,)}, ``damping``: the
-        comparison of :func:`damping_effect` or None}; ``missing``: notes. Intensities are
-        PGA/(g tan α) [-], NaN where not reached or not computed.
+        comparison of :func:`damping_effect` or None, ``plateau``: {mode: {motion: flag
+        (R,)}}}; ``answer`` (the quantity's label, :func:`._load.answer_label`) and
+        ``answer_definition``; ``missing``: notes. Intensities are PGA/(g tan α) [-], NaN
+        where not reached or not computed.
     """
     ds = _load.open_store(store)
     agg = _load.open_means(means)
@@ -97,7 +99,8 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
                     for m in modes)]
     for ls in _load.panel_limit_states(drawn or states):
         panels.append(_panel(ds, agg, ls, modes, motion_names, missing, tan_alpha))
-    measured: dict = {"R": ds["R"].values.astype(float).tolist()}
+    measured: dict = {"R": ds["R"].values.astype(float).tolist(),
+                      "answer": _load.answer_label(ds.attrs)}
     for panel in panels:
         eff = panel["damping"]
         if eff is not None:
@@ -118,6 +121,8 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         "missing": sorted(set(missing)),
         "paper": paper,
         "title": _load.ensemble_title(dict(ds.attrs), Path(str(store)).parent.name),
+        "answer": _load.answer_label(ds.attrs),
+        "answer_definition": _load.answer_definition(ds.attrs),
     }
 
 
@@ -125,7 +130,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
            tan_alpha: float) -> dict:
     """Curves per motion and means per mode of one limit state."""
     curves: dict[str, dict[str, np.ndarray]] = {}
-    unresolved: dict[str, dict[str, np.ndarray]] = {}
+    plateau: dict[str, dict[str, np.ndarray]] = {}
     validity: dict[str, dict[str, dict[str, np.ndarray]]] = {"slides": {}}
     mean: dict[str, np.ndarray] = {}
     for mode in modes:
@@ -140,9 +145,9 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
             continue
         curves[mode] = {m: np.where(reached[i], vals[i], np.nan)
                         for i, m in enumerate(motion_names)}
-        if "unresolved" in sel:  # critical intensities that narrow windows may undercut
-            flag = sel["unresolved"].transpose("motion", "R").values.astype(bool) & reached
-            unresolved[mode] = {m: flag[i] for i, m in enumerate(motion_names) if flag[i].any()}
+        # answers where P rises near p without crossing it: ill-conditioned
+        flag = sel["plateau"].transpose("motion", "R").values.astype(bool) & reached
+        plateau[mode] = {m: flag[i] for i, m in enumerate(motion_names) if flag[i].any()}
         for name, per_mode in validity.items():  # the model's validity up to each answer
             if name in sel:  # slides is NaN (nothing said) without the study's mu: == 1
                 flag = (sel[name].transpose("motion", "R").values == 1) & reached
@@ -159,7 +164,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
         effect = damping_effect(curves[MODE_3D], curves[DAMPED], mean[MODE_3D], mean[DAMPED],
                                 std)
     return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
-            "unresolved": unresolved, **validity}
+            "plateau": plateau, **validity}
 
 
 def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.ndarray,
@@ -228,7 +233,7 @@ def plot(d: dict) -> Figure:
     ncols = max(len(panels), 1)
     damped = DAMPED in d.get("modes", (MODE_3D, DAMPED))
     # wide enough for a two-column legend per panel (the record and ten pairs, each with its
-    # count of unresolved answers) beside the right-hand PGA [g] axis
+    # count of answers on a plateau) beside the right-hand PGA [g] axis
     width = 12.5 if ncols > 1 else 7.0
     # the legend under each spectra panel: about 0.13 in per row of it
     rows = -(-(len(d["motions"]) + 2) // (2 if len(d["motions"]) > 4 else 1)) + 2
@@ -266,19 +271,19 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
         ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
                 marker="_" if lone else None, ms=18, mew=2.6,
                 label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
-    # resolution in the legend: per motion, how many of its answers are flagged unresolved
-    counts = {m: sum(int(np.sum(f[m])) for f in panel.get("unresolved", {}).values() if m in f)
+    # conditioning in the legend: per motion, how many of its answers are on a plateau
+    counts = {m: sum(int(np.sum(f[m])) for f in panel.get("plateau", {}).values() if m in f)
               for m in d["motions"]}
     n_points = {m: sum(int(np.isfinite(c[m]).sum()) for c in panel["curves"].values() if m in c)
                 for m in d["motions"]}
     slides = {m: sum(int(np.sum(v[m])) for v in panel.get("slides", {}).values() if m in v)
               for m in d["motions"]}
     ax.set_title(limit_state_title(panel["limit_state"]))
-    ax.set_ylabel("PGA/(g tan α) [-]")
+    ax.set_ylabel(f"{d.get('answer', 'critical')} PGA/(g tan α) [-]")
     r_axis(ax, d["R"], label=DAMPED not in d.get("modes", ()))
     pga_g_axis(ax, d["tan_alpha"])
     handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"]
-                      + unresolved_suffix(counts[m], n_points[m])
+                      + plateau_suffix(counts[m], n_points[m])
                       + validity_suffix(slides[m], n_points[m]))
                for m in d["motions"]]
     handles = ax.get_legend_handles_labels()[0] + handles
@@ -289,7 +294,11 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
           *panel["means"].values()]
     top = max((float(np.nanmax(y)) for y in ys if np.isfinite(y).any()), default=1.0)
     ax.set_ylim(0.0, 1.06 * top)
-    title = "unresolved: the answer may lie lower" if any(counts.values()) else None
+    # the legend says what each curve is: the quantity, and what a plateau means
+    title = "\n".join(t for t in (
+        d.get("answer_definition", ""),
+        "plateau: the share rises near it below the answer without reaching it"
+        if any(counts.values()) else "") if t) or None
     below = -0.03 if DAMPED in d.get("modes", ()) else -0.12  # under the R axis if it has one
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, below), ncols=ncols,
               fontsize=6.5, title=title, title_fontsize=6.5, frameon=False)
@@ -466,13 +475,13 @@ def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from rocking.plot.captions import UNRESOLVED  # noqa: E402
+from rocking.plot.captions import PLATEAU, QUANTITY  # noqa: E402
 from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _own_caption(notes: Mapping | None) -> str:
     """The caption from what is drawn: recorded motions and synthetic pairs, the damped
-    model, unresolved answers (without notes: :data:`CAPTION`)."""
+    model, answers on a plateau (without notes: :data:`CAPTION`)."""
     if notes is None:
         return FIGURE.caption
     labels = [str(c.get("label", "")) for c in (notes.get("colors") or {}).values()]
@@ -487,7 +496,7 @@ def _own_caption(notes: Mapping | None) -> str:
     if damped:
         text += (" Undamped solid, damped dashed; below, the relative difference damped − "
                  "undamped per motion and of the means, with the band of ± 2 standard errors.")
-    return f"{text} {UNRESOLVED} Right axis PGA in g."
+    return f"{text} {QUANTITY} {PLATEAU} Right axis PGA in g."
 
 
 FIGURE = FigureSpec(
@@ -500,7 +509,7 @@ FIGURE = FigureSpec(
         "slenderness in the title. Where the damped model ran, below: the relative "
         "difference damped − undamped per motion and of the means, with the band of ± 2 "
         "standard errors. "
-    ) + f"{UNRESOLVED} Right axis PGA in g.",
+    ) + f"{QUANTITY} {PLATEAU} Right axis PGA in g.",
     paper=(
         "The paper's Fig 9: overturning and excessive tilt θ > α/3 at tan α = 0.2; it "
         "reports essentially identical undamped and damped overturning spectra, differences "

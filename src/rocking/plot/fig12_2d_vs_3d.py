@@ -6,8 +6,10 @@ components is compared with the 2D model under the x (major principal axis) and 
 At the studies' common slenderness (tan α = 0.2 in the paper). The legend names each
 ensemble by its record and the number of motions averaged; the note under the axes gives each
 ensemble's axis azimuths, so the 2D curves can be matched with the paper's (whose x is E–W and
-y N–S before its rotation). Open circles mark means over fewer motions than the ensemble,
-open diamonds means over answers flagged unresolved.
+y N–S before its rotation). Open circles mark means over fewer motions than the ensemble;
+means over answers flagged plateau are counted in a note. The means are of each motion's
+critical intensity, the studies' quantity (I10 by default), which the legend names; studies
+of different quantities are refused, never drawn side by side.
 """
 
 from __future__ import annotations
@@ -88,10 +90,20 @@ def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
         if wanted.split()[0].lower() not in names:
             missing.append(f"no {wanted} ensemble in this run")
     titles = list(dict.fromkeys(t for e in ensembles for t in e["panels"]))
+    answers = {e["answer"]: e["name"] for e in ensembles}
+    if len(answers) > 1:  # two definitions of the answer are never set side by side
+        raise ValueError("Fig 12: the studies hold different quantities ("
+                         + ", ".join(f"{n}: {a}" for a, n in answers.items())
+                         + "); give every study one quantity")
+    measured = at_size(ensembles, REFERENCE_R)
+    if ensembles:
+        measured["answer"] = ensembles[0]["answer"]
     return {"ensembles": ensembles, "tan_alpha": tan_alpha, "missing": sorted(set(missing)),
             "titles": titles or ["overturning", "excessive tilt"],
+            "answer": ensembles[0]["answer"] if ensembles else "critical",
+            "answer_definition": ensembles[0]["answer_definition"] if ensembles else "",
             "reproduction": paper,
-            "measured": at_size(ensembles, REFERENCE_R),
+            "measured": measured,
             "axes": {e["name"]: e["axes"] for e in ensembles}}
 
 
@@ -135,11 +147,13 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
             fit = mle_medians(fits, tan_alpha, ls, mode)
             if fit is not None:
                 medians[f"{title}|{mode}"] = fit
-            for stat in ("std", "count", "n_not_reached", "censoring", "n_unresolved"):
+            for stat in ("std", "count", "n_not_reached", "censoring", "n_plateau"):
                 if stat in agg and np.issubdtype(agg[stat].dtype, np.number):
                     spread[f"{title}|{mode}|{stat}"] = agg[stat].sel(
                         mode=mode, limit_state=ls).values.astype(float)
     return {"name": name, "label": label, "record": record, "stand_in": stand_in,
+            "answer": _load.answer_label(agg.attrs),
+            "answer_definition": _load.answer_definition(agg.attrs),
             "n_motions": n, "upper": _load.search_bound(attrs),
             "axes": _axes.from_ensemble(motions),
             "R": agg["R"].values.astype(float), "panels": panels, "spread": spread,
@@ -243,16 +257,16 @@ MODE_MARKERS = {MODE_3D: "o", MODE_2D_X: "s", MODE_2D_Y: "^"}
 """Small markers per mode, so that line styles stay readable where curves cross."""
 
 
-def _unresolved_note(counts: list[tuple[str, str, int, int]]) -> str:
-    """One line on the means that include answers flagged unresolved (they may lie lower):
-    per record, each curve's count of such sizes out of its sizes, said once per record."""
+def _plateau_note(counts: list[tuple[str, str, int, int]]) -> str:
+    """One line on the means that include answers flagged plateau (ill-conditioned): per
+    record, each curve's count of such sizes out of its sizes, said once per record."""
     if all(k == n for _, _, k, n in counts):
-        return ("Means that include answers flagged unresolved (they may lie lower): every "
+        return ("Means that include answers on a plateau (ill-conditioned): every "
                 f"size of all {len(counts)} curves.")
     per: dict[str, list[str]] = {}
     for record, curve, k, n in counts:
         per.setdefault(record, []).append(f"{curve} {k}/{n}")
-    return ("Sizes whose mean includes answers flagged unresolved (they may lie lower), per "
+    return ("Sizes whose mean includes answers on a plateau (ill-conditioned), per "
             "curve: " + "; ".join(f"{record}: {', '.join(items)}"
                                   for record, items in per.items()) + ".")
 
@@ -292,7 +306,7 @@ def plot(d: dict) -> Figure:
                                             ncols=len(titles), legend_share=0.22)
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
-    unresolved: list[tuple] = []  # curves with means over answers flagged unresolved
+    on_plateau: list[tuple] = []  # curves with means over answers flagged plateau
     for k, ens in enumerate(d["ensembles"]):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
@@ -313,10 +327,10 @@ def plot(d: dict) -> Figure:
                     partial = True
                     ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.0,
                             zorder=1)
-                flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_unresolved")
+                flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_plateau")
                 if flagged is not None and (np.nan_to_num(flagged) > 0).any():
                     k = int((np.nan_to_num(flagged) > 0).sum())  # counted, not ringed
-                    unresolved.append((ens["record"], f"{MODE_STYLE[mode]['label']} {title}",
+                    on_plateau.append((ens["record"], f"{MODE_STYLE[mode]['label']} {title}",
                                        k, int(np.isfinite(y).sum())))
                 if mode not in modes_seen:
                     modes_seen.append(mode)
@@ -331,12 +345,13 @@ def plot(d: dict) -> Figure:
     handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"
                           + ("\n≥×k: the 2D mean there leaves out motions\n(open marker), "
                              "a lower bound; ≤: the 3D one" if partial else "")))
-    if unresolved:
-        notes.append(_unresolved_note(unresolved))
+    if on_plateau:
+        notes.append(_plateau_note(on_plateau))
     for ax, title in zip(axes, titles, strict=True):
         ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
                      if title in ("overturning", "excessive tilt") else title)
-        ax.set_ylabel("mean PGA/(g tan α) [-] (bidirectional PGA)")
+        ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-] "
+                      "(bidirectional PGA)")
         r_axis(ax, np.concatenate([e["R"] for e in d["ensembles"]] or [np.zeros(0)]))
         left, right = ax.get_xlim()
         ax.set_xlim(left, right + 0.1 * (right - left))  # room for the ratios written
@@ -344,7 +359,9 @@ def plot(d: dict) -> Figure:
         pga_g_axis(ax, d["tan_alpha"])
     if handles:
         # One legend for both panels, in a row below them: colours are ensembles, styles are modes.
-        legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7)
+        legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7,
+                          title=f"means of {d['answer_definition']}"
+                          if d.get("answer_definition") else None, title_fontsize=7)
     title = (f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g}"
              f"{paper_tag({'paper': d.get('reproduction', True)}, 'Fig 12')}")
     if d["missing"]:
@@ -607,8 +624,10 @@ FIGURE = FigureSpec(
         "the ratio is a lower bound; ≤ where the 3D mean is); the note gives each ensemble's axis "
         "azimuths. Open circles: the mean covers fewer motions than the ensemble, the "
         "others not having reached the limit state at the search bound (such a mean "
-        "understates the intensity). Means over answers flagged unresolved are counted per "
-        "curve in the legend. The verdicts read the "
+        "understates the intensity). The means are of each motion's I10 (the lowest PGA/(g "
+        "tan α) near which 10 % of the intensities exceed) unless the study chose another "
+        "quantity, as the legend says; means over answers flagged plateau are counted in a "
+        "note. The verdicts read the "
         "2D/3D ratios from the censoring-aware medians of the lognormal fits across every "
         "size, not from these means at one size. The 2D model is Housner's, with the "
         "restitution e = 0.942 (Eq 31) that dissipates energy at every impact; the undamped "

@@ -39,6 +39,28 @@ def _as_recorded_finding(row) -> str:
     return said
 
 
+def headline_text(who: str, R: float, mean: float, std: float | None, n: float | None,
+                  answer: str, grids: Mapping | None = None, paper: bool = False) -> str:
+    """The headline (3D overturning at R = 10 m): the mean of the study's answer with its
+    standard error, and beside it the mean first exceedance of the same cells on each scan
+    grid (``grids``: :func:`rocking.study.headline.summary`, where its cells are these), so
+    that a reader sees why the paper's "about 4" and a coarse grid's higher mean can both be
+    found."""
+    se = f" ± {std / math.sqrt(n):.2f} (standard error, {n:g} motions)" if finite(
+        std, n) and n > 0 else ""
+    text = (f"{who}, R = {R:g} m: the 3D model overturns at a mean {answer} of {mean:.2f}{se}"
+            f" ({answer}: the lowest PGA/(g tan α) near which {answer[1:]} % of the "
+            "intensities exceed)" if answer.startswith("I") else
+            f"{who}, R = {R:g} m: the 3D model overturns at a mean {answer} of {mean:.2f}{se}")
+    if grids and grids.get("grids") and math.isclose(float(grids.get("R", R)), R):
+        by = ", ".join(f"{v:.2f} on the {100 * s:g} % grid" for s, v in grids["grids"].items())
+        over = (f" (over {grids['n']} of {grids['of']} motions)"
+                if grids["n"] != grids["of"] else "")
+        text += (f"; the classic answer, the smallest exceeding intensity, of the same cells "
+                 f"falls as the scan grid is refined: mean {by}{over}")
+    return text + (" (paper: about 4)" if paper else "")
+
+
 def _median_text(x, med: str, r: str) -> str:
     """A median of ``fragility.csv`` with its β."""
     return f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
@@ -68,12 +90,16 @@ def _ensemble_title(m: Mapping, ens: str) -> str:
 
 
 def paper_findings(entries: Sequence[FigureEntry],
-                   verdicts: Mapping[str, Sequence[Comparison]], study: str = ""
-                   ) -> list[Finding]:
+                   verdicts: Mapping[str, Sequence[Comparison]], study: str = "",
+                   headlines: Mapping[str, Mapping] | None = None) -> list[Finding]:
     """Headline answers of a reproduction of the paper, read from the figures' notes:
     2D against 3D and the 3D mean at R = 10 m (Fig 12: every study it draws, ``study``'s
     first), damped against undamped (Fig 9), linearity in R
-    (Fig 10), the El Centro peak tilts (Fig 6)."""
+    (Fig 10), the El Centro peak tilts (Fig 6).
+
+    ``headlines``: per study, :func:`rocking.study.headline.summary` of its
+    ``headline.csv``: the 3D mean at R = 10 m is then said with the mean first exceedance
+    of the same cells on each scan grid beside it (:func:`headline_text`)."""
     out = []
     m12, a12 = _notes(entries, "fig12_2d_vs_3d"), _stem(entries, "fig12_2d_vs_3d")
     if a12 is not None:
@@ -87,8 +113,6 @@ def paper_findings(entries: Sequence[FigureEntry],
             if not finite(v3):
                 continue
             std, n = m12.get(f"{ens}|overturning|3d|std"), m12.get(f"{ens}|overturning|3d|count")
-            se = f" ± {std / math.sqrt(n):.2f} (standard error, {n:g} motions)" if finite(
-                std, n) and n > 0 else ""
             ratios = []
             for ls in ("overturning", "tilt:1/3"):
                 key = "excessive tilt" if ls != "overturning" else ls
@@ -109,9 +133,9 @@ def paper_findings(entries: Sequence[FigureEntry],
                     ratios.append(f"{key} " + ", ".join(parts))
             who = _ensemble_title(m12, ens)
             # the paper gives the 3D number for El Centro only
-            paper4 = " (paper: about 4)" if "centro" in (ens + who).lower() else ""
-            text = (f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
-                    f"{v3:.2f}{se}" + paper4)
+            text = headline_text(who, R, v3, std, n, str(m12.get("answer", "I10")),
+                                 (headlines or {}).get(ens),
+                                 "centro" in (ens + who).lower())
             if ratios:
                 text += (f"; the 2D model under one component needs 2D/3D: {'; '.join(ratios)} "
                          f"(x = major, y = minor axis; paper: about twice; {HOUSNER_NOTE})")

@@ -146,6 +146,32 @@ def link_images(page: str, href: Callable[[str], str]) -> str:
                                    f"src='{html.escape(href(m['stem']), quote=True)}'>", page)
 
 
+def read_headlines(paths: Sequence[str | Path]) -> dict[str, dict]:
+    """:func:`rocking.study.headline.summary` of each ``<study>/headline.csv`` by study (the
+    folder's name); studies whose table is empty are left out."""
+    import pandas as pd
+
+    from rocking.study.headline import summary
+
+    out = {}
+    for p in paths:
+        s = summary(pd.read_csv(p)) if Path(p).is_file() else None
+        if s is not None:
+            out[Path(p).parent.name] = s
+    return out
+
+
+def report_title(study: str, ensemble: str, reproduces: str | None = None) -> str:
+    """The report's title: a reproduction names the paper in full (authors, title,
+    journal, year: :data:`rocking.config.study.CITATIONS`), any study its name and ensemble."""
+    from rocking.config.study import CITATIONS
+
+    own = f"study {study} (ensemble {ensemble})"
+    if reproduces is None:
+        return f"rocking: {own}"
+    return f"Reproduction of {CITATIONS.get(reproduces, reproduces)}: {own}"
+
+
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
@@ -153,7 +179,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           stripes: str | Path | None = None, paper: bool = True,
           records: str | Path | None = None, suite_fragility: str | Path | None = None,
           stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
-          study: str = "", portfolio: str | Path | None = None) -> Path:
+          study: str = "", headline: Sequence[str | Path] = (),
+          portfolio: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -198,6 +225,10 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         linearity and 12), and the El Centro-only rows stay in the El Centro report.
     study : str
         The study's name (its curves of Fig 12 come first in the findings).
+    headline : sequence of path
+        ``<study>/headline.csv`` of the studies whose headline the findings quote
+        (:mod:`rocking.study.headline`): the mean first exceedance of the headline cells on
+        each scan grid, said beside the mean of the study's answers.
     portfolio : path, optional
         ``portfolio.csv`` (:mod:`rocking.risk.portfolio`): adds the section on every
         column of the inventory, with ``figures/portfolio_map.png`` and
@@ -215,7 +246,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
                     verdicts.items()}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
-    found = (paper_findings(entries, verdicts, study) if paper else []) + \
+    found = (paper_findings(entries, verdicts, study, read_headlines(headline))
+             if paper else []) + \
         study_findings(entries=entries, fragility=fragility, records=records, risk=risk,
                        stripes=stripes)
     parts.append("<h2 id='findings'>Findings</h2>")

@@ -73,8 +73,8 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
                      f"ωn = {fmt(spec.damping.omega_n)} rad/s, ζ = {fmt(spec.damping.zeta)} "
                      "(Fig 4 also overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
                      "ζ ∈ {0.05, 0.5, 5, 50})"))
-    if "unresolved" in ds:
-        rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
+    rows.append((f"{p}: the critical intensity", quantity_text(attrs)))
+    rows.append((f"{p}: conditioning of the answers", plateau_text(ds)))
     if "lifts_off" in ds:
         rows.append((f"{p}: validity of the answers", validity_text(ds, spec.mu)))
         if spec.mu is not None:
@@ -119,27 +119,34 @@ def tolerances_text(t: Mapping) -> str:
     return "; ".join(parts) or "not recorded"
 
 
-def resolution_text(ds) -> str:
-    """How many computed answers per mode carry the ``unresolved`` flag, and what it means."""
+def quantity_text(attrs: Mapping) -> str:
+    """What the store's answers are (its ``quantity`` attribute), in words."""
+    from rocking.spectra.quantity import Quantity
+    from rocking.study.aggregate import store_quantity
+
+    q = Quantity.from_value(store_quantity(attrs))
+    step = (attrs.get("tolerances") or {}).get("scan_step")
+    if not q.is_quantile:
+        return (q.describe(step) + ": the smallest exceeding intensity the scan saw, which "
+                "moves with the grid (docs/models.md, \"The critical intensity\")")
+    return (f"{q.describe(step)}: per motion, the lowest PGA/(g tan α) near which at least "
+            f"{100 * q.p:g} % of the intensities exceed the goal (I50 beside it in the store); "
+            "the means and fragilities are of these answers")
+
+
+def plateau_text(ds) -> str:
+    """How many computed answers per mode carry the ``plateau`` flag, and what it means."""
     reached = ~ds["not_reached"].values.astype(bool)
     if "requested" in ds:
         reached &= ds["requested"].broadcast_like(ds["not_reached"]).transpose(
             *ds["not_reached"].dims).values.astype(bool)
-    flag = ds["unresolved"].values.astype(bool) & reached
+    flag = ds["plateau"].values.astype(bool) & reached
     axis = ds["not_reached"].dims.index("mode")
     per = [f"{m}: {int(np.take(flag, i, axis).sum())} of {int(np.take(reached, i, axis).sum())}"
            for i, m in enumerate(_load.labels(ds, "mode"))]
-    spent = ""
-    if "budget_spent" in ds and bool(ds["budget_spent"].values.any()):
-        n = int((ds["budget_spent"].values.astype(bool) & reached).sum())
-        spent = (f" {n} of them because the refinement budget ran out before every near "
-                 "miss below the answer was re-examined (budget_spent).")
-    return ("answers flagged unresolved (the response came within half the goal, or θmax "
-            "jumped, below the answer, and that near miss was not re-examined: narrower "
-            "windows of exceedance may lie lower) — " + "; ".join(per) + "." + spent
-            + " On the resolution benchmark the default's answer is 0.4–0.9 % too high at "
-            "the median and 15–21 % at the 90th percentile, never too low "
-            "(docs/performance.md).")
+    return ("answers flagged plateau (the local exceedance probability rises near p below "
+            "the answer without crossing it, so a small change of the response could move "
+            "the answer down) — " + "; ".join(per) + ".")
 
 
 def validity_text(ds, mu: float | None) -> str:
