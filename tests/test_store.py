@@ -171,8 +171,8 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
             "not_reached": np.zeros(shape, bool),
             "non_monotonic": np.zeros(shape, bool), "failed": np.zeros(shape, bool),
             "i50": np.full(shape, 1.2), "first_exceedance": np.full(shape, 0.98),
-            "plateau": np.zeros(shape, bool), "n_analyses": np.ones(shape, np.int32), "slides": np.zeros(shape),
-            "lifts_off": np.zeros(shape, bool)}
+            "plateau": np.zeros(shape, bool), "n_analyses": np.ones(shape, np.int32),
+            "slides": np.zeros(shape), "lifts_off": np.zeros(shape, bool)}
     with pytest.raises(ValueError, match="unexplained NaN"):
         store.write_region(path, layout, 0, {**good, "pga_crit": np.full(shape, np.nan)})
     # slides may say nothing (NaN) only where the writer says why (no mu)
