@@ -66,7 +66,8 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
         (f"{p}: modes per tan α", modes_text(ds)),
         (f"{p}: accuracy", f"preset {spec.accuracy if isinstance(spec.accuracy, str) else 'custom'}"
                            f": {tolerances_text(attrs['tolerances'])}; search up to "
-                           f"PGA/(g tan α) = {fmt(spec.upper)}"),
+                           f"PGA/(g tan α) = {fmt(spec.upper)}; "
+                           + stated_error_text(spec.accuracy)),
     ]
     if spec.damping is not None:
         rows.append((f"{p}: damped contact (3d-damped)",
@@ -83,38 +84,38 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
     return rows
 
 
+def stated_error_text(accuracy) -> str:
+    """The one accuracy figure of the answers: the preset's stated error against the
+    converged I10 (``rocking.spectra.accuracy.STATED``, docs/performance.md)."""
+    from rocking.study.verify import stated_error
+
+    e, q = stated_error(accuracy)
+    return (f"{100 * q:g} % of the answers lie within {100 * e:g} % of the converged I10 "
+            "(docs/performance.md)")
+
+
 def tolerances_text(t: Mapping) -> str:
     """The accuracy settings of a store (:class:`rocking.spectra.accuracy.Accuracy` as
-    attributes) in words: integration tolerance, scan step, bisection."""
+    attributes) in words: integration tolerance, scan grid, local sample."""
     parts = []
     if "rtol" in t:
         parts.append(f"time integration to a relative tolerance of {t['rtol']:g}"
                      + (f" ({t['rtol_damped']:g} for the damped model)"
-                        if t.get("rtol_damped") is not None else ""))
-    step = t.get("scan_step")
-    if step is not None:
-        unit = f"{100 * step:g} %" if t.get("scan_relative", True) else f"{step:g}"
-        scan = t.get("scan", "fixed")
-        if scan == "fixed":
-            parts.append(f"intensity scanned upwards in steps of {unit}")
-        else:
-            top = t.get("scan_step_max")
-            hi = (f"{100 * top:g} %" if t.get("scan_relative", True) else f"{top:g}") if top \
-                else unit
-            parts.append(f"intensity scanned upwards in {scan} steps of {unit} to {hi}")
-    if t.get("refine_budget"):
-        parts.append(f"up to {t['refine_budget']} analyses per point re-examine the near "
-                     f"misses below the first exceedance in steps of "
-                     f"{100 * t['refine_step']:g}–{100 * t['refine_step_max']:g} %")
-    if t.get("bisection_tol") is not None:
-        parts.append(f"each first exceedance refined by bisection to "
-                     f"{100 * t['bisection_tol']:g} %")
+                        if t.get("rtol_damped") not in (None, t["rtol"]) else ""))
+    if t.get("scan_step") is not None:
+        parts.append(f"intensity scanned upwards on a {100 * t['scan_step']:g} % grid "
+                     "(its offset random per cell, seeded from the cell)")
+    if t.get("local_step") is not None:
+        reach = (f" from {100 * t['local_below']:g} % below to {100 * t['local_above']:g} % "
+                 "above" if t.get("local_below") is not None and t.get("local_above")
+                 is not None else "")
+        parts.append(f"P(s) sampled around each first exceedance{reach} (in ln I), one "
+                     f"analysis at a random place in each {100 * t['local_step']:g} % stratum")
     if t.get("rest_tilt") is not None:
         parts.append(f"an analysis ends early once the body is at rest (tilt below "
                      f"{t['rest_tilt']:g} rad)")
-    known = {"name", "rtol", "rtol_damped", "scan_step", "scan_relative", "scan",
-             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near",
-             "refine_budget", "refine_step", "refine_step_max", "refine_near"}
+    known = {"name", "rtol", "rtol_damped", "scan_step", "local_step", "local_below",
+             "local_above", "rest_tilt"}
     parts += [f"{k} = {v}" for k, v in t.items() if k not in known and v is not None]
     return "; ".join(parts) or "not recorded"
 
