@@ -773,6 +773,17 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
         "pga_crit_g [g],scale_factor [-],exceeds_as_recorded,as_recorded_disagrees\n")
     (wd / "results/synth/suite_fragility.csv").write_text(
         "motions,mode,tan_alpha,limit_state,R,measure,unit,median,beta,n,n_censored,status\n")
+    # the headline rule's table (rocking.study.headline), as it writes it: each motion's
+    # first exceedance at R = 10 m on four grids, above its answer, falling with the grid
+    answers = xr.open_zarr(paths["store"])["pga_crit"].sel(
+        mode="3d", limit_state="overturning", tan_alpha=0.2, R=10.0).values
+    rows = [{"motion": m, "mode": "3d", "limit_state": "overturning", "tan_alpha": 0.2,
+             "R": 10.0, "scan_step": h, "first_exceedance": a * (1 + 10 * h),
+             "not_reached": False, "answer": a, "quantity": "I10", "analyses": 100,
+             "cpu_s": 1.0}
+            for m, a in zip(fs.MOTIONS, answers, strict=True)
+            for h in (0.01, 0.005, 0.002, 0.001)]
+    pd.DataFrame(rows).to_csv(wd / "results/synth/headline.csv", index=False)
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
     cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",
@@ -800,6 +811,14 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     assert sens["measured"]["rotation_check"]["3d"] < 1e-6
     html = (wd / "results/synth/report.html").read_text()
     assert html.count("<figure") == 11
+    # the title names the paper; the headline: the mean I10 and the same cells' mean first
+    # exceedance on each grid (here 10·h above each answer)
+    assert "Reproduction of Vassiliou, Burger, Egger, Bachmann, Broccardo &amp; Stojadinović " \
+           "(2017)" in html
+    mean = float(np.mean(answers))
+    assert f"mean I10 of {mean:.2f}" in html
+    assert f"{mean * 1.1:.2f} on the 1 % grid" in html
+    assert f"{mean * 1.01:.2f} on the 0.1 % grid" in html
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
@@ -816,6 +835,11 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
             "figures/fig12_2d_vs_3d_synth.png", "config.yaml"} <= names
     critical = pd.read_csv(tmp_path / "gallery/synth/critical.csv")
     assert len(critical) == xr.open_zarr(paths["store"]).pga_crit.size
+    # no retired name in the tables, report and figures' notes of the run, or its gallery
+    from test_retired import retired_names_in
+
+    found = retired_names_in([*(wd / "results").rglob("*"), *files])
+    assert not found, found[:10]
 
 
 def _gallery_module():
