@@ -86,16 +86,17 @@ def run(configfile: Path, workdir: Path, warm_numba: bool = False) -> tuple[pd.D
         for p in procs:
             try:
                 if p.pid not in owner and p.pid != top.pid:
-                    if _is_job(p.cmdline()):
+                    # a process under a job is the job's (a forked worker has the job's
+                    # command line); else a job script is a job of its own
+                    parent = p.parent()
+                    while parent is not None and parent.pid not in owner \
+                            and parent.pid != top.pid:
+                        parent = parent.parent()
+                    if parent is not None and parent.pid in owner:
+                        owner[p.pid] = owner[parent.pid]
+                    elif _is_job(p.cmdline()):
                         owner[p.pid] = p.pid
                         jobs[p.pid] = {"rule": None}
-                    else:
-                        parent = p.parent()
-                        while parent is not None and parent.pid not in owner \
-                                and parent.pid != top.pid:
-                            parent = parent.parent()
-                        if parent is not None and parent.pid in owner:
-                            owner[p.pid] = owner[parent.pid]
                 if p.pid in jobs and jobs[p.pid]["rule"] is None:
                     jobs[p.pid]["rule"] = _rule_of(p)
                 t = p.cpu_times()

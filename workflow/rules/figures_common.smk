@@ -131,8 +131,9 @@ FIGURE_INPUTS = {
     "fragility_csv": lambda fig, w: _per_study(
         fig, w, lambda s: out_path(f"{s}/fragility.csv")),
     # the headline rule runs for the paper's El Centro study only: none elsewhere
-    "headline": lambda fig, w: _per_study(
-        fig, w, lambda s: [out_path(f"{s}/headline.csv")] if is_paper_record_study(s) else []),
+    "headline": lambda fig, w: [f for s in _subject_studies(fig, w)
+                                if is_paper_record_study(s)
+                                for f in [out_path(f"{s}/headline.csv")]],
 }
 """How each logical input of a figure (rocking.plot.registry.INPUTS) is found for one job."""
 
