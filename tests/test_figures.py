@@ -930,10 +930,12 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
          "median": (("mode", "limit_state", "tan_alpha", "R"), mean),
          "std": (("mode", "limit_state", "tan_alpha", "R"), 0.1 * mean),
          "count": (("mode", "limit_state", "tan_alpha", "R"), np.full(mean.shape, 11.0))},
-        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R})
+        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R},
+        attrs={"quantity": json.dumps(fs.QUANTITY)})
     path = tmp_path / "means.nc"
     agg.to_netcdf(path)
     d = fig10_goals.data(path)
+    assert d["answer"] == "I10" and d["measured"]["answer"] == "I10"
     assert d["measured"]["coincide"] == [{"goals": ["tilt:1", "overturning"], "n_R": 7,
                                           "n_motions": 11}]
     line = d["measured"]["line|overturning"]
@@ -975,33 +977,38 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert len([ax for ax in fig.axes if ax.get_legend()]) == 1
 
 
-def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(study, tmp_path):
-    """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is
-    counted per motion (its answers in every mode drawn) in the legend, not ringed on every
-    point; a store without the flag counts none."""
+def test_fig09_counts_plateau_answers_per_motion_and_names_the_quantity(study, tmp_path):
+    """A ``plateau`` flag (P rises near p below the answer without crossing: I10
+    ill-conditioned) is counted per motion (its answers in every mode drawn) in the legend,
+    not ringed on every point; a store without a flag set counts none. The axis and the
+    legend say the curves are I10."""
     from rocking.plot import _load
 
     ds = _load.open_store(study["store"])
     flag = xr.zeros_like(ds["not_reached"], dtype=bool)
     flag.loc[{"mode": "3d", "motion": fs.MOTIONS[2], "tan_alpha": 0.2}] = True
-    ds = ds.assign(unresolved=flag & ~ds["not_reached"].astype(bool))
+    ds = ds.assign(plateau=flag & ~ds["not_reached"].astype(bool))
     path = tmp_path / "flagged.zarr"
     ds.to_zarr(path, mode="w", consolidated=False)
     d = fig09_spectra.data(path, study["means"])
     panel = d["panels"][0]
-    assert list(panel["unresolved"]["3d"]) == [fs.MOTIONS[2]]
+    assert list(panel["plateau"]["3d"]) == [fs.MOTIONS[2]]
     fig = fig09_spectra.plot(d)
-    k = int(panel["unresolved"]["3d"][fs.MOTIONS[2]].sum())
+    k = int(panel["plateau"]["3d"][fs.MOTIONS[2]].sum())
     n = sum(int(np.isfinite(c[fs.MOTIONS[2]]).sum()) for c in panel["curves"].values())
-    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    legend = fig.axes[0].get_legend()
+    texts = [t.get_text() for t in legend.get_texts()]
     label = d["colors"][fs.MOTIONS[2]]["label"]
-    assert f"{label}; {k} of {n} answers unresolved" in legend
-    assert sum("unresolved" in t for t in legend) == 1  # the other motions: none
+    assert f"{label}; {k} of {n} answers on a plateau" in texts
+    assert sum("plateau" in t for t in texts) == 1  # the other motions: none
+    assert legend.get_title().get_text().startswith(
+        "I10: ≥ 10 % of the intensities within ±2 % exceed")
+    assert fig.axes[0].get_ylabel() == "I10 PGA/(g tan α) [-]"
     rings = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"
              and ln.get_mfc() == "none" and len(ln.get_xdata())]
     assert not rings
     plain = fig09_spectra.data(study["store"], study["means"])
-    assert all(not p["unresolved"] for p in plain["panels"])
+    assert all(not any(p["plateau"].values()) for p in plain["panels"])
 
 
 def test_fig09_counts_answers_that_slide_when_the_study_gave_mu(study, tmp_path):
@@ -1105,18 +1112,18 @@ def test_a_bad_figure_entry_is_refused_naming_the_field():
         registry.caption("fig03_wobbling_period", paper=False)
 
 
-def test_fig12_unresolved_note_names_each_record_once_and_footnotes_fit_the_figure():
+def test_fig12_plateau_note_names_each_record_once_and_footnotes_fit_the_figure():
     from matplotlib.text import Text
 
     from rocking.plot._style import footnote, new_figure
-    from rocking.plot.fig12_2d_vs_3d import _unresolved_note
+    from rocking.plot.fig12_2d_vs_3d import _plateau_note
 
     counts = [("El Centro", "3D overturning", 17, 20), ("El Centro", "2D, x overturning", 20, 20),
               ("Loma Prieta", "3D overturning", 20, 20)]
-    note = _unresolved_note(counts)
+    note = _plateau_note(counts)
     assert note.count("El Centro") == 1 and note.count("Loma Prieta") == 1
     assert "3D overturning 17/20" in note and "2D, x overturning 20/20" in note
-    assert _unresolved_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
+    assert _plateau_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
     # a long footnote is wrapped inside the figure's width
     fig, _ = new_figure(8.0, 4.0)
     footnote(fig, [note * 4])
