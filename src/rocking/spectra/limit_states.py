@@ -362,8 +362,9 @@ class Sliding(LimitState):
     is monitored along the whole analysis and can grow after the tilt is decided (and at
     rest: |a_h|/(g + a_z)), so an analysis deciding it runs to its end and the search looks
     for it below uplift too. Its exceedance need not grow with the intensity (as a tilt
-    goal's); the search answers it like any goal (:mod:`rocking.spectra.quantity`). Where the answer lies above the overturning answer of the same motion, the body
-    overturns before it slides.
+    goal's); the search answers it like any goal (:mod:`rocking.spectra.quantity`). Where
+    the answer lies above the overturning answer of the same motion, the body overturns
+    before it slides.
 
     Attributes
     ----------

@@ -19,8 +19,10 @@ share a grid:
    (jittered sampling: no alias with any periodicity of the response), from
    ``local_below`` under the candidate to ``local_above`` over it. P̂(s) is read off the local
    samples wherever its whole window lies in sampled strata; then
-   - where P̂ reaches p, its first such s is I_p, unless P̂ ≥ p already at the lowest s the
-     sample can judge: the sample is extended downward by another ``local_below``;
+   - while P̂ at the lowest s the sample can judge is p/2 or more (:data:`EXTEND_SHARE`),
+     the sample is extended downward by another ``local_below``: P may cross p below it,
+     where only the scan looked;
+   - else where P̂ reaches p, its first such s is I_p;
    - where P̂ stays below p, the candidate was an isolated window: the scan resumes above
      the sample for that limit state.
 
@@ -34,8 +36,9 @@ uplift as not exceeding without analysing them. A limit state a body at rest can
 below uplift: the search analyses the uplift intensity first and, where it is exceeded
 there, scans down the grid until it is not.
 
-Each answer carries what the analyses up to it saw of the validity monitors, two separate
-questions: ``lifts_off`` (some analysis at or below the answer left the support, N ≤ 0) and,
+Each answer carries what the analyses up to its window (I_p·e^w, the analyses it is judged
+on) saw of the validity monitors, two separate questions: ``lifts_off`` (some analysis there
+left the support, N ≤ 0) and,
 given the support's friction coefficient μ, ``slides`` (some analysis that did not overturn
 needed μ_req > μ while in contact; NaN without μ): the fall of an overturning body needs
 unbounded friction as N → 0⁺, so it is not counted as sliding
@@ -79,6 +82,11 @@ RETRY_RTOL_FACTOR = 0.1
 
 MAX_ANALYSES = 2000
 """Safety net: no search of one spectrum point may run more analyses than this."""
+
+EXTEND_SHARE = 0.5
+"""A local sample is extended down while P̂ at the lowest s it can judge is at least this
+share of p [-]: below a sample the scan alone has looked (one analysis per grid step), and
+where P lies near p there it misses the exceedances often."""
 
 MIN_AT_REST = 1e-3
 """Lowest intensity, over the uplift intensity, down to which the search follows a limit
@@ -214,11 +222,12 @@ class CriticalResult:
         An analysis below the answer's window failed even after a retry with a tighter rtol,
         so an exceedance there may have been missed.
     slides : ndarray of float
-        1.0 where an analysis at or below the answer (up to :attr:`upper` where not
-        reached) that did not overturn needed more friction than :attr:`mu` while in
-        contact (``mu_required_max`` > μ), 0.0 where none did, NaN without μ.
+        1.0 where an analysis up to the answer's window (I_p·e^w; the first exceedance
+        itself under ``first_exceedance``; :attr:`upper` where not reached) that did not
+        overturn needed more friction than :attr:`mu` while in contact
+        (``mu_required_max`` > μ), 0.0 where none did, NaN without μ.
     lifts_off : ndarray of bool
-        An analysis at or below the answer had a normal force N ≤ 0 (the body left its
+        An analysis up to the answer's window had a normal force N ≤ 0 (the body left its
         support).
     n_analyses : int
         Analyses run (retries included), shared by all limit states.
@@ -537,6 +546,7 @@ class _Search:
         self.scan_from = np.full(n, -math.inf)  # the scan looks above this intensity
         self.requested: list[set[int]] = [set() for _ in range(n)]  # strata to sample
         self.covered: list[set[int]] = [set() for _ in range(n)]  # strata sampled and known
+        self.tried: list[set[int]] = [set() for _ in range(n)]  # strata sampled (or failed)
         self.stratum_row: dict[int, float] = {}  # stratum → its sample's intensity
         self.answer = np.full(n, np.nan)
         self.i50 = np.full(n, np.nan)
@@ -678,6 +688,7 @@ class _Search:
         n = len(self.states)
         for k in range(n):
             for m in self.requested[k]:
+                self.tried[k].add(m)
                 if m < 0 and self._virtual(k):
                     self.covered[k].add(m)
                     continue
@@ -745,14 +756,21 @@ class _Search:
         p, w = self.q.p, self.q.w
         ls, P, edges = self._estimate(k)
         reach = np.flatnonzero(P >= p - 1e-12) if ls.size else np.zeros(0, dtype=int)
-        if reach.size:
-            s = float(ls[reach[0]])
-            for lo, a, can_extend in edges:
-                if can_extend and abs(s - lo) < 1e-12:
-                    # P̂ >= p at the lowest s this run can judge: I_p may lie lower
-                    nb = max(1, math.ceil(self.acc.local_below / self.delta))
-                    self.requested[k] |= set(range(a - nb, a))
+        s = float(ls[reach[0]]) if reach.size else math.inf
+        for lo, a, can_extend in edges:
+            # P̂ at the lowest s this run can judge reaches p (I_p may lie lower) or comes
+            # within EXTEND_SHARE of it (P may cross p just below, where only the scan
+            # looked): the sample is extended down
+            if can_extend and lo <= s + 1e-12 and \
+                    float(P[np.searchsorted(ls, lo)]) >= EXTEND_SHARE * p - 1e-12:
+                nb = max(1, math.ceil(self.acc.local_below / self.delta))
+                while a - 1 in self.tried[k] - self.covered[k]:  # failed strata below
+                    a -= 1
+                new = set(range(a - nb, a)) - self.tried[k]
+                if new:  # else the run below, or failures, stop it: judged as it is
+                    self.requested[k] |= new
                     return
+        if reach.size:
             self.answer[k] = math.exp(s)
             below = P[ls < s - 2.0 * w]
             self.plateau[k] = bool(below.size and below.max() >= PLATEAU_SHARE * p)
@@ -796,14 +814,15 @@ class _Search:
         answer = self.answer.copy()
         not_reached = np.isnan(answer)
         plateau = self.plateau | (not_reached & (self.best_below >= PLATEAU_SHARE * self.q.p))
-        # the answer's window: an analysis failed inside or below it may hide exceedances
+        # the answer's window (I_p is judged on the analyses up to I_p·e^w): the flags see the
+        # analyses up to its top, and a failure there may hide exceedances
         reach = np.where(not_reached, np.inf,
                          answer * (math.exp(self.q.w) if self.q.is_quantile else 1.0))
         failed_at = np.asarray(self.rows.failed_at, dtype=float)
         failed = np.zeros(n, dtype=bool)
         if failed_at.size:
             failed |= (failed_at[:, None] < reach[None, :]).any(axis=0)
-        slides, lifts_off = self.rows.monitor_flags(np.where(not_reached, np.inf, answer), mu)
+        slides, lifts_off = self.rows.monitor_flags(reach, mu)
         return CriticalResult(
             limit_states=tuple(ls.name for ls in self.states),
             intensity=answer,
