@@ -91,6 +91,7 @@ rule headline:
     params:
         store=lambda wildcards: product_store("spectra", wildcards.study),
     threads: compute_threads()
+    priority: COMPUTE_PRIORITY["headline"]
     log:
         out_path("logs/{study}/headline.log"),
     script:
