@@ -817,8 +817,8 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
            "(2017)" in html
     mean = float(np.mean(answers))
     assert f"mean I10 of {mean:.2f}" in html
-    assert f"{mean * 1.1:.2f} on the 1 % grid" in html
-    assert f"{mean * 1.01:.2f} on the 0.1 % grid" in html
+    assert f"{mean * 1.1:.2f} (1 %)" in html
+    assert f"{mean * 1.01:.2f} (0.1 %)" in html
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
@@ -1002,7 +1002,7 @@ def test_fig09_counts_plateau_answers_per_motion_and_names_the_quantity(study, t
     assert f"{label}; {k} of {n} answers on a plateau" in texts
     assert sum("plateau" in t for t in texts) == 1  # the other motions: none
     assert legend.get_title().get_text().startswith(
-        "I10: ≥ 10 % of the intensities within ±2 % exceed")
+        "I10 = lowest PGA/(g tan α) at which ≥ 10 % of the intensities within ±2 % exceed")
     assert fig.axes[0].get_ylabel() == "I10 PGA/(g tan α) [-]"
     rings = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"
              and ln.get_mfc() == "none" and len(ln.get_xdata())]

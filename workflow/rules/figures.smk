@@ -90,7 +90,9 @@ rule headline:
         csv=out_path("{study}/headline.csv"),
     params:
         store=lambda wildcards: product_store("spectra", wildcards.study),
-    threads: compute_threads()
+    # one core: it runs beside the tables and figures that follow the spectra instead of
+    # waiting for both cores to be free
+    threads: 1
     priority: COMPUTE_PRIORITY["headline"]
     log:
         out_path("logs/{study}/headline.log"),

@@ -240,16 +240,17 @@ def answer_label(attrs: dict) -> str:
 
 
 def answer_definition(attrs: dict) -> str:
-    """The quantity in one phrase for a legend: ``"I10: ≥ 10 % of the intensities within
-    ±2 % exceed"``, or the first exceedance with its grid (:func:`answer_label`)."""
+    """The quantity in one phrase for a legend: ``"I10 = lowest PGA/(g tan α) at which ≥ 10 %
+    of the intensities within ±2 % exceed"``, or the first exceedance with its grid
+    (:func:`answer_label`)."""
     from rocking.spectra.quantity import Quantity
     from rocking.study.aggregate import store_quantity
 
     q = Quantity.from_value(store_quantity(attrs))
     if not q.is_quantile:
         return answer_label(attrs)
-    return (f"{q.label}: ≥ {100 * q.p:g} % of the intensities within ±{100 * q.w:g} % "
-            "exceed")
+    return (f"{q.label} = lowest PGA/(g tan α) at which ≥ {100 * q.p:g} % of the intensities "
+            f"within ±{100 * q.w:g} % exceed")
 
 
 def computed(ds: xr.Dataset) -> xr.DataArray:

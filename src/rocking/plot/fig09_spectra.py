@@ -298,7 +298,7 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
     # the legend says what each curve is: the quantity, and what a plateau means
     title = "\n".join(t for t in (
         d.get("answer_definition", ""),
-        "plateau: the share rises near it below the answer without reaching it"
+        "plateau: below the answer the share of exceeding intensities nears it unreached"
         if any(counts.values()) else "") if t) or None
     below = -0.03 if DAMPED in d.get("modes", ()) else -0.12  # under the R axis if it has one
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, below), ncols=ncols,

@@ -252,8 +252,8 @@ def plot(d: dict) -> Figure:
     pga_g_axis(ax, d["tan_alpha"])
     on_plateau = any(np.any(f) for f in d.get("plateau", {}).values())
     ax.legend(loc="upper left", fontsize=7, title_fontsize=7,
-              title=f"mean {d.get('answer_definition', 'critical intensity')}\n"
-              + "performance goal" + (" (line fit)" if fitted else "")
+              title=f"mean {d.get('answer', 'critical intensity')} per performance goal"
+              + (" (line fit)" if fitted else "")
               + ("; some means over answers on a plateau" if on_plateau else ""))
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None

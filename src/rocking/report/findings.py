@@ -53,11 +53,11 @@ def headline_text(who: str, R: float, mean: float, std: float | None, n: float |
             "intensities exceed)" if answer.startswith("I") else
             f"{who}, R = {R:g} m: the 3D model overturns at a mean {answer} of {mean:.2f}{se}")
     if grids and grids.get("grids") and math.isclose(float(grids.get("R", R)), R):
-        by = ", ".join(f"{v:.2f} on the {100 * s:g} % grid" for s, v in grids["grids"].items())
-        over = (f" (over {grids['n']} of {grids['of']} motions)"
+        by = ", ".join(f"{v:.2f} ({100 * s:g} %)" for s, v in grids["grids"].items())
+        over = (f", over {grids['n']} of {grids['of']} motions"
                 if grids["n"] != grids["of"] else "")
-        text += (f"; the classic answer, the smallest exceeding intensity, of the same cells "
-                 f"falls as the scan grid is refined: mean {by}{over}")
+        text += (f"; the same cells' mean first exceedance, by scan grid: {by}{over}: the "
+                 "classic answer falls as its grid is refined")
     return text + (" (paper: about 4)" if paper else "")
 
 
@@ -272,8 +272,8 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
                     return text
                 ends = sub.iloc[[0, -1]] if len(sub) > 1 else sub
                 text = (f"Annual frequency λ of {limit_state_title(ls).lower()}, "
-                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, first-exceedance "
-                        "fragility under the study's hazard curve: "
+                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, fragility of the "
+                        "per-motion answers under the study's hazard curve: "
                         + " to ".join(lam(x) for _, x in ends.iterrows()))
                 if len(stripe):  # the λ the risk section recommends
                     text += "; with the multiple-stripe fragility " + ", ".join(
@@ -285,10 +285,10 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
         ratio = ratio[np.isfinite(ratio)]
         if ratio.size:
             out.append(Finding(
-                f"Multiple-stripe median against first-exceedance median: "
-                f"{ratio.min():.2f}–{ratio.max():.2f}× over {ratio.size} cells (the first "
-                "exceedance marks where exceedance starts, the stripe median where half the "
-                "motions exceed)", "stripes"))
+                f"Multiple-stripe median against the median of the per-motion answers: "
+                f"{ratio.min():.2f}–{ratio.max():.2f}× over {ratio.size} cells (a per-motion "
+                "answer marks where exceedance begins near it, the stripe median where half "
+                "the motions exceed)", "stripes"))
     return out
 
 
