@@ -628,42 +628,49 @@ BASELINE = "f651462"
 """The commit whose ``default`` preset the trade is measured against (main before issue 45:
 a fixed 1 % scan, 0.5 % bisection and a 20-analysis refinement of near misses per point)."""
 
+BASELINE_NAME = f"default before ({BASELINE}: 1 % scan + 20 refinement analyses)"
+"""How the baseline is named in the tables."""
+
 _REAL_SCRIPT = r"""
 import json, sys, time
 from rocking.dynamics.bodies import Cylinder
 from rocking.spectra.critical import critical_intensity
 sys.path.insert(0, {bench!r})
 from benchmarks.study_motions import study_motions
-_m = study_motions()
-motions = lambda: _m
-points = json.loads(sys.argv[1])
+motions = study_motions()
+jobs = json.loads(sys.argv[1])
 configs = json.loads(sys.argv[2])
 out = []
-for m, mode, R, t, goals in points:
+warm = set()
+for m, mode, R, t, goals, upper in jobs:
     body = Cylinder(R, t)
-    critical_intensity(body, motions()[m], list(goals)[:1], mode, accuracy="fast", upper=1.5)
+    if mode not in warm:  # compilation (or the cache's load) is no search's cost
+        critical_intensity(body, motions[m], list(goals)[:1], mode, accuracy="fast",
+                           upper=1.5)
+        warm.add(mode)
     for cfg in configs:
         t0 = time.process_time()
-        res = critical_intensity(body, motions()[m], list(goals), mode, accuracy=cfg,
-                                 upper={upper})
+        res = critical_intensity(body, motions[m], list(goals), mode, accuracy=cfg,
+                                 upper=upper)
         cpu = time.process_time() - t0
-        out.append({{"key": [m, mode, R, t, list(goals)], "config": cfg if isinstance(cfg, str)
-                     else cfg.get("name", "custom"),
+        out.append({{"key": [m, mode, R, t, list(goals)], "upper": upper,
+                     "config": cfg if isinstance(cfg, str) else cfg.get("name", "custom"),
                      "intensity": dict(zip(res.limit_states, map(float, res.intensity))),
                      "analyses": res.n_analyses, "cpu": cpu}})
 print(json.dumps(out))
 """
 
 
-def real_searches(points, configs: list, src: Path | None = None) -> list[dict]:
-    """Real searches of ``configs`` (preset names or accuracy dicts) on ``points`` in a
-    subprocess (the library under ``src``, default this checkout's), with CPU seconds."""
+def real_searches(jobs, configs: list, src: Path | None = None) -> list[dict]:
+    """Real searches of ``configs`` (preset names or accuracy dicts) on ``jobs`` (point
+    keys, each with its search bound) in a subprocess running the library under ``src``
+    (default this checkout's), with CPU seconds per search."""
     here = Path(__file__).resolve().parents[1]
     env = dict(os.environ)
     env["PYTHONPATH"] = str((src or here / "src").resolve())
-    env.setdefault("NUMBA_CACHE_DIR", str(Path(tempfile.gettempdir()) / "rocking-bench-numba"))
-    script = _REAL_SCRIPT.format(bench=str(here), upper=UPPER)
-    out = subprocess.run([sys.executable, "-c", script, json.dumps([list(p) for p in points]),
+    script = _REAL_SCRIPT.format(bench=str(here))
+    args = [[*k[:4], list(k[4]), float(u)] for k, u in jobs]
+    out = subprocess.run([sys.executable, "-c", script, json.dumps(args),
                           json.dumps(configs)], env=env, capture_output=True, text=True,
                          check=False)
     if out.returncode != 0:
@@ -672,6 +679,20 @@ def real_searches(points, configs: list, src: Path | None = None) -> list[dict]:
     for r in rows:
         r["key"] = (r["key"][0], r["key"][1], r["key"][2], r["key"][3], tuple(r["key"][4]))
     return rows
+
+
+def side_by_side(jobs, configs: list, chunk: int = 6) -> list[dict]:
+    """``configs`` of this checkout and the ``default`` of :data:`BASELINE` on ``jobs``,
+    chunk by chunk in alternation (the load of the shared machine falls on both alike)."""
+    runs: list[dict] = []
+    for i in range(0, len(jobs), chunk):
+        part = jobs[i:i + chunk]
+        runs += real_searches(part, configs)
+        for r in real_searches(part, ["default"], baseline_src()):
+            r["config"] = BASELINE_NAME
+            runs.append(r)
+        print(f"  searches {min(i + chunk, len(jobs))}/{len(jobs)}", flush=True)
+    return runs
 
 
 def baseline_src() -> Path:
@@ -686,17 +707,9 @@ def baseline_src() -> Path:
     return dest / "src"
 
 
-def trade_rows(points, ref: pd.DataFrame, jobs: int) -> tuple[list[dict], list[dict]]:
-    """Presets as real searches beside the baseline's default, side by side per point (the
-    two run in alternation, so the machine's load falls on both alike)."""
-    presets = ["fast", "default", "precise"]
-    runs: list[dict] = []
-    for i, key in enumerate(points):
-        runs += real_searches([key], presets)
-        for r in real_searches([key], ["default"], baseline_src()):
-            r["config"] = f"default before issue 45 ({BASELINE})"
-            runs.append(r)
-        print(f"  searches {i + 1}/{len(points)} {_key_name(key)}", flush=True)
+def trade_rows(points, ref: pd.DataFrame) -> tuple[list[dict], list[dict]]:
+    """The presets as real searches beside the baseline's default (:func:`side_by_side`)."""
+    runs = side_by_side([(k, UPPER) for k in points], ["fast", "default", "precise"])
     rows = []
     for config in dict.fromkeys(r["config"] for r in runs):
         for goals in (GOALS_2, GOALS_7):
@@ -709,12 +722,68 @@ def trade_rows(points, ref: pd.DataFrame, jobs: int) -> tuple[list[dict], list[d
 
 
 # ----------------------------------------------------------------------------------- paper
-PAPER_POINTS = {("elcentro", MODE_3D, 0.2, 7): 220, ("elcentro", MODE_3D, 0.1, 2): 220,
-                ("elcentro", MODE_3D, 0.3, 2): 220, ("elcentro", MODE_3D_DAMPED, 0.2, 2): 220,
-                ("elcentro", MODE_2D_X, 0.2, 2): 220, ("elcentro", MODE_2D_Y, 0.2, 2): 220,
-                ("lomaprieta", MODE_3D, 0.2, 2): 220, ("lomaprieta", MODE_3D, 0.1, 2): 0,
-                ("lomaprieta", MODE_2D_X, 0.2, 2): 220, ("lomaprieta", MODE_2D_Y, 0.2, 2): 220}
-"""Spectrum points of config/paper.yaml per (study, mode, tan α, goals) (20 R × 11 motions)."""
+PAPER_GROUPS = (
+    # (study, mode, tan α, goals, search bound, points in config/paper.yaml)
+    ("elcentro", MODE_3D, 0.2, GOALS_7, 20.0, 220),
+    ("elcentro", MODE_3D, 0.1, GOALS_2, 20.0, 220),
+    ("elcentro", MODE_3D, 0.3, GOALS_2, 20.0, 220),
+    ("elcentro", MODE_3D_DAMPED, 0.2, GOALS_2, 20.0, 220),
+    ("elcentro", MODE_2D_X, 0.2, GOALS_2, 20.0, 220),
+    ("elcentro", MODE_2D_Y, 0.2, GOALS_2, 20.0, 220),
+    ("lomaprieta", MODE_3D, 0.2, GOALS_2, 60.0, 220),
+    ("lomaprieta", MODE_2D_X, 0.2, GOALS_2, 60.0, 220),
+    ("lomaprieta", MODE_2D_Y, 0.2, GOALS_2, 60.0, 220),
+)
+"""The spectrum points of config/paper.yaml (20 R × 11 motions per group)."""
+
+PAPER_MOTIONS = {"elcentro": ("ec", "syn0", "syn3"), "lomaprieta": ("lp", "lpsyn0", "lpsyn1")}
+PAPER_R = (1.0, 3.5, 6.0, 8.5, 10.0)
+"""The sample of each group: three motions × five sizes of the study's R grid."""
+
+PAPER_SEARCH_SECONDS = {"elcentro": 861.0, "lomaprieta": 339.0}
+"""Wall seconds of each study's searches in the quiet paper run of 2026-11-28 (32 min 23 s
+on 2 cores, docs/performance.md), made with :data:`BASELINE`'s default."""
+
+
+def paper_rows() -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Per paper group: analyses and CPU seconds per point of the new default and the
+    baseline's on the sample; and per study the searches' time estimated from them."""
+    jobs = [((m, mode, R, t, goals), upper)
+            for study, mode, t, goals, upper, _ in PAPER_GROUPS
+            for m in PAPER_MOTIONS[study] for R in PAPER_R]
+    runs = side_by_side(jobs, ["default"])
+    group_of = {(m, mode, t, len(goals)): (study, mode, t, len(goals))
+                for study, mode, t, goals, _, _ in PAPER_GROUPS for m in PAPER_MOTIONS[study]}
+    rows = []
+    for study, mode, t, goals, upper, count in PAPER_GROUPS:
+        for config in ("default", BASELINE_NAME):
+            sel = [r for r in runs if r["config"] == config and group_of.get(
+                (r["key"][0], r["key"][1], r["key"][3], len(r["key"][4]))) ==
+                (study, mode, t, len(goals))]
+            rows.append({"study": study, "mode": mode, "tan_alpha": t, "goals": len(goals),
+                         "upper": upper, "paper_points": count, "config": config,
+                         "sample": len(sel),
+                         "analyses_per_point": float(np.mean([r["analyses"] for r in sel])),
+                         "cpu_s_per_point": float(np.mean([r["cpu"] for r in sel]))})
+    groups = pd.DataFrame(rows)
+    est = []
+    for study, seconds in PAPER_SEARCH_SECONDS.items():
+        g = groups[groups["study"] == study]
+        cost = {c: float((d["paper_points"] * d["cpu_s_per_point"]).sum())
+                for c, d in g.groupby("config")}
+        ratio = cost["default"] / cost[BASELINE_NAME]
+        # issue 46: the undamped 3D model under one component (3d-x, 3d-y), 2 goals, priced
+        # as the 3D mode of the study at tan α 0.2 with two goals (an assumption)
+        three = g[(g["mode"] == MODE_3D) & (g["goals"] == 2) & (g["tan_alpha"] == 0.2)]
+        extra = 440 * float(three.set_index("config").loc["default", "cpu_s_per_point"]) \
+            if len(three) else math.nan
+        est.append({"study": study, "search_cpu_s_before": cost[BASELINE_NAME],
+                    "search_cpu_s_after": cost["default"], "ratio": ratio,
+                    "search_wall_s_timed_before": seconds,
+                    "search_wall_s_estimated_after": seconds * ratio,
+                    "with_3d_x_y_wall_s": seconds * (cost["default"] + extra)
+                    / cost[BASELINE_NAME]})
+    return groups, pd.DataFrame(est)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -725,7 +794,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (lattices)")
     parser.add_argument("--seeds", type=int, default=8,
                         help="random offsets per point in the simulated trade")
-    parser.add_argument("--stage", choices=("lattice", "sim", "trade", "all"), default="all")
+    parser.add_argument("--stage", choices=("lattice", "sim", "trade", "paper", "all"),
+                        default="all")
     args = parser.parse_args(argv)
     keys = list(POINTS[: args.points])
     lats = lattices(keys, args.jobs)
@@ -743,7 +813,7 @@ def main(argv: list[str] | None = None) -> int:
                     f"(each timed when the lattice was made, run to the largest goal it "
                     f"served: an upper bound of the search's).")
     if args.stage in ("trade", "all"):
-        rows, runs = trade_rows(keys, ref, args.jobs)
+        rows, runs = trade_rows(keys, ref)
         trade = pd.DataFrame(rows)
         (results_dir() / "resolution_trade_runs.json").write_text(
             json.dumps(runs, default=list))
@@ -752,6 +822,14 @@ def main(argv: list[str] | None = None) -> int:
                     "the baseline's default in alternation); CPU seconds per point on a "
                     "2-core machine shared with other work (upper bounds).")
         print(trade.to_string(), flush=True)
+    if args.stage in ("paper", "all"):
+        groups, est = paper_rows()
+        write_table("resolution_paper", groups, "The paper run's searches, sampled",
+                    "Real searches on a sample of config/paper.yaml's points (three motions × "
+                    "R = " + ", ".join(f"{r:g}" for r in PAPER_R) + " m per group), this "
+                    "default and the baseline's in alternation; CPU seconds on a shared "
+                    "2-core machine.\n\n" + est.to_markdown(index=False))
+        print(groups.to_string(), est.to_string(), sep="\n", flush=True)
     return 0
 
 

@@ -14,6 +14,8 @@ MOTION_LABELS = {
     "syn0": "synthetic pair 0 of El Centro's ensemble (recorded RDK fit, seed 2017)",
     "syn1": "its pair 1", "syn2": "its pair 2", "syn3": "its pair 3", "syn4": "its pair 4",
     "lp": "Loma Prieta 1989 (the study's record), as the study processes it",
+    "lpsyn0": "synthetic pair 0 of Loma Prieta's ensemble (recorded RDK fit, seed 1989)",
+    "lpsyn1": "its pair 1",
 }
 """Short names of the motions and what they are."""
 
@@ -29,7 +31,7 @@ def study_motions() -> dict[str, GroundMotion]:
     lp_rec = read_params_file(root / "lomaprieta.params.json")["records"]
     lp_name = next(iter(lp_rec))
     ec = build_ensemble(load_record("el-centro-1940"), 5, 2017, recorded=ec_rec).motions
-    lp = build_ensemble(load_record(lp_name), 0, 1989, recorded=lp_rec[lp_name]).motions[0]
-    out = {"ec": ec[0], "lp": lp}
+    lp = build_ensemble(load_record(lp_name), 2, 1989, recorded=lp_rec[lp_name]).motions
+    out = {"ec": ec[0], "lp": lp[0], "lpsyn0": lp[1], "lpsyn1": lp[2]}
     out.update({f"syn{i}": m for i, m in enumerate(ec[1:])})
     return out

@@ -65,6 +65,7 @@ class Accuracy:
     local_step: float
     local_below: float = 0.06
     local_above: float = 0.03
+    confirm: bool = True
     rtol_damped: float | None = None
     rest_tilt: float | None = None
 

@@ -143,21 +143,25 @@ def _open_interval(key: str, value, lo: float, hi: float) -> float:
 
 
 # --------------------------------------------------------------------------- estimators
-def _sample(intensities, exceeded) -> tuple[np.ndarray, np.ndarray]:
-    """(ln x, exceeded) sorted by intensity, the positive finite intensities only."""
+def _sample(intensities, exceeded, weights=None) -> tuple[np.ndarray, np.ndarray,
+                                                         np.ndarray]:
+    """(ln x, exceeded, weight) sorted by intensity, the positive finite intensities only."""
     x = np.asarray(intensities, dtype=float).ravel()
     e = np.asarray(exceeded, dtype=bool).ravel()
-    if x.shape != e.shape:
-        raise ValueError(f"intensities and exceeded must have one shape, got {x.shape} "
-                         f"and {e.shape}")
+    wt = np.ones(x.shape) if weights is None else np.asarray(weights, dtype=float).ravel()
+    if x.shape != e.shape or x.shape != wt.shape:
+        raise ValueError(f"intensities, exceeded and weights must have one shape, got "
+                         f"{x.shape}, {e.shape} and {wt.shape}")
     if np.isnan(x).any():
         raise ValueError("intensities must not contain NaN")
+    if not (np.isfinite(wt) & (wt > 0)).all():
+        raise ValueError("weights must be finite and > 0")
     keep = (x > 0.0) & np.isfinite(x)
     order = np.argsort(x[keep], kind="stable")
-    return np.log(x[keep][order]), e[keep][order]
+    return np.log(x[keep][order]), e[keep][order], wt[keep][order]
 
 
-def local_exceedance(intensities, exceeded, s, w: float) -> np.ndarray:
+def local_exceedance(intensities, exceeded, s, w: float, weights=None) -> np.ndarray:
     """P̂(s): the share of the analysed intensities within |ln(x/s)| <= w that exceed.
 
     Parameters
@@ -170,6 +174,10 @@ def local_exceedance(intensities, exceeded, s, w: float) -> np.ndarray:
         Intensities at which to estimate P [-].
     w : float
         Half-width of the window in ln s [-], > 0.
+    weights : array_like, optional
+        Weight of each analysis (> 0; default 1): the share is weighted, so a sample denser
+        in one part of a window (the search's, where it confirms an answer) counts each part
+        by its width, not by its number of analyses.
 
     Returns
     -------
@@ -177,39 +185,33 @@ def local_exceedance(intensities, exceeded, s, w: float) -> np.ndarray:
         P̂ at each s (shape of ``s``); NaN where the window holds no analysed intensity.
     """
     w = _open_interval("w", w, 0.0, math.inf)
-    lx, e = _sample(intensities, exceeded)
+    lx, e, wt = _sample(intensities, exceeded, weights)
     ls = np.log(np.asarray(s, dtype=float))
-    cum = np.concatenate([[0], np.cumsum(e)])
+    cum_e = np.concatenate([[0.0], np.cumsum(wt * e)])
+    cum_w = np.concatenate([[0.0], np.cumsum(wt)])
     # the window is closed: x e^{-w}..x e^{+w}; a tiny slack keeps a sample lying exactly on
     # an edge (a lattice point s·e^{±w}) inside despite the rounding of the logarithms
     eps = 1e-12
     lo = np.searchsorted(lx, ls - w - eps, side="left")
     hi = np.searchsorted(lx, ls + w + eps, side="right")
-    n = hi - lo
+    total = cum_w[hi] - cum_w[lo]
     with np.errstate(invalid="ignore", divide="ignore"):
-        out = np.where(n > 0, (cum[hi] - cum[lo]) / np.maximum(n, 1), np.nan)
-    return out.astype(float)
+        out = np.where(hi > lo, (cum_e[hi] - cum_e[lo]) / np.where(hi > lo, total, 1.0),
+                       np.nan)
+    return np.asarray(out, dtype=float)
 
 
-def _profile(lx: np.ndarray, e: np.ndarray, w: float) -> tuple[np.ndarray, np.ndarray]:
-    """P̂ as a step function of ln s: (ln s at each step, P̂ from there to the next step).
-
-    P̂ changes only where a sample enters (ln s = ln x − w, closed) or leaves
-    (just after ln x + w) the window; on each piece between these breakpoints it is
-    constant, and at an entry point it already counts the sample entering. Returned are
-    the breakpoints (entries, and leaves nudged just past them) with P̂ on [b_i, b_{i+1})."""
-    eps = 1e-12
-    cuts = np.unique(np.concatenate([lx - w, lx + w + 2 * eps]))
-    cum = np.concatenate([[0], np.cumsum(e)])
-    lo = np.searchsorted(lx, cuts - w - eps, side="left")
-    hi = np.searchsorted(lx, cuts + w + eps, side="right")
-    n = hi - lo
-    with np.errstate(invalid="ignore", divide="ignore"):
-        P = np.where(n > 0, (cum[hi] - cum[lo]) / np.maximum(n, 1), np.nan)
-    return cuts, P
+def breakpoints(intensities, w: float) -> np.ndarray:
+    """The s [-] at which P̂ of a sample may change, increasing: where an analysed
+    intensity x enters the window (s = x e^{-w}, closed) or has just left it (s just past
+    x e^{w}). P̂ is constant from each to the next, so its infimum crossing of any level
+    is one of them."""
+    lx = np.log(np.asarray(intensities, dtype=float).ravel())
+    return np.exp(np.unique(np.concatenate([lx - w, lx + w + 2e-12])))
 
 
-def exceedance_quantile(intensities, exceeded, p: float, w: float) -> tuple[float, bool]:
+def exceedance_quantile(intensities, exceeded, p: float, w: float,
+                        weights=None) -> tuple[float, bool]:
     """I_p = inf{s : P̂(s) >= p} of an analysed sample, and whether it is on a plateau.
 
     Parameters
@@ -220,6 +222,8 @@ def exceedance_quantile(intensities, exceeded, p: float, w: float) -> tuple[floa
         Exceedance share [-], in (0, 1).
     w : float
         Half-width of the window in ln s [-], > 0.
+    weights : array_like, optional
+        As in :func:`local_exceedance`.
 
     Returns
     -------
@@ -231,14 +235,15 @@ def exceedance_quantile(intensities, exceeded, p: float, w: float) -> tuple[floa
     """
     p = _open_interval("p", p, 0.0, 1.0)
     w = _open_interval("w", w, 0.0, math.inf)
-    lx, e = _sample(intensities, exceeded)
+    lx, e, wt = _sample(intensities, exceeded, weights)
     if not e.any():
         return math.nan, False
-    cuts, P = _profile(lx, e, w)
+    s = breakpoints(np.exp(lx), w)
+    P = local_exceedance(np.exp(lx), e, s, w, wt)
     reach = np.flatnonzero(P >= p - 1e-12)
     if reach.size == 0:
         return math.nan, bool(np.nanmax(P) >= PLATEAU_SHARE * p)
-    ip = float(cuts[reach[0]])
-    below = P[cuts < ip - 2.0 * w]
+    ip = float(s[reach[0]])
+    below = P[s < ip * math.exp(-2.0 * w)]
     plateau = bool(below.size and np.nanmax(below, initial=0.0) >= PLATEAU_SHARE * p)
-    return float(math.exp(ip)), plateau
+    return ip, plateau

@@ -182,11 +182,21 @@ class Samples:
         lower goal, or failed).
     local : ndarray of bool
         The analysis belongs to a local sample (jittered strata), not to the scan grid.
+    stratum : ndarray of int
+        Stratum of each analysis: floor(ln(I/I_uplift)/δ), δ the local sample's step.
     """
 
     intensity: np.ndarray
     exceeded: np.ndarray
     local: np.ndarray
+    stratum: np.ndarray | None = None
+
+    def weights(self, known: np.ndarray) -> np.ndarray:
+        """Weight of each analysis among those ``known``: 1 over the number of them in its
+        stratum (each stratum weighs its width, however many analyses it holds)."""
+        s = np.asarray(self.stratum)[known]
+        _, inverse, counts = np.unique(s, return_inverse=True, return_counts=True)
+        return 1.0 / counts[inverse]
 
 
 @dataclass(frozen=True, eq=False)
@@ -333,9 +343,10 @@ class CriticalResult:
             raise ValueError("this result carries no samples")
         k = self.index(limit_state)
         e = self.samples.exceeded[:, k]
-        keep = self.samples.local & ~np.isnan(e)
+        keep = ~np.isnan(e) & (self.samples.intensity > 0)
         return local_exceedance(self.samples.intensity[keep], e[keep] == 1.0, s,
-                                self.quantity.w if w is None else w)
+                                self.quantity.w if w is None else w,
+                                self.samples.weights(keep))
 
     def to_records(self) -> list[dict]:
         """One JSON-serialisable dict per limit state."""
@@ -398,11 +409,14 @@ def scan_offset(seed: int) -> float:
     return float(np.random.default_rng([seed, 0]).random())
 
 
-def stratum_offset(seed: int, m: int) -> float:
-    """Position u ∈ [0, 1) of the local sample inside stratum ``m`` of a cell (the
-    stratum [m δ, (m + 1) δ) in ln(I/I_uplift)); one draw per stratum, whatever the order
-    in which strata are sampled."""
-    return float(np.random.default_rng([seed, 1, m + (1 << 40)]).random())
+def stratum_offset(seed: int, m: int, level: int = 0) -> float:
+    """Position u ∈ [0, 1) of a local sample inside stratum ``m`` of a cell (the stratum
+    [m δ, (m + 1) δ) in ln(I/I_uplift)): one draw per stratum, whatever the order in which
+    strata are sampled; the second sample of a stratum (``level`` 1, where the answer is
+    confirmed) lies half a stratum from the first, so the two are a jittered sample of
+    step δ/2."""
+    u = float(np.random.default_rng([seed, 1, m + (1 << 40)]).random())
+    return u if level == 0 else (u + 0.5) % 1.0
 
 
 # --------------------------------------------------------------------------------------
@@ -487,12 +501,15 @@ class _Rows:
         last_safe = np.max(np.where(known & ~exc, intens, -np.inf), axis=0)
         return last_safe > first_hit
 
-    def samples(self) -> Samples:
+    def samples(self, lower: float, delta: float) -> Samples:
         intens, known, exc = self.arrays()
         order = np.argsort(intens, kind="stable")
         e = np.where(known, exc.astype(float), np.nan)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            stratum = np.floor(np.log(intens / lower) / delta)
+        stratum = np.where(np.isfinite(stratum), stratum, -(1 << 40)).astype(np.int64)
         return Samples(intens[order], e[order], np.asarray(self.local, dtype=bool)[order]
-                       if self.local else np.zeros(0, dtype=bool))
+                       if self.local else np.zeros(0, dtype=bool), stratum[order])
 
 
 def _runs(strata: set[int]) -> list[tuple[int, int]]:
@@ -524,6 +541,8 @@ def _monitors(out: Outcome) -> tuple[float, float]:
 class _Search:
     """State of one search: analyses run so far and the rules choosing the next ones."""
 
+    grid_in_p = True
+
     def __init__(self, analyze: AnalysisFn, states, alpha: float, lower: float, upper: float,
                  acc: Accuracy, quantity: Quantity, rtol: float, seed: int):
         self.analyze = analyze
@@ -544,10 +563,12 @@ class _Search:
         self.at_rest = np.array([ls.at_rest for ls in self.states], dtype=bool)
         self.state = np.full(n, _SCAN)
         self.scan_from = np.full(n, -math.inf)  # the scan looks above this intensity
-        self.requested: list[set[int]] = [set() for _ in range(n)]  # strata to sample
+        self.requested: list[set[tuple[int, int]]] = [set() for _ in range(n)]  # (m, level)
         self.covered: list[set[int]] = [set() for _ in range(n)]  # strata sampled and known
         self.tried: list[set[int]] = [set() for _ in range(n)]  # strata sampled (or failed)
-        self.stratum_row: dict[int, float] = {}  # stratum → its sample's intensity
+        self.doubled: list[set[int]] = [set() for _ in range(n)]  # … with a second sample
+        self.tried2: list[set[tuple[int, int]]] = [set() for _ in range(n)]
+        self.stratum_row: dict[tuple[int, int], float] = {}  # (stratum, level) → intensity
         self.answer = np.full(n, np.nan)
         self.i50 = np.full(n, np.nan)
         self.plateau = np.zeros(n, dtype=bool)
@@ -667,14 +688,14 @@ class _Search:
         x = math.log(intensity / self.lower)
         lo = math.floor((x - self.acc.local_below) / self.delta)
         hi = math.ceil((x + self.acc.local_above) / self.delta) - 1
-        self.requested[k].update(range(lo, hi + 1))
+        self.requested[k].update((m, 0) for m in range(lo, hi + 1))
         self.cand_top[k] = intensity * math.exp(self.acc.local_above)
         self.state[k] = _LOCAL
 
     # --------------------------------------------------------------------- local
-    def stratum_point(self, m: int) -> float:
-        """The local sample's intensity in stratum m (drawn once per cell and stratum)."""
-        return self.lower * math.exp((m + stratum_offset(self.seed, m)) * self.delta)
+    def stratum_point(self, m: int, level: int = 0) -> float:
+        """A local sample's intensity in stratum m (drawn once per cell and stratum)."""
+        return self.lower * math.exp((m + stratum_offset(self.seed, m, level)) * self.delta)
 
     def _virtual(self, k: int) -> bool:
         """Strata below uplift count as not exceeded, unanalysed (a body at rest exceeds
@@ -682,28 +703,29 @@ class _Search:
         return not self.at_rest[k]
 
     def sample(self) -> None:
-        """Analyse every requested stratum, each once for all limit states asking for it
-        (stopped at the largest of their goals)."""
-        todo: dict[int, np.ndarray] = {}
+        """Analyse every requested (stratum, level), each once for all limit states asking
+        for it (stopped at the largest of their goals)."""
+        todo: dict[tuple[int, int], np.ndarray] = {}
         n = len(self.states)
         for k in range(n):
-            for m in self.requested[k]:
-                self.tried[k].add(m)
+            for m, level in self.requested[k]:
+                if level == 0:
+                    self.tried[k].add(m)
                 if m < 0 and self._virtual(k):
-                    self.covered[k].add(m)
+                    (self.covered if level == 0 else self.doubled)[k].add(m)
                     continue
-                todo.setdefault(m, np.zeros(n, dtype=bool))[k] = True
+                todo.setdefault((m, level), np.zeros(n, dtype=bool))[k] = True
             self.requested[k] = set()
-        for m in sorted(todo):
-            intensity = self.stratum_point(m)
+        for m, level in sorted(todo):
+            intensity = self.stratum_point(m, level)
             if intensity > self.upper:
                 continue
-            wanted = todo[m]
+            wanted = todo[(m, level)]
             if self.run(intensity, wanted, local=True):
-                self.stratum_row[m] = intensity
+                self.stratum_row[(m, level)] = intensity
                 for k in np.flatnonzero(wanted):
                     if self._status(intensity, int(k))[0]:
-                        self.covered[int(k)].add(m)
+                        (self.covered if level == 0 else self.doubled)[int(k)].add(m)
 
     def _estimate(self, k: int) -> tuple[np.ndarray, np.ndarray,
                                          list[tuple[float, int, bool]]]:
@@ -712,23 +734,45 @@ class _Search:
         judged ln s, its lowest stratum, whether it can extend down)."""
         w, d = self.q.w, self.delta
         ln_lower = math.log(self.lower)
-        xs, es = [], []
-        for m in self.covered[k]:
-            if m < 0 and self._virtual(k):
-                xs.append(ln_lower + (m + 0.5) * d)
-                es.append(False)
-                continue
-            known, exc = self._status(self.stratum_row[m], k)
-            if known:
-                xs.append(math.log(self.stratum_row[m]))
-                es.append(exc)
+        xs, es, ms = [], [], []
+        for level, strata in enumerate((self.covered[k], self.doubled[k])):
+            for m in strata:
+                if m < 0 and self._virtual(k):
+                    xs.append(ln_lower + (m + 0.25 + 0.5 * level) * d)
+                    es.append(False)
+                    ms.append(m)
+                    continue
+                if level and m not in self.covered[k]:
+                    continue  # a second sample counts where the first one does
+                known, exc = self._status(self.stratum_row[(m, level)], k)
+                if known:
+                    xs.append(math.log(self.stratum_row[(m, level)]))
+                    es.append(exc)
+                    ms.append(m)
         if not xs:
             return np.zeros(0), np.zeros(0), []
+        runs = _runs(self.covered[k])
+        if self.grid_in_p:
+            # the scan grid's analyses inside the sampled strata are a sample too (its
+            # offset is random): they add to the local sample
+            for i, intensity in enumerate(self.rows.intensity):
+                if not (self.rows.grid[i] and self.rows.known[i][k]) or \
+                        not intensity > self.lower:
+                    continue
+                m = math.floor(math.log(intensity / self.lower) / d)
+                if m in self.covered[k]:
+                    xs.append(math.log(intensity))
+                    es.append(bool(self.rows.exceeded[i][k]))
+                    ms.append(m)
         lx = np.asarray(xs)
         e = np.asarray(es, dtype=bool)
+        # each stratum weighs its width, however many analyses it holds
+        _, inverse, counts = np.unique(np.asarray(ms), return_inverse=True,
+                                       return_counts=True)
+        weight = 1.0 / counts[inverse]
         cuts = np.concatenate([lx - w, lx + w + 2e-12])
         points, edges = [], []
-        for a, b in _runs(self.covered[k]):
+        for a, b in runs:
             lo = ln_lower + a * d + w
             hi = ln_lower + (b + 1) * d - w
             if hi < lo:
@@ -743,7 +787,7 @@ class _Search:
         if not points:
             return np.zeros(0), np.zeros(0), []
         ls = np.sort(np.concatenate(points))
-        P = local_exceedance(np.exp(lx), e, np.exp(ls), w)
+        P = local_exceedance(np.exp(lx), e, np.exp(ls), w, weight)
         return ls, P, edges
 
     def _virtual_floor(self) -> int:
@@ -768,8 +812,21 @@ class _Search:
                     a -= 1
                 new = set(range(a - nb, a)) - self.tried[k]
                 if new:  # else the run below, or failures, stop it: judged as it is
-                    self.requested[k] |= new
+                    self.requested[k] |= {(m, 0) for m in new}
                     return
+        if reach.size and self.acc.confirm:
+            # the crossing is confirmed on a sample twice as dense: a second analysis in
+            # every stratum its window touches (P̂ of ~2w/δ analyses crosses p by chance
+            # where P lies near p)
+            ln_lower = math.log(self.lower)
+            lo = math.floor((s - w - ln_lower) / self.delta)
+            hi = math.floor((s + w - ln_lower) / self.delta)
+            missing = {m for m in range(lo, hi + 1) if m in self.covered[k]
+                       and (m, 1) not in self.tried2[k]}
+            if missing:
+                self.tried2[k] |= {(m, 1) for m in missing}
+                self.requested[k] |= {(m, 1) for m in missing}
+                return
         if reach.size:
             self.answer[k] = math.exp(s)
             below = P[ls < s - 2.0 * w]
@@ -838,7 +895,7 @@ class _Search:
             accuracy=self.acc,
             quantity=self.q,
             evaluations=tuple(self.evaluations),
-            samples=self.rows.samples(),
+            samples=self.rows.samples(self.lower, self.delta),
             slides=slides,
             lifts_off=lifts_off,
             mu=mu,
