@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from rocking.spectra.quantity import COLUMNS as QUANTITY_NAMES
 from rocking.store import REPAIR
 from rocking.units import CSV_FLOAT_FORMAT, attrs, header
 
@@ -132,19 +133,20 @@ def store_quantity(attrs) -> dict:
     return Quantity.from_value(found).to_dict()
 
 
-QUANTITY_COLUMNS = ("quantity", "quantity_p", "quantity_w", "scan_step")
-"""Columns naming the quantity of every table of answers: its name, p and w, and the step of
-the scan grid (which labels a first exceedance); the names of ``rocking spectra``'s table."""
+QUANTITY_COLUMNS = (*QUANTITY_NAMES, "scan_step")
+"""Columns naming the quantity of every table of answers: its name, p and w
+(:meth:`rocking.spectra.quantity.Quantity.columns`, the names of ``rocking spectra``'s table)
+and the step of the scan grid (which labels a first exceedance)."""
 
 
 def quantity_values(attrs) -> dict[str, object]:
     """:data:`QUANTITY_COLUMNS` of a store (or of a table made from one) by their names."""
+    from rocking.spectra.quantity import Quantity
     from rocking.store.attrs import decode_attrs
 
-    q = store_quantity(attrs)
     step = (decode_attrs(dict(attrs)).get("tolerances") or {}).get("scan_step")
-    return {"quantity": q["name"], "quantity_p": float(q["p"]),
-            "quantity_w": float(q["w"]), "scan_step": np.nan if step is None else float(step)}
+    return {**Quantity.from_value(store_quantity(attrs)).columns(),
+            "scan_step": np.nan if step is None else float(step)}
 
 
 def quantity_columns(frame: pd.DataFrame, attrs, after: Sequence[str]) -> pd.DataFrame:
