@@ -573,11 +573,12 @@ def errors(ref: pd.DataFrame, runs: list[tuple[tuple, dict]]) -> dict:
     """Error statistics of answers against the reference: runs are (point key, run)."""
     lookup = {(r.motion, r.mode, r.R, r.tan_alpha, r.goals, r.limit_state): r
               for r in ref.itertuples()}
-    err, analyses, cpu = [], [], []
+    err, analyses, cpu, steps = [], [], [], []
     for key, run in runs:
         m, mode, R, t, goals = key
         analyses.append(run["analyses"])
         cpu.append(run["cpu"])
+        steps.append(run.get("steps", math.nan))
         for ls, value in run["intensity"].items():
             r = lookup.get((m, mode, R, t, len(goals), ls))
             if r is None or not math.isfinite(r.reference):
@@ -587,22 +588,21 @@ def errors(ref: pd.DataFrame, runs: list[tuple[tuple, dict]]) -> dict:
     return {"answers": int(e.size), "within_2pct": float(np.mean(e <= 0.02)),
             "within_5pct": float(np.mean(e <= 0.05)), "err_median": float(np.median(e)),
             "err_p90": float(np.quantile(e, 0.9)), "analyses_per_point": float(np.mean(analyses)),
-            "cpu_s_per_point": float(np.mean(cpu))}
+            "cpu_s_per_point": float(np.mean(cpu)), "steps_per_point": float(np.mean(steps))}
 
 
 def sim_configs() -> list[Accuracy]:
-    """The settings the simulation compares (the presets among them)."""
-    out = [PRESETS["fast"], PRESETS["default"], PRESETS["precise"]]
+    """The settings the simulation compares: the presets, then one setting changed at a
+    time around the default (scan step, stratum width, reach, the confirmation)."""
     d = PRESETS["default"]
-    for h in (0.02, 0.03, 0.05):
-        for delta in (0.001, 0.0015, 0.0025, 0.004):
-            for below, above in ((0.04, 0.02), (0.06, 0.03)):
-                if below < math.log1p(h):
-                    continue
-                out.append(d.with_(name=f"scan {100 * h:g} %, strata {100 * delta:g} %, "
-                                        f"-{100 * below:g}/+{100 * above:g} %",
-                                   scan_step=h, local_step=delta, local_below=below,
-                                   local_above=above))
+    out = [PRESETS["fast"], d, PRESETS["precise"]]
+    for delta in (0.0025, 0.004, 0.008):
+        out.append(d.with_(name=f"default, strata {100 * delta:g} %", local_step=delta))
+    for h in (0.015, 0.02, 0.03):
+        out.append(d.with_(name=f"default, scan {100 * h:g} %", scan_step=h,
+                           local_below=max(d.local_below, math.log1p(h))))
+    out.append(d.with_(name="default, reach -3/+1.5 %", local_below=0.03, local_above=0.015))
+    out.append(d.with_(name="default without confirmation", confirm=False))
     return out
 
 
@@ -633,9 +633,17 @@ BASELINE_NAME = f"default before ({BASELINE}: 1 % scan + 20 refinement analyses)
 
 _REAL_SCRIPT = r"""
 import json, sys, time
+from rocking.dynamics import analysis
 from rocking.dynamics.bodies import Cylinder
 from rocking.spectra.critical import critical_intensity
 sys.path.insert(0, {bench!r})
+steps = [0]
+_ground_response = analysis.ground_response
+def counted(*args, **kwargs):  # integration steps: the work, whatever the machine's load
+    r = _ground_response(*args, **kwargs)
+    steps[0] += r.n_steps + r.n_rejected
+    return r
+analysis.ground_response = counted
 from benchmarks.study_motions import study_motions
 motions = study_motions()
 jobs = json.loads(sys.argv[1])
@@ -649,6 +657,7 @@ for m, mode, R, t, goals, upper in jobs:
                            upper=1.5)
         warm.add(mode)
     for cfg in configs:
+        steps[0] = 0
         t0 = time.process_time()
         res = critical_intensity(body, motions[m], list(goals), mode, accuracy=cfg,
                                  upper=upper)
@@ -656,7 +665,7 @@ for m, mode, R, t, goals, upper in jobs:
         out.append({{"key": [m, mode, R, t, list(goals)], "upper": upper,
                      "config": cfg if isinstance(cfg, str) else cfg.get("name", "custom"),
                      "intensity": dict(zip(res.limit_states, map(float, res.intensity))),
-                     "analyses": res.n_analyses, "cpu": cpu}})
+                     "analyses": res.n_analyses, "cpu": cpu, "steps": steps[0]}})
 print(json.dumps(out))
 """
 

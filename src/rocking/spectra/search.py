@@ -66,6 +66,7 @@ from rocking.spectra.limit_states import (
     NORMAL_FORCE_MIN,
     OVERTURNED,
     THETA_MAX,
+    TILT_AXIS,
     LimitState,
     check_peaks,
     classify,
@@ -523,6 +524,25 @@ def _runs(strata: set[int]) -> list[tuple[int, int]]:
     return out
 
 
+def _nested(values: np.ndarray, states) -> np.ndarray:
+    """Answers of the tilt axis made non-decreasing in severity: exceeding a tilt goal (or
+    overturning) implies exceeding every milder one, so P of the severer goal never exceeds
+    P of the milder at any s, and neither do its quantiles; estimates from different local
+    samples may cross by their noise, and the severer is lifted to the milder's (NaN, not
+    reached, stays NaN and lifts the rest)."""
+    out = np.asarray(values, dtype=float).copy()
+    floor = -math.inf
+    for k, ls in enumerate(states):  # by severity (parse_limit_states order)
+        if ls.severity[0] != TILT_AXIS:
+            continue
+        if math.isnan(out[k]) or math.isnan(floor):
+            floor = math.nan if math.isnan(out[k]) else floor
+            out[k] = math.nan if math.isnan(floor) else out[k]
+            continue
+        out[k] = floor = max(out[k], floor)
+    return out
+
+
 def _checked(out: Outcome) -> Outcome:
     """Turn a non-finite θ_max of a supposedly successful run into an explicit failure."""
     if out.status is not Status.FAILED and not math.isfinite(out.theta_max):
@@ -868,7 +888,8 @@ class _Search:
         first = np.where(hit.any(axis=0),
                          np.min(np.where(hit, intens[:, None], np.inf), axis=0), np.nan) \
             if intens.size else np.full(n, np.nan)
-        answer = self.answer.copy()
+        answer = _nested(self.answer, self.states)
+        i50 = _nested(self.i50, self.states)
         not_reached = np.isnan(answer)
         plateau = self.plateau | (not_reached & (self.best_below >= PLATEAU_SHARE * self.q.p))
         # the answer's window (I_p is judged on the analyses up to I_p·e^w): the flags see the
@@ -883,7 +904,7 @@ class _Search:
         return CriticalResult(
             limit_states=tuple(ls.name for ls in self.states),
             intensity=answer,
-            i50=self.i50.copy(),
+            i50=i50,
             first_exceedance=first,
             plateau=plateau,
             not_reached=not_reached,
