@@ -276,7 +276,8 @@ def test_tables_leave_lifts_off_empty_where_nothing_was_monitored():
                                    np.array([[[True], [False]], [[True], [True]]]))},
                     coords={"mode": ["3d", "2d-x"], "limit_state": ["overturning",
                                                                    "sliding:0.5"],
-                            "motion": ["a", "b"], "tan_alpha": [0.2], "R": [1.0]})
+                            "motion": ["a", "b"], "tan_alpha": [0.2], "R": [1.0]},
+                    attrs={"quantity": '{"name": "exceedance_quantile", "p": 0.1, "w": 0.02}'})
     # 3d asked overturning only (no monitors), 2d-x also the sliding goal (monitored)
     assert monitored(ds).sel(tan_alpha=0.2).values.tolist() == [False, True]
     frame = critical_frame(ds)
