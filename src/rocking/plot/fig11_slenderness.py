@@ -114,7 +114,7 @@ def plot(d: dict) -> Figure:
         ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-]")
         r_axis(ax, d["R"])
         ax.set_ylim(bottom=0.0)
-        ax.legend(loc="upper left", title=f"mean {d.get('answer_definition', '')}".strip(),
+        ax.legend(loc="upper left", title=f"mean {d.get('answer', '')} per slenderness".strip(),
                   title_fontsize=7)
     suptitle_and_notes(
         fig, d, f"Mean spectra per slenderness, {d.get('title', 'ensemble')},\n"
