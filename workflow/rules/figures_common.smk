@@ -130,7 +130,7 @@ FIGURE_INPUTS = {
     "fragility_nc": lambda fig, w: _per_study(fig, w, lambda s: out_path(f"{s}/fragility.nc")),
     "fragility_csv": lambda fig, w: _per_study(
         fig, w, lambda s: out_path(f"{s}/fragility.csv")),
-    # the headline rule runs for the paper's El Centro study only: none elsewhere
+    # headline.csv exists for the paper's El Centro study only (none elsewhere)
     "headline": lambda fig, w: [f for s in _subject_studies(fig, w)
                                 if is_paper_record_study(s)
                                 for f in [out_path(f"{s}/headline.csv")]],
