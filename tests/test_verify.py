@@ -228,3 +228,30 @@ def test_rows_with_repeated_keys_are_matched_in_order(tmp_path, capsys):
     assert main(["verify", str(run), "--against", str(GALLERY)]) == 1
     out = capsys.readouterr().out
     assert "elcentro/linear_fit.csv: DIFFERS" in out and "occurrence=1: only in the run" in out
+
+
+def test_a_first_exceedance_never_decides(tmp_path):
+    """The first exceedance on a scan grid has no stated error (it moves by a window when
+    the last bits do): a moved one leaves the table within, never beyond, while the same
+    move of the answer beside it is beyond."""
+    column = "first_exceedance [g tan(alpha)]"
+    sides = {}
+    for side in ("gallery", "run"):
+        folder = _copy(tmp_path / side)
+        path = folder / "elcentro" / "critical.csv"
+        frame = pd.read_csv(path)
+        frame[column] = frame[VALUE]
+        sides[side] = (folder, path, frame)
+    folder, path, frame = sides["gallery"]
+    frame.to_csv(path, index=False, float_format="%.10g")
+    folder, path, frame = sides["run"]
+    pick = frame[VALUE].notna().idxmax()
+    frame.loc[pick, column] *= 10.0
+    frame.to_csv(path, index=False, float_format="%.10g")
+    gallery = sides["gallery"][0]
+    verdict = next(v for v in verify_run(folder, gallery) if v.table == "elcentro/critical.csv")
+    assert verdict.verdict == "within" and not verdict.beyond and verdict.n_within == 1
+    frame.loc[pick, VALUE] *= 10.0
+    frame.to_csv(path, index=False, float_format="%.10g")
+    verdict = next(v for v in verify_run(folder, gallery) if v.table == "elcentro/critical.csv")
+    assert len(verdict.beyond) == 1

@@ -62,6 +62,7 @@ KEYS: dict[str, tuple[str, ...]] = {
     "risk.csv": ("fragility", "measure", "mode", "tan_alpha [-]", "R [m]", "limit_state"),
     "suite_fragility.csv": ("motions", "mode", "tan_alpha", "limit_state", "R", "measure"),
     "fragility.pelicun.csv": ("ID",),
+    "headline.csv": ("motion", "scan_step"),
     "stripe_fragility.pelicun.csv": ("ID",),
 }
 """Columns naming a row of each table (a table not listed is matched row by row)."""
@@ -71,8 +72,10 @@ ANSWER_KEYS = ("mode", "limit_state", "tan_alpha", "R")
 
 DIAGNOSTIC = ("log_likelihood", "r_squared", "n_analyses", "n_refined", "bootstrap_fitted",
               "boot_defined", "share_extrapolated", "share_dropped", "processing",
-              "as_recorded_note", "reason")
-"""Columns that say how a value was obtained, not what it is: never decide a verdict."""
+              "as_recorded_note", "reason", "analyses", "cpu_s", "first_exceedance")
+"""Columns that say how a value was obtained, not what it is: never decide a verdict. The
+first exceedance on a scan grid is among them: it has no stated error (it does not converge
+as the grid is refined, docs/models.md), so two runs' may differ by a window."""
 
 RISK_RATES = ("maf", "lambda_p05", "lambda_p95", "lambda_lo", "lambda_hi", "return_period",
               "p_50yr")
