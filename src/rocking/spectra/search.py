@@ -561,8 +561,6 @@ def _monitors(out: Outcome) -> tuple[float, float]:
 class _Search:
     """State of one search: analyses run so far and the rules choosing the next ones."""
 
-    grid_in_p = True
-
     def __init__(self, analyze: AnalysisFn, states, alpha: float, lower: float, upper: float,
                  acc: Accuracy, quantity: Quantity, rtol: float, seed: int):
         self.analyze = analyze
@@ -772,18 +770,6 @@ class _Search:
         if not xs:
             return np.zeros(0), np.zeros(0), []
         runs = _runs(self.covered[k])
-        if self.grid_in_p:
-            # the scan grid's analyses inside the sampled strata are a sample too (its
-            # offset is random): they add to the local sample
-            for i, intensity in enumerate(self.rows.intensity):
-                if not (self.rows.grid[i] and self.rows.known[i][k]) or \
-                        not intensity > self.lower:
-                    continue
-                m = math.floor(math.log(intensity / self.lower) / d)
-                if m in self.covered[k]:
-                    xs.append(math.log(intensity))
-                    es.append(bool(self.rows.exceeded[i][k]))
-                    ms.append(m)
         lx = np.asarray(xs)
         e = np.asarray(es, dtype=bool)
         # each stratum weighs its width, however many analyses it holds
@@ -819,7 +805,7 @@ class _Search:
         back to the scan (its candidate was an isolated window)."""
         p, w = self.q.p, self.q.w
         ls, P, edges = self._estimate(k)
-        reach = np.flatnonzero(P >= p - 1e-12) if ls.size else np.zeros(0, dtype=int)
+        reach = np.flatnonzero(P >= p - 1e-12)
         s = float(ls[reach[0]]) if reach.size else math.inf
         for lo, a, can_extend in edges:
             # P̂ at the lowest s this run can judge reaches p (I_p may lie lower) or comes
