@@ -158,7 +158,9 @@ def test_the_local_sample_extends_down_to_where_P_crosses_p():
             return 0.6
         return 0.6 if I >= 1.5 and (math.log(I / 1.5) / 0.0005) % 1.0 < 0.3 else 0.3
 
-    acc = DEFAULT.with_(scan_step=0.05, local_below=0.05, local_above=0.02)
+    # strata of 0.25 %: ~16 analyses per window tell P = 0.3 from p (the default's 0.8 %
+    # leaves ~5, and P̂ of a comb is then noisy by ±0.2)
+    acc = DEFAULT.with_(scan_step=0.05, local_step=0.0025, local_below=0.05, local_above=0.02)
     exact = 1.5 * math.exp(-W / 3)
     for seed in range(5):
         res = search_critical(fake_analysis(response, []), ["tilt:0.5"], ALPHA, lower=1.0,

@@ -63,8 +63,8 @@ class Accuracy:
     rtol: float
     scan_step: float
     local_step: float
-    local_below: float = 0.06
-    local_above: float = 0.03
+    local_below: float = 0.04
+    local_above: float = 0.02
     confirm: bool = True
     rtol_damped: float | None = None
     rest_tilt: float | None = None
@@ -132,11 +132,11 @@ def _check_range(name: str, value, lo: float, hi: float, lower_closed: bool = Fa
 
 
 PRESETS: dict[str, Accuracy] = {
-    "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.05, local_step=0.005),
-    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.03,
-                        local_step=0.0025),
-    "precise": Accuracy("precise", rtol=1e-9, rtol_damped=1e-8, scan_step=0.01,
-                        local_step=0.001),
+    "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.03, local_step=0.006),
+    "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.02,
+                        local_step=0.006),
+    "precise": Accuracy("precise", rtol=1e-8, rtol_damped=1e-7, scan_step=0.01,
+                        local_step=0.004),
 }
 """The named presets, from cheapest to most accurate."""
 

@@ -84,6 +84,9 @@ RETRY_RTOL_FACTOR = 0.1
 MAX_ANALYSES = 2000
 """Safety net: no search of one spectrum point may run more analyses than this."""
 
+I50_REACH = 0.06
+"""How far above I_p (in ln I) the local sample is extended to find I50 [-]."""
+
 EXTEND_SHARE = 0.5
 """A local sample is extended down while P̂ at the lowest s it can judge is at least this
 share of p [-]: below a sample the scan alone has looked (one analysis per grid step), and
@@ -561,8 +564,6 @@ def _monitors(out: Outcome) -> tuple[float, float]:
 class _Search:
     """State of one search: analyses run so far and the rules choosing the next ones."""
 
-    grid_in_p = True
-
     def __init__(self, analyze: AnalysisFn, states, alpha: float, lower: float, upper: float,
                  acc: Accuracy, quantity: Quantity, rtol: float, seed: int):
         self.analyze = analyze
@@ -772,18 +773,6 @@ class _Search:
         if not xs:
             return np.zeros(0), np.zeros(0), []
         runs = _runs(self.covered[k])
-        if self.grid_in_p:
-            # the scan grid's analyses inside the sampled strata are a sample too (its
-            # offset is random): they add to the local sample
-            for i, intensity in enumerate(self.rows.intensity):
-                if not (self.rows.grid[i] and self.rows.known[i][k]) or \
-                        not intensity > self.lower:
-                    continue
-                m = math.floor(math.log(intensity / self.lower) / d)
-                if m in self.covered[k]:
-                    xs.append(math.log(intensity))
-                    es.append(bool(self.rows.exceeded[i][k]))
-                    ms.append(m)
         lx = np.asarray(xs)
         e = np.asarray(es, dtype=bool)
         # each stratum weighs its width, however many analyses it holds
@@ -819,7 +808,10 @@ class _Search:
         back to the scan (its candidate was an isolated window)."""
         p, w = self.q.p, self.q.w
         ls, P, edges = self._estimate(k)
-        reach = np.flatnonzero(P >= p - 1e-12) if ls.size else np.zeros(0, dtype=int)
+        if not math.isnan(self.answer[k]):
+            self._assess_i50(k, ls, P)
+            return
+        reach = np.flatnonzero(P >= p - 1e-12)
         s = float(ls[reach[0]]) if reach.size else math.inf
         for lo, a, can_extend in edges:
             # P̂ at the lowest s this run can judge reaches p (I_p may lie lower) or comes
@@ -851,9 +843,7 @@ class _Search:
             self.answer[k] = math.exp(s)
             below = P[ls < s - 2.0 * w]
             self.plateau[k] = bool(below.size and below.max() >= PLATEAU_SHARE * p)
-            half = np.flatnonzero(P >= 0.5 - 1e-12)
-            self.i50[k] = math.exp(float(ls[half[0]])) if half.size else math.nan
-            self.state[k] = _DONE
+            self._assess_i50(k, ls, P)
             return
         if P.size:
             self.best_below[k] = max(self.best_below[k], float(np.nanmax(P)))
@@ -863,6 +853,29 @@ class _Search:
             top = max(top, self.lower * math.exp((max(self.covered[k]) + 1) * self.delta))
         self.scan_from[k] = max(self.scan_from[k], top)
         self.state[k] = _SCAN
+
+    def _assess_i50(self, k: int, ls: np.ndarray, P: np.ndarray) -> None:
+        """I_p of limit state k is answered: I50 from the same sample, which is extended up
+        (by ``local_above``) until P̂ reaches 0.5 or it spans :data:`I50_REACH` above I_p;
+        I50 stays NaN where P̂ stays below 0.5 that far (P hovers between p and 0.5)."""
+        half = np.flatnonzero((P >= 0.5 - 1e-12) & (ls >= math.log(self.answer[k]) - 1e-12))
+        if half.size:
+            self.i50[k] = math.exp(float(ls[half[0]]))
+            self.state[k] = _DONE
+            return
+        top = max(m for m in self.covered[k]) if self.covered[k] else None
+        cap = min(math.log(self.answer[k] / self.lower) + I50_REACH + self.q.w,
+                  math.log(self.upper / self.lower))
+        if top is None or (top + 1) * self.delta >= cap:
+            self.state[k] = _DONE
+            return
+        nb = max(1, math.ceil(self.acc.local_above / self.delta))
+        new = {(m, 0) for m in range(top + 1, top + 1 + nb) if m not in self.tried[k]}
+        if not new:
+            self.state[k] = _DONE
+            return
+        self.requested[k] |= new
+        self.state[k] = _LOCAL
 
     def search(self) -> None:
         """Scan, sample, assess, until every limit state is answered or out of range."""
