@@ -180,7 +180,7 @@ def _changed(path: str, value) -> dict:
     # intensities): another quantity, p or w is another store, its name another digest
     ("quantity", "first_exceedance", (True, False, False)),
     ("quantity", {"p": 0.2}, (True, False, False)),
-    ("quantity", {"name": "exceedance_quantile", "w": 0.03}, (True, False, False)),
+    ("quantity", {"name": "exceedance_quantile", "w": 0.025}, (True, False, False)),
     ("damped.omega_n", 200.0, (True, True, True)),
     ("motions.max_duration", 10.0, (True, True, True)),
     ("ensembles.e.seed", 1, (True, True, True)),
