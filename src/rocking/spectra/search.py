@@ -999,9 +999,8 @@ def search_critical(
     q = Quantity.from_value(quantity)
     alpha = positive_finite("alpha", alpha)
     upper = positive_finite("upper", upper)
-    lower = float(lower)
-    if math.isnan(lower) or lower <= 0.0:
-        raise ValueError(f"lower must be > 0, got {lower!r}")
+    if lower != math.inf:  # inf: a component identically zero never lifts the body
+        lower = positive_finite("lower", lower)
     rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
     return run_search(analyze, states, alpha, lower, upper, acc, q, rtol, mu, int(seed))
 
