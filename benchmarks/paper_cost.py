@@ -2,7 +2,7 @@
 
 ``python -m benchmarks paper_cost [--run DIR] [--quick]`` reads a finished run of
 ``config/paper.yaml`` in ``DIR`` (default ``.``; read only) and writes to
-``results/benchmarks/``:
+``docs/benchmarks/``:
 
 - ``paper_rules.{csv,md}``: every rule of the run's Snakemake logs (``.snakemake/log``) with
   its start, end and wall seconds, in the order they started;

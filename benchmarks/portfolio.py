@@ -7,7 +7,7 @@ inventory of ``--columns`` random columns (heights 4–16 m, tan α 0.1–0.3, e
 of a site) into a temporary folder, then times, wall and CPU: building the surface (its
 bootstrap refits), reading the hazard's sites, reading and checking the inventory, and the
 portfolio table (every column: fragility with its interval, λ with its 90 % interval over
-the resamples). Writes ``results/benchmarks/portfolio.{csv,md}``. The budget (issue 41): the
+the resamples). Writes ``docs/benchmarks/portfolio.{csv,md}``. The budget (issue 41): the
 inventory, hazard and table steps together within 30 s on 2 cores.
 """
 

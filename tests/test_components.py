@@ -233,7 +233,7 @@ def rotd50_suite():
 def test_rotd50_study_under_a_rotd50_hazard_gives_the_independent_quadrature(rotd50_suite):
     from rocking.fragility.table import read_fragilities
     from rocking.risk.hazard import HazardCurve
-    from rocking.risk.table import risk_table
+    from rocking.risk.risk_table import risk_table
 
     motions, crit, fits = rotd50_suite
     # independent of the library: each motion's critical RotD50 PGA is its critical scale
@@ -267,7 +267,7 @@ def test_the_same_fits_in_two_components_differ_by_each_motions_ratio(rotd50_sui
 def test_a_hazard_in_another_component_is_refused_in_one_line(rotd50_suite):
     from rocking.fragility.table import read_fragilities
     from rocking.risk.hazard import HazardCurve, hazard_component
-    from rocking.risk.table import risk_table
+    from rocking.risk.risk_table import risk_table
 
     _, _, fits = rotd50_suite
     hazard = HazardCurve.from_power_law(1e-4, 2.2)

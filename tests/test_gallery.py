@@ -14,6 +14,7 @@ last bit. The committed mean spectra must be the mean over motions of the commit
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -46,6 +47,19 @@ def test_gallery_is_documented_and_complete():
         for table in ("mean_spectra.csv", "fragility.csv", "linear_fit.csv", "critical.csv"):
             assert (GALLERY / study / table).stat().st_size > 0
     assert not list(GALLERY.rglob("*.zarr")) and not list(GALLERY.rglob("*.nc"))
+
+
+def test_the_gallery_readme_says_every_flag_its_tables_write():
+    """results/paper/README.md describes exactly the flag columns of the committed
+    critical.csv (written from the code's list, workflow/gallery.py ``flag_lines``)."""
+    import csv
+
+    with open(GALLERY / STUDY / "critical.csv", newline="", encoding="utf-8") as fh:
+        header = next(csv.reader(fh))
+    flags = [c for c in header if "[" not in c and c not in (
+        "mode", "limit_state", "motion", "n_analyses")]
+    listed = re.findall(r"^  - `(\w+)`: ", (GALLERY / "README.md").read_text(), re.M)
+    assert listed == flags and "failed" in flags
 
 
 def _slice_config(tmp: Path) -> Path:

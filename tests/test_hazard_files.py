@@ -234,7 +234,7 @@ def curved(im):
 def test_a_table_starting_above_the_median_is_counted_and_warned(tmp_path):
     from rocking.fragility.table import read_fragilities
     from rocking.report.risk import risk_section_html
-    from rocking.risk.table import BELOW_FIRST_WARN, below_first_warning, risk_table
+    from rocking.risk.risk_table import BELOW_FIRST_WARN, below_first_warning, risk_table
 
     im = np.geomspace(0.005, 4.0, 40)
     full = HazardCurve(im, curved(im))

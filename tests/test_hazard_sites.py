@@ -19,7 +19,7 @@ from rocking.fragility.table import read_fragilities
 from rocking.report.risk import risk_section_html
 from rocking.risk.annual_frequency import mean_annual_frequency
 from rocking.risk.hazard import MAX_DISTANCE_KM, HazardCurve, parse_hazard
-from rocking.risk.table import risk_table
+from rocking.risk.risk_table import risk_table
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -263,7 +263,8 @@ def test_bad_arguments():
      ({"local_above": "x"}, r"^local_above must be a number, got 'x'$"),
      ({"rtol": 0.1}, r"^rtol must be"),
      ({"scan_step": 0.1, "local_below": 0.05}, r"^local_below must be >= ln\(1 \+ scan_step\)"),
-     ({"rest_tilt": 1.0}, r"^rest_tilt must be")],
+     ({"rest_tilt": 1.0}, r"^rest_tilt must be"),
+     ({"confirm": "yes"}, r"^confirm must be true or false, got 'yes'$")],
 )
 def test_bad_settings_name_the_field(fields, message):
     with pytest.raises(ValueError, match=message):
@@ -287,7 +288,8 @@ def test_a_sample_narrower_than_the_window_is_refused_before_any_analysis():
 
 
 def test_presets_round_trip_through_their_record():
-    for acc in PRESETS.values():  # workers rebuild the settings from the store's record
+    for acc in (*PRESETS.values(), DEFAULT.with_(confirm=False)):
+        # workers rebuild the settings from the store's record
         assert get_accuracy(acc.to_dict()) == acc
     assert get_accuracy({"rtol": 1e-9}) == DEFAULT.with_(rtol=1e-9)
     costs = [PRESETS[p].local_step for p in ("fast", "default", "precise")]

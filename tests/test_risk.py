@@ -26,7 +26,7 @@ from rocking.fragility import table as fragilities
 from rocking.risk import nrml, pelicun
 from rocking.risk.annual_frequency import annual_frequency_parts, probability_in
 from rocking.risk.hazard import HazardCurve, parse_hazard
-from rocking.risk.table import risk_table
+from rocking.risk.risk_table import risk_table
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).parent / "data"
@@ -601,7 +601,7 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
         assert r["maf [1/yr]"] == pytest.approx(rocking.mean_annual_frequency(
             r["median_pga_g [g]"], r["beta [-]"], h), rel=1e-5)
     with pytest.raises(ValueError, match="one table per kind"):
-        from rocking.risk.table import risk_tables
+        from rocking.risk.risk_table import risk_tables
 
         risk_tables([stripe_csv, stripe_csv], h)
 
@@ -654,7 +654,7 @@ def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path)
 def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
     from rocking.plot import risk as fig
     from rocking.report.risk import WHICH_TO_USE, comparison_table, risk_section_html
-    from rocking.risk.table import risk_tables
+    from rocking.risk.risk_table import risk_tables
 
     h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
     risk = risk_tables([table(ROWS), stripe_csv], h)
@@ -689,7 +689,7 @@ def test_docs_quote_the_two_mafs_of_the_committed_gallery():
     """docs/risk.md's stripe / first-exceedance numbers are those of results/paper/elcentro
     under the example hazard (recomputed here from the two committed fragility tables)."""
     from rocking.report.risk import comparison_table
-    from rocking.risk.table import risk_tables
+    from rocking.risk.risk_table import risk_tables
 
     gallery = ROOT / "results/paper/elcentro"
     risk = risk_tables([gallery / "fragility.csv", gallery / "stripe_fragility.csv"],

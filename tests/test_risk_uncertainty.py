@@ -23,7 +23,7 @@ from rocking.report.risk import risk_section_html, small_suite_warnings
 from rocking.risk.annual_frequency import annual_frequency_interval, mean_annual_frequencies
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import HazardCurve
-from rocking.risk.table import risk_table
+from rocking.risk.risk_table import risk_table
 
 SEED = 3
 
@@ -352,7 +352,7 @@ def test_a_study_without_any_fit_gets_its_statuses_not_an_error(tmp_path):
 
 
 def test_fast_preset_warns_and_small_suites_are_flagged(fragility_csv):
-    from rocking.risk.table import PRESET_ERRORS
+    from rocking.risk.risk_table import PRESET_ERRORS
 
     h = HazardCurve.from_power_law(2e-4, 2.2)
     t = risk_table(read_fragilities(fragility_csv), h, preset="fast")

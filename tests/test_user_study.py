@@ -457,8 +457,10 @@ def test_a_study_with_an_inventory_gets_its_portfolio_and_an_inventory_change_re
     html = (out / "report.html").read_text()
     assert "Every column of the site" in html and "<figure id='portfolio_map'>" in html
     assert (out / "exposure" / "exposure.xml").is_file()
-    # a new column: the portfolio, its export and the report again, nothing else
+    # a new column: the portfolio, its export, its two figures and the report again, nothing
+    # else
     (work / "columns.csv").write_text(SITE_INVENTORY + "extra,1.5,0.16,0.0,0.0\n")
     dry = snakemake(work, config, "results/site/report.html", "results/site/exposure", "-n")
     planned = set(re.findall(r"^(\w+)\s+\d+$", dry.stdout, re.MULTILINE)) - {"total"}
-    assert planned == {"portfolio", "exposure", "report"}, planned
+    assert planned == {"portfolio", "exposure", "portfolio_map", "portfolio_ranked",
+                       "report"}, planned

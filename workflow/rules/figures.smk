@@ -1,16 +1,19 @@
 # The figures, written once over their registry (rocking.plot.registry.figures(): one
-# entry per figure module, declared in it), the fragility tables and the HTML report; helpers
-# in figures_common.smk. Each figure's rule is named after it and runs the one script
-# ../scripts/figure.py; its inputs and parameters come from the logical inputs its entry
-# declares, its caption from its entry (handed to ../report/figure.rst as params.caption).
-# A figure no study wants plans no job (figure_targets asks for none).
+# entry per figure module, declared in it; the stripe, risk and portfolio figures among them),
+# the fragility tables and the HTML report; helpers in figures_common.smk. Each figure's rule
+# is named after it (its entry's `rule` where a table's rule has the name) and runs the one
+# script ../scripts/figure.py; its inputs and parameters come from the logical inputs its
+# entry declares, its caption from its entry (handed to ../report/figure.rst as
+# params.caption). A figure no study wants plans no job (figure_targets asks for none).
 
 
 for fig in figures().values():
 
     rule:
         name:
-            fig.name
+            fig.rule_name
+        wildcard_constraints:
+            **({fig.per: "[^/_]+"} if fig.per else {}),
         input:
             **figure_inputs(fig),
         output:
@@ -60,7 +63,9 @@ rule report:
     input:
         unpack(lambda wildcards: report_inputs(wildcards.study)),
     output:
-        out_path("{study}/report.html"),
+        page=out_path("{study}/report.html"),
+        # its verdict table as data (what the documents quoting the gallery read)
+        verdicts=out_path("{study}/verdicts.csv"),
     params:
         study=lambda wildcards: wildcards.study,
         ensemble=lambda wildcards: ensemble_of(wildcards.study),

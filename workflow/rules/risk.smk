@@ -1,14 +1,13 @@
 # From fragility to risk (rocking.risk): for each study with a `hazard:` in its
 # configuration, the OpenQuake NRML 0.5 and pelicun exports of its fragility table, the risk
 # table (mean annual frequency, return period, probability in 50 years per mode, tan α, R and
-# limit state) and the risk figure. A study that also declares `stripes:` gets the same
-# exports of its stripe fragility (stripe_fragility.nrml.xml / .pelicun.csv), and its stripe
-# rows in risk.csv (column `fragility`), set beside the first-exceedance ones in the figure
-# and the report. Studies without `hazard:` get none of these. A hazard of SA(T) takes the
+# limit state); the risk figure is drawn from it by the figure loop (figures.smk). A study that
+# also declares `stripes:` gets the same exports of its stripe fragility
+# (stripe_fragility.nrml.xml / .pelicun.csv), and its stripe rows in risk.csv (column
+# `fragility`), set beside the first-exceedance ones in the figure and the report. Studies without `hazard:` get none of these. A hazard of SA(T) takes the
 # first-exceedance rows from suite_fragility.csv (the suite's fits in Sa(T)). Every requested
 # row is written, with its status where there is no fit. Helpers in risk_common.smk.
 
-from rocking.plot.risk import CAPTION as RISK_CAPTION
 from rocking.fragility.bootstrap import bootstrap_path
 
 
@@ -34,17 +33,13 @@ rule risk:
         nrml=out_path("{study}/fragility.nrml.xml"),
         pelicun=out_path("{study}/fragility.pelicun.csv"),
         table=out_path("{study}/risk.csv"),
-        **_figure_output(out_path("{study}/figures/risk"), "Beyond the paper", figure="risk",
-                         study="{study}"),
     params:
-        caption=RISK_CAPTION,
         hazard=lambda wildcards: hazard_param(wildcards.study),
         component=lambda wildcards: hazard_component_of(wildcards.study),
         study_component=lambda wildcards: study_spec(wildcards.study).component,
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
         preset=lambda wildcards: study_preset(wildcards.study),
-        ensemble=lambda wildcards: ensemble_of(wildcards.study),
     log:
         out_path("logs/{study}/risk.log"),
     script:
@@ -100,13 +95,9 @@ rule portfolio:
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
     output:
         table=out_path("{study}/portfolio.csv"),
-        map=out_path("{study}/figures/portfolio_map.png"),
-        ranked=out_path("{study}/figures/portfolio_ranked.png"),
     params:
         hazard=lambda wildcards: hazard_param(wildcards.study),
-        hazard_file=lambda wildcards: hazard_file(wildcards.study) or "",
         inventory=lambda wildcards: study_spec(wildcards.study).inventory,
-        study=lambda wildcards: wildcards.study,
     log:
         out_path("logs/{study}/portfolio.log"),
     script:

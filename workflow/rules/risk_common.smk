@@ -73,13 +73,11 @@ def inventory_file(study):
 
 
 def portfolio_targets():
-    """portfolio.csv and its two figures of every study with an inventory, and the
-    OpenQuake/pelicun export where it asks for one."""
+    """portfolio.csv of every study with an inventory (its two figures: figure_targets), and
+    the OpenQuake/pelicun export where it asks for one."""
     out = []
     for s in inventory_studies():
-        out += [rules.portfolio.output.table.format(study=s),
-                rules.portfolio.output.map.format(study=s),
-                rules.portfolio.output.ranked.format(study=s)]
+        out.append(rules.portfolio.output.table.format(study=s))
         if study_spec(s).inventory["export"] is not None:
             out.append(rules.exposure.output.folder.format(study=s))
     return out
@@ -93,16 +91,15 @@ def stripe_fragility_csv(study):
 
 
 def risk_targets():
-    """Exports, risk table and figure of every study with a hazard (and the stripe
-    fragility's exports where the study declares stripes in the vector-peak PGA: the NRML
-    and pelicun exports are functions of it; stripes in Sa(T) or another component reach
-    risk.csv only)."""
+    """Exports and risk table of every study with a hazard (its figure: figure_targets),
+    and the stripe fragility's exports where the study declares stripes in the vector-peak
+    PGA (the NRML and pelicun exports are functions of it; stripes in Sa(T) or another
+    component reach risk.csv only)."""
     out = []
     for s in risk_studies():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
-        out += figure_files(out_path(f"{s}/figures/risk"))
         stripes = study_spec(s).stripes
         # the exports are of the vector-peak PGA (pelicun: Demand-Directional 1)
         if has_product("stripes", s) and stripes.measure == "pga" \

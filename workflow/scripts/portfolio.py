@@ -1,10 +1,10 @@
-"""Every column of a study's inventory (Snakemake script): portfolio.csv and its two figures,
-from the study's fragility surface and its hazard (rocking.risk.portfolio.site_portfolio)."""
+"""Every column of a study's inventory (Snakemake script): portfolio.csv from the study's
+fragility surface and its hazard (rocking.risk.portfolio.site_portfolio); its two figures are
+drawn by the figure loop."""
 
 from pathlib import Path
 
 from rocking.execution.logs import log_to
-from rocking.plot.portfolio import render_figures
 from rocking.risk.portfolio import site_portfolio, write_portfolio
 
 
@@ -19,8 +19,6 @@ def main(snakemake):
         for note in result.notes:
             print(note)
         write_portfolio(result.table, Path(out.table).parent, result.inventory.skipped)
-        render_figures(result.table, Path(out.map).parent, hazard=str(params.hazard_file),
-                       study=f"study {params.study}")
         print(f"{result.table['id'].nunique()} columns: {out.table}")
 
 

@@ -1,10 +1,10 @@
 """Risk of a study (Snakemake script): NRML and pelicun exports, risk table (first-exceedance
-rows in the hazard's measure, and stripe rows when the study has stripes), risk figure."""
+rows in the hazard's measure, and stripe rows when the study has stripes); the risk figure is
+drawn from the table by the figure loop."""
 
 import json
 
 from rocking.execution.logs import log_to
-from rocking.plot import render
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import parse_hazard
 
@@ -31,8 +31,6 @@ def main(snakemake):
             if summary[note]:
                 print(summary[note])
         print(json.dumps(summary, indent=1, ensure_ascii=False))
-        render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source,
-               study=f"study {params.study} (ensemble {params.ensemble})")
 
 
 if __name__ == "__main__":

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import math
 import os
 import tempfile
 from collections.abc import Iterator
@@ -52,29 +51,36 @@ def add_command(subparsers, name: str, *, help: str, description: str,
                                  epilog="examples:\n" + examples, formatter_class=Formatter)
 
 
-def say_compile(command: str, mode: str, quiet: bool = False, monitors: bool = False) -> None:
-    """One line on stderr when the first analysis of ``mode`` (with or without the
-    validity monitors) will compile its model (a fresh install: tens of seconds with
-    nothing else on the terminal); nothing when the kernels are in numba's cache or with
-    ``--quiet``. Only that model is compiled."""
+@contextlib.contextmanager
+def saying_compile(command: str, mode: str, quiet: bool = False):
+    """Around a command's analyses: one line on stderr when numba starts compiling the model
+    of ``mode`` (a fresh install: tens of seconds with nothing else on the terminal); nothing
+    when its kernels load from numba's cache, or with ``--quiet``. Only that model is
+    compiled (:func:`rocking.dynamics.compiled.announcing_compile`)."""
     import sys
 
-    from rocking.dynamics.compiled import compile_notice
+    from tqdm import tqdm
+
+    from rocking.dynamics.compiled import announcing_compile
     from rocking.spectra.modes import MODES
 
-    line = None if quiet else compile_notice(MODES[mode][0], monitors)
-    if line:
-        print(f"rocking {command}: {line}", file=sys.stderr, flush=True)
+    def say(line: str) -> None:
+        # said while a progress bar may be drawn: tqdm writes it above the bar
+        if not quiet:
+            tqdm.write(f"rocking {command}: {line}", file=sys.stderr)
+
+    with announcing_compile(MODES[mode][0], say):
+        yield
 
 
 def friction(args: argparse.Namespace) -> float | None:
     """``--mu`` checked where it enters the command line (a finite number > 0), None without
     it: the one check of the command line's μ, which is then carried on as a number (every
     command that takes ``--mu`` calls this before any work)."""
+    from rocking._validate import positive_finite
+
     mu = getattr(args, "mu", None)
-    if mu is not None and not (math.isfinite(mu) and mu > 0):
-        raise ValueError(f"--mu must be a finite number > 0, got {mu!r}")
-    return mu
+    return None if mu is None else positive_finite("--mu", mu)
 
 
 def floats(text: str) -> list[float]:

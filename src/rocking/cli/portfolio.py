@@ -103,10 +103,10 @@ def run(args) -> int:
     """Check everything, then compute, print or write portfolio.csv; returns 0."""
     import sys
 
+    from rocking._validate import positive_finite
     from rocking.risk.portfolio import site_portfolio, write_portfolio
 
-    if args.max_distance_km <= 0:
-        raise ValueError(f"--max-distance-km must be > 0, got {args.max_distance_km:g}")
+    positive_finite("--max-distance-km", args.max_distance_km)
     if args.resamples < 0:
         raise ValueError(f"--resamples must be >= 0, got {args.resamples}")
     if args.out is not None:
@@ -129,9 +129,12 @@ def run(args) -> int:
     if args.out is not None:
         path = write_portfolio(table, args.out, inventory.skipped)
         if args.figures:
-            from rocking.plot.portfolio import render_figures
+            from rocking.plot import render
+            from rocking.plot.registry import figures
 
-            render_figures(table, args.out, hazard=str(args.hazard), study=str(args.surface))
+            for name in (n for n, f in figures().items() if f.section == "portfolio"):
+                render(name, [args.out / f"{name}.png"], args.out / f"{name}.json",
+                       portfolio=table, hazard=str(args.hazard), study=str(args.surface))
         if args.export:
             from rocking.risk.exposure import write_exposure
 

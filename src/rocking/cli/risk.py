@@ -226,7 +226,7 @@ def run(args) -> int:
     from rocking.fragility.table import read_fragilities
     from rocking.risk.nrml import write_nrml
     from rocking.risk.pelicun import write_pelicun_csv
-    from rocking.risk.table import risk_table
+    from rocking.risk.risk_table import risk_table
 
     if args.out is not None:
         _common.check_output(args.out, (".csv",))

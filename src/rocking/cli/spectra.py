@@ -205,13 +205,12 @@ def run(args) -> int:
     acc.check_window(quantity.w)
     motion = _common.motion_from_args(args, default_record="el-centro-1940")
     tasks = [(R, args.tan_alpha, motion, args.mode) for R in args.R]
-    _common.say_compile("spectra", args.mode, args.quiet,
-                        monitors=getattr(args, "mu", None) is not None)
     t0 = time.perf_counter()
-    results = critical_intensity_batch(tasks, states, accuracy=acc, quantity=quantity,
-                                       upper=args.upper,
-                                       omega_n=args.omega_n, zeta=args.zeta, mu=args.mu,
-                                       progress=not args.quiet)
+    with _common.saying_compile("spectra", args.mode, args.quiet):
+        results = critical_intensity_batch(tasks, states, accuracy=acc, quantity=quantity,
+                                           upper=args.upper, omega_n=args.omega_n,
+                                           zeta=args.zeta, mu=args.mu,
+                                           progress=not args.quiet)
     seconds = time.perf_counter() - t0
     table = pd.DataFrame(rows(results, motion), columns=list(COLUMNS))
     doc = {

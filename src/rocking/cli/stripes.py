@@ -244,13 +244,13 @@ def run(args) -> int:
         raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
                          f"{args.bootstrap}")
     parse_measure(args.measure)
-    _common.say_compile("stripes", args.mode, args.quiet,
-                        monitors=getattr(args, "mu", None) is not None)
-    results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
-                                accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
-                                progress=not args.quiet, measure=args.measure,
-                                component=args.component) for b in bodies]
-    refined = [_refined(r, b, motions, args, acc) for r, b in zip(results, bodies, strict=True)]
+    with _common.saying_compile("stripes", args.mode, args.quiet):
+        results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
+                                    accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
+                                    progress=not args.quiet, measure=args.measure,
+                                    component=args.component) for b in bodies]
+        refined = [_refined(r, b, motions, args, acc)
+                   for r, b in zip(results, bodies, strict=True)]
     boot = None
     if args.bootstrap:
         boot = {(i, ls): bootstrap_stripes(r, args.bootstrap)[ls]["median"]

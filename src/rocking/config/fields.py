@@ -134,14 +134,6 @@ def mode_list(value: Any, field: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def positive_field(value: Any, field: str) -> float:
-    """A finite number > 0 (one line naming ``field`` otherwise)."""
-    x = number_field(value, field)
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{field} must be a finite number > 0, got {value!r}")
-    return x
-
-
 def chunk_R_field(value: Any, field: str, auto: bool) -> int | str:
     """An integer >= 1 (or ``"auto"`` where ``auto``): sizes R per task."""
     if auto and value == "auto":

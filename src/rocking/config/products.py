@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from dataclasses import field as dc_field
 from typing import Any
 
+from rocking._validate import positive_finite
 from rocking.config.damping import Damping
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.fields import (
@@ -27,7 +28,6 @@ from rocking.config.fields import (
     chunk_R_field,
     expand_grid,
     mode_list,
-    positive_field,
 )
 from rocking.config.plan import StudyPlan, plan_study
 from rocking.store.attrs import config_hash
@@ -248,7 +248,7 @@ def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:
     """The settings every intensity grid has, checked; and the part's mapping."""
     t = checked_mapping(t, field, DEFAULTS[part], ["R", "intensity"])
     modes = mode_list(t["modes"], f"{field}.modes")
-    return (study, ensemble, modes, positive_field(t["tan_alpha"], f"{field}.tan_alpha"),
+    return (study, ensemble, modes, positive_finite(f"{field}.tan_alpha", t["tan_alpha"]),
             tuple(expand_grid(t["R"], f"{field}.R")),
             tuple(expand_grid(t["intensity"], f"{field}.intensity")),
             chunk_R_field(t["chunk_R"], f"{field}.chunk_R", auto=False), accuracy,

@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from rocking._validate import positive_finite
 from rocking.config.damping import Damping
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.fields import (
@@ -24,7 +25,6 @@ from rocking.config.fields import (
     config_section,
     expand_grid,
     number_field,
-    positive_field,
     quantity_field,
 )
 from rocking.config.plan import plan_study
@@ -134,12 +134,12 @@ class StudySpec(Hashed):
         chunk_R = chunk_R_field(s["chunk_R"], f"{field}.chunk_R", auto=True)
         min_task = config_section(config, "dask")["min_task_seconds"] if chunk_R == "auto" else None
         if min_task is not None:
-            positive_field(min_task, "dask.min_task_seconds")
+            positive_finite("dask.min_task_seconds", min_task)
         upper = s["upper"] if s["upper"] is not None else config_section(config, "search")["upper"]
         where = f"{field}.upper" if s["upper"] is not None else "search.upper"
         if number_field(upper, where) <= 1.0:
             raise ValueError(f"{where} must be > 1 (the intensity that uplifts), got {upper!r}")
-        mu = None if s["mu"] is None else positive_field(s["mu"], f"{field}.mu")
+        mu = None if s["mu"] is None else positive_finite(f"{field}.mu", s["mu"])
         spectra = SpectraSpec(name, ensemble, tuple(expand_grid(s["R"], f"{field}.R")), plan,
                               chunk_R, min_task, accuracy, quantity, float(upper),
                               Damping.of_modes(config, plan.modes), mu)

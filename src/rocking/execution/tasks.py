@@ -204,7 +204,7 @@ def check_ensemble(store: StoreHandle, motions_path: str | Path) -> None:
 SECONDS_PER_SAMPLE = 0.4e-6
 """Lower estimate of the cost of one analysis per record sample [s]: the cheapest mode (2D,
 "fast" preset) on El Centro took 0.46 µs per sample on a 2-core development machine
-(results/benchmarks/workflow.md has the measured costs). Only sizes tasks for
+(``python -m benchmarks workflow`` measures the costs). Only sizes tasks for
 ``chunk_R: auto``; the other modes cost more, so tasks are at least this long."""
 
 ANALYSES_PER_POINT = 10

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from rocking._validate import finite
+from rocking._validate import finite, positive_finite
 from rocking.constants import G
 from rocking.motions.motion import GroundMotion
 
@@ -78,9 +78,7 @@ def arias_tensor(a1, a2, dt: float) -> np.ndarray:
         Symmetric 2×2 matrix; its trace is the total (rotation-invariant) Arias intensity.
     """
     x, y = _pair(a1, a2)
-    step = finite("dt", dt)
-    if step <= 0.0:
-        raise ValueError(f"dt must be > 0, got {dt!r}")
+    step = positive_finite("dt", dt)
     xy = _dot(x, y)
     s = np.array([[_dot(x, x), xy], [xy, _dot(y, y)]])
     return s * (math.pi / (2.0 * G) * step)

@@ -15,6 +15,7 @@ from typing import ParamSpec
 import matplotlib
 
 from rocking import _json
+from rocking._validate import positive_finite
 from rocking.spectra.limit_states import TILT_AXIS, severity
 from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 
@@ -246,9 +247,7 @@ def pga_g_axis(ax, tan_alpha: float, which: str = "y"):
 
     PGA [g] = tan α · PGA/(g tan α), so the secondary axis is a linear rescaling.
     """
-    if not (tan_alpha > 0):
-        raise ValueError(f"tan_alpha must be > 0, got {tan_alpha!r}")
-    t = float(tan_alpha)
+    t = positive_finite("tan_alpha", tan_alpha)
     funcs = (lambda v: v * t, lambda v: v / t)
     sec = (ax.secondary_yaxis("right", functions=funcs) if which == "y"
            else ax.secondary_xaxis("top", functions=funcs))

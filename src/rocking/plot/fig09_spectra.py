@@ -262,16 +262,22 @@ def plot(d: dict) -> Figure:
     return fig
 
 
+MEAN_STYLE = {"color": "0.55", "lw": 3.4, "alpha": 0.75, "zorder": 1.5}
+"""The means: broad and grey under the motions' lines, so that the record (black, on top)
+stays visible where it runs along them."""
+
+
 def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
+    record = next(iter(d["motions"]), None)  # the ensemble's first motion, drawn last
     for mode, curves in panel["curves"].items():
         for motion, y in curves.items():
             ax.plot(d["R"], y, color=colors[motion], ls=LINESTYLES.get(mode, "-"), lw=0.8,
-                    marker=".", ms=3)
+                    marker=".", ms=3, zorder=3 if motion == record else 2)
     lone = len(d["R_mean"]) == 1  # one size: a line of one point draws nothing, mark it
     for mode, y in panel["means"].items():
-        ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
-                marker="_" if lone else None, ms=18, mew=2.6,
-                label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
+        ax.plot(d["R_mean"], y, ls=LINESTYLES.get(mode, "-"), marker="_" if lone else None,
+                ms=18, mew=2.6, label=f"mean, {'damped' if mode == DAMPED else 'undamped'}",
+                **MEAN_STYLE)
     # conditioning in the legend: per motion, how many of its answers are on a plateau
     counts = {m: sum(int(np.sum(f[m])) for f in panel.get("plateau", {}).values() if m in f)
               for m in d["motions"]}

@@ -1,4 +1,5 @@
-"""Fragility curves (beyond the paper): P(limit state exceeded | PGA/(g tan α)) per size R.
+"""Fragility curves (beyond the paper): the distribution of the motions' first-exceedance
+intensities, P(first exceedance ≤ PGA/(g tan α)), per size R.
 
 Lines are the lognormal maximum-likelihood fits of :mod:`rocking.fragility.lognormal` (stored in
 ``results/<study>/fragility.nc``); markers are the ensemble's empirical fractions of motions
@@ -151,7 +152,9 @@ def plot(d: dict) -> Figure:
             _name_curve(ax, panel["curves"][R], R, height, cmap(norm(R)))
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("PGA/(g tan α) [-]")
-        ax.set_ylabel("P(limit state exceeded) [-]")
+        # what is drawn: the distribution of the motions' first-exceedance intensities (a
+        # motion may survive above the intensity at which it first exceeds)
+        ax.set_ylabel("P(first exceedance ≤ PGA/(g tan α)) [-]")
         ax.set_ylim(-0.02, 1.02)
         # to the drawn intensities, which stop at the search bound: nothing is known beyond
         ax.set_xlim(0.0, max((float(c["im"][-1]) for c in panel["curves"].values()),
@@ -179,7 +182,8 @@ def plot(d: dict) -> Figure:
         legend_row.legend(handles=[Line2D([], [], color="0.3", lw=1.9,
                                    label="lognormal MLE fit, sizes named on the curve"),
                             Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
-                                   label="ensemble: share of motions ≤ x (named sizes)"),
+                                   label="ensemble: share of motions first exceeding at "
+                                         "≤ x (named sizes)"),
                             *([Line2D([], [], color="0.3", lw=0.7, alpha=0.4,
                                       label=f"the other {others} sizes: fit only (thin)")]
                               if others else [])],

@@ -22,7 +22,7 @@ from matplotlib.figure import Figure
 
 from rocking.plot._style import footnote, new_figure, styled
 from rocking.risk.portfolio import error_words
-from rocking.risk.table import shown_limit_states
+from rocking.risk.risk_table import shown_limit_states
 from rocking.spectra.limit_states import limit_state_title, severity
 
 CAPTION_MAP = (
@@ -195,31 +195,25 @@ def _inverse(x):
         return np.where(x > 0, 1.0 / np.where(x > 0, x, 1.0), np.inf)
 
 
-__all__ = ["CAPTION_MAP", "CAPTION_RANKED", "data", "plot_map", "plot_ranked"]
+__all__ = ["CAPTION_MAP", "CAPTION_RANKED", "FIGURE", "data", "plot_map", "plot_ranked"]
 
 
-FIGURES = {"portfolio_map": (plot_map, CAPTION_MAP),
-           "portfolio_ranked": (plot_ranked, CAPTION_RANKED)}
-"""The two figures of a portfolio: file stem → (drawing function, caption)."""
+def _arguments(inputs, params) -> dict:
+    """``data()``'s keywords: the study named as its report names it."""
+    return {"portfolio": inputs["portfolio"], "hazard": str(params["hazard_file"] or ""),
+            "study": f"study {params['study']}"}
 
 
-def render_figures(portfolio: str | Path | pd.DataFrame, out: str | Path, *,
-                   hazard: str = "", study: str = "", formats: tuple[str, ...] = (".png",)
-                   ) -> list[Path]:
-    """Draw :data:`FIGURES` into ``out`` (``portfolio_map.png``, ``portfolio_ranked.png``),
-    each with its JSON sidecar (caption, what it measured, the columns left off the map);
-    returns the image paths."""
-    from rocking.plot._style import save, write_notes
+from rocking.plot.registry import FigureSpec  # noqa: E402
 
-    out = Path(out)
-    d = data(portfolio, hazard=hazard, study=study)
-    written = []
-    for stem, (draw, caption) in FIGURES.items():
-        written += save(draw(d), [out / f"{stem}{ext}" for ext in formats])
-        write_notes(out / f"{stem}.json", {"figure": stem, "caption": caption,
-                                           "measured": d["measured"],
-                                           "missing": d["missing"], "hazard": hazard,
-                                           "study": study})
-    return written
-
-
+_ENTRY = dict(module=__name__, scope="study", wanted=lambda s: s.spec().inventory is not None,
+              inputs={"portfolio": "portfolio"},
+              params={"hazard_file": "hazard_file", "study": "study"}, arguments=_arguments,
+              section="portfolio", category="Beyond the paper")
+FIGURE = (
+    FigureSpec(name="portfolio_map", number=16, label="portfolio map", caption=CAPTION_MAP,
+               plot="plot_map", **_ENTRY),
+    FigureSpec(name="portfolio_ranked", number=17, label="portfolio ranked",
+               caption=CAPTION_RANKED, plot="plot_ranked", **_ENTRY),
+)
+"""The two figures of a study's inventory, drawn from one ``data``."""

@@ -1,6 +1,6 @@
 """Risk (beyond the paper): mean annual frequency of overturning and excessive tilt against R.
 
-Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.table.risk_table`): for each mode at
+Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.risk_table.risk_table`): for each mode at
 one slenderness, the mean annual frequency λ_LS [1/yr] of each size R under the study's
 hazard curve, on a log scale, one panel per limit state, with the 90 % bootstrap band
 (``lambda_p05``–``lambda_p95``) shaded. A size without a fit leaves a gap in its line (never
@@ -25,7 +25,7 @@ from rocking.fragility.table import FIRST_EXCEEDANCE
 from rocking.fragility.table import STRIPES as STRIPE_FRAGILITY
 from rocking.motions.measures import COMPONENTS
 from rocking.plot._style import MODE_STYLE, footnote, styled, with_legend_row
-from rocking.risk.table import main_tan_alpha, read_risk_table, shown_limit_states
+from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import PLANAR_MODES
 
@@ -305,3 +305,22 @@ def _inverse(x):
     x = np.asarray(x, dtype=float)
     with np.errstate(divide="ignore"):
         return np.where(x > 0, 1.0 / np.where(x > 0, x, 1.0), np.inf)
+
+
+def _arguments(inputs, params) -> dict:
+    """``data()``'s keywords: the hazard named as the risk rule read it."""
+    from rocking.risk.hazard import parse_hazard
+
+    return {"risk": inputs["risk"], "hazard": parse_hazard(params["hazard"]).source,
+            "study": f"study {params['study']} (ensemble {params['ensemble']})"}
+
+
+from rocking.plot.registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="risk", rule="risk_figure", module=__name__, number=15, label="risk",
+    caption=CAPTION, scope="study", wanted=lambda s: s.spec().hazard is not None,
+    inputs={"risk": "risk"},
+    params={"hazard": "hazard", "study": "study", "ensemble": "ensemble"},
+    arguments=_arguments, section="risk", category="Beyond the paper")
+"""The risk figure, in the report's risk section of every study with a hazard."""

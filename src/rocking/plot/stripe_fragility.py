@@ -221,3 +221,15 @@ REPORT_CAPTION = (
 )
 """The caption under each stripe figure in the report and the gallery (the figure's own
 footnote is :data:`CAPTION`)."""
+
+
+from rocking.plot.registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="stripe_fragility", rule="stripe_fragility_figure", module=__name__, number=14,
+    label="stripe fragility", caption=REPORT_CAPTION, scope="study",
+    wanted=lambda s: s.spec().stripes is not None,
+    per="mode", per_values=lambda s: s.spec().stripes.modes,
+    inputs={"fragility": "fragility_nc", "table": "stripe_table", "refined": "stripe_refined"},
+    params={"stripes": "stripes_store"}, section="stripes", category="Beyond the paper")
+"""One figure per mode of a study's stripes, in the report's stripes section."""

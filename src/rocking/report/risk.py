@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from rocking.fragility.table import FIRST_EXCEEDANCE, STRIPES
-from rocking.risk.table import (
+from rocking.risk.risk_table import (
     MIN_RECORDS,
     below_first_warning,
     main_tan_alpha,

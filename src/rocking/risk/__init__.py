@@ -2,14 +2,14 @@
 
 :mod:`.hazard` (:class:`HazardCurve`: PGA or Sa(T), from OpenQuake CSVs, tables or a power
 law), :mod:`.annual_frequency` (λ_LS of a lognormal fragility under a hazard curve, and its
-interval over bootstrap resamples), :mod:`.fragilities` (the study's fragility table as
-records), :mod:`.bootstrap` (the ``<table>_bootstrap.nc`` samples beside each table),
-:mod:`.nrml` (OpenQuake NRML 0.5 fragility model), :mod:`.pelicun` (pelicun / FEMA P-58 damage
-model CSV), :mod:`.table` (the risk table) and :mod:`.report` (its section of the report);
-:mod:`.surface` (a study's fragility over R and tan α), :mod:`.inventory` (a CSV of columns,
-checked, with their hazard sites), :mod:`.portfolio` (``portfolio.csv``: every column's
-fragility and λ, ranked) and :mod:`.exposure` (an inventory as OpenQuake's exposure model and
-pelicun's assets).
+interval over bootstrap resamples), :mod:`.risk_table` (the risk table of a study: λ, return
+period, 50-year probability per requested fragility), :mod:`.nrml` (OpenQuake NRML 0.5
+fragility model), :mod:`.pelicun` (pelicun / FEMA P-58 damage model CSV), :mod:`.exports`
+(the files of the workflow's risk rules); :mod:`.inventory` (a CSV of columns, checked, with
+their hazard sites), :mod:`.portfolio` (``portfolio.csv``: every column's fragility and λ,
+ranked) and :mod:`.exposure` (an inventory as OpenQuake's exposure model and pelicun's
+assets). The fragilities themselves are :mod:`rocking.fragility`'s, the report's risk section
+:mod:`rocking.report.risk`'s.
 """
 
 from rocking._lazy import lazy_exports
@@ -24,8 +24,8 @@ _EXPORTS = {
     "probability_in": "annual_frequency",
     "write_nrml": "nrml",
     "write_pelicun_csv": "pelicun",
-    "risk_table": "table",
-    "risk_tables": "table",
+    "risk_table": "risk_table",
+    "risk_tables": "risk_table",
     "write_fragility_exports": "exports",
     "write_risk_outputs": "exports",
     "write_exposure": "exposure",

@@ -15,7 +15,7 @@ from rocking.fragility.table import Fragilities, read_fragilities
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.nrml import nrml_model_id, write_nrml
 from rocking.risk.pelicun import write_pelicun_csv
-from rocking.risk.table import risk_tables
+from rocking.risk.risk_table import risk_tables
 
 
 def _read(fragility) -> Fragilities:
@@ -113,7 +113,7 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
         the rows without a fit (``skipped``), the hazard's site, kind and unit, and the
         preset's and the hazard's first level's warnings, for the rule's log.
     """
-    from rocking.risk.table import below_first_warning, preset_warning
+    from rocking.risk.risk_table import below_first_warning, preset_warning
 
     pga = read_fragilities(fragility)
     summary = write_fragility_exports(pga, nrml=nrml, pelicun=pelicun,

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rocking._validate import positive_finite
 from rocking.motions.measures import SA_NAME, parse_measure
 
 log = logging.getLogger(__name__)
@@ -214,7 +215,7 @@ class HazardCurve:
         imt : str
             The intensity measure (``"PGA"``, ``"SA(1.0)"``, ``"sa:1.0"``).
         """
-        k0, k = _positive("k0", k0), _positive("k", k)
+        k0, k = positive_finite("k0", k0), positive_finite("k", k)
         im = POWER_LAW_IML if im_g is None else np.asarray(im_g, dtype=float)
         return cls(im, k0 * im ** (-k), imt=imt,
                    source=f"power law k0={k0:g}/yr, k={k:g} ({measure_imt(imt)})")
@@ -314,7 +315,7 @@ class HazardCurve:
         curve of the geometric mean or RotD50 becomes one of the vector peak (RotD100) with
         the ratio RotD100/RotD50 as ``factor`` (docs/risk.md).
         """
-        factor = _positive("factor", factor)
+        factor = positive_finite("factor", factor)
         note = f", levels x{factor:g}" if factor != 1.0 else ""
         # replace() carries every metadata field (site, kind, unit, ...) unchanged
         return dataclasses.replace(self, im_g=self.im_g * factor, source=self.source + note,
@@ -396,7 +397,7 @@ def select_site(sites: list[Site], site, where: str) -> tuple[Site, str]:
         if not (-180.0 <= lon <= 360.0 and -90.0 <= lat <= 90.0):
             raise ValueError(f"{where}: site lon {lon:g}, lat {lat:g} is not a point on Earth "
                              "(lon in [-180, 360], lat in [-90, 90] degrees)")
-        limit = _positive(f"{where}: site.max_distance_km",
+        limit = positive_finite(f"{where}: site.max_distance_km",
                           site.get("max_distance_km", MAX_DISTANCE_KM))
         located = [s for s in sites if math.isfinite(s.lon) and math.isfinite(s.lat)]
         if not located:
@@ -533,7 +534,7 @@ def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kin
                                if m is None)
         raise ValueError(f"{path}: no {missing} in a comment line (an OpenQuake "
                          "hazard_curve CSV starts with one)")
-    years = _positive(f"{path}: investigation_time", time.group(1))
+    years = positive_finite(f"{path}: investigation_time", time.group(1))
     measure = _file_measure(path, imt.group(1))
     used_kind = check_kind(file_kind(comments), kind, str(path))
     name, factor = unit_factor(unit, str(path)) if unit is not None else ("g", 1.0)
@@ -597,7 +598,7 @@ def _table(path: Path, comments: list[str], rows: list[list[str]], investigation
                                  "hazard {file, investigation_time} or a comment line "
                                  "'# investigation_time=50'")
             investigation_time = hit.group(1)
-        years = _positive(f"{path}: investigation_time", investigation_time)
+        years = positive_finite(f"{path}: investigation_time", investigation_time)
         curve = _from_poe(im, value, years, measure, str(path))
     curve = dataclasses.replace(curve, kind=used_kind, unit=name,
                                 source=curve.source + _said(used_kind, name))
@@ -855,16 +856,6 @@ def _short(a: np.ndarray) -> str:
         return "[" + ", ".join(f"{v:.6g}" for v in a) + "]"
     return ("[" + ", ".join(f"{v:.6g}" for v in a[:3]) + ", ..., "
             + ", ".join(f"{v:.6g}" for v in a[-2:]) + f"] ({a.size} values)")
-
-
-def _positive(name: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        x = math.nan
-    if isinstance(value, bool) or not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return x
 
 
 def _resolve(path, base) -> Path:

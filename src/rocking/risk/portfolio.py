@@ -68,7 +68,7 @@ from rocking.fragility.surface import interval
 from rocking.risk.annual_frequency import mean_annual_frequencies
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.inventory import HazardSites, Inventory
-from rocking.risk.table import YEARS
+from rocking.risk.risk_table import YEARS
 
 COLUMNS = ("id", "lon", "lat", "site", "height", "diameter", "R", "tan_alpha", "mu", "mode",
            "limit_state", "fragility", "measure", "component",

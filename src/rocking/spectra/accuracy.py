@@ -1,7 +1,7 @@
 """Named accuracy presets of the critical-intensity search.
 
 The search (:mod:`rocking.spectra.search`) estimates I_p = inf{s : P(s) >= p}
-(:mod:`rocking.spectra.quantity`) in two kinds of analyses, and four choices set together
+(:mod:`rocking.spectra.quantity`) in two kinds of analyses, and these choices set together
 how close its answer is to the converged I_p and what it costs:
 
 - ``rtol``: relative tolerance of the ODE integration of each analysis of the undamped 3D
@@ -14,14 +14,21 @@ how close its answer is to the converged I_p and what it costs:
   one analysis at a random position in each: a window of P(s) (±w in ln s) holds about
   2w/δ analyses, and the noise of P̂ — hence of I_p — falls with their number;
 - ``local_below`` and ``local_above``: how far below and above a candidate (in ln I) the
-  local sample first reaches; it is extended down by ``local_below`` while P̂ >= p at the
-  lowest s it can judge.
+  local sample first reaches; it is extended down by ``local_below`` while P̂ at the lowest
+  s it can judge is p/2 or more; ``confirm``: a crossing of p is confirmed on a sample twice
+  as dense before it is taken.
 
 ``rest_tilt`` sets the analyses' micro-uplift rest criterion (None: the engine's default).
 
 The presets were chosen on ``python -m benchmarks resolution`` (docs/performance.md,
 "The trade"): the answers of each preset against I10 of a 0.02 % lattice, with analyses
-and CPU seconds per point.
+and CPU seconds per point. ``default`` (2 % scan, 0.6 % strata) had 86 % of its answers
+within 5 % of I10 (90 % with the seven goals of Fig 10), median error 0.3 %, at 0.84 times
+the CPU of the first-exceedance ``default`` before it with two goals (1.2 times with seven);
+``precise`` (1 % scan, 0.4 % strata) 93 %, median 0.2 %, at about twice the cost; ``fast``
+(3 % scan) 83 %, median 0.4 %. Strata of at most 0.6 % keep more than 1/p analyses in a
+confirmed window (w = 2 %, p = 0.1): a window of exceedance narrower than half a stratum
+never makes an answer by itself.
 """
 
 from __future__ import annotations
@@ -50,6 +57,9 @@ class Accuracy:
         Reach of the local sample below and above a candidate in ln I [-], in (0, 1];
         ``local_below`` >= ln(1 + ``scan_step``), so that the sample around the next
         candidate of the grid joins the one below it.
+    confirm : bool
+        Confirm a crossing of p on a sample twice as dense (a second analysis in every
+        stratum its window touches) before taking it as I_p.
     rtol_damped : float, optional
         ODE relative tolerance of the "3d-damped" analyses [-]; default ``rtol``.
     rest_tilt : float, optional
@@ -81,6 +91,8 @@ class Accuracy:
         for name in ("rtol", "rtol_damped", "scan_step", "local_step", "local_below",
                      "local_above"):
             object.__setattr__(self, name, float(getattr(self, name)))
+        if not isinstance(self.confirm, bool):
+            raise ValueError(f"confirm must be true or false, got {self.confirm!r}")
         if self.local_below < math.log1p(self.scan_step) - 1e-12:
             raise ValueError(f"local_below must be >= ln(1 + scan_step) = "
                              f"{math.log1p(self.scan_step):.6g}, got {self.local_below!r}")
@@ -112,11 +124,11 @@ class Accuracy:
         return {"name": self.name, "rtol": self.rtol, "rtol_damped": self.rtol_damped,
                 "scan_step": self.scan_step, "local_step": self.local_step,
                 "local_below": self.local_below, "local_above": self.local_above,
-                "rest_tilt": self.rest_tilt}
+                "confirm": self.confirm, "rest_tilt": self.rest_tilt}
 
 
 FIELDS = ("name", "rtol", "rtol_damped", "scan_step", "local_step", "local_below",
-          "local_above", "rest_tilt")
+          "local_above", "confirm", "rest_tilt")
 """The fields of :class:`Accuracy` a mapping may set."""
 
 

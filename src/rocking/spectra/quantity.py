@@ -31,8 +31,10 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
 
 EXCEEDANCE_QUANTILE = "exceedance_quantile"
 """I_p = inf{s : P(s) >= p}, the converging answer (the default)."""
@@ -146,6 +148,8 @@ def _open_interval(key: str, value, lo: float, hi: float) -> float:
 def _sample(intensities, exceeded, weights=None) -> tuple[np.ndarray, np.ndarray,
                                                          np.ndarray]:
     """(ln x, exceeded, weight) sorted by intensity, the positive finite intensities only."""
+    import numpy as np  # on use: the command line's help loads no numpy
+
     x = np.asarray(intensities, dtype=float).ravel()
     e = np.asarray(exceeded, dtype=bool).ravel()
     wt = np.ones(x.shape) if weights is None else np.asarray(weights, dtype=float).ravel()
@@ -184,6 +188,8 @@ def local_exceedance(intensities, exceeded, s, w: float, weights=None) -> np.nda
     ndarray
         P̂ at each s (shape of ``s``); NaN where the window holds no analysed intensity.
     """
+    import numpy as np  # on use: the command line's help loads no numpy
+
     w = _open_interval("w", w, 0.0, math.inf)
     lx, e, wt = _sample(intensities, exceeded, weights)
     ls = np.log(np.asarray(s, dtype=float))
@@ -206,6 +212,8 @@ def breakpoints(intensities, w: float) -> np.ndarray:
     intensity x enters the window (s = x e^{-w}, closed) or has just left it (s just past
     x e^{w}). P̂ is constant from each to the next, so its infimum crossing of any level
     is one of them."""
+    import numpy as np  # on use: the command line's help loads no numpy
+
     lx = np.log(np.asarray(intensities, dtype=float).ravel())
     return np.exp(np.unique(np.concatenate([lx - w, lx + w + 2e-12])))
 
@@ -233,6 +241,8 @@ def exceedance_quantile(intensities, exceeded, p: float, w: float,
         I_p, or anywhere when P̂ never reaches p: P rises near p without crossing it there,
         so I_p is ill-conditioned.
     """
+    import numpy as np  # on use: the command line's help loads no numpy
+
     p = _open_interval("p", p, 0.0, 1.0)
     w = _open_interval("w", w, 0.0, math.inf)
     lx, e, wt = _sample(intensities, exceeded, weights)

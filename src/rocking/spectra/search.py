@@ -22,9 +22,22 @@ share a grid:
    - while P̂ at the lowest s the sample can judge is p/2 or more (:data:`EXTEND_SHARE`),
      the sample is extended downward by another ``local_below``: P may cross p below it,
      where only the scan looked;
-   - else where P̂ reaches p, its first such s is I_p;
+   - else where P̂ reaches p, its first such s is I_p, once *confirmed*: every stratum its
+     window touches gets a second analysis half a stratum from the first, and P̂ is read
+     again (each stratum weighs its width, however many analyses it holds); a crossing made
+     by the noise of ~2w/δ analyses moves up;
    - where P̂ stays below p, the candidate was an isolated window: the scan resumes above
      the sample for that limit state.
+
+   With δ ≤ 0.6 % (the presets; w = 2 %, p = 0.1) a confirmed window holds more than 1/p
+   analyses, so a window of exceedance narrower than half a stratum never makes an answer
+   by itself. I50 is read off the same sample, extended up to :data:`I50_REACH` above I_p to
+   find it. Exceeding a tilt goal implies exceeding every milder one, so the answers of the
+   tilt axis are kept in order of severity.
+
+What limits the accuracy is the scan: a stretch where P just reaches p over a few per cent
+is found with a probability of about its exceeding width over h, and where the scan steps
+over it the answer is the next one above (docs/performance.md, "The trade").
 
 One analysis decides every limit state whose tilt goal lies below the largest tilt it
 reached, so a single search serves all limit states of (body, motion, mode): each analysis
@@ -38,10 +51,9 @@ there, scans down the grid until it is not.
 
 Each answer carries what the analyses up to its window (I_p·e^w, the analyses it is judged
 on) saw of the validity monitors, two separate questions: ``lifts_off`` (some analysis there
-left the support, N ≤ 0) and,
-given the support's friction coefficient μ, ``slides`` (some analysis that did not overturn
-needed μ_req > μ while in contact; NaN without μ): the fall of an overturning body needs
-unbounded friction as N → 0⁺, so it is not counted as sliding
+left the support, N ≤ 0) and, given the support's friction coefficient μ, ``slides`` (some
+analysis that did not overturn needed μ_req > μ while in contact; NaN without μ): the fall of
+an overturning body needs unbounded friction as N → 0⁺, so it is not counted as sliding
 (:func:`~rocking.spectra.limit_states.slides_in_contact`).
 
 This module only sees an analysis function ``analyze(intensity, stop_at, rtol) -> Outcome``
@@ -987,9 +999,8 @@ def search_critical(
     q = Quantity.from_value(quantity)
     alpha = positive_finite("alpha", alpha)
     upper = positive_finite("upper", upper)
-    lower = float(lower)
-    if math.isnan(lower) or lower <= 0.0:
-        raise ValueError(f"lower must be > 0, got {lower!r}")
+    if lower != math.inf:  # inf: a component identically zero never lifts the body
+        lower = positive_finite("lower", lower)
     rtol = acc.rtol if rtol is None else positive_finite("rtol", rtol)
     return run_search(analyze, states, alpha, lower, upper, acc, q, rtol, mu, int(seed))
 

@@ -1,4 +1,6 @@
-"""The numbers documents quote from the committed gallery, written from the gallery itself.
+"""The numbers documents quote from the committed gallery, written from the gallery itself: a
+maintainer's tool beside ``workflow/gallery.py`` (which runs it after copying a run), not
+part of the library.
 
 A document (README.md, docs/*.md) that quotes the gallery (``results/paper/``: its reports'
 verdicts, its tables) marks each quotation as a block::
@@ -11,10 +13,12 @@ table). The workflow's gallery script rewrites every marked document after it co
 and tests/test_docs_numbers.py fails when a committed document differs from what its gallery
 gives: a verdict or number that moves in the gallery cannot leave a document behind.
 
-The verdicts are read from the reports' verdict tables (``<study>/report.html``), exactly as a
-reader sees them there; the numbers from the study tables (``<study>/*.csv``).
+The verdicts are read from each report's verdict table as data (``<study>/verdicts.csv``,
+written by the report beside its page, row for row as the page shows it); the numbers from the
+study tables (``<study>/*.csv``), the ensembles' parameters (``motions/*.json``) and the
+manifest. Nothing here reads HTML.
 
-    python -m rocking.plot.gallery_quotes [--gallery results/paper] [--check] [FILE ...]
+    python workflow/gallery_quotes.py [--gallery results/paper] [--check] [FILE ...]
 """
 
 from __future__ import annotations
@@ -27,10 +31,10 @@ import re
 import sys
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
-from html.parser import HTMLParser
 from pathlib import Path
 
 from rocking.plot.comparisons import DIFFERS, REPRODUCED, VERDICTS
+from rocking.report.entries import VERDICT_COLUMNS
 
 BLOCK = re.compile(r"(?P<begin><!-- BEGIN gallery:(?P<name>[\w-]+) -->)(?P<body>.*?)"
                    r"(?P<end><!-- END gallery:(?P=name) -->)", re.DOTALL)
@@ -42,10 +46,10 @@ STUDY_TITLES = {"elcentro": "El Centro", "lomaprieta": "Loma Prieta"}
 
 @dataclass(frozen=True)
 class VerdictRow:
-    """One row of a report's verdict table, as the page shows it.
+    """One row of a report's verdict table (a row of its ``verdicts.csv``).
 
-    ``verdict`` is one of :data:`rocking.plot.comparisons.VERDICTS`; ``text`` is the whole
-    verdict cell (the verdict with its tolerance or reason).
+    ``verdict`` is one of :data:`rocking.plot.comparisons.VERDICTS`; ``reason`` the tolerance
+    met or why the numbers differ, as the report gives it.
     """
 
     figure: str
@@ -53,13 +57,12 @@ class VerdictRow:
     paper: str
     ours: str
     verdict: str
-    text: str
+    reason: str
 
     @property
-    def reason(self) -> str:
-        """The reason of a verdict other than reproduced, up to its first top-level "; "."""
-        rest = self.text[len(self.verdict):].removeprefix(" because").removeprefix(":")
-        return _first_clause(rest.strip())
+    def first_reason(self) -> str:
+        """The reason up to its first "; " outside brackets."""
+        return _first_clause(self.reason)
 
 
 def _first_clause(text: str) -> str:
@@ -75,74 +78,35 @@ def _first_clause(text: str) -> str:
     return text
 
 
-COLUMNS = ("figure", "statement", "paper", "this run")
-"""The verdict table's columns read (the verdict is its last column)."""
-
-
-class _Table(HTMLParser):
-    """The cells' text, row by row, of the first table after ``<h2 id='verdicts'>``."""
-
-    def __init__(self) -> None:
-        super().__init__(convert_charrefs=True)
-        self.rows: list[list[str]] = []
-        self.state = "before"           # before → heading → table → done
-        self._cell: list[str] | None = None
-
-    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
-        if self.state == "before" and tag == "h2" and dict(attrs).get("id") == "verdicts":
-            self.state = "heading"
-        elif self.state == "heading" and tag == "table":
-            self.state = "table"
-        elif self.state == "table" and tag == "tr":
-            self.rows.append([])
-        elif self.state == "table" and tag in ("td", "th"):
-            self._cell = []
-
-    def handle_endtag(self, tag: str) -> None:
-        if self.state == "table" and tag in ("td", "th") and self._cell is not None:
-            self.rows[-1].append(" ".join("".join(self._cell).split()))
-            self._cell = None
-        elif self.state == "table" and tag == "table":
-            self.state = "done"
-
-    def handle_data(self, data: str) -> None:
-        if self._cell is not None:
-            self._cell.append(data)
-
-
-def verdict_rows(report: str | Path) -> list[VerdictRow]:
-    """The verdict table of a study's ``report.html``, row by row.
+def verdict_rows(table: str | Path) -> list[VerdictRow]:
+    """The verdict table of a study (its ``verdicts.csv``), row by row.
 
     Raises
     ------
     ValueError
-        The page has no verdict table (``<h2 id='verdicts'>`` and the table after it), the
-        table lacks a column of :data:`COLUMNS`, or a verdict cell names no verdict of
-        :data:`~rocking.plot.comparisons.VERDICTS`.
+        The file lacks a column of :data:`~rocking.report.entries.VERDICT_COLUMNS`, or a row
+        names no verdict of :data:`~rocking.plot.comparisons.VERDICTS` (naming the file and
+        the row).
     """
-    parser = _Table()
-    parser.feed(Path(report).read_text(encoding="utf-8"))
-    if parser.state != "done" or not parser.rows:
-        raise ValueError(f"report {report}: no verdict table (<h2 id='verdicts'>)")
-    head = parser.rows[0]
-    missing = [c for c in COLUMNS if c not in head]
-    if missing:
-        raise ValueError(f"report {report}: the verdict table has no column {missing} "
-                         f"(columns {head})")
+    with open(table, newline="", encoding="utf-8") as fh:
+        reader = csv.DictReader(fh)
+        missing = [c for c in VERDICT_COLUMNS if c not in (reader.fieldnames or ())]
+        if missing:
+            raise ValueError(f"verdict table {table}: no column {missing} "
+                             f"(columns {reader.fieldnames})")
+        rows = list(reader)
     out = []
-    for cells in parser.rows[1:]:
-        cell = dict(zip(head, cells, strict=True))
-        verdict = next((v for v in VERDICTS if cells[-1].startswith(v)), None)
-        if verdict is None:
-            raise ValueError(f"report {report}: verdict cell {cells[-1][:60]!r} names none "
-                             f"of {VERDICTS}")
-        out.append(VerdictRow(*(cell[c] for c in COLUMNS), verdict, cells[-1]))
+    for i, r in enumerate(rows, start=2):
+        if r["verdict"] not in VERDICTS:
+            raise ValueError(f"verdict table {table}, line {i}: verdict {r['verdict']!r} is "
+                             f"none of {VERDICTS}")
+        out.append(VerdictRow(*(r[c] for c in VERDICT_COLUMNS)))
     return out
 
 
 def _reports(gallery: Path) -> dict[str, Path]:
-    """Each study folder of the gallery with a report, by name (sorted)."""
-    return {p.parent.name: p for p in sorted(Path(gallery).glob("*/report.html"))}
+    """Each study folder of the gallery with a report's verdict table, by name (sorted)."""
+    return {p.parent.name: p for p in sorted(Path(gallery).glob("*/verdicts.csv"))}
 
 
 def _title(study: str) -> str:
@@ -160,7 +124,7 @@ def verdict_counts(gallery: Path) -> str:
         parts.append(f"{_title(study)} report: "
                      + ", ".join(f"{n} {words.get(v, v)}" for v, n in counts if n))
     if not parts:
-        raise ValueError(f"gallery {gallery}: no <study>/report.html")
+        raise ValueError(f"gallery {gallery}: no <study>/verdicts.csv")
     return "; ".join(parts)
 
 
@@ -179,7 +143,7 @@ class Headline:
         found = [r for r in rows if r.figure == self.figure
                  and r.statement.startswith(self.statement)]
         if len(found) != 1:
-            raise ValueError(f"{self.study}/report.html: {len(found)} verdict rows of "
+            raise ValueError(f"{self.study}/verdicts.csv: {len(found)} verdict rows of "
                              f"{self.figure} start with {self.statement!r} (need one)")
         return found[0]
 
@@ -243,12 +207,12 @@ def headline_table(gallery: Path, headlines: Iterable[Headline] = HEADLINES) -> 
     lines = ["| quantity | paper | this run | verdict |", "|---|---|---|---|"]
     for h in headlines:
         if h.study not in reports:
-            raise ValueError(f"gallery {gallery}: no {h.study}/report.html")
+            raise ValueError(f"gallery {gallery}: no {h.study}/verdicts.csv")
         if h.study not in rows:
             rows[h.study] = verdict_rows(reports[h.study])
         r = h.pick(rows[h.study])
-        verdict = r.verdict if r.verdict == REPRODUCED or not r.reason else \
-            f"{r.verdict}: {r.reason}"
+        verdict = r.verdict if r.verdict == REPRODUCED or not r.first_reason else \
+            f"{r.verdict}: {r.first_reason}"
         lines.append("| " + " | ".join(_cell(c) for c in (h.quantity, r.paper, r.ours,
                                                               verdict)) + " |")
     return "\n\n" + "\n".join(lines) + "\n\n"
@@ -525,7 +489,7 @@ def write_documents(paths: Iterable[str | Path], gallery: str | Path) -> list[Pa
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Rewrite (or with ``--check`` only compare) the documents' gallery quotations."""
-    parser = argparse.ArgumentParser(prog="python -m rocking.plot.gallery_quotes",
+    parser = argparse.ArgumentParser(prog="python workflow/gallery_quotes.py",
                                      description=__doc__.split("\n\n")[0])
     parser.add_argument("files", nargs="*", type=Path,
                         help="documents (default: README.md and docs/*.md that mark one)")

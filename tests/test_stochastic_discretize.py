@@ -14,14 +14,14 @@ from scipy import signal
 
 from rocking.motions.counts import pmnm_cum, zero_upcrossings_cum
 from rocking.motions.intensity import arias, husid, times_from_husid
-from rocking.motions.stochastic.filter import impulse_response
-from rocking.motions.stochastic.params import RDKParams
-from rocking.motions.stochastic.simulate import (
+from rocking.motions.stochastic.discretize import (
     noise_rows,
     spectral,
     spectral_frequencies,
     time_domain,
 )
+from rocking.motions.stochastic.filter import impulse_response
+from rocking.motions.stochastic.params import RDKParams
 
 DT = 0.01
 

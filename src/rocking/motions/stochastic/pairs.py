@@ -20,10 +20,10 @@ import numpy as np
 
 from rocking._validate import positive_finite
 from rocking.motions.motion import GroundMotion
+from rocking.motions.stochastic.discretize import DEFAULT_FC_HZ, noise_rows, spectral, time_domain
 from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ, normalized_irf
 from rocking.motions.stochastic.fit import RDKFit
 from rocking.motions.stochastic.params import RDKParams
-from rocking.motions.stochastic.simulate import DEFAULT_FC_HZ, noise_rows, spectral, time_domain
 
 __all__ = ["DEFAULT_FC_HZ", "energy_correction", "simulate_component", "synthesize"]
 
@@ -174,7 +174,7 @@ def synthesize(
     f_max_hz : float or None
         Highest frequency of the spectral method [Hz] (default Nyquist).
     filter_psd : {"discrete", "continuous"}
-        Filter spectrum of the spectral method (see :func:`.simulate.spectral`).
+        Filter spectrum of the spectral method (see :func:`.discretize.spectral`).
     rescale : bool
         Multiply each high-passed component by the deterministic factor of
         :func:`energy_correction` so that the *expected* Arias intensity is the fitted one

@@ -1,4 +1,4 @@
-"""Simulation of the Rezaeian–Der Kiureghian process for many realizations at once.
+"""The Rezaeian–Der Kiureghian process discretized, for many realizations at once.
 
 Two discretizations of the same model (docs/equations.md, "The RDK model"):
 
@@ -10,7 +10,7 @@ Two discretizations of the same model (docs/equations.md, "The RDK model"):
   response time t.
 
 Both take the standard-normal noise as an argument, so the caller owns the random streams
-(:mod:`rocking.motions.stochastic.ensemble` draws one independent stream per component and
+(:mod:`rocking.motions.stochastic.pairs` draws one independent stream per component and
 realization). Both give E[x̂²(t)] = q²(t) exactly and return an array of shape (m, n):
 one realization per row, time along the last axis.
 
