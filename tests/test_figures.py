@@ -507,7 +507,7 @@ def _one_size(d: dict) -> dict:
     panels = [{**p, "curves": {m: {k: v[:1] for k, v in c.items()}
                                for m, c in p["curves"].items()},
                "means": {m: v[:1] for m, v in p["means"].items()},
-               "unresolved": {}, "slides": {}, "damping": None} for p in d["panels"]]
+               "plateau": {}, "slides": {}, "damping": None} for p in d["panels"]]
     return {**d, "R": d["R"][:1], "R_mean": d["R_mean"][:1], "panels": panels,
             "modes": d["modes"][:1]}
 
@@ -1021,7 +1021,8 @@ def test_fig10_calls_a_stretch_flat_only_where_the_data_are_flat(tmp_path):
     agg = xr.Dataset(
         {k: (("mode", "limit_state", "tan_alpha", "R"), convex[None, None, None, :])
          for k in ("mean", "median", "std", "count")},
-        coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2], "R": R})
+        coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2], "R": R},
+        attrs={"quantity": json.dumps(fs.QUANTITY)})
     agg.to_netcdf(tmp_path / "means.nc")
     d = fig10_goals.data(tmp_path / "means.nc")
     fig = fig10_goals.plot(d)
