@@ -183,11 +183,12 @@ def _store(motions, crit_g):
     zeros = np.zeros(crit.shape, dtype=bool)
     return xr.Dataset(
         {"pga_crit": (dims, crit / 0.11), "pga_crit_g": (dims, crit),
-         "not_reached": (dims, zeros), "unresolved": (dims, zeros),
+         "not_reached": (dims, zeros), "plateau": (dims, zeros),
          "non_monotonic": (dims, zeros), "failed": (dims, zeros),
          "requested": (("mode", "limit_state", "tan_alpha"), np.ones((1, 1, 1), bool))},
         coords={"mode": ["3d"], "limit_state": ["overturning"],
-                "motion": [m.name for m in motions], "tan_alpha": [0.11], "R": [3.02]})
+                "motion": [m.name for m in motions], "tan_alpha": [0.11], "R": [3.02]},
+        attrs={"quantity": '{"name": "exceedance_quantile", "p": 0.1, "w": 0.02}'})
 
 
 def _analytic(im):

@@ -507,7 +507,7 @@ def _one_size(d: dict) -> dict:
     panels = [{**p, "curves": {m: {k: v[:1] for k, v in c.items()}
                                for m, c in p["curves"].items()},
                "means": {m: v[:1] for m, v in p["means"].items()},
-               "unresolved": {}, "slides": {}, "damping": None} for p in d["panels"]]
+               "plateau": {}, "slides": {}, "damping": None} for p in d["panels"]]
     return {**d, "R": d["R"][:1], "R_mean": d["R_mean"][:1], "panels": panels,
             "modes": d["modes"][:1]}
 
@@ -827,10 +827,17 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
         "pga_crit_g [g],scale_factor [-],exceeds_as_recorded,as_recorded_disagrees\n")
     (wd / "results/synth/suite_fragility.csv").write_text(
         "motions,mode,tan_alpha,limit_state,R,measure,unit,median,beta,n,n_censored,status\n")
-    # the refinement sample its rule writes (rocking.study.refinement): one refined cell
-    (wd / "results/synth/refinement_sample.csv").write_text(
-        "mode,limit_state,motion,tan_alpha,R,why,answer,refined,shift,analyses,truncated\n"
-        "3d,overturning,el-centro-1940,0.2,10.0,headline,5.0,4.9,-0.02,3000,False\n")
+    # the headline rule's table (rocking.study.headline), as it writes it: each motion's
+    # first exceedance at R = 10 m on four grids, above its answer, falling with the grid
+    answers = xr.open_zarr(paths["store"])["pga_crit"].sel(
+        mode="3d", limit_state="overturning", tan_alpha=0.2, R=10.0).values
+    rows = [{"motion": m, "mode": "3d", "limit_state": "overturning", "tan_alpha": 0.2,
+             "R": 10.0, "scan_step": h, "first_exceedance": a * (1 + 10 * h),
+             "not_reached": False, "answer": a, "quantity": "I10", "analyses": 100,
+             "cpu_s": 1.0}
+            for m, a in zip(fs.MOTIONS, answers, strict=True)
+            for h in (0.01, 0.005, 0.002, 0.001)]
+    pd.DataFrame(rows).to_csv(wd / "results/synth/headline.csv", index=False)
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
     cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",
@@ -858,6 +865,14 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     assert sens["measured"]["rotation_check"]["3d"] < 1e-6
     html = (wd / "results/synth/report.html").read_text()
     assert html.count("<figure") == 11
+    # the title names the paper; the headline: the mean I10 and the same cells' mean first
+    # exceedance on each grid (here 10·h above each answer)
+    assert "Reproduction of Vassiliou, Burger, Egger, Bachmann, Broccardo &amp; Stojadinović " \
+           "(2017)" in html
+    mean = float(np.mean(answers))
+    assert f"mean I10 of {mean:.2f}" in html
+    assert f"{mean * 1.1:.2f} (1 %)" in html
+    assert f"{mean * 1.01:.2f} (0.1 %)" in html
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
@@ -874,6 +889,11 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
             "figures/fig12_2d_vs_3d_synth.png", "config.yaml"} <= names
     critical = pd.read_csv(tmp_path / "gallery/synth/critical.csv")
     assert len(critical) == xr.open_zarr(paths["store"]).pga_crit.size
+    # no retired name in the tables, report and figures' notes of the run, or its gallery
+    from test_retired import retired_names_in
+
+    found = retired_names_in([*(wd / "results").rglob("*"), *files])
+    assert not found, found[:10]
 
 
 def _gallery_module():
@@ -952,32 +972,6 @@ def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tm
         assert not any("paper's" in m for m in d["missing"])
 
 
-def test_figs_9_10_12_say_in_their_notes_when_no_refinement_sample_measures_a_move(study):
-    # no refinement_sample.csv beside the synthetic study's means: the legends quote no move
-    # under refinement and the sidecars say why, instead of a number made up
-    from rocking.plot import refined
-
-    assert not (Path(study["means"]).parent / refined.SAMPLE_FILE).exists()
-    d9 = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
-    for panel in d9["panels"]:
-        assert panel["refinement"] == ""
-        note = d9["measured"][f"{refined.NOT_MEASURED}|{panel['limit_state']}"]
-        assert note.startswith("not measured: no refinement_sample.csv")
-    assert "refinement (0.05 % scan)" not in _texts(fig09_spectra.plot(d9))
-    d10 = fig10_goals.data(study["means"])
-    assert "refinement" not in d10["measured"]
-    assert d10["measured"][refined.NOT_MEASURED].startswith("not measured")
-    d12 = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"], study["motions"])])
-    assert d12["measured"][f"elcentro|{refined.NOT_MEASURED}"].startswith("not measured")
-    # a sample without a cell of the goal: named as such
-    sample = pd.DataFrame({"mode": ["3d"], "limit_state": ["tilt:0.1"], "R": [1.0],
-                           "tan_alpha": [0.2], "answer": [2.0], "refined": [1.9],
-                           "shift": [-0.05], "truncated": [False]})
-    assert refined.not_measured(sample, "3d", "overturning") == (
-        "not measured: refinement_sample.csv holds no refined cell of 3d overturning")
-    assert refined.not_measured(sample, "3d", "tilt:0.1") == ""
-
-
 def test_fig10_says_when_two_goals_coincide(tmp_path):
     """θ > α and overturning with identical statistics: said in the sidecar and the figure,
     and the flat-then-rise shape measured."""
@@ -990,10 +984,12 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
          "median": (("mode", "limit_state", "tan_alpha", "R"), mean),
          "std": (("mode", "limit_state", "tan_alpha", "R"), 0.1 * mean),
          "count": (("mode", "limit_state", "tan_alpha", "R"), np.full(mean.shape, 11.0))},
-        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R})
+        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R},
+        attrs={"quantity": json.dumps(fs.QUANTITY)})
     path = tmp_path / "means.nc"
     agg.to_netcdf(path)
     d = fig10_goals.data(path)
+    assert d["answer"] == "I10" and d["measured"]["answer"] == "I10"
     assert d["measured"]["coincide"] == [{"goals": ["tilt:1", "overturning"], "n_R": 7,
                                           "n_motions": 11}]
     line = d["measured"]["line|overturning"]
@@ -1025,7 +1021,8 @@ def test_fig10_calls_a_stretch_flat_only_where_the_data_are_flat(tmp_path):
     agg = xr.Dataset(
         {k: (("mode", "limit_state", "tan_alpha", "R"), convex[None, None, None, :])
          for k in ("mean", "median", "std", "count")},
-        coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2], "R": R})
+        coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2], "R": R},
+        attrs={"quantity": json.dumps(fs.QUANTITY)})
     agg.to_netcdf(tmp_path / "means.nc")
     d = fig10_goals.data(tmp_path / "means.nc")
     fig = fig10_goals.plot(d)
@@ -1074,33 +1071,38 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert len([ax for ax in fig.axes if ax.get_legend()]) == 1
 
 
-def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(study, tmp_path):
-    """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is
-    counted per motion (its answers in every mode drawn) in the legend, not ringed on every
-    point; a store without the flag counts none."""
+def test_fig09_counts_plateau_answers_per_motion_and_names_the_quantity(study, tmp_path):
+    """A ``plateau`` flag (P rises near p below the answer without crossing: I10
+    ill-conditioned) is counted per motion (its answers in every mode drawn) in the legend,
+    not ringed on every point; a store without a flag set counts none. The axis and the
+    legend say the curves are I10."""
     from rocking.plot import _load
 
     ds = _load.open_store(study["store"])
     flag = xr.zeros_like(ds["not_reached"], dtype=bool)
     flag.loc[{"mode": "3d", "motion": fs.MOTIONS[2], "tan_alpha": 0.2}] = True
-    ds = ds.assign(unresolved=flag & ~ds["not_reached"].astype(bool))
+    ds = ds.assign(plateau=flag & ~ds["not_reached"].astype(bool))
     path = tmp_path / "flagged.zarr"
     ds.to_zarr(path, mode="w", consolidated=False)
     d = fig09_spectra.data(path, study["means"])
     panel = d["panels"][0]
-    assert list(panel["unresolved"]["3d"]) == [fs.MOTIONS[2]]
+    assert list(panel["plateau"]["3d"]) == [fs.MOTIONS[2]]
     fig = fig09_spectra.plot(d)
-    k = int(panel["unresolved"]["3d"][fs.MOTIONS[2]].sum())
+    k = int(panel["plateau"]["3d"][fs.MOTIONS[2]].sum())
     n = sum(int(np.isfinite(c[fs.MOTIONS[2]]).sum()) for c in panel["curves"].values())
-    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    legend = fig.axes[0].get_legend()
+    texts = [t.get_text() for t in legend.get_texts()]
     label = d["colors"][fs.MOTIONS[2]]["label"]
-    assert f"{label}; {k} of {n} answers unresolved" in legend
-    assert sum("unresolved" in t for t in legend) == 1  # the other motions: none
+    assert f"{label}; {k} of {n} answers on a plateau" in texts
+    assert sum("plateau" in t for t in texts) == 1  # the other motions: none
+    assert legend.get_title().get_text().startswith(
+        "I10 = lowest PGA/(g tan α) at which ≥ 10 % of the intensities within ±2 % exceed")
+    assert fig.axes[0].get_ylabel() == "I10 PGA/(g tan α) [-]"
     rings = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"
              and ln.get_mfc() == "none" and len(ln.get_xdata())]
     assert not rings
     plain = fig09_spectra.data(study["store"], study["means"])
-    assert all(not p["unresolved"] for p in plain["panels"])
+    assert all(not any(p["plateau"].values()) for p in plain["panels"])
 
 
 def test_fig09_counts_answers_that_slide_when_the_study_gave_mu(study, tmp_path):
@@ -1206,18 +1208,18 @@ def test_a_bad_figure_entry_is_refused_naming_the_field():
         registry.caption("fig03_wobbling_period", paper=False)
 
 
-def test_fig12_unresolved_note_names_each_record_once_and_footnotes_fit_the_figure():
+def test_fig12_plateau_note_names_each_record_once_and_footnotes_fit_the_figure():
     from matplotlib.text import Text
 
     from rocking.plot._style import footnote, new_figure
-    from rocking.plot.fig12_2d_vs_3d import _unresolved_note
+    from rocking.plot.fig12_2d_vs_3d import _plateau_note
 
     counts = [("El Centro", "3D overturning", 17, 20), ("El Centro", "2D, x overturning", 20, 20),
               ("Loma Prieta", "3D overturning", 20, 20)]
-    note = _unresolved_note(counts)
+    note = _plateau_note(counts)
     assert note.count("El Centro") == 1 and note.count("Loma Prieta") == 1
     assert "3D overturning 17/20" in note and "2D, x overturning 20/20" in note
-    assert _unresolved_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
+    assert _plateau_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
     # a long footnote is wrapped inside the figure's width
     fig, _ = new_figure(8.0, 4.0)
     footnote(fig, [note * 4])

@@ -35,8 +35,7 @@ from rocking.study.aggregate import write_critical_table
 TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv", "verdicts.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",
                   "fragility.nrml.xml", "fragility.pelicun.csv", "stripe_fragility.nrml.xml",
-                  "stripe_fragility.pelicun.csv", "refinement_sample.csv",
-                  "refinement_risk.csv", "portfolio.csv")
+                  "stripe_fragility.pelicun.csv", "portfolio.csv", "headline.csv")
 """Outputs of the per-record table (docs/records.md), the stripes and the risk rules, copied
 where the study has them (docs/performance.md, docs/risk.md)."""
 CRITICAL = "critical.csv"
@@ -225,13 +224,11 @@ def readme(manifest: dict, out: Path) -> str:
         "- `<study>/stripe_fragility.csv`: the multiple-stripe fragility (share of motions "
         "exceeding at fixed intensities, binomial lognormal fit) beside the first-exceedance "
         "fit, with their ratio.",
+        "- `<study>/headline.csv`: the first exceedance of the R = 10 m 3D overturning cells "
+        "on 1, 0.5, 0.2 and 0.1 % grids, beside their I10 (the report's headline).",
         "- `<study>/fragility.nrml.xml`, `<study>/fragility.pelicun.csv`, `<study>/risk.csv`: "
         "the fragilities as OpenQuake and pelicun read them, and the mean annual frequency of "
         "each limit state under the example hazard curve (docs/risk.md).",
-        "- `<study>/refinement_sample.csv`, `<study>/refinement_risk.csv`: a stated sample of "
-        "the study's cells searched again with a 0.05 % scan (k per mode and limit state, its "
-        "seed, every cell of the R = 10 m mean), and the fragility and λ of each point holding "
-        "a refined cell fitted and integrated again: how far the reports' numbers move.",
         "- `motions/*.json`: the fitted ensemble parameters and fit quality; `figures/*.json`: "
         "the numbers behind each figure.",
         "",

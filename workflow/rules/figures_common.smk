@@ -149,8 +149,6 @@ FIGURE_INPUTS = {
     "spectra": lambda fig, w: _per_study(fig, w, lambda s: product_complete("spectra", s)),
     "tilt_map": lambda fig, w: _per_study(fig, w, lambda s: product_complete("tilt_map", s)),
     "means": lambda fig, w: _per_study(fig, w, mean_spectra),
-    "refinement": lambda fig, w: _per_study(
-        fig, w, lambda s: out_path(f"{s}/refinement_sample.csv")),
     "fragility_nc": lambda fig, w: _per_study(fig, w, lambda s: out_path(f"{s}/fragility.nc")),
     "fragility_csv": lambda fig, w: _per_study(
         fig, w, lambda s: out_path(f"{s}/fragility.csv")),
@@ -161,6 +159,10 @@ FIGURE_INPUTS = {
     "risk": lambda fig, w: _per_study(fig, w, lambda s: rules.risk.output.table.format(study=s)),
     "portfolio": lambda fig, w: _per_study(
         fig, w, lambda s: rules.portfolio.output.table.format(study=s)),
+    # headline.csv exists for the paper's El Centro study only (none elsewhere)
+    "headline": lambda fig, w: [f for s in _subject_studies(fig, w)
+                                if is_paper_record_study(s)
+                                for f in [out_path(f"{s}/headline.csv")]],
 }
 """How each logical input of a figure (rocking.plot.registry.INPUTS) is found for one job."""
 
@@ -259,16 +261,18 @@ def report_inputs(study):
             "linear_fit": rules.fragility.output.linear_csv.format(study=study),
             "fragility": rules.fragility.output.fragility_csv.format(study=study),
             **({"risk": rules.risk.output.table.format(study=study),
-                "refinement_risk": rules.refinement_risk.output.csv.format(study=study)}
+            **({"risk": rules.risk.output.table.format(study=study)}
                if hazard_spec(study) is not None else {}),
             **({"stripes": out_path(f"{study}/stripe_fragility.csv")}
                if has_product("stripes", study) else {}),
             **({"portfolio": rules.portfolio.output.table.format(study=study)}
                if study_spec(study).inventory is not None else {}),
             "records": out_path(f"{study}/records.csv"),
-            # the samples of every study the report quotes (Fig 12's finding), its own first
-            "refinement": [out_path(f"{s}/refinement_sample.csv") for s in
-                           dict.fromkeys([study, *report_studies(config, study)])],
+            # the headline's first exceedances on four grids, of every study the findings
+            # quote that has them (its own first)
+            "headline": [out_path(f"{s}/headline.csv") for s in
+                         dict.fromkeys([study, *report_studies(config, study)])
+                         if is_paper_record_study(s)],
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 

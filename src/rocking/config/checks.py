@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+from rocking.config.fields import DEFAULTS, accuracy_field, quantity_field
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
 __all__ = ["PlannedGrid", "check_config", "check_ensemble_size", "check_magnitude",
@@ -146,6 +147,10 @@ def check_config(config: Mapping[str, Any]) -> None:
         settings than its records'.
     """
     _check_finite(config)
+    # the quantity first: it decides what every analysis is for (one line, key and value),
+    # and the accuracy's local sample must be wider than its window
+    q = quantity_field(config.get("quantity", DEFAULTS["quantity"]))
+    accuracy_field(config.get("accuracy", DEFAULTS["accuracy"]), q["w"])
     from rocking.config.dimensions import resolve_dimensions
     from rocking.config.ensemble import EnsembleSpec
 

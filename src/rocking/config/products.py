@@ -65,6 +65,9 @@ class SpectraSpec(Hashed):
         Least work per task for ``chunk_R: auto`` [s] (None otherwise: it cannot matter).
     accuracy : str or dict
         Preset name or tolerances (:func:`rocking.spectra.accuracy.get_accuracy`).
+    quantity : dict
+        What a cell's critical intensity is (:meth:`rocking.spectra.quantity.Quantity.to_dict`:
+        name, p, w): part of the digest, so a store of another quantity is another store.
     upper : float
         Highest PGA/(g tan α) searched [-].
     damping : Damping or None
@@ -83,6 +86,7 @@ class SpectraSpec(Hashed):
     chunk_R: int | str
     min_task_seconds: float | None
     accuracy: str | dict[str, Any]
+    quantity: dict[str, Any]
     upper: float
     damping: Damping | None
     mu: float | None = None
@@ -110,6 +114,7 @@ class SpectraSpec(Hashed):
             "chunk_R": self.chunk_R,
             "min_task_seconds": self.min_task_seconds,
             "accuracy": self.accuracy,
+            "quantity": dict(self.quantity),
             "search_options": self.search_options(),
         }
 
@@ -119,7 +124,8 @@ class SpectraSpec(Hashed):
         opts = attrs["search_options"]
         return cls(attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]),
                    tuple(attrs["R"]), plan_study(attrs["runs"], "runs"), attrs["chunk_R"],
-                   attrs["min_task_seconds"], attrs["accuracy"], opts["upper"],
+                   attrs["min_task_seconds"], attrs["accuracy"], dict(attrs["quantity"]),
+                   opts["upper"],
                    Damping.from_options(opts), opts.get("mu"))
 
 

@@ -98,11 +98,11 @@ def r_axis(ax, R, label: bool = True) -> None:
         ax.set_xlabel("R [m]")
 
 
-def unresolved_suffix(k: int, n: int, what: str = "answers") -> str:
-    """Legend suffix counting a curve's answers flagged unresolved (``"; 3 of 20 answers
-    unresolved"``), empty when none: the count a reader can use, instead of a ring on
+def plateau_suffix(k: int, n: int, what: str = "answers") -> str:
+    """Legend suffix counting a curve's answers flagged ``plateau`` (``"; 3 of 20 answers
+    on a plateau"``), empty when none: the count a reader can use, instead of a ring on
     every point."""
-    return f"; {k} of {n} {what} unresolved" if k else ""
+    return f"; {k} of {n} {what} on a plateau" if k else ""
 
 
 def validity_suffix(slides: int, n: int) -> str:

@@ -4,8 +4,9 @@ The study's primary mode (undamped 3D in the paper) at its slenderness (tan α =
 paper; :func:`._load.main_tan_alpha`), mean over the ensemble (the study's
 ``mean_spectra.nc``), one line per goal the study computed, however many. The paper shows
 seven goals; a reduced reproduction names the others. Every curve gets a least-squares line
-in R (the paper: "almost straight lines"); means that some answers flagged unresolved carry
-an open marker.
+in R (the paper: "almost straight lines"). The means are of the per-motion answers of the
+study's quantity (I10 by default), as the legend says; means over answers flagged plateau
+are counted per goal.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rocking.fragility.lognormal import fit_line
-from rocking.plot import _axes, _load, refined
+from rocking.plot import _axes, _load
 from rocking.plot._style import (
     MODE_STYLE,
     footnote,
@@ -25,9 +26,9 @@ from rocking.plot._style import (
     new_figure,
     paper_tag,
     pga_g_axis,
+    plateau_suffix,
     r_axis,
     styled,
-    unresolved_suffix,
 )
 from rocking.plot.comparisons import (
     EQUATIONS,
@@ -79,8 +80,9 @@ MIN_FLAT_SIZES = 3
 def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None = None,
          motions: str | Path | None = None, paper: bool = True) -> dict:
     """Mean spectra per limit state: ``R`` [m], ``curves`` {limit state: PGA/(g tan α) (R,)},
-    ``unresolved`` {limit state: bool (R,)} where some motion's answer is flagged unresolved,
-    ``missing`` (goals, mode or slenderness not computed), ``measured`` line fits per goal.
+    ``plateau`` {limit state: bool (R,)} where some motion's answer is flagged plateau,
+    ``answer`` (the quantity's label) and ``answer_definition``, ``missing`` (goals, mode or
+    slenderness not computed), ``measured`` line fits per goal.
 
     ``mode`` and ``tan_alpha`` default to the study's (:func:`._load.primary_mode`,
     :func:`._load.main_tan_alpha`); ``paper`` (a reproduction of the paper) names the paper's
@@ -91,7 +93,7 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     if tan_alpha is None:
         tan_alpha = _load.main_tan_alpha(agg, [mode]) or float(agg["tan_alpha"].values[0])
     missing = []
-    unresolved: dict[str, np.ndarray] = {}
+    plateau: dict[str, np.ndarray] = {}
     curves: dict[str, np.ndarray] = {}
     R = agg["R"].values.astype(float)
     if not _load.has_value(agg, "tan_alpha", tan_alpha):
@@ -104,9 +106,9 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
             y = _load.mean_curve(agg, mode, ls)
             if y is not None:
                 curves[ls] = y
-                flag = _load.unresolved_means(agg, mode, ls)
+                flag = _load.plateau_means(agg, mode, ls)
                 if flag is not None:
-                    unresolved[ls] = flag
+                    plateau[ls] = flag
     # the paper draws Fig 10 for its El Centro study only: another record's is beyond it
     in_paper = paper and _paper_record(dict(agg.attrs))
     absent = [g for g in PAPER_GOALS
@@ -115,7 +117,7 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
         missing.append(f"{len(absent)} of the paper's {len(PAPER_GOALS)} goals not computed: "
                        + ", ".join(limit_state_title(g) for g in absent))
     measured = {"n_goals": len(curves), "n_paper_goals": len(PAPER_GOALS),
-                "absent_goals": absent}
+                "absent_goals": absent, "answer": _load.answer_label(agg.attrs)}
     for ls, y in curves.items():
         if np.isfinite(y).sum() < MIN_FIT_SIZES:  # a line through 3 points says nothing
             continue
@@ -126,13 +128,9 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
         measured[COINCIDE_NOTE] = same
-    sample = refined.beside(means)
-    moved = refined.legend_phrase(sample, mode)
-    if moved:
-        measured["refinement"] = moved
-    else:  # said in the sidecar, never made up in the legend
-        measured[refined.NOT_MEASURED] = refined.not_measured(sample, mode)
-    return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
+    return {"R": R, "curves": curves, "plateau": plateau, "tan_alpha": tan_alpha,
+            "answer": _load.answer_label(agg.attrs),
+            "answer_definition": _load.answer_definition(agg.attrs),
             "mode": mode, "missing": missing, "reproduction": paper, "in_paper": in_paper,
             "measured": measured,
             "axes": _axes.from_ensemble(motions), "title": _load.ensemble_title(
@@ -259,9 +257,9 @@ def plot(d: dict) -> Figure:
             dev = fit.get("max_rel_deviation")
             label += f" (R² {fit['r_squared']:.3f}" + (
                 f", line off by ≤ {100 * dev:.0f} %" if finite(dev) else "") + ")"
-        flag = d.get("unresolved", {}).get(ls)
-        if flag is not None:  # means over answers some of which may lie lower: counted
-            label += unresolved_suffix(int(np.sum(flag)), int(np.isfinite(y).sum()), "means")
+        flag = d.get("plateau", {}).get(ls)
+        if flag is not None:  # means over answers some of which are ill-conditioned
+            label += plateau_suffix(int(np.sum(flag)), int(np.isfinite(y).sum()), "means")
         ax.plot(d["R"], y, color=color, lw=1.6, marker="o", ms=3, label=label,
                 ls="-" if ls not in hidden else (0, (1, 1)), zorder=3 if ls in hidden else 2)
         if np.isfinite(fit.get("slope", np.nan)):
@@ -274,18 +272,17 @@ def plot(d: dict) -> Figure:
     if not n:
         ax.text(0.5, 0.5, "; ".join(d["missing"]) or "no data", ha="center",
                 transform=ax.transAxes)
-    ax.set_ylabel("mean PGA/(g tan α) [-]")
+    ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-]")
     r_axis(ax, d["R"])
     ax.set_ylim(bottom=0.0)
     pga_g_axis(ax, d["tan_alpha"])
-    unresolved = any(np.any(f) for f in d.get("unresolved", {}).values())
+    on_plateau = any(np.any(f) for f in d.get("plateau", {}).values())
     # under the axes, where it covers no curve whatever their number and shape
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=1, fontsize=7,
               title_fontsize=7, frameon=False,
-              title="performance goal" + (" (line fit)" if fitted else "")
-              + ("; unresolved means may lie lower" if unresolved else "")
-              + (f"\n{d['measured']['refinement']}" if d["measured"].get("refinement")
-                 else ""))
+              title=f"mean {d.get('answer', 'critical intensity')} per performance goal"
+              + (" (line fit)" if fitted else "")
+              + ("; some means over answers on a plateau" if on_plateau else ""))
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None
     fit = d["measured"].get(LINE_NOTE + top, {}) if top else {}
@@ -403,8 +400,10 @@ FIGURE = FigureSpec(
         "more) whose R² and largest departure from the mean the legend gives. Goals whose "
         "statistics coincide at every R (a cylinder tilted past α at the threshold "
         "intensity overturned) are drawn dotted over each other and said so in the figure. "
-        "Means over answers flagged unresolved (they may lie lower) are counted per goal in "
-        "the legend. Right axis PGA in g."
+        "The means are of each motion's critical intensity, I10 by default (the lowest "
+        "PGA/(g tan α) near which 10 % of the intensities exceed), as the legend says; means "
+        "over answers flagged plateau (I10 ill-conditioned) are counted per goal in the "
+        "legend. Right axis PGA in g."
     ),
     paper=(
         "The paper's Fig 10: the undamped 3D model at tan α = 0.2 and seven goals, r ∈ "
@@ -413,7 +412,7 @@ FIGURE = FigureSpec(
         "named in the figure."
     ),
     scope="study", wanted=lambda s: bool(s.plan.modes),
-    inputs={"means": "means", "motions": "motions", "refinement": "refinement"},
+    inputs={"means": "means", "motions": "motions"},
     params={"paper": "paper"},
     el_centro_only=True, general=lambda statement: statement.startswith(LINEAR_STATEMENT))
 """Fig 10, for every study; its linearity in R is stated of rocking spectra in general

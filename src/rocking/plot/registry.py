@@ -31,17 +31,17 @@ SCOPES = ("global", "ensemble", "study", "studies")
 (``<root>/<study>/figures/<name>``) or the studies that want it side by side (``studies``:
 ``<root>/figures/<name>_<study>+<study>...``, its inputs lists over those studies)."""
 
-INPUTS = ("numba", "motions", "comparison", "spectra", "tilt_map", "means", "refinement",
-          "fragility_nc", "fragility_csv", "stripe_table", "stripe_refined", "risk",
-          "portfolio")
+INPUTS = ("numba", "motions", "comparison", "spectra", "tilt_map", "means", "fragility_nc",
+          "fragility_csv", "stripe_table", "stripe_refined", "risk", "portfolio", "headline")
 """Logical inputs a figure may declare (``FigureSpec.inputs`` values), resolved by the workflow
 (``figure_inputs`` in ``workflow/rules/figures_common.smk``) for the figure's subject: the
 compiled kernels, the ensemble file (and its comparison pairs), the completion marker of the
-spectra or tilt-map store, the mean spectra, the refinement sample, the fragility table, the
-stripe fragility table and the refined analyses it used, the risk table, the portfolio table.
+spectra or tilt-map store, the mean spectra, the fragility table, the stripe fragility table
+and the refined analyses it used, the risk table, the portfolio table, the headline's first
+exceedances on four grids (``headline.csv``, studies that have it; none elsewhere).
 The name of another figure is that figure's JSON notes for the same subject."""
 
-READ_BESIDE = ("numba", "spectra", "tilt_map", "refinement")
+READ_BESIDE = ("numba", "spectra", "tilt_map", "headline")
 """Logical inputs declared for the order of the jobs and their reruns, not handed to
 ``data()`` (the compiled kernels, completion markers, tables read beside another input)."""
 

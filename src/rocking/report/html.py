@@ -23,7 +23,6 @@ from pathlib import Path
 import pandas as pd
 
 from rocking.plot.comparisons import Comparison
-from rocking.plot.refined import read_refinements, refinement_note
 from rocking.plot.registry import SECTIONS, caption, figure
 from rocking.report.entries import (
     FigureEntry,
@@ -147,6 +146,32 @@ def link_images(page: str, href: Callable[[str], str]) -> str:
                                    f"src='{html.escape(href(m['stem']), quote=True)}'>", page)
 
 
+def read_headlines(paths: Sequence[str | Path]) -> dict[str, dict]:
+    """:func:`rocking.study.headline.summary` of each ``<study>/headline.csv`` by study (the
+    folder's name); studies whose table is empty are left out."""
+    import pandas as pd
+
+    from rocking.study.headline import summary
+
+    out = {}
+    for p in paths:
+        s = summary(pd.read_csv(p)) if Path(p).is_file() else None
+        if s is not None:
+            out[Path(p).parent.name] = s
+    return out
+
+
+def report_title(study: str, ensemble: str, reproduces: str | None = None) -> str:
+    """The report's title: a reproduction names the paper in full (authors, title,
+    journal, year: :data:`rocking.config.study.CITATIONS`), any study its name and ensemble."""
+    from rocking.config.study import CITATIONS
+
+    own = f"study {study} (ensemble {ensemble})"
+    if reproduces is None:
+        return f"rocking: {own}"
+    return f"Reproduction of {CITATIONS.get(reproduces, reproduces)}: {own}"
+
+
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
@@ -154,8 +179,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           stripes: str | Path | None = None, paper: bool = True,
           records: str | Path | None = None, suite_fragility: str | Path | None = None,
           paper_record: bool = True,
-          study: str = "", refinement: str | Path | Sequence[str | Path] | None = None,
-          refinement_risk: str | Path | None = None,
+          study: str = "", headline: Sequence[str | Path] = (),
           portfolio: str | Path | None = None, verdicts_csv: str | Path | None = None) -> Path:
     """Write the HTML report.
 
@@ -199,17 +223,13 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         linearity and 12), and the El Centro-only rows stay in the El Centro report.
     study : str
         The study's name (its curves of Fig 12 come first in the findings).
-    refinement : path or sequence of path, optional
-        ``refinement_sample.csv`` (:mod:`rocking.study.refinement`): the findings say how
-        far refinement moves each headline number, measured on the sample. A sequence: the
-        study's own first, then those of the other studies Fig 12's finding quotes (each
-        named by its folder).
+    headline : sequence of path
+        ``<study>/headline.csv`` of the studies whose headline the findings quote
+        (:mod:`rocking.study.headline`): the mean first exceedance of the headline cells on
+        each scan grid, said beside the mean of the study's answers.
     portfolio : path, optional
         ``portfolio.csv`` (:mod:`rocking.risk.portfolio`): adds the section on every
         column of the inventory.
-    refinement_risk : path, optional
-        ``refinement_risk.csv``: how far refinement moves λ (fragility refitted, integrated
-        again with the study's hazard curve).
     verdicts_csv : path, optional
         Also write the verdict table as data there (``verdicts.csv``,
         :func:`.entries.write_verdicts`; no rows unless ``paper``).
@@ -227,14 +247,12 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
                     verdicts.items()}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
-    samples = read_refinements(refinement, study)
-    refined = samples.get(study)
-    found = (paper_findings(entries, verdicts, study, samples) if paper else []) + \
+    found = (paper_findings(entries, verdicts, study, read_headlines(headline))
+             if paper else []) + \
         study_findings(entries=entries, fragility=fragility, records=records, risk=risk,
-                       stripes=stripes, refinement=refined, refinement_risk=refinement_risk)
+                       stripes=stripes)
     parts.append("<h2 id='findings'>Findings</h2>")
     parts.append(findings_html(found))
-    parts.append(f"<p>{html.escape(refinement_note(refined, samples, study))}</p>")
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
     if paper and not paper_record:
         parts.append("<p>The paper's figures of the model (Figs 3, 4 and 6) and the statements "

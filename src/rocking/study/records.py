@@ -6,8 +6,9 @@ an engineer asks of one record: its PGA as recorded and as processed, its PGV an
 critical PGA/(g tan α) and PGA [g], the factor the processed record must be scaled by to
 exceed the limit state, and (:func:`as_recorded`) whether the processed record at scale 1
 exceeds it: one analysis per (mode, tan α, R), not an inference from the scale factor, since
-rocking is not monotonic in the intensity (a record may exceed at scale 1 although the
-search's first exceedance is above 1, or survive at 1 although it exceeds at a scale below 1).
+rocking is not monotonic in the intensity (a record may exceed at scale 1 although its
+critical intensity, I10 by default, is above 1, or survive at 1 although it exceeds at a scale
+below 1).
 
 The critical intensity is searched on the scale of the record, and every intensity measure
 of a scaled record is that scale times the record's measure (:mod:`rocking.motions.measures`),
@@ -39,7 +40,13 @@ from rocking.motions.measures import (
 )
 from rocking.motions.motion import GroundMotion
 from rocking.store.attrs import store_provenance
-from rocking.study.aggregate import nullable_flag, requested_answers, unmonitored_empty
+from rocking.study.aggregate import (
+    QUANTITY_COLUMNS,
+    nullable_flag,
+    quantity_values,
+    requested_answers,
+    unmonitored_empty,
+)
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
            "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
@@ -55,7 +62,13 @@ RECORD_COLUMNS = {
     "component": ("", "horizontal component of the intensity-measure columns (the study's "
                       "component); pga_recorded_g, pga_g, pga_crit, pga_crit_g are always "
                       "the vector peak, the spectra's own intensity"),
-    "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): smallest exceeding intensity"),
+    "quantity": ("", "what pga_crit is: exceedance_quantile (I_p, the lowest intensity near "
+                     "which a share p of the intensities within ±w in ln s exceed) or "
+                     "first_exceedance (on the search's scan grid)"),
+    "quantity_p": ("-", "the share p of I_p"),
+    "quantity_w": ("-", "the half-width w of its window in ln s"),
+    "scan_step": ("-", "relative step of the search's scan grid"),
+    "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): the study's quantity"),
     "pga_crit_g": ("g", "critical PGA"),
     "scale_factor": ("-", "critical PGA / processed record PGA: the factor to exceed"),
     "exceeds_as_recorded": ("", "the processed record at scale 1 exceeds the limit state: "
@@ -65,7 +78,8 @@ RECORD_COLUMNS = {
                                   "or survives although it is <= 1)"),
     "as_recorded_note": ("", "the disagreement or failure in words"),
     "not_reached": ("", "not exceeded up to the search bound"),
-    "unresolved": ("", "the response came close to the goal below the answer"),
+    "plateau": ("", "the local exceedance probability rises near p below the answer without "
+                    "crossing it: I_p is ill-conditioned there"),
     "non_monotonic": ("", "exceeded at one intensity and not at a higher one"),
     "failed": ("", "an analysis failed"),
     "slides": ("", "an analysis up to the answer that did not overturn needed more friction "
@@ -107,7 +121,7 @@ def _table_measures(measures: Sequence[str], component: str) -> list[str]:
             if component != DEFAULT_COMPONENT or parse_measure(m)[0] != "pga"]
 
 
-_FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
+_FLAGS = ("not_reached", "plateau", "non_monotonic", "failed")
 _VALIDITY = ("slides", "lifts_off")  # slides: True/False, empty without mu
 _ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
           "pga_recorded_g", "pga_g", "component"]
@@ -158,8 +172,10 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
     for m in ims:
         column = measure_column(m, component=component)[0]
         table[measure_column(m, True, component)[0]] = scale * table[column]
-    head = [*_ORDER, *(measure_column(m, component=component)[0] for m in ims), "pga_crit",
-            "pga_crit_g", "scale_factor", *_FLAGS, *validity,
+    for column, value in quantity_values(store.attrs).items():
+        table[column] = value
+    head = [*_ORDER, *(measure_column(m, component=component)[0] for m in ims),
+            *QUANTITY_COLUMNS, "pga_crit", "pga_crit_g", "scale_factor", *_FLAGS, *validity,
             *(measure_column(m, True, component)[0] for m in ims), "processing"]
     return table[head]
 
@@ -269,7 +285,7 @@ def _note(exceeds, scale: float, not_reached: bool, disagrees: bool) -> str:
         return ""
     if exceeds:
         first = "it is not exceeded up to the search bound" if not_reached else \
-            f"the first exceedance found is at scale {scale:.3g}"
+            f"its critical intensity is at scale {scale:.3g}"
         return f"exceeds at scale 1 although {first} (rocking is not monotonic in the intensity)"
     return (f"survives at scale 1 although it exceeds at scale {scale:.3g} "
             "(rocking is not monotonic in the intensity)")
