@@ -188,7 +188,8 @@ STATED: dict[str, tuple[float, float]] = {"fast": (0.05, 0.83), "default": (0.05
                                           "precise": (0.05, 0.93)}
 """The accuracy a preset states for its answers, (e, q): a share q of its answers lie within
 e (relative) of the converged I10 (docs/performance.md, "The trade";
-``python -m benchmarks resolution`` measures it: the shares with two goals, the lower). The one place the number lives: ``rocking
-verify`` (:func:`rocking.study.verify.answer_tolerance`), the verdicts' per-motion criterion
+``python -m benchmarks resolution`` measures it: the shares with two goals, the lower). The
+one place the number lives: ``rocking verify``
+(:func:`rocking.study.verify.answer_tolerance`), the verdicts' per-motion criterion
 (:mod:`rocking.plot.criteria`) and the report read it from here. A preset without its own
 entry is held to the ``default``'s."""
