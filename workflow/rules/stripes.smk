@@ -46,7 +46,7 @@ rule stripe_fragility_figure:
         pdf=out_path("{study}/figures/stripe_fragility_{mode}.pdf"),
         notes=out_path("{study}/figures/stripe_fragility_{mode}.json"),
     wildcard_constraints:
-        mode="3d|3d-damped|2d-x|2d-y",
+        mode="3d|3d-damped|3d-x|3d-y|2d-x|2d-y",
     params:
         store=lambda wildcards: product_store("stripes", wildcards.study),
     conda:
