@@ -132,30 +132,35 @@ def _m12(ratio_2d: float, censored_2d: int = 0, n: int = 11) -> dict:
     m = {"R": 10.0, "e|label": "El Centro: mean of 11 motions", "e|n_motions": n}
     R = [2.0, 6.0, 10.0]
     for title in ("overturning", "excessive tilt"):
-        for mode, f, c in (("3d", 1.0, 0), ("2d-x", ratio_2d, censored_2d),
-                           ("2d-y", ratio_2d, 0)):
+        for mode, f, c in (("3d", 1.0, 0), ("3d-x", ratio_2d, censored_2d),
+                           ("3d-y", ratio_2d, 0), ("2d-x", ratio_2d, 0), ("2d-y", ratio_2d, 0)):
             m[f"e|{title}|{mode}"] = 4.0 * f
             m[f"e|{title}|{mode}|count"], m[f"e|{title}|{mode}|std"] = float(n), 1.0
             m[f"e|{title}|{mode}|n_not_reached"] = 0.0
             m[f"e|{title}|{mode}|mle"] = {
                 "R": R, "median": [r * f for r in R], "se_log": [0.05] * 3,
                 "beta": [0.3] * 3, "n": [n] * 3,
-                "n_censored": [0, 0, c] if mode == "2d-x" else [0] * 3}
+                "n_censored": [0, 0, c] if mode == "3d-x" else [0] * 3}
     return {"fig12_2d_vs_3d": {"figure": "fig12_2d_vs_3d", "measured": m}}
 
 
 def test_ratios_come_from_censoring_aware_medians_across_R():
     rows = fig12_2d_vs_3d.compare(_m12(2.1))
     over = [r for r in rows if "El Centro, overturning" in r.statement]
-    assert len(over) == 2 and all(r.verdict == cmp.REPRODUCED for r in over)
+    paper = [r for r in over if "Housner" not in r.statement]
+    assert len(paper) == 2 and all(r.verdict == cmp.REPRODUCED for r in paper)
     assert all("across R" in r.statement and "over 3 sizes" in r.ours for r in over)
-    assert all("e = 0.942" in r.reason for r in over)
+    assert all("second component alone" in r.reason for r in paper)
+    # Housner's block: the same ratios quoted, named and not judged
+    housner = [r for r in over if "Housner" in r.statement]
+    assert len(housner) == 2 and all(r.verdict == cmp.NOT_IN_PAPER for r in housner)
+    assert all("e = 0.942" in r.reason for r in housner)
     # 1.5× is outside "about twice" at this scatter: ln(2/1.5) = 0.29 > 2·√(2·0.07² + 0.068²)
     assert all(r.verdict == cmp.DIFFERS for r in fig12_2d_vs_3d.compare(_m12(1.5))
-               if "El Centro, overturning" in r.statement)
+               if "El Centro, overturning" in r.statement and "Housner" not in r.statement)
     # a size with more than half the motions censored is left out, and said
     ev = fig12_2d_vs_3d.ratio_evidence(_m12(2.0, censored_2d=6)["fig12_2d_vs_3d"]["measured"],
-                                       "e", "overturning", "2d-x")
+                                       "e", "overturning", "3d-x")
     assert ev["R"] == [2.0, 6.0] and ev["dropped"] == [10.0]
     assert ev["pooled"] == pytest.approx(2.0) and ev["pooled_se"] == pytest.approx(
         math.sqrt(2) * 0.05)
@@ -171,9 +176,9 @@ def test_a_censored_mean_never_supports_reproduced():
     # without fitted medians the ratio of censored means is not reproduced either
     for k in [k for k in m if k.endswith("|mle")]:
         del m[k]
-    m["e|overturning|2d-x|count"], m["e|overturning|2d-x|n_not_reached"] = 8.0, 3.0
+    m["e|overturning|3d-x|count"], m["e|overturning|3d-x|n_not_reached"] = 8.0, 3.0
     row = next(r for r in fig12_2d_vs_3d.compare(notes)
-               if "overturning: 2D under the x" in r.statement)
+               if "overturning: the 3D model under the x" in r.statement)
     assert row.verdict == cmp.DIFFERS and "not reached at the search bound" in row.reason
 
 
