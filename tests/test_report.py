@@ -137,7 +137,7 @@ def test_what_was_run_says_config_grids_modes_contact_seeds_version_and_time(out
     assert run["study synth: slenderness tan α"] == "0.1, 0.2, 0.3"
     assert "Tilt θ > α/3 (excessive tilt)" in run["study synth: limit states"]
     assert run["study synth: modes per tan α"].startswith(
-        "tan α = 0.1: 3d, 3d-damped, 2d-x, 2d-y;")
+        "tan α = 0.1: 3d, 3d-damped, 3d-x, 3d-y, 2d-x, 2d-y;")
     assert "ωn = 2000 rad/s, ζ = 5" in run["study synth: damped contact (3d-damped)"]
     assert "{0.05, 0.5, 5, 50}" in run["study synth: damped contact (3d-damped)"]
     assert "seed 2017" in run["ensemble elcentro"] and "0.0946 Hz" in run["ensemble elcentro"]
@@ -171,13 +171,14 @@ def test_fig09_damping_is_quantified_per_R(outputs):
 
 
 def test_modes_per_tan_alpha_of_a_partial_store(tmp_path):
-    paths = fs.write_study(tmp_path, requested={"3d-damped": [0.2], "2d-x": [0.2],
-                                                "2d-y": [0.2]}, with_tilt_map=False)
+    paths = fs.write_study(tmp_path, requested={"3d-damped": [0.2], "3d-x": [0.2],
+                                                "3d-y": [0.2], "2d-x": [0.2], "2d-y": [0.2]},
+                           with_tilt_map=False)
     text = run_summary.modes_text(_load.open_store(paths["store"]))
-    assert text.startswith("tan α = 0.1: 3d; tan α = 0.2: 3d, 3d-damped, 2d-x, 2d-y; "
-                           "tan α = 0.3: 3d")
-    # 3 modes × 2 slendernesses × 4 limit states × 4 motions × 5 sizes left empty
-    assert f"{3 * 2 * 4 * 4 * 5} of {4 * 3 * 4 * 4 * 5} cells not computed" in text
+    assert text.startswith("tan α = 0.1: 3d; tan α = 0.2: 3d, 3d-damped, 3d-x, 3d-y, 2d-x, "
+                           "2d-y; tan α = 0.3: 3d")
+    # 5 modes × 2 slendernesses × 4 limit states × 4 motions × 5 sizes left empty
+    assert f"{5 * 2 * 4 * 4 * 5} of {6 * 3 * 4 * 4 * 5} cells not computed" in text
     assert run_summary.grid_text([0.5 + 0.5 * i for i in range(20)], "m") == (
         "20 values, 0.5–10 m (step 0.5)")
 

@@ -86,10 +86,10 @@ def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
          modes: tuple[str, ...] = MODES, paper: bool = True) -> dict:
     """Mean spectra per ensemble and mode.
 
-    ``tan_alpha`` defaults to the first study's (:func:`._load.main_tan_alpha` of its 3D and
-    2D modes). Panels are the paper's overturning and excessive tilt in a reproduction of the
-    paper (``paper``: absent ones and absent ensembles named), else the studies' own goals
-    (:func:`._load.panel_limit_states`).
+    ``tan_alpha`` defaults to the first study's (:func:`._load.main_tan_alpha` of its modes
+    under both and under one component). Panels are the paper's overturning and excessive
+    tilt in a reproduction of the paper (``paper``: absent ones and absent ensembles named),
+    else the studies' own goals (:func:`._load.panel_limit_states`).
 
     Parameters
     ----------
@@ -655,8 +655,8 @@ def _ratio_rows(m: Mapping, ens: str | None, R: float, who: str, title: str, kin
 
 
 def _means_se_log(m: Mapping, ens: str | None, title: str, mode: str) -> float | None:
-    """Standard error of ln(mean 2D / mean 3D) from the means' standard errors (None when the
-    notes have no spread)."""
+    """Standard error of ln(mean under one component / mean under both) from the means'
+    standard errors (None when the notes have no spread)."""
     total = 0.0
     for mo in (mode, MODE_3D):
         v, std, n = (m.get(f"{ens}|{title}|{mo}{k}") for k in ("", "|std", "|count"))
