@@ -12,7 +12,8 @@ rather than 0) and the motion with every sample of its exciting component moved 
 the last place (seeded signs). Per answer: the intensity, its flags, analyses and CPU seconds,
 and the relative difference from the modes' spin on the motion as it is; beside it the peak
 tilt θmax at three intensities (1.5, 3 and 6 times uplift) per spin, whose spread shows the
-sensitivity without the search's discreteness.
+sensitivity without the search's discreteness, and the analyses that fail at each spin, of
+the undamped model and of the damped one.
 
 ``--damped`` writes ``unidirectional_damped.csv`` / ``.md`` instead: whether the damped 3D
 model under one component "matches well" Housner's 2D block, as the paper's conclusions say
@@ -88,7 +89,7 @@ def answer_rows(motion: GroundMotion, R: float, mode: str, spin: float, variant:
 
 def peak_rows(motion: GroundMotion, R: float, mode: str) -> list:
     """θmax at :data:`PEAK_FACTORS` × uplift for every spin: its spread over the spins that
-    ran (failures counted)."""
+    ran (failures counted), and which spins the damped model (default contact) fails at."""
     body = Cylinder(R, TAN_ALPHA)
     excited, _ = excitation(mode, motion)
     lower = uplift_intensity(motion, mode)
@@ -103,10 +104,14 @@ def peak_rows(motion: GroundMotion, R: float, mode: str) -> list:
             peaks[spin] = 0.5 * math.pi if r.overturned else float(r.theta_max)
         ref = peaks.get(UNIDIRECTIONAL_SPIN, math.nan)
         spread = max(abs(v - ref) / ref for v in peaks.values()) if peaks else math.nan
+        damped = {s: ground_response(body, excited, model="3d-damped", scale=scale,
+                                     history=False, phi_dot0=s).status.value == "failed"
+                  for s in SPINS}
         rows.append({"motion": motion.name, "mode": mode, "R": R,
                      "intensity_over_uplift": factor, "theta_max": ref,
                      "largest_relative_difference": spread,
-                     **{f"failed_{s:g}": s not in peaks for s in SPINS}})
+                     **{f"failed_{s:g}": s not in peaks for s in SPINS},
+                     **{f"damped_failed_{s:g}": damped[s] for s in SPINS}})
     return rows
 
 
@@ -212,7 +217,9 @@ def _summary(ans: pd.DataFrame, peaks: pd.DataFrame) -> str:
             f"difference from the modes' spin median {p.median():.1e}, largest {p.max():.1e} "
             f"({len(peaks)} (motion, mode, R, intensity)); analyses failed per spin: "
             + ", ".join(f"{s:g}: {int(peaks[f'failed_{s:g}'].sum())}" for s in SPINS)
-            + f" of {len(peaks)}.")
+            + f" of {len(peaks)}; the damped model's (default contact) at the same points: "
+            + ", ".join(f"{s:g}: {int(peaks[f'damped_failed_{s:g}'].sum())}" for s in SPINS)
+            + ".")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -589,7 +589,7 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert "(the paper's comparison, §5.4)" in text and "a further comparator" in text
     # one row per ensemble, one column per limit state, each row on its own scale
     panels = [ax for ax in fig.axes if ax.get_title()]
-    assert [ax.get_title().split(" — ")[0] for ax in panels] == [
+    assert [ax.get_title().split("\n")[0] for ax in panels] == [
         "Overturning", "Tilt θ > α/3 (excessive tilt)"] * 2
     assert "El Centro 1940 ensemble" in panels[0].get_title()
     assert "Loma Prieta" in panels[2].get_title()

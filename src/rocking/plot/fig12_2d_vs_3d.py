@@ -423,7 +423,7 @@ def plot(d: dict) -> Figure:
             ls_title = (limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
                         if title in ("overturning", "excessive tilt") else title)
             record = ens.get("record") or ""
-            ax.set_title("\n".join(textwrap.wrap(f"{ls_title} — {record}", 70)), color=color)
+            ax.set_title("\n".join([ls_title, *textwrap.wrap(record, 75)]), color=color)
             ax.set_ylabel("mean PGA/(g tan α) [-]\n(bidirectional PGA)")
             r_axis(ax, R_all, label=k == nrows - 1)
             left, right = ax.get_xlim()

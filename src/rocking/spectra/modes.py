@@ -53,14 +53,14 @@ ONE_COMPONENT_MODES: tuple[str, ...] = UNIDIRECTIONAL_MODES + PLANAR_MODES
 UNIDIRECTIONAL_SPIN = 1e-4
 """Spin φ̇ given to the 3D model at each uplift under one component [rad/s].
 
-The middle of the range where the answers do not depend on it (``python -m benchmarks
-unidirectional``, docs/models.md "The 3D model under one component"): the peak tilts agree
-from 1e-8 to 1e-2 rad/s as closely as with the mirrored motion or a last-bit perturbation
-of every sample. Smaller spins let the first quasi-impact dive below 1e-16 rad, shorter than
-the driver's smallest step: on El Centro and Corralitos, 10 of 384 undamped analyses fail
-at 1e-8 rad/s, none from 1e-7; the damped model needs more (1 of 60 at 1e-5, none at 1e-4).
-Larger ones, above :data:`rocking.dynamics.analysis.MAX_UPLIFT_SPIN` of the wobbling rate
-at uplift (about 1.6 rad/s at R = 6 m), are refused: they start the body wobbling."""
+Inside the range where the answers do not depend on it (``python -m benchmarks
+unidirectional``, docs/models.md "The 3D model under one component"): from 1e-8 to 1e-2 rad/s
+no spin moves the critical intensities systematically, and single answers move as often as
+on the mirrored motion. Smaller spins let the first quasi-impact dive below 1e-16 rad, shorter
+than the driver's smallest step: of 96 analyses on El Centro and Corralitos 51 fail at 1e-10
+rad/s, 5 at 1e-8, none from 1e-6; the damped model dives deeper (6 fail at 1e-6, none at
+1e-4). Larger ones, above :data:`rocking.dynamics.analysis.MAX_UPLIFT_SPIN` of the wobbling
+rate at uplift (about 1.6 rad/s at R = 6 m), are refused: they start the body wobbling."""
 
 
 class Mode(NamedTuple):
