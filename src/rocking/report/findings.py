@@ -148,8 +148,9 @@ def paper_findings(entries: Sequence[FigureEntry],
             text = (f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
                     f"{v3:.2f}{se}" + (f" ({moved})" if moved else "") + paper4)
             if paper_ratios:
+                twice = "; paper: about twice" if paper4 else ""
                 text += ("; under one component the same 3D model needs (the paper's "
-                         f"comparison, §5.4; paper: about twice): {'; '.join(paper_ratios)}")
+                         f"comparison, §5.4{twice}): {'; '.join(paper_ratios)}")
             if housner_ratios:
                 text += ("; Housner's 2D block under one component, a further comparator, "
                          f"needs: {'; '.join(housner_ratios)} ({HOUSNER_NOTE})")
