@@ -36,9 +36,9 @@ __all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batc
 def uplift_intensity(motion: GroundMotion, mode: str) -> float:
     """Normalized intensity below which the body stays at rest [-].
 
-    1 for the 3D modes (the vector acceleration reaches g tan α at the vector PGA); for a
-    2D mode PGA/max|a_component|, since only that component acts. ``inf`` when the
-    component is identically zero.
+    1 for the modes under both components (the vector acceleration reaches g tan α at the
+    vector PGA); for a mode under one component (3D or 2D) PGA/max|a_component|, since only
+    that component acts. ``inf`` when the component is identically zero.
     """
     check_mode(mode)
     component = MODES[mode][1]
