@@ -140,6 +140,9 @@ def test_accuracy_round_trips_through_its_dict():
     # The study store keeps tolerances as JSON and workers rebuild them with get_accuracy.
     for acc in PRESETS.values():
         assert get_accuracy(acc.to_dict()) == acc
+        # a record that names its preset and nothing else is that preset, not the default
+        # under its name (a store with tolerances {"name": "fast"} searched at default's)
+        assert get_accuracy({"name": acc.name}) == acc
 
 
 # --- one spelling per limit state, every spelling accepted -------------------------------

@@ -55,7 +55,8 @@ def _study_figures(runs) -> list[str]:
     from rocking.plot.registry import figures
 
     subject = SimpleNamespace(plan=plan_study(runs),
-                              spec=lambda: SimpleNamespace(tilt_map=None))
+                              spec=lambda: SimpleNamespace(tilt_map=None, stripes=None,
+                                                           hazard=None, inventory=None))
     return [n for n, f in figures().items() if f.scope == "study" and f.wanted(subject)]
 
 

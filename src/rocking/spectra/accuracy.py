@@ -159,7 +159,7 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
     A mapping may name a preset under ``"preset"`` and override some of its fields, e.g.
     ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses); one
     with a ``"name"`` and no ``"preset"`` is a record (:meth:`Accuracy.to_dict`, the
-    settings a store keeps).
+    settings a store keeps): the fields it leaves out are its named preset's.
 
     Raises
     ------
@@ -179,7 +179,10 @@ def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
         if unknown:
             raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed "
                              f"{sorted([*FIELDS, 'preset'])}")
-        base = get_accuracy(fields.pop("preset", "default"))
+        # a record that names a preset and leaves fields out takes them from that preset,
+        # never from the default under the preset's name
+        named = str(fields.get("name", "")).strip().lower()
+        base = get_accuracy(fields.pop("preset", named if named in PRESETS else "default"))
         return base.with_(**fields) if fields else base
     raise ValueError(f"accuracy must be a preset name, an Accuracy or a dict, got {accuracy!r}")
 
