@@ -27,9 +27,6 @@ rule risk:
                                              stripe_fragility_csv(wildcards.study)],
         suite_bootstrap=lambda wildcards: [str(bootstrap_path(f)) for f in
                                            suite_fragility_csv(wildcards.study)],
-        # the hazard and settings the table is made with (rewritten when they change: a
-        # copied output folder reruns risk by date, rules/records_table.smk)
-        provenance=lambda wildcards: risk_stamp(wildcards.study),
     output:
         nrml=out_path("{study}/fragility.nrml.xml"),
         pelicun=out_path("{study}/fragility.pelicun.csv"),

@@ -42,18 +42,6 @@ def study_preset(study):
     return accuracy if isinstance(accuracy, str) else ""
 
 
-def risk_stamp(study):
-    """``<root>/<study>/.provenance/risk.json``: the hazard (its file's sha256 too), search
-    bound and preset the risk table is made with (rocking._provenance.write_stamp)."""
-    from rocking._provenance import file_sha256
-
-    path = hazard_file(study)
-    return provenance_stamp(out_path(f"{study}/.provenance/risk.json"), {
-        "hazard": hazard_param(study), "upper": search_upper(study),
-        "preset": study_preset(study),
-        "hazard_sha256": file_sha256(path) if path and Path(path).exists() else None})
-
-
 def risk_studies():
     return [s for s in config["studies"] if hazard_spec(s) is not None]
 

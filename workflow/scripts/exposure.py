@@ -3,12 +3,12 @@
 
 import pandas as pd
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.risk.exposure import write_exposure
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         table = pd.read_csv(snakemake.input.portfolio)
         export = write_exposure(table, snakemake.output.folder,
                                 taxonomy_by=snakemake.params.taxonomy_by,

@@ -2,7 +2,7 @@
 figure named by ``params.figure`` drawn by its module from the rule's inputs and parameters
 (rocking.plot.draw)."""
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.plot import draw
 
 
@@ -15,7 +15,7 @@ def main(snakemake):
     params = {k: _plain(v) for k, v in snakemake.params.items()
               if k not in ("figure", "caption")}
     inputs = {k: _plain(v) for k, v in snakemake.input.items()}
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         draw(snakemake.params.figure, inputs, params, dict(snakemake.output.items()))
 
 

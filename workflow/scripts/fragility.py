@@ -3,16 +3,15 @@ the motions, line fits of the mean spectra."""
 
 import time
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.fragility import lognormal as fragility
 from rocking.fragility.bootstrap import write_bootstrap
 from rocking.plot import open_means, open_store
-from rocking.store.attrs import store_provenance
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         store = open_store(snakemake.params.store)
         upper = float(snakemake.params.upper)
         table = fragility.fragility_table(store, upper=upper)
@@ -24,9 +23,8 @@ def main(snakemake):
         table = fragility.with_interval(table, samples)
         table.to_netcdf(out.fragility_nc)
         fragility.to_frame(table).to_csv(out.fragility_csv, index=False, float_format="%.10g")
-        # after the table: the samples record its sha256 (and the store's provenance)
-        write_bootstrap(samples, out.bootstrap, table=out.fragility_csv,
-                        provenance=store_provenance(store.attrs))
+        # after the table: the samples record that they belong to it
+        write_bootstrap(samples, out.bootstrap, table=out.fragility_csv)
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")

@@ -3,14 +3,14 @@ from the study's fragility surface and its hazard (rocking.risk.portfolio.site_p
 
 from pathlib import Path
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.plot.portfolio import render_figures
 from rocking.risk.portfolio import site_portfolio, write_portfolio
 
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         inventory = params.inventory
         result = site_portfolio(Path(snakemake.input.fragility).parent,
                                 snakemake.input.inventory, params.hazard,

@@ -2,7 +2,7 @@
 of every point holding a refined cell fitted again with the refined answers substituted and
 integrated with the study's hazard curve, as risk.csv is (rocking.study.refinement)."""
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.fragility.lognormal import censoring_bound
 from rocking.plot import open_store
 from rocking.risk.hazard import parse_hazard
@@ -11,7 +11,7 @@ from rocking.study.refinement import store_cells, write_refinement_risk
 
 def main(snakemake):
     params = snakemake.params
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         hazard = parse_hazard(params.hazard)
         component = params.component or params.study_component
         applies = hazard.measure == "pga" and component == params.study_component

@@ -4,14 +4,14 @@ sample of the study's cells searched again with a fixed 0.05 % scan
 
 import time
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.store.integrity import require_intact
 from rocking.study.refinement import SampleSpec, write_refinement_sample
 
 
 def main(snakemake):
     store = snakemake.params.store
-    with log_to(snakemake.log[0]):
+    with job(snakemake):
         spec = SampleSpec.from_config(snakemake.params.refinement)
         require_intact(store, say=print)
         t0 = time.perf_counter()

@@ -1,13 +1,13 @@
 """Stripe against first-exceedance fragility of one mode (Snakemake script)."""
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.plot import stripe_fragility as fig
 from rocking.plot._style import save, write_notes
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         d = fig.data(snakemake.params.store, snakemake.input.fragility,
                      mode=snakemake.wildcards.mode, table=snakemake.input.table,
                      refined=snakemake.input.refined)

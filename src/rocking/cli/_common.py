@@ -14,8 +14,9 @@ import argparse
 import contextlib
 import math
 import os
+import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 HIGHPASS_CHOICES = ("none", "oscillator", "butterworth")
@@ -251,24 +252,33 @@ def check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") -
     return path
 
 
+def check_handed(paths: Sequence[str | Path], command: str) -> None:
+    """The derived tables a command is handed, each held against its record
+    (:func:`rocking.provenance.check`): a table the workflow wrote and that was edited, cut
+    short or belongs to other inputs than the ones beside it is refused in one line naming
+    it and the command that remakes it; inputs not handed along (a study's folder without its
+    stores) are not asked for; a table without a record is a table of the user's own, read
+    as it is (a note on stderr says so)."""
+    from rocking.provenance import check
+
+    for path in paths:
+        if Path(path).is_file():
+            check(path, partial=True,
+                  say=lambda line: print(f"rocking {command}: {line}", file=sys.stderr))
+
+
 def writable_folder(folder: Path, option: str = "--out") -> Path:
-    """Make ``folder`` if needed and prove it writable by creating and removing a file in it.
+    """Make ``folder`` if needed and prove it writable, with room left
+    (:func:`rocking.provenance.require_writable`).
 
     Raises
     ------
     ValueError
-        Naming the option, the folder and the reason (read-only, not a folder, ...).
+        Naming the option, the folder and the reason (read-only, not a folder, full).
     """
-    folder = Path(folder)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".rocking-probe-")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise ValueError(f"{option}: cannot write in {str(folder)!r}: "
-                         f"{exc.strerror or exc}") from None
-    return folder
+    from rocking.provenance import require_writable
+
+    return require_writable(folder, what=option)
 
 
 @contextlib.contextmanager

@@ -232,6 +232,7 @@ def run(args) -> int:
         _common.check_output(args.out, (".csv",))
     if not args.fragility.exists():
         raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
+    _common.check_handed([args.fragility], "risk")
     hazard = _hazard(args)
     component = _component(args, hazard)
     frag = _select(read_fragilities(args.fragility, measure=hazard.measure,

@@ -41,7 +41,6 @@ from rocking.motions.measures import (
     parse_measure,
 )
 from rocking.motions.motion import GroundMotion
-from rocking.store.attrs import store_provenance
 from rocking.study.aggregate import nullable_flag, requested_answers, unmonitored_empty
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
@@ -434,7 +433,7 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
 
     from rocking.fragility.lognormal import censoring_bound
     from rocking.motions.ensemble_io import load_ensemble
-    from rocking.store import open_group, read_attrs
+    from rocking.store import read_attrs
     from rocking.units import CSV_FLOAT_FORMAT
 
     motions = load_ensemble(motions_path)
@@ -453,12 +452,11 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     records.rename(columns=_headers(records.columns, measures, component)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
-    _write_bootstrap(fragility, fragility_csv,
-                     store_provenance(open_group(store_path, "r").attrs))
+    _write_bootstrap(fragility, fragility_csv)
     return len(records), len(fragility)
 
 
-def _write_bootstrap(fragility, fragility_csv: str | Path, provenance: dict) -> None:
+def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
     """``suite_fragility_bootstrap.nc`` beside the table: θ [the row's unit] and β of every
     resample, rows in the CSV's order (:mod:`rocking.fragility.bootstrap`)."""
     import xarray as xr
@@ -475,8 +473,6 @@ def _write_bootstrap(fragility, fragility_csv: str | Path, provenance: dict) -> 
                                           fragility["component"].astype(str).to_numpy())})
     ds.attrs.update(fragility="first_exceedance", seed=BOOTSTRAP_SEED,
                     unit="the row's measure unit (g for pga and sa, m/s for pgv)")
-    write_bootstrap(ds, bootstrap_path(fragility_csv), table=fragility_csv,
-                    provenance={**provenance, "measures": " ".join(
-                        dict.fromkeys(fragility["measure"].astype(str)))})
+    write_bootstrap(ds, bootstrap_path(fragility_csv), table=fragility_csv)
 
 
