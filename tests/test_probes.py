@@ -578,16 +578,21 @@ def stripe_studies(tmp_path_factory):
         st.write_stripe_fragility(path, csv, root / name / "stripe_fragility_bootstrap.nc",
                                   motions=ens, refine=4, resamples=40)
         # the figure's copy of the refined analyses (the workflow's stripe_fragility_refined)
-        shutil.copy(st.refine_cache_path(path), root / name / "stripe_fragility_refined.jsonl")
+        attrs = xr.open_zarr(path, consolidated=True).attrs
+        st.RefineCache(st.refine_cache_path(path), path, attrs).copy_to(
+            root / name / "stripe_fragility_refined.jsonl")
         out[name] = (path, ens, csv)
     assert len(st.refine_cache_path(out["b"][0]).read_text().splitlines()) > 1
     return out
 
 
-def _rewrite(study, folder: Path, cache_from: Path | None = None):
+def _rewrite(study, folder: Path, cache_from: Path | None = None, record: bool = True,
+             record_from: Path | None = None):
     """The stripe table of ``study`` written again in ``folder`` (its store and motions
-    copied there), its refinement cache replaced by ``cache_from``'s."""
+    copied there), its refinement cache replaced by ``cache_from``'s, with the record of
+    ``record_from`` (default: ``cache_from``'s; none with ``record=False``)."""
     from rocking.execution import stripes as st
+    from rocking.provenance import record_path
 
     path, ens, _ = study
     folder.mkdir()
@@ -596,7 +601,11 @@ def _rewrite(study, folder: Path, cache_from: Path | None = None):
     shutil.copy(digest_path(ens), folder / digest_path(ens).name)
     store_path = folder / path.name
     if cache_from is not None:
-        shutil.copy(cache_from, st.refine_cache_path(store_path))
+        cache = st.refine_cache_path(store_path)
+        shutil.copy(cache_from, cache)
+        if record:
+            record_path(cache).parent.mkdir(exist_ok=True)
+            shutil.copy(record_path(record_from or cache_from), record_path(cache))
     csv = folder / "stripe_fragility.csv"
     st.write_stripe_fragility(store_path, csv, folder / "stripe_fragility_bootstrap.nc",
                               motions=folder / ens.name, refine=4, resamples=40)
@@ -605,98 +614,125 @@ def _rewrite(study, folder: Path, cache_from: Path | None = None):
 
 def test_refinement_cache_of_another_study_is_detected_and_redone(stripe_studies, tmp_path,
                                                                    caplog):
-    """Silent before: a copied .refined.jsonl (other motions, same keys) moved the medians."""
+    """Silent before issue 39: a copied .refined.jsonl (other motions, same keys) moved the
+    medians. Its record names the store it belongs to: the analyses are redone."""
     from rocking.execution import stripes as st
 
     foreign = st.refine_cache_path(stripe_studies["b"][0])
     with caplog.at_level("WARNING"):
         csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=foreign)
     assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
-    assert "holds analyses of another store or motions (motions_sha256" in caplog.text
+    assert "not made from zarr:" in caplog.text and "started anew" in caplog.text
+    # a cache copied without its record (that lies in the study's .provenance/): redone too
+    with caplog.at_level("WARNING"):
+        csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a3", cache_from=foreign,
+                          record=False)
+    assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    assert "no record of what made it: started anew" in caplog.text
 
 
 def test_refinement_cache_of_another_study_is_refused_where_it_cannot_be_redone(
         stripe_studies, tmp_path):
     """The figure replays the refinement without motions: a foreign file is named."""
-    from rocking._provenance import ProvenanceError
     from rocking.plot import stripe_fragility as fig
+    from rocking.provenance import ProvenanceError
 
     a, b = stripe_studies["a"], stripe_studies["b"]
-    with pytest.raises(ProvenanceError, match=r"refined.jsonl holds analyses of another store "
-                                              r"or motions \(motions_sha256 .*--forcerun "
-                                              r"stripe_fragility"):
-        fig.data(a[0], None, mode="3d", table=a[2],
-                 refined=b[2].parent / "stripe_fragility_refined.jsonl")
+    refined_b = b[2].parent / "stripe_fragility_refined.jsonl"
+    with pytest.raises(ProvenanceError, match=rf"^{refined_b}: not made from zarr:.*: remake it "
+                                              rf"with `snakemake --cores 2 {refined_b}`"):
+        fig.data(a[0], None, mode="3d", table=a[2], refined=refined_b)
     # its own copy replays to the table's rows
     d = fig.data(a[0], None, mode="3d", table=a[2],
                  refined=a[2].parent / "stripe_fragility_refined.jsonl")
     assert d["panels"]
 
 
-@pytest.mark.parametrize("mask", [0x01, 0x10, 0x40])
-def test_flipped_byte_in_the_refinement_cache_names_file_and_way_out(stripe_studies, tmp_path,
-                                                                     mask):
-    """Traceback before (JSONDecodeError, file not named), or a changed number unseen."""
-    from rocking._provenance import ProvenanceError
+@pytest.mark.parametrize("damage", ["digit", "cut", "line gone"])
+def test_damaged_refinement_cache_is_redone_to_the_same_table(stripe_studies, tmp_path,
+                                                             damage, caplog):
+    """One digit of an analysis changed (a failed flag, a stripe), the file cut in half, a
+    line gone: the cache no longer matches its record, its analyses are redone and the
+    table is the one of an undamaged run (before: a changed digit stopped the rule, a line
+    gone was silently redone, a cut line silently dropped)."""
     from rocking.execution import stripes as st
 
     damaged = tmp_path / "damaged.jsonl"
     shutil.copy(st.refine_cache_path(stripe_studies["a"][0]), damaged)
-    _flip(damaged, where=0.7, mask=mask)
-    cache = tmp_path / "a2" / st.refine_cache_path(stripe_studies["a"][0]).name
-    with pytest.raises(ProvenanceError, match=rf"{cache} line \d+ is damaged .*delete it and "
-                                              r"rerun with `snakemake --forcerun "
-                                              r"stripe_fragility`"):
-        _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=damaged)
-
-
-def test_legacy_refinement_cache_without_provenance_is_redone(stripe_studies, tmp_path):
-    from rocking.execution import stripes as st
-
-    lines = st.refine_cache_path(stripe_studies["a"][0]).read_text().splitlines()[1:]
-    old = tmp_path / "old.jsonl"
-    old.write_text("".join(json.dumps({k: v for k, v in json.loads(s).items() if k != "crc32"})
-                           + "\n" for s in lines))
-    csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=old)
+    text = damaged.read_text()
+    if damage == "digit":
+        text = text.replace('"runs": 1', '"runs": 2', 1).replace('"failed": false',
+                                                                   '"failed": true', 1)
+    elif damage == "cut":
+        text = text[: len(text) // 2]
+    else:
+        text = "".join(text.splitlines(True)[1:])
+    damaged.write_text(text)
+    with caplog.at_level("WARNING"):
+        csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=damaged,
+                          record_from=st.refine_cache_path(stripe_studies["a"][0]))
     assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    assert "started anew" in caplog.text
+
+
+def test_refinement_cache_killed_between_a_line_and_its_record_keeps_the_rest(
+        stripe_studies, tmp_path):
+    """A kill after a line is written but before its record: that line is dropped (redone),
+    every line before it is kept."""
+    from rocking.execution import stripes as st
+    from rocking.provenance import read_record
+
+    cache = st.refine_cache_path(stripe_studies["a"][0])
+    grown = tmp_path / "grown.jsonl"
+    lines = cache.read_text().splitlines(True)
+    grown.write_text("".join(lines) + lines[0].replace('"runs": ', '"runs": 9'))
+    csv, store_path = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=grown,
+                               record_from=cache)
+    assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    kept = st.refine_cache_path(store_path)
+    assert kept.read_text() == cache.read_text()
+    assert read_record(kept)["size"] == kept.stat().st_size
 
 
 @pytest.mark.parametrize("table", ["stripe_fragility.csv", "fragility.csv"])
 def test_bootstrap_of_another_study_is_refused_by_the_risk_table(stripe_studies, tmp_path,
                                                                  table):
-    """Silent before: only the row count was checked, the interval moved."""
-    from rocking._provenance import ProvenanceError
+    """Silent before issue 39: only the row count was checked, the interval moved."""
     from rocking.fragility.table import read_fragilities
+    from rocking.provenance import ProvenanceError, record_path
 
     a, b = stripe_studies["a"][2], stripe_studies["b"][2]
     here = tmp_path / table
     shutil.copy(a, here)
     boot = here.with_name(here.stem + "_bootstrap.nc")
-    shutil.copy(a.with_name("stripe_fragility_bootstrap.nc"), boot)
-    assert read_fragilities(here, kind="stripes").samples is not None  # its own: read
-    shutil.copy(b.with_name("stripe_fragility_bootstrap.nc"), boot)  # another study's
-    rule = "stripe_fragility" if table.startswith("stripe") else "fragility"
-    with pytest.raises(ProvenanceError, match=rf"{boot} was made for a table of sha256 "
-                                              rf"[0-9a-f]{{16}}, not {here} .*another study, "
-                                              rf"run or table: rerun with `snakemake "
-                                              rf"--forcerun {rule}`"):
+    record_path(boot).parent.mkdir()
+    src = a.with_name("stripe_fragility_bootstrap.nc")
+    for f in (src, record_path(src)):  # the study's samples and their record: read
+        shutil.copy(f, record_path(boot) if f.suffix == ".json" else boot)
+    if table == "stripe_fragility.csv":
+        assert read_fragilities(here, kind="stripes").samples is not None
+    src = b.with_name("stripe_fragility_bootstrap.nc")
+    for f in (src, record_path(src)):  # another study's
+        shutil.copy(f, record_path(boot) if f.suffix == ".json" else boot)
+    with pytest.raises(ProvenanceError, match=rf"^{boot}: not made from {here}: remake it "
+                                              rf"with `snakemake --cores 2 {boot}`"):
         read_fragilities(here, kind="stripes")
 
 
 def test_truncated_bootstrap_names_file_and_way_out(stripe_studies, tmp_path):
-    """Traceback before: ValueError: When changing to a larger dtype..."""
-    from rocking._provenance import ProvenanceError
+    """Traceback before issue 39: ValueError: When changing to a larger dtype..."""
     from rocking.fragility.table import read_fragilities
+    from rocking.provenance import ProvenanceError
 
     a = stripe_studies["a"][2]
     here = tmp_path / "stripe_fragility.csv"
     shutil.copy(a, here)
     boot = tmp_path / "stripe_fragility_bootstrap.nc"
+    shutil.copytree(a.parent / ".provenance", tmp_path / ".provenance")
     shutil.copy(a.with_name(boot.name), boot)
     _truncate(boot)
-    with pytest.raises(ProvenanceError, match=rf"^{boot} cannot be read \(damaged or cut "
-                                              r"short: .*\): rerun with `snakemake --forcerun "
-                                              r"stripe_fragility`$"):
+    with pytest.raises(ProvenanceError, match=rf"^{boot}: cut short \(\d+ of its \d+ bytes\): "
+                                              rf"remake it with `snakemake --cores 2 {boot}`"):
         read_fragilities(here, kind="stripes")
 
 
@@ -711,25 +747,21 @@ def test_missing_bootstrap_is_said_never_a_silent_blank(stripe_studies, tmp_path
            "table's lambda_p05/lambda_p95 of its rows stay empty" in caplog.text
 
 
-def test_suite_bootstrap_records_table_and_store(study, tmp_path):
-    """suite_fragility_bootstrap.nc records its table's sha256, the store's config hash, the
-    motions' sha256 and the measures; another run's table is refused."""
-    from rocking._provenance import ProvenanceError, file_sha256
+def test_suite_bootstrap_records_its_table(study, tmp_path):
+    """suite_fragility_bootstrap.nc's record names its table; another run's table (one byte
+    more) is refused."""
     from rocking.fragility.bootstrap import read_bootstrap
+    from rocking.provenance import ProvenanceError, file_sha256, read_record
 
     out = tmp_path / "t"
     out.mkdir()
     csv = out / "suite_fragility.csv"
     write_record_tables(study.store, study.motions, ["pga"], out / "records.csv", csv)
     boot = out / "suite_fragility_bootstrap.nc"
-    with xr.open_dataset(boot) as ds:
-        attrs = dict(ds.attrs)
-    assert attrs["table_sha256"] == file_sha256(csv)
-    assert attrs["config_hash"] == SPEC.digest and attrs["measures"] == "pga"
-    assert attrs["motions_sha256"] == digest_path(study.motions).read_text().split()[0]
+    assert read_record(boot)["inputs"] == {"suite_fragility.csv": file_sha256(csv)}
     read_bootstrap(boot, table=csv)
-    csv.write_text(csv.read_text().replace("pga", "pga", 1) + "\n")
-    with pytest.raises(ProvenanceError, match="--forcerun records_table"):
+    csv.write_text(csv.read_text() + "\n")
+    with pytest.raises(ProvenanceError, match=rf"^{boot}: not made from {csv}"):
         read_bootstrap(boot, table=csv)
 
 

@@ -167,7 +167,9 @@ def read_record(path: str | Path) -> dict | None:
 
 def _relative(paths: Iterable[str | Path] | Mapping[str | Path, str | None], base: Path,
               fast: bool = False) -> dict[str, str | None]:
-    """``{path relative to base: digest}`` of paths (a mapping: digests given)."""
+    """``{path relative to base: digest}`` of paths (a mapping: digests given); ``base`` is
+    the recorded file's folder, so that a record copied with a file into another study's
+    folder names that study's inputs."""
     items = paths.items() if isinstance(paths, Mapping) else ((p, None) for p in paths)
     return {os.path.relpath(os.path.abspath(p), os.path.abspath(base)):
             (d if d is not None else digest(p, fast=fast)) for p, d in items}

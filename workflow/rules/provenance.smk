@@ -42,15 +42,19 @@ def _made_from(rule):
             settings = _job_settings(rule, wildcards)
         except Exception:  # noqa: BLE001 - Snakemake says it itself when it evaluates them
             settings = None
+        stale = []
         for pattern in rule.output:
             out = apply_wildcards(pattern, wildcards)
-            if not os.path.exists(out):
-                continue
-            why = provenance.problem(out, rule=rule.name, settings=settings, fast=True)
-            if why is not None:
-                print(f"provenance: {out}: {why}: remade by rule {rule.name}",
-                      file=sys.stderr, flush=True)
-                dag.forcefiles.add(out)
+            if os.path.exists(out):
+                why = provenance.problem(out, rule=rule.name, settings=settings, fast=True)
+                if why is not None:
+                    stale.append((why.startswith("made "), out, why))
+        if stale:  # one line per job, naming a changed file before those made with it
+            _, out, why = min(stale)
+            more = f" (and {len(stale) - 1} other outputs of its job)" if len(stale) > 1 else ""
+            print(f"provenance: {out}: {why}{more}: remade by rule {rule.name}",
+                  file=sys.stderr, flush=True)
+            dag.forcefiles.update(o for _, o, _ in stale)
         return []
 
     return stale_outputs

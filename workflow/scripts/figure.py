@@ -14,7 +14,8 @@ def _plain(value):
 def main(snakemake):
     params = {k: _plain(v) for k, v in snakemake.params.items()
               if k not in ("figure", "caption")}
-    inputs = {k: _plain(v) for k, v in snakemake.input.items()}
+    # every input but the planning's (workflow/rules/provenance.smk), which holds no file
+    inputs = {k: _plain(v) for k, v in snakemake.input.items() if k != "provenance"}
     with job(snakemake):
         draw(snakemake.params.figure, inputs, params, dict(snakemake.output.items()))
 

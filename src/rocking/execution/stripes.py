@@ -277,7 +277,8 @@ class RefineCache:
         its record: what a figure replays the refinement from."""
         from rocking import provenance
 
-        body = "".join(_line(k, v) for k, v in self._data.items())
+        # in key order: the same analyses give the same file, however a killed run resumed
+        body = "".join(_line(k, v) for k, v in sorted(self._data.items()))
         provenance.write_atomic(path, lambda tmp: Path(tmp).write_text(body))
         provenance.record(path, inputs=self.made_from)
         return Path(path)
