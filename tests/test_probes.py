@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 import textwrap
 import time
 import warnings
+from collections.abc import Callable, Sequence
 from functools import partial
 from pathlib import Path
 
@@ -945,29 +947,435 @@ def test_dashboard_can_be_turned_off_or_moved():
         assert _listening(port) == {"127.0.0.1"}
 
 
-# The workflow itself: the sidecars are declared inputs, a copied output folder is remade
-# where its configuration changed (one tiny study with stripes and a hazard, run once).
+# --------------------------------------------------------------------------------------------
+# Family 9 (issue 48): every derived file checked by its reader against the record of what
+# made it (rocking.provenance); the workflow remakes what does not match, a command refuses it
+# --------------------------------------------------------------------------------------------
 
-TINY_RISK = {
+COLUMNS = """id,R,tan_alpha,lon,lat
+node,1.0,0.15,0.001,0.001
+between,2.0,0.175,0.002,-0.001
+far-node,3.0,0.2,-0.001,0.002
+"""
+OTHER_COLUMNS = """id,R,tan_alpha,lon,lat
+squat,1.5,0.19,0.0,0.0
+"""
+HAZARD = {"file": str(REPO / "config/hazard/example_hazard_curve.csv"),
+          "site": {"lon": 0.0, "lat": 0.0}, "component": "vector_peak"}
+GRID = {"R": [1.0, 3.0], "chunk_R": 1,
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.15, 0.2],
+                  "limit_states": ["overturning", "tilt:1/3"]}]}
+TWO = {
     "accuracy": "fast", "motions": {"max_duration": 3.0},
-    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7}},
-    "studies": {"tiny": {
-        "ensemble": "tiny", "hazard": {"k0": 2.0e-4, "k": 2.2}, "R": [1.0, 3.0], "chunk_R": 1,
-        "runs": [{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["overturning"]}],
-        "stripes": {"modes": ["3d"], "tan_alpha": 0.2, "limit_states": ["overturning"],
-                    "R": [3.0], "intensity": {"start": 1.1, "stop": 15.0, "num": 4,
-                                              "spacing": "log"},
-                    "refine": 2, "bootstrap": 20}}},
+    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7},
+                  "other": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 8}},
+    "studies": {
+        "a": {"ensemble": "tiny", "hazard": HAZARD, **GRID,
+              "inventory": {"file": "columns.csv", "export": "column", "resamples": 20},
+              "stripes": {"modes": ["3d"], "tan_alpha": 0.2, "limit_states": ["overturning"],
+                          "R": [3.0], "intensity": {"start": 1.1, "stop": 15.0, "num": 4,
+                                                    "spacing": "log"},
+                          "refine": 2, "bootstrap": 20}},
+        "b": {"ensemble": "other", "hazard": HAZARD, **GRID,
+              "inventory": {"file": "other_columns.csv", "resamples": 20}}},
     "dask": {"progress_interval": 0}}
+"""Two tiny studies on other motions (b's surface is another one over the same grid), with
+a hazard, an inventory each (a's exported), stripes in a: every rule of the workflow."""
 
 
-def _snakemake(workdir: Path, cfg: dict, *args: str) -> str:
-    (workdir / "c.yaml").write_text(yaml.safe_dump(cfg))
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"),
-                          "--configfile", "c.yaml", "--cores", "2", *args],
-                         capture_output=True, text=True, cwd=workdir, timeout=1800)
-    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
-    return out.stdout + out.stderr
+def _workdir(folder: Path, cfg: dict | None = None) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "columns.csv").write_text(COLUMNS)
+    (folder / "other_columns.csv").write_text(OTHER_COLUMNS)
+    (folder / "c.yaml").write_text(yaml.safe_dump(cfg or TWO))
+    return folder
+
+
+def _command(*args: str) -> list[str]:
+    return [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"), "--configfile",
+            "c.yaml", "--cores", "2", "--nocolor", *args]
+
+
+def _run(workdir: Path, *args: str, ok: bool = True) -> subprocess.CompletedProcess:
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    out = subprocess.run(_command(*args), capture_output=True, text=True, cwd=workdir,
+                         timeout=2400, env=env)
+    if ok:
+        assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    return out
+
+
+@pytest.fixture(scope="module")
+def two_studies(tmp_path_factory) -> Path:
+    """The two studies run once, uninterrupted, to the end: the reference."""
+    work = _workdir(tmp_path_factory.mktemp("two") / "run")
+    _run(work)
+    return work
+
+
+def _restored(reference: Path, folder: Path) -> Path:
+    """A copy of the finished run (dates kept, its .snakemake/ record too)."""
+    shutil.copytree(reference, folder, symlinks=True)
+    return folder
+
+
+RUN_FACTS = ("logs", ".provenance", ".snakemake_timestamp")
+"""What differs between two runs of the same configuration by nature: the logs, the records
+(they hold the files' dates), Snakemake's timestamp in a directory output."""
+RUN_FACT_FILES = (".done.json", "numba_cache.json", "report.html", ".lock", ".refined.jsonl")
+"""Files that say how a run went: the completion summaries (times, chunks done before), the
+kernels' compile times, the report (its "what was run": elapsed time), the stores' locks, a
+stripes store's append-only cache of refined analyses (in the order they were done)."""
+
+
+def _outputs(root: Path) -> dict[str, bytes]:
+    """Every file of an output root that two runs of one configuration must write alike."""
+    out = {}
+    for p in sorted(root.rglob("*")):
+        rel = p.relative_to(root)
+        if p.is_file() and not any(part in RUN_FACTS for part in rel.parts) \
+                and not p.name.endswith(RUN_FACT_FILES):
+            out[rel.as_posix()] = p.read_bytes()
+    return out
+
+
+def _differing(a: dict[str, bytes], b: dict[str, bytes]) -> list[str]:
+    return sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+
+
+def _copy_with_record(src: Path, dst: Path) -> None:
+    """A file copied over another, with its record when it has one."""
+    shutil.copy(src, dst)
+    rec = src.parent / ".provenance" / f"{src.name}.json"
+    if rec.is_file():
+        shutil.copy(rec, dst.parent / ".provenance" / f"{dst.name}.json")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("with_records", [False, True])
+def test_another_studys_surface_copied_in_is_remade_before_the_portfolio(two_studies,
+                                                                          tmp_path,
+                                                                          with_records):
+    """Silent before: fragility.csv and critical.csv of another study copied into a study,
+    then `snakemake <study>/portfolio.csv`: the portfolio was rebuilt on the other study's
+    surface, exit 0. Now both tables are remade from the study's own store first (copied
+    alone, they are not what their records say; copied with their records, those name
+    another store's answers), and the portfolio is the study's."""
+    work = _restored(two_studies, tmp_path / "w")
+    a, b = work / "results/a", work / "results/b"
+    for name in ("fragility.csv", "critical.csv"):
+        (_copy_with_record if with_records else shutil.copy)(b / name, a / name)
+    out = _run(work, "results/a/portfolio.csv")
+    ref = two_studies / "results/a"
+    for name in ("fragility.csv", "critical.csv", "portfolio.csv"):
+        assert (a / name).read_bytes() == (ref / name).read_bytes(), (name, out.stderr[-3000:])
+    assert "provenance: results/a/" in out.stderr
+
+
+def _damage_portfolio(a: Path, b: Path, damage: str) -> None:
+    table = a / "portfolio.csv"
+    if damage == "another inventory's":
+        _copy_with_record(b / "portfolio.csv", table)
+    elif damage == "cut in half":
+        _truncate(table)
+    else:
+        frame = pd.read_csv(table)
+        frame.loc[0, "median"] *= 1.5
+        frame.to_csv(table, index=False, float_format="%.6g")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("damage", ["another inventory's", "cut in half", "one median x 1.5"])
+def test_damaged_portfolio_is_remade_before_its_export(two_studies, tmp_path, damage):
+    """Silent before: a restored run, its portfolio.csv of another inventory, cut in half or
+    with one median times 1.5, then `snakemake <study>/exposure`: the export was made from
+    the damaged table. Now the table is remade first, and the export is the study's."""
+    work = _restored(two_studies, tmp_path / "w")
+    a = work / "results/a"
+    _damage_portfolio(a, work / "results/b", damage)
+    out = _run(work, "results/a/exposure")
+    ref = two_studies / "results/a"
+    assert (a / "portfolio.csv").read_bytes() == (ref / "portfolio.csv").read_bytes()
+    assert _outputs(a / "exposure") == _outputs(ref / "exposure")
+    assert "provenance: results/a/portfolio.csv: " in out.stderr
+
+
+def _run_and_kill(workdir: Path, args: Sequence[str], when: Callable[[str], bool],
+                  delay: float = 0.0, ready: Callable[[], bool] = lambda: True
+                  ) -> tuple[bool, str]:
+    """Run Snakemake; at the first line of its output that ``when`` accepts, wait ``delay``
+    seconds (and until ``ready()``), then kill it with its job and workers (SIGKILL to the
+    process group). Returns (finished without being killed, the line)."""
+    import signal
+
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    run = subprocess.Popen(_command(*args), cwd=workdir, env=env, text=True,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           start_new_session=True)
+    seen = []
+    for line in run.stdout:
+        seen.append(line)
+        if when(line):
+            deadline = time.monotonic() + 30
+            time.sleep(delay)
+            while not ready() and time.monotonic() < deadline:
+                time.sleep(0.01)
+            os.killpg(run.pid, signal.SIGKILL)
+            run.wait(timeout=60)
+            return False, line.strip()
+    assert run.wait(timeout=60) == 0, "".join(seen)[-4000:]
+    return True, ""
+
+
+@pytest.mark.slow
+def test_killed_portfolio_then_a_downstream_target_remakes_it(two_studies, tmp_path):
+    """Silent before: Snakemake killed (-9) during the portfolio rule, `--unlock`, then a
+    rerun naming a downstream target (the export): "Nothing to be done", and portfolio.csv
+    stayed missing. Now the export's record names the portfolio it was made from: both are
+    remade, to the bytes of an uninterrupted run."""
+    work = _restored(two_studies, tmp_path / "w")
+    table = work / "results/a/portfolio.csv"
+    killed, _ = _run_and_kill(work, ["--forcerun", "portfolio", "results/a/portfolio.csv"],
+                              when=lambda line: line.strip() in ("rule portfolio:",
+                                                                 "localrule portfolio:"),
+                              ready=lambda: not table.exists())
+    assert not killed and not table.exists()
+    _run(work, "--unlock")
+    out = _run(work, "results/a/exposure")
+    ref = two_studies / "results/a"
+    assert table.read_bytes() == (ref / "portfolio.csv").read_bytes(), out.stderr[-3000:]
+    assert _outputs(work / "results/a/exposure") == _outputs(ref / "exposure")
+
+
+@pytest.mark.slow
+def test_kill_anywhere_then_the_same_command_ends_as_an_uninterrupted_run(two_studies,
+                                                                         tmp_path):
+    """Kill -9 of Snakemake (with its job and workers) while each rule runs in turn, each
+    time `--unlock` and the same command again: the run ends with every output identical to
+    the uninterrupted run's (before: the same command stopped on the killed job's
+    incomplete files)."""
+    work = _workdir(tmp_path / "w")
+    killed: list[str] = []
+
+    def new_rule(line: str) -> bool:
+        m = re.match(r"^(?:local)?rule (\w+):$", line.strip())
+        return m is not None and m.group(1) not in killed and m.group(1) != "all"
+
+    for attempt in range(80):
+        finished, line = _run_and_kill(work, [], when=new_rule,
+                                       delay=(0.0, 0.5, 2.0)[attempt % 3])
+        if finished:
+            break
+        killed.append(line.split()[-1].rstrip(":"))
+        _run(work, "--unlock")
+    assert finished
+    reference = _outputs(two_studies / "results")
+    assert _differing(_outputs(work / "results"), reference) == []
+    assert set(killed) == {r for r in _planned_rules(two_studies) if r != "all"}, killed
+
+
+def _planned_rules(workdir: Path) -> set[str]:
+    """Every rule the configuration's default target runs."""
+    dry = _run(workdir, "-n", "--forceall")
+    return set(re.findall(r"^(\w+)\s+\d+$", dry.stdout, re.MULTILINE)) - {"total"}
+
+
+def _jobs(workdir: Path) -> list[dict]:
+    """Every job of the default target (a dry run of them all): rule, inputs, outputs."""
+    dry = _run(workdir, "-n", "--forceall").stdout
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:\n)", dry):
+        head = re.match(r"(?:local)?rule (\w+):\n", block)
+        if head is None:
+            continue
+        fields = dict(re.findall(r"^    (input|output): (.*)$", block, re.MULTILINE))
+        jobs.append({"rule": head.group(1),
+                     "input": [f for f in fields.get("input", "").split(", ") if f],
+                     "output": [f for f in fields.get("output", "").split(", ") if f]})
+    return jobs
+
+
+@pytest.mark.slow
+def test_every_derived_input_of_every_rule_is_checked_by_its_record(two_studies):
+    """The rule walk: for every job of the workflow, every output carries a record naming
+    its rule (its script ran in rocking.execution.logs.job, which records what made each
+    output), and every input another rule writes is among the inputs of that record (the
+    job checked it against its own record before reading it). A new rule whose script does
+    not record its outputs, or whose derived input is not checked, fails here."""
+    from rocking.provenance import read_record
+
+    jobs = _jobs(two_studies)
+    written = {f: j["rule"] for j in jobs for f in j["output"]}
+    assert {"portfolio", "exposure", "fragility", "stripe_fragility", "report"} <= \
+        {j["rule"] for j in jobs}
+    ordering_only = {"results/numba_cache.json"}  # ancient(): the order of jobs alone
+    uncovered = []
+    for j in jobs:
+        for out in j["output"]:
+            path = two_studies / out
+            rec = read_record(path)
+            if rec is None or rec.get("rule") != j["rule"]:
+                uncovered.append(f"{out}: no record by rule {j['rule']}")
+                continue
+            made_from = {os.path.normpath(path.parent / rel) for rel in rec["inputs"]}
+            for f in j["input"]:
+                if f in written and f not in ordering_only and \
+                        os.path.normpath(two_studies / f) not in made_from:
+                    uncovered.append(f"{out} (rule {j['rule']}): input {f} of rule "
+                                     f"{written[f]} is not checked")
+    assert uncovered == []
+    # and the planning holds every job's outputs against their records: its input function
+    # is added to every rule by the last include, after which no rule is defined
+    snakefile = (REPO / "Snakefile").read_text()
+    includes = re.findall(r'^include: "([^"]+)"', snakefile, re.MULTILINE)
+    assert includes[-1] == "workflow/rules/provenance.smk"
+    assert not re.search(r"^rule ", snakefile.split(includes[-1])[1].split("rule all:")[0],
+                         re.MULTILINE)
+
+
+def test_every_script_runs_in_the_job_block_and_every_command_checks_what_it_is_handed():
+    """The readers: every workflow script reads and writes inside
+    rocking.execution.logs.job (its inputs checked, its outputs recorded), and the commands
+    that read a study's tables check them (rocking.cli._common.check_handed)."""
+    scripts = sorted((REPO / "workflow/scripts").glob("*.py"))
+    assert scripts
+    for script in scripts:
+        text = script.read_text()
+        assert re.search(r"with (logs\.)?job\(snakemake\)", text), script.name
+        assert "log_to(" not in text, script.name
+    for command in ("portfolio", "risk"):
+        assert "_common.check_handed(" in (REPO / f"src/rocking/cli/{command}.py").read_text()
+
+
+def _study_tables(reference: Path, folder: Path) -> Path:
+    """Study a's folder without its stores (a surface handed to someone)."""
+    shutil.copytree(reference / "results/a", folder,
+                    ignore=shutil.ignore_patterns("*.zarr", "figures", "exposure"))
+    return folder
+
+
+@pytest.mark.slow
+def test_portfolio_command_refuses_another_studys_table_in_one_line(two_studies, tmp_path,
+                                                                    capsys):
+    """Silent before: `rocking portfolio --surface` read a fragility.csv of another study
+    copied into the folder. Now: refused, naming the file and the command that remakes it;
+    the study's own folder, handed on without its stores, is read."""
+    from rocking.cli import main
+
+    folder = _study_tables(two_studies, tmp_path / "a")
+    argv = ["portfolio", "--surface", str(folder), "--inventory", str(two_studies /
+            "columns.csv"), "--hazard", HAZARD["file"], "--site-lon", "0", "--site-lat", "0",
+            "--resamples", "0"]
+    assert main(argv) == 0
+    assert "no record" not in capsys.readouterr().err
+    shutil.copy(two_studies / "results/b/fragility.csv", folder / "fragility.csv")
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert f"{folder / 'fragility.csv'}: changed since it was written" in err
+    assert f"snakemake --cores 2 {folder / 'fragility.csv'}" in err
+
+
+@pytest.mark.slow
+def test_a_table_of_ones_own_is_read_and_said_so(two_studies, tmp_path, capsys):
+    """A table a user wrote (no record beside it) handed to `rocking risk`: read as it is,
+    one line on stderr saying so."""
+    from rocking.cli import main
+
+    own = tmp_path / "mine.csv"
+    shutil.copy(two_studies / "results/a/fragility.csv", own)
+    assert main(["risk", "--fragility", str(own), "--hazard", "2e-4,2.2"]) == 0
+    err = capsys.readouterr().err
+    assert f"rocking risk: {own} has no record of what made it: read as a table of your own" \
+        in err
+
+
+@pytest.fixture()
+def read_only_folder(tmp_path):
+    """A read-only filesystem (a tmpfs mounted ro), or a folder without write permission."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    if os.geteuid() != 0:
+        folder.chmod(0o555)
+        yield folder
+        folder.chmod(0o755)
+        return
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m,ro", "tmpfs", str(folder)],
+                      capture_output=True).returncode != 0:
+        pytest.skip("a read-only folder needs a tmpfs mount as root")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], check=False)
+
+
+def _refused_before_any_job(work: Path, folder: Path) -> str:
+    cfg = {**json.loads(json.dumps(TWO)), "output": str(folder)}
+    _workdir(work, cfg)
+    out = _run(work, ok=False)
+    assert out.returncode != 0
+    assert "Traceback" not in out.stderr, out.stderr[-3000:]
+    errors = [line for line in out.stderr.splitlines() if line.startswith("error: ")]
+    assert len(errors) == 1, out.stderr[-3000:]
+    assert not re.search(r"^(local)?rule \w+:$", out.stdout + out.stderr, re.MULTILINE)
+    return errors[0]
+
+
+@pytest.mark.slow
+def test_read_only_output_folder_is_said_in_one_line_before_any_job(tmp_path,
+                                                                    read_only_folder):
+    """A traceback from the provenance stamp before (OSError: [Errno 30] Read-only file
+    system: .../.provenance/...part.json)."""
+    line = _refused_before_any_job(tmp_path / "w", read_only_folder)
+    assert line.startswith(f"error: output folder {read_only_folder}") and "cannot write" in line
+
+
+@pytest.mark.slow
+def test_full_output_folder_is_said_in_one_line_before_any_job(tmp_path, full_disk):
+    line = _refused_before_any_job(tmp_path / "w", full_disk)
+    assert line.startswith(f"error: output folder {full_disk}") and "no space left" in line
+
+
+@pytest.mark.parametrize("content", [b"", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe",
+                                     "mode,ü\n3d,1\n".encode("latin-1")],
+                         ids=["0-byte", "binary", "latin-1"])
+def test_verify_names_a_table_it_cannot_read(tmp_path, capsys, content):
+    """"No columns to parse from file" or a UTF-8 decoding error before, naming no file."""
+    from rocking.cli import main
+
+    gallery = REPO / "results" / "paper"
+    run = tmp_path / "run"
+    shutil.copytree(gallery, run, ignore=shutil.ignore_patterns("*.png", "*.html", "*.xml",
+                                                                "figures", "motions"))
+    table = run / "elcentro" / "fragility.csv"
+    table.write_bytes(content)
+    assert main(["verify", str(run), "--against", str(gallery)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"rocking verify: error: {table}: "), err
+
+
+@pytest.mark.slow
+def test_a_copied_folder_remakes_the_tables_its_new_settings_change(two_studies, tmp_path):
+    """A folder copied with `cp -a` (no .snakemake/ record of the rules' parameters), a
+    measure added and the hazard put in it: the records' settings differ, the tables are
+    remade (before issue 48, by two stamp files rewritten at planning); then nothing is left
+    to do."""
+    subprocess.run(["cp", "-a", str(two_studies / "results"), str(tmp_path / "copy")],
+                   check=True)
+    for name in ("columns.csv", "other_columns.csv"):
+        shutil.copy(two_studies / name, tmp_path / name)
+    cfg = json.loads(json.dumps(TWO))
+    cfg.update(output="copy")
+    cfg["studies"]["b"].update(intensity_measures=["pga", "sa:1.0"],
+                               hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
+    del cfg["studies"]["b"]["inventory"]
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump(cfg))
+    plan = _run(tmp_path, "-n", "copy/b/risk.csv")
+    assert {"records_table", "risk"} <= _planned(plan.stdout), plan.stdout[-3000:]
+    assert "spectra" not in _planned(plan.stdout)
+    _run(tmp_path, "copy/b/risk.csv")
+    assert set(pd.read_csv(tmp_path / "copy/b/risk.csv")["measure"]) == {"sa:1.0"}
+    assert _planned(_run(tmp_path, "-n", "copy/b/risk.csv").stdout) == set()
 
 
 def _planned(text: str) -> set[str]:
@@ -975,47 +1383,12 @@ def _planned(text: str) -> set[str]:
             if line.startswith(("rule ", "localrule "))}
 
 
-@pytest.mark.slow
-def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp_path):
-    """Before: a deleted stripe_fragility_bootstrap.nc was not remade after a hazard change
-    (risk.csv's stripe intervals silently blank); a folder copied with `cp -a` kept its
-    suite_fragility.csv when a measure was added (risk: "add sa:1.0 to the study's
-    intensity_measures" although it was there)."""
-    cfg = json.loads(json.dumps(TINY_RISK))
-    targets = ["results/tiny/risk.csv", "results/tiny/suite_fragility.csv",
-               "results/tiny/figures/stripe_fragility_3d.png"]
-    _snakemake(tmp_path, cfg, *targets)
-    tiny = tmp_path / "results/tiny"
-    for name in ("stripe_fragility_bootstrap.nc", "suite_fragility_bootstrap.nc",
-                 "fragility_bootstrap.nc"):
-        with xr.open_dataset(tiny / name) as ds:
-            assert len(ds.attrs["table_sha256"]) == 64 and ds.attrs["motions_sha256"]
-    assert json.loads((tiny / "stripe_fragility_refined.jsonl").read_text()
-                      .splitlines()[0])["provenance"]["config_hash"]
-    # a deleted sidecar, then a hazard change: the sidecar is remade before risk reads it
-    (tiny / "stripe_fragility_bootstrap.nc").unlink()
-    cfg["studies"]["tiny"]["hazard"]["k0"] = 3.0e-4
-    assert {"stripe_fragility", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
-                                                               "results/tiny/risk.csv"))
-    # the folder copied, a measure added and the hazard put in it: the tables remade
-    subprocess.run(["cp", "-a", str(tmp_path / "results"), str(tmp_path / "copy")], check=True)
-    cfg.update(output="copy")
-    cfg["studies"]["tiny"].update(intensity_measures=["pga", "sa:1.0"],
-                                  hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
-    assert {"records_table", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
-                                                            "copy/tiny/risk.csv"))
-    _snakemake(tmp_path, cfg, "copy/tiny/risk.csv")
-    risk = pd.read_csv(tmp_path / "copy/tiny/risk.csv")
-    assert set(risk["measure"]) == {"sa:1.0"}
-    # nothing left to do: the stamps are rewritten only when what they record changes
-    assert _planned(_snakemake(tmp_path, cfg, "-n", "copy/tiny/risk.csv")) == set()
-
-
 def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
     """The compute rules (exit 120, no reason, before): a chunk that cannot be written."""
     (full_disk / "filler").unlink()
     rc, err = _log_block(tmp_path, textwrap.dedent(f"""\
-        from functools import partial
+        from collections.abc import Callable, Sequence
+from functools import partial
         import _store_standins as standin
         from rocking.motions.ensemble_io import save_ensemble
         from rocking.execution import cluster
