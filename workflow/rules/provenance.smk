@@ -48,13 +48,13 @@ def _made_from(rule):
             if os.path.exists(out):
                 why = provenance.problem(out, rule=rule.name, settings=settings, fast=True)
                 if why is not None:
-                    stale.append((why.startswith("made "), out, why))
+                    stale.append((why.startswith("made "), len(stale), out, why))
         if stale:  # one line per job, naming a changed file before those made with it
-            _, out, why = min(stale)
+            *_, out, why = min(stale)
             more = f" (and {len(stale) - 1} other outputs of its job)" if len(stale) > 1 else ""
             print(f"provenance: {out}: {why}{more}: remade by rule {rule.name}",
                   file=sys.stderr, flush=True)
-            dag.forcefiles.update(o for _, o, _ in stale)
+            dag.forcefiles.update(o for *_, o, _ in stale)
         return []
 
     return stale_outputs
