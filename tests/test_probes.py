@@ -983,6 +983,81 @@ TWO = {
 a hazard, an inventory each (a's exported), stripes in a: every rule of the workflow."""
 
 
+def _recorded_table(folder: Path) -> tuple[Path, Path, Path]:
+    """A table made from a source, written with a sibling, and recorded."""
+    from rocking.provenance import record
+
+    folder.mkdir()
+    source, table, sibling = folder / "source.csv", folder / "t.csv", folder / "t.nc"
+    source.write_text("x\n1\n")
+    table.write_text("mode,median [g]\n3d,0.4567\n3d,0.8123\n")
+    sibling.write_bytes(b"CDF\x01" + bytes(range(64)))
+    for f in (table, sibling):
+        record(f, inputs=[source], together=[table, sibling], settings="0123456789abcdef",
+               rule="fragility")
+    return source, table, sibling
+
+
+@pytest.mark.parametrize(("damage", "said"), [
+    ("one digit", r"changed since it was written \(sha256 \w+, recorded \w+\)"),
+    ("cut in half", r"cut short \(\d+ of its 40 bytes\)"),
+    ("another source", r"made from another {source} than the one there"),
+    ("source gone", r"made from {source}, which is missing"),
+    ("sibling changed", r"made with another {sibling} than the one there"),
+    ("record damaged", r"its record {record} is damaged"),
+])
+def test_a_derived_file_is_refused_by_its_reader_in_one_line(tmp_path, damage, said):
+    """Every damage a reader meets (issue 48): the file named, what is wrong, the command
+    that remakes it; one line."""
+    from rocking.provenance import ProvenanceError, check, record_path
+
+    source, table, sibling = _recorded_table(tmp_path / "s")
+    check(table)  # intact: read
+    if damage == "one digit":
+        table.write_text(table.read_text().replace("0.4567", "0.4568"))
+    elif damage == "cut in half":
+        _truncate(table)
+    elif damage == "another source":
+        source.write_text("x\n2\n")
+    elif damage == "source gone":
+        source.unlink()
+    elif damage == "sibling changed":
+        _flip(sibling)
+    else:
+        record_path(table).write_text('{"sha256": ')
+    pattern = said.format(source=re.escape(str(source)), sibling=re.escape(str(sibling)),
+                          record=re.escape(str(record_path(table))))
+    with pytest.raises(ProvenanceError) as err:
+        check(table)
+    text = str(err.value)
+    assert "\n" not in text
+    assert re.fullmatch(rf"{re.escape(str(table))}: {pattern}: remake it with `snakemake "
+                        rf"--cores 2 {re.escape(str(table))}` .*", text), text
+
+
+def test_what_a_reader_does_without_a_record_and_without_the_inputs(tmp_path):
+    """No record: a source, or a table of the user's own (said); the workflow's planning
+    takes it as a derived file that lost it. Inputs not handed along: not asked for by a
+    command (``partial``), missing for the workflow. Other settings: stale for the planning.
+    """
+    from rocking.provenance import check, problem, record_path
+
+    source, table, sibling = _recorded_table(tmp_path / "s")
+    said = []
+    record_path(table).unlink()
+    assert check(table, say=said.append) is None
+    assert said == [f"{table} has no record of what made it: read as a table of your own (a "
+                    f"table the workflow wrote carries one in .provenance/)"]
+    assert problem(table) == "no record of what made it"
+    source.unlink()
+    assert problem(sibling, partial=True) is None
+    assert problem(sibling).startswith(f"made from {source}, which is missing")
+    assert problem(sibling, settings="fedcba9876543210", rule="fragility", partial=True) == \
+        "made with other settings of rule fragility"
+    assert problem(sibling, rule="records_table", partial=True) == \
+        "its record says rule fragility wrote it, not rule records_table"
+
+
 def _workdir(folder: Path, cfg: dict | None = None) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "columns.csv").write_text(COLUMNS)
