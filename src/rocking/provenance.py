@@ -194,7 +194,7 @@ def record(path: str | Path, *, inputs: Iterable | Mapping = (),
     found = {} if sha256 else (read_record(path) or {})
     rec = {"file": path.name, "sha256": sha, "size": st.st_size, "mtime_ns": st.st_mtime_ns,
            "rule": rule or found.get("rule"), "settings": settings or found.get("settings"),
-           "inputs": {**(found.get("inputs") or {} if found.get("sha256") == sha else {}),
+           "inputs": {**((found.get("inputs") or {}) if found.get("sha256") == sha else {}),
                       **_relative(inputs, base)},
            "together": _relative([t for t in together if Path(t) != path], base)}
     text = json.dumps(rec, sort_keys=True, indent=1) + "\n"
@@ -228,7 +228,8 @@ def problem(path: str | Path, *, expect: Iterable[str | Path] = (), settings: st
     rec = read_record(path)
     if rec is None:
         return None if own else "no record of what made it"
-    if rec.get("damaged") or not isinstance(rec.get("inputs", {}), dict):
+    if rec.get("damaged") or not isinstance(rec.get("inputs", {}), dict) \
+            or not isinstance(rec.get("size"), int):
         return f"its record {record_path(path)} is damaged"
     if rule is not None and rec.get("rule") != rule:
         return f"its record says rule {rec.get('rule')} wrote it, not rule {rule}"
