@@ -32,7 +32,8 @@ def _job_settings(rule, wildcards):
 
 def _made_from(rule):
     """An input function of ``rule`` that adds nothing: it forces the job whose outputs do
-    not match their records (Snakemake's DAG is being built when input functions run)."""
+    not match their records (Snakemake's DAG is being built when input functions run: its
+    forced files are the ones `--forcerun` names)."""
 
     def stale_outputs(wildcards):
         dag = workflow.dag
@@ -52,9 +53,13 @@ def _made_from(rule):
         if stale:  # one line per job, naming a changed file before those made with it
             *_, out, why = min(stale)
             more = f" (and {len(stale) - 1} other outputs of its job)" if len(stale) > 1 else ""
+            forced = getattr(dag, "forcefiles", None)
+            if forced is None:  # a Snakemake without it: refused, with the way out
+                raise WorkflowError(f"{out}: {why}: remake it with `snakemake --forcerun "
+                                    f"{rule.name}`")
             print(f"provenance: {out}: {why}{more}: remade by rule {rule.name}",
                   file=sys.stderr, flush=True)
-            dag.forcefiles.update(o for *_, o, _ in stale)
+            forced.update(o for *_, o, _ in stale)
         return []
 
     return stale_outputs
