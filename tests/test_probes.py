@@ -1465,8 +1465,7 @@ def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
     """The compute rules (exit 120, no reason, before): a chunk that cannot be written."""
     (full_disk / "filler").unlink()
     rc, err = _log_block(tmp_path, textwrap.dedent(f"""\
-        from collections.abc import Callable, Sequence
-from functools import partial
+        from functools import partial
         import _store_standins as standin
         from rocking.motions.ensemble_io import save_ensemble
         from rocking.execution import cluster
