@@ -7,12 +7,13 @@
 # settings, or from inputs that are no longer the files in front of it (an input of another
 # study, or missing: a rule killed before it finished) is said in one line and remade with its
 # job, as a missing output would be; the jobs after it follow. Files no planned job writes are
-# left as they are. Included last: it adds one input function to every rule.
+# left as they are. Included last: it adds one input function to every rule. A read-only or
+# full output folder is said in one line before any job starts (onstart).
 
 import os
 import sys
 
-from snakemake.io import apply_wildcards
+from snakemake.io import IOFile, apply_wildcards
 
 from rocking import provenance
 
@@ -28,6 +29,19 @@ def _job_settings(rule, wildcards):
             value = apply_wildcards(value, wildcards)
         values[name] = value
     return provenance.settings_digest(values, OUTPUT)
+
+
+def _params_seen_by_snakemake(out):
+    """Whether Snakemake itself reruns the job of ``out`` when its parameters changed: its
+    params trigger is on and it holds its record of the job (.snakemake/metadata; a folder
+    copied with `cp -a`, or whose .snakemake/ was removed, has none). Then Snakemake says
+    which parameters changed; else a changed setting is found here only."""
+    try:
+        return any(getattr(t, "name", str(t)).lower() == "params"
+                   for t in workflow.rerun_triggers) \
+            and workflow.persistence.metadata(IOFile(out)) is not None
+    except Exception:  # noqa: BLE001 - another Snakemake: the records decide alone
+        return False
 
 
 def _made_from(rule):
@@ -48,6 +62,9 @@ def _made_from(rule):
             out = apply_wildcards(pattern, wildcards)
             if os.path.exists(out):
                 why = provenance.problem(out, rule=rule.name, settings=settings, fast=True)
+                if why is not None and why.startswith("made with other settings") \
+                        and _params_seen_by_snakemake(out):
+                    why = None  # Snakemake reruns it, saying which parameters changed
                 if why is not None:
                     stale.append((why.startswith("made "), len(stale), out, why))
         if stale:  # one line per job, naming a changed file before those made with it
@@ -65,13 +82,13 @@ def _made_from(rule):
     return stale_outputs
 
 
-for _rule in list(workflow.rules):
-    if _rule.output:
-        _rule.set_input(provenance=_made_from(_rule))
+for _each in list(workflow.rules):
+    if _each.output:
+        _each.set_input(provenance=_made_from(_each))
 
 
 onstart:
-    # a read-only or full folder is said in one line before any job starts
+    # a read-only or full output folder in one line, before any job starts
     for folder in sorted({os.path.dirname(str(f)) or "." for j in workflow.dag.needrun_jobs()
                           for f in j.output}):
         try:
