@@ -64,7 +64,9 @@ def _made_from(rule):
                 why = provenance.problem(out, rule=rule.name, settings=settings, fast=True)
                 if why is not None and why.startswith("made with other settings") \
                         and _params_seen_by_snakemake(out):
-                    why = None  # Snakemake reruns it, saying which parameters changed
+                    # nothing else wrong (provenance.problem says this last): Snakemake reruns
+                    # it itself, saying which parameters changed
+                    why = None
                 if why is not None:
                     stale.append((why.startswith("made "), len(stale), out, why))
         if stale:  # one line per job, naming a changed file before those made with it
