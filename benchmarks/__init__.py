@@ -1,2 +1,3 @@
-"""Benchmarks: ``python -m benchmarks <name>`` writes ``results/benchmarks/<name>.csv``
-and ``<name>.md``. They measure; they never assert."""
+"""Benchmarks: ``python -m benchmarks <name>`` writes ``docs/benchmarks/<name>.csv`` and
+``<name>.md`` (where the documents link them; caches under ``results/benchmarks/``). They
+measure; they never assert."""

@@ -10,7 +10,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     if not argv or argv[0] in {"-h", "--help"}:
         print("usage: python -m benchmarks "
-              "{dynamics,damped,motions,spectra,resolution,micro,coldstart,paper_cost,"
+              "{dynamics,damped,motions,resolution,coldstart,paper_cost,"
               "monitors,surface_holdout,portfolio} [options]")
         return 0 if argv else 2
     name, rest = argv[0], argv[1:]

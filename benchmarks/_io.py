@@ -29,16 +29,29 @@ def best_of(fn: Callable[[], _T], repeat: int) -> tuple[float, _T]:
     return best, out
 
 
+REPOSITORY = Path(__file__).resolve().parents[1]
+
+
+def tables_dir() -> Path:
+    """Where the tables go: ``$ROCKING_BENCHMARKS`` or the repository's ``docs/benchmarks/``,
+    where the documents link them. A table no document links is not kept there
+    (``tests/test_docs.py``): link it from the text that quotes it, or delete it."""
+    out = Path(os.environ.get("ROCKING_BENCHMARKS", REPOSITORY / "docs" / "benchmarks"))
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
 def results_dir() -> Path:
-    """``$ROCKING_RESULTS`` or ``./results``; the benchmarks folder is created inside it."""
+    """What a benchmark keeps between its runs and no document quotes (cached references,
+    traces, searches to reuse): ``$ROCKING_RESULTS/benchmarks`` or ``./results/benchmarks``."""
     out = Path(os.environ.get("ROCKING_RESULTS", "results")) / "benchmarks"
     out.mkdir(parents=True, exist_ok=True)
     return out
 
 
 def write_table(name: str, df: pd.DataFrame, title: str, notes: str = "") -> Path:
-    """Write ``<name>.csv`` and ``<name>.md`` under :func:`results_dir`; return the CSV path."""
-    out = results_dir()
+    """Write ``<name>.csv`` and ``<name>.md`` under :func:`tables_dir`; return the CSV path."""
+    out = tables_dir()
     csv = out / f"{name}.csv"
     df.to_csv(csv, index=False, float_format=CSV_FLOAT_FORMAT)
     cpu = platform.processor() or platform.machine()
@@ -49,4 +62,3 @@ def write_table(name: str, df: pd.DataFrame, title: str, notes: str = "") -> Pat
     md.append(df.to_markdown(index=False))
     (out / f"{name}.md").write_text("\n".join(md) + "\n")
     return csv
-

@@ -1,6 +1,6 @@
 """Cold start: seconds to the first spectrum point of each mode with an empty numba cache.
 
-``python -m benchmarks coldstart`` writes ``results/benchmarks/coldstart.csv`` and
+``python -m benchmarks coldstart`` writes ``docs/benchmarks/coldstart.csv`` and
 ``.md``. Each scenario runs in a fresh process whose numba cache (``NUMBA_CACHE_DIR``) starts
 empty, starts an embedded Dask cluster of two worker processes as the workflow does and has
 each worker compute one spectrum point per mode, as every worker of a study eventually does

@@ -1,7 +1,7 @@
 """Damped 3D kernel: which integrator, measured on the paper's El Centro case.
 
 ``python -m benchmarks damped [--quick] [--t-end 40] [--no-scipy]`` writes
-``results/benchmarks/dynamics_damped.csv`` and ``.md``.
+``docs/benchmarks/dynamics_damped.csv`` and ``.md``.
 
 Case (Vassiliou et al. 2017 §3, Fig 6): R = 6 m, tan α = 0.2, El Centro 1940 (NGA-West2
 RSN 6, x = 270 E–W, y = 180 N–S) scaled to PGA/(g tan α) = 2, uplift from rest at the first

@@ -5,7 +5,7 @@ the limit-state decision against a converged reference (DOP853, rtol 1e-13), the
 time of one summary-only analysis (after JIT warm-up) and the step counts; SciPy's
 ``solve_ivp`` (RK45, DOP853, LSODA) on the same 3D El Centro case side by side, and the
 import + first-call time of a fresh process (numba cache). Writes
-``results/benchmarks/dynamics.csv`` and ``.md``.
+``docs/benchmarks/dynamics.csv`` and ``.md``.
 """
 
 from __future__ import annotations

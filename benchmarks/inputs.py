@@ -41,8 +41,8 @@ def synthetic_motion() -> GroundMotion:
 
 def with_synthetic(record: GroundMotion) -> list[GroundMotion]:
     """The record and one RDK pair fitted to it (seed 2017), as a study ensemble holds."""
-    from rocking.motions.stochastic.ensemble import synthesize
     from rocking.motions.stochastic.fit import fit_rdk
+    from rocking.motions.stochastic.pairs import synthesize
 
     try:
         return [record, synthesize(fit_rdk(record), 1, seed=2017)[0]]

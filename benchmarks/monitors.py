@@ -12,7 +12,7 @@ analyses at a time, in a rotated order every round (interleaved: a shared machin
 then falls on all of them alike). Per case and tree:
 accepted steps, θmax to the bit (hex) and status, which must agree with the first tree, and
 the CPU time of one analysis (``time.process_time``), best and median over rounds × repeats,
-with the ratio to the first tree. Writes ``results/benchmarks/monitors.csv`` and ``.md``
+with the ratio to the first tree. Writes ``docs/benchmarks/monitors.csv`` and ``.md``
 with the date and the load averages seen.
 """
 

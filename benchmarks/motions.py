@@ -4,7 +4,7 @@ Rows: reading and processing the El Centro pair (principal axes + oscillator hig
 fitting the RDK model to it (count-based and spectrum-matched identification), simulating
 200 high-passed pairs, and 200 response spectra at 100 periods. Each timing is the best
 of ``--repeat`` runs after one warm-up (numba compiles and caches are excluded).
-Writes ``results/benchmarks/motions.csv`` and ``.md``.
+Writes ``docs/benchmarks/motions.csv`` and ``.md``.
 """
 
 from __future__ import annotations

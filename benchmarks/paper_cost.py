@@ -2,7 +2,7 @@
 
 ``python -m benchmarks paper_cost [--run DIR] [--quick]`` reads a finished run of
 ``config/paper.yaml`` in ``DIR`` (default ``.``; read only) and writes to
-``results/benchmarks/``:
+``docs/benchmarks/``:
 
 - ``paper_rules.{csv,md}``: every rule of the run's Snakemake logs (``.snakemake/log``) with
   its start, end and wall seconds, in the order they started;
@@ -123,8 +123,8 @@ def counted_analyses(decided: bool) -> Iterator[dict]:
 def _answers(res) -> tuple:
     """Everything a search returns that a store or a figure could see, exactly."""
     flags = tuple(np.asarray(getattr(res, k)).tobytes()
-                  for k in ("not_reached", "non_monotonic", "failed", "unresolved"))
-    return (np.asarray(res.intensity).tobytes(), flags,
+                  for k in ("not_reached", "non_monotonic", "failed", "plateau"))
+    return (np.asarray(res.intensity).tobytes(), np.asarray(res.i50).tobytes(), flags,
             # repr: exact for floats, and NaN (monitors a search did not run) equals itself
             tuple(repr(dataclasses.astuple(e)) for e in res.evaluations))
 

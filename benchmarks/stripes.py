@@ -1,7 +1,7 @@
 """Convergence of the multiple-stripe fragility with the number of stripes and of motions.
 
 ``python -m benchmarks stripes [--synthetic N] [--stripes M] [--R R]`` writes
-``results/benchmarks/stripes.csv`` / ``.md``: for a cylinder (default R = 6 m, tan α = 0.2,
+``docs/benchmarks/stripes.csv`` / ``.md``: for a cylinder (default R = 6 m, tan α = 0.2,
 mode 3d) under El Centro and N synthetic pairs of the study's ensemble builder (seed 2017),
 every motion is analysed once at each of M reference stripes geometric over (1, 20]
 (:func:`rocking.fragility.stripes.stripe_intensities`). Since one analysis at an intensity does

@@ -6,9 +6,10 @@ of every motion of the ensemble at :data:`HOLDOUT` (columns between the El Centr
 points, and one grid node as a control that must give the study's own numbers back), in 3D
 for overturning and θ > α/3, fits each column's lognormal as the study does
 (:func:`rocking.fragility.lognormal.fit_lognormal`), and compares with the surface built from
-the study (:class:`rocking.fragility.surface.FragilitySurface`). Writes to ``results/benchmarks/``:
+the study (:class:`rocking.fragility.surface.FragilitySurface`). Writes to ``docs/benchmarks/``:
 
-- ``surface_holdout_critical.csv``: the searches (one row per column, motion, limit state);
+- ``surface_holdout_critical.csv`` (under ``results/benchmarks/``): the searches (one row
+  per column, motion, limit state);
   ``--reuse`` reads it back instead of searching again;
 - ``surface_holdout.{csv,md}``: per column and limit state the direct median and β, the
   surface's with their bootstrap interval, and the errors;

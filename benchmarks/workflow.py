@@ -1,7 +1,7 @@
 """Benchmark of the workflow: default run, paper cost per point, Dask speed-up 1 → 2 workers.
 
 ``python -m benchmarks workflow [--skip-default-run] [--targets ...]`` writes
-``results/benchmarks/workflow.csv`` and ``.md``:
+``docs/benchmarks/workflow.csv`` and ``.md``:
 
 - ``default_run``: wall time of ``snakemake --cores 2`` on ``config/config.yaml`` in a fresh
   directory (everything: motions, stores, Dask, statistics, and the figures when their rules

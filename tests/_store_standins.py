@@ -30,6 +30,9 @@ class FakeResult:
     non_monotonic: np.ndarray
     failed: np.ndarray
     n_analyses: int
+    i50: np.ndarray
+    first_exceedance: np.ndarray
+    plateau: np.ndarray
 
 
 def expected_intensity(R: float, tan_alpha: float, motion: GroundMotion, mode: str,
@@ -41,8 +44,16 @@ def expected_intensity(R: float, tan_alpha: float, motion: GroundMotion, mode: s
     return 1.0 + 0.3 * R * r + 0.1 * tan_alpha + 0.01 * motion.pga + 0.5 * len(mode)
 
 
-def batch(tasks, limit_states, *, accuracy="default", upper=20.0, omega_n=None, zeta=None):
-    """Stand-in of critical_intensity_batch."""
+I50_FACTOR = 1.25
+"""The stand-in's I50 over its answer [-]."""
+FIRST_FACTOR = 0.97
+"""The stand-in's first exceedance over its answer [-]."""
+
+
+def batch(tasks, limit_states, *, accuracy="default", quantity=None, upper=20.0, omega_n=None,
+          zeta=None):
+    """Stand-in of critical_intensity_batch (I50 and the first exceedance fixed multiples of
+    the answer; ``plateau`` at R = 4)."""
     states = parse_limit_states(limit_states)
     out = []
     for R, tan_alpha, motion, mode in tasks:
@@ -51,7 +62,8 @@ def batch(tasks, limit_states, *, accuracy="default", upper=20.0, omega_n=None, 
         out.append(FakeResult(
             tuple(s.name for s in states), values, np.isnan(values),
             np.array([R == 2.0 and s.severity[1] < 1 for s in states]),
-            np.zeros(len(states), dtype=bool), int(3 + 2 * R),
+            np.zeros(len(states), dtype=bool), int(3 + 2 * R), I50_FACTOR * values,
+            FIRST_FACTOR * values, np.full(len(states), R == 4.0) & ~np.isnan(values),
         ))
     return out
 

@@ -25,3 +25,24 @@ ELC180 = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 ELC270 = "RSN6_IMPVALL.I_I-ELC270-hor2.AT2"
 CLS000 = "RSN753_LOMAP_CLS000-hor1.AT2"
 CLS090 = "RSN753_LOMAP_CLS090-hor2.AT2"
+
+
+_NUMBER = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?"
+
+
+def assert_prints_within(got: str, want: str, rtol: float) -> None:
+    """``got`` says what ``want`` says: the same words, and every number within ``rtol``
+    (relative) of the one shown. A document's printed output is the run of one machine;
+    another CPU rounds otherwise, and rocking near a goal magnifies the last bit, so the
+    answers a page shows are held to the stated error of the answers
+    (:func:`rocking.study.verify.answer_tolerance`), not to the bit."""
+    import math
+    import re
+
+    words = [re.sub(_NUMBER, "#", line.rstrip()) for line in got.splitlines()]
+    shown = [re.sub(_NUMBER, "#", line.rstrip()) for line in want.splitlines()]
+    assert words == shown, f"the text differs:\n{got}\n--- shown:\n{want}"
+    for a, b in zip(re.findall(_NUMBER, got), re.findall(_NUMBER, want), strict=True):
+        x, y = float(a), float(b)
+        assert math.isclose(x, y, rel_tol=rtol, abs_tol=0.0) or x == y, \
+            f"{a} printed where the page shows {b} (more than {100 * rtol:g} % apart)"

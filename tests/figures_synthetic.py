@@ -27,6 +27,8 @@ MOTIONS = ["el-centro-1940", "synthetic-01", "synthetic-02", "synthetic-03"]
 TAN_ALPHA = [0.1, 0.2, 0.3]
 R = [1.0, 2.0, 4.0, 6.0, 10.0]
 UPPER = 30.0
+QUANTITY = {"name": "exceedance_quantile", "p": 0.1, "w": 0.02}
+"""The quantity of the synthetic store (the default: I10)."""
 MODE_FACTOR = {"3d": 1.0, "3d-damped": 1.05, "2d-x": 2.0, "2d-y": 1.8}
 LS_FACTOR = {"tilt:0.1": 0.2, "tilt:0.3333": 0.5, "tilt:0.6": 0.8, "overturning": 3.0}
 
@@ -39,7 +41,7 @@ ENSEMBLE = EnsembleSpec("synth", "el-centro-1940", None, 3, 2017, None, "auto", 
 def spectra_spec(modes: list[str], limit_states: list[str]) -> SpectraSpec:
     """The study description a synthetic spectra store records (its ``config`` attribute)."""
     plan = plan_study([{"modes": modes, "tan_alpha": TAN_ALPHA, "limit_states": limit_states}])
-    return SpectraSpec("synth", ENSEMBLE, tuple(R), plan, 1, None, "default", UPPER,
+    return SpectraSpec("synth", ENSEMBLE, tuple(R), plan, 1, None, "default", QUANTITY, UPPER,
                        Damping.of_modes({"damped": {"omega_n": 2000.0, "zeta": 5.0}}, modes))
 
 
@@ -89,6 +91,9 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
     ds = xr.Dataset(
         {
             "pga_crit": (dims, values),
+            "i50": (dims, 1.3 * values),
+            "first_exceedance": (dims, 0.98 * values),
+            "plateau": (dims, np.zeros_like(not_reached)),
             "not_reached": (dims, not_reached),
             "non_monotonic": (dims, np.zeros_like(not_reached)),
             "n_analyses": (dims, np.full(values.shape, 12, np.int32)),
@@ -99,6 +104,7 @@ def write_study(root: Path, *, ensemble: str = "El Centro 1940 ensemble",
         attrs={
             "config": json.dumps(spectra_spec(modes, limit_states or LIMIT_STATES).to_attrs()),
             "tolerances": json.dumps({"intensity_rtol": 0.01}),
+            "quantity": json.dumps(QUANTITY),
             "rocking_version": "0.1.0",
             "ensemble": json.dumps({"label": ensemble, "stand_in": stand_in, "name": "synth",
                                     "motions": [{"name": m, "label": m, "PGA": 2.7 / 9.80665}

@@ -10,9 +10,12 @@ import xarray as xr
 from rocking.motions.ensemble_io import open_netcdf
 from rocking.study.aggregate import STAT_DIMS, ensemble_statistics, write_statistics
 
+QUANTITY = '{"name": "exceedance_quantile", "p": 0.1, "w": 0.02}'
 
-def spectra(values, not_reached=None, done=True):
-    """A spectra dataset with one mode, one limit state, one tan α, motions x R."""
+
+def spectra(values, not_reached=None, done=True, quantity=QUANTITY):
+    """A spectra dataset with one mode, one limit state, one tan α, motions x R (none
+    flagged plateau), of the default quantity."""
     v = np.asarray(values, dtype=float)[None, None, :, None, :]
     nr = np.isnan(v) if not_reached is None else np.asarray(not_reached)[None, None, :, None, :]
     dims = ("mode", "limit_state", "motion", "tan_alpha", "R")
@@ -21,9 +24,11 @@ def spectra(values, not_reached=None, done=True):
               "R": [1.0, 2.0, 3.0][: v.shape[4]]}
     return xr.Dataset(
         {"pga_crit": (dims, v), "not_reached": (dims, nr),
+         "plateau": (dims, np.zeros(v.shape, dtype=bool)),
          "done": (("mode", "motion", "tan_alpha", "R"),
                   np.full((1, v.shape[2], 1, v.shape[4]), done))},
-        coords=coords, attrs={"config_hash": "abc", "layout": "{}"})
+        coords=coords, attrs={"config_hash": "abc", "layout": "{}",
+                              "tolerances": '{"scan_step": 0.03}', "quantity": quantity})
 
 
 def test_statistics_over_motions_leave_out_not_reached():
@@ -70,10 +75,17 @@ def test_netcdf_and_csv_round_trip(tmp_path):
                                    back["mean"].values * back["tan_alpha"].values[:, None])
     table = pd.read_csv(csv)
     assert list(table.columns) == ["mode", "limit_state", "tan_alpha [-]", "R [m]",
+                                   "quantity", "quantity_p [-]", "quantity_w [-]",
+                                   "scan_step [-]",
                                    "mean [g tan(alpha)]", "mean_pga_g [g]",
                                    "std [g tan(alpha)]", "median [g tan(alpha)]",
                                    "median_all [g tan(alpha)]", "count", "n_not_reached",
-                                   "censoring", "requested"]
+                                   "n_plateau", "censoring", "requested"]
+    # the quantity on every row, and in the netCDF's attributes
+    assert set(table["quantity"]) == {"exceedance_quantile"}
+    assert set(table["quantity_p [-]"]) == {0.1} and set(table["quantity_w [-]"]) == {0.02}
+    with open_netcdf(nc) as back:
+        assert "exceedance_quantile" in back.attrs["quantity"]
     assert table["mean [g tan(alpha)]"].tolist() == [3.0, 3.0]
     assert table["count"].tolist() == [2, 1]
 
@@ -150,7 +162,7 @@ def test_censoring_of_cells_not_requested():
     assert np.isnan(stats["median_all"].sel(limit_state="tilt:1/3").values).all()
 
 
-def test_unresolved_answers_are_counted_among_reached_ones_only(tmp_path):
+def test_plateau_answers_are_counted_among_reached_ones_only(tmp_path):
     values = [[2.0, 3.0, 4.0],
               [4.0, np.nan, 5.0],
               [9.0, np.nan, 6.0]]
@@ -158,10 +170,26 @@ def test_unresolved_answers_are_counted_among_reached_ones_only(tmp_path):
     flag = np.array([[True, False, False],
                      [True, True, False],     # the not-reached flag must not count
                      [False, True, True]])[None, None, :, None, :]
-    ds["unresolved"] = (ds["pga_crit"].dims, flag)
+    ds["plateau"] = (ds["pga_crit"].dims, flag)
     stats = ensemble_statistics(ds)
-    np.testing.assert_array_equal(stats["n_unresolved"].values.ravel(), [2, 0, 1])
+    np.testing.assert_array_equal(stats["n_plateau"].values.ravel(), [2, 0, 1])
     write_statistics(stats, tmp_path / "s.nc", tmp_path / "s.csv")
-    assert "n_unresolved" in pd.read_csv(tmp_path / "s.csv").columns
-    # a store written before the flag existed has no such column, and no error
-    assert "n_unresolved" not in ensemble_statistics(spectra(values))
+    assert pd.read_csv(tmp_path / "s.csv")["n_plateau"].tolist() == [2, 0, 1]
+
+
+def test_a_store_without_its_quantity_is_refused():
+    """A store made before the quantity was recorded held first exceedances of an older
+    search: its statistics are refused, never set beside I10 under one name."""
+    ds = spectra([[2.0, 3.0]])
+    del ds.attrs["quantity"]
+    with pytest.raises(ValueError, match="without a 'quantity' attribute"):
+        ensemble_statistics(ds)
+
+
+def test_the_tables_name_the_first_exceedance_and_its_grid(tmp_path):
+    """Under quantity: first_exceedance the tables say so, with the grid's step."""
+    ds = spectra([[2.0, 3.0]], quantity='{"name": "first_exceedance", "p": 0.1, "w": 0.02}')
+    write_statistics(ensemble_statistics(ds), tmp_path / "s.nc", tmp_path / "s.csv")
+    table = pd.read_csv(tmp_path / "s.csv")
+    assert set(table["quantity"]) == {"first_exceedance"}
+    assert set(table["scan_step [-]"]) == {0.03}

@@ -21,6 +21,7 @@ import xarray as xr
 from rocking import store
 from rocking.execution import cluster, logs, tasks
 from rocking.motions.ensemble_io import save_ensemble
+from rocking.spectra.quantity import Quantity
 
 # the workers cannot import the tests folder: send the stand-ins' code along
 cloudpickle.register_pickle_by_value(standin)
@@ -51,7 +52,8 @@ def _spectra_store(tmp_path, name="s.zarr", digest="d1"):
         save_ensemble(ensemble, standin.motions())
     layout = tasks.spectra_layout(["3d", "2d-y"], ["overturning", "tilt:0.5"], ["m0", "m1"],
                                   [0.2], [1.0, 2.0, 3.0, 9.0], 2)
-    attrs = {"tolerances": {"name": "fast"}, "search_options": {},
+    attrs = {"tolerances": {"name": "fast"}, "quantity": Quantity().to_dict(),
+             "search_options": {},
              "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     store.create_store(tmp_path / name, layout, attrs, digest)
     return tmp_path / name, ensemble, layout

@@ -147,7 +147,8 @@ def test_schema_patterns_and_enums_come_from_the_registries():
     for pattern in _find(schema, "pattern"):
         if "pgv" in pattern:
             assert pattern == MEASURE_PATTERN
-    assert schema["definitions"]["component"]["enum"] == list(COMPONENTS)
+    assert schema["definitions"]["component"]["pattern"] == (
+        "(?i)^(" + "|".join(COMPONENTS) + ")$")  # any case: RotD50
 
 
 def test_cli_help_lists_the_registry():
@@ -182,11 +183,12 @@ def _store(motions, crit_g):
     zeros = np.zeros(crit.shape, dtype=bool)
     return xr.Dataset(
         {"pga_crit": (dims, crit / 0.11), "pga_crit_g": (dims, crit),
-         "not_reached": (dims, zeros), "unresolved": (dims, zeros),
+         "not_reached": (dims, zeros), "plateau": (dims, zeros),
          "non_monotonic": (dims, zeros), "failed": (dims, zeros),
          "requested": (("mode", "limit_state", "tan_alpha"), np.ones((1, 1, 1), bool))},
         coords={"mode": ["3d"], "limit_state": ["overturning"],
-                "motion": [m.name for m in motions], "tan_alpha": [0.11], "R": [3.02]})
+                "motion": [m.name for m in motions], "tan_alpha": [0.11], "R": [3.02]},
+        attrs={"quantity": '{"name": "exceedance_quantile", "p": 0.1, "w": 0.02}'})
 
 
 def _analytic(im):
@@ -233,7 +235,7 @@ def rotd50_suite():
 def test_rotd50_study_under_a_rotd50_hazard_gives_the_independent_quadrature(rotd50_suite):
     from rocking.fragility.table import read_fragilities
     from rocking.risk.hazard import HazardCurve
-    from rocking.risk.table import risk_table
+    from rocking.risk.risk_table import risk_table
 
     motions, crit, fits = rotd50_suite
     # independent of the library: each motion's critical RotD50 PGA is its critical scale
@@ -243,10 +245,11 @@ def test_rotd50_study_under_a_rotd50_hazard_gives_the_independent_quadrature(rot
     x = np.log([c / m.pga_g * o for c, m, o in zip(crit, motions, own, strict=True)])
     median, beta = math.exp(x.mean()), x.std()
     im = np.geomspace(0.005, 20.0, 300)
-    hazard = HazardCurve(im, _analytic(im)[0], source="analytic RotD50 curve")
+    hazard = HazardCurve(im, _analytic(im)[0], source="analytic RotD50 curve",
+                         component="RotD50")  # any case
     frag = read_fragilities(fits["rotd50"], measure="pga", component="rotd50", bootstrap=False)
     assert frag.component == "rotd50"
-    (row,) = risk_table(frag, hazard, component="rotd50").to_dict(orient="records")
+    (row,) = risk_table(frag, hazard).to_dict(orient="records")
     assert row["component"] == "rotd50"
     assert row["median_im [g]"] == pytest.approx(median, rel=1e-9)
     assert row["beta [-]"] == pytest.approx(beta, rel=1e-6)
@@ -266,36 +269,36 @@ def test_the_same_fits_in_two_components_differ_by_each_motions_ratio(rotd50_sui
 
 def test_a_hazard_in_another_component_is_refused_in_one_line(rotd50_suite):
     from rocking.fragility.table import read_fragilities
-    from rocking.risk.hazard import HazardCurve, hazard_component
-    from rocking.risk.table import risk_table
+    from rocking.risk.hazard import parse_hazard
+    from rocking.risk.risk_table import risk_table
 
     _, _, fits = rotd50_suite
-    hazard = HazardCurve.from_power_law(1e-4, 2.2)
+    hazard = parse_hazard({"k0": 1e-4, "k": 2.2, "component": "rotd50"})
     frag = read_fragilities(fits["vector_peak"], measure="pga", bootstrap=False)
-    with pytest.raises(ValueError) as err:
-        risk_table(frag, hazard, component="rotd50")
+    with pytest.raises(ValueError) as err:  # no study folder: nothing to refit it from
+        risk_table(frag, hazard)
     text = str(err.value)
-    assert "\n" not in text and "component vector_peak" in text and "in rotd50" in text
-    assert "hazard: {file, component: vector_peak}" in text
+    assert "\n" not in text and "in the component rotd50" in text
+    assert "pga in vector_peak only" in text and "--component" in text
     with pytest.raises(ValueError, match="has no fit in the component geometric_mean"):
         read_fragilities(fits["vector_peak"], measure="pga", component="geometric_mean")
     with pytest.raises(ValueError, match="^hazard: give component .* or im_factor"):
-        hazard_component({"k0": 1e-4, "k": 2.2, "component": "rotd50", "im_factor": 1.2})
+        parse_hazard({"k0": 1e-4, "k": 2.2, "component": "rotd50", "im_factor": 1.2})
     with pytest.raises(ValueError, match="^hazard.component: unknown component 'rot50'"):
-        hazard_component({"file": "x.csv", "component": "rot50"})
+        parse_hazard({"file": "x.csv", "component": "rot50"})
 
 
 def test_a_hazard_file_may_state_its_component(tmp_path):
-    from rocking.risk.hazard import hazard_component, parse_hazard
+    from rocking.risk.hazard import parse_hazard
 
     path = tmp_path / "h.csv"
-    path.write_text("# component='rotd50', investigation_time=1\npga,annual_rate\n"
+    path.write_text("# component='RotD50', investigation_time=1\npga,annual_rate\n"
                     "0.1,1e-2\n0.5,1e-4\n")
-    assert hazard_component(str(path)) == "rotd50"
-    assert hazard_component({"file": str(path)}) == "rotd50"
-    assert hazard_component({"file": str(path), "component": "larger"}) == "larger"
-    assert parse_hazard({"file": str(path), "component": "rotd50"}).measure == "pga"
-    assert hazard_component({"k0": 1e-4, "k": 2.2}) is None
+    assert parse_hazard(str(path)).component == "rotd50"
+    assert parse_hazard({"file": str(path)}).component_source == "file"
+    declared = parse_hazard({"file": str(path), "component": "larger"})
+    assert (declared.component, declared.component_source) == ("larger", "declared")
+    assert parse_hazard({"k0": 1e-4, "k": 2.2}).component is None
 
 
 # --- stripes in a component ---------------------------------------------------------------
@@ -363,8 +366,8 @@ def test_cli_risk_takes_the_hazard_component_or_refuses(rotd50_suite, tmp_path, 
     assert main(["risk", "--fragility", str(only), "--hazard", "1e-4,2.2", "--component",
                  "rotd50"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "no fit in the component rotd50" in err[0]
-    assert "hazard: {file, component}" in err[0]
+    assert len(err) == 1 and "in the component rotd50" in err[0]
+    assert "no motion measures to refit it" in err[0]
     assert main(["risk", "--fragility", str(only), "--hazard", "1e-4,2.2", "--component",
                  "rotd50", "--im-factor", "1.2"]) == 2
     assert "not both" in capsys.readouterr().err

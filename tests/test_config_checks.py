@@ -65,6 +65,11 @@ def test_schema_errors_are_one_short_line(change, message):
         (lambda c: c["studies"]["elcentro"]["runs"][3].update(limit_states=["tilt:3"],
                                                               tan_alpha=[0.2, 1.0]),
          "studies.elcentro.runs[3].limit_states: 'tilt:3' with tan_alpha=1"),
+        # the quantity before anything else, and the accuracy's sample against its window
+        (lambda c: c.update(quantity={"name": "exceedance_quantile", "p": 0.0}),
+         "quantity.p must be a number in (0, 1), got 0.0"),
+        (lambda c: c.update(quantity={"w": 0.2}),
+         "accuracy='default': accuracy local_below + local_above"),
     ],
 )
 def test_cross_field_errors_name_key_and_value(change, message):

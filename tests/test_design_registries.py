@@ -1,6 +1,7 @@
 """docs/design.md held equal to the code: the kernel contract (run fields, result fields,
-return codes) and the maintainer lists "Adding a model", "Adding an intensity measure" and
-"Adding a hazard format" against the registries they name."""
+return codes) and the maintainer lists "Adding a ..." (a limit state, a model, a product, a
+figure, an intensity measure, a hazard format): every file they name exists, and the
+registries they cite are those they name."""
 
 from __future__ import annotations
 
@@ -83,13 +84,14 @@ def cited_module_names(text: str, module) -> list[str]:
     return sorted(n for n in names if hasattr(module, n))
 
 
-@pytest.mark.parametrize("title", ["Adding a model", "Adding an intensity measure",
-                                   "Adding a hazard format"])
+@pytest.mark.parametrize("title", ["Adding a limit state", "Adding a model",
+                                   "Adding a product", "Adding a figure",
+                                   "Adding an intensity measure", "Adding a hazard format"])
 def test_every_file_a_maintainer_list_names_exists(title):
     paths = cited_paths(section(title))
     assert paths, title
     for path in paths:
-        path = path.replace("<model>", "cylinder3d")
+        path = path.replace("<model>", "cylinder3d").replace("<name>", "fig09_spectra")
         assert (ROOT / path).exists(), f"{title}: {path} does not exist"
 
 
@@ -123,9 +125,9 @@ def test_adding_an_intensity_measure_cites_the_registry():
     hazard = importlib.import_module("rocking.risk.hazard")
     text = section("Adding an intensity measure")
     for name in ("MEASURES", "IntensityMeasure", "MEASURE_PATTERN", "MEASURE_UNITS",
-                 "parse_measure", "measure_imt", "measure_series"):
+                 "parse_measure", "measure_imt", "measure_series", "Measure"):
         assert f"`{name}`" in text and hasattr(measures, name), name
-    assert "`imt_measure`" in text and hasattr(hazard, "imt_measure")
+    assert "`hazard_measure`" in text and hasattr(hazard, "hazard_measure")
     # every field the list names is a field of the registry's entries
     fields = list(measures.IntensityMeasure.__dataclass_fields__)
     documented = re.search(r"\(fields (.*?)\);", text, re.S).group(1)
@@ -144,14 +146,14 @@ def test_adding_a_hazard_format_cites_the_registry():
     fields = list(hazard.HazardFormat.__dataclass_fields__)
     assert fields == ["name", "recognizes", "read"]
     assert all(f"`{f}" in text for f in fields)
-    # the documented reader signature is the one from_file calls
-    sig = re.search(r"`read\(([^)]*)\)`", text).group(1)
-    assert [s.strip() for s in sig.replace("\n", " ").split(",")] == [
-        "path", "comments", "rows", "site", "investigation_time", "kind", "unit"]
+    # the documented signatures are the ones hazard_format and read_hazard_file call
+    for name, params in (("recognizes", ["path", "head"]), ("read", ["path"])):
+        sig = re.search(rf"`{name}\(([^)]*)\)`", text).group(1)
+        assert [s.strip() for s in sig.split(",")] == params
     for fmt in hazard.HAZARD_FORMATS:
-        assert list(inspect.signature(fmt.read).parameters) == [
-            "path", "comments", "rows", "site", "investigation_time", "kind", "unit"]
+        assert list(inspect.signature(fmt.read).parameters) == ["path"]
     assert [f.name for f in hazard.HAZARD_FORMATS] == ["openquake", "table"]
+    assert "`HazardFile`" in text and hasattr(hazard, "HazardFile")
 
 
 def test_from_file_reads_a_hazard_file_once_with_its_component(tmp_path, monkeypatch):
@@ -163,10 +165,12 @@ def test_from_file_reads_a_hazard_file_once_with_its_component(tmp_path, monkeyp
     path.write_text("# component='rotd50', investigation_time=1\npga,annual_rate\n"
                     "0.1,1e-2\n0.5,1e-4\n")
     calls = []
-    real = hazard._read_csv
-    monkeypatch.setattr(hazard, "_read_csv", lambda p: calls.append(p) or real(p))
+    real = hazard._text
+    monkeypatch.setattr(hazard, "_text", lambda p: calls.append(p) or real(p))
     curve = hazard.parse_hazard({"file": str(path)})
     assert curve.component == "rotd50" and len(calls) == 1
     assert hazard.parse_hazard({"file": str(path), "component": "larger"}).component == "larger"
-    assert hazard.parse_hazard({"file": str(path), "im_factor": 1.2}).component == "rotd50"
+    # im_factor: the user converted the levels to the fragility's component
+    scaled = hazard.parse_hazard({"file": str(path), "im_factor": 1.2})
+    assert scaled.component is None and scaled.component_source == "im_factor"
     assert hazard.parse_hazard("1e-4,2.2").component is None

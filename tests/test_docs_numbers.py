@@ -1,33 +1,42 @@
 """Documents quote the run: every number or verdict README.md and docs/*.md quote from the
-committed gallery (results/paper) is marked and equal to what the gallery gives
-(:mod:`rocking.plot.gallery_quotes`), and a gallery whose number or verdict moved leaves the
-document stale, so the check fails."""
+committed gallery (results/paper) is marked and equal to what the gallery gives (the
+maintainer's tool ``workflow/gallery_quotes.py``, which reads the gallery's tables and JSON
+files, never its HTML), and a gallery whose number or verdict moved leaves the document stale,
+so the check fails."""
 
 from __future__ import annotations
 
 import csv
+import importlib.util
 import math
 import re
 import shutil
+import sys
 from pathlib import Path
 
 import pytest
 
-from rocking.plot.gallery_quotes import (
-    BLOCKS,
-    HEADLINES,
-    main,
-    marked_documents,
-    render,
-    stale_blocks,
-    verdict_counts,
-    verdict_rows,
-    write_documents,
-)
-
 ROOT = Path(__file__).resolve().parents[1]
 GALLERY = ROOT / "results/paper"
-QUOTED = ("MANIFEST.json", "elcentro/report.html", "lomaprieta/report.html",
+
+
+def _tool(name: str):
+    """A maintainer's script of ``workflow/`` as a module (loaded once)."""
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, ROOT / "workflow" / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+quotes = _tool("gallery_quotes")
+BLOCKS, HEADLINES, main = quotes.BLOCKS, quotes.HEADLINES, quotes.main
+marked_documents, render, stale_blocks = quotes.marked_documents, quotes.render, \
+    quotes.stale_blocks
+verdict_counts, verdict_rows, write_documents = quotes.verdict_counts, quotes.verdict_rows, \
+    quotes.write_documents
+QUOTED = ("MANIFEST.json", "elcentro/verdicts.csv", "lomaprieta/verdicts.csv",
           "elcentro/mean_spectra.csv", "elcentro/fragility.csv", "elcentro/critical.csv",
           "elcentro/stripe_fragility.csv", "elcentro/risk.csv", "lomaprieta/records.csv",
           "motions/elcentro.json", "motions/lomaprieta.json")
@@ -56,7 +65,7 @@ def test_every_quotation_is_that_of_the_committed_gallery():
             "docs/risk.md"} <= names
     stale = {name: stale_blocks(ROOT / name, GALLERY) for name in names}
     assert not any(stale.values()), (
-        f"stale gallery quotations {stale}: run `python -m rocking.plot.gallery_quotes`")
+        f"stale gallery quotations {stale}: run `python workflow/gallery_quotes.py`")
     used = {m for p in docs for m in re.findall(r"<!-- BEGIN gallery:([\w-]+) -->",
                                                   p.read_text(encoding="utf-8"))}
     assert used == set(BLOCKS)          # no quotation is defined that no document uses
@@ -72,30 +81,34 @@ def test_the_models_page_says_what_the_reports_say():
     assert f"({verdict_counts(GALLERY)};" in text
     lines = text.splitlines()
     for h in HEADLINES:
-        row = h.pick(verdict_rows(GALLERY / h.study / "report.html"))
+        row = h.pick(verdict_rows(GALLERY / h.study / "verdicts.csv"))
         line = next(x for x in lines if x.startswith(f"| {h.quantity} |"))
         assert f"| {row.ours.replace('|', chr(92) + '|')} | {row.verdict}" in line, h
 
 
-def test_verdicts_are_read_as_the_page_shades_them():
-    """The parser's verdicts, counted, equal the verdict cells' classes counted in the raw
-    page (an independent reading of the same table)."""
+def test_the_verdict_table_as_data_is_the_page_s():
+    """Each report's verdicts.csv, row by row, is the verdict table its page shows: the
+    figures and the verdict cells' classes read from the raw page (an independent reading of
+    the same table) equal the file's."""
     for study in ("elcentro", "lomaprieta"):
         page = (GALLERY / study / "report.html").read_text(encoding="utf-8")
         table = page[page.index("<h2 id='verdicts'>"):]
         table = table[:table.index("</table>")]
         classes = re.findall(r"<td class='([\w-]+)'>", table)
-        rows = verdict_rows(GALLERY / study / "report.html")
+        figures = re.findall(r"<tr><td><a href='#([\w]+)'>", table)
+        rows = verdict_rows(GALLERY / study / "verdicts.csv")
         assert len(rows) == len(classes) > 10
-        assert [r.verdict.replace(" ", "-") for r in rows] == classes
+        assert [r.verdict.replace(" ", "-").replace("not-computed-in-this-run", "not-computed")
+                for r in rows] == classes
+        assert [r.figure for r in rows] == figures
         assert all(r.figure and r.statement and r.ours for r in rows)
 
 
 def test_a_moved_verdict_leaves_the_models_page_stale(tmp_path):
     gallery = _copy(tmp_path)
-    _edit(gallery / "elcentro/report.html",
-          "<td class='reproduced'>reproduced (spread ≤ 15 % of the mean at every R)",
-          "<td class='differs'>differs because the spread exceeds 15 %")
+    _edit(gallery / "elcentro/verdicts.csv",
+          "reproduced,spread ≤ 15 % of the mean at every R",
+          "differs,the spread exceeds 15 %")
     assert stale_blocks(ROOT / "docs/models.md", gallery) == ["verdict-counts", "headlines"]
     assert stale_blocks(ROOT / "docs/motions.md", gallery) == []
     new = render((ROOT / "docs/models.md").read_text(encoding="utf-8"), gallery)
@@ -144,7 +157,7 @@ def test_writing_makes_a_stale_document_current(tmp_path):
 
 def test_a_statement_no_report_makes_is_an_error_naming_it(tmp_path):
     gallery = _copy(tmp_path)
-    _edit(gallery / "elcentro/report.html", "Angle of turn measured numerically",
+    _edit(gallery / "elcentro/verdicts.csv", "Angle of turn measured numerically",
           "Angle of turn as read off")
     with pytest.raises(ValueError, match="Angle of turn measured numerically"):
         render("<!-- BEGIN gallery:headlines --><!-- END gallery:headlines -->", gallery)
@@ -166,8 +179,12 @@ def test_an_unknown_quotation_is_an_error(tmp_path, monkeypatch, capsys):
     assert "--gallery results/paper: no such folder" in capsys.readouterr().err
     with pytest.raises(ValueError, match="'nope' is none of"):
         render("a <!-- BEGIN gallery:nope -->1<!-- END gallery:nope --> b", GALLERY, "x.md")
-    with pytest.raises(ValueError, match="no verdict table"):
-        verdict_rows(ROOT / "README.md")
+    with pytest.raises(ValueError, match=r"no column \['figure'"):
+        verdict_rows(GALLERY / "elcentro/fragility.csv")
+    bad = tmp_path / "verdicts.csv"
+    bad.write_text("figure,statement,paper,this_run,verdict,reason\nfig04,s,1,2,roughly,\n")
+    with pytest.raises(ValueError, match="line 2: verdict 'roughly' is none of"):
+        verdict_rows(bad)
 
 
 def test_the_quoted_fig12_ratio_is_that_of_the_fragility_table():
@@ -208,11 +225,7 @@ def test_the_stripe_section_names_each_interval_by_its_level():
 def test_the_gallery_script_requotes_the_documents_of_its_repository(tmp_path):
     """workflow/gallery.py, after copying a run to the repository's results/paper, rewrites
     the documents' quotations from it; a gallery written elsewhere leaves them alone."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("gallery", ROOT / "workflow/gallery.py")
-    gallery = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(gallery)
+    gallery = _tool("gallery")
     root = tmp_path / "repo"
     (root / "docs").mkdir(parents=True)
     shutil.copy2(ROOT / "README.md", root / "README.md")

@@ -32,8 +32,9 @@ NS = {"n": "http://openquake.org/xmlns/nrml/0.5"}
 HERE = Path(__file__).parent
 OQ = importlib.util.find_spec("openquake") is not None
 OQ_REASON = ("OpenQuake's engine is not installed (pip install --no-deps openquake-engine "
-             "pyzmq toml decorator shapely pyproj fiona alpha-shapes h3 geopandas; "
-             "docs/risk.md); the independent reader below checks the same files")
+             "pyzmq h5py toml decorator shapely pyproj fiona psutil numba docutils requests "
+             "alpha-shapes h3 geopandas; docs/risk.md); the independent reader below checks "
+             "the same files")
 
 
 def portfolio(n: int = 5) -> pd.DataFrame:
@@ -176,19 +177,22 @@ def _bad(table, row, col, value):
 
 
 @pytest.mark.parametrize("edit, match", [
-    (lambda t: _bad(t, 3, "lon", 21.7), r"row 3 \(id 'C02'\): duplicate id with another lon"),
+    (lambda t: _bad(t, 3, "lon", 21.7),
+     r"row 4 of the table \(id 'C02'\): duplicate id with another lon"),
     (lambda t: pd.concat([t, t.iloc[[4]]], ignore_index=True),
-     r"row 15 \(id 'C02'\): duplicate id: limit state overturning"),
-    (lambda t: _bad(t, 6, "lat", np.nan), r"row 6 \(id 'C03'\): lat is missing"),
+     r"row 16 of the table \(id 'C02'\): duplicate id: limit state overturning"),
+    (lambda t: _bad(t, 6, "lat", np.nan), r"row 7 of the table \(id 'C03'\): lat is missing"),
     (lambda t: t.drop(columns="lon"), r"lacks the column\(s\) lon"),
     (lambda t: _bad(t, 0, "lon", 200.0),
-     r"row 0 \(id 'C01'\): lon = 200 outside \[-180, 180\] deg"),
-    (lambda t: _bad(t, 0, "median", 0.0), r"row 0 \(id 'C01'\): median must be > 0, got 0"),
+     r"row 1 of the table \(id 'C01'\): lon 200 is beyond 180: give it as -160"),
+    (lambda t: _bad(t, 0, "median", 0.0),
+     r"row 1 of the table \(id 'C01'\): median must be > 0, got 0"),
     (lambda t: t.assign(id=t["id"].str.replace("C01", "C 01")),
-     r"row 0: id 'C 01' is not an OpenQuake asset id"),
+     r"row 1 of the table \(id 'C 01'\): id 'C 01' is not an OpenQuake asset id"),
     (lambda t: t.drop(index=4), r"id 'C02': no row for limit state\(s\) overturning"),
     (lambda t: _bad(t, 0, "mode", "2d-x"), r"the table mixes modes \(2d-x, 3d\)"),
-    (lambda t: _bad(t, 0, "limit_state", "tilted"), r"row 0 \(id 'C01'\): limit_state"),
+    (lambda t: _bad(t, 0, "limit_state", "tilted"),
+     r"row 1 of the table \(id 'C01'\): limit_state"),
 ])
 def test_bad_input_one_line_naming_row_and_column_nothing_written(tmp_path, edit, match):
     with pytest.raises(ValueError, match=match) as err:
@@ -200,10 +204,11 @@ def test_bad_input_one_line_naming_row_and_column_nothing_written(tmp_path, edit
 def test_bad_options_refused(tmp_path):
     with pytest.raises(ValueError, match="imt 'SA.1.0.' is not the table's measure 'pga'"):
         write_exposure(portfolio(), tmp_path, imt="SA(1.0)")
-    with pytest.raises(ValueError, match=r"row 12 \(id 'C05'\): R = 8 outside the class edges"):
+    with pytest.raises(ValueError,
+                       match=r"row 5 of the table \(id 'C05'\): R = 8 outside the class edges"):
         write_exposure(portfolio(), tmp_path, taxonomy_by="size_class", R_edges=(1, 4, 8))
-    with pytest.raises(ValueError, match="component must be one of vector_peak, rotd100"):
-        write_exposure(portfolio(), tmp_path, component="RotD50")
+    with pytest.raises(ValueError, match="unknown component 'rot50'"):
+        write_exposure(portfolio(), tmp_path, component="rot50")
     with pytest.raises(ValueError, match="component 'rotd50' is not the table's"):
         write_exposure(portfolio().assign(component="vector_peak"), tmp_path,
                        component="rotd50")
@@ -330,3 +335,12 @@ def test_pelicun_damage_of_one_asset(tmp_path, taxonomy_by):
     p = stats.norm.cdf(np.log(pga / rows.loc[states, "median"]) / rows.loc[states, "beta"])
     # n realisations: binomial standard error ≤ 0.5/√n = 0.008; 4 of them
     np.testing.assert_allclose(got["p_ds_ge"], p, atol=4 * 0.5 / np.sqrt(n))
+
+
+def test_a_taxonomy_column_of_the_table_is_used(tmp_path):
+    """The docstring allows a ``taxonomy`` column: each column keeps its own (a KeyError
+    before: the table's taxonomy and the assets' were merged twice)."""
+    table = portfolio().assign(taxonomy=lambda t: "tx_" + t["id"].astype(str))
+    out = write_exposure(table, tmp_path)
+    assert sorted(out.taxonomies) == sorted("tx_" + table["id"].astype(str).unique())
+

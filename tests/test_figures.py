@@ -94,22 +94,38 @@ def test_every_figure_is_one_entry_in_its_own_module():
     assert list(entries) == list(figures.FIGURES)
     # the paper's order is the entries' numbers
     assert [e.number for e in entries.values()] == sorted(e.number for e in entries.values())
+    modules = set()
     for name, entry in entries.items():
         mod = figures.module(name)
-        assert mod.__name__.endswith(f".{name}") and mod.FIGURE is entry
-        assert hasattr(mod, "data") and hasattr(mod, "plot"), name
+        short = mod.__name__.rsplit(".", 1)[1]
+        assert mod.__name__ == entry.module and name.startswith(short), name
+        assert entry in (mod.FIGURE if isinstance(mod.FIGURE, tuple) else (mod.FIGURE,))
+        assert hasattr(mod, "data") and hasattr(mod, entry.plot), name
         assert entry.scope in SCOPES and caption(name), name
-    # one rule loop and one script for every figure; no figure named in the rule files
+        modules.add(short)
+    # one rule loop and one script draw every figure (the stripe, risk and portfolio ones
+    # too): no other rule writes a file under figures/, and no rule, script, report or
+    # command-line module imports a figure's module, so adding a figure is its module and
+    # its test (docs/design.md, "Adding a figure")
     rules = (ROOT / "workflow/rules/figures.smk").read_text()
     assert "for fig in figures().values():" in rules
     assert 'script:\n            "../scripts/figure.py"' in rules
-    scripts = {p.stem for p in (ROOT / "workflow/scripts").glob("*.py")}
-    common = (ROOT / "workflow/rules/figures_common.smk").read_text()
-    plan = (ROOT / "src/rocking/config/plan.py").read_text()
-    report_py = (ROOT / "src/rocking/report/html.py").read_text()
-    for name in entries:
-        assert name not in scripts and name not in common and name not in plan, name
-        assert f'"{name}"' not in report_py and f"rule {name}:" not in rules, name
+    for smk in (ROOT / "workflow/rules").glob("*.smk"):
+        if smk.name not in ("figures.smk", "figures_common.smk"):
+            assert "figures/" not in smk.read_text(), smk.name
+    plumbing = [*(ROOT / "workflow").rglob("*.py"), *(ROOT / "workflow/rules").glob("*.smk"),
+                *(ROOT / "src/rocking/cli").glob("*.py"), *(ROOT / "src/rocking/config").glob(
+                    "*.py"), ROOT / "src/rocking/report/html.py",
+                ROOT / "src/rocking/report/entries.py", ROOT / "src/rocking/plot/__init__.py",
+                ROOT / "src/rocking/plot/registry.py", ROOT / "Snakefile"]
+    for path in plumbing:
+        text = path.read_text()
+        for short in modules:
+            assert not re.search(rf"rocking\.plot\.{short}\b|from rocking\.plot import "
+                                 rf"[\w, ]*\b{short}\b|plot import {short} as", text), \
+                (path.relative_to(ROOT), short)
+    for name, entry in entries.items():
+        assert f"rule {entry.rule_name}:" not in rules, name
     assert sorted(p.stem for p in (ROOT / "workflow/report").glob("*.rst")) == [
         "figure", "fragility_table", "linear_fit", "mean_spectra", "records_table", "run_config",
         "stripe_fragility", "workflow"]
@@ -272,6 +288,23 @@ def test_fig04_plot_draws_every_run_and_names_the_pairs(fig04_data):
     legend = [t.get_text() for t in fig.legends[0].get_texts()]
     assert legend[0] == "undamped" and len(legend) == 9
     assert "ωn = 200, ζ = 0.05" in legend and "ωn = 2000, ζ = 50" in legend
+    # the symlog of φ̇ is explained under the figure, not in a box over its spikes
+    assert not [t for ax in fig.axes for t in ax.texts if t.get_text()]
+    assert "symmetric log scale" in fig.legends[0].get_title().get_text()
+
+
+def test_fig06_says_the_clipped_spikes_above_their_panel():
+    """Where φ̇'s spikes are clipped, the panel's title says so and how far they reach; no
+    text is drawn over the axes."""
+    from rocking.plot._style import new_figure
+
+    t = np.linspace(0.0, 10.0, 1001)
+    spiky = np.where(np.abs(t - 5.0) < 0.02, 900.0, np.sin(t))
+    run = {"t": t, "phi_dot": spiky, "theta": np.where(np.abs(t - 5.0) < 0.02, 0.0, 0.02)}
+    fig, ax = new_figure(4.0, 2.0)
+    fig06_el_centro._clip_spikes(ax, [run], 10.0)
+    assert ax.get_ylim()[1] == pytest.approx(1.2) and not ax.texts
+    assert "reach 900 rad/s" in ax.get_title(loc="left")
 
 
 # ---------------------------------------------------------------- Fig 6: El Centro response
@@ -451,6 +484,14 @@ def test_fig09_lines_are_the_store_and_the_aggregate(study):
             _same(y, agg["mean"].sel(mode=mode, limit_state=ls, tan_alpha=0.2))
     # two cut-off motions leave NaN, never the search bound, in the drawn overturning curves
     assert np.isnan(d["panels"][0]["curves"]["3d"]["synthetic-01"][0])
+    # the record is drawn over the means (broad, grey, under every motion), not hidden
+    # beneath them where it runs along them
+    ax = fig.axes[0]
+    record = [ln for ln in ax.get_lines()[:8] if ln.get_color() == "black"]
+    means = ax.get_lines()[8:10]
+    assert len(record) == 2 and all(ln.get_color() != "black" for ln in means)
+    assert min(ln.get_zorder() for ln in record) > max(ln.get_zorder() for ln in means)
+    assert min(ln.get_linewidth() for ln in means) > 3 * max(ln.get_linewidth() for ln in record)
 
 
 def _canvas(fig):
@@ -466,7 +507,7 @@ def _one_size(d: dict) -> dict:
     panels = [{**p, "curves": {m: {k: v[:1] for k, v in c.items()}
                                for m, c in p["curves"].items()},
                "means": {m: v[:1] for m, v in p["means"].items()},
-               "unresolved": {}, "slides": {}, "damping": None} for p in d["panels"]]
+               "plateau": {}, "slides": {}, "damping": None} for p in d["panels"]]
     return {**d, "R": d["R"][:1], "R_mean": d["R_mean"][:1], "panels": panels,
             "modes": d["modes"][:1]}
 
@@ -719,6 +760,18 @@ def test_fig08_traces_spectra_and_fit_quality():
     alone = fig08_motions.data(motions[:2], periods=np.array([0.5]))
     assert alone["groups"][0]["fit_quality"] is None  # one pair: no range to compare with
     assert any("comparison" in m for m in alone["missing"])
+    # a stand-in record is said of what was drawn, never "not computed in this run"
+    from rocking.report.entries import FigureEntry, measured_lines
+
+    stand_in = GroundMotion(record.ax, record.ay, dt, "stand-in",
+                            {**record.metadata, "stand_in": True})
+    d = fig08_motions.data([stand_in, *motions[1:]], comparison,
+                           periods=np.array([0.5]))
+    assert d["remarks"][0] == "stand-in is a stand-in" and d["missing"] == []
+    assert "only 3 synthetic pairs" in d["remarks"][1]
+    lines = measured_lines(FigureEntry("fig08_motions", Path("f.png"),
+                                       {k: d[k] for k in ("remarks", "missing")}))
+    assert len(lines) == 1 and lines[0].startswith("Note: stand-in is a stand-in; only 3")
 
 
 # ---------------------------------------------------------------- the Snakemake rules
@@ -765,7 +818,8 @@ def _workdir(tmp_path: Path) -> tuple[Path, Path, dict[str, Path]]:
 def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     wd, config, paths = _workdir(tmp_path)
     # numba_cache: the figures that run analyses load the kernels it compiled
-    mine = [*figures.FIGURES, "fragility", "report", "numba_cache", "run_config"]
+    mine = [*(f.rule_name for f in registered().values()), "fragility", "report",
+            "numba_cache", "run_config"]
     # the per-record tables the report shows, as their rule writes them for a study whose
     # motions are no record (the stand-in store has none): headers only
     (wd / "results/synth/records.csv").write_text(
@@ -773,10 +827,17 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
         "pga_crit_g [g],scale_factor [-],exceeds_as_recorded,as_recorded_disagrees\n")
     (wd / "results/synth/suite_fragility.csv").write_text(
         "motions,mode,tan_alpha,limit_state,R,measure,unit,median,beta,n,n_censored,status\n")
-    # the refinement sample its rule writes (rocking.study.refinement): one refined cell
-    (wd / "results/synth/refinement_sample.csv").write_text(
-        "mode,limit_state,motion,tan_alpha,R,why,answer,refined,shift,analyses,truncated\n"
-        "3d,overturning,el-centro-1940,0.2,10.0,headline,5.0,4.9,-0.02,3000,False\n")
+    # the headline rule's table (rocking.study.headline), as it writes it: each motion's
+    # first exceedance at R = 10 m on four grids, above its answer, falling with the grid
+    answers = xr.open_zarr(paths["store"])["pga_crit"].sel(
+        mode="3d", limit_state="overturning", tan_alpha=0.2, R=10.0).values
+    rows = [{"motion": m, "mode": "3d", "limit_state": "overturning", "tan_alpha": 0.2,
+             "R": 10.0, "scan_step": h, "first_exceedance": a * (1 + 10 * h),
+             "not_reached": False, "answer": a, "quantity": "I10", "analyses": 100,
+             "cpu_s": 1.0}
+            for m, a in zip(fs.MOTIONS, answers, strict=True)
+            for h in (0.01, 0.005, 0.002, 0.001)]
+    pd.DataFrame(rows).to_csv(wd / "results/synth/headline.csv", index=False)
     snakemake = shutil.which("snakemake", path=str(Path(sys.executable).parent))
     # the target first: --allowed-rules and --rerun-triggers take several values each
     cmd = [snakemake or "snakemake", "results/synth/report.html", "results/synth/config.yaml",
@@ -804,6 +865,14 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     assert sens["measured"]["rotation_check"]["3d"] < 1e-6
     html = (wd / "results/synth/report.html").read_text()
     assert html.count("<figure") == 11
+    # the title names the paper; the headline: the mean I10 and the same cells' mean first
+    # exceedance on each grid (here 10·h above each answer)
+    assert "Reproduction of Vassiliou, Burger, Egger, Bachmann, Broccardo &amp; Stojadinović " \
+           "(2017)" in html
+    mean = float(np.mean(answers))
+    assert f"mean I10 of {mean:.2f}" in html
+    assert f"{mean * 1.1:.2f} (1 %)" in html
+    assert f"{mean * 1.01:.2f} (0.1 %)" in html
     assert "What was run" in html and "12 s wall" in html
     frag = xr.open_dataset(wd / "results/synth/fragility.nc")
     assert set(frag.dims) == {"mode", "limit_state", "tan_alpha", "R"}
@@ -820,6 +889,11 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
             "figures/fig12_2d_vs_3d_synth.png", "config.yaml"} <= names
     critical = pd.read_csv(tmp_path / "gallery/synth/critical.csv")
     assert len(critical) == xr.open_zarr(paths["store"]).pga_crit.size
+    # no retired name in the tables, report and figures' notes of the run, or its gallery
+    from test_retired import retired_names_in
+
+    found = retired_names_in([*(wd / "results").rglob("*"), *files])
+    assert not found, found[:10]
 
 
 def _gallery_module():
@@ -898,32 +972,6 @@ def test_fig10_of_another_record_is_beyond_the_paper_not_a_reduced_run(study, tm
         assert not any("paper's" in m for m in d["missing"])
 
 
-def test_figs_9_10_12_say_in_their_notes_when_no_refinement_sample_measures_a_move(study):
-    # no refinement_sample.csv beside the synthetic study's means: the legends quote no move
-    # under refinement and the sidecars say why, instead of a number made up
-    from rocking.plot import refined
-
-    assert not (Path(study["means"]).parent / refined.SAMPLE_FILE).exists()
-    d9 = fig09_spectra.data(study["store"], study["means"], motions=study["motions"])
-    for panel in d9["panels"]:
-        assert panel["refinement"] == ""
-        note = d9["measured"][f"{refined.NOT_MEASURED}|{panel['limit_state']}"]
-        assert note.startswith("not measured: no refinement_sample.csv")
-    assert "refinement (0.05 % scan)" not in _texts(fig09_spectra.plot(d9))
-    d10 = fig10_goals.data(study["means"])
-    assert "refinement" not in d10["measured"]
-    assert d10["measured"][refined.NOT_MEASURED].startswith("not measured")
-    d12 = fig12_2d_vs_3d.data([("elcentro", study["means"], study["store"], study["motions"])])
-    assert d12["measured"][f"elcentro|{refined.NOT_MEASURED}"].startswith("not measured")
-    # a sample without a cell of the goal: named as such
-    sample = pd.DataFrame({"mode": ["3d"], "limit_state": ["tilt:0.1"], "R": [1.0],
-                           "tan_alpha": [0.2], "answer": [2.0], "refined": [1.9],
-                           "shift": [-0.05], "truncated": [False]})
-    assert refined.not_measured(sample, "3d", "overturning") == (
-        "not measured: refinement_sample.csv holds no refined cell of 3d overturning")
-    assert refined.not_measured(sample, "3d", "tilt:0.1") == ""
-
-
 def test_fig10_says_when_two_goals_coincide(tmp_path):
     """θ > α and overturning with identical statistics: said in the sidecar and the figure,
     and the flat-then-rise shape measured."""
@@ -936,10 +984,12 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
          "median": (("mode", "limit_state", "tan_alpha", "R"), mean),
          "std": (("mode", "limit_state", "tan_alpha", "R"), 0.1 * mean),
          "count": (("mode", "limit_state", "tan_alpha", "R"), np.full(mean.shape, 11.0))},
-        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R})
+        coords={"mode": ["3d"], "limit_state": states, "tan_alpha": [0.2], "R": R},
+        attrs={"quantity": json.dumps(fs.QUANTITY)})
     path = tmp_path / "means.nc"
     agg.to_netcdf(path)
     d = fig10_goals.data(path)
+    assert d["answer"] == "I10" and d["measured"]["answer"] == "I10"
     assert d["measured"]["coincide"] == [{"goals": ["tilt:1", "overturning"], "n_R": 7,
                                           "n_motions": 11}]
     line = d["measured"]["line|overturning"]
@@ -947,6 +997,43 @@ def test_fig10_says_when_two_goals_coincide(tmp_path):
     assert line["end_value"] == pytest.approx(4.6)
     assert line["residual_signs"].startswith("+") and "−" in line["residual_signs"]
     assert "coincide" in _texts(fig10_goals.plot(d))
+
+
+def test_fig10_calls_a_stretch_flat_only_where_the_data_are_flat(tmp_path):
+    """The shape said under Fig 10 and in its verdict comes from the data: a spectrum that
+    rises from its first size on is "rising, bending upward", never "flat up to" its first
+    R; one flat over three sizes or more is said flat there; nothing is written over the
+    axes (the legend and the notes sit under them)."""
+    R = np.linspace(0.5, 10.0, 20)
+    convex = 1.0 + 0.2 * R**2                       # +14 % from the first to the second R
+    slope, intercept = np.polyfit(R, convex, 1)
+    fit = fig10_goals.shape(R, convex, slope, intercept)
+    assert fit["flat_sizes"] == 1 and fit["curvature"] == pytest.approx(0.2)
+    text = fig10_goals.shape_text(fit)
+    assert "flat" not in text and "bending upward" in text
+    assert text.startswith("rising from 1.05 at R = 0.5 m to 21.00 at R = 10 m")
+    worst = R[np.argmax(np.abs(convex - slope * R - intercept))]
+    assert f"misses it most at R = {worst:g} m" in text
+    knee = np.maximum(1.1, 0.5 * R)                 # flat up to R = 2 m (4 sizes)
+    fit = fig10_goals.shape(R, knee, *np.polyfit(R, knee, 1))
+    assert "within 10 % of 1.10 up to R = 2 m (4 sizes)" in fig10_goals.shape_text(fit)
+    # the figure: notes under it, the legend under the axes
+    agg = xr.Dataset(
+        {k: (("mode", "limit_state", "tan_alpha", "R"), convex[None, None, None, :])
+         for k in ("mean", "median", "std", "count")},
+        coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2], "R": R},
+        attrs={"quantity": json.dumps(fs.QUANTITY)})
+    agg.to_netcdf(tmp_path / "means.nc")
+    d = fig10_goals.data(tmp_path / "means.nc")
+    fig = fig10_goals.plot(d)
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    inside = [t for t in ax.texts if t.get_text()]
+    assert inside == []
+    assert ax.get_legend().get_window_extent().y1 <= ax.get_window_extent().y0
+    assert any("bending upward" in t.get_text() for t in fig.texts)
+    # the title in whole lines (what, from what), never wrapped inside the ensemble's name
+    assert ax.get_title().splitlines()[1] == d["title"]
 
 
 def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study, tmp_path):
@@ -962,6 +1049,9 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert "El Centro 1940 ensemble" in text and "IM₅₀" in text and "θ̂" not in text
     panels = [ax for ax in fig.axes if ax.get_xlabel() == "PGA/(g tan α) [-]"]
     assert panels and all(0 < ax.get_xlim()[1] <= fs.UPPER for ax in panels)
+    # what is drawn: the distribution of the motions' critical intensities, not P(exceeded at x)
+    assert all(ax.get_ylabel() == "share of motions whose critical intensity ≤ PGA/(g tan α) [-]"
+               for ax in panels)
     # one colour bar for R instead of a legend entry per size; its ticks the named sizes
     bar = [ax for ax in fig.axes if ax.get_ylabel() == "cylinder size R [m]"]
     assert bar
@@ -981,33 +1071,38 @@ def test_fragility_figure_names_its_ensemble_and_stops_at_the_search_bound(study
     assert len([ax for ax in fig.axes if ax.get_legend()]) == 1
 
 
-def test_fig09_counts_unresolved_answers_per_motion_when_the_store_flags_them(study, tmp_path):
-    """An ``unresolved`` flag (a critical intensity that narrow windows may undercut) is
-    counted per motion (its answers in every mode drawn) in the legend, not ringed on every
-    point; a store without the flag counts none."""
+def test_fig09_counts_plateau_answers_per_motion_and_names_the_quantity(study, tmp_path):
+    """A ``plateau`` flag (P rises near p below the answer without crossing: I10
+    ill-conditioned) is counted per motion (its answers in every mode drawn) in the legend,
+    not ringed on every point; a store without a flag set counts none. The axis and the
+    legend say the curves are I10."""
     from rocking.plot import _load
 
     ds = _load.open_store(study["store"])
     flag = xr.zeros_like(ds["not_reached"], dtype=bool)
     flag.loc[{"mode": "3d", "motion": fs.MOTIONS[2], "tan_alpha": 0.2}] = True
-    ds = ds.assign(unresolved=flag & ~ds["not_reached"].astype(bool))
+    ds = ds.assign(plateau=flag & ~ds["not_reached"].astype(bool))
     path = tmp_path / "flagged.zarr"
     ds.to_zarr(path, mode="w", consolidated=False)
     d = fig09_spectra.data(path, study["means"])
     panel = d["panels"][0]
-    assert list(panel["unresolved"]["3d"]) == [fs.MOTIONS[2]]
+    assert list(panel["plateau"]["3d"]) == [fs.MOTIONS[2]]
     fig = fig09_spectra.plot(d)
-    k = int(panel["unresolved"]["3d"][fs.MOTIONS[2]].sum())
+    k = int(panel["plateau"]["3d"][fs.MOTIONS[2]].sum())
     n = sum(int(np.isfinite(c[fs.MOTIONS[2]]).sum()) for c in panel["curves"].values())
-    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    legend = fig.axes[0].get_legend()
+    texts = [t.get_text() for t in legend.get_texts()]
     label = d["colors"][fs.MOTIONS[2]]["label"]
-    assert f"{label}; {k} of {n} answers unresolved" in legend
-    assert sum("unresolved" in t for t in legend) == 1  # the other motions: none
+    assert f"{label}; {k} of {n} answers on a plateau" in texts
+    assert sum("plateau" in t for t in texts) == 1  # the other motions: none
+    assert legend.get_title().get_text().startswith(
+        "I10 = lowest PGA/(g tan α) at which ≥ 10 % of the intensities within ±2 % exceed")
+    assert fig.axes[0].get_ylabel() == "I10 PGA/(g tan α) [-]"
     rings = [ln for ln in fig.axes[0].get_lines() if ln.get_marker() == "o"
              and ln.get_mfc() == "none" and len(ln.get_xdata())]
     assert not rings
     plain = fig09_spectra.data(study["store"], study["means"])
-    assert all(not p["unresolved"] for p in plain["panels"])
+    assert all(not any(p["plateau"].values()) for p in plain["panels"])
 
 
 def test_fig09_counts_answers_that_slide_when_the_study_gave_mu(study, tmp_path):
@@ -1072,8 +1167,10 @@ def test_adding_a_figure_in_the_design_names_the_registry():
     text = (ROOT / "docs" / "design.md").read_text(encoding="utf-8")
     section = text.split("\n## Adding a figure\n", 1)[1].split("\n## ", 1)[0]
     items = re.findall(r"^\d+\. (.*?)(?=^\d+\. |\Z)", section, re.MULTILINE | re.DOTALL)
-    assert len(items) == 3, items
-    entry = items[1]
+    # one module and its test
+    assert len(items) == 2, items
+    assert items[0].startswith("`src/rocking/plot/<name>.py`") and items[1].startswith("`tests/`")
+    entry = items[0].split("`FIGURE = FigureSpec(...)` with", 1)[1]  # the entry's fields
     named = set(re.findall(r"`([a-z_]+)`", entry))
     fields = {f.name for f in dataclasses.fields(registry.FigureSpec)}
     required = {f.name for f in dataclasses.fields(registry.FigureSpec)
@@ -1111,18 +1208,18 @@ def test_a_bad_figure_entry_is_refused_naming_the_field():
         registry.caption("fig03_wobbling_period", paper=False)
 
 
-def test_fig12_unresolved_note_names_each_record_once_and_footnotes_fit_the_figure():
+def test_fig12_plateau_note_names_each_record_once_and_footnotes_fit_the_figure():
     from matplotlib.text import Text
 
     from rocking.plot._style import footnote, new_figure
-    from rocking.plot.fig12_2d_vs_3d import _unresolved_note
+    from rocking.plot.fig12_2d_vs_3d import _plateau_note
 
     counts = [("El Centro", "3D overturning", 17, 20), ("El Centro", "2D, x overturning", 20, 20),
               ("Loma Prieta", "3D overturning", 20, 20)]
-    note = _unresolved_note(counts)
+    note = _plateau_note(counts)
     assert note.count("El Centro") == 1 and note.count("Loma Prieta") == 1
     assert "3D overturning 17/20" in note and "2D, x overturning 20/20" in note
-    assert _unresolved_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
+    assert _plateau_note([("A", "3D", 5, 5)]).endswith("every size of all 1 curves.")
     # a long footnote is wrapped inside the figure's width
     fig, _ = new_figure(8.0, 4.0)
     footnote(fig, [note * 4])

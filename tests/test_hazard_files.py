@@ -13,7 +13,7 @@ import pytest
 
 from rocking.motions.measures import same_measure
 from rocking.risk.annual_frequency import annual_frequency_parts, mean_annual_frequency
-from rocking.risk.hazard import HazardCurve, imt_measure, parse_hazard
+from rocking.risk.hazard import HazardCurve, hazard_measure, parse_hazard
 
 
 def closed_form(k0, k, median, beta):
@@ -65,10 +65,12 @@ def test_sa_curve_keeps_its_measure(tmp_path):
     path = write_openquake(tmp_path / "hazard_curve-mean-SA(1.0).csv", IML, power_law_poe(),
                            imt="SA(1.0)")
     h = HazardCurve.from_openquake_csv(path)
-    assert h.imt == "SA(1.0)" and h.measure == "sa:1"
+    assert h.imt == "SA(1.0)" and h.measure == "sa:1.0"
     assert same_measure(h.measure, "sa:1.0") and not same_measure(h.measure, "pga")
     assert not same_measure("sa:1.0", "sa:0.3")
-    assert imt_measure("PGA") == "pga" and imt_measure("sa:0.30") == "sa:0.3"
+    assert hazard_measure("PGA").name == "pga" and hazard_measure("sa:0.30").name == "sa:0.3"
+    with pytest.raises(ValueError, match="'PGV' is not supported for a hazard"):
+        hazard_measure("PGV")
 
 
 @pytest.mark.parametrize("second, factor", [("annual_rate", None), ("poe", 50.0)])
@@ -97,7 +99,7 @@ def test_two_column_tables(tmp_path, second, factor):
 def test_sa_table_header_names_the_measure(tmp_path):
     path = tmp_path / "sa.csv"
     path.write_text("SA(1.0),annual_rate\n0.1,1e-2\n0.2,2e-3\n0.4,3e-4\n")
-    assert HazardCurve.from_file(path).measure == "sa:1"
+    assert HazardCurve.from_file(path).measure == "sa:1.0"
 
 
 @pytest.mark.parametrize("text, match", [
@@ -107,7 +109,7 @@ def test_sa_table_header_names_the_measure(tmp_path):
     ("pga,annual_rate\n0.2,0.01\n0.1,0.001\n", "strictly increasing"),
     ("pgv,annual_rate\n0.1,0.01\n0.2,0.001\n", "not supported"),
     ("pga,frequency\n0.1,0.01\n0.2,0.001\n", "annual_rate .* or poe"),
-    ("pga,annual_rate,poe\n0.1,0.01,0.1\n", "a header of two columns"),
+    ("pga,annual_rate,poe\n0.1,0.01,0.1\n", "not a hazard file this reads"),
 ])
 def test_bad_tables_are_one_line_naming_the_file(tmp_path, text, match):
     path = tmp_path / "bad.csv"
@@ -126,7 +128,7 @@ def test_power_law_with_k_not_positive_is_refused(spec):
 
 def test_power_law_in_sa():
     h = parse_hazard({"k0": 1e-4, "k": 2.0, "measure": "sa:1.0"})
-    assert h.measure == "sa:1" and h.imt == "SA(1.0)"
+    assert h.measure == "sa:1.0" and h.imt == "SA(1.0)"
     assert parse_hazard("1e-4,2", measure="sa:0.5").imt == "SA(0.5)"
 
 
@@ -234,7 +236,7 @@ def curved(im):
 def test_a_table_starting_above_the_median_is_counted_and_warned(tmp_path):
     from rocking.fragility.table import read_fragilities
     from rocking.report.risk import risk_section_html
-    from rocking.risk.table import BELOW_FIRST_WARN, below_first_warning, risk_table
+    from rocking.risk.risk_table import BELOW_FIRST_WARN, below_first_warning, risk_table
 
     im = np.geomspace(0.005, 4.0, 40)
     full = HazardCurve(im, curved(im))

@@ -19,7 +19,7 @@ from rocking.fragility.table import read_fragilities
 from rocking.report.risk import risk_section_html
 from rocking.risk.annual_frequency import mean_annual_frequency
 from rocking.risk.hazard import MAX_DISTANCE_KM, HazardCurve, parse_hazard
-from rocking.risk.table import risk_table
+from rocking.risk.risk_table import risk_table
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -194,7 +194,8 @@ def test_the_command_line_chooses_site_and_kind(tmp_path, capsys):
     frag = tmp_path / "fragility.csv"
     table().to_csv(frag, index=False)
     out = tmp_path / "risk.csv"
-    base = ["risk", "--fragility", str(frag), "--hazard", str(path)]
+    base = ["risk", "--fragility", str(frag), "--hazard", str(path), "--component",
+            "vector_peak"]
     assert main([*base, "--site-id", "ELE"]) == 2
     assert "not the mean" in capsys.readouterr().err
     assert main([*base, "--kind", "quantile-0.85"]) == 2
@@ -265,12 +266,13 @@ def test_the_dry_run_refuses_a_file_of_sites_without_site_and_takes_one_with_it(
 
 def test_a_hazard_file_is_read_once_per_parse(three, monkeypatch):
     """Issue 40: the file was read twice by from_file (once to tell the format, once to
-    parse); site, kind and unit come from that one reading."""
+    parse); its format is told from its first lines, then site, kind and unit come from the
+    one parse."""
     from rocking.risk import hazard as module
 
     calls = []
-    real = module._read_csv
-    monkeypatch.setattr(module, "_read_csv", lambda path: calls.append(path) or real(path))
+    real = module._text
+    monkeypatch.setattr(module, "_text", lambda path: calls.append(path) or real(path))
     h = parse_hazard({"file": str(three), "site": {"id": "ELE"}, "im_factor": 1.1})
     assert len(calls) == 1 and h.site.startswith("id ELE") and h.kind == "mean"
 
@@ -295,7 +297,7 @@ def test_the_risk_rule_writes_site_kind_and_warning(tmp_path):
 
     path = write_sites(tmp_path / "h.csv", kind="quantile-0.85")
     h = parse_hazard({"file": str(path), "site": {"lon": SITES[0][1], "lat": SITES[0][2]},
-                      "kind": "quantile-0.85"})
+                      "kind": "quantile-0.85", "component": "vector_peak"})
     frag = tmp_path / "fragility.csv"
     table().to_csv(frag, index=False)
     summary = write_risk_outputs(frag, h, nrml=tmp_path / "f.xml", pelicun=tmp_path / "f.csv",

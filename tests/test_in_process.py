@@ -16,6 +16,7 @@ from test_cluster import _spectra_store, _values
 
 from rocking import store
 from rocking.execution import cluster, products, tasks
+from rocking.spectra.quantity import Quantity
 from rocking.store import integrity
 
 
@@ -90,7 +91,8 @@ def test_store_metadata_is_read_once_and_never_stale(tmp_path):
 
     shutil.rmtree(path)
     other = tasks.spectra_layout(["3d"], ["overturning"], ["m0"], [0.2], [1.0, 2.0, 3.0], 1)
-    store.create_store(path, other, {"tolerances": {"name": "fast"}, "search_options": {},
+    store.create_store(path, other, {"tolerances": {"name": "fast"},
+                                     "quantity": Quantity().to_dict(), "search_options": {},
                                      "ensemble": tasks.ensemble_attrs(ensemble, "test")}, "d2")
     assert tasks.store_metadata(path)[0].n_regions == other.n_regions == 3
 

@@ -163,19 +163,51 @@ def test_the_first_compile_says_so_once_and_compiles_only_the_model_asked_for(tm
     assert "housner2d" in held and not held & {"cylinder3d", "cylinder3d_damped"}
     again, _ = _fresh(cache, *argv)
     assert "compiling" not in again  # loaded from the cache: nothing said
-    # on that cache the other models are still to compile, the 2D one is not
-    import os
-    import subprocess
-    import sys
 
-    probe = subprocess.run(
-        [sys.executable, "-c", "from rocking.dynamics.compiled import will_compile as w; "
-         "print(w('3d', True), w('3d-damped', True), w('2d', True), w('2d'))"],
-        env={**os.environ, "NUMBA_CACHE_DIR": str(cache)}, capture_output=True, text=True,
-        timeout=300)
-    # simulate ran the 2D model with the monitors: that variant is cached, the plain one not
-    assert probe.stdout.split() == ["True", "True", "False", "True"], probe.stderr[-2000:]
-    from rocking.dynamics.compiled import compile_notice
 
+_PROBE = """
+import numba
+
+@numba.njit(cache=True)
+def twice(x):
+    return 2.0 * x
+"""
+
+
+def _probe_module(path: Path, name: str):
+    """A module of ``rocking`` (by name) from ``path``: its compiled function counts as the
+    library's for :func:`announcing_compile`."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_a_compile_is_said_once_as_numba_starts_it_and_a_cached_load_not_at_all(tmp_path):
+    """numba's event of a compilation, not its cache files: the first compilation of a
+    function of rocking says the model's line once; the same function loaded from numba's
+    on-disk cache (a new process's view of it) says nothing; a compilation outside rocking
+    says nothing."""
+    import numba
+
+    from rocking.dynamics.compiled import announcing_compile, compile_notice
+
+    path = tmp_path / "probe.py"
+    path.write_text(_PROBE)
+    said = []
+    with announcing_compile("2d", said.append) as compiled:
+        first = _probe_module(path, "rocking._probe_first")
+        assert first.twice(1.5) == 3.0 and first.twice(2.5) == 5.0
+    assert said == [compile_notice("2d")]
+    assert compiled == ["rocking._probe_first.twice"]
+    said.clear()
+    with announcing_compile("3d", said.append) as compiled:
+        again = _probe_module(path, "rocking._probe_again")  # the same source: cached
+        assert again.twice(1.5) == 3.0
+        outside = numba.njit(lambda x: x + 1.0)                 # not rocking's
+        assert outside(1.0) == 2.0
+    assert said == [] and compiled == []
     with pytest.raises(ValueError, match="model must be one of"):
         compile_notice("4d")

@@ -164,3 +164,33 @@ def test_warm_up_compiles_the_variants_a_configuration_asks_for():
                                                                                        False)
     assert variants_asked({**plain, "ensembles": [{"records": [{"vertical": True}]}]}) == (
         False, True)
+
+
+def test_the_history_kernels_are_compiled_once_where_the_paper_s_figures_trace_them(
+        tmp_path):
+    """A reproduction of the paper draws Figs 4 and 6, which keep histories: the warm-up
+    compiles those kernels once (into a fresh cache here), and an analysis keeping its
+    history afterwards compiles nothing (numba's cache gains no file)."""
+    import os
+    import subprocess
+    import sys
+
+    from rocking.execution.warmup import histories_asked
+
+    assert histories_asked({"studies": {"a": {"reproduces": "vassiliou2017"}, "b": {}}})
+    assert not histories_asked({"studies": {"a": {"reproduces": None}}})
+    code = ("import os\n"
+            "from rocking.execution.warmup import warm_numba_cache, _warm_motion\n"
+            "from rocking.dynamics.analysis import ground_response\n"
+            "from rocking.dynamics.bodies import Cylinder\n"
+            "warm_numba_cache(['3d'], history=True)\n"
+            "root = os.environ['NUMBA_CACHE_DIR']\n"
+            "files = lambda: {os.path.join(d, f) for d, _, fs in os.walk(root) for f in fs}\n"
+            "before = files()\n"
+            "ground_response(Cylinder(3.0, 0.15), _warm_motion(), model='3d', pga_ratio=1.5,"
+            " history=True)\n"
+            "print(len(files() - before))\n")
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True, timeout=900)
+    assert out.stdout.split()[-1] == "0"

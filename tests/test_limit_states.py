@@ -114,9 +114,9 @@ def test_a_run_stopped_past_a_goal_decides_the_goals_up_to_it():
 
 def test_presets_ordered_by_cost_and_accuracy():
     fast, default, precise = (PRESETS[k] for k in ("fast", "default", "precise"))
-    assert fast.rtol > default.rtol > precise.rtol
-    assert fast.scan_step > default.scan_step > precise.scan_step
-    assert fast.bisection_tol > default.bisection_tol > precise.bisection_tol
+    assert fast.rtol >= default.rtol >= precise.rtol
+    assert fast.scan_step >= default.scan_step >= precise.scan_step
+    assert fast.local_step >= default.local_step > precise.local_step
     assert get_accuracy("Default") is default
 
 
@@ -129,19 +129,11 @@ def test_accuracy_overrides_and_errors():
     with pytest.raises(ValueError, match="unknown field"):
         get_accuracy({"rtoll": 1e-9})
     with pytest.raises(ValueError, match="rtol"):
-        Accuracy("x", rtol=float("nan"), scan_step=0.1, bisection_tol=0.01)
-    with pytest.raises(ValueError, match="bisection_tol"):
-        Accuracy("x", rtol=1e-8, scan_step=0.1, bisection_tol=1.0)
+        Accuracy("x", rtol=float("nan"), scan_step=0.1, local_step=0.002, local_below=0.1)
+    with pytest.raises(ValueError, match="local_step"):
+        Accuracy("x", rtol=1e-8, scan_step=0.01, local_step=1.0)
     with pytest.raises(ValueError, match="scan_step"):
-        Accuracy("x", rtol=1e-8, scan_step=-0.1, bisection_tol=0.01)
-
-
-def test_scan_points_relative_and_absolute():
-    rel = Accuracy("r", rtol=1e-8, scan_step=0.1, bisection_tol=0.01)
-    assert rel.scan_point(2.0, 0) == 2.0
-    assert rel.scan_point(2.0, 3) == pytest.approx(2.0 * 1.1**3, rel=1e-15)
-    ab = rel.with_(scan_relative=False, scan_step=0.25)
-    assert ab.scan_point(1.0, 4) == 2.0
+        Accuracy("x", rtol=1e-8, scan_step=-0.1, local_step=0.002)
 
 
 def test_accuracy_round_trips_through_its_dict():

@@ -29,11 +29,11 @@ def test_the_search_flags_and_the_limit_state_use_the_one_comparison():
     """The search's per-limit-state ``slides`` and the ``sliding:<mu>`` limit state say what
     slid_in_contact says on the same analyses."""
     from rocking.spectra.limit_states import MU_REQUIRED_MAX, OVERTURNED, parse_limit_state
-    from rocking.spectra.search import _Knowledge
+    from rocking.spectra.search import _Rows
 
     # (mu_required_max, normal_force_min, overturned) per analysis
-    know = _Knowledge(np.zeros(1), np.ones(1), intensities=[1.0, 2.0, 3.0],
-                      monitors=[(0.2, 0.5, 0.0), (0.45, 0.1, 0.0), (9.0, -0.1, 1.0)])
+    know = _Rows(1, intensity=[1.0, 2.0, 3.0],
+                 monitors=[(0.2, 0.5, 0.0), (0.45, 0.1, 0.0), (9.0, -0.1, 1.0)])
     mon = np.asarray(know.monitors)
     limit = np.array([2.0])
     slides, lifts_off = know.monitor_flags(limit, 0.4)

@@ -1,8 +1,10 @@
-"""The critical-intensity search on synthetic responses with known answers.
+"""The critical-intensity search on constructed responses with known answers.
 
 A fake analysis maps the normalized intensity I to a peak tilt θ_max(I)/α given piecewise,
 honours ``stop_at`` like the engine (ends with θ = stop_at, status STOPPED_AT_LIMIT) and
-reports overturning, so every answer is known exactly from the definition.
+reports overturning, so P(s) and I_p = inf{s : P(s) >= p} of every goal follow from their
+definitions (rocking.spectra.quantity): a goal first exceeded for good at s* (a clean step)
+has I_p = s*·exp(−w(1 − 2p)).
 """
 
 import math
@@ -11,40 +13,17 @@ import numpy as np
 import pytest
 
 from rocking.dynamics.result import Status
-from rocking.spectra.accuracy import PRESETS, Accuracy
+from rocking.spectra.accuracy import PRESETS, Accuracy, get_accuracy
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.spectra.search import Outcome, search_critical
+from rocking.spectra.quantity import Quantity
+from rocking.spectra.search import MAX_ANALYSES, Outcome, search_critical
 
 ALPHA = math.atan(0.2)
+W, P = Quantity().w, Quantity().p
+STEP_FACTOR = math.exp(-W * (1 - 2 * P))
+"""I10 of a clean step at s* is s*·STEP_FACTOR."""
+DEFAULT = PRESETS["default"]
 STATES = ["tilt:0.1", "tilt:0.2", "tilt:0.5", "tilt:0.75", "overturning"]
-FIXED = PRESETS["default"].with_(name="fixed 1 %", scan_step=0.01, refine_budget=0)
-"""The default tolerances with a fixed 1 % scan and no refinement (the default until the
-refinement of near misses: tests/test_search_refine.py covers that)."""
-ADAPTIVE = PRESETS["default"].with_(name="adaptive", scan="adaptive", scan_step=0.005,
-                                    scan_step_max=0.05, tilt_growth=60.0)
-"""The adaptive scan measured against it (benchmarks.spectra.ADAPTIVE)."""
-SCANS = [FIXED, ADAPTIVE]
-
-
-def windows_response(I):
-    """θ_max/α, or None for overturning: a non-monotonic staircase.
-
-    tilt:0.5 is exceeded on [1.5, 1.8) and again from 2.5; overturning from 3.0.
-    """
-    if I >= 3.0:
-        return None
-    if I >= 2.5:
-        return 0.8
-    if I >= 1.8:
-        return 0.3
-    if I >= 1.5:
-        return 0.6
-    return 0.3 * (I - 1.0)
-
-
-# Smallest I exceeding each of STATES for windows_response (θ/α > r):
-EXACT = {"tilt:0.1": 1.0 + 0.1 / 0.3, "tilt:0.2": 1.5, "tilt:0.5": 1.5, "tilt:0.75": 2.5,
-         "overturning": 3.0}
 
 
 def fake_analysis(response, calls, fail=lambda I, rtol: False, nan_at=()):
@@ -65,25 +44,65 @@ def fake_analysis(response, calls, fail=lambda I, rtol: False, nan_at=()):
     return analyze
 
 
-@pytest.mark.parametrize("preset", ["fast", "default", "precise", FIXED], ids=str)
-def test_exact_on_non_monotonic_windows(preset):
-    calls = []
-    res = search_critical(fake_analysis(windows_response, calls), STATES, ALPHA, lower=1.0,
-                          upper=10.0, accuracy=preset)
-    tol = res.accuracy.bisection_tol
-    for k, name in enumerate(res.limit_states):
-        truth = EXACT[name]
-        # The answer is an intensity seen exceeding, the bracket holds the true boundary and
-        # is as narrow as the preset asks.
-        assert res.bracket_lo[k] < truth <= res.intensity[k], name
-        assert res.intensity[k] - res.bracket_lo[k] <= tol * res.intensity[k] + 1e-15, name
-        assert res.intensity[k] - truth <= tol * truth, name
-    assert not res.not_reached.any() and not res.failed.any()
-    flagged = dict(zip(res.limit_states, res.non_monotonic, strict=True))
-    # tilt:0.5 was seen exceeded at I ∈ [1.5, 1.8) and not at the next scan points.
-    assert flagged == {"tilt:0.1": False, "tilt:0.2": False, "tilt:0.5": True,
-                       "tilt:0.75": False, "overturning": False}
-    assert res.n_analyses == len(calls) == len(res.evaluations)
+def smooth_response(I):
+    """Monotonic: θ/α = 2 (I − 1)², overturning once it would pass 1."""
+    ratio = 2.0 * (I - 1.0) ** 2
+    return None if ratio >= 1.0 else ratio
+
+
+SMOOTH_FIRST = {"tilt:0.1": 1.0 + math.sqrt(0.05), "tilt:0.2": 1.0 + math.sqrt(0.1),
+                "tilt:1/3": 1.0 + math.sqrt(1.0 / 6.0), "tilt:0.5": 1.5,
+                "tilt:0.75": 1.0 + math.sqrt(0.375), "overturning": 1.0 + math.sqrt(0.5)}
+"""Where each goal is first exceeded by smooth_response (a clean step)."""
+
+
+def windows_response(I):
+    """θ_max/α, or None for overturning: a non-monotonic staircase.
+
+    tilt:0.5 is exceeded on [1.5, 1.8) and again from 2.5; overturning from 3.0."""
+    if I >= 3.0:
+        return None
+    if I >= 2.5:
+        return 0.8
+    if I >= 1.8:
+        return 0.3
+    if I >= 1.5:
+        return 0.6
+    return 0.3 * (I - 1.0)
+
+
+WINDOWS_FIRST = {"tilt:0.1": 1.0 + 0.1 / 0.3, "tilt:0.2": 1.5, "tilt:0.5": 1.5,
+                 "tilt:0.75": 2.5, "overturning": 3.0}
+"""Every goal of windows_response is a clean step at these intensities (the window of
+tilt:0.5 on [1.5, 1.8) is 18 % wide: a step, whatever comes after)."""
+
+
+def _tol(acc: Accuracy) -> float:
+    """How far an I_p read off a local sample may sit from the closed form: a stratum and a
+    half (the first judged s with P̂ >= p lies within a stratum of the exact crossing)."""
+    return 1.5 * acc.local_step
+
+
+@pytest.mark.parametrize("preset", ["fast", "default", "precise"])
+@pytest.mark.parametrize(("response", "first"), [(smooth_response, SMOOTH_FIRST),
+                                                 (windows_response, WINDOWS_FIRST)],
+                         ids=["smooth", "windows"])
+def test_steps_give_their_closed_form(preset, response, first):
+    acc = get_accuracy(preset)
+    names = [s for s in STATES if s in first]
+    for seed in range(3):
+        res = search_critical(fake_analysis(response, []), names, ALPHA, lower=1.0,
+                              upper=10.0, accuracy=acc, seed=seed)
+        for k, name in enumerate(res.limit_states):
+            exact = first[name] * STEP_FACTOR
+            assert res.intensity[k] == pytest.approx(exact, rel=_tol(acc)), (preset, name)
+            # I50 of a step is the step itself; the grid's first exceedance lies at or above
+            assert res.i50[k] == pytest.approx(first[name], rel=_tol(acc)), (preset, name)
+            assert first[name] <= res.first_exceedance[k] \
+                < first[name] * (1 + acc.scan_step) + 1e-12
+        assert not res.not_reached.any() and not res.failed.any()
+        assert not res.plateau.any()
+        assert res.n_analyses == len(res.evaluations)
 
 
 def test_answers_ordered_by_goal():
@@ -93,24 +112,62 @@ def test_answers_ordered_by_goal():
 
 
 def test_one_search_serves_all_limit_states():
-    """Stopping each analysis at the largest undecided goal costs less than separate searches,
-    and the answers are the same (fixed scan: its bracket of tilt:0.1 needs a bisection)."""
+    """One search of every goal costs less than one search per goal and answers the same
+    (the same cell: the same grid and strata); a local sample serving one tilt goal alone
+    stops its analyses at that goal."""
     calls = []
-    together = search_critical(fake_analysis(windows_response, calls), STATES, ALPHA,
-                               lower=1.0, upper=10.0, accuracy=FIXED)
+    together = search_critical(fake_analysis(smooth_response, calls), STATES, ALPHA,
+                               lower=1.0, upper=10.0, seed=5)
     separate_cost = 0
     for k, name in enumerate(STATES):
-        one = search_critical(fake_analysis(windows_response, []), [name], ALPHA, lower=1.0,
-                              upper=10.0, accuracy=FIXED)
+        one = search_critical(fake_analysis(smooth_response, []), [name], ALPHA, lower=1.0,
+                              upper=10.0, seed=5)
         separate_cost += one.n_analyses
-        assert one.intensity[0] == pytest.approx(together.intensity[k], rel=0.006)
-    assert together.n_analyses < 0.6 * separate_cost
-    # While overturning is undecided the scan runs to the end (stop_at None); a bisection
-    # inside the tilt:0.1 bracket alone stops at that goal.
+        assert one.intensity[0] == pytest.approx(together.intensity[k], rel=1e-12)
+    assert together.n_analyses < 0.85 * separate_cost
+    # while overturning is open the scan runs to the end (stop_at None)
     assert calls[0][1] is None
-    lo, hi = together.bracket_lo[0], together.bracket_hi[0]
-    inside = [c for c in calls if lo <= c[0] <= hi and c[0] < 1.5]
-    assert inside and all(c[1] == pytest.approx(0.1 * ALPHA, rel=1e-15) for c in inside[1:])
+    # the local sample around tilt:0.1's step (1.22) serves it alone: stopped at its goal
+    near = [c for c in calls if 1.20 < c[0] < 1.23 and c[1] is not None]
+    assert near and all(c[1] == pytest.approx(0.1 * ALPHA, rel=1e-15) for c in near)
+
+
+def test_a_window_far_below_the_rise_is_dismissed():
+    """tilt:0.5 exceeded only on a 0.1 % window at 1.5 and from 2.0 on: where the grid
+    first lands in the window, I10 is still the rise's."""
+    def response(I):
+        return 0.6 if I >= 2.0 or 1.5 <= I < 1.5015 else 0.3
+
+    seen_window = 0
+    for seed in range(300):
+        res = search_critical(fake_analysis(response, []), ["tilt:0.5"], ALPHA, lower=1.0,
+                              upper=10.0, seed=seed)
+        if res.first_exceedance[0] > 1.6:
+            continue
+        seen_window += 1
+        assert res.intensity[0] == pytest.approx(2.0 * STEP_FACTOR, rel=_tol(DEFAULT))
+    assert seen_window >= 3  # the grid lands in the window for about 1 offset in 20
+
+
+def test_the_local_sample_extends_down_to_where_P_crosses_p():
+    """A comb exceeding on 30 % of every 0.05 % from 1.5 on (P = 0.3 there) and everywhere
+    from 3: I10 is where the window holds a third of the comb, 1.5·exp(−w/3), however far
+    above 1.5 the 5 % grid first lands in a tooth."""
+    def response(I):
+        if I >= 3.0:
+            return 0.6
+        return 0.6 if I >= 1.5 and (math.log(I / 1.5) / 0.0005) % 1.0 < 0.3 else 0.3
+
+    # strata of 0.25 %: ~16 analyses per window tell P = 0.3 from p (the default's 0.8 %
+    # leaves ~5, and P̂ of a comb is then noisy by ±0.2)
+    acc = DEFAULT.with_(scan_step=0.05, local_step=0.0025, local_below=0.05, local_above=0.02)
+    exact = 1.5 * math.exp(-W / 3)
+    for seed in range(5):
+        res = search_critical(fake_analysis(response, []), ["tilt:0.5"], ALPHA, lower=1.0,
+                              upper=10.0, accuracy=acc, seed=seed)
+        # the comb's share in a window of ~16 strata is 0.3 give or take a tooth
+        assert res.intensity[0] == pytest.approx(exact, rel=0.02), seed
+        assert res.first_exceedance[0] >= 1.5
 
 
 def test_not_reached_is_a_value():
@@ -132,42 +189,57 @@ def test_lower_at_or_above_upper_runs_nothing():
     assert res.not_reached.all() and res.n_analyses == 0 and not calls
 
 
-@pytest.mark.parametrize("acc", SCANS, ids=lambda a: a.scan)
-def test_failure_retried_with_tighter_rtol(acc):
-    rtol = PRESETS["default"].rtol
+def test_failure_retried_with_tighter_rtol():
+    rtol = DEFAULT.rtol
     calls = []
     fake = fake_analysis(windows_response, calls, fail=lambda I, r: I > 2.0 and r == rtol)
-    res = search_critical(fake, STATES, ALPHA, lower=1.0, upper=10.0, accuracy=acc)
+    res = search_critical(fake, STATES, ALPHA, lower=1.0, upper=10.0)
     assert not res.failed.any()
-    assert res.intensity[-1] == pytest.approx(3.0, rel=0.006)
+    assert res.intensity[-1] == pytest.approx(3.0 * STEP_FACTOR, rel=_tol(DEFAULT))
     retried = [c for c in calls if c[2] != rtol]
     assert retried and all(r == pytest.approx(rtol * 0.1) for _, _, r in retried)
     assert res.n_analyses == len(calls)
 
 
-@pytest.mark.parametrize("acc", SCANS, ids=lambda a: a.scan)
-def test_persistent_failure_is_flagged_not_survival(acc):
+def test_persistent_failure_is_flagged_not_survival():
     # Analyses fail on [2.0, 2.7): overturning (3.0) and tilt:0.75 (2.5) could hide there.
-    calls = []
-    fake = fake_analysis(windows_response, calls, fail=lambda I, r: 2.0 <= I < 2.7)
-    res = search_critical(fake, STATES, ALPHA, lower=1.0, upper=10.0, accuracy=acc)
+    fake = fake_analysis(windows_response, [], fail=lambda I, r: 2.0 <= I < 2.7)
+    res = search_critical(fake, STATES, ALPHA, lower=1.0, upper=10.0)
     flags = dict(zip(res.limit_states, res.failed, strict=True))
     assert flags == {"tilt:0.1": False, "tilt:0.2": False, "tilt:0.5": False,
                      "tilt:0.75": True, "overturning": True}
-    assert res.intensity[-1] == pytest.approx(3.0, rel=0.006)
+    assert res.intensity[-1] == pytest.approx(3.0 * STEP_FACTOR, rel=_tol(DEFAULT))
     # Everything failing: nothing is reported as survived.
     res = search_critical(fake_analysis(windows_response, [], fail=lambda I, r: True), STATES,
-                          ALPHA, lower=1.0, upper=3.0, accuracy=acc)
+                          ALPHA, lower=1.0, upper=3.0)
     assert res.not_reached.all() and res.failed.all()
 
 
 def test_nan_theta_is_a_failure():
     calls = []
-    scan_point = FIXED.scan_point(1.0, 1)
-    res = search_critical(fake_analysis(windows_response, calls, nan_at=(scan_point,)),
-                          ["tilt:0.1"], ALPHA, lower=1.0, upper=3.0, accuracy=FIXED)
+    probe = search_critical(fake_analysis(windows_response, calls), ["tilt:0.1"], ALPHA,
+                            lower=1.0, upper=3.0, seed=1)
+    first = probe.evaluations[0].intensity
+    res = search_critical(fake_analysis(windows_response, [], nan_at=(first,)),
+                          ["tilt:0.1"], ALPHA, lower=1.0, upper=3.0, seed=1)
     assert res.evaluations[0].status == Status.FAILED.value
     assert res.failed[0]  # the failed point lies below the answer
+
+
+def test_the_result_says_what_it_answers_and_keeps_its_samples():
+    res = search_critical(fake_analysis(smooth_response, []), ["tilt:0.5"], ALPHA,
+                          lower=1.0, upper=10.0, seed=2)
+    assert res.answer == "I10 (P >= 0.1 within ±2 % in ln s)"
+    assert "tilt:0.5: I10 = " in repr(res)
+    rec = res.to_records()[0]
+    assert (rec["quantity"], rec["quantity_p"], rec["quantity_w"]) == \
+        ("exceedance_quantile", 0.1, 0.02)
+    assert rec["i50"] == res.i50[0] and rec["first_exceedance"] == res.first_exceedance[0]
+    # P̂ from the search's own local samples: a step at 1.5 seen through a ±2 % window
+    s = np.array([1.45, 1.5 * STEP_FACTOR, 1.5, 1.55])
+    P_hat = res.local_exceedance("tilt:0.5", s)
+    np.testing.assert_allclose(P_hat, [0.0, 0.1, 0.5, 1.0], atol=0.08)
+    assert res.samples.intensity.size == res.n_analyses
 
 
 def test_bad_arguments():
@@ -179,95 +251,46 @@ def test_bad_arguments():
     with pytest.raises(ValueError, match="limit_state"):
         search_critical(fake, ["collapse"], ALPHA, lower=1.0)
     assert [s.name for s in parse_limit_states(STATES)] == STATES
+    assert MAX_ANALYSES >= 1000
 
 
-# --------------------------------------------------------------------- the adaptive scan
-GOALS = ["tilt:0.1", "tilt:1/3", "tilt:0.5", "overturning"]
-
-
-def smooth_response(I):
-    """Monotonic: θ/α = 2 (I − 1)², overturning once it would pass 1."""
-    ratio = 2.0 * (I - 1.0) ** 2
-    return None if ratio >= 1.0 else ratio
-
-
-SMOOTH_EXACT = {"tilt:0.1": 1.0 + math.sqrt(0.05), "tilt:1/3": 1.0 + math.sqrt(1.0 / 6.0),
-                "tilt:0.5": 1.5, "overturning": 1.0 + math.sqrt(0.5)}
-
-
-def narrow_window_response(I):
-    """Micro-rocking up to 1.3, then hovering at 0.45 α (close to tilt:0.5) with a window of
-    exceedance only 1.2 % wide at [2.0, 2.024); robustly above from 2.5, overturning from 3."""
-    if I >= 3.0:
-        return None
-    if I >= 2.5 or 2.0 <= I < 2.024:
-        return 0.6
-    if I >= 1.3:
-        return 0.45
-    return 1e-6 * I
-
-
-NARROW_EXACT = {"tilt:0.1": 1.3, "tilt:1/3": 1.3, "tilt:0.5": 2.0, "overturning": 3.0}
-
-
-@pytest.mark.parametrize(("response", "exact", "saving"),
-                         [(smooth_response, SMOOTH_EXACT, 0.8),
-                          (narrow_window_response, NARROW_EXACT, 0.4),
-                          (windows_response, {**EXACT, "tilt:1/3": 1.5}, 1.0)],
-                         ids=["monotonic", "narrow-window", "non-monotonic"])
-def test_adaptive_scan_finds_what_the_fixed_scan_finds(response, exact, saving):
-    """Both scans bracket the exact first exceedance of every goal, narrow windows near a
-    goal included; below the first goal the adaptive scan spends at most ``saving`` times
-    the fixed scan's analyses (far less where the body barely lifts)."""
-    found = {}
-    for acc in SCANS:
-        calls = []
-        res = search_critical(fake_analysis(response, calls), GOALS, ALPHA, lower=1.0,
-                              upper=10.0, accuracy=acc)
-        for k, name in enumerate(res.limit_states):
-            truth = exact[name]
-            assert res.bracket_lo[k] < truth <= res.intensity[k], (acc.scan, name)
-            assert res.intensity[k] - truth <= acc.bisection_tol * truth, (acc.scan, name)
-        below_first = sum(c[0] < exact["tilt:0.1"] for c in calls)
-        found[acc.scan] = (res.intensity, below_first)
-    np.testing.assert_allclose(found["adaptive"][0], found["fixed"][0], rtol=0.006)
-    assert found["adaptive"][1] <= saving * found["fixed"][1]
-
-
-def test_adaptive_step_follows_the_distance_to_the_goal():
-    acc = ADAPTIVE
-    goal = 0.1
-    assert acc.adaptive_step(0.0, goal) == acc.scan_step_max  # at rest: the largest step
-    assert acc.adaptive_step(goal, goal) == acc.scan_step  # on the goal: the smallest
-    assert acc.adaptive_step(float("nan"), goal) == acc.scan_step  # unknown: the smallest
-    theta = goal * math.exp(-0.02 * acc.tilt_growth)  # a growth I^κ reaches the goal in 2 %
-    assert acc.adaptive_step(theta, goal) == pytest.approx(0.02, rel=1e-12)
-    # steps grow as the tilt falls further below the goal
-    steps = [acc.adaptive_step(goal * r, goal) for r in (0.9, 0.5, 0.2, 0.05, 1e-6)]
-    assert steps == sorted(steps) and steps[-1] == acc.scan_step_max
-
-
-def test_adaptive_scan_steps_against_the_lowest_open_goal_but_never_above_alpha():
-    """After a step from θ the next intensity is I·(1 + h(θ, min(τ_open, α))): once every
-    tilt goal is passed, the approach to overturning is judged against α, not π/2."""
-    calls = []
-    acc = ADAPTIVE.with_(scan_step=0.001, scan_step_max=1.0, tilt_growth=10.0)
-    search_critical(fake_analysis(lambda I: 0.5 if I < 4.0 else None, calls),
-                    ["tilt:0.1", "overturning"], ALPHA, lower=1.0, upper=10.0, accuracy=acc)
-    scan = [c[0] for c in calls[:3]]
-    assert scan[0] == pytest.approx(1.0 + acc.scan_step_max)  # from rest
-    # θ = 0.5 α: tilt:0.1 is passed; the step aims at α, ln(2)/10, not ln(π/(2·0.5α))/10
-    assert scan[1] / scan[0] - 1.0 == pytest.approx(math.log(2.0) / 10.0, rel=1e-12)
-
-
+# ------------------------------------------------------------------ the accuracy presets
 @pytest.mark.parametrize(
     ("fields", "message"),
-    [({"scan": "zigzag"}, "scan must be one of"),
-     ({"scan": "adaptive", "scan_relative": False}, "scan_relative"),
-     ({"scan": "adaptive", "scan_step": 0.05, "scan_step_max": 0.01}, "scan_step_max"),
-     ({"tilt_growth": 0.0}, "tilt_growth")],
-    ids=["unknown", "absolute", "max-below-min", "growth"],
+    [({"scan_step": 0.0}, r"^scan_step must be > 0.0 and <= 1.0, got 0.0$"),
+     ({"local_step": 0.5}, r"^local_step must be > 0.0 and <= 0.1, got 0.5$"),
+     ({"local_below": -1}, r"^local_below must be"),
+     ({"local_above": "x"}, r"^local_above must be a number, got 'x'$"),
+     ({"rtol": 0.1}, r"^rtol must be"),
+     ({"scan_step": 0.1, "local_below": 0.05}, r"^local_below must be >= ln\(1 \+ scan_step\)"),
+     ({"rest_tilt": 1.0}, r"^rest_tilt must be"),
+     ({"confirm": "yes"}, r"^confirm must be true or false, got 'yes'$")],
 )
-def test_bad_scan_settings_name_the_field(fields, message):
+def test_bad_settings_name_the_field(fields, message):
     with pytest.raises(ValueError, match=message):
-        Accuracy("x", **{"rtol": 1e-7, "scan_step": 0.01, "bisection_tol": 0.005, **fields})
+        DEFAULT.with_(**fields)
+    with pytest.raises(ValueError, match=message.lstrip("^")):
+        get_accuracy({"preset": "default", **fields})
+
+
+def test_retired_settings_are_refused_by_name():
+    with pytest.raises(ValueError, match=r"unknown field\(s\) \['refine_budget'\]"):
+        get_accuracy({"preset": "default", "refine_budget": 20})
+
+
+def test_a_sample_narrower_than_the_window_is_refused_before_any_analysis():
+    calls = []
+    acc = DEFAULT.with_(local_below=0.03, local_above=0.005)
+    with pytest.raises(ValueError, match="local_below \\+ local_above"):
+        search_critical(fake_analysis(smooth_response, calls), ["tilt:0.5"], ALPHA,
+                        lower=1.0, accuracy=acc)
+    assert not calls
+
+
+def test_presets_round_trip_through_their_record():
+    for acc in (*PRESETS.values(), DEFAULT.with_(confirm=False)):
+        # workers rebuild the settings from the store's record
+        assert get_accuracy(acc.to_dict()) == acc
+    assert get_accuracy({"rtol": 1e-9}) == DEFAULT.with_(rtol=1e-9)
+    costs = [PRESETS[p].local_step for p in ("fast", "default", "precise")]
+    assert costs == sorted(costs, reverse=True)  # from cheapest to most accurate

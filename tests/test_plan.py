@@ -18,6 +18,7 @@ from rocking.config.plan import plan_study
 from rocking.execution import tasks
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
+from rocking.spectra.quantity import Quantity
 from rocking.study.aggregate import ensemble_statistics
 
 RUNS = [
@@ -121,7 +122,8 @@ def planned_store(tmp_path):
     names = [m.name for m in standin.motions()]
     layout = tasks.spectra_layout(plan.modes, plan.limit_states, names, plan.tan_alpha,
                                   [1.0, 9.0], 1)
-    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0},
+    attrs = {"tolerances": {"name": "fast"}, "quantity": Quantity().to_dict(),
+             "search_options": {"upper": 20.0},
              "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     path = tmp_path / "s.zarr"
     store.create_store(path, layout, attrs, "h", static={store.REQUESTED: plan.requested})

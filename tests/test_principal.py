@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -131,3 +134,51 @@ def test_bad_input() -> None:
         principal_angle([0.0, 0.0], [0.0, 0.0])
     with pytest.raises(ValueError, match="angle_deg"):
         rotate_components([1.0, 2.0], [1.0, 2.0], np.inf)
+
+
+def test_the_angle_is_exactly_rounded_and_blind_to_trailing_zeros(el_centro) -> None:
+    """The sums σ_ij are exactly rounded (math.fsum), so the angle of a pair does not depend
+    on how many zeros follow it: a record padded to its vertical file (El Centro: 6 more
+    samples) keeps the bits of its angle, whatever BLAS kernel the machine runs."""
+    from fractions import Fraction
+
+    x, y = el_centro.ax, el_centro.ay
+    exact = [sum(Fraction(a) * Fraction(b) for a, b in zip(p, q, strict=True))
+             for p, q in ((x, x), (y, y), (x, y))]
+    s11, s22, s12 = (float(v) for v in exact)
+    want = math.degrees(0.5 * math.atan2(2.0 * s12, s11 - s22))
+    assert principal_angle(x, y) == want
+    for n in (1, 6, 37):
+        pad = np.zeros(n)
+        assert principal_angle(np.r_[x, pad], np.r_[y, pad]) == want
+
+
+def _blas_kernels() -> list[str]:
+    """OpenBLAS kernels this CPU can run (forcing one it lacks would stop the process)."""
+    flags = open("/proc/cpuinfo").read().split() if os.path.exists("/proc/cpuinfo") else []
+    return ["Prescott"] + (["Haswell"] if "avx2" in flags and "fma" in flags else []) + (
+        ["SkylakeX"] if "avx512f" in flags else [])
+
+
+def test_a_record_with_and_without_its_vertical_has_the_same_horizontals() -> None:
+    """One machine, one promise: the horizontals of a record processed beside its vertical
+    component are those processed alone, to the bit, under every OpenBLAS kernel of this
+    CPU (before the sums were exactly rounded, AVX2's kernel gave the padded pair another
+    last bit of the angle, 5e-10 relative in samples), and the kernel does not change the
+    record's digest."""
+    code = ("from rocking.motions.source import load_motion, process_motion\n"
+            "import numpy as np\n"
+            "v, h = (process_motion(load_motion('el-centro-1940', vertical=z), rotation='auto', "
+            "highpass='oscillator') for z in (True, False))\n"
+            "n = h.npts\n"
+            "assert v.npts > n\n"
+            "print(np.array_equal(v.ax[:n], h.ax) and np.array_equal(v.ay[:n], h.ay), "
+            "h.samples_sha256)\n")
+    seen = {}
+    for kernel in _blas_kernels():
+        env = {**os.environ, "OPENBLAS_CORETYPE": kernel}
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                             text=True, check=True).stdout.split()
+        assert out[0] == "True", kernel
+        seen[kernel] = out[1]
+    assert len(set(seen.values())) == 1, seen

@@ -1449,11 +1449,19 @@ def test_a_copied_folder_remakes_the_tables_its_new_settings_change(two_studies,
     del cfg["studies"]["b"]["inventory"]
     (tmp_path / "c.yaml").write_text(yaml.safe_dump(cfg))
     plan = _run(tmp_path, "-n", "copy/b/risk.csv")
-    assert {"records_table", "risk"} <= _planned(plan.stdout), plan.stdout[-3000:]
+    # risk refits in the hazard's measure from each motion's measures (motion_measures.csv)
+    assert {"motion_measures", "risk"} <= _planned(plan.stdout), plan.stdout[-3000:]
     assert "spectra" not in _planned(plan.stdout)
+    # and the suite's tables in the measure added
+    assert "records_table" in _planned(_run(tmp_path, "-n", "copy/b/suite_fragility.csv")
+                                       .stdout)
     _run(tmp_path, "copy/b/risk.csv")
     assert set(pd.read_csv(tmp_path / "copy/b/risk.csv")["measure"]) == {"sa:1.0"}
     assert _planned(_run(tmp_path, "-n", "copy/b/risk.csv").stdout) == set()
+    # a deleted sidecar (never a silent blank interval): remade before risk reads it
+    (tmp_path / "copy/a/stripe_fragility_bootstrap.nc").unlink()
+    assert {"stripe_fragility", "risk"} <= _planned(_run(tmp_path, "-n",
+                                                         "copy/a/risk.csv").stdout)
 
 
 def _planned(text: str) -> set[str]:

@@ -28,8 +28,9 @@ from rocking.plot.registry import caption, figures
 from rocking.report import entries, run_summary, tables
 from rocking.report import html as report
 
-CAPTIONS = {name: caption(name) for name in figures()}
-"""Every figure's caption in a reproduction of the paper, in the paper's order."""
+CAPTIONS = {name: caption(name) for name, f in figures().items() if not f.section}
+"""Every figure's caption in a reproduction of the paper, in the paper's order (those of the
+report's own sections: their tests)."""
 
 
 def _quality(ratio: float, inside: float) -> dict:
@@ -110,7 +111,8 @@ def outputs(tmp_path_factory):
         done=[done], elapsed_seconds=840.0)
     page = report.build(root / "report.html", title="synthetic study", figures=pngs,
                         linear_fit=root / "linear_fit.csv", fragility=root / "fragility.csv",
-                        notes=["The Loma Prieta record is a stand-in."], run=run)
+                        notes=["The Loma Prieta record is a stand-in."], run=run,
+                        verdicts_csv=root / "verdicts.csv")
     return {"root": root, "pngs": pngs, "html": page, "run": dict(run), "paths": paths}
 
 
@@ -192,6 +194,14 @@ def test_every_figure_has_a_verdict(outputs):
     text = outputs["html"].read_text()
     for verdict in ("reproduced", "differs because", "not computed in this run"):
         assert verdict in text
+    # the verdict table as data: the page's rows, in its order
+    table = pd.read_csv(outputs["root"] / "verdicts.csv", keep_default_na=False)
+    assert list(table.columns) == list(entries.VERDICT_COLUMNS)
+    shown = [c for rows in verdicts.values() for c in rows]
+    assert [tuple(r) for r in table.itertuples(index=False)] == [
+        (c.figure, c.statement, c.paper, c.ours, c.verdict, c.reason) for c in shown]
+    page = text[text.index("<h2 id='verdicts'>"):]
+    assert page[:page.index("</table>")].count("<tr><td>") == len(table) > 20
 
 
 def test_verdicts_follow_from_the_numbers(outputs):
@@ -322,9 +332,11 @@ def test_report_on_the_paper_run_is_small():
     with images linked as the gallery does, stays under 150 KB and keeps the numbers."""
     root = Path(__file__).resolve().parents[1] / "results" / "paper"
     study = root / "elcentro"
-    # the report's own figures: the risk and stripe figures sit beside them in the folder
+    # the report's figures (those of its own sections, the stripe, risk and portfolio ones,
+    # are shown there without verdicts)
     pngs = sorted(p for p in [*root.glob("figures/*.png"), *study.glob("figures/*.png")]
                   if p.stem.startswith(tuple(FIGURES)))
+    beside = {n for n, f in figures().items() if f.section}
     assert len(pngs) >= 11, "the committed paper gallery is incomplete"
     out = Path(report.build(Path("/tmp") / f"paper_report_{id(root)}.html", title="paper",
                             figures=pngs, linear_fit=study / "linear_fit.csv",
@@ -338,7 +350,7 @@ def test_report_on_the_paper_run_is_small():
     table = pd.read_csv(study / "fragility.csv")
     assert computed == int(table.iloc[:, 4].notna().sum())
     assert ">not-computed<" not in page  # the empty fragility points are left out
-    assert page.count("<a href='#verdicts'>") == len({figure_name(p) for p in pngs})
+    assert page.count("<a href='#verdicts'>") == len({figure_name(p) for p in pngs} - beside)
 
 
 def test_missing_figures_are_said_not_invented(outputs):

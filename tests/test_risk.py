@@ -26,7 +26,7 @@ from rocking.fragility import table as fragilities
 from rocking.risk import nrml, pelicun
 from rocking.risk.annual_frequency import annual_frequency_parts, probability_in
 from rocking.risk.hazard import HazardCurve, parse_hazard
-from rocking.risk.table import risk_table
+from rocking.risk.risk_table import risk_table
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).parent / "data"
@@ -126,7 +126,7 @@ def test_example_hazard_curve_is_what_its_readme_says():
 @pytest.mark.parametrize("text, match", [
     ("#,,,,,\"investigation_time=1.0, imt='PGV'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n",
      "PGV.* not supported"),
-    ("lon,lat,poe-0.1\n0,0,0.1\n", "no investigation_time and imt"),
+    ("lon,lat,poe-0.1\n0,0,0.1\n", "no investigation_time in a comment"),
     ("#,,,,,\"imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n", "no investigation_time "
      "in a comment"),
     ("#,,,,,\"investigation_time=50.0\"\nlon,lat,poe-0.1,poe-0.2\n0,0,0.1,0.05\n",
@@ -139,7 +139,8 @@ def test_example_hazard_curve_is_what_its_readme_says():
      "at least 2 levels"),
     ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,poe-0.1,poe-0.2\n0,0,1.0,0.1\n",
      "at least 2 levels"),
-    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,depth\n0,0,0\n", "no poe-"),
+    ("#,,,,,\"investigation_time=1.0, imt='PGA'\"\nlon,lat,depth\n0,0,0\n",
+     "not a hazard file this reads"),
 ])
 def test_bad_openquake_files_are_refused_with_the_reason(tmp_path, text, match):
     path = tmp_path / "h.csv"
@@ -198,7 +199,8 @@ def test_risk_table_columns_units_and_values():
     frag = fragilities.read_fragilities(table(ROWS))
     h = HazardCurve.from_power_law(1e-4, 2.5)
     t = risk_table(frag, h)
-    assert list(t.columns) == ["fragility", "measure", "component", "mode", "tan_alpha [-]",
+    assert list(t.columns) == ["fragility", "measure", "component", "component_source", "mode",
+                               "tan_alpha [-]",
                                "R [m]",
                                "limit_state", "median_im [g]", "median_pga_g [g]", "beta [-]",
                                "n", "maf [1/yr]", "lambda_p05 [1/yr]", "lambda_p95 [1/yr]",
@@ -372,6 +374,7 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
     # the median in g and as PGA/(g tan α)
     assert "0.3123" in out and f"{0.31234567891234 / 0.2:.4g}" in out
     assert main(["risk", "--fragility", str(path), "--hazard", str(OQ_TEST), "--site", "0",
+                 "--component", "vector_peak",
                  "-o", str(tmp_path / "r.csv"), "--nrml", str(tmp_path / "f.xml"),
                  "--pelicun", str(tmp_path / "f.p.csv")]) == 0
     written = pd.read_csv(tmp_path / "r.csv")
@@ -601,7 +604,7 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
         assert r["maf [1/yr]"] == pytest.approx(rocking.mean_annual_frequency(
             r["median_pga_g [g]"], r["beta [-]"], h), rel=1e-5)
     with pytest.raises(ValueError, match="one table per kind"):
-        from rocking.risk.table import risk_tables
+        from rocking.risk.risk_table import risk_tables
 
         risk_tables([stripe_csv, stripe_csv], h)
 
@@ -654,7 +657,7 @@ def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path)
 def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
     from rocking.plot import risk as fig
     from rocking.report.risk import WHICH_TO_USE, comparison_table, risk_section_html
-    from rocking.risk.table import risk_tables
+    from rocking.risk.risk_table import risk_tables
 
     h = HazardCurve.from_openquake_csv(EXAMPLE, site=0)
     risk = risk_tables([table(ROWS), stripe_csv], h)
@@ -669,7 +672,7 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
         assert r["stripes / first [-]"] == pytest.approx(lam[("stripes", *key)]
                                                          / lam[("first_exceedance", *key)])
     text = risk_section_html(risk, hazard=str(EXAMPLE))
-    assert "Which λ to use: the stripe one" in text and WHICH_TO_USE[:40] in text
+    assert "Which λ risk uses: the lognormal" in text and WHICH_TO_USE[:40] in text
     ratio = both["stripes / first [-]"]
     assert f"{ratio.min():.2g}–{ratio.max():.2g} times" in text
     # without stripe rows: no comparison, the first-exceedance table as before
@@ -689,7 +692,7 @@ def test_docs_quote_the_two_mafs_of_the_committed_gallery():
     """docs/risk.md's stripe / first-exceedance numbers are those of results/paper/elcentro
     under the example hazard (recomputed here from the two committed fragility tables)."""
     from rocking.report.risk import comparison_table
-    from rocking.risk.table import risk_tables
+    from rocking.risk.risk_table import risk_tables
 
     gallery = ROOT / "results/paper/elcentro"
     risk = risk_tables([gallery / "fragility.csv", gallery / "stripe_fragility.csv"],

@@ -22,8 +22,8 @@ from rocking.fragility.table import read_fragilities
 from rocking.report.risk import risk_section_html, small_suite_warnings
 from rocking.risk.annual_frequency import annual_frequency_interval, mean_annual_frequencies
 from rocking.risk.exports import write_risk_outputs
-from rocking.risk.hazard import HazardCurve
-from rocking.risk.table import risk_table
+from rocking.risk.hazard import HazardCurve, parse_hazard
+from rocking.risk.risk_table import risk_table
 
 SEED = 3
 
@@ -259,37 +259,28 @@ def test_sa_path_against_an_independent_quadrature(tmp_path, capsys):
     suite = tmp_path / "suite_fragility.csv"
     frame = suite_table(suite)
     hazard_file = write_sa_csv(tmp_path / "hazard_curve-mean-SA(1.0).csv")
-    h = HazardCurve.from_file(hazard_file)
-    assert h.measure == "sa:1" and h.n_dropped > 0  # its lowest levels read PoE = 1
-    t = risk_table(read_fragilities(suite, measure=h.measure), h)
+    h = parse_hazard({"file": str(hazard_file), "component": "vector_peak"})
+    assert h.measure == "sa:1.0" and h.n_dropped > 0  # its lowest levels read PoE = 1
+    t = risk_table(suite, h)
     assert set(t["measure"]) == {"sa:1.0"} and len(t) == 2
     want = frame[(frame["motions"] == "records") & (frame["measure"] == "sa:1.0")]
     for r, w in zip(t.to_dict(orient="records"), want.itertuples(), strict=True):
         assert r["median_im [g]"] == w.median and math.isnan(r["median_pga_g [g]"])
         assert r["maf [1/yr]"] == pytest.approx(quad_maf(w.median, w.beta), rel=3e-3)
-    # the workflow's writer: PGA exports from fragility.csv, risk rows in Sa from the suite
+    # a PGA fragility with no motions to refit it in Sa is refused in one line
     pga = tmp_path / "fragility.csv"
     pd.DataFrame({"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha [-]": [0.11],
                   "R [m]": [2.0], "median_pga_g [g]": [0.35], "beta [-]": [0.3],
                   "status": ["ok"]}).to_csv(pga, index=False)
-    out = {k: tmp_path / f"o.{k}" for k in ("xml", "csv", "risk")}
-    summary = write_risk_outputs(pga, h, nrml=out["xml"], pelicun=out["csv"],
-                                 table=out["risk"], study="column", suite=suite)
-    assert summary["risk_measure"] == "sa:1"
-    written = pd.read_csv(out["risk"])
-    assert list(written["median_im [g]"]) == list(want["median"])
-    with pytest.raises(ValueError, match="give the suite's fragility"):
-        write_risk_outputs(pga, h, nrml=out["xml"], pelicun=out["csv"], table=out["risk"])
-    # a PGA fragility under a Sa hazard is refused in one line
-    with pytest.raises(ValueError, match="PGA only, not sa:1"):
+    with pytest.raises(ValueError, match=r"is of SA\(1.0\), .* of pga only: add sa:1.0"):
         risk_table(pga, h)
     # the command line, with the measure named
-    assert main(["risk", "--fragility", str(suite), "--hazard", str(hazard_file),
-                 "--measure", "sa:1.0"]) == 0
+    base = ["risk", "--fragility", str(suite), "--hazard", str(hazard_file), "--component",
+            "vector_peak"]
+    assert main([*base, "--measure", "sa:1.0"]) == 0
     text = capsys.readouterr().out
     assert "SA(1.0)" in text and "dropped" in text
-    assert main(["risk", "--fragility", str(suite), "--hazard", str(hazard_file),
-                 "--measure", "pga"]) == 2
+    assert main([*base, "--measure", "pga"]) == 2
     assert "does not match" in capsys.readouterr().err
 
 
@@ -352,7 +343,7 @@ def test_a_study_without_any_fit_gets_its_statuses_not_an_error(tmp_path):
 
 
 def test_fast_preset_warns_and_small_suites_are_flagged(fragility_csv):
-    from rocking.risk.table import PRESET_ERRORS
+    from rocking.risk.risk_table import PRESET_ERRORS
 
     h = HazardCurve.from_power_law(2e-4, 2.2)
     t = risk_table(read_fragilities(fragility_csv), h, preset="fast")

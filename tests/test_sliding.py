@@ -13,7 +13,6 @@ from rocking.constants import G
 from rocking.dynamics.analysis import ground_response
 from rocking.dynamics.bodies import Cylinder
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import get_accuracy
 from rocking.spectra.critical import critical_intensity, uplift_intensity
 from rocking.spectra.limit_states import (
     Sliding,
@@ -22,6 +21,7 @@ from rocking.spectra.limit_states import (
     parse_limit_states,
     severity,
 )
+from rocking.spectra.quantity import Quantity
 
 TAN_ALPHA = 0.2
 
@@ -98,38 +98,41 @@ def test_exceedance_is_contact_sliding_only():
 # --- the search against direct runs ----------------------------------------------------------
 
 
-def test_sliding_answer_is_the_first_intensity_needing_more_friction():
-    """Critical intensity of sliding:0.22 = the smallest intensity at which
-    ground_response's mu_required_max exceeds 0.22, found here by a direct scan; and below
-    uplift (μ = 0.15), the closed form of a body at rest, μ_req = I·tan α·max|a_x|/PGA."""
+def test_sliding_answer_is_I10_of_where_the_body_first_needs_more_friction():
+    """The friction a body needs grows steadily with the intensity here, so each sliding
+    goal is a clean step at the smallest intensity s* needing more than μ, and its I10 is
+    s*·exp(−w(1 − 2p)) (rocking.spectra.quantity): below uplift (μ = 0.15) s* is the
+    closed form of a body at rest, μ_req = I·tan α·max|a_x|/PGA; above it (μ = 0.22) a
+    direct scan of the engine brackets s*. Every analysis the search ran says what a direct
+    run at its intensity says."""
     motion, body = _pulse(), Cylinder(1.0, TAN_ALPHA)
     res = critical_intensity(body, motion, ["overturning", "sliding:0.22", "sliding:0.15"],
                              "2d-x", accuracy="fast")
-    tol = get_accuracy("fast").bisection_tol  # relative width of a final bracket
-    # at rest: the body needs |a_x|·s/g, linear in I: the crossing lies in the bracket
+    q, acc = res.quantity, res.accuracy
+    factor = math.exp(-q.w * (1 - 2 * q.p))
+    tol = 1.5 * acc.local_step  # the crossing is judged within a stratum and a half
+    # at rest: the body needs |a_x|·s/g, linear in I
     ax = np.max(np.abs(motion.ax))
     rest = 0.15 * motion.pga / (TAN_ALPHA * ax)
     assert rest < uplift_intensity(motion, "2d-x")
-    low = res["sliding:0.15"]
-    assert low["bracket_lo"] <= rest < low["bracket_hi"] == low["intensity"]
-    assert low["bracket_hi"] - low["bracket_lo"] <= tol * low["bracket_hi"]
+    assert res["sliding:0.15"]["intensity"] == pytest.approx(rest * factor, rel=tol)
     # rocking: a direct scan of the engine, where mu_required_max grows with I
     grid = np.arange(1.0, 2.0, 0.05)  # it grows steadily here; not above 2.3
     mu = np.array([_direct(body, motion, i).mu_required_max for i in grid])
     assert np.all(np.diff(mu) > 0)  # one crossing, between first - 0.05 and first
     first = grid[np.argmax(mu > 0.22)]
-    answer = res["sliding:0.22"]
-    assert answer["bracket_lo"] < first and answer["intensity"] > first - 0.05
-    assert answer["intensity"] - answer["bracket_lo"] <= tol * answer["intensity"]
-    assert _direct(body, motion, answer["intensity"]).mu_required_max > 0.22
-    assert _direct(body, motion, answer["bracket_lo"]).mu_required_max <= 0.22
-    assert not answer["unresolved"]  # the window warning is the tilt's, never sliding's
+    answer = res["sliding:0.22"]["intensity"]
+    assert (first - 0.05) * factor * (1 - tol) <= answer <= first * factor * (1 + tol)
+    k = res.index("sliding:0.22")
+    for x, e in zip(res.samples.intensity, res.samples.exceeded[:, k], strict=True):
+        if not math.isnan(e):
+            assert bool(e) == (_direct(body, motion, x).mu_required_max > 0.22), x
 
 
 def test_flags_are_those_of_direct_runs_at_the_search_intensities():
     """slides / lifts_off of each answer = whether a direct run at one of the search's
-    intensities up to the answer slid in contact (did not overturn, μ_req > μ) / had
-    N ≤ 0; slides is NaN without μ."""
+    intensities up to the answer's window (I_p·e^w) slid in contact (did not overturn,
+    μ_req > μ) / had N ≤ 0; slides is NaN without μ."""
     motion = _pulse()
     states = ["tilt:1/3", "overturning", "sliding:0.22"]
     with_mu = critical_intensity(Cylinder(1.0, TAN_ALPHA, mu=0.22), motion, states, "2d-x",
@@ -137,9 +140,10 @@ def test_flags_are_those_of_direct_runs_at_the_search_intensities():
     body = Cylinder(1.0, TAN_ALPHA)
     direct = {e.intensity: _direct(body, motion, e.intensity) for e in with_mu.evaluations
               if e.status != "failed"}
+    top = math.exp(with_mu.quantity.w)  # the flags see the analyses of the answer's window
     for name in states:
         row = with_mu[name]
-        upto = [r for i, r in direct.items() if i <= row["intensity"]]
+        upto = [r for i, r in direct.items() if i <= row["intensity"] * top]
         # sliding in contact: a run that did not overturn needed more than μ
         assert row["slides"] == any(not r.overturned and r.mu_required_max > 0.22
                                     for r in upto), name
@@ -209,7 +213,8 @@ def test_a_store_with_a_sliding_goal_carries_the_flags_to_its_tables(tmp_path):
     save_ensemble(ensemble, [motion])
     states = ["tilt:1/3", "overturning", "sliding:0.22"]
     layout = tasks.spectra_layout(["2d-x"], states, [motion.name], [TAN_ALPHA], [1.0], 1)
-    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0, "mu": 0.22},
+    attrs = {"tolerances": {"name": "fast"}, "quantity": Quantity().to_dict(),
+             "search_options": {"upper": 20.0, "mu": 0.22},
              "ensemble": tasks.ensemble_attrs(ensemble, "test")}
     path = tmp_path / "s.zarr"
     store.create_store(path, layout, attrs, "d1")
@@ -271,7 +276,8 @@ def test_tables_leave_lifts_off_empty_where_nothing_was_monitored():
                                    np.array([[[True], [False]], [[True], [True]]]))},
                     coords={"mode": ["3d", "2d-x"], "limit_state": ["overturning",
                                                                    "sliding:0.5"],
-                            "motion": ["a", "b"], "tan_alpha": [0.2], "R": [1.0]})
+                            "motion": ["a", "b"], "tan_alpha": [0.2], "R": [1.0]},
+                    attrs={"quantity": '{"name": "exceedance_quantile", "p": 0.1, "w": 0.02}'})
     # 3d asked overturning only (no monitors), 2d-x also the sliding goal (monitored)
     assert monitored(ds).sel(tan_alpha=0.2).values.tolist() == [False, True]
     frame = critical_frame(ds)
@@ -359,17 +365,20 @@ def test_the_fall_of_an_overturning_body_is_not_sliding():
     falls = [r for r in direct.values() if r.overturned]
     assert falls and all(r.mu_required_max > 0.3 and r.slides is None for r in falls)
     for name, mu in (("sliding:0.3", 0.3), ("sliding:0.25", 0.25)):
-        sliding = sorted(i for i, r in direct.items()
-                         if not r.overturned and r.mu_required_max > mu)
-        answer = res[name]
-        assert answer["intensity"] == sliding[0], name
-        lo = direct[answer["bracket_lo"]]
-        assert not lo.overturned and lo.mu_required_max <= mu, name
+        # the search's sample says of each analysis what the direct run says: exceeded
+        # where it did not overturn and needed more than μ, nothing where it overturned
+        k = res.index(name)
+        for x, e in zip(res.samples.intensity, res.samples.exceeded[:, k], strict=True):
+            r = direct[x]
+            if r.overturned:
+                assert math.isnan(e), (name, x)
+            elif not math.isnan(e):
+                assert bool(e) == (r.mu_required_max > mu), (name, x)
     over = res["overturning"]["intensity"]
     assert res["sliding:0.3"]["intensity"] > over > res["sliding:0.25"]["intensity"]
     # the flags: the overturning answer slides only by a run below it that slid in contact
     assert res["overturning"]["slides"] == any(
-        r.slides for i, r in direct.items() if i <= over)
+        r.slides for i, r in direct.items() if i <= over * math.exp(res.quantity.w))
     assert res["overturning"]["lifts_off"]  # its fall left the support (N <= 0)
 
 

@@ -17,6 +17,7 @@ from rocking.config.ensemble import EnsembleSpec
 from rocking.config.fields import DEFAULTS, expand_grid
 from rocking.config.products import SpectraSpec, StripesSpec, TiltMapSpec
 from rocking.config.study import StudySpec
+from rocking.spectra.quantity import Quantity
 from rocking.store.attrs import config_hash, decode_attrs
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -75,7 +76,10 @@ def _legacy_spectra_spec(config: dict, study: str) -> dict:
             "chunk_R": s["chunk_R"],
             "min_task_seconds": config["dask"]["min_task_seconds"] if s["chunk_R"] == "auto"
             else None,
-            "accuracy": config["accuracy"], "search_options": options}
+            "accuracy": config["accuracy"],
+            # the quantity, whole (name, p, w), since the search that estimates I10
+            "quantity": Quantity.from_value(config["quantity"]).to_dict(),
+            "search_options": options}
 
 
 def _small() -> dict:
@@ -172,6 +176,11 @@ def _changed(path: str, value) -> dict:
 
 @pytest.mark.parametrize("path, value, changes", [
     ("accuracy", "fast", (True, True, True)),
+    # the quantity decides the spectra store only (tilt maps and stripes analyse given
+    # intensities): another quantity, p or w is another store, its name another digest
+    ("quantity", "first_exceedance", (True, False, False)),
+    ("quantity", {"p": 0.2}, (True, False, False)),
+    ("quantity", {"name": "exceedance_quantile", "w": 0.025}, (True, False, False)),
     ("damped.omega_n", 200.0, (True, True, True)),
     ("motions.max_duration", 10.0, (True, True, True)),
     ("ensembles.e.seed", 1, (True, True, True)),
@@ -248,3 +257,14 @@ def test_bad_settings_name_the_key_and_value(path, value, message):
 def test_unknown_study_is_named():
     with pytest.raises(ValueError, match="study 'x' is not a key of studies"):
         StudySpec.from_config(_small(), "x")
+
+
+@pytest.mark.parametrize("value", [None, "exceedance_quantile",
+                                   {"name": "exceedance_quantile", "p": 0.1, "w": 0.02},
+                                   {"p": 0.1}])
+def test_the_default_quantity_however_written_is_one_store(value):
+    """A name, a mapping with some or all of name, p and w, or nothing: the same choice
+    hashes alike (the spec holds Quantity.to_dict(), all three)."""
+    config = _small() if value is None else _changed("quantity", value)
+    assert _digests(config) == _digests(_small())
+    assert StudySpec.from_config(config, "s").spectra.quantity == Quantity().to_dict()

@@ -16,9 +16,9 @@ from rocking.motions.intensity import husid, times_from_husid
 from rocking.motions.response_spectrum import pseudo_acceleration
 from rocking.motions.stochastic import RDKParams, fit_component
 from rocking.motions.stochastic import spectrum_fit as sf
+from rocking.motions.stochastic.discretize import noise_rows, time_domain
 from rocking.motions.stochastic.fit import highpass_post
 from rocking.motions.stochastic.quality import BANDS, PERIODS, band_key, spectrum_match
-from rocking.motions.stochastic.simulate import noise_rows, time_domain
 
 DT = 0.01
 # El Centro-like major component: a broad upper process, a lower one, long-period roll-off.

@@ -19,6 +19,7 @@ from rocking import store
 from rocking.execution import tasks
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.spectra.limit_states import parse_limit_states
+from rocking.spectra.quantity import Quantity
 from rocking.store import integrity
 from rocking.store.attrs import config_hash
 from rocking.store.layout import region_coords
@@ -39,7 +40,8 @@ def ensemble(tmp_path):
 def make_spectra_store(path, ensemble, chunk_R=2, digest="h0"):
     names = [m.name for m in standin.motions()]
     layout = tasks.spectra_layout(MODES, LIMIT_STATES, names, TAN_ALPHA, R_VALUES, chunk_R)
-    attrs = {"tolerances": {"name": "fast"}, "search_options": {"upper": 20.0},
+    attrs = {"tolerances": {"name": "fast"}, "quantity": Quantity().to_dict(),
+             "search_options": {"upper": 20.0},
              "ensemble": tasks.ensemble_attrs(ensemble, "test"), "config": {"x": 1}}
     store.create_store(path, layout, attrs, digest)
     return layout
@@ -94,6 +96,13 @@ def test_filled_store_matches_direct_evaluation(tmp_path, ensemble):
                         else:
                             assert got == want
                             assert not bool(ds["not_reached"].sel(point))
+                        # I50, the first exceedance and the plateau flag of each answer
+                        np.testing.assert_equal(float(ds["i50"].sel(point)),
+                                                standin.I50_FACTOR * want)
+                        np.testing.assert_equal(float(ds["first_exceedance"].sel(point)),
+                                                standin.FIRST_FACTOR * want)
+                        assert bool(ds["plateau"].sel(point)) == (
+                            R == 4.0 and not math.isnan(want))
                         assert bool(ds["non_monotonic"].sel(point)) == (
                             R == 2.0 and s.severity[1] < 1)
                         assert int(ds["n_analyses"].sel(point)) == int(3 + 2 * R)
@@ -161,9 +170,9 @@ def test_unexplained_nan_and_bad_shapes_are_refused(tmp_path, ensemble):
     good = {"pga_crit": np.ones(shape), "pga_crit_g": np.full(shape, 0.2),
             "not_reached": np.zeros(shape, bool),
             "non_monotonic": np.zeros(shape, bool), "failed": np.zeros(shape, bool),
-            "unresolved": np.zeros(shape, bool), "budget_spent": np.zeros(shape, bool),
-            "n_analyses": np.ones(shape, np.int32), "slides": np.zeros(shape),
-            "lifts_off": np.zeros(shape, bool)}
+            "i50": np.full(shape, 1.2), "first_exceedance": np.full(shape, 0.98),
+            "plateau": np.zeros(shape, bool), "n_analyses": np.ones(shape, np.int32),
+            "slides": np.zeros(shape), "lifts_off": np.zeros(shape, bool)}
     with pytest.raises(ValueError, match="unexplained NaN"):
         store.write_region(path, layout, 0, {**good, "pga_crit": np.full(shape, np.nan)})
     # slides may say nothing (NaN) only where the writer says why (no mu)

@@ -170,7 +170,7 @@ def test_one_analysis_per_stripe_and_motion_matches_the_engine(elcentro):
     cyl = rocking.Cylinder(2.0, 0.2)
     x = np.array([0.8, 1.0, 1.5, 2.5, 4.0])
     states = ["overturning", "tilt:1/3", "tilt:0.1"]
-    r = stripe_fragility(cyl, elcentro, states, intensities=x)
+    r = stripe_fragility(cyl, elcentro, states, intensities=x, jitter=0.0)  # the stripes exactly
     assert r.n_analyses == 3  # 0.8 and 1.0 are at or below uplift (3D: 1)
     assert r.limit_states == ("overturning", "tilt:1/3", "tilt:0.1")
     scale = rocking.G * cyl.tan_alpha / elcentro.pga
@@ -274,7 +274,7 @@ def test_cli_stripes_in_sa_refined_and_bootstrapped(tmp_path, capsys):
             "--intensities", "2,4,8", "--limit-states", "overturning", "--measure", "sa:1.0",
             "--refine", "2", "--bootstrap", "20", "-q", "-o", str(tmp_path / "s.json")]
     assert main(args) == 0
-    assert "median sa:1.0 [g]" in capsys.readouterr().out
+    assert "median Sa(1 s) [g]" in capsys.readouterr().out
     doc = json.loads((tmp_path / "s.json").read_text())
     assert doc["measure"] == "sa:1.0" and doc["units"]["median_im"] == "g"
     motion = rocking.load_motion("el-centro-1940")
@@ -287,3 +287,59 @@ def test_cli_stripes_in_sa_refined_and_bootstrapped(tmp_path, capsys):
     assert [s["intensity"] for s in doc["stripes"]] == want.intensities.tolist()
     if fit["status"] == "separated":
         assert 0 < fit["bracket_lo"] < fit["bracket_hi"]
+
+
+# ------------------------------------------------------------------ jitter: the mean of P(s)
+def test_the_jittered_share_estimates_the_mean_local_exceedance_probability():
+    """A motion that exceeds above c: averaged over the jitter its exceedance at s is
+    P(s) = clip((ln(s/c) + w) / 2w, 0, 1), the share of intensities within ±w of s (in ln s)
+    that exceed; the share over many motions (their own draws) converges to it."""
+    from rocking.fragility.stripes import jittered
+
+    w, c, n = 0.02, 2.0, 4000
+    s = c * np.exp([-0.03, -0.01, 0.0, 0.015, 0.03])
+    want = np.clip((np.log(s / c) + w) / (2 * w), 0.0, 1.0)
+    assert want.tolist() == pytest.approx([0.0, 0.25, 0.5, 0.875, 1.0])
+    draws = np.array([jittered(s, w, motion=f"m{k}", mode="3d", R=2.0, tan_alpha=0.2)
+                      for k in range(n)])
+    assert np.all(np.abs(np.log(draws / s)) <= w)
+    share = (draws > c).mean(axis=0)
+    sigma = np.sqrt(want * (1 - want) / n)
+    assert np.all(np.abs(share - want) <= 4 * sigma + 1e-12), (share, want)
+
+
+def test_the_jitter_is_drawn_from_the_analysis_identity():
+    from rocking.fragility.stripes import jittered
+
+    s = np.array([1.5, 2.0, 3.0])
+    one = dict(motion="el-centro-1940", mode="3d", R=2.0, tan_alpha=0.2)
+    a, b = jittered(s, 0.02, **one), jittered(s, 0.02, **one)
+    assert a.tobytes() == b.tobytes()  # the same analysis, the same bits
+    # a stripe's draw does not depend on the other stripes (a refined stripe is analysed at
+    # the same intensity whatever was added around it)
+    assert jittered(s[1:2], 0.02, **one)[0] == a[1]
+    for key, value in (("motion", "other"), ("mode", "2d-x"), ("R", 2.5), ("tan_alpha", 0.3)):
+        assert jittered(s, 0.02, **{**one, key: value}).tobytes() != a.tobytes(), key
+    assert jittered(s, 0.0, **one).tobytes() == s.tobytes()
+    with pytest.raises(ValueError, match=r"jitter must be in \[0, 0.5\)"):
+        jittered(s, 0.5, **one)
+
+
+def test_the_exceedance_table_is_the_share_with_its_bootstrap_interval():
+    from rocking.fragility.stripes import exceedance_table
+
+    x = np.array([1.0, 2.0, 4.0])
+    exceeded = np.zeros((3, 5, 1), bool)
+    exceeded[1, :2, 0] = True
+    exceeded[2, :4, 0] = True
+    failed = np.zeros((3, 5), bool)
+    failed[2, 4] = True  # left out of the count at that stripe
+    r = from_outcomes(x, ["overturning"], [f"m{k}" for k in range(5)], exceeded, failed,
+                      R=2.0, tan_alpha=0.2, jitter=0.02)
+    t = exceedance_table(r, resamples=400)
+    assert t["share"].tolist() == [0.0, 0.4, 1.0]
+    assert t["n_motions"].tolist() == [5, 5, 4] and set(t["jitter"]) == {0.02}
+    assert t["im"].tolist() == pytest.approx((x * 0.2).tolist())
+    assert (t["share_p05"] <= t["share"]).all() and (t["share"] <= t["share_p95"]).all()
+    assert t.loc[1, "share_p05"] < 0.4 < t.loc[1, "share_p95"]  # two of five: uncertain
+

@@ -14,6 +14,7 @@ from rocking.config.study import StudySpec
 from rocking.dynamics.bodies import Cylinder
 from rocking.execution import products
 from rocking.execution import stripes as st
+from rocking.fragility import stripe_table as table_of
 from rocking.fragility.stripes import stripe_fragility
 from rocking.motions.ensemble_io import save_ensemble
 from rocking.store.layout import region_coords
@@ -47,9 +48,9 @@ def filled(tmp_path):
 def test_store_holds_the_library_answers(filled):
     path, ens = filled
     ds = xr.open_zarr(path, consolidated=True)
-    assert ds["exceeded"].dims == st.STRIPES_DIMS
+    assert ds["exceeded"].dims == table_of.STRIPES_DIMS
     motions = standin.motions(3, npts=300)
-    fits = st.stripe_fits(ds)
+    fits = table_of.stripe_fits(ds)
     assert set(fits) == {(m, R) for m in ("3d", "2d-x") for R in (0.5, 1.0, 2.0)}
     for mode, R in [("3d", 1.0), ("2d-x", 2.0)]:
         direct = stripe_fragility(Cylinder(R, 0.2), motions, list(SPEC.limit_states), mode=mode,
@@ -73,8 +74,8 @@ def test_table_sets_first_exceedance_beside(filled):
          "status": (("mode", "limit_state", "tan_alpha", "R"), np.full((1, 1, 1, 1), "ok"))},
         coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2],
                 "R": [1.0]})
-    table = st.stripe_table(ds, first)
-    assert list(table.columns) == list(st.TABLE_COLUMNS)
+    table = table_of.stripe_table(ds, first)
+    assert list(table.columns) == list(table_of.TABLE_COLUMNS)
     assert len(table) == 2 * 2 * 3
     row = table[(table["mode"] == "3d") & (table["limit_state"] == "overturning")
                 & (table["R"] == 1.0)].iloc[0]
@@ -95,7 +96,7 @@ def test_incomplete_store_refused(tmp_path):
     path = tmp_path / "stripes.zarr"
     products.prepare_store("stripes", path, SPEC, "h1", ens)
     with pytest.raises(ValueError, match="incomplete"):
-        st.stripe_fits(xr.open_zarr(path, consolidated=False))
+        table_of.stripe_fits(xr.open_zarr(path, consolidated=False))
     with pytest.raises(ValueError, match="strictly increasing"):
         st.stripes_layout(["3d"], ["overturning"], ["a"], [1.0], [2.0, 1.0], 1)
 
@@ -278,10 +279,10 @@ def test_stripes_in_sa(tmp_path):
     for R in (1.0, 2.0):
         direct = stripe_fragility(Cylinder(R, 0.2), motions, list(spec.limit_states),
                                   intensities=[1.5, 3.0, 6.0], measure="sa:1.0")
-        got = st.stripe_fits(ds)[("3d", R)]
+        got = table_of.stripe_fits(ds)[("3d", R)]
         np.testing.assert_array_equal(got.exceeded, direct.exceeded)
         assert got.measure == "sa:1.0"
-    table = st.stripe_table(ds)
+    table = table_of.stripe_table(ds)
     assert (table["measure"] == "sa:1.0").all() and table["median_pga_g"].isna().all()
     assert table["first_median"].isna().all()
     np.testing.assert_allclose(ds["im"].values, [0.3, 0.6, 1.2])

@@ -351,7 +351,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
                 assert row.pga_recorded_g == pytest.approx(load_record(name).pga_g, rel=1e-9)
                 assert row.pga_g == pytest.approx(m.pga_g, rel=1e-9)
                 assert row.not_reached == bool(want.not_reached[k])
-                assert row.unresolved == bool(want.unresolved[k])
+                assert row.plateau == bool(want.plateau[k])
                 # exceeds_as_recorded: an independent analysis at scale 1
                 r = ground_response(Cylinder(R, 0.2), m, model="3d", scale=1.0,
                                     history=False, rtol=acc.rtol_for("3d"),
@@ -420,17 +420,22 @@ def test_records_page_config_is_valid_and_its_columns_are_the_tables():
 
 
 def test_records_page_processing_numbers_hold():
-    """docs/records.md: 1.53 g as recorded, 1.44 g (Mw 6.69), 2.63 g (Mw 5.13)."""
+    """docs/records.md: 1.23 g as recorded, 1.76 g (Mw 6.69), 3.43 g (Mw 5.13, past the
+    default bound: searched to PGA/(g tan α) = 40), within the answers' stated error."""
     import rocking
+    from rocking.study.verify import answer_tolerance
 
     raw = load_record("northridge-05-sylmar-1994")
     cyl = rocking.Cylinder(R=3.0, tan_alpha=0.15)
-    for kw, want in ((dict(rotation=None, highpass="none"), 1.53),
-                     (dict(rotation="auto", highpass="oscillator", mw=6.69), 1.44),
-                     (dict(rotation="auto", highpass="oscillator", mw=5.13), 2.63)):
+    for kw, upper, want in ((dict(rotation=None, highpass="none"), 20.0, 1.23),
+                            (dict(rotation="auto", highpass="oscillator", mw=6.69), 20.0, 1.76),
+                            (dict(rotation="auto", highpass="oscillator", mw=5.13), 40.0, 3.43)):
         res = rocking.critical_intensity(cyl, rocking.process_motion(raw, **kw),
-                                         ["overturning"], mode="3d")
-        assert round(float(res.pga_g[0]), 2) == want, kw
+                                         ["overturning"], mode="3d", upper=upper)
+        assert float(res.pga_g[0]) == pytest.approx(want, rel=answer_tolerance("default")[0]), kw
+    bound = rocking.critical_intensity(cyl, rocking.process_motion(
+        raw, rotation="auto", highpass="oscillator", mw=5.13), ["overturning"], mode="3d")
+    assert bool(bound.not_reached[0])  # by 3.0 g: the table's "not reached"
 
 
 # --- the per-record table on a hand-made store --------------------------------------------
@@ -445,12 +450,14 @@ def _store_of(motions, crit_g, not_reached, requested):
     zeros = np.zeros(crit_g.shape, dtype=bool)
     return xr.Dataset(
         {"pga_crit": (dims, crit_g / 0.2), "pga_crit_g": (dims, crit_g),
-         "not_reached": (dims, nr), "unresolved": (dims, zeros),
+         "not_reached": (dims, nr), "plateau": (dims, zeros),
          "non_monotonic": (dims, zeros), "failed": (dims, zeros),
          "requested": (("mode", "limit_state", "tan_alpha"),
                        np.asarray(requested, dtype=bool).reshape(1, 2, 1))},
         coords={"mode": ["3d"], "limit_state": ["tilt:1/3", "overturning"],
-                "motion": [m.name for m in motions], "tan_alpha": [0.2], "R": [2.0]})
+                "motion": [m.name for m in motions], "tan_alpha": [0.2], "R": [2.0]},
+        attrs={"quantity": '{"name": "exceedance_quantile", "p": 0.1, "w": 0.02}',
+               "tolerances": '{"scan_step": 0.03}'})
 
 
 def _motions():
@@ -546,8 +553,10 @@ def test_suite_fragility_censors_at_the_bound_in_every_measure():
     assert pgv[1] / pgv[0] == pytest.approx(0.6 / 0.4, rel=1e-12)
     want = fit_lognormal(pgv, [False, False, True])
     got = over[over.measure == "pgv"].iloc[0]
-    assert got["median"] == pytest.approx(want.median, rel=1e-12)
-    assert got["beta"] == pytest.approx(want.beta, rel=1e-12) and got["unit"] == "m/s"
+    # the censored likelihood's optimum to the optimizer's tolerance (gtol 1e-9): the suite
+    # hands the motions in the store's order, this list another
+    assert got["median"] == pytest.approx(want.median, rel=1e-7)
+    assert got["beta"] == pytest.approx(want.beta, rel=1e-7) and got["unit"] == "m/s"
     # one synthetic motion: no fit, said so
     syn = frag[frag.motions == "synthetic"]
     assert set(syn["status"]) == {"too-few-observed"} and set(syn["n"]) == {1}

@@ -349,10 +349,10 @@ def test_risk_summary_follows_the_table():
     assert "at tan α = 0.15" in risk_section_html(frame)
 
 
-def test_figs_10_and_12_count_means_over_unresolved_answers(tmp_path):
-    """``n_unresolved`` of mean_spectra (answers narrower windows may undercut) is counted
-    per curve, exactly the sizes where it is > 0: in Fig 10's legend and Fig 12's note, not
-    ringed on every point; none without."""
+def test_figs_10_and_12_count_means_over_answers_on_a_plateau(tmp_path):
+    """``n_plateau`` of mean_spectra (answers where P rises near p without crossing it) is
+    counted per curve, exactly the sizes where it is > 0: in Fig 10's legend and Fig 12's
+    note, not ringed on every point; none without."""
     import figures_synthetic as fs
     import xarray as xr
 
@@ -363,28 +363,28 @@ def test_figs_10_and_12_count_means_over_unresolved_answers(tmp_path):
     flag = xr.zeros_like(agg["count"])
     flag.loc[{"mode": "3d", "limit_state": "overturning", "tan_alpha": 0.2}] = [2, 0, 0, 1, 0]
     flagged = tmp_path / "flagged.nc"
-    agg.assign(n_unresolved=flag).to_netcdf(flagged)
+    agg.assign(n_plateau=flag).to_netcdf(flagged)
     where = np.array([True, False, False, True, False])
 
     d10 = fig10_goals.data(flagged)
-    assert list(d10["unresolved"]) == ["overturning"]
-    np.testing.assert_array_equal(d10["unresolved"]["overturning"], where)
+    assert list(d10["plateau"]) == ["overturning"]
+    np.testing.assert_array_equal(d10["plateau"]["overturning"], where)
     fig = fig10_goals.plot(d10)
     assert not [ln for ln in fig.axes[0].get_lines() if ln.get_mfc() == "white"
                 and len(ln.get_xdata())]
     legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
-    counted = [s for s in legend if "unresolved" in s]
+    counted = [s for s in legend if "plateau" in s]
     assert len(counted) == 1 and counted[0].startswith("Overturning")
-    assert counted[0].endswith(f"; 2 of {len(fs.R)} means unresolved")
+    assert counted[0].endswith(f"; 2 of {len(fs.R)} means on a plateau")
     plain = fig10_goals.data(paths["means"])
-    assert plain["unresolved"] == {}
+    assert plain["plateau"] == {}
 
     d12 = fig12_2d_vs_3d.data([("own", flagged, paths["store"])], paper=False)
     fig = fig12_2d_vs_3d.plot(d12)
     assert not [ln for ax in fig.axes[:2] for ln in ax.get_lines()
                 if ln.get_marker() == "D" and len(ln.get_xdata())]
     note = "".join(t.get_text() for t in fig.texts)
-    assert "flagged unresolved" in note and f"overturning 2/{len(fs.R)}" in note
+    assert "on a plateau" in note and f"overturning 2/{len(fs.R)}" in note
     # a study of one's own: no paper ensembles asked for, no paper axes note, no Fig number
     assert d12["missing"] == [] and "22.33" not in note and "Fig 12" not in note
     assert "(Fig 12)" not in fig._suptitle.get_text()
@@ -457,8 +457,10 @@ def test_a_study_with_an_inventory_gets_its_portfolio_and_an_inventory_change_re
     html = (out / "report.html").read_text()
     assert "Every column of the site" in html and "<figure id='portfolio_map'>" in html
     assert (out / "exposure" / "exposure.xml").is_file()
-    # a new column: the portfolio, its export and the report again, nothing else
+    # a new column: the portfolio, its export, its two figures and the report again, nothing
+    # else
     (work / "columns.csv").write_text(SITE_INVENTORY + "extra,1.5,0.16,0.0,0.0\n")
     dry = snakemake(work, config, "results/site/report.html", "results/site/exposure", "-n")
     planned = set(re.findall(r"^(\w+)\s+\d+$", dry.stdout, re.MULTILINE)) - {"total"}
-    assert planned == {"portfolio", "exposure", "report"}, planned
+    assert planned == {"portfolio", "exposure", "portfolio_map", "portfolio_ranked",
+                       "report"}, planned

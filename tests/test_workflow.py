@@ -307,8 +307,14 @@ def test_dry_run_plans_every_rule(config, tmp_path):
         (lambda c: c["studies"][STUDY].update(Rr=[1.0]),
          "unknown config key 'Rr' in studies.tiny; allowed: R, "),
         (lambda c: c.update(studys={}), "unknown config key 'studys' at the top level"),
-        (lambda c: c.update(refinement={"k": -1}), "refinement.k"),
-        (lambda c: c.update(refinement={"max_analyses": "many"}), "refinement.max_analyses"),
+        (lambda c: c.update(quantity="median"), "quantity must be one of "
+         "['exceedance_quantile', 'first_exceedance'], got 'median'"),
+        (lambda c: c.update(quantity={"p": 1.5}), "quantity.p must be a number in (0, 1), "
+         "got 1.5"),
+        (lambda c: c.update(quantity={"name": "exceedance_quantile", "w": 0.5}),
+         "quantity.w must be a number in (0, 0.5), got 0.5"),
+        (lambda c: c.update(quantity={"w": 0}), "quantity.w must be a number in (0, 0.5), "
+         "got 0"),
         (lambda c: c["ensembles"]["tiny"].update(record="kobe-1995"),
          "ensembles.tiny.record='kobe-1995' is not a known record"),
         (lambda c: c["ensembles"]["tiny"].update(paths=["nosuch_x.AT2", "nosuch_y.AT2"]),
@@ -327,7 +333,8 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "studies.tiny.hazard: hazard must be an existing hazard-curve file"),
         (lambda c: c["studies"][STUDY].update(hazard={"k0": 1e-4, "k": 2.0,
                                                      "measure": "sa:1.0"}),
-         "which is not one of the study's intensity measures"),
+         "studies.tiny.hazard: the hazard (power law k0=0.0001/yr, k=2 (SA(1.0))) is of "
+         "SA(1.0), study tiny of pga, pgv only: add sa:1.0 to the study's intensity_measures"),
         (lambda c: c["studies"][STUDY].update(R=[float("nan")]),
          "studies.tiny.R[0]=nan: must be a finite number"),
         (lambda c: c["studies"][STUDY]["tilt_map"].update(intensity=[1.0, float("inf")]),
@@ -350,8 +357,8 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "vertical file RSN753_LOMAP_CLS-UP.AT2: dt 0.005 s differs from the horizontal "
          "pair's 0.01 s"),
     ],
-    ids=["unknown-key", "unknown-top-level-key", "refinement-k-negative",
-         "refinement-cap-not-a-number", "unknown-record", "missing-record-file",
+    ids=["unknown-key", "unknown-top-level-key", "quantity-unknown", "quantity-p-above-1",
+         "quantity-w-half", "quantity-w-zero", "unknown-record", "missing-record-file",
          "tilt-beyond-overturning", "bad-mode", "run-without-limit-states", "goal-twice",
          "missing-ensemble", "missing-hazard-file", "hazard-measure-not-fitted", "nan-grid",
          "inf-grid", "tilt-map-motion", "max-duration", "huge-grid", "user-record-without-mw",

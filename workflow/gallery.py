@@ -10,7 +10,7 @@ anything: every figure (PNG and its JSON sidecar of measured numbers), each stud
 fragility, linear fits as CSV) and the fitted ensemble parameters. Stores (zarr, NetCDF) and
 PDFs stay out. ``MANIFEST.json`` records the commit, the configuration and the run time.
 Written to the repository's ``results/paper``, it then rewrites the numbers README.md and
-docs/*.md quote from it (:mod:`rocking.plot.gallery_quotes`).
+docs/*.md quote from it (``gallery_quotes.py`` beside this script).
 """
 
 from __future__ import annotations
@@ -29,15 +29,13 @@ from rocking import __version__
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.study import StudySpec
 from rocking.execution.prepare import keyed
-from rocking.plot.gallery_quotes import marked_documents, write_documents
 from rocking.report.html import link_images, relink_docs
 from rocking.study.aggregate import write_critical_table
 
-TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv")
+TABLES = ("mean_spectra.csv", "fragility.csv", "linear_fit.csv", "verdicts.csv")
 OPTIONAL_FILES = ("records.csv", "suite_fragility.csv", "stripe_fragility.csv", "risk.csv",
                   "fragility.nrml.xml", "fragility.pelicun.csv", "stripe_fragility.nrml.xml",
-                  "stripe_fragility.pelicun.csv", "refinement_sample.csv",
-                  "refinement_risk.csv", "portfolio.csv")
+                  "stripe_fragility.pelicun.csv", "portfolio.csv", "headline.csv")
 """Outputs of the per-record table (docs/records.md), the stripes and the risk rules, copied
 where the study has them (docs/performance.md, docs/risk.md)."""
 CRITICAL = "critical.csv"
@@ -147,25 +145,38 @@ def package_versions() -> dict[str, str]:
 
 
 def figure_caption(stem: str) -> str:
-    """A gallery figure's caption: a registered figure's (its entry, as for a reproduction
-    of the paper), else the caption the report gives the stripe, the risk and the portfolio
-    figures."""
-    from rocking.plot import figure_name
-    from rocking.plot.portfolio import FIGURES as PORTFOLIO_FIGURES
-    from rocking.plot.registry import caption
-    from rocking.plot.risk import CAPTION as RISK_CAPTION
-    from rocking.plot.stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
+    """A gallery figure's caption: its entry's, as for a reproduction of the paper (a figure
+    of a report's own section: its caption alone).
 
-    try:
-        return caption(figure_name(stem))
-    except ValueError:
-        pass
-    sections = [("stripe_fragility", STRIPE_CAPTION), ("risk", RISK_CAPTION),
-                *((stem, text) for stem, (_, text) in PORTFOLIO_FIGURES.items())]
-    for start, text in sections:
-        if stem.startswith(start):
-            return text
-    raise ValueError(f"gallery figure {stem!r} has no caption (no figure entry)")
+    Raises
+    ------
+    ValueError
+        For a file of no registered figure.
+    """
+    from rocking.plot import figure_name
+    from rocking.plot.registry import caption
+
+    return caption(figure_name(stem))
+
+
+def flag_lines() -> list[str]:
+    """One line per flag column of ``critical.csv`` (the columns the code writes,
+    :data:`rocking.study.aggregate.CRITICAL_COLUMNS`), in the words the command line uses for
+    them (``rocking.cli.spectra.FLAG_NOTES``): the list cannot fall behind the table.
+
+    Raises
+    ------
+    ValueError
+        For a flag column no words describe.
+    """
+    from rocking.cli.spectra import FLAG_NOTES
+    from rocking.study.aggregate import CRITICAL_COLUMNS
+
+    flags = [c for c in CRITICAL_COLUMNS if c not in ("pga_crit", "pga_crit_g", "n_analyses")]
+    unsaid = [f for f in flags if f not in FLAG_NOTES]
+    if unsaid:
+        raise ValueError(f"critical.csv flags {unsaid} have no words in FLAG_NOTES")
+    return [f"  - `{f}`: {FLAG_NOTES[f].split(': ', 1)[1]}" for f in flags]
 
 
 def readme(manifest: dict, out: Path) -> str:
@@ -209,8 +220,12 @@ def readme(manifest: dict, out: Path) -> str:
     lines += [
         "", "## Tables (CSV, headers with units)", "",
         "- `<study>/critical.csv`: every answer of the study, one row per (mode, limit state, "
-        "motion, tan α, R): the critical PGA/(g tan α) and PGA [g], the search's flags "
-        "(not reached, non-monotonic, failed) and its analyses.",
+        "motion, tan α, R): the critical PGA/(g tan α) and PGA [g], the search's flags and "
+        "its analyses (`n_analyses`). The flags, as the table writes them:",
+        *flag_lines(),
+        "- `<study>/verdicts.csv`: the report's verdict table as data, one row per statement "
+        "of the paper (figure, statement, paper, this run, verdict, its tolerance or "
+        "reason): what README.md and docs/*.md quote.",
         "- `<study>/mean_spectra.csv`: mean, standard deviation, median and count over the "
         "motions per (mode, limit state, tan α, R).",
         "- `<study>/fragility.csv`, `<study>/linear_fit.csv`: lognormal fragility curves and "
@@ -218,13 +233,11 @@ def readme(manifest: dict, out: Path) -> str:
         "- `<study>/stripe_fragility.csv`: the multiple-stripe fragility (share of motions "
         "exceeding at fixed intensities, binomial lognormal fit) beside the first-exceedance "
         "fit, with their ratio.",
+        "- `<study>/headline.csv`: the first exceedance of the R = 10 m 3D overturning cells "
+        "on 1, 0.5, 0.2 and 0.1 % grids, beside their I10 (the report's headline).",
         "- `<study>/fragility.nrml.xml`, `<study>/fragility.pelicun.csv`, `<study>/risk.csv`: "
         "the fragilities as OpenQuake and pelicun read them, and the mean annual frequency of "
         "each limit state under the example hazard curve (docs/risk.md).",
-        "- `<study>/refinement_sample.csv`, `<study>/refinement_risk.csv`: a stated sample of "
-        "the study's cells searched again with a 0.05 % scan (k per mode and limit state, its "
-        "seed, every cell of the R = 10 m mean), and the fragility and λ of each point holding "
-        "a refined cell fitted and integrated again: how far the reports' numbers move.",
         "- `motions/*.json`: the fitted ensemble parameters and fit quality; `figures/*.json`: "
         "the numbers behind each figure.",
         "",
@@ -244,7 +257,20 @@ def requote(out: Path, root: Path = REPOSITORY) -> list[Path]:
     documents changed (none for a gallery written elsewhere)."""
     if out.resolve() != (root / "results" / "paper").resolve():
         return []
-    return write_documents(marked_documents(root), out)
+    quotes = _quotes()
+    return quotes.write_documents(quotes.marked_documents(root), out)
+
+
+def _quotes():
+    """``gallery_quotes.py`` beside this script, as a module (whether this script runs or is
+    loaded from its path)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "gallery_quotes", Path(__file__).resolve().with_name("gallery_quotes.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -4,17 +4,18 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 
 def positive_finite(name: str, value: float) -> float:
-    """Return ``float(value)`` or raise ``ValueError`` naming ``name`` and the value."""
+    """``float(value)`` when it is a finite number > 0, else ``ValueError`` in one line
+    naming ``name`` and the value: the one check of a positive number (arguments,
+    configuration keys, command-line options, fields of a file). A boolean is refused; text
+    that spells a number (a field of a file) is read as that number."""
     try:
-        v = float(value)
+        v = math.nan if isinstance(value, bool) else float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+        v = math.nan
+    if not (math.isfinite(v) and v > 0.0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
     return v
 
 
@@ -40,8 +41,10 @@ def finite(name: str, value: float) -> float:
     return v
 
 
-def finite_array(name: str, values) -> np.ndarray:
+def finite_array(name: str, values):
     """Return a 1-D float64 copy of ``values``; raise naming the first non-finite sample."""
+    import numpy as np  # here: the checks of numbers above load no numpy (the CLI's help)
+
     a = np.asarray(values, dtype=np.float64)
     if a.ndim != 1:
         raise ValueError(f"{name} must be one-dimensional, got shape {a.shape}")

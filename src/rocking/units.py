@@ -36,14 +36,22 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "pga_g": ("gravity", "g", "vector peak ground acceleration PGA"),
     # spectra store and critical-intensity tables
     "pga_crit": ("1", "g tan(alpha)",
-                 "critical intensity PGA/(g tan(alpha)): smallest exceeding the limit state"),
-    "pga_crit_g": ("gravity", "g", "critical PGA: smallest exceeding the limit state"),
+                 "critical intensity PGA/(g tan(alpha)): the quantity's answer (I_p = "
+                 "inf{s: P(s) >= p} by default, or the first exceedance on the scan grid)"),
+    "pga_crit_g": ("gravity", "g", "critical PGA: the quantity's answer in g"),
+    "quantity": ("1", "", "what the critical intensity is: exceedance_quantile (I_p) or "
+                 "first_exceedance (on the scan grid)"),
+    "quantity_p": ("1", "-", "exceedance share p of I_p = inf{s: P(s) >= p}"),
+    "quantity_w": ("1", "-", "half-width w of the window of P(s) in ln s"),
+    "i50": ("1", "g tan(alpha)", "I_0.5 = inf{s: P(s) >= 0.5} from the same local samples"),
+    "first_exceedance": ("1", "g tan(alpha)", "smallest exceeding intensity on the scan "
+                         "grid (step scan_step)"),
+    "scan_step": ("1", "-", "relative step of the search's scan grid"),
+    "plateau": ("1", "", "P(s) rises near p without crossing it more than a window below "
+                "the answer: I_p is ill-conditioned there"),
     "not_reached": ("1", "", "limit state not exceeded up to the search bound"),
     "non_monotonic": ("1", "", "exceeded at some intensity, not at a higher one"),
     "failed": ("1", "", "an analysis failed even after a retry"),
-    "unresolved": ("1", "", "windows narrower than the scan step may lie below the answer "
-                   "(near misses left unexamined)"),
-    "budget_spent": ("1", "", "unresolved because the refinement budget ran out"),
     "slides": ("1", "", "an analysis up to the answer that did not overturn needed more "
                "friction than mu while in contact (empty: no mu given)"),
     "lifts_off": ("1", "", "an analysis up to the answer had a normal force N <= 0 (empty: "
@@ -56,18 +64,21 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "bracket_hi": ("1", "g tan(alpha)", "smallest exceeding intensity found (the answer)"),
     "lower": ("1", "g tan(alpha)", "uplift intensity (start of the search)"),
     "upper": ("1", "g tan(alpha)", "highest intensity searched"),
+    "censoring_bound": ("1", "g tan(alpha)", "search bound the motions not reached are "
+                        "censored at in the fragility's fit"),
     "accuracy": ("1", "", "accuracy preset of the search"),
     # tilt map
     "theta_max_over_alpha": ("1", "-", "peak tilt theta_max/alpha (pi/(2 alpha) if overturned)"),
     "overturned": ("1", "", "the body overturned"),
     # ensemble statistics
-    "mean": ("1", "g tan(alpha)", "mean over motions of the critical PGA/(g tan(alpha))"),
+    "mean": ("1", "g tan(alpha)", "mean over motions of the critical PGA/(g tan(alpha)) "
+             "(of the per-motion I_p under the default quantity)"),
     "std": ("1", "g tan(alpha)", "sample std (ddof 1) over motions of PGA/(g tan(alpha))"),
     "median": ("1", "g tan(alpha)", "median of PGA/(g tan(alpha))"),
     "mean_pga_g": ("gravity", "g", "mean over motions of the critical PGA"),
     "count": ("1", "", "motions whose limit state was reached"),
     "n_not_reached": ("1", "", "motions left out: limit state not reached"),
-    "n_unresolved": ("1", "", "motions whose answer a finer scan may move lower (unresolved)"),
+    "n_plateau": ("1", "", "motions whose answer is flagged plateau (I_p ill-conditioned)"),
     "n_slides": ("1", "", "motions whose analyses up to the answer needed more friction "
                  "than mu"),
     "n_lifts_off": ("1", "", "motions whose analyses up to the answer had N < 0"),

@@ -4,9 +4,11 @@
 # its scope, and so its file: <root>/figures/<name> (global), <root>/figures/<name>_<ensemble>
 # (ensemble), <root>/figures/<name>_<study>+<study>... (studies: named after what it is
 # drawn from, so that configurations sharing an output root but not their study names never
-# write the same file), <root>/<study>/figures/<name> (study); its logical inputs and
-# parameters are resolved here (FIGURE_INPUTS, FIGURE_PARAMS) for the one rule loop of
-# figures.smk.
+# write the same file), <root>/<study>/figures/<name> (study), with _<value> appended for a
+# figure drawn once per value of a data() keyword (its entry's `per`: the stripe figure per
+# mode); its logical inputs and parameters are resolved here (FIGURE_INPUTS, FIGURE_PARAMS)
+# for the one rule loop of figures.smk, which draws every figure, the stripe, risk and
+# portfolio figures included.
 
 from rocking.plot.registry import Subject, figures, paper_record_ensemble
 
@@ -59,31 +61,49 @@ def figure_ensembles(fig):
 
 
 def figure_pattern(fig):
-    """The stem of figure ``fig``'s files, with the wildcard of its scope."""
+    """The stem of figure ``fig``'s files, with the wildcards of its scope (and of its
+    ``per`` keyword)."""
+    per = f"_{{{fig.per}}}" if fig.per else ""
     if fig.scope == "study":
-        return out_path(f"{{study}}/figures/{fig.name}")
+        return out_path(f"{{study}}/figures/{fig.name}{per}")
     if fig.scope == "ensemble":
-        return f"{FIGURES_DIR}/{fig.name}_{{ensemble}}"
+        return f"{FIGURES_DIR}/{fig.name}_{{ensemble}}{per}"
     if fig.scope == "studies":
-        return f"{FIGURES_DIR}/{fig.name}_{'+'.join(config['studies'])}"
-    return f"{FIGURES_DIR}/{fig.name}"
+        return f"{FIGURES_DIR}/{fig.name}_{'+'.join(config['studies'])}{per}"
+    return f"{FIGURES_DIR}/{fig.name}{per}"
 
 
 def figure_log(fig):
     """The log of figure ``fig``: beside its study's logs, else under logs/figures/."""
     if fig.scope == "study":
-        return out_path(f"logs/{{study}}/{fig.name}.log")
+        per = f"_{{{fig.per}}}" if fig.per else ""
+        return out_path(f"logs/{{study}}/{fig.name}{per}.log")
     return out_path(f"logs/figures/{posixpath.basename(figure_pattern(fig))}.log")
+
+
+def figure_wildcards(fig, study=None, ensemble=None):
+    """The wildcards of each drawing of figure ``fig`` for ``study`` (or ``ensemble``):
+    one, or one per value of its ``per`` keyword."""
+    one = {"study": study} if fig.scope == "study" else \
+        {"ensemble": ensemble} if fig.scope == "ensemble" else {}
+    if not fig.per:
+        return [one]
+    study = study or next(s for s in figure_studies(fig) if ensemble_of(s) == ensemble)
+    return [{**one, fig.per: v} for v in fig.per_values(subject(study, ensemble_of(study)))]
 
 
 def figure_stems(fig):
     """Every stem figure ``fig`` is drawn to in this configuration."""
     pattern = figure_pattern(fig)
     if fig.scope == "study":
-        return [pattern.format(study=s) for s in figure_studies(fig)]
+        return [pattern.format(**w) for s in figure_studies(fig)
+                for w in figure_wildcards(fig, study=s)]
     if fig.scope == "ensemble":
-        return [pattern.format(ensemble=e) for e in figure_ensembles(fig)]
-    return [pattern] if figure_studies(fig) else []
+        return [pattern.format(**w) for e in figure_ensembles(fig)
+                for w in figure_wildcards(fig, ensemble=e)]
+    if not figure_studies(fig):
+        return []
+    return [pattern.format(**w) for w in figure_wildcards(fig, figure_studies(fig)[0])]
 
 
 def figure_output(fig):
@@ -91,6 +111,8 @@ def figure_output(fig):
     labels = {"figure": fig.label}
     labels.update({"study": "{study}"} if fig.scope == "study" else
                   {"ensemble": "{ensemble}"} if fig.scope == "ensemble" else {})
+    if fig.per:
+        labels[fig.per] = f"{{{fig.per}}}"
     return _figure_output(figure_pattern(fig), fig.category, **labels)
 
 
@@ -127,11 +149,20 @@ FIGURE_INPUTS = {
     "spectra": lambda fig, w: _per_study(fig, w, lambda s: product_complete("spectra", s)),
     "tilt_map": lambda fig, w: _per_study(fig, w, lambda s: product_complete("tilt_map", s)),
     "means": lambda fig, w: _per_study(fig, w, mean_spectra),
-    "refinement": lambda fig, w: _per_study(
-        fig, w, lambda s: out_path(f"{s}/refinement_sample.csv")),
     "fragility_nc": lambda fig, w: _per_study(fig, w, lambda s: out_path(f"{s}/fragility.nc")),
     "fragility_csv": lambda fig, w: _per_study(
         fig, w, lambda s: out_path(f"{s}/fragility.csv")),
+    "stripe_table": lambda fig, w: _per_study(
+        fig, w, lambda s: rules.stripe_fragility.output.csv.format(study=s)),
+    "stripe_refined": lambda fig, w: _per_study(
+        fig, w, lambda s: rules.stripe_fragility.output.refined.format(study=s)),
+    "risk": lambda fig, w: _per_study(fig, w, lambda s: rules.risk.output.table.format(study=s)),
+    "portfolio": lambda fig, w: _per_study(
+        fig, w, lambda s: rules.portfolio.output.table.format(study=s)),
+    # headline.csv exists for the paper's El Centro study only (none elsewhere)
+    "headline": lambda fig, w: [f for s in _subject_studies(fig, w)
+                                if is_paper_record_study(s)
+                                for f in [out_path(f"{s}/headline.csv")]],
 }
 """How each logical input of a figure (rocking.plot.registry.INPUTS) is found for one job."""
 
@@ -142,7 +173,13 @@ FIGURE_PARAMS = {
     "spectra_store": lambda fig, w: _per_study(fig, w, lambda s: product_store("spectra", s)),
     "tilt_map_store": lambda fig, w: _per_study(fig, w,
                                                 lambda s: product_store("tilt_map", s)),
+    "stripes_store": lambda fig, w: _per_study(fig, w,
+                                               lambda s: product_store("stripes", s)),
     "studies": lambda fig, w: _subject_studies(fig, w),
+    "study": lambda fig, w: _per_study(fig, w, lambda s: s),
+    "ensemble": lambda fig, w: _per_study(fig, w, ensemble_of),
+    "hazard": lambda fig, w: _per_study(fig, w, hazard_param),
+    "hazard_file": lambda fig, w: _per_study(fig, w, lambda s: hazard_file(s) or ""),
 }
 """How each logical parameter of a figure (rocking.plot.registry.PARAMS) is found."""
 
@@ -176,7 +213,9 @@ def figure_params(fig):
     are not wildcards; the paper's statements in a reproduction) and its logical params."""
     return {"figure": fig.name,
             "caption": _bound(lambda f, w: f.text(FIGURE_PARAMS["paper"](f, w)), fig),
-            **{name: _bound(FIGURE_PARAMS[kind], fig) for name, kind in fig.params.items()}}
+            **{name: _bound(FIGURE_PARAMS[kind], fig) for name, kind in fig.params.items()},
+            # a figure drawn per value of a data() keyword gets the value of its file
+            **({fig.per: _bound(lambda f, w: getattr(w, f.per), fig)} if fig.per else {})}
 
 
 def figure_stems_of(study):
@@ -186,10 +225,8 @@ def figure_stems_of(study):
     for fig in figures().values():
         if not fig.shown(subject(study, ensemble_of(study))):
             continue
-        pattern = figure_pattern(fig)
-        stems.append(pattern.format(study=study) if fig.scope == "study" else
-                     pattern.format(ensemble=ensemble_of(study)) if fig.scope == "ensemble"
-                     else pattern)
+        stems += [figure_pattern(fig).format(**w)
+                  for w in figure_wildcards(fig, study, ensemble_of(study))]
     return stems
 
 
@@ -224,21 +261,18 @@ def report_inputs(study):
             "linear_fit": rules.fragility.output.linear_csv.format(study=study),
             "fragility": rules.fragility.output.fragility_csv.format(study=study),
             **({"risk": rules.risk.output.table.format(study=study),
-                "risk_png": rules.risk.output.png.format(study=study),
-                "refinement_risk": rules.refinement_risk.output.csv.format(study=study)}
+            **({"risk": rules.risk.output.table.format(study=study)}
                if hazard_spec(study) is not None else {}),
-            **({"stripes": out_path(f"{study}/stripe_fragility.csv"),
-                "stripe_figures": [out_path(f"{study}/figures/stripe_fragility_{mode}.png")
-                                   for mode in study_spec(study).stripes.modes]}
+            **({"stripes": out_path(f"{study}/stripe_fragility.csv")}
                if has_product("stripes", study) else {}),
-            **({"portfolio": rules.portfolio.output.table.format(study=study),
-                "portfolio_figures": [rules.portfolio.output.map.format(study=study),
-                                      rules.portfolio.output.ranked.format(study=study)]}
+            **({"portfolio": rules.portfolio.output.table.format(study=study)}
                if study_spec(study).inventory is not None else {}),
             "records": out_path(f"{study}/records.csv"),
-            # the samples of every study the report quotes (Fig 12's finding), its own first
-            "refinement": [out_path(f"{s}/refinement_sample.csv") for s in
-                           dict.fromkeys([study, *report_studies(config, study)])],
+            # the headline's first exceedances on four grids, of every study the findings
+            # quote that has them (its own first)
+            "headline": [out_path(f"{s}/headline.csv") for s in
+                         dict.fromkeys([study, *report_studies(config, study)])
+                         if is_paper_record_study(s)],
             "suite_fragility": out_path(f"{study}/suite_fragility.csv"),
             **report_run_files(study)}
 

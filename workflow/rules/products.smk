@@ -8,6 +8,14 @@
 # rules take as input.
 
 
+# The order of the jobs when several are ready (Snakemake runs the highest priority first):
+# the searches of the spectra are the run's longest chain, and a rule that takes every core
+# waits until all are free, so the compute rules go before the figures and tables that can
+# fill the gaps beside them. Scheduling only: no number depends on it.
+COMPUTE_PRIORITY = {"numba_cache": 60, "spectra": 50, "stripes": 40, "tilt_map": 40,
+                    "headline": 30}
+
+
 # Compilation once per machine: the kernels are compiled (or loaded from numba's cache) here,
 # before any rule that runs analyses starts worker processes, so they all load them from the
 # cache instead of each compiling its own copy. Its output is an ancient() input of those
@@ -16,6 +24,7 @@ rule numba_cache:
     output:
         NUMBA_CACHE,
     threads: compute_threads()
+    priority: COMPUTE_PRIORITY["numba_cache"]
     conda:
         "../envs/rocking.yaml"
     log:
@@ -44,6 +53,7 @@ for kind in PRODUCTS:
             # param reruns
             config_hash=product_param(product_hash, kind),
         threads: compute_threads()
+        priority: COMPUTE_PRIORITY.get(kind, 0)
         conda:
             "../envs/rocking.yaml"
         log:

@@ -28,8 +28,6 @@ rule records_table:
         store=lambda wildcards: product_store("spectra", wildcards.study),
         measures=lambda wildcards: list(study_spec(wildcards.study).intensity_measures),
         component=lambda wildcards: study_spec(wildcards.study).component,
-        # the hazard's component too, when it differs: risk takes its fits from here
-        also=lambda wildcards: extra_components(wildcards.study),
     conda:
         "../envs/rocking.yaml"
     log:

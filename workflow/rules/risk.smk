@@ -1,14 +1,32 @@
 # From fragility to risk (rocking.risk): for each study with a `hazard:` in its
 # configuration, the OpenQuake NRML 0.5 and pelicun exports of its fragility table, the risk
 # table (mean annual frequency, return period, probability in 50 years per mode, tan α, R and
-# limit state) and the risk figure. A study that also declares `stripes:` gets the same
+# limit state); the risk figure is drawn from it by the figure loop (figures.smk). A study that also declares `stripes:` gets the same
 # exports of its stripe fragility (stripe_fragility.nrml.xml / .pelicun.csv), and its stripe
 # rows in risk.csv (column `fragility`), set beside the first-exceedance ones in the figure
-# and the report. Studies without `hazard:` get none of these. A hazard of SA(T) takes the
-# first-exceedance rows from suite_fragility.csv (the suite's fits in Sa(T)). Every requested
-# row is written, with its status where there is no fit. Helpers in risk_common.smk.
+# and the report. Studies without `hazard:` get none of these. The fragility is taken in the
+# hazard's measure and component (rocking.risk.reconcile): where they are not the vector-peak
+# PGA it is refitted from each motion's critical PGA (critical.csv) and its measures
+# (motion_measures.csv). Every requested row is written, with its status where there is no
+# fit. Helpers in risk_common.smk.
 
-from rocking.plot.risk import CAPTION as RISK_CAPTION
+
+# Every motion of a study in every intensity measure it needs, in every horizontal
+# component: the ratios that refit its fragility in a hazard's terms.
+rule motion_measures:
+    conda:
+        "../envs/rocking.yaml"
+    input:
+        motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
+    output:
+        out_path("{study}/motion_measures.csv"),
+    params:
+        measures=lambda wildcards: motion_measure_names(wildcards.study),
+    log:
+        out_path("logs/{study}/motion_measures.log"),
+    script:
+        "../scripts/motion_measures.py"
+
 from rocking.fragility.bootstrap import bootstrap_path
 
 
@@ -20,28 +38,23 @@ rule risk:
         bootstrap=rules.fragility.output.bootstrap,  # read beside fragility.csv
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
         stripes=lambda wildcards: stripe_fragility_csv(wildcards.study),
-        suite=lambda wildcards: suite_fragility_csv(wildcards.study),
         # the bootstrap samples read beside those tables: declared, so a deleted one is
         # remade (never a silent blank interval)
         stripes_bootstrap=lambda wildcards: [str(bootstrap_path(f)) for f in
                                              stripe_fragility_csv(wildcards.study)],
-        suite_bootstrap=lambda wildcards: [str(bootstrap_path(f)) for f in
-                                           suite_fragility_csv(wildcards.study)],
+        # read beside fragility.csv to refit it in the hazard's measure and component
+        critical=out_path("{study}/critical.csv"),
+        motion_measures=out_path("{study}/motion_measures.csv"),
     output:
         nrml=out_path("{study}/fragility.nrml.xml"),
         pelicun=out_path("{study}/fragility.pelicun.csv"),
         table=out_path("{study}/risk.csv"),
-        **_figure_output(out_path("{study}/figures/risk"), "Beyond the paper", figure="risk",
-                         study="{study}"),
     params:
-        caption=RISK_CAPTION,
         hazard=lambda wildcards: hazard_param(wildcards.study),
-        component=lambda wildcards: hazard_component_of(wildcards.study),
         study_component=lambda wildcards: study_spec(wildcards.study).component,
         upper=lambda wildcards: search_upper(wildcards.study),
         study=lambda wildcards: wildcards.study,
         preset=lambda wildcards: study_preset(wildcards.study),
-        ensemble=lambda wildcards: ensemble_of(wildcards.study),
     log:
         out_path("logs/{study}/risk.log"),
     script:
@@ -90,20 +103,20 @@ rule portfolio:
     conda:
         "../envs/rocking.yaml"
     input:
+        # the surface's nodes refitted from critical.csv in the hazard's measure and
+        # component (motion_measures.csv), censored at fragility.csv's bound
         fragility=rules.fragility.output.fragility_csv,
-        critical=rules.critical_table.output[0],  # the bootstrap refits, read beside it
-        records=rules.records_table.output[0],  # the study's component, read beside it
+        critical=rules.critical_table.output[0],
+        motion_measures=rules.motion_measures.output[0],
         inventory=lambda wildcards: inventory_file(wildcards.study),
         hazard=lambda wildcards: [f] if (f := hazard_file(wildcards.study)) else [],
     output:
         table=out_path("{study}/portfolio.csv"),
-        map=out_path("{study}/figures/portfolio_map.png"),
-        ranked=out_path("{study}/figures/portfolio_ranked.png"),
+        site=out_path("{study}/portfolio_site.csv"),
     params:
         hazard=lambda wildcards: hazard_param(wildcards.study),
-        hazard_file=lambda wildcards: hazard_file(wildcards.study) or "",
         inventory=lambda wildcards: study_spec(wildcards.study).inventory,
-        study=lambda wildcards: wildcards.study,
+        study_component=lambda wildcards: study_spec(wildcards.study).component,
     log:
         out_path("logs/{study}/portfolio.log"),
     script:

@@ -5,7 +5,7 @@
 from functools import cache
 from pathlib import Path
 
-from rocking.motions.measures import same_measure
+from rocking.config.checks import check_risk
 from rocking.risk.hazard import parse_hazard
 
 
@@ -61,13 +61,12 @@ def inventory_file(study):
 
 
 def portfolio_targets():
-    """portfolio.csv and its two figures of every study with an inventory, and the
-    OpenQuake/pelicun export where it asks for one."""
+    """portfolio.csv of every study with an inventory (its two figures: figure_targets), and
+    the OpenQuake/pelicun export where it asks for one."""
     out = []
     for s in inventory_studies():
         out += [rules.portfolio.output.table.format(study=s),
-                rules.portfolio.output.map.format(study=s),
-                rules.portfolio.output.ranked.format(study=s)]
+                rules.portfolio.output.site.format(study=s)]
         if study_spec(s).inventory["export"] is not None:
             out.append(rules.exposure.output.folder.format(study=s))
     return out
@@ -81,16 +80,15 @@ def stripe_fragility_csv(study):
 
 
 def risk_targets():
-    """Exports, risk table and figure of every study with a hazard (and the stripe
-    fragility's exports where the study declares stripes in the vector-peak PGA: the NRML
-    and pelicun exports are functions of it; stripes in Sa(T) or another component reach
-    risk.csv only)."""
+    """Exports and risk table of every study with a hazard (its figure: figure_targets),
+    and the stripe fragility's exports where the study declares stripes in the vector-peak
+    PGA (the NRML and pelicun exports are functions of it; stripes in Sa(T) or another
+    component reach risk.csv only)."""
     out = []
     for s in risk_studies():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
-        out += figure_files(out_path(f"{s}/figures/risk"))
         stripes = study_spec(s).stripes
         # the exports are of the vector-peak PGA (pelicun: Demand-Directional 1)
         if has_product("stripes", s) and stripes.measure == "pga" \
@@ -106,53 +104,35 @@ def hazard_curve(study):
     return parse_hazard(hazard_param(study))
 
 
-def hazard_measure(study):
-    """The study's name of its hazard's intensity measure (pga, sa:1.0, ...), read from the
-    hazard file (or the power law's measure)."""
-    curve = hazard_curve(study)
-    if same_measure(curve.measure, "pga"):
-        return "pga"
-    # the study's own spelling (sa:1.0), as suite_fragility.csv writes it
-    return next(m for m in study_spec(study).intensity_measures
-                if same_measure(m, curve.measure))
-
-
 def hazard_component_of(study):
-    """The horizontal component the study's hazard declares (its `component` key, or a
-    `component=` comment in its file), None where unsaid (then taken as the study's): read
-    off the one parsed curve (hazard_curve), so the file is read once at parse time."""
+    """The horizontal component of the study's hazard (declared, read from its file, or an
+    OpenQuake file's default), None where unsaid: read off the one parsed curve."""
     return None if hazard_spec(study) is None else hazard_curve(study).component
 
 
-def extra_components(study):
-    """Components suite_fragility.csv fits beside the study's: the hazard's, if it differs."""
-    c = hazard_component_of(study)
-    return [] if c is None or c == study_spec(study).component else [c]
+def motion_measures_csv(study):
+    """Every motion's measures in every component (the refits in the hazard's terms)."""
+    return out_path(f"{study}/motion_measures.csv")
 
 
-def suite_fragility_csv(study):
-    """The suite's fragility table when the hazard is not PGA (its fits in Sa(T)) or not in
-    the vector peak (the spectra's fragility.csv is the vector-peak PGA), else []."""
-    component = hazard_component_of(study) or study_spec(study).component
-    if hazard_measure(study) == "pga" and component == "vector_peak":
-        return []
-    return [out_path(f"{study}/suite_fragility.csv")]
+def motion_measure_names(study):
+    """The measures motion_measures.csv gives: the study's and its hazard's."""
+    names = list(study_spec(study).intensity_measures)
+    if hazard_spec(study) is not None:
+        names.append(hazard_curve(study).measure)
+    return list(dict.fromkeys(names))
 
 
-def _check_hazards():
-    """Every hazard parses, and its intensity measure is one the study fits, before any job
-    runs (a dry run too); the error names the key."""
-    for s in risk_studies():
-        try:
-            curve = hazard_curve(s)
-        except (ValueError, OSError) as exc:
-            raise ValueError(f"studies.{s}.hazard: {exc}") from None
-        measures = list(study_spec(s).intensity_measures)
-        if not any(same_measure(curve.measure, m) for m in ["pga", *measures]):
-            raise ValueError(f"studies.{s}.hazard: {curve.source} is a hazard of "
-                             f"{curve.imt} ({curve.measure}), which is not one of the study's "
-                             f"intensity measures {measures}: add {curve.measure} to "
-                             f"studies.{s}.intensity_measures")
+def _resolve(name):
+    """A file of the configuration as the rules read it (working directory, else the
+    repository)."""
+    for base in (Path("."), Path(workflow.basedir)):
+        if (base / name).exists():
+            return str(base / name)
+    return str(name)
 
 
-_check_hazards()
+# every hazard parses, meets its study's fragility (measure, component, unit) and every
+# inventory row is checked against it and the study's planned grid, before any job runs
+# (a dry run too); the error names the key (rocking.config.checks.check_risk)
+check_risk(config, _resolve)

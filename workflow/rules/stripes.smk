@@ -1,8 +1,11 @@
 # Multiple-stripe fragility (beyond the paper): every motion of a study analysed once at each
 # stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (by the compute
 # rule of every product, products.smk; the output is the completion marker), then
-# fitted and set beside the first-exceedance fragility: stripe_fragility.csv and one figure
-# per mode. The stripes are in the study's `stripes.measure` (PGA by default).
+# fitted and set beside the first-exceedance fragility: stripe_fragility.csv (the figure
+# loop of figures.smk draws one figure per mode from it). The stripes are in the study's `stripes.measure` (PGA by default); each analysis
+# is jittered about its stripe by `stripes.jitter` in ln s (default 0.02), so the share of
+# motions exceeding estimates the mean over motions of their local exceedance probability:
+# stripe_exceedance.csv gives it at every stripe with its bootstrap interval.
 
 
 # Separated fits are refined here, in-process (a few stripes: their analyses are kept in
@@ -22,6 +25,7 @@ rule stripe_fragility:
         # the refined analyses the table used (the store's cache, copied whole): the figure
         # replays them from here, a declared input
         refined=out_path("{study}/stripe_fragility_refined.jsonl"),
+        exceedance=out_path("{study}/stripe_exceedance.csv"),
     params:
         store=lambda wildcards: product_store("stripes", wildcards.study),
         refine=lambda wildcards: study_spec(wildcards.study).stripes.refine,
@@ -33,25 +37,3 @@ rule stripe_fragility:
     script:
         "../scripts/stripe_fragility.py"
 
-
-rule stripe_fragility_figure:
-    input:
-        table=rules.stripe_fragility.output.csv,
-        refined=rules.stripe_fragility.output.refined,
-        fragility=rules.fragility.output.fragility_nc,
-    output:
-        png=report(out_path("{study}/figures/stripe_fragility_{mode}.png"),
-                   caption="../report/stripe_fragility.rst", category="Beyond the paper",
-                   labels={"study": "{study}", "figure": "stripe fragility {mode}"}),
-        pdf=out_path("{study}/figures/stripe_fragility_{mode}.pdf"),
-        notes=out_path("{study}/figures/stripe_fragility_{mode}.json"),
-    wildcard_constraints:
-        mode="3d|3d-damped|2d-x|2d-y",
-    params:
-        store=lambda wildcards: product_store("stripes", wildcards.study),
-    conda:
-        "../envs/rocking.yaml"
-    log:
-        out_path("logs/{study}/stripe_fragility_{mode}.log"),
-    script:
-        "../scripts/stripe_fragility_figure.py"

@@ -5,7 +5,7 @@ import time
 
 from rocking.execution.logs import job
 from rocking.fragility import lognormal as fragility
-from rocking.fragility.bootstrap import write_bootstrap
+from rocking.fragility.table import FIRST_EXCEEDANCE, quantity_of, write_fragilities
 from rocking.plot import open_means, open_store
 
 
@@ -22,9 +22,11 @@ def main(snakemake):
               f"{time.perf_counter() - started:.1f} s")
         table = fragility.with_interval(table, samples)
         table.to_netcdf(out.fragility_nc)
-        fragility.to_frame(table).to_csv(out.fragility_csv, index=False, float_format="%.10g")
-        # after the table: the samples record that they belong to it
-        write_bootstrap(samples, out.bootstrap, table=out.fragility_csv)
+        # the table with what it is in (estimator, measure, component, unit, quantity),
+        # then its samples, whose record says they belong to it
+        write_fragilities(fragility.to_frame(table), out.fragility_csv,
+                          estimator=FIRST_EXCEEDANCE, measure="pga", component="vector_peak",
+                          quantity=quantity_of(store.attrs), samples=samples)
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")

@@ -1,11 +1,11 @@
-"""Every column of a study's inventory (Snakemake script): portfolio.csv and its two figures,
-from the study's fragility surface and its hazard (rocking.risk.portfolio.site_portfolio)."""
+"""Every column of a study's inventory (Snakemake script): portfolio.csv from the study's
+fragility surface and its hazard (rocking.risk.portfolio.site_portfolio); its two figures are
+drawn by the figure loop."""
 
 from pathlib import Path
 
 from rocking.execution.logs import job
-from rocking.plot.portfolio import render_figures
-from rocking.risk.portfolio import site_portfolio, write_portfolio
+from rocking.risk.portfolio import site_lines, site_portfolio, write_portfolio
 
 
 def main(snakemake):
@@ -15,12 +15,11 @@ def main(snakemake):
         result = site_portfolio(Path(snakemake.input.fragility).parent,
                                 snakemake.input.inventory, params.hazard,
                                 extrapolate=inventory["extrapolate"],
-                                resamples=inventory["resamples"])
-        for note in result.notes:
+                                resamples=inventory["resamples"],
+                                study_component=params.study_component)
+        for note in [*result.inventory.notes, *result.notes, *site_lines(result.site)]:
             print(note)
         write_portfolio(result.table, Path(out.table).parent, result.inventory.skipped)
-        render_figures(result.table, Path(out.map).parent, hazard=str(params.hazard_file),
-                       study=f"study {params.study}")
         print(f"{result.table['id'].nunique()} columns: {out.table}")
 
 

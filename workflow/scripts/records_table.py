@@ -16,8 +16,7 @@ def main(snakemake):
                                              snakemake.params.measures,
                                              snakemake.output.records,
                                              snakemake.output.fragility,
-                                             component=snakemake.params.component,
-                                             also=snakemake.params.also)
+                                             component=snakemake.params.component)
         print(f"wrote {snakemake.output.records} ({n_rows} rows) and "
               f"{snakemake.output.fragility} ({n_fits} fits)", flush=True)
 

@@ -5,7 +5,7 @@ from datetime import datetime
 from pathlib import Path
 
 from rocking.execution.logs import job
-from rocking.report.html import build
+from rocking.report.html import build, report_title
 from rocking.report.run_summary import what_was_run
 
 
@@ -29,17 +29,16 @@ def main(snakemake):
                            tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),
                            elapsed_seconds=workflow_elapsed())
-        build(snakemake.output[0],
-              title=f"rocking: study {snakemake.params.study} "
-                    f"(ensemble {snakemake.params.ensemble})",
+        build(snakemake.output.page,
+              title=report_title(str(snakemake.params.study), str(snakemake.params.ensemble),
+                                 snakemake.params.reproduces),
               figures=figures, linear_fit=inp.linear_fit, fragility=inp.fragility, run=run,
               risk=inp.get("risk"), hazard=str(snakemake.params.get("hazard") or ""),
               stripes=inp.get("stripes"), paper=snakemake.params.reproduces is not None,
               records=inp.get("records"), suite_fragility=inp.get("suite_fragility"),
-              stripe_figures=list(inp.get("stripe_figures", [])),
               paper_record=bool(snakemake.params.paper_record),
-              study=str(snakemake.params.study), refinement=list(inp.get("refinement", [])),
-              refinement_risk=inp.get("refinement_risk"), portfolio=inp.get("portfolio"))
+              study=str(snakemake.params.study), portfolio=inp.get("portfolio"),
+              headline=list(inp.get("headline", [])), verdicts_csv=snakemake.output.verdicts)
 
 
 if __name__ == "__main__":

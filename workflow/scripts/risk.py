@@ -1,10 +1,10 @@
 """Risk of a study (Snakemake script): NRML and pelicun exports, risk table (first-exceedance
-rows in the hazard's measure, and stripe rows when the study has stripes), risk figure."""
+rows in the hazard's measure, and stripe rows when the study has stripes); the risk figure is
+drawn from the table by the figure loop."""
 
 import json
 
 from rocking.execution.logs import job
-from rocking.plot import render
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import parse_hazard
 
@@ -24,15 +24,12 @@ def main(snakemake):
                                      pelicun=out.pelicun, table=out.table,
                                      search_upper=float(params.upper), study=params.study,
                                      stripes=_one(snakemake.input.get("stripes")),
-                                     suite=_one(snakemake.input.get("suite")),
-                                     preset=params.preset, component=params.component,
+                                     preset=params.preset,
                                      study_component=params.study_component)
-        for note in ("preset_warning", "below_first_warning", "component_note"):
+        for note in ("preset_warning", "below_first_warning", "terms_note", "stripes_note"):
             if summary[note]:
                 print(summary[note])
         print(json.dumps(summary, indent=1, ensure_ascii=False))
-        render("risk", [out.png, out.pdf], out.notes, risk=out.table, hazard=hazard.source,
-               study=f"study {params.study} (ensemble {params.ensemble})")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,8 @@ def main(snakemake):
                                fragility=snakemake.input.fragility,
                                motions=snakemake.input.motions, refine=int(p.refine),
                                resamples=int(p.bootstrap), study=snakemake.wildcards.study,
-                               refined=snakemake.output.refined)
+                               refined=snakemake.output.refined,
+                               exceedance=snakemake.output.exceedance)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import math
 import os
 import sys
 import tempfile
@@ -53,29 +52,36 @@ def add_command(subparsers, name: str, *, help: str, description: str,
                                  epilog="examples:\n" + examples, formatter_class=Formatter)
 
 
-def say_compile(command: str, mode: str, quiet: bool = False, monitors: bool = False) -> None:
-    """One line on stderr when the first analysis of ``mode`` (with or without the
-    validity monitors) will compile its model (a fresh install: tens of seconds with
-    nothing else on the terminal); nothing when the kernels are in numba's cache or with
-    ``--quiet``. Only that model is compiled."""
+@contextlib.contextmanager
+def saying_compile(command: str, mode: str, quiet: bool = False):
+    """Around a command's analyses: one line on stderr when numba starts compiling the model
+    of ``mode`` (a fresh install: tens of seconds with nothing else on the terminal); nothing
+    when its kernels load from numba's cache, or with ``--quiet``. Only that model is
+    compiled (:func:`rocking.dynamics.compiled.announcing_compile`)."""
     import sys
 
-    from rocking.dynamics.compiled import compile_notice
+    from tqdm import tqdm
+
+    from rocking.dynamics.compiled import announcing_compile
     from rocking.spectra.modes import MODES
 
-    line = None if quiet else compile_notice(MODES[mode][0], monitors)
-    if line:
-        print(f"rocking {command}: {line}", file=sys.stderr, flush=True)
+    def say(line: str) -> None:
+        # said while a progress bar may be drawn: tqdm writes it above the bar
+        if not quiet:
+            tqdm.write(f"rocking {command}: {line}", file=sys.stderr)
+
+    with announcing_compile(MODES[mode][0], say):
+        yield
 
 
 def friction(args: argparse.Namespace) -> float | None:
     """``--mu`` checked where it enters the command line (a finite number > 0), None without
     it: the one check of the command line's μ, which is then carried on as a number (every
     command that takes ``--mu`` calls this before any work)."""
+    from rocking._validate import positive_finite
+
     mu = getattr(args, "mu", None)
-    if mu is not None and not (math.isfinite(mu) and mu > 0):
-        raise ValueError(f"--mu must be a finite number > 0, got {mu!r}")
-    return mu
+    return None if mu is None else positive_finite("--mu", mu)
 
 
 def floats(text: str) -> list[float]:
@@ -257,14 +263,19 @@ def check_handed(paths: Sequence[str | Path], command: str) -> None:
     (:func:`rocking.provenance.check`): a table the workflow wrote and that was edited, cut
     short or belongs to other inputs than the ones beside it is refused in one line naming
     it and the command that remakes it; inputs not handed along (a study's folder without its
-    stores) are not asked for; a table without a record is a table of the user's own, read
-    as it is (a note on stderr says so)."""
-    from rocking.provenance import check
+    stores) are not asked for; tables without a record are tables of the user's own, read
+    as they are (one note on stderr names them all)."""
+    from rocking.provenance import RECORDS, check
 
-    for path in paths:
-        if Path(path).is_file():
-            check(path, partial=True,
-                  say=lambda line: print(f"rocking {command}: {line}", file=sys.stderr))
+    own = [str(path) for path in paths
+           if Path(path).is_file() and check(path, partial=True) is None]
+    if own:
+        said = (f"{own[0]} has no record of what made it: read as a table of your own"
+                if len(own) == 1 else
+                f"{', '.join(own[:-1])} and {own[-1]} have no record of what made them: read "
+                f"as tables of your own")
+        print(f"rocking {command}: {said} (a table the workflow wrote carries one in "
+              f"{RECORDS}/)", file=sys.stderr)
 
 
 def writable_folder(folder: Path, option: str = "--out") -> Path:

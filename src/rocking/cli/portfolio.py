@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from rocking.cli import _common, _human
+from rocking.cli.stripes import COMPONENT_NAMES
 
 EXAMPLES = """  rocking portfolio --surface results/paper/elcentro \\
       --inventory config/inventory/example_columns.csv \\
@@ -20,7 +21,7 @@ HEADER = ("rank", "id", "R [m]", "tan α [-]", "limit state", "median [g]", "β 
 SHOWN = 20
 """Rows printed per limit state (the highest λ first); portfolio.csv has them all."""
 
-SURFACE_TABLES = ("fragility.csv", "critical.csv", "records.csv")
+SURFACE_TABLES = ("fragility.csv", "critical.csv", "records.csv", "motion_measures.csv")
 """The tables of a study's folder the surface is read from (rocking.fragility.surface)."""
 
 PROGRESS_FROM = 2000
@@ -62,10 +63,14 @@ def add_parser(subparsers) -> None:
     p.add_argument("--kind", default=None,
                    help="the hazard curve's statistic when it is not the mean (quantile-<q>, "
                    "rlz-<n>)")
-    p.add_argument("--component", default=None,
-                   help="the hazard's horizontal component (rotd50, geometric_mean, ...; "
-                   "default: its file's component= comment, else the study's); it must be "
-                   "the study's")
+    p.add_argument("--hazard-unit", default=None,
+                   help="unit of the hazard's levels when the file does not say: g, m/s2, "
+                   "cm/s2 or gal (default g, OpenQuake's unit of PGA and SA)")
+    p.add_argument("--component", default=None, choices=COMPONENT_NAMES, type=str.lower,
+                   help="the hazard's horizontal component, any case (RotD50 for NGA-West2 "
+                   "models; default: its file's component= comment; an OpenQuake file "
+                   "without one is taken as rotd50, said): the study's fragility surface is "
+                   "refitted in it from the study's motions")
     p.add_argument("--mode", default="3d", help="the study's analysis mode")
     p.add_argument("--limit-states", default=None,
                    help="only these, comma-separated (default: every one with a surface)")
@@ -106,10 +111,10 @@ def run(args) -> int:
     """Check everything, then compute, print or write portfolio.csv; returns 0."""
     import sys
 
+    from rocking._validate import positive_finite
     from rocking.risk.portfolio import site_portfolio, write_portfolio
 
-    if args.max_distance_km <= 0:
-        raise ValueError(f"--max-distance-km must be > 0, got {args.max_distance_km:g}")
+    positive_finite("--max-distance-km", args.max_distance_km)
     if args.resamples < 0:
         raise ValueError(f"--resamples must be >= 0, got {args.resamples}")
     if args.out is not None:
@@ -123,25 +128,31 @@ def run(args) -> int:
     states = None if args.limit_states is None else \
         [s.strip() for s in args.limit_states.split(",") if s.strip()]
     result = site_portfolio(args.surface, args.inventory, args.hazard, site=_forced_site(args),
-                            kind=args.kind, component=args.component, mode=args.mode,
-                            limit_states=states, resamples=args.resamples,
+                            kind=args.kind, unit=args.hazard_unit, component=args.component,
+                            mode=args.mode, limit_states=states, resamples=args.resamples,
                             extrapolate=args.extrapolate, skip_invalid=args.skip_invalid,
                             max_distance_km=args.max_distance_km,
                             progress_from=PROGRESS_FROM)
     table, inventory = result.table, result.inventory
-    for note in result.notes:
+    for note in [*inventory.notes, *result.notes]:
         print(f"rocking portfolio: {note}", file=sys.stderr)
+    if args.export:  # every refusal of the export before any file is written
+        from rocking.risk.exposure import check_exposure
+
+        check_exposure(table, taxonomy_by=args.export)
     if args.out is not None:
         path = write_portfolio(table, args.out, inventory.skipped)
         if args.figures:
-            from rocking.plot.portfolio import render_figures
+            from rocking.plot import render
+            from rocking.plot.registry import figures
 
-            render_figures(table, args.out, hazard=str(args.hazard), study=str(args.surface))
+            for name in (n for n, f in figures().items() if f.section == "portfolio"):
+                render(name, [args.out / f"{name}.png"], args.out / f"{name}.json",
+                       portfolio=table, hazard=str(args.hazard), study=str(args.surface))
         if args.export:
             from rocking.risk.exposure import write_exposure
 
-            export = write_exposure(table, args.out / "exposure", taxonomy_by=args.export,
-                                    component=str(table["component"].iloc[0]))
+            export = write_exposure(table, args.out / "exposure", taxonomy_by=args.export)
             print(f"OpenQuake exposure and fragility models, pelicun inputs "
                   f"({len(export.taxonomies)} taxonomies): {args.out / 'exposure'}",
                   file=sys.stderr)
@@ -150,9 +161,10 @@ def run(args) -> int:
 
         print(_json.dumps({"surface": str(args.surface), "hazard": str(args.hazard),
                            "skipped": inventory.skipped_note(), "notes": result.notes,
+                           "site": result.site.to_dict(orient="records"),
                            "rows": table.to_dict(orient="records")}, indent=1))
         return 0
-    print(human(table, inventory, args))
+    print(human(table, inventory, args, result.site))
     if args.out is not None:
         n_states = table["limit_state"].nunique()
         print(f"{len(table)} rows ({len(inventory.columns)} columns × {n_states} limit "
@@ -160,15 +172,19 @@ def run(args) -> int:
     return 0
 
 
-def human(table, inventory, args) -> str:
-    """The highest-λ columns of each limit state, for people."""
-    from rocking.risk.portfolio import error_words
+def human(table, inventory, args, site=None) -> str:
+    """The site's answer, then the highest-λ columns of each limit state, for people."""
+    from rocking.risk.portfolio import error_words, site_lines
 
+    first = table.iloc[0]
     head = _human.block([("surface", str(args.surface)), ("inventory", str(args.inventory)),
                          ("hazard", str(args.hazard)),
+                         ("in", f"{first['measure']}, {first['component']} component [g]"),
                          ("columns", f"{len(inventory.columns)} valid, "
                                      f"{len(inventory.skipped)} skipped")])
     lines = [head]
+    if site is not None and len(site):
+        lines += ["", "the site:", *(f"  {line}" for line in site_lines(site))]
     extrapolated = int(table.drop_duplicates("id")["extrapolated"].sum())
     if extrapolated:
         lines.append(f"WARNING: {extrapolated} column(s) beyond the study's grid, extrapolated "

@@ -4,7 +4,10 @@ Reads a study's ``fragility.csv`` (the lognormal fits of the performance spectra
 ``suite_fragility.csv`` (the same over the suite in each intensity measure) or
 ``stripe_fragility.csv`` (the multiple-stripe fits; which one is told by its columns) and a
 hazard curve (an OpenQuake hazard-curve CSV of PGA or SA(T), a two-column table, or a power law
-``k0,k``), and prints or writes the risk table: per mode, tan α, R and limit state the mean
+``k0,k``), brings the fragility into the hazard's measure, component and unit
+(:func:`rocking.risk.reconcile.reconcile`: refitted from the study's motions beside the table
+where its component is another, refused where the measure is one the study does not fit),
+and prints or writes the risk table: per mode, tan α, R and limit state the mean
 annual frequency [1/yr] with its 90 % bootstrap interval (from ``<table>_bootstrap.nc`` beside
 the table), return period [yr] and probability of exceedance in 50 years
 (:func:`rocking.risk.risk_table`). Rows without a fit are kept with their status (and named in
@@ -81,10 +84,11 @@ def add_parser(subparsers) -> None:
                    "cm/s2 or gal (default g, OpenQuake's unit of PGA and SA)")
     p.add_argument("--investigation-time", type=float, default=None,
                    help="investigation time of a two-column table's poe [yr]")
-    p.add_argument("--component", default=None, choices=COMPONENT_NAMES,
-                   help="horizontal component of the hazard (rotd50 for NGA-West2 models); "
-                   "the fragility's rows in it are used, refused where the table has none "
-                   "(default: a component= comment of the hazard file, else the table's)")
+    p.add_argument("--component", default=None, choices=COMPONENT_NAMES, type=str.lower,
+                   help="horizontal component of the hazard, any case (RotD50 for NGA-West2 "
+                   "models): the fragility is taken or refitted in it (default: a "
+                   "component= comment of the hazard file; for an OpenQuake file without "
+                   "one rotd50, said; else the table's)")
     p.add_argument("--im-factor", type=float, default=1.0,
                    help="study PGA / hazard PGA (e.g. RotD100/RotD50), instead of "
                    "--component")
@@ -109,6 +113,9 @@ def _hazard(args):
     from rocking.motions.measures import same_measure
     from rocking.risk.hazard import parse_hazard
 
+    if args.component is not None and args.im_factor != 1.0:
+        raise ValueError("give --component (the fragility in the hazard's component) or "
+                         "--im-factor (the hazard rescaled), not both")
     spec = {"file": args.hazard}
     site = _site(args)
     for key, value in (("site", site), ("investigation_time", args.investigation_time),
@@ -116,7 +123,7 @@ def _hazard(args):
         if value is not None:
             spec[key] = value
     if Path(args.hazard).exists():
-        curve = parse_hazard(spec)
+        curve = parse_hazard(spec, component=args.component)
         if args.measure is not None and not same_measure(args.measure, curve.measure):
             raise ValueError(f"--measure {args.measure} does not match the hazard "
                              f"{args.hazard}, which is of {curve.imt}")
@@ -124,7 +131,7 @@ def _hazard(args):
         raise ValueError(f"--hazard {args.hazard!r} is no file: --site*, --kind, "
                          "--hazard-unit and --investigation-time apply to a hazard file")
     else:
-        curve = parse_hazard(args.hazard, measure=args.measure)
+        curve = parse_hazard(args.hazard, measure=args.measure, component=args.component)
     return curve.scaled(args.im_factor) if args.im_factor != 1.0 else curve
 
 
@@ -149,17 +156,6 @@ def _site(args):
             near["max_distance_km"] = args.max_distance_km
         return near
     return args.site
-
-
-def _component(args, hazard) -> str | None:
-    """The hazard's component: --component, else the hazard file's comment (read with the
-    curve, :attr:`rocking.risk.hazard.HazardCurve.component`), else None."""
-    if args.component is not None and args.im_factor != 1.0:
-        raise ValueError("give --component (the fragility in the hazard's component) or "
-                         "--im-factor (the hazard rescaled), not both")
-    if args.component is not None:
-        return args.component
-    return hazard.component if args.im_factor == 1.0 else None
 
 
 def _select(frag, args):
@@ -223,21 +219,21 @@ def _body_rows(rows, args):
 
 def run(args) -> int:
     """Print or write the risk table (and the exports when asked); returns 0."""
-    from rocking.fragility.table import read_fragilities
     from rocking.risk.nrml import write_nrml
     from rocking.risk.pelicun import write_pelicun_csv
-    from rocking.risk.table import risk_table
+    from rocking.risk.reconcile import reconcile
+    from rocking.risk.risk_table import risk_table
 
     if args.out is not None:
         _common.check_output(args.out, (".csv",))
     if not args.fragility.exists():
         raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
-    _common.check_handed([args.fragility], "risk")
+    # and the tables beside it a refit in the hazard's terms reads (rocking.risk.reconcile)
+    _common.check_handed([args.fragility, *(args.fragility.parent / n for n in
+                                            ("critical.csv", "motion_measures.csv"))], "risk")
     hazard = _hazard(args)
-    component = _component(args, hazard)
-    frag = _select(read_fragilities(args.fragility, measure=hazard.measure,
-                                    component=component), args)
-    table = risk_table(frag, hazard, component=component)
+    frag = _select(reconcile(args.fragility, hazard), args)
+    table = risk_table(frag, hazard)
     if (args.nrml is not None or args.pelicun is not None) and (
             hazard.measure != "pga" or frag.component != "vector_peak"):
         raise ValueError("--nrml and --pelicun export vector-peak PGA fragilities only")
@@ -256,7 +252,8 @@ def run(args) -> int:
         from rocking.report.risk import below_first_warning
 
         print(_json.dumps({"hazard": hazard.source, "fragility": frag.kind,
-                           "measure": hazard.measure, "hazard_note": hazard.note,
+                           "measure": hazard.measure, "component": frag.component,
+                           "terms_note": frag.note, "hazard_note": hazard.note,
                            "hazard_site": hazard.site, "hazard_kind": hazard.kind,
                            "hazard_unit": hazard.unit,
                            "below_first_warning": below_first_warning(table),
@@ -280,7 +277,8 @@ def human(table, frag, hazard, args) -> str:
     said += [(name, value) for name, value in (("site", hazard.site), ("kind", hazard.kind),
                                                ("levels in", hazard.unit if hazard.unit != "g"
                                                 else "")) if value]
-    head = _human.block([*said, ("fragility", f"{args.fragility}: {KINDS[frag.kind]}")])
+    head = _human.block([*said, ("fragility", f"{args.fragility}: {KINDS[frag.kind]}"),
+                         ("in", f"{frag.measure}, {frag.component} component [{frag.unit}]")])
     plain = table.rename(columns={c: strip_units(c) for c in table.columns})
     rows = []
     for r in plain.to_dict(orient="records"):
@@ -292,8 +290,9 @@ def human(table, frag, hazard, args) -> str:
                      _human.num(r["return_period"], 4), _human.num(r["p_50yr"], 3),
                      r["status"]])
     lines = [head]
-    if hazard.note:
-        lines.append(hazard.note)
+    for note in (hazard.note, frag.note):
+        if note:
+            lines.append(note)
     warning = below_first_warning(table)
     if warning:
         lines.append(warning)

@@ -115,6 +115,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from rocking import _json
+    from rocking._validate import positive_finite
     from rocking.dynamics.analysis import free_vibration
     from rocking.dynamics.bodies import Block, Cylinder
     from rocking.units import QUANTITIES, header
@@ -122,8 +123,8 @@ def run(args: argparse.Namespace) -> int:
     _common.resolve_body(args, "simulate", many=False)
     for option, value in (("--scale", args.scale), ("--pga-ratio", args.pga_ratio),
                           ("--pga-g", args.pga_g)):
-        if value is not None and not (math.isfinite(value) and value > 0):
-            raise ValueError(f"{option} must be a finite number > 0, got {value!r}")
+        if value is not None:
+            positive_finite(option, value)
     model, component = MODES[args.mode]
     if args.body == "block" and model != MODEL_2D:
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
@@ -136,16 +137,17 @@ def run(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out must be a folder, {str(out)!r} is a file")
     _common.writable_folder(out)
-    _common.say_compile("simulate", args.mode, args.quiet, monitors=True)
-    if motion is not None:
-        res, meta = _ground(args, body, model, component, motion, common)
-    else:
-        if args.theta0 is None or args.duration is None:
-            raise ValueError("free vibration needs --theta0 and --duration (or give a ground "
-                             "motion: --record, --files or --ensemble)")
-        res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
-                             model=model, **common)
-        meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0, "duration": args.duration}
+    if motion is None and (args.theta0 is None or args.duration is None):
+        raise ValueError("free vibration needs --theta0 and --duration (or give a ground "
+                         "motion: --record, --files or --ensemble)")
+    with _common.saying_compile("simulate", args.mode, args.quiet):
+        if motion is not None:
+            res, meta = _ground(args, body, model, component, motion, common)
+        else:
+            res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
+                                 model=model, **common)
+            meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0,
+                    "duration": args.duration}
     cols = HISTORY_COLUMNS[model]
     # numpy, not pandas: the table is plain numbers and pandas costs half a second to load
     with _common.replacing(out / "history.csv") as tmp:

@@ -1,6 +1,6 @@
 """``rocking spectra``: one seismic performance rocking spectrum, printed as a labelled table
-(PGA/(g tan α) and PGA [g], flags, the motion's processing) or as JSON (``--json``), and
-written to CSV or JSON (``-o``).
+(the critical intensity as PGA/(g tan α) and PGA [g], the quantity it is, flags, the motion's
+processing) or as JSON (``--json``), and written to CSV or JSON (``-o``).
 
 The numbers are those of the workflow's stores when asked the same thing: the same motion
 (``--ensemble FILE --motion NAME``), mode, limit states, accuracy and search bound give the
@@ -15,6 +15,7 @@ from pathlib import Path
 
 from rocking.cli import _common, _human
 from rocking.spectra.accuracy import PRESETS
+from rocking.spectra.quantity import QUANTITIES, Quantity
 
 EXAMPLES = """\
   rocking spectra --R 0.5,1,2,5,10 --tan-alpha 0.2 --record el-centro-1940 -o spectrum.csv
@@ -28,11 +29,10 @@ UPPER_DEFAULT = 20.0
 """Highest PGA/(g tan α) searched by default (:data:`rocking.spectra.search.DEFAULT_UPPER`,
 checked equal in the tests; the search module is not imported to print the help)."""
 
-COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "pga_crit", "pga_crit_g",
-           "not_reached", "non_monotonic", "failed", "unresolved", "budget_spent", "slides",
-           "lifts_off",
-           "n_analyses", "bracket_lo", "bracket_hi", "lower", "upper", "accuracy", "mu",
-           "source_record", "processing")
+COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "quantity", "quantity_p",
+           "quantity_w", "pga_crit", "pga_crit_g", "i50", "first_exceedance", "scan_step",
+           "plateau", "not_reached", "non_monotonic", "failed", "slides", "lifts_off",
+           "n_analyses", "lower", "upper", "accuracy", "mu", "source_record", "processing")
 """Columns of the CSV (titles with units) and keys of the JSON results."""
 
 
@@ -42,8 +42,12 @@ def add_parser(subparsers) -> None:
         subparsers, "spectra", examples=EXAMPLES,
         help="critical PGA/(g tan alpha) of cylinders vs R (performance spectrum)",
         description="Seismic performance rocking spectrum of one ground-motion pair: for each "
-        "R, the smallest intensity exceeding each limit state, as PGA/(g tan alpha) "
-        "(pga_crit) and as PGA in g (pga_crit_g). PGA is the pair's vector PGA in every mode.",
+        "R and limit state, the critical intensity as PGA/(g tan alpha) (pga_crit) and as PGA "
+        "in g (pga_crit_g). By default it is I10 = inf{s: P(s) >= 0.1}, the lowest intensity "
+        "around which 10 %% of the intensities within +-2 %% (in ln s) exceed the limit state "
+        "(the smallest exceeding intensity itself does not converge: docs/performance.md); "
+        "--quantity first_exceedance gives the first exceedance on the search's scan grid. "
+        "PGA is the pair's vector PGA in every mode.",
     )
     _common.add_cylinders(p)
     p.add_argument("--limit-states", default="default",
@@ -58,6 +62,14 @@ def add_parser(subparsers) -> None:
                    "then monitored to the end of its record")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default",
                    help="search and ODE tolerances preset")
+    p.add_argument("--quantity", choices=QUANTITIES, default=Quantity().name,
+                   help="what the critical intensity is: exceedance_quantile (I_p = "
+                   "inf{s: P(s) >= p}) or first_exceedance (the smallest exceeding "
+                   "intensity on the scan grid, labelled with its step)")
+    p.add_argument("--p", type=float, default=Quantity().p,
+                   help="exceedance share p of I_p, in (0, 1) (0.1: I10)")
+    p.add_argument("--w", type=float, default=Quantity().w,
+                   help="half-width w of the window of P(s) in ln s, in (0, 0.5)")
     p.add_argument("--upper", type=float, default=UPPER_DEFAULT,
                    help="highest PGA/(g tan alpha) searched [-]")
     _common.add_contact(p)
@@ -87,12 +99,9 @@ def rows(results, motion) -> list[dict]:
 
 FLAG_NOTES = {
     "not_reached": "not reached: no exceedance up to the search bound",
-    "non_monotonic": "non_monotonic: exceeded at one intensity, not at a higher one",
-    "unresolved": "unresolved: the response came close to the goal below the answer and "
-                  "not every such near miss was re-examined; a window of exceedance "
-                  "narrower than the scan step may lie there (docs/performance.md)",
-    "budget_spent": "budget_spent: the accuracy preset's refinement budget ran out before "
-                    "every near miss below the answer was re-examined (why it is unresolved)",
+    "plateau": "plateau: P(s) rises near p without crossing it more than a window below "
+               "the answer; there the answer is ill-conditioned (a small change of the "
+               "response may move it down)",
     "failed": "failed: an analysis failed (the answer is not usable)",
     "slides": "slides: an analysis up to the answer that did not overturn needed more "
               "friction than --mu while in contact (the body would have slid: the rocking "
@@ -103,24 +112,29 @@ FLAG_NOTES = {
 """One line per flag, printed under the table when the flag appears."""
 
 
-def human(table, motion, args, accuracy: str) -> str:
-    """The spectrum for people: motion, processing, cylinders, then one row per (R, limit
-    state) with the critical intensity as PGA/(g tan α) and as PGA [g], and the flags."""
+def human(table, motion, args, accuracy, quantity: Quantity) -> str:
+    """The spectrum for people: motion, processing, cylinders, the quantity, then one row per
+    (R, limit state) with the critical intensity as PGA/(g tan α) and as PGA [g], and the
+    flags (non_monotonic only for the first exceedance: nearly every I_p answer is)."""
     ta = args.tan_alpha
+    label = quantity.label
     head = _human.block([
         ("motion", table["processing"].iloc[0] if len(table) else motion.name),
         ("processing", _human.processing(motion, stored=args.ensemble is not None)),
         ("cylinders", f"mode {args.mode}, {_human.slenderness(ta)}"),
-        ("search", f"accuracy {accuracy}, from uplift up to PGA/(g tan α) = "
+        ("answer", quantity.describe(accuracy.scan_step)),
+        ("search", f"accuracy {accuracy.name}, from uplift up to PGA/(g tan α) = "
                    f"{args.upper:g} (PGA {args.upper * ta:.4g} g)"),
         ("support", "no friction coefficient given (sliding and lift-off not checked: "
                     "--mu to check)" if args.mu is None
          else f"friction coefficient μ = {args.mu:g}"),
     ])
     body, seen = [], []
+    notes = {f: n for f, n in FLAG_NOTES.items()
+             if not (f == "non_monotonic" and quantity.is_quantile)}
     for r in table.itertuples(index=False):
         # a flag that says nothing (slides without --mu: None or NaN) is not shown
-        flags = [f for f in FLAG_NOTES if getattr(r, f) is True or getattr(r, f) == 1]
+        flags = [f for f in notes if getattr(r, f) is True or getattr(r, f) == 1]
         seen += [f for f in flags if f not in seen]
         if r.not_reached:
             crit, crit_g = f"> {args.upper:g}", f"> {args.upper * ta:.4g}"
@@ -129,8 +143,8 @@ def human(table, motion, args, accuracy: str) -> str:
         body.append([_human.num(r.R), r.limit_state, crit, crit_g,
                      ", ".join(flags) or "—", str(r.n_analyses)])
     text = head + "\n\n" + _human.table(
-        ["R [m]", "limit state", "PGA/(g tan α) [-]", "PGA [g]", "flags", "analyses"], body,
-        left=(1, 4))
+        ["R [m]", "limit state", f"{label}: PGA/(g tan α) [-]", "PGA [g]", "flags",
+         "analyses"], body, left=(1, 4))
     if seen:
         text += "\n" + "\n".join(f"  {FLAG_NOTES[f]}" for f in seen)
     return text
@@ -156,6 +170,19 @@ def _check_numbers(args) -> None:
     _common.friction(args)
 
 
+def quantity_of(args) -> Quantity:
+    """The quantity ``--quantity``, ``--p`` and ``--w`` ask for, checked once: a bad value
+    is one line naming the option."""
+    try:
+        return Quantity(args.quantity, args.p, args.w)
+    except ValueError as exc:
+        text = str(exc)
+        for key, option in (("quantity.p", "--p"), ("quantity.w", "--w"),
+                            ("quantity", "--quantity")):
+            text = text.replace(key, option, 1) if text.startswith(key) else text
+        raise ValueError(text) from None
+
+
 def run(args) -> int:
     """Compute the spectrum and write it; returns 0."""
     import pandas as pd
@@ -174,14 +201,16 @@ def run(args) -> int:
         _common.check_output(out, (".csv", ".json"))
     states = parse_limit_states(args.limit_states, sort=False)
     acc = get_accuracy(args.accuracy)
+    quantity = quantity_of(args)
+    acc.check_window(quantity.w)
     motion = _common.motion_from_args(args, default_record="el-centro-1940")
     tasks = [(R, args.tan_alpha, motion, args.mode) for R in args.R]
-    _common.say_compile("spectra", args.mode, args.quiet,
-                        monitors=getattr(args, "mu", None) is not None)
     t0 = time.perf_counter()
-    results = critical_intensity_batch(tasks, states, accuracy=acc, upper=args.upper,
-                                       omega_n=args.omega_n, zeta=args.zeta, mu=args.mu,
-                                       progress=not args.quiet)
+    with _common.saying_compile("spectra", args.mode, args.quiet):
+        results = critical_intensity_batch(tasks, states, accuracy=acc, quantity=quantity,
+                                           upper=args.upper, omega_n=args.omega_n,
+                                           zeta=args.zeta, mu=args.mu,
+                                           progress=not args.quiet)
     seconds = time.perf_counter() - t0
     table = pd.DataFrame(rows(results, motion), columns=list(COLUMNS))
     doc = {
@@ -191,6 +220,8 @@ def run(args) -> int:
         "tan_alpha": args.tan_alpha,
         "limit_states": [s.name for s in states],
         "accuracy": acc.to_dict(),
+        "quantity": {**quantity.to_dict(), "label": quantity.label,
+                     "description": quantity.describe(acc.scan_step)},
         "upper": args.upper,
         "mu": args.mu,
         "seconds": seconds,
@@ -208,7 +239,7 @@ def run(args) -> int:
     if args.json:
         print(_json.dumps(doc, indent=1))
     else:
-        print(human(table, motion, args, acc.name))
+        print(human(table, motion, args, acc, quantity))
         if out is not None:
             print(f"written: {out}")
     if not args.quiet:

@@ -29,6 +29,10 @@ in the tests; the library is not imported to print the help)."""
 DEFAULT_REFINE = 8
 """Default refinement budget (:data:`rocking.fragility.stripes.DEFAULT_REFINE`, likewise)."""
 
+DEFAULT_JITTER = 0.02
+"""Default jitter of each analysis in ln s (:data:`rocking.fragility.stripes.JITTER`,
+likewise)."""
+
 COMPONENT_NAMES = ("vector_peak", "rotd100", "rotd50", "geometric_mean", "larger")
 """The components of :data:`rocking.motions.measures.COMPONENTS` (held equal by a test)."""
 
@@ -83,8 +87,13 @@ def add_parser(subparsers) -> None:
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
     g.add_argument("--measure", default="pga", help=measure_help())
-    g.add_argument("--component", default="vector_peak", choices=COMPONENT_NAMES,
+    g.add_argument("--component", default="vector_peak", choices=COMPONENT_NAMES, type=str.lower,
                    help="horizontal component of --measure (default: %(default)s)")
+    g.add_argument("--jitter", type=float, default=DEFAULT_JITTER,
+                   help="half-width w in ln intensity of each analysis's jitter about its "
+                   "stripe (drawn from the analysis's identity): the share exceeding then "
+                   "estimates the motions' mean local exceedance probability; 0 analyses "
+                   "the stripes exactly (default: %(default)s)")
     g.add_argument("--refine", type=int, default=DEFAULT_REFINE,
                    help="most stripes added per (R, limit state) where the fit separates "
                    "(bisection in ln intensity), 0 for none (default: %(default)s)")
@@ -146,7 +155,8 @@ def _refined(result, body, motions, args, acc) -> dict:
 
     analyze = stripe_analyzer(body, motions, list(result.limit_states), mode=args.mode,
                               accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
-                              measure=args.measure, component=args.component)
+                              measure=args.measure, component=args.component,
+                              jitter=args.jitter)
     note = None if args.quiet else (lambda line: print(line, file=sys.stderr))
     return {ls: refine_stripes(result, ls, analyze, args.refine, log=note)
             for ls in result.limit_states}
@@ -175,10 +185,10 @@ def human(fits, stripes, motions, args, accuracy: str, x, unit: str = "g") -> st
     95 % intervals, β, status; then each stripe's count of motions exceeding."""
     ta = args.tan_alpha
     motion_line, processing_line = _motions_line(motions, args)
-    from rocking.fragility.stripes import measure_scale
+    from rocking.motions.measures import Measure
 
-    name = "PGA" if args.measure == "pga" else args.measure
-    scale = measure_scale(args.measure, ta)
+    name = Measure.of(args.measure).label
+    scale = Measure.of(args.measure).per_normalized(ta)
     head = _human.block([
         ("motion" if len(motions) == 1 else "motions", motion_line),
         ("processing", processing_line),
@@ -222,7 +232,7 @@ def run(args) -> int:
         stripe_intensities,
     )
     from rocking.motions.identity import identity
-    from rocking.motions.measures import MEASURE_UNITS, parse_measure
+    from rocking.motions.measures import Measure
     from rocking.spectra.accuracy import get_accuracy
     from rocking.spectra.limit_states import parse_limit_states
     from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
@@ -243,21 +253,24 @@ def run(args) -> int:
     if args.refine < 0 or args.bootstrap < 0:
         raise ValueError(f"--refine and --bootstrap must be >= 0, got {args.refine} and "
                          f"{args.bootstrap}")
-    parse_measure(args.measure)
-    _common.say_compile("stripes", args.mode, args.quiet,
-                        monitors=getattr(args, "mu", None) is not None)
-    results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
-                                accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
-                                progress=not args.quiet, measure=args.measure,
-                                component=args.component) for b in bodies]
-    refined = [_refined(r, b, motions, args, acc) for r, b in zip(results, bodies, strict=True)]
+    if not 0.0 <= args.jitter < 0.5:
+        raise ValueError(f"--jitter must be in [0, 0.5), got {args.jitter:g}")
+    Measure.of(args.measure)
+    with _common.saying_compile("stripes", args.mode, args.quiet):
+        results = [stripe_fragility(b, motions, states, mode=args.mode, intensities=x,
+                                    accuracy=acc, omega_n=args.omega_n, zeta=args.zeta,
+                                    progress=not args.quiet, measure=args.measure,
+                                    component=args.component, jitter=args.jitter)
+                   for b in bodies]
+        refined = [_refined(r, b, motions, args, acc)
+                   for r, b in zip(results, bodies, strict=True)]
     boot = None
     if args.bootstrap:
         boot = {(i, ls): bootstrap_stripes(r, args.bootstrap)[ls]["median"]
                 for i, per in enumerate(refined) for ls, r in per.items()}
     seconds = time.perf_counter() - t0
     fits, stripes = tables(refined, boot)
-    unit = MEASURE_UNITS[parse_measure(args.measure)[0]]
+    unit = Measure.of(args.measure).unit
 
     def titles(c: str) -> str:  # the measure's columns in its unit
         return f"{c} [{unit}]" if c in (*MEASURE_COLUMNS, "im") else header(c)

@@ -22,10 +22,11 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+from rocking.config.fields import DEFAULTS, accuracy_field, quantity_field
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
-__all__ = ["check_config", "check_ensemble_size", "check_magnitude", "coerce_strings",
-           "schema_error", "validate_config"]
+__all__ = ["PlannedGrid", "check_config", "check_ensemble_size", "check_magnitude",
+           "check_risk", "coerce_strings", "schema_error", "validate_config"]
 
 MAX_GRID_VALUES = 10_000
 """Most values of one grid (R, tan α, intensity)."""
@@ -146,6 +147,10 @@ def check_config(config: Mapping[str, Any]) -> None:
         settings than its records'.
     """
     _check_finite(config)
+    # the quantity first: it decides what every analysis is for (one line, key and value),
+    # and the accuracy's local sample must be wider than its window
+    q = quantity_field(config.get("quantity", DEFAULTS["quantity"]))
+    accuracy_field(config.get("accuracy", DEFAULTS["accuracy"]), q["w"])
     from rocking.config.dimensions import resolve_dimensions
     from rocking.config.ensemble import EnsembleSpec
 
@@ -525,3 +530,116 @@ def tls_problem(address: str | None) -> str | None:
             f"DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT, "
             f"DASK_DISTRIBUTED__COMM__TLS__CLIENT__KEY, or ~/.config/dask/*.yaml), or use "
             f"dask.scheduler_file")
+
+
+# ------------------------------------------------------------------------------------------
+# Risk: hazard, fragility terms and inventory, before any work
+# ------------------------------------------------------------------------------------------
+
+
+class PlannedGrid:
+    """The (R, tan α) grid a study's 3D runs will give its fragility surface, from its plan
+    alone: per limit state the slendernesses some run asks for in mode ``3d`` (≥ 2) and the
+    study's sizes (≥ 2); the bounds common to every such limit state (as
+    :meth:`rocking.fragility.surface.FragilitySurface.bounds`)."""
+
+    RTOL = 1e-9
+
+    def __init__(self, spec, mode: str = MODE_3D):
+        plan = spec.spectra.plan
+        R = sorted(spec.spectra.R)
+        grids = []
+        if mode in plan.modes and len(R) >= 2:
+            for ls in plan.limit_states:
+                ta = [t for t in plan.tan_alpha if ls in plan.limit_states_of(mode, t)]
+                if len(ta) >= 2:
+                    grids.append((ls, min(ta), max(ta)))
+        self.limit_states = [g[0] for g in grids]
+        self._bounds = ((R[0], R[-1], max(g[1] for g in grids), min(g[2] for g in grids))
+                        if grids else None)
+
+    def bounds(self) -> tuple[float, float, float, float]:
+        return self._bounds
+
+    def outside(self, R, tan_alpha):
+        import numpy as np
+
+        r0, r1, t0, t1 = self._bounds
+        R, ta = np.asarray(R, float), np.asarray(tan_alpha, float)
+        return ((R < r0 * (1 - self.RTOL)) | (R > r1 * (1 + self.RTOL))
+                | (ta < t0 * (1 - self.RTOL)) | (ta > t1 * (1 + self.RTOL)))
+
+
+def check_risk(config: Mapping[str, Any],
+               resolve: Callable[[str], str] = lambda name: name) -> None:
+    """Everything the risk outputs of each study with a ``hazard:`` rest on, checked before
+    any work (``snakemake -n`` included): one line naming ``studies.<name>.hazard`` or
+    ``.inventory``.
+
+    - the hazard parses (file, site, kind, unit, plausible levels);
+    - its measure, component and unit meet the study's fragility
+      (:func:`rocking.risk.reconcile.study_terms`: a measure the study does not fit is
+      refused; any component of the study's measures can be refitted from its motions);
+    - the inventory: every row read and checked as the portfolio will (its columns, its
+      hazard site found, every column inside the grid the study's 3D runs will give the
+      surface, unless ``inventory.extrapolate``), and with ``inventory.export`` every id an
+      OpenQuake asset id.
+
+    Parameters
+    ----------
+    config : mapping
+        The configuration (defaults filled in).
+    resolve : callable
+        A file name of the configuration → the path it is read from (the workflow tries the
+        working directory, then the repository).
+    """
+    from rocking.config.study import StudySpec
+    from rocking.risk.hazard import parse_hazard
+    from rocking.risk.reconcile import study_terms
+
+    for study in config["studies"]:
+        spec = StudySpec.from_config(config, study)
+        if spec.hazard is None:
+            continue
+        field = f"studies.{study}"
+        entry = _resolved_hazard(spec.hazard, resolve)
+        try:
+            curve = parse_hazard(entry)
+            study_terms(curve.measure, curve.component, spec.intensity_measures,
+                        study=study, hazard=f"the hazard ({curve.source})",
+                        study_component=spec.component)
+        except (ValueError, OSError) as exc:
+            raise ValueError(f"{field}.hazard: {exc}") from None
+        if spec.inventory is not None:
+            _check_inventory(field, spec, entry, resolve)
+
+
+def _resolved_hazard(hazard, resolve):
+    if isinstance(hazard, Mapping):
+        return {**hazard, "file": resolve(hazard["file"])} if "file" in hazard else dict(hazard)
+    return resolve(str(hazard)) if "," not in str(hazard) else hazard
+
+
+def _check_inventory(field: str, spec, entry, resolve) -> None:
+    """The study's inventory read and checked against its hazard and planned grid."""
+    from rocking.risk.exposure import ASSET_ID
+    from rocking.risk.inventory import read_hazard_sites, read_inventory
+
+    inventory = spec.inventory
+    grid = PlannedGrid(spec)
+    if grid.bounds() is None:
+        raise ValueError(f"{field}.inventory: the study has no grid of R and tan α in 3d "
+                         "(a fragility surface needs ≥ 2 sizes and a limit state asked at "
+                         "≥ 2 slendernesses in mode 3d): add such a run")
+    try:
+        sites = read_hazard_sites(entry)
+        columns = read_inventory(resolve(inventory["file"]), surface=grid, hazard=sites,
+                                 extrapolate=bool(inventory["extrapolate"]))
+    except ValueError as exc:
+        raise ValueError(f"{field}.inventory: {exc}") from None
+    if inventory["export"] is not None:
+        for row, ident in zip(columns.columns["row"], columns.columns["id"], strict=True):
+            if not ASSET_ID.match(str(ident)):
+                raise ValueError(f"{field}.inventory: {inventory['file']}: row {row}: id "
+                                 f"{ident!r} is not an OpenQuake asset id (1-50 letters, "
+                                 "digits, '_', '-' or ':'), which inventory.export needs")

@@ -6,7 +6,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from rocking.config.fields import config_section, positive_field
+from rocking._validate import positive_finite
+from rocking.config.fields import config_section
 from rocking.spectra.modes import is_damped
 
 __all__ = ["Damping"]
@@ -32,8 +33,8 @@ class Damping:
         """The configuration's ``damped`` section (defaults the damped model's,
         :data:`rocking.dynamics.names.DAMPED_OMEGA_N` and ``DAMPED_ZETA``)."""
         d = config_section(config, "damped")
-        return cls(positive_field(d["omega_n"], "damped.omega_n"),
-                   positive_field(d["zeta"], "damped.zeta"))
+        return cls(positive_finite("damped.omega_n", d["omega_n"]),
+                   positive_finite("damped.zeta", d["zeta"]))
 
     def to_attrs(self) -> dict[str, float]:
         """``{"omega_n", "zeta"}``: the keyword arguments of the damped analyses."""

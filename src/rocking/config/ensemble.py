@@ -11,12 +11,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from rocking._validate import positive_finite
 from rocking.config.fields import (
     DEFAULTS,
     checked_mapping,
     config_section,
     number_field,
-    positive_field,
 )
 from rocking.store.attrs import config_hash
 
@@ -98,7 +98,7 @@ class RecordSpec:
                              f"{r['highpass']!r}")
         for key in ("mw", "fc_hz", "dt"):
             if r[key] is not None:
-                positive_field(r[key], f"{field}.{key}")
+                positive_finite(f"{field}.{key}", r[key])
         rotation = r["rotation_deg"]
         if rotation not in ("auto", "none"):
             if not math.isfinite(number_field(rotation, f"{field}.rotation_deg")) or \
@@ -236,7 +236,7 @@ class EnsembleSpec:
             raise ValueError(f"{field}.params must be a file name or null, got {e['params']!r}")
         max_duration = config_section(config, "motions")["max_duration"]
         if max_duration is not None:
-            positive_field(max_duration, "motions.max_duration")
+            positive_finite("motions.max_duration", max_duration)
         suite = None
         if e["records"] is not None:
             if not isinstance(e["vertical"], bool):

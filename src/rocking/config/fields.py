@@ -22,6 +22,7 @@ __all__ = ["DEFAULTS", "expand_grid"]
 
 DEFAULTS: dict[str, Any] = {
     "accuracy": "default",
+    "quantity": "exceedance_quantile",
     "search": {"upper": 20.0},
     "damped": {"omega_n": DAMPED_OMEGA_N, "zeta": DAMPED_ZETA},
     "motions": {"max_duration": None},
@@ -35,7 +36,7 @@ DEFAULTS: dict[str, Any] = {
                  "chunk_R": 1},
     "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,
                 "limit_states": ["overturning", "tilt:1/3"], "chunk_R": 1, "measure": "pga",
-                "refine": 8, "bootstrap": 1000},
+                "refine": 8, "bootstrap": 1000, "jitter": 0.02},
 }
 """The schema's defaults (tests/test_spec.py holds them equal), for configurations read
 without the workflow (the benchmark drivers); the workflow has filled them in already."""
@@ -133,14 +134,6 @@ def mode_list(value: Any, field: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def positive_field(value: Any, field: str) -> float:
-    """A finite number > 0 (one line naming ``field`` otherwise)."""
-    x = number_field(value, field)
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{field} must be a finite number > 0, got {value!r}")
-    return x
-
-
 def chunk_R_field(value: Any, field: str, auto: bool) -> int | str:
     """An integer >= 1 (or ``"auto"`` where ``auto``): sizes R per task."""
     if auto and value == "auto":
@@ -151,13 +144,26 @@ def chunk_R_field(value: Any, field: str, auto: bool) -> int | str:
     return value
 
 
-def accuracy_field(value: Any) -> str | dict[str, Any]:
+def quantity_field(value: Any) -> dict[str, Any]:
+    """The configuration's ``quantity`` (a name, or a mapping of ``name``, ``p`` and ``w``)
+    as :meth:`rocking.spectra.quantity.Quantity.to_dict` (all three, so that equal choices
+    hash alike); one line naming ``quantity``, ``quantity.p`` or ``quantity.w`` and the
+    value otherwise."""
+    from rocking.spectra.quantity import Quantity
+
+    return Quantity.from_value(value).to_dict()
+
+
+def accuracy_field(value: Any, w: float | None = None) -> str | dict[str, Any]:
     """A preset name or tolerances mapping that :func:`rocking.spectra.accuracy.get_accuracy`
-    accepts, returned as given (a mapping copied); one line naming it otherwise."""
+    accepts, returned as given (a mapping copied); one line naming it otherwise, and where
+    its local sample is not wider than the window 2w of the quantity (``w``, when given)."""
     from rocking.spectra.accuracy import get_accuracy
 
     try:
-        get_accuracy(value)
+        acc = get_accuracy(value)
+        if w is not None:
+            acc.check_window(w)
     except (ValueError, TypeError, KeyError) as exc:
         raise ValueError(f"accuracy={value!r}: {exc}") from None
     return dict(value) if isinstance(value, Mapping) else value

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from dataclasses import field as dc_field
 from typing import Any
 
+from rocking._validate import positive_finite
 from rocking.config.damping import Damping
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.fields import (
@@ -27,7 +28,6 @@ from rocking.config.fields import (
     chunk_R_field,
     expand_grid,
     mode_list,
-    positive_field,
 )
 from rocking.config.plan import StudyPlan, plan_study
 from rocking.store.attrs import config_hash
@@ -65,6 +65,9 @@ class SpectraSpec(Hashed):
         Least work per task for ``chunk_R: auto`` [s] (None otherwise: it cannot matter).
     accuracy : str or dict
         Preset name or tolerances (:func:`rocking.spectra.accuracy.get_accuracy`).
+    quantity : dict
+        What a cell's critical intensity is (:meth:`rocking.spectra.quantity.Quantity.to_dict`:
+        name, p, w): part of the digest, so a store of another quantity is another store.
     upper : float
         Highest PGA/(g tan α) searched [-].
     damping : Damping or None
@@ -83,6 +86,7 @@ class SpectraSpec(Hashed):
     chunk_R: int | str
     min_task_seconds: float | None
     accuracy: str | dict[str, Any]
+    quantity: dict[str, Any]
     upper: float
     damping: Damping | None
     mu: float | None = None
@@ -110,6 +114,7 @@ class SpectraSpec(Hashed):
             "chunk_R": self.chunk_R,
             "min_task_seconds": self.min_task_seconds,
             "accuracy": self.accuracy,
+            "quantity": dict(self.quantity),
             "search_options": self.search_options(),
         }
 
@@ -119,7 +124,8 @@ class SpectraSpec(Hashed):
         opts = attrs["search_options"]
         return cls(attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]),
                    tuple(attrs["R"]), plan_study(attrs["runs"], "runs"), attrs["chunk_R"],
-                   attrs["min_task_seconds"], attrs["accuracy"], opts["upper"],
+                   attrs["min_task_seconds"], attrs["accuracy"], dict(attrs["quantity"]),
+                   opts["upper"],
                    Damping.from_options(opts), opts.get("mu"))
 
 
@@ -214,6 +220,9 @@ class StripesSpec(_IntensityGrid):
         store: the refined analyses go beside it).
     bootstrap : int
         Resamples of the motions for the interval of the median (0: none; decides no store).
+    jitter : float
+        Half-width w in ln s of each analysis's jitter about its stripe
+        (:func:`rocking.fragility.stripes.jittered`; 0: the stripes exactly).
     """
 
     limit_states: tuple[str, ...] = ()
@@ -221,12 +230,15 @@ class StripesSpec(_IntensityGrid):
     refine: int = dc_field(default=8, compare=False)
     bootstrap: int = dc_field(default=1000, compare=False)
     component: str = "vector_peak"
+    jitter: float = 0.0
 
     def to_attrs(self) -> dict[str, Any]:
         # the measure PGA is left out: stores made before stripes had a measure keep their hash
         extra = {} if self.measure == "pga" else {"measure": self.measure}
         if self.component != "vector_peak":  # likewise: the vector peak keeps the old hash
             extra["component"] = self.component
+        if self.jitter:  # likewise: exact stripes keep the old hash
+            extra["jitter"] = float(self.jitter)
         return {**super().to_attrs(), "limit_states": list(self.limit_states), **extra}
 
     @classmethod
@@ -235,14 +247,15 @@ class StripesSpec(_IntensityGrid):
         take their defaults)."""
         return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]),
                    measure=attrs.get("measure", "pga"),
-                   component=attrs.get("component", "vector_peak"))
+                   component=attrs.get("component", "vector_peak"),
+                   jitter=float(attrs.get("jitter", 0.0)))
 
 
 def _intensity_grid(config, t, field, study, ensemble, accuracy, part) -> tuple:
     """The settings every intensity grid has, checked; and the part's mapping."""
     t = checked_mapping(t, field, DEFAULTS[part], ["R", "intensity"])
     modes = mode_list(t["modes"], f"{field}.modes")
-    return (study, ensemble, modes, positive_field(t["tan_alpha"], f"{field}.tan_alpha"),
+    return (study, ensemble, modes, positive_finite(f"{field}.tan_alpha", t["tan_alpha"]),
             tuple(expand_grid(t["R"], f"{field}.R")),
             tuple(expand_grid(t["intensity"], f"{field}.intensity")),
             chunk_R_field(t["chunk_R"], f"{field}.chunk_R", auto=False), accuracy,
@@ -277,5 +290,10 @@ def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
 
     component = parse_component((config.get("studies") or {}).get(study, {}).get(
         "component", DEFAULTS["study"]["component"]), f"studies.{study}.component")
+    jitter = t["jitter"]
+    if isinstance(jitter, bool) or not isinstance(jitter, int | float) or \
+            not 0.0 <= jitter < 0.5:
+        raise ValueError(f"{field}.jitter must be a number in [0, 0.5), got {jitter!r}")
     return StripesSpec(*common, limit_states=tuple(states), measure=t["measure"],
-                       refine=t["refine"], bootstrap=t["bootstrap"], component=component)
+                       refine=t["refine"], bootstrap=t["bootstrap"], component=component,
+                       jitter=float(jitter))

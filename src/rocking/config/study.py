@@ -14,6 +14,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from rocking._validate import positive_finite
 from rocking.config.damping import Damping
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.fields import (
@@ -24,7 +25,7 @@ from rocking.config.fields import (
     config_section,
     expand_grid,
     number_field,
-    positive_field,
+    quantity_field,
 )
 from rocking.config.plan import plan_study
 from rocking.config.products import (
@@ -36,10 +37,19 @@ from rocking.config.products import (
     tilt_map_spec,
 )
 
-__all__ = ["PAPERS", "StudySpec"]
+__all__ = ["CITATIONS", "PAPERS", "StudySpec"]
 
 PAPERS = ("vassiliou2017",)
 """Papers a study can reproduce (``studies.<name>.reproduces``): Vassiliou et al. (2017)."""
+
+CITATIONS = {
+    "vassiliou2017": "Vassiliou, Burger, Egger, Bachmann, Broccardo & Stojadinović (2017), "
+                     "“The three-dimensional behavior of inverted pendulum cylindrical "
+                     "structures during earthquakes”, Earthquake Engineering & Structural "
+                     "Dynamics 46:2261–2280",
+}
+"""The full reference of each paper of :data:`PAPERS` (authors, title, journal, year), as a
+report of a reproduction names it."""
 
 
 @dataclass(frozen=True)
@@ -113,7 +123,8 @@ class StudySpec(Hashed):
                                             "reproduces": None, "inventory": None},
                      ["ensemble", "R", "runs"])
         ensemble = EnsembleSpec.from_config(config, s["ensemble"])
-        accuracy = accuracy_field(config.get("accuracy", DEFAULTS["accuracy"]))
+        quantity = quantity_field(config.get("quantity", DEFAULTS["quantity"]))
+        accuracy = accuracy_field(config.get("accuracy", DEFAULTS["accuracy"]), quantity["w"])
         runs = s["runs"]
         if isinstance(runs, (list, tuple)):
             runs = [{**r, "tan_alpha": expand_grid(r["tan_alpha"], f"{field}.runs[{i}].tan_alpha")}
@@ -123,14 +134,14 @@ class StudySpec(Hashed):
         chunk_R = chunk_R_field(s["chunk_R"], f"{field}.chunk_R", auto=True)
         min_task = config_section(config, "dask")["min_task_seconds"] if chunk_R == "auto" else None
         if min_task is not None:
-            positive_field(min_task, "dask.min_task_seconds")
+            positive_finite("dask.min_task_seconds", min_task)
         upper = s["upper"] if s["upper"] is not None else config_section(config, "search")["upper"]
         where = f"{field}.upper" if s["upper"] is not None else "search.upper"
         if number_field(upper, where) <= 1.0:
             raise ValueError(f"{where} must be > 1 (the intensity that uplifts), got {upper!r}")
-        mu = None if s["mu"] is None else positive_field(s["mu"], f"{field}.mu")
+        mu = None if s["mu"] is None else positive_finite(f"{field}.mu", s["mu"])
         spectra = SpectraSpec(name, ensemble, tuple(expand_grid(s["R"], f"{field}.R")), plan,
-                              chunk_R, min_task, accuracy, float(upper),
+                              chunk_R, min_task, accuracy, quantity, float(upper),
                               Damping.of_modes(config, plan.modes), mu)
         tilt_map = None if s["tilt_map"] is None else tilt_map_spec(
             config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)

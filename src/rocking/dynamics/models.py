@@ -189,8 +189,9 @@ rocking by micrometres, with ever faster quasi-impacts, until the next strong pu
 1.5 M steps (1.3 s) for one analysis whose peak tilt is 1e-6 rad. Any real contact (and the
 damped model) dissipates that energy, and no rigid contact model means anything below the
 roughness of the contact surfaces (tens of µm for dressed stone or concrete). The value is
-the measured trade (``python -m benchmarks micro``): the cost of the slowest
-analysis near uplift against how many critical intensities move."""
+the measured trade (a benchmark of the first-exceedance search, retired with it; its numbers
+in docs/performance.md): the cost of the slowest analysis near uplift against how many
+critical intensities move."""
 
 THETA_REST_2D = 0.0
 """Default rest tilt of the 2D model [rad]: it loses energy at every impact and ends its

@@ -1,13 +1,14 @@
-"""Multiple-stripe runs of a study: a chunked zarr store, its fragility table.
+"""Multiple-stripe runs of a study: a chunked zarr store, filled, and its fragility table
+written.
 
 ``results/<study>/stripes.zarr`` holds, for every (mode, motion, R, stripe intensity), whether
 the analysis exceeded each limit state (``exceeded`` over mode, limit_state, motion, R,
 intensity) and whether it failed. It is made, filled on Dask and resumed exactly like the
 spectra store (:mod:`rocking.store`, :mod:`rocking.execution.cluster`): a task is one mode,
 one motion and ``chunk_R`` sizes, and runs :func:`rocking.fragility.stripes.stripe_outcomes`.
-:func:`stripe_table` fits the lognormal of :mod:`rocking.fragility.stripes` per (mode, limit
-state, R) and sets it beside the first-exceedance fragility of the spectra
-(:func:`rocking.fragility.lognormal.fragility_table`).
+The fits are :mod:`rocking.fragility.stripe_table`'s; this module keeps the analyses of the
+stripes refinement adds (:class:`RefineCache`, so a killed job resumes) and writes the tables
+(:func:`write_stripe_fragility`).
 """
 
 from __future__ import annotations
@@ -28,18 +29,24 @@ from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import StripesSpec
 from rocking.execution import tasks
-from rocking.fragility.stripes import MEASURE_COLUMNS, measure_scale
+from rocking.fragility.stripe_table import (
+    STRIPES_DIMS,
+    STRIPES_TASK_DIMS,
+    bootstrap_dataset,
+    bootstrap_rows,
+    store_component,
+    store_jitter,
+    store_measure,
+    stripe_table,
+    table_headers,
+)
+from rocking.motions.measures import Measure
 from rocking.spectra.accuracy import get_accuracy
 from rocking.store.attrs import decode_attrs
 from rocking.store.layout import Layout, Variable, label_coord, region_coords, value_coord
 
 log = logging.getLogger(__name__)
 
-STRIPES_DIMS = ("mode", "limit_state", "motion", "R", "intensity")
-"""Dimensions of ``exceeded``, in storage order."""
-
-STRIPES_TASK_DIMS = ("mode", "motion", "R")
-"""A task analyses one motion at every stripe for a few sizes R in one mode."""
 
 
 def stripes_layout(modes: Sequence[str], limit_states: Sequence[str], motions: Sequence[str],
@@ -94,15 +101,18 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         "rocking_version": __version__,
         "ensemble": ensemble,
         "intensity_definition": "PGA/(g tan alpha), PGA = max sqrt(ax^2 + ay^2) of the pair",
+        # each analysis at its stripe times exp(u), u uniform in [-jitter, jitter] drawn
+        # from its identity (rocking.fragility.stripes.jittered)
+        "jitter": float(s.jitter),
     }
     if s.measure == "pga" and s.component == "vector_peak":
         extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
     else:  # every motion scaled so that its measure equals the stripe's
-        scale = measure_scale(s.measure, s.tan_alpha)
+        scale = Measure.of(s.measure).per_normalized(s.tan_alpha)
         attrs["measure"] = s.measure
         attrs["component"] = s.component
         attrs["intensity_definition"] = (
-            f"{s.measure}/(g tan alpha) ({measure_label(s.measure)}, {s.component} of the "
+            f"{s.measure}/(g tan alpha) ({Measure.of(s.measure).label}, {s.component} of the "
             "pair): each motion scaled so that its measure equals the stripe's")
         extra = {"im": ("intensity", [i * scale for i in s.intensity])}
     store.create_store(path, layout, attrs, config_digest,
@@ -136,7 +146,8 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
         e, f, n = stripe_outcomes(Cylinder(float(R), tan_alpha), motion, states, x, str(mode),
                                   acc, **attrs.get("model_options", {}),
                                   measure=store_measure(attrs),
-                                  component=store_component(attrs))
+                                  component=store_component(attrs),
+                                  jitter=store_jitter(attrs))
         exc.append(e.T)  # (limit_state, intensity)
         fail.append(f)
         runs.append(n)
@@ -149,52 +160,6 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     store.write_region(path, layout, index, values)
     return {"index": index, "points": len(rc["R"]) * x.size,
             "seconds": time.perf_counter() - t0}
-
-
-def store_measure(attrs) -> str:
-    """The intensity measure of a stripes store's stripes (``"pga"`` for a store without
-    one: those made before stripes had a measure)."""
-    return str(attrs.get("measure", "pga"))
-
-
-def store_component(attrs) -> str:
-    """The horizontal component of a stripes store's measure (``"vector_peak"`` for a store
-    without one: the spectra's PGA, and stores made before components)."""
-    return str(attrs.get("component", "vector_peak"))
-
-
-def measure_label(measure: str) -> str:
-    """``"PGA"``, ``"PGV"``, ``"Sa(1 s)"``: the measure as an axis names it."""
-    from rocking.motions.measures import parse_measure
-
-    kind, period = parse_measure(measure)
-    return f"Sa({period:g} s)" if kind == "sa" else kind.upper()
-
-
-def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
-    """:class:`rocking.fragility.stripes.StripeFragility` per (mode, R) of a stripes store."""
-    from rocking.fragility.stripes import from_outcomes
-
-    missing = ~ds["done"].values.astype(bool)
-    if missing.any():
-        raise ValueError(f"stripes store is incomplete: {int(missing.sum())} chunks not done")
-    tan_alpha = float(ds.attrs["tan_alpha"]) if "tan_alpha" in ds.attrs else float("nan")
-    exceeded = ds["exceeded"].transpose(*STRIPES_DIMS).values.astype(bool)
-    failed = ds["failed"].transpose("mode", "motion", "R", "intensity").values.astype(bool)
-    n_runs = ds["n_analyses"].transpose(*STRIPES_TASK_DIMS).values
-    motions = [str(m) for m in ds["motion"].values]
-    states = [str(s) for s in ds["limit_state"].values]
-    x = ds["intensity"].values.astype(float)
-    out = {}
-    for i, mode in enumerate(str(m) for m in ds["mode"].values):
-        for k, R in enumerate(ds["R"].values.astype(float)):
-            # (limit_state, motion, intensity) -> (intensity, motion, limit_state)
-            exc = exceeded[i, :, :, k, :].transpose(2, 1, 0)
-            out[(mode, float(R))] = from_outcomes(
-                x, states, motions, exc, failed[i, :, k, :].T, mode=mode, R=float(R),
-                tan_alpha=tan_alpha, n_analyses=int(n_runs[i, :, k].sum()),
-                measure=store_measure(ds.attrs), component=store_component(ds.attrs))
-    return out
 
 
 def refine_cache_path(store_path: str | Path) -> Path:
@@ -321,7 +286,8 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
                 e, f, r = stripe_outcomes(body, tasks.motion_named(motions, name), states,
                                           np.array([float(x)]), result.mode, acc, **options,
                                           measure=result.measure,
-                                          component=result.component)
+                                          component=result.component,
+                                          jitter=result.jitter)
                 hit = (tuple(bool(v) for v in e[0]), bool(f[0]), int(r))
                 cache.put(key, hit)
             exc[m], fail[m], runs = hit[0], hit[1], runs + hit[2]
@@ -332,7 +298,9 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
 
 def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = None,
                 motions: tasks.MotionSource | None = None) -> dict[tuple[str, str, float], Any]:
-    """The fit of every (mode, limit state, R) of a stripes store, refined where separated.
+    """The fit of every (mode, limit state, R) of a stripes store, refined where separated
+    (:func:`rocking.fragility.stripe_table.refined_rows`), the refined stripes' analyses
+    kept in a :class:`RefineCache`.
 
     Parameters
     ----------
@@ -354,208 +322,40 @@ def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = N
         (mode, limit state, R) → :class:`rocking.fragility.stripes.StripeFragility` of that
         limit state, ``n_refined`` stripes added.
     """
-    from rocking.fragility.stripes import refine_stripes
+    from rocking.fragility.stripe_table import refined_rows, stripe_fits
 
     # analyses of another store or motions are redone where they can be (motions given)
     store_cache = RefineCache(cache, ds.encoding.get("source"), ds.attrs,
                               rebuild=motions is not None)
-    out = {}
-    for (mode, R), r in stripe_fits(ds).items():
-        analyze = None
-        for j, ls in enumerate(r.limit_states):
-            if refine > 0 and r.fits[ls].status == "separated":
-                analyze = analyze or _cached_analyzer(r, ds, store_cache, motions)
-                before = len(store_cache)
-                row = refine_stripes(r, ls, analyze, refine, log=log.info)
-                log.info("%s, %s, R = %g m: %s after %d stripe(s) added (%d analyses new, %d "
-                         "from %s)", mode, ls, R, row.fits[ls].status, row.n_refined,
-                         len(store_cache) - before,
-                         row.n_refined * len(r.motions) - (len(store_cache) - before),
-                         store_cache.path)
-            else:
-                row = from_outcomes_of(r, j)
-            out[(mode, ls, R)] = row
-    return out
+    return refined_rows(stripe_fits(ds), refine,
+                        lambda r: _cached_analyzer(r, ds, store_cache, motions),
+                        where=str(store_cache.path))
 
 
-def from_outcomes_of(result, j: int):
-    """The :class:`~rocking.fragility.stripes.StripeFragility` of limit state ``j`` alone."""
-    from rocking.fragility.stripes import from_outcomes
-
-    return from_outcomes(result.intensities, [result.limit_states[j]], result.motions,
-                         result.exceeded[:, :, [j]], result.failed, mode=result.mode,
-                         accuracy=result.accuracy, R=result.R, tan_alpha=result.tan_alpha,
-                         n_analyses=result.n_analyses, measure=result.measure,
-                         component=result.component)
-
-
-TABLE_COLUMNS = ("mode", "limit_state", "tan_alpha", "R", "median", "median_lo", "median_hi",
-                 "median_pga_g", "beta", "beta_lo", "beta_hi", "status", "reason", "n_motions",
-                 "stripes", "first_median", "first_beta", "first_status", "ratio", "measure",
-                 "component", "median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi",
-                 "n_refined", "boot_defined")
-"""Columns of ``stripe_fragility.csv`` (before units are added to the titles). ``median``
-and its Wald interval are in measure/(g tan α); ``median_im``, ``median_p05``,
-``median_p95`` (the bootstrap's 90 % interval), ``bracket_lo``, ``bracket_hi`` in the
-measure's unit (:data:`MEASURE_COLUMNS`); ``median_pga_g`` [g] only for the measure PGA;
-``stripes`` counts the stripes as asked, ``n_refined`` those added; ``boot_defined`` is the
-share of resamples with a median."""
-
-
-
-def table_headers(table: pd.DataFrame) -> dict[str, str]:
-    """CSV titles of a stripe table: :func:`rocking.units.header`, and the unit of the
-    table's measure for :data:`MEASURE_COLUMNS`."""
-    from rocking.motions.measures import MEASURE_UNITS, parse_measure
-    from rocking.units import header
-
-    measures = set(table["measure"]) if len(table) else {"pga"}
-    units = {MEASURE_UNITS[parse_measure(m)[0]] for m in measures}
-    unit = units.pop() if len(units) == 1 else "measure unit"
-    return {c: f"{c} [{unit}]" if c in MEASURE_COLUMNS else
-            ("n_refined" if c == "n_refined" else header(c)) for c in table.columns}
-
-
-def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
-                 rows: dict | None = None, boot: dict | None = None) -> pd.DataFrame:
-    """One row per (mode, limit_state, R): the stripe fit and the first-exceedance fit.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A stripes store.
-    first : xarray.Dataset, optional
-        :func:`rocking.fragility.lognormal.fragility_table` of the same study: its ``median``,
-        ``beta`` and ``status`` at the same (mode, limit_state, tan α, R) become
-        ``first_median``, ``first_beta``, ``first_status``, and ``ratio`` = stripe median /
-        first-exceedance median (NaN where the spectra have no such cell, or the stripes
-        are in another measure than PGA).
-    rows : dict, optional
-        :func:`stripe_rows` (refined fits); None: the stripes as asked.
-    boot : dict, optional
-        Per (mode, limit state, R), :func:`rocking.fragility.stripes.bootstrap_stripes` of the
-        row: gives ``median_p05``, ``median_p95``, ``boot_defined`` (NaN without).
-
-    Returns
-    -------
-    pandas.DataFrame
-        Columns :data:`TABLE_COLUMNS`.
-    """
-    from rocking.fragility.stripes import bootstrap_interval
-
-    if rows is None:
-        rows = stripe_rows(ds)
-    base = {(m, R): r.intensities.size for (m, R), r in stripe_fits(ds).items()}
-    out = []
-    for (mode, ls, R), r in rows.items():
-        (rec,) = r.summary_frame().to_dict(orient="records")
-        fm, fb, fs = (_first(first, mode, ls, r.tan_alpha, R)
-                      if r.measure == "pga" and r.component == "vector_peak"
-                      else (np.nan, np.nan, f"not comparable ({r.measure} {r.component}, "
-                            "not the vector-peak pga)"))
-        p05 = p95 = defined = np.nan
-        if boot is not None and (mode, ls, R) in boot:
-            med = boot[(mode, ls, R)]["median"]
-            p05, p95 = (v * r.scale for v in bootstrap_interval(med))
-            defined = float(np.mean(~np.isnan(med)))
-        out.append({"mode": mode, "tan_alpha": r.tan_alpha, "R": R, **rec,
-                    "n_motions": int(r.n_motions.min()), "stripes": int(base[(mode, R)]),
-                    "first_median": fm, "first_beta": fb, "first_status": fs,
-                    "ratio": rec["median"] / fm if np.isfinite(fm) else np.nan,
-                    "median_p05": p05, "median_p95": p95, "boot_defined": defined})
-    return pd.DataFrame(out, columns=list(TABLE_COLUMNS))
-
-
-def bootstrap_rows(rows: dict, resamples: int, seed: int | None = None) -> dict:
-    """:func:`rocking.fragility.stripes.bootstrap_stripes` of every row of :func:`stripe_rows`
-    (the same resamples of the motions for all), logging the seconds it took."""
-    from rocking.fragility.stripes import BOOTSTRAP_SEED, bootstrap_stripes
-
-    t0 = time.perf_counter()
-    out = {}
-    for key, r in rows.items():
-        (ls,) = r.limit_states
-        out[key] = bootstrap_stripes(r, resamples, BOOTSTRAP_SEED if seed is None else seed)[ls]
-    log.info("bootstrap: %d resamples of the motions for %d rows in %.1f s", resamples,
-             len(rows), time.perf_counter() - t0)
-    return out
-
-
-def bootstrap_dataset(table: pd.DataFrame, rows: dict, boot: dict, *, seed: int | None = None,
-                      study: str = "") -> xr.Dataset:
-    """The resampled fits as ``stripe_fragility_bootstrap.nc``: ``median`` [the measure's
-    unit] and ``beta`` [-] over (``row``, ``resample``), ``row`` in the table's order
-    (its mode, limit_state, R, measure as coordinates), ``status`` codes of each fit."""
-    from rocking.fragility.stripes import BOOT_CODES, BOOTSTRAP_SEED
-    from rocking.motions.measures import MEASURE_UNITS, parse_measure
-
-    keys = list(zip(table["mode"], table["limit_state"], table["R"], strict=True))
-    median = np.stack([boot[k]["median"] * rows[k].scale for k in keys]) if keys \
-        else np.zeros((0, 0))
-    beta = np.stack([boot[k]["beta"] for k in keys]) if keys else np.zeros((0, 0))
-    status = np.stack([boot[k]["status"] for k in keys]) if keys else np.zeros((0, 0), np.int8)
-    measure = str(table["measure"].iloc[0]) if keys else "pga"
-    unit = MEASURE_UNITS[parse_measure(measure)[0]]
-    dims = ("row", "resample")
-    ds = xr.Dataset(
-        {"median": (dims, median, {"units": unit, "long_name": f"median {measure} of the "
-                                   "resample's lognormal fit (geometric middle of the "
-                                   "bracket where it separates, inf where no motion exceeds, "
-                                   "0 where all do, NaN where no fit)"}),
-         "beta": (dims, beta, {"units": "-", "long_name": "lognormal dispersion of the "
-                               "resample (0 where it separates)"}),
-         "status": (dims, status, {"flag_values": list(BOOT_CODES.values()),
-                                   "flag_meanings": " ".join(BOOT_CODES)})},
-        coords={"row": np.arange(len(keys)), "resample": np.arange(median.shape[1]),
-                "mode": ("row", [k[0] for k in keys]),
-                "limit_state": ("row", [k[1] for k in keys]),
-                "R": ("row", np.array([k[2] for k in keys], dtype=float), {"units": "m"}),
-                "tan_alpha": ("row", table["tan_alpha"].to_numpy(dtype=float))},
-        attrs={"title": f"Bootstrap over motions of the stripe fragility, study {study}",
-               "measure": measure, "seed": int(BOOTSTRAP_SEED if seed is None else seed),
-               "resamples": int(median.shape[1]), "interval": "median_p05, median_p95 of "
-               "stripe_fragility.csv: 5 and 95 % order statistics (inverted_cdf) of median "
-               "over the resamples that have one", "rocking_version": __version__})
-    return ds
-
-
-def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
-           R: float) -> tuple[float, float, str]:
-    """(median, beta, status) of the first-exceedance fit at one cell, NaN if absent."""
-    none = (float("nan"), float("nan"), "not computed")
-    if first is None:
-        return none
-    try:
-        cell = first.sel(mode=mode, limit_state=ls)
-        cell = cell.isel(tan_alpha=int(np.flatnonzero(np.isclose(cell["tan_alpha"].values,
-                                                                  tan_alpha))[0]),
-                         R=int(np.flatnonzero(np.isclose(cell["R"].values, R))[0]))
-    except (KeyError, IndexError):
-        return none
-    return float(cell["median"]), float(cell["beta"]), str(cell["status"].values)
-
-
-__all__ = ["MEASURE_COLUMNS", "STRIPES_DIMS", "STRIPES_TASK_DIMS", "TABLE_COLUMNS",
-           "RefineCache", "bootstrap_dataset", "bootstrap_rows", "create_stripes_store",
-           "fill_stripes_region", "measure_label", "refine_cache_path",
-           "store_component", "store_measure", "stripe_fits", "stripe_rows", "stripe_table",
-           "stripes_layout",
-           "table_headers", "write_stripe_fragility"]
+__all__ = ["STRIPES_DIMS", "STRIPES_TASK_DIMS",
+           "RefineCache", "create_stripes_store", "fill_stripes_region", "refine_cache_path",
+           "stripe_rows", "stripes_layout", "write_stripe_fragility"]
 
 
 def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str | Path, *,
                            fragility: str | Path | None = None,
                            motions: tasks.MotionSource | None = None, refine: int = 0,
                            resamples: int = 0, study: str = "",
-                           refined: str | Path | None = None) -> pd.DataFrame:
+                           refined: str | Path | None = None,
+                           exceedance: str | Path | None = None) -> pd.DataFrame:
     """``stripe_fragility.csv`` and ``stripe_fragility_bootstrap.nc`` of a stripes store.
 
     Refines separated rows (analyses kept in :func:`refine_cache_path`, so a killed run
-    resumes), bootstraps every row over the motions, and writes both files (the samples'
-    record says they belong to the table). ``refined``: the refined
-    analyses are also written there, whole (what the figure replays). Returns the table
-    (bare column names).
+    resumes), bootstraps every row over the motions, and writes both files (the table with
+    its estimator, measure, component, unit and jitter, :func:`rocking.fragility.table.
+    write_fragilities`; the samples' record says they belong to the table).
+    ``refined``: the refined analyses are also written there, whole (what the figure
+    replays). ``exceedance``: the ensemble's exceedance probability at every stripe with its
+    bootstrap interval over the motions (:func:`rocking.fragility.stripes.exceedance_table`,
+    ``stripe_exceedance.csv``). Returns the table (bare column names).
     """
+    from rocking.fragility.stripes import exceedance_table
+    from rocking.fragility.table import STRIPES, write_fragilities
     from rocking.provenance import write_atomic
 
     first = None
@@ -571,8 +371,20 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
              sum(r.n_refined for r in rows.values()), time.perf_counter() - t0)
     boot = bootstrap_rows(rows, resamples) if resamples > 0 else None
     table = stripe_table(ds, first, rows=rows, boot=boot)
-    write_atomic(csv, lambda tmp: table.rename(columns=table_headers(table)).to_csv(
-        tmp, index=False, float_format="%.10g"))
+    jitter = store_jitter(ds.attrs)
+    quantity = {"quantity": "mean_local_exceedance" if jitter else "fixed_stripes",
+                "p": float("nan"), "w": jitter}
+    write_fragilities(table.rename(columns=table_headers(table)), csv, estimator=STRIPES,
+                      measure=store_measure(ds.attrs), component=store_component(ds.attrs),
+                      quantity=quantity)
+    if exceedance is not None:
+        shares = pd.concat([exceedance_table(r, max(resamples, 1)).assign(
+            mode=mode, tan_alpha=r.tan_alpha, R=R) for (mode, _, R), r in rows.items()],
+            ignore_index=True)
+        front = ["mode", "tan_alpha", "R"]
+        shares = shares[front + [c for c in shares.columns if c not in front]]
+        write_atomic(exceedance, lambda tmp: shares.to_csv(tmp, index=False,
+                                                           float_format="%.10g"))
     empty = {k: {"median": np.zeros(0), "beta": np.zeros(0), "status": np.zeros(0, np.int8)}
              for k in rows}
     from rocking.fragility.bootstrap import write_bootstrap

@@ -52,8 +52,15 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
                    tan_alpha: Sequence[float], R: Sequence[float], chunk_R: int) -> Layout:
     """Layout of a performance-spectra store (``docs/design.md``, "Study store").
 
-    The validity flags of each answer: ``slides`` (float: 1/0, NaN where the study gave no
-    ``mu`` or the cell was not requested) and ``lifts_off`` (bool).
+    Each cell holds the study's quantity (:class:`rocking.spectra.quantity.Quantity`, named
+    in the store's ``quantity`` attribute): ``pga_crit`` its answer in PGA/(g tan α) (I_p by
+    default, or the first exceedance on the scan grid), ``pga_crit_g`` the same PGA in g,
+    ``i50`` the intensity where half the nearby intensities exceed (I_0.5; NaN where the
+    search saw no such share), ``first_exceedance`` the smallest exceeding intensity the
+    scan saw, whatever the quantity, and ``plateau`` where the local exceedance probability
+    rises near p without crossing it (I_p ill-conditioned there). The validity flags of
+    each answer: ``slides`` (float: 1/0, NaN where the study gave no ``mu`` or the cell was
+    not requested) and ``lifts_off`` (bool).
 
     Besides the results it holds the static ``requested`` (mode, limit_state, tan_alpha):
     which cells the study's runs ask for (:mod:`rocking.config.plan`); cells not requested
@@ -84,11 +91,12 @@ def spectra_layout(modes: Sequence[str], limit_states: Sequence[str], motions: S
     variables = {
         "pga_crit": Variable(SPECTRA_DIMS, "float64", np.nan),
         "pga_crit_g": Variable(SPECTRA_DIMS, "float64", np.nan),
+        "i50": Variable(SPECTRA_DIMS, "float64", np.nan),
+        "first_exceedance": Variable(SPECTRA_DIMS, "float64", np.nan),
+        "plateau": Variable(SPECTRA_DIMS, "bool", False),
         "not_reached": Variable(SPECTRA_DIMS, "bool", False),
         "non_monotonic": Variable(SPECTRA_DIMS, "bool", False),
         "failed": Variable(SPECTRA_DIMS, "bool", False),
-        "unresolved": Variable(SPECTRA_DIMS, "bool", False),
-        "budget_spent": Variable(SPECTRA_DIMS, "bool", False),
         "n_analyses": Variable(SPECTRA_DIMS, "int32", 0),
         "slides": Variable(SPECTRA_DIMS, "float64", np.nan),
         "lifts_off": Variable(SPECTRA_DIMS, "bool", False),
@@ -196,7 +204,7 @@ def check_ensemble(store: StoreHandle, motions_path: str | Path) -> None:
 SECONDS_PER_SAMPLE = 0.4e-6
 """Lower estimate of the cost of one analysis per record sample [s]: the cheapest mode (2D,
 "fast" preset) on El Centro took 0.46 µs per sample on a 2-core development machine
-(results/benchmarks/workflow.md has the measured costs). Only sizes tasks for
+(``python -m benchmarks workflow`` measures the costs). Only sizes tasks for
 ``chunk_R: auto``; the other modes cost more, so tasks are at least this long."""
 
 ANALYSES_PER_POINT = 10
@@ -327,8 +335,9 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
     """Compute and store the critical intensities of one region of a spectra store.
 
     The region is one mode, one motion, one tan α and a run of sizes R; every limit state
-    of the store is found in the same search. Tolerances and search options come from the
-    store's ``tolerances`` and ``search_options`` attributes, so a worker needs nothing else.
+    of the store is found in the same search. Tolerances, quantity and search options come
+    from the store's ``tolerances``, ``quantity`` and ``search_options`` attributes, so a
+    worker needs nothing else.
 
     Parameters
     ----------
@@ -362,21 +371,26 @@ def fill_spectra_region(path: str | Path, index: int, motions: MotionSource, *,
     wanted = requested[region["mode"], :, region["tan_alpha"]][0, :, 0]
     computed = [ls for ls, w in zip(limit_states, wanted, strict=True) if w]
     tasks = [(float(R), float(tan_alpha), motion, str(mode)) for R in rc["R"]]
+    if "quantity" not in attrs:  # never a silent default: the store says what it holds
+        raise ValueError(f"store {str(path)!r} has no 'quantity' attribute: made by an older "
+                         "version; delete it and run its rule again")
     results = batch(tasks, computed, accuracy=attrs["tolerances"],
-                    **attrs.get("search_options", {})) if computed else []
+                    quantity=attrs["quantity"], **attrs.get("search_options", {})) \
+        if computed else []
     flat = spectra_values(results, limit_states, computed) if computed else \
         _unrequested_values(len(limit_states), len(tasks))
     flat["pga_crit_g"] = flat["pga_crit"] * float(tan_alpha)  # PGA [g] = I·tan α
     # (limit_state, R) -> (mode=1, limit_state, motion=1, tan_alpha=1, R)
-    # a store made before a variable existed (e.g. ``unresolved``) keeps its own variables
-    values = {k: v[None, :, None, None, :] for k, v in flat.items() if k in layout.variables}
+    values = {k: v[None, :, None, None, :] for k, v in flat.items()}
     # NaN is an answer where the limit state was not reached, or where nobody asked
     nan_ok = values["not_reached"] | ~wanted[None, :, None, None, None]
     # slides says nothing (NaN) without the study's mu, or where nobody asked
     no_mu = attrs.get("search_options", {}).get("mu") is None
     nan_slides = ~wanted[None, :, None, None, None] | no_mu
+    # I_0.5 is NaN where the analysed intensities never made half of a window exceed
     write_region(path, layout, index, values,
-                 nan_allowed={"pga_crit": nan_ok, "pga_crit_g": nan_ok, "slides": nan_slides})
+                 nan_allowed={"pga_crit": nan_ok, "pga_crit_g": nan_ok, "slides": nan_slides,
+                              "first_exceedance": nan_ok, "i50": np.ones_like(nan_ok)})
     return {"index": index, "points": len(tasks), "seconds": time.perf_counter() - t0}
 
 
@@ -392,11 +406,12 @@ def _unrequested_values(n_ls: int, n: int) -> dict[str, np.ndarray]:
     """Arrays (limit_state, point) of cells not computed: NaN and every flag false."""
     return {
         "pga_crit": np.full((n_ls, n), np.nan),
+        "i50": np.full((n_ls, n), np.nan),
+        "first_exceedance": np.full((n_ls, n), np.nan),
+        "plateau": np.zeros((n_ls, n), dtype=bool),
         "not_reached": np.zeros((n_ls, n), dtype=bool),
         "non_monotonic": np.zeros((n_ls, n), dtype=bool),
         "failed": np.zeros((n_ls, n), dtype=bool),
-        "unresolved": np.zeros((n_ls, n), dtype=bool),
-        "budget_spent": np.zeros((n_ls, n), dtype=bool),
         "n_analyses": np.zeros((n_ls, n), dtype=np.int32),
         "slides": np.full((n_ls, n), np.nan),
         "lifts_off": np.zeros((n_ls, n), dtype=bool),
@@ -411,9 +426,9 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
     ----------
     results : sequence of CriticalResult
         One per point, as returned by :func:`rocking.spectra.critical.critical_intensity_batch`:
-        ``limit_states`` (names), arrays ``intensity`` (PGA/(g tan α) [-], NaN where not
-        reached), ``not_reached``, ``non_monotonic``, ``failed``, ``unresolved`` and
-        ``budget_spent`` (false where a result has none), ``slides`` (NaN where none),
+        ``limit_states`` (names), arrays ``intensity`` (the quantity's answer, PGA/(g tan α)
+        [-], NaN where not reached), ``i50``, ``first_exceedance``, ``plateau``,
+        ``not_reached``, ``non_monotonic``, ``failed``, ``slides`` (NaN where none),
         ``lifts_off`` (false where none) and the count ``n_analyses``.
     limit_states : sequence of str
         Order of the first axis (canonical names, as in the store).
@@ -439,13 +454,12 @@ def spectra_values(results: Sequence[Any], limit_states: Sequence[str],
                 raise ValueError(f"result {j} has no limit state {ls!r} (has {names})")
             k = names.index(ls)
             out["pga_crit"][i, j] = res.intensity[k]
+            out["i50"][i, j] = res.i50[k]
+            out["first_exceedance"][i, j] = res.first_exceedance[k]
+            out["plateau"][i, j] = res.plateau[k]
             out["not_reached"][i, j] = res.not_reached[k]
             out["non_monotonic"][i, j] = res.non_monotonic[k]
             out["failed"][i, j] = res.failed[k]
-            unresolved = getattr(res, "unresolved", None)
-            out["unresolved"][i, j] = False if unresolved is None else unresolved[k]
-            spent = getattr(res, "budget_spent", None)
-            out["budget_spent"][i, j] = False if spent is None else spent[k]
             slides, lifts_off = (getattr(res, f, None) for f in ("slides", "lifts_off"))
             out["slides"][i, j] = np.nan if slides is None else slides[k]
             out["lifts_off"][i, j] = False if lifts_off is None else lifts_off[k]

@@ -33,16 +33,24 @@ def _warm_motion(vertical: bool = False):
     return GroundMotion(3.0 * pulse, 2.0 * np.roll(pulse, 50), 0.01, "warm-up", az=az)
 
 
-def _warm_mode(mode: str, monitors: bool = False, vertical: bool = False) -> float:
+def _warm_mode(mode: str, monitors: bool = False, vertical: bool = False,
+               history: bool = False) -> float:
     """Cheap searches of ``mode`` (compile or load its kernels): the one every study runs
     (no monitors, no vertical forcing), and the kernels' variants with the monitors (a
     friction coefficient) and with the vertical forcing where asked
-    (:data:`rocking.dynamics.driver.VARIANTS`, each compiled on its first call only);
-    seconds it took [s]."""
+    (:data:`rocking.dynamics.driver.VARIANTS`, each compiled on its first call only); with
+    ``history``, one analysis that keeps its history too (the kernels of the paper's Figs 4
+    and 6, which trace tilts in time); seconds it took [s]."""
     from rocking.dynamics.bodies import Cylinder
     from rocking.spectra.critical import critical_intensity
 
     t0 = time.perf_counter()
+    if history and mode in HISTORY_MODES:
+        from rocking.dynamics.analysis import ground_response
+        from rocking.spectra.modes import MODES
+
+        ground_response(Cylinder(WARM_R, 0.2), _warm_motion(), model=MODES[mode][0],
+                        pga_ratio=2.0, history=True)
     for mon, vert in ((False, False), (True, False), (False, True), (True, True)):
         if (mon and not monitors) or (vert and not vertical):
             continue
@@ -50,6 +58,18 @@ def _warm_mode(mode: str, monitors: bool = False, vertical: bool = False) -> flo
                            _warm_motion(vert), ["tilt:0.5", "overturning"], mode,
                            accuracy="fast", upper=8.0)
     return time.perf_counter() - t0
+
+
+HISTORY_MODES = ("3d", "3d-damped")
+"""Modes whose history kernels a reproduction of the paper's figures calls (Figs 4, 6)."""
+
+
+def histories_asked(config) -> bool:
+    """Whether a configuration draws the paper's figures that trace histories (Figs 4 and
+    6: a study that reproduces the paper): their kernels are then compiled once here,
+    instead of by each of those figures' processes at the same time."""
+    return any(isinstance(s, dict) and s.get("reproduces")
+               for s in (config.get("studies") or {}).values())
 
 
 def variants_asked(config) -> tuple[bool, bool]:
@@ -74,7 +94,8 @@ def variants_asked(config) -> tuple[bool, bool]:
 
 
 def warm_numba_cache(modes: Sequence[str] | None = None, processes: int = 1, *,
-                     monitors: bool = False, vertical: bool = False) -> dict[str, float]:
+                     monitors: bool = False, vertical: bool = False,
+                     history: bool = False) -> dict[str, float]:
     """Compile the kernels of ``modes``, or load them from numba's cache.
 
     One critical-intensity search per mode on a 2 s motion runs every kernel a study's
@@ -94,6 +115,8 @@ def warm_numba_cache(modes: Sequence[str] | None = None, processes: int = 1, *,
     monitors, vertical : bool
         Also the kernels' variants with the validity monitors, with the vertical forcing
         (:func:`variants_asked` of a study's configuration); the plain one always.
+    history : bool
+        Also the kernels of an analysis that keeps its history (:func:`histories_asked`).
 
     Returns
     -------
@@ -114,9 +137,11 @@ def warm_numba_cache(modes: Sequence[str] | None = None, processes: int = 1, *,
 
         ctx = multiprocessing.get_context("spawn")  # fresh interpreters, nothing inherited
         with ProcessPoolExecutor(min(processes, len(first)), mp_context=ctx) as pool:
-            warm = functools.partial(_warm_mode, monitors=monitors, vertical=vertical)
+            warm = functools.partial(_warm_mode, monitors=monitors, vertical=vertical,
+                                     history=history)
             seconds.update(zip(first, pool.map(warm, first), strict=True))
     for mode in modes:  # in this process too: loads what the others compiled
-        seconds[mode] = seconds.get(mode, 0.0) + _warm_mode(mode, monitors, vertical)
+        seconds[mode] = seconds.get(mode, 0.0) + _warm_mode(mode, monitors, vertical,
+                                                            history)
         log.info("numba kernels of mode %s ready in %.2f s", mode, seconds[mode])
     return seconds

@@ -1,7 +1,8 @@
 """One fragility: the censored lognormal fit of a study's answers (:mod:`.lognormal`), the
-bootstrap over motions (:mod:`.bootstrap`), the fragility table with what it was fitted in
-(:mod:`.table`), the multiple-stripe fragility (:mod:`.stripes`) and the surface over R and
-tan α (:mod:`.surface`)."""
+bootstrap over motions (:mod:`.bootstrap`), the one table type with what it was fitted in and
+its one reader and writer (:mod:`.table`), the refit in any measure and component from each
+motion's answers (:mod:`.refit`), the multiple-stripe fragility and the ensemble's exceedance
+probability F(s) (:mod:`.stripes`) and the surface over R and tan α (:mod:`.surface`)."""
 
 from rocking._lazy import lazy_exports
 
@@ -10,6 +11,12 @@ _EXPORTS = {
     "LognormalFit": "lognormal",
     "read_bootstrap": "bootstrap",
     "read_fragilities": "table",
+    "write_fragilities": "table",
+    "Fragilities": "table",
+    "refit_study": "refit",
+    "fit_cells": "refit",
+    "exceedance_table": "stripes",
+    "jittered": "stripes",
     "FragilitySurface": "surface",
     "stripe_fragility": "stripes",
     "StripeFragility": "stripes",

@@ -28,6 +28,7 @@ import pandas as pd
 import xarray as xr
 from scipy import optimize, special, stats
 
+from rocking.fragility.table import quantity_of
 from rocking.units import header, set_attrs
 
 MIN_OBSERVED = 2
@@ -360,9 +361,14 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
         coords=coords,
     )
     ds["median_pga_g"] = ds["median"] * ds["tan_alpha"]
+    # the bound in every row: a refit in another measure or component censors there too
+    ds["censoring_bound"] = xr.full_like(ds["median"], np.nan if bound is None else bound)
     set_attrs(ds)
     ds["median"].attrs["long_name"] = "median PGA/(g tan(alpha)) of the lognormal fragility"
-    ds.attrs["censoring_bound"] = "none" if bound is None else bound
+    ds.attrs.update(censoring_bound="none" if bound is None else bound,
+                    estimator="first_exceedance", measure="pga", component="vector_peak",
+                    unit="g", **{k: (str(v) if isinstance(v, str) else v)
+                                 for k, v in quantity_of(store.attrs).items()})
     return ds
 
 

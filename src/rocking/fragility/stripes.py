@@ -65,10 +65,10 @@ from rocking.spectra.limit_states import (
 from rocking.spectra.modes import MODE_3D, MODES, check_mode
 
 __all__ = ["BOOTSTRAP_SEED", "DEFAULT_BOOTSTRAP", "DEFAULT_REFINE", "DEFAULT_STRIPES",
-           "MEASURE_COLUMNS",
+           "EXCEEDANCE_COLUMNS", "JITTER", "MEASURE_COLUMNS", "exceedance_table", "jittered",
            "STRIPE_RANGE", "StripeFit", "StripeFragility", "bootstrap_interval",
            "bootstrap_stripes", "bracket",
-           "fit_stripes", "measure_ratio", "measure_scale", "refine_stripes",
+           "fit_stripes", "measure_ratio", "refine_stripes",
            "refinement_point", "stripe_analyzer", "stripe_fragility", "stripe_intensities"]
 
 DEFAULT_STRIPES = 40
@@ -107,6 +107,41 @@ MEASURE_COLUMNS = ("median_im", "median_p05", "median_p95", "bracket_lo", "brack
 BOOTSTRAP_LEVEL = 0.90
 """Level of the bootstrap interval of θ (``median_p05``, ``median_p95``)."""
 
+JITTER = 0.02
+"""Default half-width w of each analysis's jitter in ln s (:func:`jittered`): issue 45's
+window of the local exceedance probability P(s)."""
+
+
+def jittered(intensities, w: float, *, motion: str, mode: str, R: float,
+             tan_alpha: float) -> np.ndarray:
+    """The intensities one motion is analysed at: each stripe s times exp(u), u uniform in
+    [−w, w].
+
+    u is drawn from the analysis's identity (motion, mode, R, tan α and the stripe itself:
+    never the process, the order of work or the other stripes), so a rerun, a resumed store
+    and a refined stripe analyse the same intensity, bit for bit. Averaged over u, a motion
+    exceeds at stripe s with probability P_m(s), the share of intensities within ±w of s
+    in ln s that exceed: its local exceedance probability (issue 45). The share of motions
+    exceeding at s is therefore an unbiased estimate of F(s) = mean over motions of
+    P_m(s), the ensemble's exceedance probability, which converges as motions are added;
+    the binomial fit of those shares is its lognormal.
+
+    ``w`` = 0 returns the stripes themselves.
+    """
+    import hashlib
+
+    x = np.asarray(intensities, dtype=float)
+    if not 0.0 <= w < 0.5:
+        raise ValueError(f"jitter must be in [0, 0.5), got {w!r}")
+    if w == 0.0:
+        return x
+    out = np.empty_like(x)
+    for i, s in enumerate(x):
+        key = f"stripe|{motion}|{mode}|{float(R)!r}|{float(tan_alpha)!r}|{float(s)!r}"
+        seed = int.from_bytes(hashlib.sha256(key.encode()).digest()[:8], "little")
+        out[i] = s * math.exp(np.random.default_rng(seed).uniform(-w, w))
+    return out
+
 
 def stripe_intensities(n: int = DEFAULT_STRIPES, lower: float = STRIPE_RANGE[0],
                        upper: float = STRIPE_RANGE[1]) -> np.ndarray:
@@ -142,16 +177,6 @@ def _check_intensities(intensities) -> np.ndarray:
     return x
 
 
-def measure_scale(measure: str, tan_alpha: float) -> float:
-    """Factor from a normalized stripe intensity, measure/(g tan α), to the measure in its
-    unit (:data:`rocking.motions.measures.MEASURE_UNITS`: g for pga and sa:T, m/s for pgv)."""
-    from rocking.constants import G
-    from rocking.motions.measures import parse_measure
-
-    kind, _ = parse_measure(measure)
-    return float(tan_alpha) * (G if kind == "pgv" else 1.0)
-
-
 def measure_ratio(motion: GroundMotion, measure: str = "pga",
                   component: str = "vector_peak") -> float:
     """PGA/(g tan α) of ``motion`` scaled so that its ``measure`` in ``component`` over
@@ -161,17 +186,17 @@ def measure_ratio(motion: GroundMotion, measure: str = "pga",
     at PGA/(g tan α) = x · this ratio (every measure is linear in the scale). 1 for ``"pga"``
     in the vector peak (the spectra's own intensity).
     """
-    from rocking.constants import G
-    from rocking.motions.measures import intensity_measure, parse_component, parse_measure
+    from rocking.motions.measures import Measure, parse_component
 
-    kind, _ = parse_measure(measure)
-    if kind == "pga" and parse_component(component) == "vector_peak":
+    im = Measure.of(measure)
+    if im == Measure("pga") and parse_component(component) == "vector_peak":
         return 1.0
-    im = intensity_measure(motion, measure, component)
-    if not (math.isfinite(im) and im > 0.0):
-        raise ValueError(f"motion {motion.name!r} has {measure} = {im!r}: it cannot be scaled "
+    value = im.of_motion(motion, component)
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"motion {motion.name!r} has {im} = {value!r}: it cannot be scaled "
                          "to a stripe of that measure")
-    return motion.pga_g * (G if kind == "pgv" else 1.0) / im
+    # the stripe x is the measure x·(g tan α) in its unit: the scale x·per_normalized/value
+    return motion.pga_g * im.per_normalized(1.0) / value
 
 
 # --------------------------------------------------------------------------------------
@@ -469,6 +494,9 @@ class StripeFragility:
         Stripes :func:`refine_stripes` added (0 for the stripes as asked).
     component : str
         The horizontal component of ``measure`` (:data:`rocking.motions.measures.COMPONENTS`).
+    jitter : float
+        Half-width in ln s of each analysis's jitter about its stripe (:func:`jittered`;
+        0: the stripes exactly).
     """
 
     intensities: np.ndarray
@@ -485,11 +513,14 @@ class StripeFragility:
     measure: str = "pga"
     n_refined: int = 0
     component: str = "vector_peak"
+    jitter: float = 0.0
 
     @property
     def scale(self) -> float:
         """Factor from the normalized intensities to the measure in its unit (g, m/s)."""
-        return measure_scale(self.measure, self.tan_alpha)
+        from rocking.motions.measures import Measure
+
+        return Measure.of(self.measure).per_normalized(self.tan_alpha)
 
     @property
     def n_exceeding(self) -> np.ndarray:
@@ -587,7 +618,8 @@ class StripeFragility:
                          "status": f.status, "reason": f.reason, "measure": self.measure,
                          "component": self.component,
                          "median_im": f.median * self.scale, "bracket_lo": lo,
-                         "bracket_hi": hi, "n_refined": int(self.n_refined)})
+                         "bracket_hi": hi, "n_refined": int(self.n_refined),
+                         "jitter": self.jitter})
         return pd.DataFrame(rows)
 
     def __repr__(self) -> str:
@@ -626,13 +658,14 @@ def _check_motions(motions) -> list[GroundMotion]:
 def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequence[LimitState],
                     intensities: np.ndarray, mode: str, acc: Accuracy, *,
                     omega_n: float | None = None, zeta: float | None = None,
-                    progress=None, measure: str = "pga",
-                    component: str = "vector_peak") -> tuple[np.ndarray, np.ndarray, int]:
+                    progress=None, measure: str = "pga", component: str = "vector_peak",
+                    jitter: float = 0.0) -> tuple[np.ndarray, np.ndarray, int]:
     """Analyse one motion at every stripe: (exceeded (stripes, states), failed (stripes,),
     analyses run).
 
-    ``intensities`` are ``measure``/(g tan α): the motion is scaled so that its measure
-    equals each (:func:`measure_ratio`). Each analysis stops once the largest tilt goal is
+    ``intensities`` are ``measure``/(g tan α), each analysed at itself jittered by
+    ``jitter`` in ln s (:func:`jittered`; 0: exactly): the motion is scaled so that its
+    measure equals it (:func:`measure_ratio`). Each analysis stops once the largest tilt goal is
     passed (runs to its end when overturning is asked, and to the end of the record when a
     limit state watches a monitor, :func:`~rocking.spectra.limit_states.whole_record`);
     below the uplift intensity the body stays at rest and nothing is run, unless a limit
@@ -641,6 +674,8 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
     analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
                             rest_tilt=acc.rest_tilt, whole=whole_record(states))
     at_rest = any(ls.at_rest for ls in states)
+    intensities = jittered(intensities, jitter, motion=motion.name, mode=mode, R=body.R,
+                           tan_alpha=body.tan_alpha)
     ratio = measure_ratio(motion, measure, component)
     if ratio != 1.0:  # the PGA/(g tan α) each stripe of the measure gives this motion
         intensities = np.asarray(intensities, dtype=float) * ratio
@@ -680,6 +715,7 @@ def stripe_fragility(
     progress=False,
     measure: str = "pga",
     component: str = "vector_peak",
+    jitter: float = JITTER,
 ) -> StripeFragility:
     """Multiple-stripe fragility of a body under an ensemble of motions.
 
@@ -709,15 +745,19 @@ def stripe_fragility(
     component : str
         Horizontal component of ``measure`` (:data:`rocking.motions.measures.COMPONENTS`):
         each motion is scaled so that its measure in it equals the stripe.
+    jitter : float
+        Half-width w in ln s of each analysis's jitter about its stripe (:func:`jittered`,
+        default :data:`JITTER`): the shares exceeding then estimate the mean over motions of
+        their local exceedance probability; 0 analyses the stripes exactly.
 
     Returns
     -------
     StripeFragility
     """
     check_mode(mode)
-    from rocking.motions.measures import parse_component, parse_measure
+    from rocking.motions.measures import Measure, parse_component
 
-    parse_measure(measure)
+    Measure.of(measure)
     component = parse_component(component)
     motions = _check_motions(motions)
     states = parse_limit_states(limit_states, sort=False)
@@ -732,19 +772,20 @@ def stripe_fragility(
     for m, motion in enumerate(motions):
         exceeded[:, m], failed[:, m], r = stripe_outcomes(
             body, motion, states, x, mode, acc, omega_n=omega_n, zeta=zeta, progress=bar,
-            measure=measure, component=component)
+            measure=measure, component=component, jitter=jitter)
         runs += r
     if bar is not None and bar is not progress:
         bar.close()
     return from_outcomes(x, states, [m.name for m in motions], exceeded, failed, mode=mode,
                          accuracy=acc.name, R=float(body.R), tan_alpha=float(body.tan_alpha),
-                         n_analyses=runs, measure=measure, component=component)
+                         n_analyses=runs, measure=measure, component=component, jitter=jitter)
 
 
 def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, failed, *,
                   mode: str = MODE_3D, accuracy: str = "default", R: float = math.nan,
                   tan_alpha: float = math.nan, n_analyses: int = 0, measure: str = "pga",
-                  n_refined: int = 0, component: str = "vector_peak") -> StripeFragility:
+                  n_refined: int = 0, component: str = "vector_peak",
+                  jitter: float = 0.0) -> StripeFragility:
     """A :class:`StripeFragility` (fits included) from per-analysis outcomes, e.g. read back
     from a store: ``exceeded`` (stripes, motions, limit states), ``failed`` (stripes,
     motions)."""
@@ -762,7 +803,7 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
     fits = {name: fit_stripes(x, k[:, j], n) for j, name in enumerate(names)}
     return StripeFragility(x, names, tuple(motions), exc, fail, MappingProxyType(fits),
                            mode, accuracy, R, tan_alpha, int(n_analyses), measure,
-                           int(n_refined), component)
+                           int(n_refined), component, float(jitter))
 
 
 # --------------------------------------------------------------------------------------
@@ -773,8 +814,8 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
 def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], limit_states, *,
                     mode: str = MODE_3D, accuracy: str | Accuracy | dict = "default",
                     omega_n: float | None = None, zeta: float | None = None,
-                    measure: str = "pga",
-                    component: str = "vector_peak") -> Callable[[float], tuple]:
+                    measure: str = "pga", component: str = "vector_peak",
+                    jitter: float = JITTER) -> Callable[[float], tuple]:
     """``analyze(x)``: every motion at one more stripe ``x`` [measure/(g tan α)], as
     :func:`stripe_fragility` analyses them; returns (exceeded (motions, limit states),
     failed (motions,), analyses run)."""
@@ -788,7 +829,7 @@ def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], lim
         for m, motion in enumerate(motions):
             e, f, r = stripe_outcomes(body, motion, states, np.array([float(x)]), mode, acc,
                                       omega_n=omega_n, zeta=zeta, measure=measure,
-                                      component=component)
+                                      component=component, jitter=jitter)
             exc[m], fail[m], runs = e[0], f[0], runs + r
         return exc, fail, runs
 
@@ -853,7 +894,7 @@ def refine_stripes(result: StripeFragility, limit_state: str,
     return from_outcomes(x, [limit_state], result.motions, every[:, :, [j]], fail,
                          mode=result.mode, accuracy=result.accuracy, R=result.R,
                          tan_alpha=result.tan_alpha, n_analyses=runs, measure=result.measure,
-                         n_refined=added, component=result.component)
+                         n_refined=added, component=result.component, jitter=result.jitter)
 
 
 BOOT_CODES = {"ok": 0, "separated": 1, "none-exceeded": 2, "all-exceeded": 3, "no-trend": 4,
@@ -966,6 +1007,57 @@ def _resample_fit(x: np.ndarray, k: np.ndarray, n: np.ndarray,
     if f.status == "all-exceeded":
         return 0.0, math.nan, BOOT_CODES[f.status]
     return f.median, f.beta, BOOT_CODES[f.status]
+
+
+EXCEEDANCE_COLUMNS = ("limit_state", "intensity", "im", "jitter", "n_exceeding", "n_motions",
+                      "share", "share_p05", "share_p95")
+"""Columns of :func:`exceedance_table` (``stripe_exceedance.csv``)."""
+
+
+def exceedance_table(result: StripeFragility, resamples: int = DEFAULT_BOOTSTRAP,
+                     seed: int = BOOTSTRAP_SEED, level: float = BOOTSTRAP_LEVEL):
+    """The ensemble's exceedance probability at every stripe, with no lognormal assumed.
+
+    F(s), the share of the analysed motions exceeding at stripe s, and its ``level``
+    interval over ``resamples`` resamples of the motions (the draws of
+    :func:`bootstrap_stripes`). With jittered stripes (:func:`jittered`) F(s) estimates the
+    mean over motions of their local exceedance probability P_m(s) without bias: the
+    fragility that converges as motions are added (issue 45), whatever its shape.
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`EXCEEDANCE_COLUMNS`: per limit state and stripe, ``intensity``
+        [measure/(g tan α)], ``im`` [the measure's unit], ``jitter``, the counts, ``share``
+        and its interval (NaN where no motion was analysed).
+    """
+    import pandas as pd
+
+    n_mot = len(result.motions)
+    idx = bootstrap_indices(n_mot, int(resamples), seed)
+    w = np.zeros((int(resamples), n_mot), dtype=np.int64)
+    np.add.at(w, (np.arange(int(resamples))[:, None], idx), 1)
+    ok = (~result.failed).astype(np.int64)
+    n = (w @ ok.T).astype(float)  # (resamples, stripes)
+    a = 100.0 * (1.0 - level) / 2.0
+    rows = []
+    frac = result.fraction
+    for j, name in enumerate(result.limit_states):
+        k = w @ (result.exceeded[:, :, j] & ~result.failed).astype(np.int64).T
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(n > 0, k / np.where(n > 0, n, 1.0), np.nan)
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            lo, hi = np.nanpercentile(share, [a, 100.0 - a], axis=0)
+        for i, s in enumerate(result.intensities):
+            rows.append({"limit_state": name, "intensity": float(s),
+                         "im": float(s) * result.scale, "jitter": result.jitter,
+                         "n_exceeding": int(result.n_exceeding[i, j]),
+                         "n_motions": int(result.n_motions[i]), "share": float(frac[i, j]),
+                         "share_p05": float(lo[i]), "share_p95": float(hi[i])})
+    return pd.DataFrame(rows, columns=list(EXCEEDANCE_COLUMNS))
 
 
 def bootstrap_interval(medians, level: float = BOOTSTRAP_LEVEL) -> tuple[float, float]:

@@ -44,10 +44,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rocking.fragility.lognormal import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED, bootstrap_lognormal
-from rocking.fragility.table import read_fragilities
+from rocking.fragility.lognormal import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED
+from rocking.fragility.table import Fragilities
 from rocking.spectra.limit_states import sort_limit_states
-from rocking.units import read_table
 
 RTOL = 1e-9
 """Relative distance [-] within which a column's R or tan α counts as on the grid's edge."""
@@ -143,23 +142,33 @@ class FragilitySurface:
     source: str = ""
     n_resamples: int = 0
     skipped: list[str] = field(default_factory=list)
-    component: str | None = None
-    """Horizontal component of the study's PGA (``records.csv`` beside ``fragility.csv``;
-    None where the folder does not say): the hazard must be in the same."""
+    component: str = "vector_peak"
+    """Horizontal component of the medians."""
+    measure: str = "pga"
+    """Intensity measure of the medians (g)."""
+    note: str = ""
+    """How the study's fragility was brought into this measure and component ('' for the
+    spectra's own vector-peak PGA)."""
 
     # ----------------------------------------------------------------------------- building
     @classmethod
     def from_study(cls, study: str | Path, *, mode: str = "3d", limit_states=None,
-                   n_resamples: int = BOOTSTRAP_RESAMPLES,
-                   seed: int = BOOTSTRAP_SEED) -> FragilitySurface:
-        """The surface of a study's results folder.
+                   n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = BOOTSTRAP_SEED,
+                   measure="pga", component: str = "vector_peak") -> FragilitySurface:
+        """The surface of a study's results folder, in an intensity measure and component.
+
+        Every node is the study's censored lognormal refitted from ``critical.csv`` (each
+        motion's critical PGA) in ``measure`` and ``component``
+        (:mod:`rocking.fragility.refit`, through each motion's ratio of the two in
+        ``motion_measures.csv``; none needed for the vector-peak PGA, where the refit is
+        ``fragility.csv``'s own fit), with the bootstrap over the motions.
 
         Parameters
         ----------
         study : path
-            ``results/<study>/`` with ``fragility.csv`` (the nodes' median and β) and
-            ``critical.csv`` (each motion's critical PGA: the bootstrap refits); or the
-            ``fragility.csv`` itself.
+            ``results/<study>/`` (``critical.csv``; ``fragility.csv`` for the search bound
+            the motions not reached are censored at; ``motion_measures.csv`` for another
+            measure or component), or its ``fragility.csv``.
         mode : str
             The analysis mode (``3d`` default).
         limit_states : sequence of str, optional
@@ -167,27 +176,36 @@ class FragilitySurface:
         n_resamples, seed : int
             Bootstrap resamples of the motions (0: none) and their seed (the study's own
             by default, so the resamples are the study's).
+        measure, component : str
+            What the medians are in (the hazard's: :func:`rocking.risk.reconcile.reconcile`).
 
         Raises
         ------
         ValueError
-            One line: no fragility.csv, the mode not in it, no (mode, limit state) with a
+            One line: no critical.csv, the mode not in it, no (mode, limit state) with a
             grid of ≥ 2 R and ≥ 2 tan α fitted at every node, a limit state asked for
-            without one.
+            without one, no motion measures for another measure or component.
         """
-        study = Path(study)
-        table = study if study.suffix == ".csv" else study / "fragility.csv"
-        if not table.is_file():
-            raise ValueError(f"--surface {study}: no fragility.csv there (a study's results "
-                             "folder, e.g. results/paper/elcentro)")
-        frag = read_fragilities(table, bootstrap=False)
+        from rocking.fragility.refit import refit_study
+
+        frag = refit_study(study, measure, component, mode=mode, limit_states=limit_states,
+                           n_resamples=n_resamples, seed=seed)
+        return cls.from_fragilities(frag, mode=mode, limit_states=limit_states)
+
+    @classmethod
+    def from_fragilities(cls, frag: Fragilities, *, mode: str = "3d",
+                         limit_states=None) -> FragilitySurface:
+        """The surface of a study's fragilities of one mode (:class:`Fragilities` with its
+        bootstrap resamples, or none: a surface without intervals)."""
+        where = frag.source or "the fragility table"
         rows = frag.rows[frag.rows["mode"] == mode]
         if rows.empty:
-            raise ValueError(f"{table}: no fitted fragility in mode {mode!r} (its modes: "
+            raise ValueError(f"{where}: no fitted fragility in mode {mode!r} (its modes: "
                              f"{sorted(set(frag.rows['mode']))})")
         wanted = (sort_limit_states(rows["limit_state"].unique()) if limit_states is None
                   else list(limit_states))
         grids, why = {}, []
+        n = frag.samples.n_resamples if frag.samples is not None else 0
         for ls in wanted:
             part = rows[rows["limit_state"] == ls]
             gaps = frag.skipped[(frag.skipped["mode"] == mode)
@@ -205,52 +223,21 @@ class FragilitySurface:
             cube = part.set_index(["tan_alpha", "R"]).sort_index()
             median = cube["median_g"].to_numpy().reshape(ta.size, R.size)
             beta = cube["beta"].to_numpy().reshape(ta.size, R.size)
-            grids[(mode, ls)] = LimitStateGrid(ta, R, median, beta,
-                                               np.empty((ta.size, R.size, 0)),
-                                               np.empty((ta.size, R.size, 0)))
+            med_r = np.empty((ta.size, R.size, n))
+            beta_r = np.empty((ta.size, R.size, n))
+            if n:
+                idx = cube["row"].to_numpy(int)
+                med_r = frag.samples.median[idx].reshape(ta.size, R.size, n)
+                beta_r = frag.samples.beta[idx].reshape(ta.size, R.size, n)
+            grids[(mode, ls)] = LimitStateGrid(ta, R, median, beta, med_r, beta_r)
         if limit_states is not None and why:
-            raise ValueError(f"{table}: no surface for {why[0]} (a surface needs ≥ 2 R and "
+            raise ValueError(f"{where}: no surface for {why[0]} (a surface needs ≥ 2 R and "
                              "≥ 2 tan α, fitted at every node)")
         if not grids:
-            raise ValueError(f"{table}: no grid in R and tan α in mode {mode} (a surface "
+            raise ValueError(f"{where}: no grid in R and tan α in mode {mode} (a surface "
                              f"needs ≥ 2 R and ≥ 2 tan α, fitted at every node): "
                              + "; ".join(why))
-        surface = cls(grids, str(study), 0, why, study_component(table))
-        critical = table.with_name("critical.csv")
-        if n_resamples > 0:
-            if not critical.is_file():
-                raise ValueError(f"{table}: no critical.csv beside it, so no bootstrap: give "
-                                 "n_resamples=0 for a surface without intervals")
-            surface = surface.with_bootstrap(critical, n_resamples, seed)
-        return surface
-
-    def with_bootstrap(self, critical: str | Path, n_resamples: int = BOOTSTRAP_RESAMPLES,
-                       seed: int = BOOTSTRAP_SEED) -> FragilitySurface:
-        """The surface with each node refitted to ``n_resamples`` resamples of its motions
-        (``critical.csv``: the critical PGA/(g tan α) of every motion at every node)."""
-        table = read_table(critical)
-        order = {m: i for i, m in enumerate(dict.fromkeys(table["motion"]))}
-        grids = {}
-        for (mode, ls), g in self.grids.items():
-            part = table[(table["mode"] == mode) & (table["limit_state"] == ls)]
-            med = np.full((*g.median.shape, n_resamples), np.nan)
-            beta = np.full_like(med, np.nan)
-            for (i, ta), (k, R) in ((a, b) for a in enumerate(g.tan_alpha)
-                                    for b in enumerate(g.R)):
-                cell = part[np.isclose(part["tan_alpha"], ta, rtol=RTOL)
-                            & np.isclose(part["R"], R, rtol=RTOL)]
-                cell = cell.iloc[np.argsort([order[m] for m in cell["motion"]], kind="stable")]
-                x = cell["pga_crit"].to_numpy(float)
-                c = cell["not_reached"].astype(bool).to_numpy()
-                if x.size == 0 or not np.isfinite(x).all():
-                    raise ValueError(f"{critical}: {mode} {ls} tan α {ta:g} R {R:g} m: "
-                                     f"{x.size} motion(s), some without a critical value: "
-                                     "cannot resample that node")
-                m, b = bootstrap_lognormal(x, c, n_resamples=n_resamples, seed=seed)
-                med[i, k], beta[i, k] = m * ta, b
-            grids[(mode, ls)] = LimitStateGrid(g.tan_alpha, g.R, g.median, g.beta, med, beta)
-        return FragilitySurface(grids, self.source, n_resamples, list(self.skipped),
-                                self.component)
+        return cls(grids, where, n, why, frag.component, frag.measure, frag.note)
 
     # ---------------------------------------------------------------------------- queries
     def limit_states(self, mode: str = "3d") -> list[str]:
@@ -412,27 +399,6 @@ LOO_COLUMNS = ("mode", "limit_state", "left_out", "tan_alpha", "R", "median", "m
 """Columns of :meth:`FragilitySurface.leave_one_out`."""
 
 
-def study_component(fragility_csv: str | Path) -> str | None:
-    """The horizontal component of a study's intensities, from the ``component`` column of
-    ``records.csv`` beside its ``fragility.csv`` (None without that table).
-
-    Raises
-    ------
-    ValueError
-        If the table names more than one component.
-    """
-    records = Path(fragility_csv).with_name("records.csv")
-    if not records.is_file():
-        return None
-    names = pd.read_csv(records, usecols=lambda c: c == "component")
-    found = sorted(set(names["component"].dropna().astype(str))) if "component" in names \
-        else []
-    if len(found) > 1:
-        raise ValueError(f"{records}: the component column names {found}; a study's "
-                         "intensities are in one")
-    return found[0] if found else None
-
-
 def _normalized(g: LimitStateGrid, median: np.ndarray) -> np.ndarray:
     """ln of the normalized capacity θ/(g tan α) [-] at the nodes (tan α along axis 0), the
     quantity interpolated: the paper's spectra are near-independent of tan α in it, while
@@ -454,5 +420,4 @@ def _list(values) -> str:
     return "[" + ", ".join(values[:4]) + (", ..." if len(values) > 4 else "") + "]"
 
 
-__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval",
-           "study_component"]
+__all__ = ["CI", "RTOL", "FragilitySurface", "LimitStateGrid", "OutsideGrid", "interval"]

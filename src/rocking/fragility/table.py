@@ -1,8 +1,18 @@
-"""The study's fragility table as the rows the exports and the risk table need.
+"""One fragility table type, read and written in one place.
 
-Reads what :func:`rocking.fragility.lognormal.fragility_table` computes (the Dataset, its flat
-:func:`~rocking.fragility.lognormal.to_frame` table, or ``results/<study>/fragility.csv`` /
-``.nc``) and keeps, per (mode, tan α, R, limit state), the median PGA capacity in g and β.
+Every fragility table of a study (``fragility.csv``: the lognormal of each motion's critical
+intensity, from the spectra; ``suite_fragility.csv``: the same per group of motions in each
+intensity measure; ``stripe_fragility.csv``: the multiple-stripe fit; a refit in another
+measure or component, :mod:`rocking.fragility.refit`) is read by :func:`read_fragilities`
+into :class:`Fragilities`, which carries what the numbers are in: its ``measure``,
+``component`` and ``unit``, its estimator (``kind``), the per-motion quantity it was fitted
+to (``quantity``: name, p, w of issue 45's critical intensity), and per row the mode, limit
+state and body (tan α, R). Tables are written with those columns in front
+(:data:`META`, :func:`write_fragilities`); a table written before them is read as what it
+was (PGA in the vector peak, the classic first exceedance).
+
+Per (mode, tan α, R, limit state) the reader keeps the median capacity in the measure's unit
+(g for PGA and Sa) and β.
 Rows without a fit (median or β NaN: too few motions reached the limit state, or no spread)
 are set aside in :attr:`Fragilities.skipped` with their status, never silently dropped; cells
 the study never asked for (status ``not-computed``) are not part of it and are only counted.
@@ -20,7 +30,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -35,6 +45,15 @@ log = logging.getLogger(__name__)
 KEYS = ("mode", "tan_alpha", "R", "limit_state")
 """Columns that identify a fragility."""
 
+META = ("estimator", "measure", "component", "unit", "quantity", "p", "w")
+"""Columns every fragility table starts with: what its numbers are in (the estimator, the
+intensity measure, its horizontal component and unit) and the per-motion quantity fitted
+(``quantity`` name, ``p``, ``w``: :func:`quantity_of`)."""
+
+LEGACY_QUANTITY = {"quantity": "first_exceedance", "p": math.nan, "w": math.nan}
+"""The quantity of a table or store that states none (made before issue 45's quantity): the
+first exceedance on the scan grid."""
+
 COLUMNS = (*KEYS, "median_g", "beta", "n", "bracket_lo", "bracket_hi", "row", "status")
 """Columns of :attr:`Fragilities.rows` and :attr:`Fragilities.skipped` (``n`` motions fitted,
 ``row`` the row of the table read, −1 for a frame without one)."""
@@ -47,11 +66,12 @@ NOT_COMPUTED = "not-computed"
 FIRST_EXCEEDANCE = "first_exceedance"
 STRIPES = "stripes"
 KINDS = {
-    FIRST_EXCEEDANCE: "first-exceedance fragility: lognormal fitted to each motion's smallest "
-                      "intensity exceeding the limit state (motions not reached censored at "
-                      "the search bound)",
+    FIRST_EXCEEDANCE: "first-exceedance fragility: lognormal fitted to each motion's critical "
+                      "intensity (the study's quantity, the table's quantity column: I10 by "
+                      "default; motions not reached censored at the search bound)",
     STRIPES: "multiple-stripe fragility: lognormal fitted by binomial maximum likelihood to "
-             "the share of motions exceeding the limit state at fixed intensities",
+             "the share of motions exceeding the limit state at each stripe (jittered "
+             "within +-w in ln s: the motions' mean local exceedance probability F(s))",
 }
 """Which fragility a table holds → one line saying what it is (descriptions of the exports)."""
 
@@ -90,6 +110,16 @@ class Fragilities:
         Horizontal component of the measure (:data:`rocking.motions.measures.COMPONENTS`):
         the table's ``component`` column, ``vector_peak`` for a table without one (the
         spectra's fragility.csv, and tables written before components).
+    quantity : dict
+        The per-motion quantity behind a first-exceedance fit (``quantity``, ``p``, ``w``,
+        :func:`quantity_of`); for stripes ``w`` is the half-width of the intensities'
+        jitter in ln s (0: none).
+    note : str
+        How the fragility was brought into these terms, when it was (a refit), for the
+        outputs to say.
+    refitted : bool
+        Refitted from the study's per-motion answers in another measure or component than
+        its table's (:func:`rocking.fragility.refit.refit_study`).
     """
 
     rows: pd.DataFrame
@@ -100,10 +130,25 @@ class Fragilities:
     samples: BootstrapSamples | None = None
     source: str = ""
     component: str = "vector_peak"
+    quantity: dict = field(default_factory=lambda: dict(LEGACY_QUANTITY))
+    note: str = ""
+    refitted: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ValueError(f"kind must be one of {sorted(KINDS)}, got {self.kind!r}")
+
+    @property
+    def unit(self) -> str:
+        """Unit of the medians: the measure's (g for PGA and Sa)."""
+        from rocking.motions.measures import Measure
+
+        return Measure.of(self.measure).unit
+
+    @property
+    def terms(self) -> str:
+        """``"pga vector_peak [g]"``: what the medians are, in words for the outputs."""
+        return f"{self.measure} {self.component} [{self.unit}]"
 
     def resamples(self, row: int) -> tuple[np.ndarray, np.ndarray] | None:
         """θ [g] and β [-] of the bootstrap resamples of the table's row ``row`` (the
@@ -180,14 +225,16 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     source : path, pandas.DataFrame or xarray.Dataset
         ``results/<study>/fragility.csv`` or ``.nc`` (first exceedance in PGA),
         ``suite_fragility.csv`` (first exceedance in each intensity measure of the study),
-        ``stripe_fragility.csv``, or the table itself; column titles with or without units.
+        ``stripe_fragility.csv``, a refit (:func:`rocking.fragility.refit.fit_cells`), or
+        the table itself; column titles with or without units.
     kind : {"first_exceedance", "stripes"}, optional
-        Which fragility the table holds; default: told by its columns
-        (:func:`fragility_kind`).
+        Which fragility the table holds; default: its ``estimator`` column, else told by its
+        columns (:func:`fragility_kind`).
     measure : str, optional
-        The intensity measure wanted (``"pga"``, ``"sa:1.0"``; default ``pga``). A suite or
-        stripe table with a ``measure`` column gives its rows of that measure; a suite table
-        its ``records`` rows (its ``synthetic`` ones where it has no records).
+        The intensity measure wanted (any spelling, ``"pga"``, ``"SA(1.0)"``); default: the
+        table's first. A table of several measures gives its rows of that one (a suite table
+        its ``records`` rows, its ``synthetic`` ones where it has no fitted record rows);
+        one without it is refused, naming the measures it has.
     bootstrap : path or False, optional
         The table's bootstrap samples (:mod:`rocking.fragility.bootstrap`); default
         ``<table>_bootstrap.nc`` beside a table given by path, when it exists; False: none.
@@ -200,31 +247,27 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     -------
     Fragilities
     """
-    from rocking.motions.measures import DEFAULT_COMPONENT, same_measure
+    from rocking.motions.measures import DEFAULT_COMPONENT, Measure, parse_component
 
     frame = _plain_columns(_as_frame(source)).reset_index(drop=True)
     n_total = len(frame)
     frame["row"] = np.arange(n_total)
-    if kind is None:
-        kind = fragility_kind(frame)
-    elif kind not in KINDS:
-        raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     where = str(source) if isinstance(source, str | Path) else "fragility table"
-    measure = "pga" if measure is None else measure
+    if kind is None:
+        kind = (str(frame["estimator"].iloc[0]) if "estimator" in frame.columns and len(frame)
+                else fragility_kind(frame))
+    if kind not in KINDS:
+        raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     have = (list(dict.fromkeys(frame["component"].astype(str))) if "component" in frame.columns
             else [DEFAULT_COMPONENT])
-    if component is None:
-        component = have[0] if have else DEFAULT_COMPONENT
+    component = have[0] if component is None and have else parse_component(
+        component or DEFAULT_COMPONENT)
     if component not in have:
         raise ValueError(f"{where} has no fit in the component {component} (its components: "
-                         f"{', '.join(have)}): fit it there (studies.<name>.component, or "
-                         "hazard: {file, component} so the suite is fitted in it too), or "
-                         "declare the hazard's component if it is one of those")
+                         f"{', '.join(have)})")
     if "component" in frame.columns:
         frame = frame[frame["component"].astype(str) == component]
-    frame, median_col = _in_measure(frame, measure, where, same_measure)
-    if "measure" in frame.columns and len(frame):
-        measure = str(frame["measure"].iloc[0])  # the table's own spelling (sa:1.0)
+    frame, median_col, measure = _in_measure(frame, measure, where)
     need = {"mode", "limit_state", "tan_alpha", "R", median_col, "beta"}
     missing = sorted(need - set(frame.columns))
     if missing:
@@ -259,37 +302,122 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     rows["status"] = rows["status"].replace("", "ok")
     skipped = sort_rows(out[~fitted & ~not_computed])
     skipped["status"] = skipped["status"].replace("", "no fit")
-    return Fragilities(rows, skipped, int(not_computed.sum()), kind, measure,
+    return Fragilities(rows, skipped, int(not_computed.sum()), kind, Measure.of(measure).name,
                        _samples(source, bootstrap, n_total),
-                       str(source) if isinstance(source, str | Path) else "", component)
+                       str(source) if isinstance(source, str | Path) else "", component,
+                       quantity_of(frame))
 
 
-def _in_measure(frame: pd.DataFrame, measure: str, where: str, same_measure):
-    """The rows of ``frame`` in ``measure`` and the column holding their median [g]."""
-    has_measure = "measure" in frame.columns
-    if "motions" in frame.columns and has_measure:  # suite_fragility.csv
-        rows = frame[[same_measure(str(m), measure) for m in frame["measure"]]]
-        if rows.empty:
-            raise ValueError(f"{where} has no fit in {measure} (its measures: "
-                             f"{sorted(set(map(str, frame['measure'])))}): add {measure} to "
-                             "the study's intensity_measures (if it is there, the table is "
-                             "older than the configuration: rerun with `snakemake "
-                             "--forcerun records_table`)")
+def quantity_of(source) -> dict:
+    """The per-motion quantity a table or store was made with: ``{"quantity", "p", "w"}``.
+
+    ``source`` is a table (its ``quantity``, ``p``, ``w`` columns) or a store's attributes
+    (``quantity``: a mapping ``{name, p, w}`` or its JSON); :data:`LEGACY_QUANTITY` where it
+    states none."""
+    import json
+
+    if isinstance(source, pd.DataFrame):
+        if "quantity" not in source.columns or source.empty:
+            return dict(LEGACY_QUANTITY)
+        first = source.iloc[0]
+        return {"quantity": str(first["quantity"]),
+                "p": float(first["p"]) if "p" in source.columns else math.nan,
+                "w": float(first["w"]) if "w" in source.columns else math.nan}
+    raw = dict(source).get("quantity") if source is not None else None
+    if isinstance(raw, str):
+        try:
+            raw = json.loads(raw)
+        except json.JSONDecodeError:
+            raw = {"name": raw}
+    if not isinstance(raw, dict):
+        return dict(LEGACY_QUANTITY)
+    return {"quantity": str(raw.get("name", raw.get("quantity", "first_exceedance"))),
+            "p": float(raw.get("p", math.nan)), "w": float(raw.get("w", math.nan))}
+
+
+def with_meta(frame: pd.DataFrame, *, estimator: str, measure=None,
+              component: str | None = None, quantity: dict | None = None) -> pd.DataFrame:
+    """``frame`` with the :data:`META` columns in front: ``measure`` and ``component`` the
+    ones given, else the frame's own per row (a suite table of several); ``unit`` the
+    measure's; the quantity's name, p and w."""
+    from rocking.motions.measures import Measure, parse_component
+
+    if estimator not in KINDS:
+        raise ValueError(f"estimator must be one of {sorted(KINDS)}, got {estimator!r}")
+    plain = _plain_columns(frame)
+    n = len(frame)
+    measures = ([Measure.of(measure).name] * n if measure is not None
+                else [Measure.of(str(m)).name for m in plain["measure"]])
+    components = ([parse_component(component)] * n if component is not None
+                  else [parse_component(str(c)) for c in plain["component"]])
+    q = {**LEGACY_QUANTITY, **(quantity or {})}
+    meta = {"estimator": [estimator] * n, "measure": measures, "component": components,
+            "unit": [Measure.of(m).unit for m in measures], "quantity": [q["quantity"]] * n,
+            "p": [q["p"]] * n, "w": [q["w"]] * n}
+    rest = frame[[c for c, t in zip(frame.columns, plain.columns, strict=True)
+                  if t not in meta]]
+    return pd.concat([pd.DataFrame(meta, index=frame.index), rest], axis=1)
+
+
+def write_fragilities(frame: pd.DataFrame, path: str | Path, *, estimator: str,
+                      measure=None, component: str | None = None,
+                      quantity: dict | None = None, samples=None,
+                      float_format: str = "%.10g") -> Path:
+    """Write a fragility table with its :data:`META` columns (:func:`with_meta`), and its
+    bootstrap samples beside it.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The table (column titles as they are to be written).
+    path : path
+        ``<name>.csv``; ``samples`` go to ``<name>_bootstrap.nc`` beside it.
+    estimator, measure, component, quantity
+        As :func:`with_meta`.
+    samples : xarray.Dataset, optional
+        ``median``, ``beta`` over (row, resample), rows in the table's order
+        (:func:`rocking.fragility.bootstrap.write_bootstrap`: the samples' record says
+        they belong to the table).
+    """
+    from rocking.fragility.bootstrap import bootstrap_path, write_bootstrap
+    from rocking.provenance import write_atomic
+
+    table = with_meta(frame, estimator=estimator, measure=measure, component=component,
+                      quantity=quantity)
+    path = Path(path)
+    write_atomic(path, lambda tmp: table.to_csv(tmp, index=False, float_format=float_format))
+    if samples is not None:
+        write_bootstrap(samples, bootstrap_path(path), table=path)
+    return path
+
+
+def _in_measure(frame: pd.DataFrame, measure, where: str):
+    """The rows of ``frame`` in ``measure`` (default: its first), the column holding their
+    median [the measure's unit], and the measure's name."""
+    from rocking.motions.measures import Measure
+
+    if "measure" not in frame.columns:  # fragility.csv written before META: PGA
+        if measure is not None and Measure.of(measure) != Measure("pga"):
+            raise ValueError(f"{where} holds fits in PGA only, not {Measure.of(measure)}")
+        return frame, "median_pga_g", "pga"
+    names = [Measure.of(str(m)) for m in frame["measure"]]
+    have = list(dict.fromkeys(names))
+    wanted = Measure.of(measure) if measure is not None else (have[0] if have else
+                                                              Measure("pga"))
+    rows = frame[[m == wanted for m in names]]
+    if rows.empty:
+        raise ValueError(f"{where} has no fit in {wanted} (its measures: "
+                         f"{', '.join(m.name for m in have) or 'none'})")
+    if "motions" in rows.columns:  # suite_fragility.csv: one group of motions
         groups = [g for g in SUITE_GROUPS if g in set(rows["motions"])]
         fitted = [g for g in groups if np.isfinite(rows.loc[rows["motions"] == g,
                                                             "median"]).any()]
         group = (fitted or groups)[0]
-        return rows[rows["motions"] == group], "median"
-    if has_measure:  # a stripe table that says its measure
-        rows = frame[[same_measure(str(m), measure) for m in frame["measure"]]]
-        if rows.empty:
-            raise ValueError(f"{where} has no fit in {measure} (its measure: "
-                             f"{sorted(set(map(str, frame['measure'])))})")
-        return rows, ("median_im" if "median_im" in rows.columns else "median_pga_g")
-    if not same_measure(measure, "pga"):
-        raise ValueError(f"{where} holds fits in PGA only, not {measure}: give the suite's "
-                         "suite_fragility.csv (or a stripe table in that measure)")
-    return frame, "median_pga_g"
+        rows = rows[rows["motions"] == group]
+    for column in ("median_im", "median_pga_g"):  # stripes; fragility.csv
+        if column in rows.columns:
+            return rows, column, wanted.name
+    return rows, "median", wanted.name  # a table whose median is in its unit column
 
 
 def _bracket(frame: pd.DataFrame, name: str, kind: str) -> pd.Series:
@@ -343,6 +471,6 @@ def median_beta(mean: float, stddev: float) -> tuple[float, float]:
     return mean * mean / math.hypot(stddev, mean), math.sqrt(math.log1p((stddev / mean) ** 2))
 
 
-__all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "STRIPES", "SUITE_GROUPS",
-           "Fragilities",
-           "fragility_kind", "lognormal_moments", "median_beta", "read_fragilities"]
+__all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "LEGACY_QUANTITY", "META", "STRIPES",
+           "SUITE_GROUPS", "Fragilities", "fragility_kind", "lognormal_moments", "median_beta",
+           "quantity_of", "read_fragilities", "with_meta", "write_fragilities"]

@@ -200,8 +200,11 @@ def oscillator(a, dt: float, fc_hz: float, pad: float | None = None) -> np.ndarr
         t = np.arange(u.shape[-1]) * step
         a_shift = np.array([[wc, 1.0], [-wc * wc, -wc]])  # A + ω_c I
         w0 = -gamma1[:, 0]
-        cw0 = float(c_vec[0] @ w0)
-        caw0 = float(c_vec[0] @ (a_shift @ w0))
+        # two-term sums in Python, not ``@``: BLAS kernels (FMA or not) round them
+        # differently, and these two numbers reach every sample
+        c, aw0 = c_vec[0].tolist(), [math.fsum(r) for r in (a_shift * w0).tolist()]
+        cw0 = math.fsum(ci * wi for ci, wi in zip(c, w0.tolist(), strict=True))
+        caw0 = math.fsum(ci * wi for ci, wi in zip(c, aw0, strict=True))
         free = np.exp(-wc * t) * (cw0 + caw0 * t)
         out = out + u0[..., None] * free
     return out

@@ -40,10 +40,10 @@ from rocking.constants import G
 from rocking.motions.motion import GroundMotion
 
 __all__ = ["COMPONENTS", "DEFAULT_COMPONENT", "DEFAULT_DAMPING", "MEASURES", "MEASURE_PATTERN",
-           "MEASURE_UNITS", "ROTD_ANGLES", "Component", "IntensityMeasure", "component_peak",
-           "component_ratio", "measure_imt",
-           "intensity_measure", "measure_series", "parse_component", "parse_measure",
-           "peak_vector_velocity", "vector_sa"]
+           "MEASURE_UNITS", "ROTD_ANGLES", "Component", "IntensityMeasure", "Measure",
+           "component_peak", "component_ratio", "intensity_measure", "measure_imt",
+           "measure_series", "parse_component", "parse_measure", "peak_vector_velocity",
+           "same_measure", "vector_sa"]
 
 DEFAULT_DAMPING = 0.05
 """Damping ratio of the Sa(T) oscillator [-]."""
@@ -156,42 +156,156 @@ def parse_component(name: str, field: str = "component") -> str:
     return text
 
 
-def parse_measure(name: str) -> tuple[str, float | None]:
-    """``"pga"``, ``"pgv"`` or ``"sa:<T>"`` (:data:`MEASURES`) → (kind, period [s] or None).
+SA_NAME = re.compile(r"^S[Aa]\(\s*([0-9.eE+-]+)\s*\)$")
+"""OpenQuake's name of a spectral acceleration, ``SA(1.0)``: its period in group 1."""
 
-    Raises
-    ------
-    ValueError
-        Any other spelling, or a period that is not a finite number > 0.
+
+@dataclass(frozen=True)
+class Measure:
+    """One intensity measure: a kind of :data:`MEASURES` and, for Sa, its period.
+
+    The one object every part of the project asks what a measure is: its name in the
+    configuration and the tables (:attr:`name`, ``"pga"``, ``"sa:1.0"``), its unit, how it
+    scales with the record, OpenQuake's IMT (:attr:`imt`, ``"SA(1.0)"``), its label on an
+    axis, the time series whose peaks it is (:meth:`series`), its value for a motion in a
+    horizontal component (:meth:`of_motion`) and the factor from a normalized intensity
+    (measure/(g tan α)) to its unit (:meth:`per_normalized`). Two spellings of one measure
+    (``"sa:1"``, ``"SA(1.0)"``, ``"Sa:1.00"``) are one :class:`Measure` (equal, same hash).
+
+    Build it with :meth:`of`.
     """
-    names = [f"'{k}:<T in s>'" if m.has_period else k for k, m in MEASURES.items()]
-    spelled = ", ".join(names[:-1]) + " or " + names[-1]
-    if not isinstance(name, str):
-        raise ValueError(f"an intensity measure is {spelled}, got {name!r}")
-    text = name.strip().lower()
-    kind, _, rest = text.partition(":")
-    m = MEASURES.get(kind)
-    if m is not None and not m.has_period and not _:
-        return kind, None
-    if m is not None and m.has_period and _:
-        try:
-            period = float(rest)
-        except ValueError:
-            period = math.nan
-        if not (math.isfinite(period) and period > 0):
-            raise ValueError(f"the period of {name!r} must be a number of seconds > 0, "
-                             f"e.g. '{kind}:1.0'")
-        return kind, period
-    raise ValueError(f"an intensity measure is {spelled}, got {name!r}")
+
+    kind: str
+    period: float | None = None
+
+    def __post_init__(self) -> None:
+        info = MEASURES.get(self.kind)
+        if info is None or info.has_period != (self.period is not None):
+            raise ValueError(f"an intensity measure is {_SPELLED}, got kind {self.kind!r} "
+                             f"with period {self.period!r}")
+        if self.period is not None:
+            if not (isinstance(self.period, int | float) and math.isfinite(self.period)
+                    and self.period > 0):
+                raise ValueError(f"the period of {self.kind} must be a number of seconds > 0, "
+                                 f"got {self.period!r}")
+            object.__setattr__(self, "period", float(self.period))
+
+    @classmethod
+    def of(cls, value) -> Measure:
+        """The measure a name denotes: ``"pga"``, ``"pgv"``, ``"sa:<T>"`` (any case), or
+        OpenQuake's ``"PGA"``, ``"PGV"``, ``"SA(<T>)"``; a :class:`Measure` is returned as it
+        is.
+
+        Raises
+        ------
+        ValueError
+            Any other spelling, or a period that is not a finite number > 0.
+        """
+        if isinstance(value, Measure):
+            return value
+        if not isinstance(value, str):
+            raise ValueError(f"an intensity measure is {_SPELLED}, got {value!r}")
+        text = value.strip()
+        hit = SA_NAME.match(text)
+        if hit:
+            text = f"sa:{hit.group(1)}"
+        kind, colon, rest = text.lower().partition(":")
+        info = MEASURES.get(kind)
+        if info is not None and not info.has_period and not colon:
+            return cls(kind)
+        if info is not None and info.has_period and colon:
+            try:
+                period = float(rest)
+            except ValueError:
+                period = math.nan
+            if not (math.isfinite(period) and period > 0):
+                raise ValueError(f"the period of {value!r} must be a number of seconds > 0, "
+                                 f"e.g. '{kind}:1.0'")
+            return cls(kind, period)
+        raise ValueError(f"an intensity measure is {_SPELLED}, got {value!r}")
+
+    @property
+    def info(self) -> IntensityMeasure:
+        """Its kind's entry of :data:`MEASURES`."""
+        return MEASURES[self.kind]
+
+    @property
+    def _period_text(self) -> str:
+        p = self.period
+        return f"{p:.1f}" if p == round(p, 1) else f"{p:g}"
+
+    @property
+    def name(self) -> str:
+        """The configuration's and the tables' name: ``"pga"``, ``"pgv"``, ``"sa:1.0"``."""
+        return self.kind if self.period is None else f"{self.kind}:{self._period_text}"
+
+    @property
+    def imt(self) -> str:
+        """OpenQuake's intensity measure type: ``"PGA"``, ``"PGV"``, ``"SA(1.0)"``."""
+        return self.info.imt.format(period=self._period_text if self.period else "")
+
+    @property
+    def label(self) -> str:
+        """As an axis names it: ``"PGA"``, ``"PGV"``, ``"Sa(1 s)"``."""
+        return self.kind.upper() if self.period is None else f"Sa({self.period:g} s)"
+
+    @property
+    def unit(self) -> str:
+        """Unit of its values (:data:`MEASURE_UNITS`)."""
+        return self.info.unit
+
+    @property
+    def scaling(self) -> str:
+        """How it changes when the record is scaled (``"linear"``)."""
+        return self.info.scaling
+
+    @property
+    def column(self) -> str:
+        """A name fit for a column title: ``"pga"``, ``"pgv"``, ``"sa_1s"``."""
+        return self.kind if self.period is None else f"sa_{self.period:g}s"
+
+    def per_normalized(self, tan_alpha: float) -> float:
+        """Factor from a normalized intensity, measure/(g tan α) [-], to the measure in its
+        unit: tan α for measures in g, g tan α for PGV [m/s]."""
+        return float(tan_alpha) * (G if self.unit == "m/s" else 1.0)
+
+    def series(self, motion: GroundMotion,
+               damping: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The pair of time series whose peaks are this measure, in its unit
+        (:func:`measure_series`)."""
+        return measure_series(motion, self, DEFAULT_DAMPING if damping is None else damping)
+
+    def of_motion(self, motion: GroundMotion, component: str = "vector_peak") -> float:
+        """The measure of ``motion`` in ``component``, in its unit
+        (:func:`intensity_measure`)."""
+        return intensity_measure(motion, self, component)
+
+    def __str__(self) -> str:
+        return self.name
 
 
-def measure_imt(name: str) -> str:
+_SPELLED = "pga, pgv or 'sa:<T in s>' (OpenQuake's PGA, PGV, SA(<T>))"
+
+
+def parse_measure(name) -> tuple[str, float | None]:
+    """``"pga"``, ``"pgv"`` or ``"sa:<T>"`` (any spelling :meth:`Measure.of` takes) →
+    (kind, period [s] or None)."""
+    m = Measure.of(name)
+    return m.kind, m.period
+
+
+def measure_imt(name) -> str:
     """OpenQuake's IMT of a measure: ``"pga"`` → ``"PGA"``, ``"sa:1"`` → ``"SA(1.0)"``."""
-    kind, period = parse_measure(name)
-    if period is None:
-        return MEASURES[kind].imt
-    text = f"{period:.1f}" if period == round(period, 1) else f"{period:g}"
-    return MEASURES[kind].imt.format(period=text)
+    return Measure.of(name).imt
+
+
+def same_measure(a, b) -> bool:
+    """Whether two names (any spelling, ``SA(1.0)`` or ``sa:1.0``) denote the same
+    intensity measure; False where either is none."""
+    try:
+        return Measure.of(a) == Measure.of(b)
+    except ValueError:
+        return False
 
 
 def peak_vector_velocity(motion: GroundMotion) -> float:
@@ -223,7 +337,7 @@ def vector_sa(motion: GroundMotion, period: float, damping: float = DEFAULT_DAMP
     return float(omega**2 * np.max(np.hypot(ux, uy)) / G)
 
 
-def measure_series(motion: GroundMotion, name: str,
+def measure_series(motion: GroundMotion, name: str | Measure,
                    damping: float = DEFAULT_DAMPING) -> tuple[np.ndarray, np.ndarray]:
     """The pair of time series whose peaks are the measure ``name``, in its unit.
 
@@ -263,7 +377,7 @@ def component_peak(x: np.ndarray, y: np.ndarray, component: str) -> float:
     return math.sqrt(px * py) if component == "geometric_mean" else max(px, py)
 
 
-def intensity_measure(motion: GroundMotion, name: str,
+def intensity_measure(motion: GroundMotion, name: str | Measure,
                       component: str = DEFAULT_COMPONENT) -> float:
     """The measure ``name`` (:func:`parse_measure`) of a motion in ``component``, in
     :data:`MEASURE_UNITS`."""
@@ -278,26 +392,7 @@ def intensity_measure(motion: GroundMotion, name: str,
     return component_peak(*measure_series(motion, name), component)
 
 
-def component_ratio(motion: GroundMotion, name: str, to: str, frm: str) -> float:
+def component_ratio(motion: GroundMotion, name: str | Measure, to: str, frm: str) -> float:
     """Measure ``name`` of ``motion`` in component ``to`` over the same in ``frm`` [-]: the
     factor from one component to the other, the same at every scale of the motion."""
     return intensity_measure(motion, name, to) / intensity_measure(motion, name, frm)
-
-
-SA_NAME = re.compile(r"^SA\(\s*([0-9.eE+-]+)\s*\)$", re.IGNORECASE)
-"""OpenQuake's name of a spectral acceleration, ``SA(1.0)``: its period in group 1."""
-
-
-def same_measure(a: str, b: str) -> bool:
-    """Whether two names (either spelling, ``SA(1.0)`` or ``sa:1.0``) denote the same
-    intensity measure (any measure the study knows, pgv included)."""
-    def key(name):
-        text = str(name).strip()
-        hit = SA_NAME.match(text)
-        try:
-            return parse_measure(f"sa:{hit.group(1)}" if hit else text)
-        except ValueError:
-            return None
-
-    ka = key(a)
-    return ka is not None and ka == key(b)

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from rocking._validate import finite
+from rocking._validate import finite, positive_finite
 from rocking.constants import G
 from rocking.motions.motion import GroundMotion
 
@@ -52,6 +52,16 @@ def _pair(a1, a2) -> tuple[np.ndarray, np.ndarray]:
     return x, y
 
 
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    """Σ a_k b_k correctly rounded (:func:`math.fsum` of the exact-rounded products).
+
+    Not ``a @ b``: BLAS sums in an order that depends on the CPU's kernel and on the length,
+    so the horizontals of a record padded to its vertical file (a few trailing zeros) got
+    another last bit of the principal angle on AVX2 machines, and with it other samples.
+    The exactly rounded sum is the same for any length of trailing zeros, kernel or order."""
+    return math.fsum((a * b).tolist())
+
+
 def arias_tensor(a1, a2, dt: float) -> np.ndarray:
     """Arias-intensity tensor I_ij = (π/2g) Σ a_i a_j Δt [m/s].
 
@@ -68,20 +78,19 @@ def arias_tensor(a1, a2, dt: float) -> np.ndarray:
         Symmetric 2×2 matrix; its trace is the total (rotation-invariant) Arias intensity.
     """
     x, y = _pair(a1, a2)
-    step = finite("dt", dt)
-    if step <= 0.0:
-        raise ValueError(f"dt must be > 0, got {dt!r}")
-    s = np.array([[x @ x, x @ y], [x @ y, y @ y]])
+    step = positive_finite("dt", dt)
+    xy = _dot(x, y)
+    s = np.array([[_dot(x, x), xy], [xy, _dot(y, y)]])
     return s * (math.pi / (2.0 * G) * step)
 
 
 def correlation(a1, a2) -> float:
     """Uncentred correlation Σa₁a₂ / √(Σa₁² Σa₂²) [-] (the quantity principal axes zero)."""
     x, y = _pair(a1, a2)
-    den = math.sqrt(float(x @ x) * float(y @ y))
+    den = math.sqrt(_dot(x, x) * _dot(y, y))
     if den == 0.0:
         raise ValueError("correlation is undefined: a component is identically zero")
-    return float(x @ y) / den
+    return _dot(x, y) / den
 
 
 def principal_angle(a1, a2) -> float:
@@ -104,7 +113,7 @@ def principal_angle(a1, a2) -> float:
         Unequal lengths, non-finite samples, or both components identically zero.
     """
     x, y = _pair(a1, a2)
-    s11, s22, s12 = float(x @ x), float(y @ y), float(x @ y)
+    s11, s22, s12 = _dot(x, x), _dot(y, y), _dot(x, y)
     if s11 == 0.0 and s22 == 0.0:
         raise ValueError("principal angle is undefined: both components are identically zero")
     return math.degrees(0.5 * math.atan2(2.0 * s12, s11 - s22))
@@ -217,7 +226,7 @@ def to_principal_axes(
         # nearer recording axis, without a sense: keep the computed axis and sense.
         applied = reference + math.copysign(abs(forced), offset)
     bx, by = rotate_components(motion.ax, motion.ay, applied)
-    if float(by @ by) > float(bx @ bx):
+    if _dot(by, by) > _dot(bx, bx):
         applied += 90.0 if applied <= 0.0 else -90.0
         bx, by = rotate_components(motion.ax, motion.ay, applied)
     out = rotate(motion, applied)

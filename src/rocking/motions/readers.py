@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from rocking._validate import positive_finite
 from rocking.constants import G
 from rocking.motions.motion import GroundMotion
 from rocking.provenance import file_sha256
@@ -398,9 +399,7 @@ def read_text(
         if dt is None:
             raise ValueError(f"dt (the time step [s]) is required for the one-column file "
                              f"{path}")
-        dt_val = float(dt)
-        if not math.isfinite(dt_val) or dt_val <= 0.0:
-            raise ValueError(f"dt must be a positive finite number, got {dt!r} (file {path})")
+        dt_val = positive_finite(f"{path}: dt", dt)
         acc = data[:, 0]
     else:
         t = data[:, 0]

@@ -1,14 +1,16 @@
-"""The paper's figures (and the fragility curves), one module per figure, and the study's HTML
-report (:mod:`.report`): what reads the study's stores and tables and draws or writes them.
+"""The figures: the paper's, the fragility curves, and those of the stripes, the risk and the
+portfolio, one module per figure (or per ``data`` drawn twice), each read from the study's
+stores and tables.
 
 Each figure module declares its entry ``FIGURE`` (:class:`.registry.FigureSpec`: number, caption,
-scope, when a study wants it, logical inputs); :func:`.registry.figures` lists them in the
-paper's order (``FIGURES``: their names).
+scope, when a study wants it, logical inputs, where the report shows it);
+:func:`.registry.figures` lists them in the paper's order (``FIGURES``: their names).
 
 Every module has ``data(...)``, which extracts exactly the arrays to plot (plain dicts of numpy
-arrays, from the study store, its aggregates or fresh analyses), and ``plot(data) -> Figure``.
-:func:`render` runs both and writes the image files plus a JSON sidecar with what the figure
-measured and what was missing, which the report quotes.
+arrays, from the study store, its aggregates or fresh analyses), and ``plot(data) -> Figure``
+(its entry may name another drawing function). :func:`render` runs both and writes the image
+files plus a JSON sidecar with what the figure measured and what was missing, which the report
+quotes.
 """
 
 from __future__ import annotations
@@ -31,24 +33,15 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-NOTE_KEYS = ("measured", "paper", "predicted", "missing", "body", "motion", "axes", "grid",
-             "colors")
+NOTE_KEYS = ("measured", "paper", "predicted", "missing", "remarks", "body", "motion", "axes",
+             "grid", "colors", "mode")
 """Entries of a figure's data copied into its JSON sidecar (whichever it has)."""
 
 
-SECTION_FIGURES = ("risk",)
-"""Figures outside the registry: drawn by a rule that also writes their tables
-(``rules/risk.smk``) and shown in their own section of the report; each is the module of
-that name here, with ``data()`` and ``plot()`` like a registry entry's."""
-
-
 def module(name: str):
-    """The module of figure ``name`` (a name of :func:`.registry.figures` or of
-    :data:`SECTION_FIGURES`)."""
+    """The module of figure ``name`` (a name of :func:`.registry.figures`)."""
     from rocking.plot.registry import figure
 
-    if name in SECTION_FIGURES:
-        return importlib.import_module(f".{name}", __name__)
     return importlib.import_module(figure(name).module)
 
 
@@ -89,9 +82,11 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     dict
         The data handed to ``plot``.
     """
+    from rocking.plot.registry import figure
+
     mod = module(name)
     d = mod.data(**data_kw)
-    save(mod.plot(d), outputs)
+    save(getattr(mod, figure(name).plot)(d), outputs)
     if notes is not None:
         write_notes(notes, {"figure": name, **{k: d[k] for k in NOTE_KEYS if k in d}})
     return d
@@ -108,5 +103,4 @@ def draw(name: str, inputs: Mapping, params: Mapping,
                   **figure(name).data_kwargs(inputs, params))
 
 
-__all__ = ["NOTE_KEYS", "SECTION_FIGURES", "draw", "figure_name", "module", "open_means",
-           "open_store", "render"]
+__all__ = ["NOTE_KEYS", "draw", "figure_name", "module", "open_means", "open_store", "render"]

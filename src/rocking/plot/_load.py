@@ -214,15 +214,43 @@ def mean_curve(agg: xr.Dataset, mode: str, limit_state: str, stat: str = "mean")
     return y if np.isfinite(y).any() else None
 
 
-def unresolved_means(agg: xr.Dataset, mode: str, limit_state: str) -> np.ndarray | None:
-    """Sizes R where the mean of (mode, limit state) includes answers flagged unresolved
-    (``n_unresolved`` > 0 of ``mean_spectra``: narrower windows may lie below them, so the
-    mean may lie lower); None when the aggregate has no flag or none is set."""
-    if "n_unresolved" not in agg:
+def plateau_means(agg: xr.Dataset, mode: str, limit_state: str) -> np.ndarray | None:
+    """Sizes R where the mean of (mode, limit state) includes answers flagged ``plateau``
+    (``n_plateau`` > 0 of ``mean_spectra``: there P rises near p without crossing it, so a
+    small change of the response could move the answer down); None when none is set."""
+    if "n_plateau" not in agg:
         return None
-    n = agg["n_unresolved"].sel(mode=mode, limit_state=limit_state).values.astype(float)
+    n = agg["n_plateau"].sel(mode=mode, limit_state=limit_state).values.astype(float)
     flag = np.nan_to_num(n) > 0
     return flag if flag.any() else None
+
+
+def answer_label(attrs: dict) -> str:
+    """What a figure's answers are, from its store's (or mean spectra's) attributes: the
+    quantity's label (``"I10"``), or ``"first exceedance (1 % grid)"`` with the scan's step
+    (:class:`rocking.spectra.quantity.Quantity`)."""
+    from rocking.spectra.quantity import Quantity
+    from rocking.study.aggregate import store_quantity
+
+    q = Quantity.from_value(store_quantity(attrs))
+    if q.is_quantile:
+        return q.label
+    step = decode_attrs(dict(attrs)).get("tolerances", {}).get("scan_step")
+    return f"first exceedance ({100 * float(step):g} % grid)" if step else q.label
+
+
+def answer_definition(attrs: dict) -> str:
+    """The quantity in one phrase for a legend: ``"I10 = lowest PGA/(g tan α) at which ≥ 10 %
+    of the intensities within ±2 % exceed"``, or the first exceedance with its grid
+    (:func:`answer_label`)."""
+    from rocking.spectra.quantity import Quantity
+    from rocking.study.aggregate import store_quantity
+
+    q = Quantity.from_value(store_quantity(attrs))
+    if not q.is_quantile:
+        return answer_label(attrs)
+    return (f"{q.label} = lowest PGA/(g tan α) at which ≥ {100 * q.p:g} % of the intensities "
+            f"within ±{100 * q.w:g} % exceed")
 
 
 def computed(ds: xr.Dataset) -> xr.DataArray:

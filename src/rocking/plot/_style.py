@@ -15,6 +15,7 @@ from typing import ParamSpec
 import matplotlib
 
 from rocking import _json
+from rocking._validate import positive_finite
 from rocking.spectra.limit_states import TILT_AXIS, severity
 from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 
@@ -97,11 +98,11 @@ def r_axis(ax, R, label: bool = True) -> None:
         ax.set_xlabel("R [m]")
 
 
-def unresolved_suffix(k: int, n: int, what: str = "answers") -> str:
-    """Legend suffix counting a curve's answers flagged unresolved (``"; 3 of 20 answers
-    unresolved"``), empty when none: the count a reader can use, instead of a ring on
+def plateau_suffix(k: int, n: int, what: str = "answers") -> str:
+    """Legend suffix counting a curve's answers flagged ``plateau`` (``"; 3 of 20 answers
+    on a plateau"``), empty when none: the count a reader can use, instead of a ring on
     every point."""
-    return f"; {k} of {n} {what} unresolved" if k else ""
+    return f"; {k} of {n} {what} on a plateau" if k else ""
 
 
 def validity_suffix(slides: int, n: int) -> str:
@@ -249,9 +250,7 @@ def pga_g_axis(ax, tan_alpha: float, which: str = "y"):
 
     PGA [g] = tan α · PGA/(g tan α), so the secondary axis is a linear rescaling.
     """
-    if not (tan_alpha > 0):
-        raise ValueError(f"tan_alpha must be > 0, got {tan_alpha!r}")
-    t = float(tan_alpha)
+    t = positive_finite("tan_alpha", tan_alpha)
     funcs = (lambda v: v * t, lambda v: v / t)
     sec = (ax.secondary_yaxis("right", functions=funcs) if which == "y"
            else ax.secondary_xaxis("top", functions=funcs))

@@ -5,7 +5,13 @@ own."""
 
 from __future__ import annotations
 
-UNRESOLVED = ("Answers flagged unresolved (the response came close to the goal below the "
-              "answer, so a narrower window of exceedance may lie lower) are counted per curve "
-              "in the legend.")
-"""What the legend of a spectrum figure counts as unresolved."""
+QUANTITY = ("Each answer is the study's critical intensity: by default I10, the lowest "
+            "PGA/(g tan α) near which at least 10 % of the intensities (within ±2 % in ln s) "
+            "exceed the goal, a quantity that converges where the smallest exceeding intensity "
+            "does not; the legend names it.")
+"""What the answers of a spectrum figure are (docs/models.md, "The critical intensity")."""
+
+PLATEAU = ("Answers flagged plateau (the share of exceeding intensities rises near 10 % below "
+           "the answer without reaching it, so the answer is ill-conditioned there) are "
+           "counted per curve in the legend.")
+"""What the legend of a spectrum figure counts as on a plateau."""

@@ -105,7 +105,8 @@ def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | N
         ``motions``: [{``name``, ``t`` [s], ``ax``, ``ay`` [g], ``psa_x``, ``psa_y`` [g],
         ``stand_in``}] of the ensemble; ``groups``: per ensemble (this one first) its
         method, synthetic spectra, median and 16/84 % percentiles [g] and fit quality;
-        ``record``: azimuths [deg] and label; ``measured``, ``missing`` notes.
+        ``record``: azimuths [deg] and label; ``measured``, ``missing`` (what the run left
+        out) and ``remarks`` (a stand-in record, few pairs) notes.
     """
     if not motions:
         raise ValueError("motions must hold at least one GroundMotion, got an empty list")
@@ -135,17 +136,19 @@ def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | N
         "fit_method": groups[0]["method"],
         "fit_quality": {g["method"]: g["fit_quality"] for g in groups},
     }
-    missing = [f"{m['name']} is a stand-in" for m in out if m["stand_in"]]
+    # what the figure says of what it drew (a report shows them as remarks), apart from what
+    # the run left out (``missing``: "not computed in this run")
+    remarks = [f"{m['name']} is a stand-in" for m in out if m["stand_in"]]
     if 1 < len(motions) < 11:
-        missing.append(f"only {len(motions) - 1} synthetic pairs: medians, 16–84 % ranges and "
+        remarks.append(f"only {len(motions) - 1} synthetic pairs: medians, 16–84 % ranges and "
                        "fit quality rest on few motions")
-    if len(groups) == 1:
-        missing.append("no comparison ensemble of the other identification method")
+    missing = [] if len(groups) > 1 else [
+        "no comparison ensemble of the other identification method"]
     record = {"x_azimuth": first.get("x_azimuth"), "y_azimuth": first.get("y_azimuth"),
               "label": first.get("label", motions[0].name)}
     return {"paper": paper, "motions": out, "groups": groups, "periods": periods,
             "damping": DAMPING,
-            "record": record, "measured": measured, "missing": missing,
+            "record": record, "measured": measured, "missing": missing, "remarks": remarks,
             "colors": motion_styles([m["name"] for m in out])}
 
 

@@ -21,20 +21,21 @@ import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from rocking.plot import _axes, _load, criteria, refined
+from rocking.plot import _axes, _load, criteria
 from rocking.plot._style import (
     MODE_STYLE,
     motion_styles,
     new_figure,
     paper_tag,
     pga_g_axis,
+    plateau_suffix,
     r_axis,
     styled,
     suptitle_and_notes,
-    unresolved_suffix,
     validity_suffix,
 )
 from rocking.plot.comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
+from rocking.spectra.accuracy import STATED
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
@@ -68,8 +69,10 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
     dict
         ``R`` [m]; ``motions``; ``panels``: list of {``limit_state``, ``curves``:
         {mode: {motion: pga_crit (R,)}}, ``means``: {mode: mean (R,)}, ``damping``: the
-        comparison of :func:`damping_effect` or None}; ``missing``: notes. Intensities are
-        PGA/(g tan α) [-], NaN where not reached or not computed.
+        comparison of :func:`damping_effect` or None, ``plateau``: {mode: {motion: flag
+        (R,)}}}; ``answer`` (the quantity's label, :func:`._load.answer_label`) and
+        ``answer_definition``; ``missing``: notes. Intensities are PGA/(g tan α) [-], NaN
+        where not reached or not computed.
     """
     ds = _load.open_store(store)
     agg = _load.open_means(means)
@@ -97,15 +100,9 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
                     for m in modes)]
     for ls in _load.panel_limit_states(drawn or states):
         panels.append(_panel(ds, agg, ls, modes, motion_names, missing, tan_alpha))
-    measured: dict = {"R": ds["R"].values.astype(float).tolist()}
-    sample = refined.beside(means)
+    measured: dict = {"R": ds["R"].values.astype(float).tolist(),
+                      "answer": _load.answer_label(ds.attrs)}
     for panel in panels:
-        panel["refinement"] = refined.legend_phrase(sample, modes[0], panel["limit_state"])
-        if panel["refinement"]:
-            measured[f"refinement|{panel['limit_state']}"] = panel["refinement"]
-        else:  # said in the sidecar, never made up in the legend
-            measured[f"{refined.NOT_MEASURED}|{panel['limit_state']}"] = refined.not_measured(
-                sample, modes[0], panel["limit_state"])
         eff = panel["damping"]
         if eff is not None:
             measured[DAMPING_NOTE + panel["limit_state"]] = eff
@@ -125,6 +122,8 @@ def data(store: str | Path, means: str | Path, *, tan_alpha: float | None = None
         "missing": sorted(set(missing)),
         "paper": paper,
         "title": _load.ensemble_title(dict(ds.attrs), Path(str(store)).parent.name),
+        "answer": _load.answer_label(ds.attrs),
+        "answer_definition": _load.answer_definition(ds.attrs),
     }
 
 
@@ -132,7 +131,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
            tan_alpha: float) -> dict:
     """Curves per motion and means per mode of one limit state."""
     curves: dict[str, dict[str, np.ndarray]] = {}
-    unresolved: dict[str, dict[str, np.ndarray]] = {}
+    plateau: dict[str, dict[str, np.ndarray]] = {}
     validity: dict[str, dict[str, dict[str, np.ndarray]]] = {"slides": {}}
     mean: dict[str, np.ndarray] = {}
     for mode in modes:
@@ -147,9 +146,9 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
             continue
         curves[mode] = {m: np.where(reached[i], vals[i], np.nan)
                         for i, m in enumerate(motion_names)}
-        if "unresolved" in sel:  # critical intensities that narrow windows may undercut
-            flag = sel["unresolved"].transpose("motion", "R").values.astype(bool) & reached
-            unresolved[mode] = {m: flag[i] for i, m in enumerate(motion_names) if flag[i].any()}
+        # answers where P rises near p without crossing it: ill-conditioned
+        flag = sel["plateau"].transpose("motion", "R").values.astype(bool) & reached
+        plateau[mode] = {m: flag[i] for i, m in enumerate(motion_names) if flag[i].any()}
         for name, per_mode in validity.items():  # the model's validity up to each answer
             if name in sel:  # slides is NaN (nothing said) without the study's mu: == 1
                 flag = (sel[name].transpose("motion", "R").values == 1) & reached
@@ -166,7 +165,7 @@ def _panel(ds, agg, ls: str, modes, motion_names: list[str], missing: list[str],
         effect = damping_effect(curves[MODE_3D], curves[DAMPED], mean[MODE_3D], mean[DAMPED],
                                 std)
     return {"limit_state": ls, "curves": curves, "means": mean, "damping": effect,
-            "unresolved": unresolved, **validity}
+            "plateau": plateau, **validity}
 
 
 def damping_effect(undamped: dict, damped: dict, mean_u: np.ndarray, mean_d: np.ndarray,
@@ -235,7 +234,7 @@ def plot(d: dict) -> Figure:
     ncols = max(len(panels), 1)
     damped = DAMPED in d.get("modes", (MODE_3D, DAMPED))
     # wide enough for a two-column legend per panel (the record and ten pairs, each with its
-    # count of unresolved answers) beside the right-hand PGA [g] axis
+    # count of answers on a plateau) beside the right-hand PGA [g] axis
     width = 12.5 if ncols > 1 else 7.0
     # the legend under each spectra panel: about 0.13 in per row of it
     rows = -(-(len(d["motions"]) + 2) // (2 if len(d["motions"]) > 4 else 1)) + 2
@@ -263,29 +262,35 @@ def plot(d: dict) -> Figure:
     return fig
 
 
+MEAN_STYLE = {"color": "0.55", "lw": 3.4, "alpha": 0.75, "zorder": 1.5}
+"""The means: broad and grey under the motions' lines, so that the record (black, on top)
+stays visible where it runs along them."""
+
+
 def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
+    record = next(iter(d["motions"]), None)  # the ensemble's first motion, drawn last
     for mode, curves in panel["curves"].items():
         for motion, y in curves.items():
             ax.plot(d["R"], y, color=colors[motion], ls=LINESTYLES.get(mode, "-"), lw=0.8,
-                    marker=".", ms=3)
+                    marker=".", ms=3, zorder=3 if motion == record else 2)
     lone = len(d["R_mean"]) == 1  # one size: a line of one point draws nothing, mark it
     for mode, y in panel["means"].items():
-        ax.plot(d["R_mean"], y, color="black", lw=2.6, ls=LINESTYLES.get(mode, "-"),
-                marker="_" if lone else None, ms=18, mew=2.6,
-                label=f"mean, {'damped' if mode == DAMPED else 'undamped'}")
-    # resolution in the legend: per motion, how many of its answers are flagged unresolved
-    counts = {m: sum(int(np.sum(f[m])) for f in panel.get("unresolved", {}).values() if m in f)
+        ax.plot(d["R_mean"], y, ls=LINESTYLES.get(mode, "-"), marker="_" if lone else None,
+                ms=18, mew=2.6, label=f"mean, {'damped' if mode == DAMPED else 'undamped'}",
+                **MEAN_STYLE)
+    # conditioning in the legend: per motion, how many of its answers are on a plateau
+    counts = {m: sum(int(np.sum(f[m])) for f in panel.get("plateau", {}).values() if m in f)
               for m in d["motions"]}
     n_points = {m: sum(int(np.isfinite(c[m]).sum()) for c in panel["curves"].values() if m in c)
                 for m in d["motions"]}
     slides = {m: sum(int(np.sum(v[m])) for v in panel.get("slides", {}).values() if m in v)
               for m in d["motions"]}
     ax.set_title(limit_state_title(panel["limit_state"]))
-    ax.set_ylabel("PGA/(g tan α) [-]")
+    ax.set_ylabel(f"{d.get('answer', 'critical')} PGA/(g tan α) [-]")
     r_axis(ax, d["R"], label=DAMPED not in d.get("modes", ()))
     pga_g_axis(ax, d["tan_alpha"])
     handles = [Line2D([], [], color=colors[m], lw=0.8, label=d["colors"][m]["label"]
-                      + unresolved_suffix(counts[m], n_points[m])
+                      + plateau_suffix(counts[m], n_points[m])
                       + validity_suffix(slides[m], n_points[m]))
                for m in d["motions"]]
     handles = ax.get_legend_handles_labels()[0] + handles
@@ -296,9 +301,11 @@ def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
           *panel["means"].values()]
     top = max((float(np.nanmax(y)) for y in ys if np.isfinite(y).any()), default=1.0)
     ax.set_ylim(0.0, 1.06 * top)
+    # the legend says what each curve is: the quantity, and what a plateau means
     title = "\n".join(t for t in (
-        "unresolved: the answer may lie lower" if any(counts.values()) else "",
-        panel.get("refinement", "")) if t) or None
+        d.get("answer_definition", ""),
+        "plateau: below the answer the share of exceeding intensities nears it unreached"
+        if any(counts.values()) else "") if t) or None
     below = -0.03 if DAMPED in d.get("modes", ()) else -0.12  # under the R axis if it has one
     ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, below), ncols=ncols,
               fontsize=6.5, title=title, title_fontsize=6.5, frameon=False)
@@ -358,10 +365,11 @@ def per_motion_row(ls: str, eff: Mapping, R: list | None = None) -> Comparison:
             f"{100 * max(finite_values):+.0f} %") if finite_values else ""
     ours = (f"{within} of {total} (motion, R) pairs ({100 * within / total:.0f} %) within "
             f"±{100 * tol:g} %{span}") if total else "—"
-    rule = (f"at least {100 * share:g} % of the pairs within ±{100 * tol:g} %: the 90th "
-            "percentile of a default answer's error against the converged one is 14–15 % "
-            "(docs/performance.md), so identical models' answers differ by more in up to "
-            "about 20 % of the pairs")
+    e, q = STATED["default"]
+    rule = (f"at least {100 * share:g} % of the pairs within ±{100 * tol:g} %: a default "
+            f"answer lies within {100 * e:g} % of the converged I10 in {100 * q:g} % of the "
+            "cells (docs/performance.md), so identical models' answers differ by more than "
+            f"twice that in up to {100 * (1 - share):g} % of the pairs")
     return judged("fig09_spectra", f"Undamped and damped spectra per motion, "
                   f"{limit_state_title(ls)} (§5.2: 'essentially identical'; Fig 9 draws "
                   "every motion)", "essentially identical per motion", ours,
@@ -371,10 +379,10 @@ def per_motion_row(ls: str, eff: Mapping, R: list | None = None) -> Comparison:
                   "the damped or the undamped model reached no answer")
 
 
-DAMPING_RTOL = 0.05
-"""Difference of the means that is "essentially identical" whatever its scatter [-]: a mean
-of 11 ``default`` answers, each on median about 1 % and at the 90th percentile 14–15 % above
-the converged one (docs/performance.md), carries a resolution error of a few per cent that
+DAMPING_RTOL = STATED["default"][0]
+"""Difference of the means that is "essentially identical" whatever its scatter [-]: the
+stated error e of a ``default`` answer against the converged I10
+(``rocking.spectra.accuracy.STATED``); a mean of such answers carries an error up to e that
 the two models need not share (docs/models.md, "Verdicts and their criteria")."""
 
 
@@ -475,13 +483,13 @@ def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
 
 # ---------------------------------------------------------------- the figure's entry
 
-from rocking.plot.captions import UNRESOLVED  # noqa: E402
+from rocking.plot.captions import PLATEAU, QUANTITY  # noqa: E402
 from rocking.plot.registry import FigureSpec  # noqa: E402
 
 
 def _own_caption(notes: Mapping | None) -> str:
     """The caption from what is drawn: recorded motions and synthetic pairs, the damped
-    model, unresolved answers (without notes: :data:`CAPTION`)."""
+    model, answers on a plateau (without notes: :data:`CAPTION`)."""
     if notes is None:
         return FIGURE.caption
     labels = [str(c.get("label", "")) for c in (notes.get("colors") or {}).values()]
@@ -496,7 +504,7 @@ def _own_caption(notes: Mapping | None) -> str:
     if damped:
         text += (" Undamped solid, damped dashed; below, the relative difference damped − "
                  "undamped per motion and of the means, with the band of ± 2 standard errors.")
-    return f"{text} {UNRESOLVED} Right axis PGA in g."
+    return f"{text} {QUANTITY} {PLATEAU} Right axis PGA in g."
 
 
 FIGURE = FigureSpec(
@@ -509,7 +517,7 @@ FIGURE = FigureSpec(
         "slenderness in the title. Where the damped model ran, below: the relative "
         "difference damped − undamped per motion and of the means, with the band of ± 2 "
         "standard errors. "
-    ) + f"{UNRESOLVED} Right axis PGA in g.",
+    ) + f"{QUANTITY} {PLATEAU} Right axis PGA in g.",
     paper=(
         "The paper's Fig 9: overturning and excessive tilt θ > α/3 at tan α = 0.2; it "
         "reports essentially identical undamped and damped overturning spectra, differences "
@@ -517,9 +525,7 @@ FIGURE = FigureSpec(
         "straight lines in R."
     ),
     scope="study", wanted=lambda s: bool(s.plan.modes),
-    inputs={"complete": "spectra", "means": "means", "motions": "motions",
-            # read beside the means: the legend says how far refinement moves the answers
-            "refinement": "refinement"},
+    inputs={"complete": "spectra", "means": "means", "motions": "motions"},
     params={"store": "spectra_store", "paper": "paper"},
     el_centro_only=True, own_caption=_own_caption)
 """Fig 9, for every study (its primary mode at one tan α)."""

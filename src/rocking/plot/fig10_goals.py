@@ -4,13 +4,13 @@ The study's primary mode (undamped 3D in the paper) at its slenderness (tan α =
 paper; :func:`._load.main_tan_alpha`), mean over the ensemble (the study's
 ``mean_spectra.nc``), one line per goal the study computed, however many. The paper shows
 seven goals; a reduced reproduction names the others. Every curve gets a least-squares line
-in R (the paper: "almost straight lines"); means that some answers flagged unresolved carry
-an open marker.
+in R (the paper: "almost straight lines"). The means are of the per-motion answers of the
+study's quantity (I10 by default), as the legend says; means over answers flagged plateau
+are counted per goal.
 """
 
 from __future__ import annotations
 
-import textwrap
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -18,19 +18,17 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from rocking.fragility.lognormal import fit_line
-from rocking.plot import _axes, _load, refined
+from rocking.plot import _axes, _load
 from rocking.plot._style import (
     MODE_STYLE,
+    footnote,
     goal_color,
     new_figure,
     paper_tag,
     pga_g_axis,
+    plateau_suffix,
     r_axis,
     styled,
-    unresolved_suffix,
-)
-from rocking.plot._style import (
-    missing_and_axes_note as _missing_and_axes_note,
 )
 from rocking.plot.comparisons import (
     EQUATIONS,
@@ -75,13 +73,16 @@ MIN_FIT_SIZES = 5
 """Fewest sizes R a least-squares line is fitted and judged over [-]."""
 FLAT_TOL = 0.10
 """A mean spectrum is "flat" while it stays within this share of its smallest-R value [-]."""
+MIN_FLAT_SIZES = 3
+"""Fewest sizes R a flat stretch must span to be called one (a single point is none) [-]."""
 
 
 def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None = None,
          motions: str | Path | None = None, paper: bool = True) -> dict:
     """Mean spectra per limit state: ``R`` [m], ``curves`` {limit state: PGA/(g tan α) (R,)},
-    ``unresolved`` {limit state: bool (R,)} where some motion's answer is flagged unresolved,
-    ``missing`` (goals, mode or slenderness not computed), ``measured`` line fits per goal.
+    ``plateau`` {limit state: bool (R,)} where some motion's answer is flagged plateau,
+    ``answer`` (the quantity's label) and ``answer_definition``, ``missing`` (goals, mode or
+    slenderness not computed), ``measured`` line fits per goal.
 
     ``mode`` and ``tan_alpha`` default to the study's (:func:`._load.primary_mode`,
     :func:`._load.main_tan_alpha`); ``paper`` (a reproduction of the paper) names the paper's
@@ -92,7 +93,7 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     if tan_alpha is None:
         tan_alpha = _load.main_tan_alpha(agg, [mode]) or float(agg["tan_alpha"].values[0])
     missing = []
-    unresolved: dict[str, np.ndarray] = {}
+    plateau: dict[str, np.ndarray] = {}
     curves: dict[str, np.ndarray] = {}
     R = agg["R"].values.astype(float)
     if not _load.has_value(agg, "tan_alpha", tan_alpha):
@@ -105,9 +106,9 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
             y = _load.mean_curve(agg, mode, ls)
             if y is not None:
                 curves[ls] = y
-                flag = _load.unresolved_means(agg, mode, ls)
+                flag = _load.plateau_means(agg, mode, ls)
                 if flag is not None:
-                    unresolved[ls] = flag
+                    plateau[ls] = flag
     # the paper draws Fig 10 for its El Centro study only: another record's is beyond it
     in_paper = paper and _paper_record(dict(agg.attrs))
     absent = [g for g in PAPER_GOALS
@@ -116,7 +117,7 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
         missing.append(f"{len(absent)} of the paper's {len(PAPER_GOALS)} goals not computed: "
                        + ", ".join(limit_state_title(g) for g in absent))
     measured = {"n_goals": len(curves), "n_paper_goals": len(PAPER_GOALS),
-                "absent_goals": absent}
+                "absent_goals": absent, "answer": _load.answer_label(agg.attrs)}
     for ls, y in curves.items():
         if np.isfinite(y).sum() < MIN_FIT_SIZES:  # a line through 3 points says nothing
             continue
@@ -127,13 +128,9 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     same = coinciding(agg, mode, list(curves)) if curves else []
     if same:
         measured[COINCIDE_NOTE] = same
-    sample = refined.beside(means)
-    moved = refined.legend_phrase(sample, mode)
-    if moved:
-        measured["refinement"] = moved
-    else:  # said in the sidecar, never made up in the legend
-        measured[refined.NOT_MEASURED] = refined.not_measured(sample, mode)
-    return {"R": R, "curves": curves, "unresolved": unresolved, "tan_alpha": tan_alpha,
+    return {"R": R, "curves": curves, "plateau": plateau, "tan_alpha": tan_alpha,
+            "answer": _load.answer_label(agg.attrs),
+            "answer_definition": _load.answer_definition(agg.attrs),
             "mode": mode, "missing": missing, "reproduction": paper, "in_paper": in_paper,
             "measured": measured,
             "axes": _axes.from_ensemble(motions), "title": _load.ensemble_title(
@@ -161,11 +158,13 @@ def shape(R: np.ndarray, y: np.ndarray, slope: float, intercept: float) -> dict:
     -------
     dict
         ``flat_to_R`` [m]: the largest R up to which y stays within :data:`FLAT_TOL` of its
-        value at the smallest R; ``flat_level`` [-]: that value; ``end_R`` [m] and
-        ``end_value`` [-]: the last finite point; ``residual_signs``: "+"/"−" of y − line
-        per R (the pattern ``++−−−++`` is a bend, not scatter); ``max_rel_deviation`` [-]:
-        the largest |y − line| over the mean of y across R (the linearity criterion,
-        :func:`linearity_ok`).
+        value at the smallest R, and ``flat_sizes`` the sizes up to it; ``flat_level`` [-]:
+        that value at ``start_R`` [m]; ``end_R`` [m] and ``end_value`` [-]: the last finite
+        point; ``residual_signs``: "+"/"−" of y − line per R (the pattern ``++−−−++`` is a
+        bend, not scatter); ``max_rel_deviation`` [-]: the largest |y − line| over the mean
+        of y across R (the linearity criterion, :func:`linearity_ok`), at ``worst_R`` [m];
+        ``curvature`` [1/m²]: the second-degree coefficient of a parabola fitted to y
+        (> 0: the spectrum bends upward).
     """
     ok = np.isfinite(y)
     if ok.sum() < 2:
@@ -174,10 +173,35 @@ def shape(R: np.ndarray, y: np.ndarray, slope: float, intercept: float) -> dict:
     within = np.abs(v / v[0] - 1.0) <= FLAT_TOL
     last = int(np.argmin(within)) - 1 if not within.all() else v.size - 1
     res = v - (slope * r + intercept)
-    return {"flat_to_R": float(r[max(last, 0)]), "flat_level": float(v[0]),
+    worst = int(np.argmax(np.abs(res)))
+    curvature = float(np.polyfit(r, v, 2)[0]) if v.size >= 3 else 0.0
+    return {"flat_to_R": float(r[max(last, 0)]), "flat_sizes": max(last, 0) + 1,
+            "flat_level": float(v[0]), "start_R": float(r[0]),
             "max_rel_deviation": float(np.max(np.abs(res)) / np.mean(np.abs(v))),
+            "worst_R": float(r[worst]), "curvature": curvature,
             "end_R": float(r[-1]), "end_value": float(v[-1]),
             "residual_signs": "".join("+" if e >= 0 else "−" for e in res)}
+
+
+def shape_text(fit: Mapping) -> str:
+    """The shape of a mean spectrum in words, from its numbers (:func:`shape`): flat where
+    it is flat over :data:`MIN_FLAT_SIZES` sizes or more, else rising and bending up or
+    down, with where its line misses it most."""
+    if fit["flat_to_R"] >= fit["end_R"]:
+        return (f"nearly flat, within {100 * FLAT_TOL:g} % of {fit['flat_level']:.2f} at every "
+                f"R (up to {fit['end_value']:.2f} at R = {fit['end_R']:g} m)")
+    if "flat_sizes" not in fit:  # notes written before the shape was measured
+        return (f"flat, then rising: within {100 * FLAT_TOL:g} % of {fit['flat_level']:.2f} up "
+                f"to R = {fit['flat_to_R']:g} m, then up to {fit['end_value']:.2f} at "
+                f"R = {fit['end_R']:g} m")
+    if fit["flat_sizes"] >= MIN_FLAT_SIZES:
+        return (f"flat, then rising: within {100 * FLAT_TOL:g} % of {fit['flat_level']:.2f} up "
+                f"to R = {fit['flat_to_R']:g} m ({fit['flat_sizes']} sizes), then up to "
+                f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m")
+    bend = "upward" if fit["curvature"] > 0 else "downward"
+    return (f"rising from {fit['flat_level']:.2f} at R = {fit['start_R']:g} m to "
+            f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m, bending {bend}; its line "
+            f"misses it most at R = {fit['worst_R']:g} m")
 
 
 def coinciding(agg, mode: str, states: list[str]) -> list[dict]:
@@ -218,8 +242,8 @@ def coincide_text(c: dict) -> str:
 @styled
 def plot(d: dict) -> Figure:
     """One panel, one line per goal, coloured from mild tilt (light) to overturning (dark)."""
-    fig, ax = new_figure(6.4, 5.4)
     n = len(d["curves"])
+    fig, ax = new_figure(6.4, 4.6 + 0.16 * (n + 2))  # the legend, a line per goal, below
     same = d["measured"].get(COINCIDE_NOTE, [])
     hidden = {c["goals"][0]: c["goals"][1] for c in same}  # drawn under its twin
     fitted = False
@@ -233,9 +257,9 @@ def plot(d: dict) -> Figure:
             dev = fit.get("max_rel_deviation")
             label += f" (R² {fit['r_squared']:.3f}" + (
                 f", line off by ≤ {100 * dev:.0f} %" if finite(dev) else "") + ")"
-        flag = d.get("unresolved", {}).get(ls)
-        if flag is not None:  # means over answers some of which may lie lower: counted
-            label += unresolved_suffix(int(np.sum(flag)), int(np.isfinite(y).sum()), "means")
+        flag = d.get("plateau", {}).get(ls)
+        if flag is not None:  # means over answers some of which are ill-conditioned
+            label += plateau_suffix(int(np.sum(flag)), int(np.isfinite(y).sum()), "means")
         ax.plot(d["R"], y, color=color, lw=1.6, marker="o", ms=3, label=label,
                 ls="-" if ls not in hidden else (0, (1, 1)), zorder=3 if ls in hidden else 2)
         if np.isfinite(fit.get("slope", np.nan)):
@@ -248,42 +272,39 @@ def plot(d: dict) -> Figure:
     if not n:
         ax.text(0.5, 0.5, "; ".join(d["missing"]) or "no data", ha="center",
                 transform=ax.transAxes)
-    ax.set_ylabel("mean PGA/(g tan α) [-]")
+    ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-]")
     r_axis(ax, d["R"])
     ax.set_ylim(bottom=0.0)
     pga_g_axis(ax, d["tan_alpha"])
-    unresolved = any(np.any(f) for f in d.get("unresolved", {}).values())
-    ax.legend(loc="upper left", fontsize=7, title_fontsize=7,
-              title="performance goal" + (" (line fit)" if fitted else "")
-              + ("; unresolved means may lie lower" if unresolved else "")
-              + (f"\n{d['measured']['refinement']}" if d["measured"].get("refinement")
-                 else ""))
+    on_plateau = any(np.any(f) for f in d.get("plateau", {}).values())
+    # under the axes, where it covers no curve whatever their number and shape
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=1, fontsize=7,
+              title_fontsize=7, frameon=False,
+              title=f"mean {d.get('answer', 'critical intensity')} per performance goal"
+              + (" (line fit)" if fitted else "")
+              + ("; some means over answers on a plateau" if on_plateau else ""))
     notes = [coincide_text(c) for c in same]
     top = list(d["curves"])[-1] if d["curves"] else None
     fit = d["measured"].get(LINE_NOTE + top, {}) if top else {}
-    if fit.get("flat_to_R") is not None and fit["flat_to_R"] < fit["end_R"] and (
-            linearity_ok(fit) is False):  # the bend that fails the criterion, in numbers
-        # the shape the R² only hints at, for the most severe goal
-        notes.append(f"{limit_state_title(top)}: flat near {fit['flat_level']:.2f} up to "
-                     f"R = {fit['flat_to_R']:g} m, then rising to {fit['end_value']:.2f} at "
-                     f"R = {fit['end_R']:g} m (residuals {fit['residual_signs']})")
-    if notes:
-        ax.text(0.98, 0.03, "\n".join(w for n in notes for w in textwrap.wrap(n, 52)),
-                transform=ax.transAxes, ha="right", va="bottom", fontsize=6.5,
-                bbox={"facecolor": "white", "alpha": 0.85, "lw": 0})
+    if "flat_to_R" in fit and linearity_ok(fit) is False:
+        # the shape that fails the criterion, for the most severe goal, in the data's numbers
+        notes.append(f"{limit_state_title(top)}: {shape_text(fit)} (residuals from the line "
+                     f"by R: {fit['residual_signs']}).")
     in_paper = d.get("in_paper", d.get("reproduction", True))
     beyond = d.get("reproduction", True) and not in_paper  # a reproduction, but no Fig 10
-    title = "\n".join(textwrap.wrap(
-        f"Mean spectra per performance goal, {d.get('title', 'ensemble')}, "
-        f"{MODE_STYLE[d['mode']]['label']} model, tan α = {d['tan_alpha']:g}"
-        f"{paper_tag({'paper': in_paper}, 'Fig 10')}", 90))
     m = d["measured"]
+    # one line each: what is drawn, from what, and how it stands to the paper
+    lines = [f"Mean spectra per performance goal, {MODE_STYLE[d['mode']]['label']} model, "
+             f"tan α = {d['tan_alpha']:g}{paper_tag({'paper': in_paper}, 'Fig 10')}",
+             d.get("title", "ensemble")]
     if beyond:
-        title += "\nbeyond the paper: its Fig 10 is of El Centro only"
+        lines.append("beyond the paper: its Fig 10 is of El Centro only")
     elif d["missing"] and in_paper:
-        title += f"\nreduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals"
-    ax.set_title(title, fontsize=8)
-    _missing_and_axes_note(fig, d)
+        lines.append(f"reduced run: {m['n_goals']} of the paper's {m['n_paper_goals']} goals")
+    ax.set_title("\n".join(lines), fontsize=8)
+    footnote(fig, [*notes, "Not computed in this run: " + "; ".join(d["missing"]) + "."
+                   if d["missing"] else "",
+                   f"Motions on their principal axes: {d['axes']['text']}; PGA = vector peak."])
     return fig
 
 
@@ -351,8 +372,8 @@ def linearity_ok(fit: Mapping) -> bool | None:
 
 
 def _bend_reason(fit: Mapping) -> str:
-    """Why a mean spectrum is not a straight line, in numbers: flat throughout (a low R² of
-    a small variation), or flat, then rising (a bend)."""
+    """Why a mean spectrum is not a straight line, in numbers (:func:`shape_text`): flat
+    throughout (a low R² of a small variation), flat, then rising, or rising with a bend."""
     if "flat_to_R" not in fit:
         return "the mean spectrum bends in R (R² below the tolerance)"
     signs = fit.get("residual_signs", "")
@@ -361,12 +382,9 @@ def _bend_reason(fit: Mapping) -> str:
                + ("(a bend: few long runs of one sign, not scatter)" if runs <= 3
                   else f"({runs} runs of one sign)"))
     if fit["flat_to_R"] >= fit["end_R"]:
-        return (f"the mean spectrum is nearly flat, within 10 % of {fit['flat_level']:.2f} at "
-                f"every R (up to {fit['end_value']:.2f} at R = {fit['end_R']:g} m): the line "
-                f"explains little of so small a variation; {pattern}")
-    return (f"the mean spectrum is not straight but flat, then rising: within 10 % of "
-            f"{fit['flat_level']:.2f} up to R = {fit['flat_to_R']:g} m, then up to "
-            f"{fit['end_value']:.2f} at R = {fit['end_R']:g} m; {pattern}")
+        return (f"the mean spectrum is {shape_text(fit)}: the line explains little of so small "
+                f"a variation; {pattern}")
+    return f"the mean spectrum is not straight but {shape_text(fit)}; {pattern}"
 
 
 # ---------------------------------------------------------------- the figure's entry
@@ -382,8 +400,10 @@ FIGURE = FigureSpec(
         "more) whose R² and largest departure from the mean the legend gives. Goals whose "
         "statistics coincide at every R (a cylinder tilted past α at the threshold "
         "intensity overturned) are drawn dotted over each other and said so in the figure. "
-        "Means over answers flagged unresolved (they may lie lower) are counted per goal in "
-        "the legend. Right axis PGA in g."
+        "The means are of each motion's critical intensity, I10 by default (the lowest "
+        "PGA/(g tan α) near which 10 % of the intensities exceed), as the legend says; means "
+        "over answers flagged plateau (I10 ill-conditioned) are counted per goal in the "
+        "legend. Right axis PGA in g."
     ),
     paper=(
         "The paper's Fig 10: the undamped 3D model at tan α = 0.2 and seven goals, r ∈ "
@@ -392,7 +412,7 @@ FIGURE = FigureSpec(
         "named in the figure."
     ),
     scope="study", wanted=lambda s: bool(s.plan.modes),
-    inputs={"means": "means", "motions": "motions", "refinement": "refinement"},
+    inputs={"means": "means", "motions": "motions"},
     params={"paper": "paper"},
     el_centro_only=True, general=lambda statement: statement.startswith(LINEAR_STATEMENT))
 """Fig 10, for every study; its linearity in R is stated of rocking spectra in general

@@ -74,7 +74,10 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] | None = None,
         missing.append("tan α = " + ", ".join(f"{t:g}" for t in absent) + " not computed")
     R = agg["R"].values.astype(float)
     return {"R": R, "panels": panels, "mode": mode, "missing": missing,
-            "measured": measurements(R, panels), "axes": _axes.from_ensemble(motions),
+            "answer": _load.answer_label(agg.attrs),
+            "answer_definition": _load.answer_definition(agg.attrs),
+            "measured": {**measurements(R, panels), "answer": _load.answer_label(agg.attrs)},
+            "axes": _axes.from_ensemble(motions),
             "paper": paper, "title": _load.ensemble_title(dict(agg.attrs),
                                                           Path(str(means)).parent.name)}
 
@@ -108,10 +111,11 @@ def plot(d: dict) -> Figure:
             color, marker = STYLES.get(t, (f"C{i % 10}", "d"))
             ax.plot(d["R"], y, color=color, lw=1.6, marker=marker, ms=3.5, label=f"tan α = {t:g}")
         ax.set_title(limit_state_title(panel["limit_state"]))
-        ax.set_ylabel("mean PGA/(g tan α) [-]")
+        ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-]")
         r_axis(ax, d["R"])
         ax.set_ylim(bottom=0.0)
-        ax.legend(loc="upper left")
+        ax.legend(loc="upper left", title=f"mean {d.get('answer', '')} per slenderness".strip(),
+                  title_fontsize=7)
     suptitle_and_notes(
         fig, d, f"Mean spectra per slenderness, {d.get('title', 'ensemble')},\n"
         f"{MODE_STYLE[d['mode']]['label']} model{paper_tag(d, 'Fig 11')}")
@@ -160,7 +164,8 @@ FIGURE = FigureSpec(
     name="fig11_slenderness", module=__name__, number=11, label="Fig 11",
     caption=(
         "Mean performance spectra (undamped 3D model) per slenderness tan α of the study, "
-        "the intensity normalized by g tan α."
+        "the intensity normalized by g tan α; the means are of each motion's critical "
+        "intensity, I10 by default, as the legend says."
     ),
     paper=(
         "The paper's Fig 11: tan α = 0.1, 0.2 and 0.3; it reports that, once the intensity "

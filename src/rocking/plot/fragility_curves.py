@@ -1,8 +1,13 @@
-"""Fragility curves (beyond the paper): P(limit state exceeded | PGA/(g tan α)) per size R.
+"""Fragility curves (beyond the paper): the distribution over the motions of their critical
+intensity PGA/(g tan α), per size R.
 
 Lines are the lognormal maximum-likelihood fits of :mod:`rocking.fragility.lognormal` (stored in
-``results/<study>/fragility.nc``); markers are the ensemble's empirical fractions of motions
-whose critical intensity is at most the abscissa (not-reached motions never count).
+``results/<study>/fragility.nc``) to each motion's critical intensity (the study's quantity:
+I₁₀ by default, the intensity where the motion's local exceedance probability first reaches
+0.1); markers are the ensemble's empirical fractions of motions whose critical intensity is
+at most the abscissa (not-reached motions never count). This is P(critical intensity ≤ x),
+not the probability that a motion scaled to x exceeds the limit state: that is the ensemble's
+exceedance probability F(s) of the jittered stripes (:mod:`rocking.plot.stripe_fragility`).
 """
 
 from __future__ import annotations
@@ -151,7 +156,7 @@ def plot(d: dict) -> Figure:
             _name_curve(ax, panel["curves"][R], R, height, cmap(norm(R)))
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("PGA/(g tan α) [-]")
-        ax.set_ylabel("P(limit state exceeded) [-]")
+        ax.set_ylabel("share of motions whose critical intensity ≤ PGA/(g tan α) [-]")
         ax.set_ylim(-0.02, 1.02)
         # to the drawn intensities, which stop at the search bound: nothing is known beyond
         ax.set_xlim(0.0, max((float(c["im"][-1]) for c in panel["curves"].values()),
@@ -179,7 +184,8 @@ def plot(d: dict) -> Figure:
         legend_row.legend(handles=[Line2D([], [], color="0.3", lw=1.9,
                                    label="lognormal MLE fit, sizes named on the curve"),
                             Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
-                                   label="ensemble: share of motions ≤ x (named sizes)"),
+                                   label="ensemble: share of motions first exceeding at "
+                                         "≤ x (named sizes)"),
                             *([Line2D([], [], color="0.3", lw=0.7, alpha=0.4,
                                       label=f"the other {others} sizes: fit only (thin)")]
                               if others else [])],
@@ -204,11 +210,14 @@ from rocking.plot.registry import FigureSpec  # noqa: E402
 FIGURE = FigureSpec(
     name="fragility_curves", module=__name__, number=13, label="fragility",
     caption=(
-        "Fragility curves: lognormal maximum-likelihood fits of the ensemble's critical "
-        "intensities PGA/(g tan α) per size R (motions that never reached the limit state "
-        "are right-censored at the search bound); colour gives R on the colour bar; five "
-        "sizes spread over the range are drawn thick, named on their curves and ticked on "
-        "the colour bar, with their empirical fractions as markers, the others thin; the x "
+        "Fragility curves: lognormal maximum-likelihood fits of the distribution over the "
+        "motions of their critical intensity PGA/(g tan α) per size R, the share of motions "
+        "whose critical intensity is at most x (not the probability that a motion scaled to "
+        "x exceeds the limit state: the stripes give that); motions that never reached the "
+        "limit state are right-censored at the search bound; colour gives R on the colour "
+        "bar; five sizes spread over the range are drawn thick, named on their curves and "
+        "ticked on the colour bar, with their empirical fractions as markers, the others "
+        "thin; the x "
         "axis runs a quarter beyond the largest intensity observed (or the largest median, "
         "at most three times that), never beyond the search bound. Medians IM₅₀ and "
         "dispersions β are tabulated in the report."

@@ -1,22 +1,24 @@
 """The figures, each one self-describing entry (:class:`FigureSpec`) declared in its own module.
 
-A figure module of :mod:`rocking.plot` (``fig09_spectra``, ``fragility_curves``, ...) holds
-``data(...)``, ``plot(data)``, optionally ``compare(notes)``, ``report_tables(notes)`` and
-``run_rows(notes)``, and at module level ``FIGURE = FigureSpec(...)``: its name, its number in the
-paper's order, its caption, its scope (what one drawing is of), when a configuration wants it
-and its logical inputs. Everything else is written once over the registry: the workflow's
-figure rules (one loop, ``workflow/rules/figures.smk``), their one script
-(``workflow/scripts/figure.py``, :func:`rocking.plot.draw`), the report's order, captions
-and verdict filter. :func:`figures` finds the entries: every module of this package that defines
-``FIGURE``, and the modules other packages name under the entry-point group
-``rocking.figures`` (a figure added without editing this package).
+A figure module of :mod:`rocking.plot` (``fig09_spectra``, ``fragility_curves``, ``risk``, ...)
+holds ``data(...)``, ``plot(data)``, optionally ``compare(notes)``, ``report_tables(notes)`` and
+``run_rows(notes)``, and at module level ``FIGURE = FigureSpec(...)`` (a tuple of them for
+figures drawn from one ``data``: the portfolio's map and ranking): its name, its number in the
+paper's order, its caption, its scope (what one drawing is of), when a configuration wants it,
+its logical inputs and where the report shows it. Everything else is written once over the
+registry: the workflow's figure rules (one loop, ``workflow/rules/figures.smk``), their one
+script (``workflow/scripts/figure.py``, :func:`rocking.plot.draw`), the report's order,
+sections, captions and verdict filter, the gallery's captions. :func:`figures` finds the
+entries: every module of this package that defines ``FIGURE``, and the modules other packages
+name under the entry-point group ``rocking.figures`` (a figure added without editing this
+package).
 """
 
 from __future__ import annotations
 
 import importlib
 import pkgutil
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from importlib.metadata import entry_points
@@ -29,23 +31,31 @@ SCOPES = ("global", "ensemble", "study", "studies")
 (``<root>/<study>/figures/<name>``) or the studies that want it side by side (``studies``:
 ``<root>/figures/<name>_<study>+<study>...``, its inputs lists over those studies)."""
 
-INPUTS = ("numba", "motions", "comparison", "spectra", "tilt_map", "means", "refinement",
-          "fragility_nc", "fragility_csv")
+INPUTS = ("numba", "motions", "comparison", "spectra", "tilt_map", "means", "fragility_nc",
+          "fragility_csv", "stripe_table", "stripe_refined", "risk", "portfolio", "headline")
 """Logical inputs a figure may declare (``FigureSpec.inputs`` values), resolved by the workflow
 (``figure_inputs`` in ``workflow/rules/figures_common.smk``) for the figure's subject: the
 compiled kernels, the ensemble file (and its comparison pairs), the completion marker of the
-spectra or tilt-map store, the mean spectra, the refinement sample, the fragility table.
+spectra or tilt-map store, the mean spectra, the fragility table, the stripe fragility table
+and the refined analyses it used, the risk table, the portfolio table, the headline's first
+exceedances on four grids (``headline.csv``, studies that have it; none elsewhere).
 The name of another figure is that figure's JSON notes for the same subject."""
 
-READ_BESIDE = ("numba", "spectra", "tilt_map", "refinement")
+READ_BESIDE = ("numba", "spectra", "tilt_map", "headline")
 """Logical inputs declared for the order of the jobs and their reruns, not handed to
 ``data()`` (the compiled kernels, completion markers, tables read beside another input)."""
 
 PARAMS = ("paper", "model_options", "ensemble_spec", "spectra_store", "tilt_map_store",
-          "studies")
+          "stripes_store", "studies", "study", "ensemble", "hazard", "hazard_file")
 """Logical parameters a figure may declare (``FigureSpec.params`` values): whether the paper is
-reproduced, the damped model's contact parameters, the ensemble's settings, the spectra or
-tilt-map store, the names of the studies (``studies`` scope)."""
+reproduced, the damped model's contact parameters, the ensemble's settings, the spectra,
+tilt-map or stripes store, the names of the studies (``studies`` scope), the study's name and
+its ensemble's, its hazard entry (what :func:`rocking.risk.hazard.parse_hazard` reads) and its
+hazard file (empty for a power law)."""
+
+SECTIONS = ("", "stripes", "risk", "portfolio")
+"""Where the report shows a figure (``FigureSpec.section``): among the figures (``""``, with
+its verdicts), or under the tables of its own section."""
 
 ENTRY_POINTS = "rocking.figures"
 """Entry-point group naming modules of other packages that declare a ``FIGURE``."""
@@ -151,6 +161,20 @@ class FigureSpec:
         the sidecar says is drawn (default: ``caption``).
     category : str
         Section of the Snakemake report.
+    plot : str
+        The module's drawing function (``plot``; ``plot_map`` and ``plot_ranked`` for the
+        two portfolio figures drawn from one ``data``).
+    section : str
+        Where the report shows it (:data:`SECTIONS`): among the figures, or in its own
+        section (the stripes, the risk, the portfolio) with its caption alone.
+    per : str
+        A ``data()`` keyword the figure is drawn once for each value of (``"mode"``: a
+        stripe figure per mode), its files ``<name>_<value>``; with :attr:`per_values`.
+    per_values : callable, optional
+        ``per_values(subject) -> sequence of str``: the values of :attr:`per` a study draws.
+    rule : str
+        The workflow rule's name where the figure's name is taken by another rule (the risk
+        table's ``risk``); default the name.
     """
 
     name: str
@@ -169,19 +193,35 @@ class FigureSpec:
     general: Callable[[str], bool] | None = None
     own_caption: Callable[[Mapping], str] | None = None
     category: str = "Paper figures"
+    plot: str = "plot"
+    section: str = ""
+    per: str = ""
+    per_values: Callable[[Subject], Sequence[str]] | None = None
+    rule: str = ""
 
     def __post_init__(self):
         if self.scope not in SCOPES:
             raise ValueError(f"figure {self.name!r}: scope must be one of {list(SCOPES)}, "
                              f"got {self.scope!r}")
+        if self.section not in SECTIONS:
+            raise ValueError(f"figure {self.name!r}: section must be one of {list(SECTIONS)}, "
+                             f"got {self.section!r}")
+        if bool(self.per) != (self.per_values is not None):
+            raise ValueError(f"figure {self.name!r}: per and per_values go together")
         unknown = [v for v in self.params.values() if v not in PARAMS]
         if unknown:
             raise ValueError(f"figure {self.name!r}: params {unknown} are not among "
                              f"{list(PARAMS)}")
 
+    @property
+    def rule_name(self) -> str:
+        """The name of the workflow rule that draws it."""
+        return self.rule or self.name
+
     def text(self, paper: bool = True, notes: Mapping | None = None) -> str:
         """The caption: with the paper's statements for a reproduction (``paper``), else
-        what the figure shows, adapted to its sidecar ``notes``.
+        what the figure shows, adapted to its sidecar ``notes``; a figure of a report's own
+        section has its caption alone.
 
         Raises
         ------
@@ -193,7 +233,7 @@ class FigureSpec:
                 raise ValueError(f"figure {self.name!r} is drawn only for a reproduction of "
                                  "the paper")
             return self.caption
-        if paper:
+        if paper and not self.section:
             lead = f"{self.label}. " if self.label.startswith("Fig ") else "Beyond the paper: "
             return lead + f"{self.caption} {self.paper}".strip()
         if self.own_caption is not None:
@@ -226,8 +266,9 @@ def _registry() -> dict[str, FigureSpec]:
     names += [ep.value for ep in entry_points(group=ENTRY_POINTS)]
     for name in names:
         entry = getattr(importlib.import_module(name), "FIGURE", None)
-        if isinstance(entry, FigureSpec):
-            found.append(entry)
+        for one in entry if isinstance(entry, tuple) else (entry,):
+            if isinstance(one, FigureSpec):
+                found.append(one)
     out: dict[str, FigureSpec] = {}
     for entry in sorted(found, key=lambda f: (f.number, f.name)):
         if entry.name in out:
@@ -267,5 +308,6 @@ def caption(name: str, paper: bool = True, notes: Mapping | None = None) -> str:
     return figure(name).text(paper, notes)
 
 
-__all__ = ["ENTRY_POINTS", "INPUTS", "PARAMS", "READ_BESIDE", "SCOPES", "FigureSpec", "Subject",
+__all__ = ["ENTRY_POINTS", "INPUTS", "PARAMS", "READ_BESIDE", "SCOPES", "SECTIONS", "FigureSpec",
+           "Subject",
            "caption", "figure", "figures", "paper_record_ensemble", "refresh"]

@@ -1,6 +1,6 @@
 """Risk (beyond the paper): mean annual frequency of overturning and excessive tilt against R.
 
-Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.table.risk_table`): for each mode at
+Reads ``results/<study>/risk.csv`` (:func:`rocking.risk.risk_table.risk_table`): for each mode at
 one slenderness, the mean annual frequency λ_LS [1/yr] of each size R under the study's
 hazard curve, on a log scale, one panel per limit state, with the 90 % bootstrap band
 (``lambda_p05``–``lambda_p95``) shaded. A size without a fit leaves a gap in its line (never
@@ -23,9 +23,9 @@ from matplotlib.lines import Line2D
 
 from rocking.fragility.table import FIRST_EXCEEDANCE
 from rocking.fragility.table import STRIPES as STRIPE_FRAGILITY
-from rocking.motions.measures import COMPONENTS
+from rocking.motions.measures import COMPONENTS, Measure
 from rocking.plot._style import MODE_STYLE, footnote, styled, with_legend_row
-from rocking.risk.table import main_tan_alpha, read_risk_table, shown_limit_states
+from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import PLANAR_MODES
 
@@ -211,7 +211,7 @@ def _hazard_line(d: dict) -> str:
     component = d.get("component") or ""
     if component:
         known = COMPONENTS.get(component)
-        unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
+        unit = Measure.of(d.get("measure", "pga")).label
         line += (f"\nintensity: {unit}, horizontal component {component}"
                  + (f" ({known.description})" if known else "")
                  + ", the fragility's and the hazard's")
@@ -250,7 +250,7 @@ def plot(d: dict) -> Figure:
                         sizes[0] + 4 * step * len(curves) / 2)
         ax.set_title(limit_state_title(panel["limit_state"]))
         ax.set_xlabel("R [m]")
-        unit = "PGA" if d.get("measure", "pga") == "pga" else d["measure"]
+        unit = Measure.of(d.get("measure", "pga")).label
         ax.set_ylabel(f"mean annual frequency λ [1/yr] ({unit} hazard)")
         ax.grid(True, which="both", alpha=0.3)
         if panel["curves"]:
@@ -305,3 +305,22 @@ def _inverse(x):
     x = np.asarray(x, dtype=float)
     with np.errstate(divide="ignore"):
         return np.where(x > 0, 1.0 / np.where(x > 0, x, 1.0), np.inf)
+
+
+def _arguments(inputs, params) -> dict:
+    """``data()``'s keywords: the hazard named as the risk rule read it."""
+    from rocking.risk.hazard import parse_hazard
+
+    return {"risk": inputs["risk"], "hazard": parse_hazard(params["hazard"]).source,
+            "study": f"study {params['study']} (ensemble {params['ensemble']})"}
+
+
+from rocking.plot.registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="risk", rule="risk_figure", module=__name__, number=15, label="risk",
+    caption=CAPTION, scope="study", wanted=lambda s: s.spec().hazard is not None,
+    inputs={"risk": "risk"},
+    params={"hazard": "hazard", "study": "study", "ensemble": "ensemble"},
+    arguments=_arguments, section="risk", category="Beyond the paper")
+"""The risk figure, in the report's risk section of every study with a hazard."""

@@ -1,7 +1,9 @@
 """Stripe against first-exceedance fragility (beyond the paper), one figure per mode.
 
 One panel per (limit state, R): the share of the motions exceeding at each stripe (markers,
-refined stripes filled) and its binomial maximum-likelihood lognormal (solid,
+refined stripes filled, with its 90 % bootstrap interval over the motions as a bar; with the
+stripes jittered it is F(s), the mean over the motions of their local exceedance
+probability) and its binomial maximum-likelihood lognormal (solid,
 :mod:`rocking.fragility.stripes`) with the bootstrap's 90 % interval of its median IM₅₀, beside
 the lognormal fitted to the motions' first-exceedance intensities (dashed,
 :func:`rocking.fragility.lognormal.fragility_table`; PGA stripes only). The first answers "at
@@ -21,17 +23,22 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
 from scipy import stats
 
+from rocking.motions.measures import Measure
 from rocking.plot._style import MODE_STYLE, footnote, new_figure, styled
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D
 
-CAPTION = ("Markers: share of the motions exceeding at each stripe (filled: stripes added "
-           "where the fit separated); solid: its binomial maximum-likelihood lognormal, "
+CAPTION = ("Markers: share of the motions exceeding at each stripe, each analysis jittered "
+           "within ±w of it in ln PGA, so F(s), the mean over the motions of their local "
+           "exceedance probability, with its 90 % bootstrap interval over the motions as a bar "
+           "(filled: stripes added where the fit separated); solid: its binomial "
+           "maximum-likelihood lognormal, "
            "IM₅₀ its median, the bar at P = 0.5 the 90 % bootstrap interval of IM₅₀ over "
-           "resamples of the motions; dashed: lognormal of the motions' first-exceedance "
-           "intensities (PGA stripes only); shaded: where no lognormal fits, the intensities "
-           "between the last stripe with no motion exceeding and the first with all "
-           "exceeding, which bracket the median. Intensities are vector peaks of the pair.")
+           "resamples of the motions; dashed: lognormal of the motions' critical "
+           "intensities (the study's quantity; PGA stripes only); shaded: where no "
+           "lognormal fits, the intensities between the last stripe with no motion "
+           "exceeding and the first with all exceeding, which bracket the median. "
+           "Intensities are vector peaks of the pair.")
 """What the figure shows (the footnote; workflow/report/stripe_fragility.rst says the same)."""
 
 
@@ -63,6 +70,13 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
     from rocking.execution import stripes as st
+    from rocking.fragility.stripe_table import (
+        store_jitter,
+        store_measure,
+        stripe_fits,
+        stripe_table,
+    )
+    from rocking.fragility.stripes import exceedance_table
     from rocking.store.attrs import decode_attrs
     from rocking.units import read_table
 
@@ -80,8 +94,8 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
             with xr.open_dataset(fragility) as f:
                 first = f.load()
         rows = st.stripe_rows(ds)
-        tab = st.stripe_table(ds, first, rows=rows)
-    base = {k: set(r.intensities.tolist()) for k, r in st.stripe_fits(ds).items()}
+        tab = stripe_table(ds, first, rows=rows)
+    base = {k: set(r.intensities.tolist()) for k, r in stripe_fits(ds).items()}
     sizes = [float(v) for v in ds["R"].values]
     panels, measured, missing = [], {}, []
     for row in tab[tab["mode"] == mode].itertuples():
@@ -91,8 +105,11 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         x = r.intensities * scale
         refined = np.array([v not in base[(mode, R)] for v in r.intensities])
         first_g = row.first_median * scale if r.measure == "pga" else np.nan
+        shares = exceedance_table(r)
         panels.append({"limit_state": row.limit_state, "R": R, "x": x,
                        "refined": refined, "fraction": r.fraction[:, 0],
+                       "share_interval": (shares["share_p05"].to_numpy(),
+                                          shares["share_p95"].to_numpy()),
                        "stripe": (row.median_im, row.beta, row.status),
                        "bracket": (row.bracket_lo, row.bracket_hi),
                        "interval": (row.median_p05, row.median_p95),
@@ -108,11 +125,12 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
             missing.append(f"{key}: {row.status}")
     attrs = decode_attrs(ds.attrs)
     ens = attrs.get("ensemble", {})
-    measure = st.store_measure(attrs)
+    measure = store_measure(attrs)
     return {"panels": panels, "measured": measured, "missing": missing, "mode": mode,
+            "jitter": store_jitter(attrs),
             "tan_alpha": float(ds.attrs.get("tan_alpha", np.nan)), "measure": measure,
-            "measure_label": st.measure_label(measure),
-            "unit": "m/s" if measure == "pgv" else "g",
+            "measure_label": Measure.of(measure).label,
+            "unit": Measure.of(measure).unit,
             "study": str(attrs.get("config", {}).get("study", "")),
             "ensemble": str(ens.get("name", "")), "n_motions": int(ds.sizes["motion"])}
 
@@ -168,8 +186,13 @@ def plot(d: dict) -> Figure:
         x = np.asarray(p["x"], dtype=float)
         grid = np.geomspace(x[0], x[-1], 200)
         ref = np.asarray(p.get("refined", np.zeros(x.size, bool)), dtype=bool)
+        lo, hi = p.get("share_interval", (None, None))
+        if lo is not None:  # F(s)'s spread over other sets of as many motions
+            ax.vlines(x, lo, hi, color=color, lw=0.8, alpha=0.5)
+        jitter = d.get("jitter", 0.0)
         ax.plot(x[~ref], p["fraction"][~ref], "o", ms=3.5, mfc="none", color=color,
-                label="share of motions exceeding")
+                label=("F(s): share of motions exceeding, jittered ±"
+                       f"{jitter:g} in ln s" if jitter else "share of motions exceeding"))
         if ref.any():
             ax.plot(x[ref], p["fraction"][ref], "o", ms=3.5, color=color,
                     label=f"… at {int(ref.sum())} stripe(s) added")
@@ -189,7 +212,7 @@ def plot(d: dict) -> Figure:
                 ax.plot([], [], " ", label=f"no fit ({status}): IM₅₀ "
                         + (f"> {lo:.3g} {unit}" if np.isfinite(lo) and lo > 0
                            else f"< {hi:.3g} {unit}" if np.isfinite(hi) else "unknown"))
-        _curve(ax, grid, p["first"], "--", "first exceedance", "tab:red", unit, "median")
+        _curve(ax, grid, p["first"], "--", "critical intensities", "tab:red", unit, "median")
         ax.set_xscale("log")
         _ticks(ax.xaxis, x[0], x[-1])
         ax.set_ylim(-0.02, 1.02)
@@ -221,3 +244,15 @@ REPORT_CAPTION = (
 )
 """The caption under each stripe figure in the report and the gallery (the figure's own
 footnote is :data:`CAPTION`)."""
+
+
+from rocking.plot.registry import FigureSpec  # noqa: E402
+
+FIGURE = FigureSpec(
+    name="stripe_fragility", rule="stripe_fragility_figure", module=__name__, number=14,
+    label="stripe fragility", caption=REPORT_CAPTION, scope="study",
+    wanted=lambda s: s.spec().stripes is not None,
+    per="mode", per_values=lambda s: s.spec().stripes.modes,
+    inputs={"fragility": "fragility_nc", "table": "stripe_table", "refined": "stripe_refined"},
+    params={"stripes": "stripes_store"}, section="stripes", category="Beyond the paper")
+"""One figure per mode of a study's stripes, in the report's stripes section."""

@@ -6,6 +6,7 @@ rows of "what was run" (``run_rows``).
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 from collections.abc import Sequence
@@ -88,13 +89,35 @@ def comparison_table(rows: Sequence[Comparison], *, with_figure: bool = True) ->
     return pd.DataFrame(data, columns=columns)
 
 
+VERDICT_COLUMNS = ("figure", "statement", "paper", "this_run", "verdict", "reason")
+"""The columns of ``verdicts.csv``: a :class:`~rocking.plot.comparisons.Comparison` each
+(``this_run`` its ``ours``; ``reason`` the tolerance met or why it differs)."""
+
+
+def write_verdicts(rows: Sequence[Comparison], path: str | Path) -> Path:
+    """The report's verdict table as data (``<study>/verdicts.csv``), row for row as the page
+    shows it: what the documents quoting the committed gallery read (no rows for a study that
+    does not reproduce the paper)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        out = csv.writer(fh, lineterminator="\n")
+        out.writerow(VERDICT_COLUMNS)
+        out.writerows((c.figure, c.statement, c.paper, c.ours, c.verdict, c.reason)
+                      for c in rows)
+    return path
+
+
 def measured_lines(entry: FigureEntry) -> list[str]:
-    """What a figure's notes say beyond the comparisons: directions of x/y, missing parts."""
+    """What a figure's notes say beyond the comparisons: directions of x/y, its remarks (a
+    stand-in record), what the run left out."""
     lines = []
     axes = entry.notes.get("axes")
     if isinstance(axes, dict) and "text" in axes:
         lines.append(f"Axes: {axes['text']}.")
-    missing = entry.notes.get("missing", [])
+    remarks, missing = entry.notes.get("remarks", []), entry.notes.get("missing", [])
+    if remarks:  # what it drew, said (a stand-in record): not something left out
+        lines.append("Note: " + "; ".join(remarks) + ".")
     if missing:
         lines.append("Not computed in this run: " + "; ".join(missing) + ".")
     return lines

@@ -19,7 +19,6 @@ import pandas as pd
 
 from rocking.dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from rocking.plot.comparisons import Comparison, finite
-from rocking.plot.refined import cell_shift, lambda_shift, lambda_text, ratio_shift, shift_text
 from rocking.report.entries import FigureEntry
 from rocking.report.tables import MODE_LABEL, as_recorded_word
 from rocking.spectra.limit_states import limit_state_title, severity
@@ -40,17 +39,31 @@ def _as_recorded_finding(row) -> str:
     return said
 
 
-def _median_text(x, med: str, r: str, exact: Mapping) -> str:
-    """A median of ``fragility.csv`` with its β; where it was refitted from all its cells
-    refined (``exact`` by R), its exact move."""
-    text = f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
-    found = exact.get(float(x[r]))
-    return f"{text} ({lambda_text(found)})" if found else text
+def headline_text(who: str, R: float, mean: float, std: float | None, n: float | None,
+                  answer: str, grids: Mapping | None = None, paper: bool = False) -> str:
+    """The headline (3D overturning at R = 10 m): the mean of the study's answer with its
+    standard error, and beside it the mean first exceedance of the same cells on each scan
+    grid (``grids``: :func:`rocking.study.headline.summary`, where its cells are these), so
+    that a reader sees why the paper's "about 4" and a coarse grid's higher mean can both be
+    found."""
+    se = f" ± {std / math.sqrt(n):.2f} (standard error, {n:g} motions)" if finite(
+        std, n) and n > 0 else ""
+    text = (f"{who}, R = {R:g} m: the 3D model overturns at a mean {answer} of {mean:.2f}{se}"
+            f" ({answer}: the lowest PGA/(g tan α) near which {answer[1:]} % of the "
+            "intensities exceed)" if answer.startswith("I") else
+            f"{who}, R = {R:g} m: the 3D model overturns at a mean {answer} of {mean:.2f}{se}")
+    if grids and grids.get("grids") and math.isclose(float(grids.get("R", R)), R):
+        by = ", ".join(f"{v:.2f} ({100 * s:g} %)" for s, v in grids["grids"].items())
+        over = (f", over {grids['n']} of {grids['of']} motions"
+                if grids["n"] != grids["of"] else "")
+        text += (f"; the same cells' mean first exceedance, by scan grid: {by}{over}: the "
+                 "classic answer falls as its grid is refined")
+    return text + (" (paper: about 4)" if paper else "")
 
 
-def _with_shift(text: str, found) -> str:
-    extra = shift_text(found)
-    return f"{text} ({extra})" if extra else text
+def _median_text(x, med: str, r: str) -> str:
+    """A median of ``fragility.csv`` with its β."""
+    return f"{x[med]:.2f} (β {x['beta [-]']:.2f}) at R = {x[r]:g} m"
 
 
 @dataclass(frozen=True)
@@ -78,17 +91,15 @@ def _ensemble_title(m: Mapping, ens: str) -> str:
 
 def paper_findings(entries: Sequence[FigureEntry],
                    verdicts: Mapping[str, Sequence[Comparison]], study: str = "",
-                   refinement: pd.DataFrame | Mapping[str, pd.DataFrame] | None = None
-                   ) -> list[Finding]:
+                   headlines: Mapping[str, Mapping] | None = None) -> list[Finding]:
     """Headline answers of a reproduction of the paper, read from the figures' notes:
     2D against 3D and the 3D mean at R = 10 m (Fig 12: every study it draws, ``study``'s
     first), damped against undamped (Fig 9), linearity in R
     (Fig 10), the El Centro peak tilts (Fig 6).
 
-    ``refinement``: the refinement sample of ``study`` (a table), or the samples by study
-    (:func:`.refined.read_refinements`); each study's numbers carry its own sample's shift."""
-    samples = dict(refinement) if isinstance(refinement, Mapping) else (
-        {study: refinement} if refinement is not None else {})
+    ``headlines``: per study, :func:`rocking.study.headline.summary` of its
+    ``headline.csv``: the 3D mean at R = 10 m is then said with the mean first exceedance
+    of the same cells on each scan grid beside it (:func:`headline_text`)."""
     out = []
     m12, a12 = _notes(entries, "fig12_2d_vs_3d"), _stem(entries, "fig12_2d_vs_3d")
     if a12 is not None:
@@ -101,12 +112,7 @@ def paper_findings(entries: Sequence[FigureEntry],
             v3 = m12.get(f"{ens}|overturning|3d")
             if not finite(v3):
                 continue
-            own = samples.get(ens)  # each study's numbers moved by its own sample
             std, n = m12.get(f"{ens}|overturning|3d|std"), m12.get(f"{ens}|overturning|3d|count")
-            se = f" ± {std / math.sqrt(n):.2f} (standard error, {n:g} motions)" if finite(
-                std, n) and n > 0 else ""
-            moved = shift_text(cell_shift(own, MODE_3D, "overturning", R,
-                                          int(n) if finite(n) else None))
             ratios = []
             for ls in ("overturning", "tilt:1/3"):
                 key = "excessive tilt" if ls != "overturning" else ls
@@ -122,14 +128,14 @@ def paper_findings(entries: Sequence[FigureEntry],
                         text = f"{c[-1]} {v2 / base:.2f}× (means at R = {R:g} m only)"
                     else:
                         continue
-                    parts.append(_with_shift(text, ratio_shift(own, c, ls)))
+                    parts.append(text)
                 if parts:
                     ratios.append(f"{key} " + ", ".join(parts))
             who = _ensemble_title(m12, ens)
             # the paper gives the 3D number for El Centro only
-            paper4 = " (paper: about 4)" if "centro" in (ens + who).lower() else ""
-            text = (f"{who}, R = {R:g} m: the 3D model overturns at a mean PGA/(g tan α) of "
-                    f"{v3:.2f}{se}" + (f" ({moved})" if moved else "") + paper4)
+            text = headline_text(who, R, v3, std, n, str(m12.get("answer", "I10")),
+                                 (headlines or {}).get(ens),
+                                 "centro" in (ens + who).lower())
             if ratios:
                 text += (f"; the 2D model under one component needs 2D/3D: {'; '.join(ratios)} "
                          f"(x = major, y = minor axis; paper: about twice; {HOUSNER_NOTE})")
@@ -191,21 +197,11 @@ def _main(df: pd.DataFrame, col: str, prefer: Sequence) -> object | None:
 
 
 def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, records=None,
-                   risk=None, stripes=None, refinement: pd.DataFrame | None = None,
-                   refinement_risk=None) -> list[Finding]:
+                   risk=None, stripes=None) -> list[Finding]:
     """Headline answers of any study: the most dangerous record (``records.csv``), the
     median capacities (``fragility.csv``), λ with its interval (``risk.csv``; 5–95 % when
     the table has ``lambda_p05``/``lambda_p95``) and the stripe against first-exceedance
-    medians. Each at the study's main mode (3D where run), slenderness and largest R.
-
-    ``refinement`` (``refinement_sample.csv``) moves the medians; ``refinement_risk``
-    (``refinement_risk.csv``, path or table: the fragility refitted with the refined answers
-    and integrated again) moves each λ whose point holds a refined cell."""
-    moves = (read_table(refinement_risk) if isinstance(refinement_risk, str | Path)
-             and Path(refinement_risk).exists() else
-             refinement_risk if isinstance(refinement_risk, pd.DataFrame) else None)
-    if moves is not None and moves.empty:  # a hazard the cells' fragility does not meet
-        moves = None
+    medians. Each at the study's main mode (3D where run), slenderness and largest R."""
     out = []
     if records is not None and Path(records).exists():
         df = pd.read_csv(records)
@@ -248,14 +244,8 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
             for ls in shown:
                 rows = sub[sub["limit_state"] == ls].sort_values(r)
                 ends = rows.iloc[[0, -1]] if len(rows) > 1 else rows
-                exact = {float(x[r]): lambda_shift(moves, mode, ls, x[r], t, "median")
-                         for _, x in ends.iterrows()}
-                exact = {k: v for k, v in exact.items() if v is not None and v[1] == v[2]}
-
-                said = f"{limit_state_title(ls).lower()} " + " to ".join(
-                    _median_text(x, med, r, exact) for _, x in ends.iterrows())
-                texts.append(said if exact else _with_shift(said, cell_shift(refinement, mode,
-                                                                             ls)))
+                texts.append(f"{limit_state_title(ls).lower()} " + " to ".join(
+                    _median_text(x, med, r) for _, x in ends.iterrows()))
             out.append(Finding(
                 f"Median capacities IM₅₀ in PGA/(g tan α), {MODE_LABEL.get(mode, mode)}, "
                 f"tan α = {t:g}: " + "; ".join(texts), "fragility"))
@@ -280,17 +270,11 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
                     if finite(x.get("lambda_p05"), x.get("lambda_p95")):
                         text += f" (5–95 %: {x['lambda_p05']:.2g}–{x['lambda_p95']:.2g})"
                     return text
-
-                def first(x) -> str:  # with its measured move under refinement
-                    found = lambda_text(lambda_shift(moves, mode, ls, x["R"], t))
-                    if not found and moves is not None:
-                        found = "no cell of it in the refinement sample"
-                    return lam(x) + (f" ({found})" if found else "")
                 ends = sub.iloc[[0, -1]] if len(sub) > 1 else sub
                 text = (f"Annual frequency λ of {limit_state_title(ls).lower()}, "
-                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, first-exceedance "
-                        "fragility under the study's hazard curve: "
-                        + " to ".join(first(x) for _, x in ends.iterrows()))
+                        f"{MODE_LABEL.get(mode, mode)}, tan α = {t:g}, fragility of the "
+                        "per-motion answers under the study's hazard curve: "
+                        + " to ".join(lam(x) for _, x in ends.iterrows()))
                 if len(stripe):  # the λ the risk section recommends
                     text += "; with the multiple-stripe fragility " + ", ".join(
                         lam(x) for _, x in stripe.iterrows())
@@ -301,10 +285,10 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
         ratio = ratio[np.isfinite(ratio)]
         if ratio.size:
             out.append(Finding(
-                f"Multiple-stripe median against first-exceedance median: "
-                f"{ratio.min():.2f}–{ratio.max():.2f}× over {ratio.size} cells (the first "
-                "exceedance marks where exceedance starts, the stripe median where half the "
-                "motions exceed)", "stripes"))
+                f"Multiple-stripe median against the median of the per-motion answers: "
+                f"{ratio.min():.2f}–{ratio.max():.2f}× over {ratio.size} cells (a per-motion "
+                "answer marks where exceedance begins near it, the stripe median where half "
+                "the motions exceed)", "stripes"))
     return out
 
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 import os
 import re
 from collections.abc import Callable, Sequence
@@ -24,8 +23,7 @@ from pathlib import Path
 import pandas as pd
 
 from rocking.plot.comparisons import Comparison
-from rocking.plot.refined import read_refinements, refinement_note
-from rocking.plot.registry import caption, figure
+from rocking.plot.registry import SECTIONS, caption, figure
 from rocking.report.entries import (
     FigureEntry,
     comparison_table,
@@ -34,6 +32,7 @@ from rocking.report.entries import (
     figure_tables,
     load_figures,
     measured_lines,
+    write_verdicts,
 )
 from rocking.report.findings import findings_html, paper_findings, study_findings
 from rocking.report.risk import risk_section_html
@@ -147,16 +146,41 @@ def link_images(page: str, href: Callable[[str], str]) -> str:
                                    f"src='{html.escape(href(m['stem']), quote=True)}'>", page)
 
 
+def read_headlines(paths: Sequence[str | Path]) -> dict[str, dict]:
+    """:func:`rocking.study.headline.summary` of each ``<study>/headline.csv`` by study (the
+    folder's name); studies whose table is empty are left out."""
+    import pandas as pd
+
+    from rocking.study.headline import summary
+
+    out = {}
+    for p in paths:
+        s = summary(pd.read_csv(p)) if Path(p).is_file() else None
+        if s is not None:
+            out[Path(p).parent.name] = s
+    return out
+
+
+def report_title(study: str, ensemble: str, reproduces: str | None = None) -> str:
+    """The report's title: a reproduction names the paper in full (authors, title,
+    journal, year: :data:`rocking.config.study.CITATIONS`), any study its name and ensemble."""
+    from rocking.config.study import CITATIONS
+
+    own = f"study {study} (ensemble {ensemble})"
+    if reproduces is None:
+        return f"rocking: {own}"
+    return f"Reproduction of {CITATIONS.get(reproduces, reproduces)}: {own}"
+
+
 def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
           linear_fit: str | Path | None = None, fragility: str | Path | None = None,
           notes: Sequence[str] = (), run: Sequence[tuple[str, str]] = (),
           risk: str | Path | None = None, hazard: str = "",
           stripes: str | Path | None = None, paper: bool = True,
           records: str | Path | None = None, suite_fragility: str | Path | None = None,
-          stripe_figures: Sequence[str | Path] = (), paper_record: bool = True,
-          study: str = "", refinement: str | Path | Sequence[str | Path] | None = None,
-          refinement_risk: str | Path | None = None,
-          portfolio: str | Path | None = None) -> Path:
+          paper_record: bool = True,
+          study: str = "", headline: Sequence[str | Path] = (),
+          portfolio: str | Path | None = None, verdicts_csv: str | Path | None = None) -> Path:
     """Write the HTML report.
 
     A study that reproduces the paper (``paper``) gets the paper's statements set against
@@ -171,7 +195,9 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     title : str
         Page title (study name and configuration).
     figures : sequence of path
-        Figure PNGs (each with an optional ``.json`` sidecar beside it).
+        Figure PNGs (each with an optional ``.json`` sidecar beside it); a figure whose entry
+        names a report section (the stripe, risk and portfolio figures) is shown in that
+        section, under its tables.
     linear_fit, fragility : path, optional
         CSV tables of :mod:`rocking.fragility.lognormal`.
     notes : sequence of str
@@ -179,8 +205,7 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     run : sequence of (str, str)
         Rows of the "what was run" section (:func:`.run_summary.what_was_run`).
     risk : path, optional
-        ``results/<study>/risk.csv`` (:mod:`rocking.risk`): adds the risk section, with the
-        figure ``figures/risk.png`` beside it when it exists.
+        ``results/<study>/risk.csv`` (:mod:`rocking.risk`): adds the risk section.
     hazard : str
         Where the study's hazard curve came from (quoted in the risk section).
     stripes : path, optional
@@ -191,9 +216,6 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     records, suite_fragility : path, optional
         ``records.csv`` (the per-record answers) and ``suite_fragility.csv`` (the fragility
         over the suite in each intensity measure) of :mod:`rocking.study.records`.
-    stripe_figures : sequence of path
-        The stripe-fragility figures (PNG, a JSON sidecar with their ``caption`` beside),
-        shown in the stripes section.
     paper_record : bool
         The study's ensemble is built on the record of the paper's Figs 6–11 (El Centro):
         verdicts the paper states for that record only are judged here; another
@@ -201,18 +223,16 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         linearity and 12), and the El Centro-only rows stay in the El Centro report.
     study : str
         The study's name (its curves of Fig 12 come first in the findings).
-    refinement : path or sequence of path, optional
-        ``refinement_sample.csv`` (:mod:`rocking.study.refinement`): the findings say how
-        far refinement moves each headline number, measured on the sample. A sequence: the
-        study's own first, then those of the other studies Fig 12's finding quotes (each
-        named by its folder).
+    headline : sequence of path
+        ``<study>/headline.csv`` of the studies whose headline the findings quote
+        (:mod:`rocking.study.headline`): the mean first exceedance of the headline cells on
+        each scan grid, said beside the mean of the study's answers.
     portfolio : path, optional
         ``portfolio.csv`` (:mod:`rocking.risk.portfolio`): adds the section on every
-        column of the inventory, with ``figures/portfolio_map.png`` and
-        ``portfolio_ranked.png`` beside it.
-    refinement_risk : path, optional
-        ``refinement_risk.csv``: how far refinement moves λ (fragility refitted, integrated
-        again with the study's hazard curve).
+        column of the inventory.
+    verdicts_csv : path, optional
+        Also write the verdict table as data there (``verdicts.csv``,
+        :func:`.entries.write_verdicts`; no rows unless ``paper``).
 
     Returns
     -------
@@ -220,20 +240,19 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         ``out``.
     """
     entries = load_figures(figures)
+    sections = {s: [e for e in entries if figure(e.name).section == s] for s in SECTIONS}
     verdicts = figure_comparisons(entries) if paper else {}
     if paper and not paper_record:
         verdicts = {k: [c for c in rows if not el_centro_only(c)] for k, rows in
                     verdicts.items()}
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
-    samples = read_refinements(refinement, study)
-    refined = samples.get(study)
-    found = (paper_findings(entries, verdicts, study, samples) if paper else []) + \
+    found = (paper_findings(entries, verdicts, study, read_headlines(headline))
+             if paper else []) + \
         study_findings(entries=entries, fragility=fragility, records=records, risk=risk,
-                       stripes=stripes, refinement=refined, refinement_risk=refinement_risk)
+                       stripes=stripes)
     parts.append("<h2 id='findings'>Findings</h2>")
     parts.append(findings_html(found))
-    parts.append(f"<p>{html.escape(refinement_note(refined, samples, study))}</p>")
     parts += [f"<p>{html.escape(n)}</p>" for n in notes]
     if paper and not paper_record:
         parts.append("<p>The paper's figures of the model (Figs 3, 4 and 6) and the statements "
@@ -244,13 +263,15 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     parts.append(table_html(pd.DataFrame(run, columns=["item", "value"])) if run
                  else "<p>Not recorded.</p>")
     docs = docs_href(Path(out).parent)
+    table = [c for rows in verdicts.values() for c in rows]
     if paper:
         parts.append("<h2 id='verdicts'>The paper against this run, figure by figure</h2>")
-        parts.append(_verdict_html([c for rows in verdicts.values() for c in rows], True, docs))
+        parts.append(_verdict_html(table, True, docs))
     parts.append("<h2>Figures</h2>")
-    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(entries, e) else [], docs,
+    shown = sections[""]
+    parts += [_figure_html(e, verdicts.get(e.name, []) if i == _first(shown, e) else [], docs,
                            paper)
-              for i, e in enumerate(entries)]
+              for i, e in enumerate(shown)]
     fits = linear_fit_rows(linear_fit) if linear_fit is not None else pd.DataFrame()
     if not fits.empty:
         parts.append("<h2>Linear fits of the mean spectra (PGA/(g tan α) = slope·R + intercept)"
@@ -264,27 +285,22 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
     if records is not None:
         parts += records_section(records, suite_fragility)
     if stripes is not None:
-        from rocking.plot.stripe_fragility import REPORT_CAPTION as STRIPE_CAPTION
-
         parts += stripes_section(stripes)
-        parts += [_extra_figure_html(p, STRIPE_CAPTION) for p in stripe_figures]
+        parts += [_section_figure_html(e, paper) for e in sections["stripes"]]
     if risk is not None:
-        from rocking.plot.risk import CAPTION as RISK_CAPTION
-
         parts.append(risk_section_html(risk, hazard=hazard))
-        parts.append(_extra_figure_html(Path(risk).parent / "figures" / "risk.png",
-                                        RISK_CAPTION))
+        parts += [_section_figure_html(e, paper) for e in sections["risk"]]
     if portfolio is not None:
-        from rocking.plot.portfolio import FIGURES as PORTFOLIO_FIGURES
         from rocking.report.tables import section_html as portfolio_section
 
         parts += portfolio_section(portfolio)
-        parts += [_extra_figure_html(Path(portfolio).parent / "figures" / f"{stem}.png")
-                  for stem in PORTFOLIO_FIGURES]
+        parts += [_section_figure_html(e, paper) for e in sections["portfolio"]]
     parts.append("</body></html>")
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(parts), encoding="utf-8")
+    if verdicts_csv is not None:
+        write_verdicts(table, verdicts_csv)
     return out
 
 
@@ -301,20 +317,15 @@ def el_centro_only(row: Comparison) -> bool:
     return entry.general is None or not entry.general(row.statement)
 
 
-def _extra_figure_html(png: str | Path, text: str | None = None) -> str:
-    """A figure shown in a section of its own (the stripe and the risk figures): embedded
-    with ``text`` as caption, else the ``caption`` of its JSON sidecar (the same markup as
-    the other figures, so a gallery links it instead)."""
-    png = Path(png)
-    if not png.exists():
-        return ""
-    if text is None:
-        sidecar = png.with_suffix(".json")
-        notes = json.loads(sidecar.read_text()) if sidecar.exists() else {}
-        text = notes.get("caption") or ""
-    img = base64.b64encode(png.read_bytes()).decode("ascii")
-    return (f"<figure id='{png.stem}'><img alt='{png.stem}' src='data:image/png;base64,{img}'>"
-            f"<figcaption>{html.escape(text)}</figcaption></figure>")
+def _section_figure_html(entry: FigureEntry, paper: bool) -> str:
+    """A figure shown in a section of its own (the stripe, risk and portfolio figures):
+    embedded with its entry's caption (the same markup as the other figures, so a gallery
+    links it instead)."""
+    img = base64.b64encode(entry.png.read_bytes()).decode("ascii")
+    text = caption(entry.name, paper, entry.notes)
+    return (f"<figure id='{entry.stem}'><img alt='{entry.stem}' "
+            f"src='data:image/png;base64,{img}'><figcaption>{html.escape(text)}</figcaption>"
+            "</figure>")
 
 
 def _first(entries: Sequence[FigureEntry], entry: FigureEntry) -> int:

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from rocking.fragility.table import FIRST_EXCEEDANCE, STRIPES
-from rocking.risk.table import (
+from rocking.risk.risk_table import (
     MIN_RECORDS,
     below_first_warning,
     main_tan_alpha,
@@ -41,11 +41,12 @@ def assumptions(hazard: str = "") -> list[str]:
         "pair, max √(ax² + ay²), the largest peak over all horizontal directions (RotD100 "
         "sampled finely) in every mode, 2D included. Hazard models give RotD50 or the "
         "geometric mean of the two components, smaller by about 1.2–1.3 for PGA. The "
-        "fragility and the hazard are in one component, risk.csv's component column: the "
-        "hazard's as declared (hazard: {file, component}), the fragility fitted in it from "
-        "the records; an undeclared hazard component is taken as the study's. A manual "
-        "factor on the hazard's levels (hazard.im_factor = f) is the alternative; a hazard "
-        "of another component integrated as is makes λ too low by about f^k.",
+        "fragility and the hazard are in one measure and one component (risk.csv's measure, "
+        "component and component_source): the hazard's as declared (hazard: {file, "
+        "component}), read from its file, or for an OpenQuake file that states none RotD50, "
+        "the safe side; where it is not the fragility table's, the fragility is refitted in "
+        "it from each motion's critical PGA and its own ratio of the two components. A "
+        "manual factor on the hazard's levels (hazard.im_factor = f) is the alternative.",
         "Integration: λ_LS = ∫ P(LS | PGA) |dλ(PGA)| with the lognormal fragility (median, β) "
         "of the study's motions; the hazard is interpolated log-log between its levels and "
         "its first and last log-log slopes are extrapolated beyond them (share_extrapolated "
@@ -60,16 +61,17 @@ def assumptions(hazard: str = "") -> list[str]:
 
 
 WHICH_TO_USE = (
-    "Which λ to use: the stripe one. The integral asks for P(LS | PGA), the probability that "
-    "a motion scaled to that PGA exceeds the limit state, which is what the stripes measure "
-    "at fixed intensities (an answer that converges as stripes and motions are added). The "
-    "first-exceedance fragility is the probability that a motion exceeds at that PGA or at "
-    "some lower one: rocking is not monotonic in the intensity, so it also counts motions "
-    "that exceed at a lower PGA and survive at this one, and its λ is larger. It is an upper "
-    "bound in principle but not a guaranteed one (the scan that finds first exceedances can "
-    "step over narrow windows of exceedance, which moves them up); quote it only as a "
-    "screening value.")
-"""The report's sentence on which of the two mean annual frequencies to use."""
+    "Which λ risk uses: the lognormal of the motions' critical intensities (I₁₀), the "
+    "first-exceedance rows, in the portfolio and the exports too. It exists at every body "
+    "of the study's grid and in every measure and component (refitted per motion), which "
+    "the stripes cannot be, and it errs on the safe side: I₁₀ is where a motion's local "
+    "exceedance probability first reaches 0.1, below where it exceeds as often as not, so "
+    "its λ lies above that of F(s). The stripe rows, each analysis jittered within ±w in "
+    "ln s, estimate F(s) = the mean over the motions of their local exceedance probability: "
+    "P(LS | PGA) itself, which converges as motions are added; their λ is the best "
+    "estimate, and the ratio of the two says how conservative the headline is (on the El "
+    "Centro study 0.39–0.93, docs/risk.md).")
+"""The report's sentence on which of the two mean annual frequencies risk uses, and why."""
 
 
 INTERVAL_MEANING = (
@@ -97,6 +99,30 @@ def hazard_sentence(risk) -> str:
     text = "Hazard curve used: " + (f"site {'; '.join(sites)}, " if sites else "")
     return text + (f"kind {', '.join(kinds)}." if kinds else
                    "kind not stated by the file (taken as the mean).")
+
+
+SOURCES = {"declared": "declared by the hazard entry", "file": "stated by the hazard file",
+           "openquake-default": "not stated by the OpenQuake file: taken as RotD50, the "
+                                "NGA-West2 models' component and the safe side",
+           "assumed": "not stated by the hazard: taken as the study's"}
+"""Where risk.csv's component comes from (``component_source``), in words."""
+
+
+def terms_sentence(risk) -> str:
+    """The measure and component λ was integrated in, where it comes from and whether the
+    fragility was refitted in it ('' for a table written before these columns)."""
+    frame = read_risk_table(risk)
+    if "component_source" not in frame.columns or frame.empty:
+        return ""
+    first = frame.iloc[0]
+    source = str(first["component_source"])
+    base = source.split("+")[0]
+    text = (f"Measure {first['measure']}, component {first['component']} "
+            f"({SOURCES.get(base, base)})")
+    if source.endswith("+refit"):
+        text += ("; the first-exceedance fragility refitted in it from each motion's "
+                 "critical PGA and its ratio of the two (motion_measures.csv)")
+    return text + "."
 
 
 def small_suite_warnings(risk) -> list[str]:
@@ -217,6 +243,9 @@ def risk_section_html(risk, *, hazard: str = "", figure: str | Path | None = Non
     said = hazard_sentence(risk)
     if said:
         parts.append(f"<p>{html.escape(said)}</p>")
+    terms = terms_sentence(risk)
+    if terms:
+        parts.append(f"<p>{html.escape(terms)}</p>")
     warning = below_first_warning(risk)
     if warning:
         parts.append(f"<p><strong>{html.escape(warning)}</strong></p>")
@@ -304,6 +333,6 @@ def _comparison_html(risk) -> list[str]:
                          float_format=lambda v: f"{v:.3g}")]
 
 
-__all__ = ["INTERVAL_MEANING", "WHICH_TO_USE", "assumptions", "comparison_table",
-           "hazard_sentence", "interval_table", "risk_section_html",
+__all__ = ["INTERVAL_MEANING", "SOURCES", "WHICH_TO_USE", "assumptions", "comparison_table",
+           "hazard_sentence", "terms_sentence", "interval_table", "risk_section_html",
            "small_suite_warnings", "summary_table"]

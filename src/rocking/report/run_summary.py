@@ -66,15 +66,16 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
         (f"{p}: modes per tan α", modes_text(ds)),
         (f"{p}: accuracy", f"preset {spec.accuracy if isinstance(spec.accuracy, str) else 'custom'}"
                            f": {tolerances_text(attrs['tolerances'])}; search up to "
-                           f"PGA/(g tan α) = {fmt(spec.upper)}"),
+                           f"PGA/(g tan α) = {fmt(spec.upper)}; "
+                           + stated_error_text(spec.accuracy)),
     ]
     if spec.damping is not None:
         rows.append((f"{p}: damped contact (3d-damped)",
                      f"ωn = {fmt(spec.damping.omega_n)} rad/s, ζ = {fmt(spec.damping.zeta)} "
                      "(Fig 4 also overlays the paper's eight pairs ωn ∈ {200, 2000} rad/s × "
                      "ζ ∈ {0.05, 0.5, 5, 50})"))
-    if "unresolved" in ds:
-        rows.append((f"{p}: resolution of the answers", resolution_text(ds)))
+    rows.append((f"{p}: the critical intensity", quantity_text(attrs)))
+    rows.append((f"{p}: conditioning of the answers", plateau_text(ds)))
     if "lifts_off" in ds:
         rows.append((f"{p}: validity of the answers", validity_text(ds, spec.mu)))
         if spec.mu is not None:
@@ -83,63 +84,70 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
     return rows
 
 
+def stated_error_text(accuracy) -> str:
+    """The one accuracy figure of the answers: the preset's stated error against the
+    converged I10 (``rocking.spectra.accuracy.STATED``, docs/performance.md)."""
+    from rocking.study.verify import stated_error
+
+    e, q = stated_error(accuracy)
+    return (f"{100 * q:g} % of the answers lie within {100 * e:g} % of the converged I10 "
+            "(docs/performance.md)")
+
+
 def tolerances_text(t: Mapping) -> str:
     """The accuracy settings of a store (:class:`rocking.spectra.accuracy.Accuracy` as
-    attributes) in words: integration tolerance, scan step, bisection."""
+    attributes) in words: integration tolerance, scan grid, local sample."""
     parts = []
     if "rtol" in t:
         parts.append(f"time integration to a relative tolerance of {t['rtol']:g}"
                      + (f" ({t['rtol_damped']:g} for the damped model)"
-                        if t.get("rtol_damped") is not None else ""))
-    step = t.get("scan_step")
-    if step is not None:
-        unit = f"{100 * step:g} %" if t.get("scan_relative", True) else f"{step:g}"
-        scan = t.get("scan", "fixed")
-        if scan == "fixed":
-            parts.append(f"intensity scanned upwards in steps of {unit}")
-        else:
-            top = t.get("scan_step_max")
-            hi = (f"{100 * top:g} %" if t.get("scan_relative", True) else f"{top:g}") if top \
-                else unit
-            parts.append(f"intensity scanned upwards in {scan} steps of {unit} to {hi}")
-    if t.get("refine_budget"):
-        parts.append(f"up to {t['refine_budget']} analyses per point re-examine the near "
-                     f"misses below the first exceedance in steps of "
-                     f"{100 * t['refine_step']:g}–{100 * t['refine_step_max']:g} %")
-    if t.get("bisection_tol") is not None:
-        parts.append(f"each first exceedance refined by bisection to "
-                     f"{100 * t['bisection_tol']:g} %")
+                        if t.get("rtol_damped") not in (None, t["rtol"]) else ""))
+    if t.get("scan_step") is not None:
+        parts.append(f"intensity scanned upwards on a {100 * t['scan_step']:g} % grid "
+                     "(its offset random per cell, seeded from the cell)")
+    if t.get("local_step") is not None:
+        reach = (f" from {100 * t['local_below']:g} % below to {100 * t['local_above']:g} % "
+                 "above" if t.get("local_below") is not None and t.get("local_above")
+                 is not None else "")
+        parts.append(f"P(s) sampled around each first exceedance{reach} (in ln I), one "
+                     f"analysis at a random place in each {100 * t['local_step']:g} % stratum")
     if t.get("rest_tilt") is not None:
         parts.append(f"an analysis ends early once the body is at rest (tilt below "
                      f"{t['rest_tilt']:g} rad)")
-    known = {"name", "rtol", "rtol_damped", "scan_step", "scan_relative", "scan",
-             "scan_step_max", "bisection_tol", "rest_tilt", "tilt_growth", "seek_near",
-             "refine_budget", "refine_step", "refine_step_max", "refine_near"}
+    known = {"name", "rtol", "rtol_damped", "scan_step", "local_step", "local_below",
+             "local_above", "rest_tilt"}
     parts += [f"{k} = {v}" for k, v in t.items() if k not in known and v is not None]
     return "; ".join(parts) or "not recorded"
 
 
-def resolution_text(ds) -> str:
-    """How many computed answers per mode carry the ``unresolved`` flag, and what it means."""
+def quantity_text(attrs: Mapping) -> str:
+    """What the store's answers are (its ``quantity`` attribute), in words."""
+    from rocking.spectra.quantity import Quantity
+    from rocking.study.aggregate import store_quantity
+
+    q = Quantity.from_value(store_quantity(attrs))
+    step = (attrs.get("tolerances") or {}).get("scan_step")
+    if not q.is_quantile:
+        return (q.describe(step) + ": the smallest exceeding intensity the scan saw, which "
+                "moves with the grid (docs/models.md, \"The critical intensity\")")
+    return (f"{q.describe(step)}: per motion, the lowest PGA/(g tan α) near which at least "
+            f"{100 * q.p:g} % of the intensities exceed the goal (I50 beside it in the store); "
+            "the means and fragilities are of these answers")
+
+
+def plateau_text(ds) -> str:
+    """How many computed answers per mode carry the ``plateau`` flag, and what it means."""
     reached = ~ds["not_reached"].values.astype(bool)
     if "requested" in ds:
         reached &= ds["requested"].broadcast_like(ds["not_reached"]).transpose(
             *ds["not_reached"].dims).values.astype(bool)
-    flag = ds["unresolved"].values.astype(bool) & reached
+    flag = ds["plateau"].values.astype(bool) & reached
     axis = ds["not_reached"].dims.index("mode")
     per = [f"{m}: {int(np.take(flag, i, axis).sum())} of {int(np.take(reached, i, axis).sum())}"
            for i, m in enumerate(_load.labels(ds, "mode"))]
-    spent = ""
-    if "budget_spent" in ds and bool(ds["budget_spent"].values.any()):
-        n = int((ds["budget_spent"].values.astype(bool) & reached).sum())
-        spent = (f" {n} of them because the refinement budget ran out before every near "
-                 "miss below the answer was re-examined (budget_spent).")
-    return ("answers flagged unresolved (the response came within half the goal, or θmax "
-            "jumped, below the answer, and that near miss was not re-examined: narrower "
-            "windows of exceedance may lie lower) — " + "; ".join(per) + "." + spent
-            + " On the resolution benchmark the default's answer is 0.4–0.9 % too high at "
-            "the median and 15–21 % at the 90th percentile, never too low "
-            "(docs/performance.md).")
+    return ("answers flagged plateau (the local exceedance probability rises near p below "
+            "the answer without crossing it, so a small change of the response could move "
+            "the answer down) — " + "; ".join(per) + ".")
 
 
 def validity_text(ds, mu: float | None) -> str:

@@ -206,16 +206,22 @@ def section_html(portfolio: str | Path | pd.DataFrame) -> list[str]:
     import html
 
     from rocking.report.tables import table_html
+    from rocking.risk.portfolio import read_portfolio, site_lines
 
-    frame = portfolio if isinstance(portfolio, pd.DataFrame) else pd.read_csv(portfolio)
+    frame = portfolio if isinstance(portfolio, pd.DataFrame) else read_portfolio(portfolio)
     states = sorted(frame["limit_state"].unique(), key=severity, reverse=True)
     top = frame[frame["limit_state"] == states[0]].sort_values("rank", kind="stable")
+    site_csv = (Path(portfolio).with_name("portfolio_site.csv")
+                if not isinstance(portfolio, pd.DataFrame) else None)
+    site = (pd.read_csv(site_csv) if site_csv is not None and site_csv.is_file()
+            else pd.DataFrame(frame.attrs["site"]) if frame.attrs.get("site") else None)
     error = float(top["interp_error"].iloc[0])
     sites = sorted(set(frame["hazard_site"].astype(str)))
     extrapolated = int(frame.drop_duplicates("id")["extrapolated"].astype(bool).sum())
     text = (f"{frame['id'].nunique()} columns of the inventory, each with the study's "
-            f"fragility interpolated at its R and tan α (mode {frame['mode'].iloc[0]}, PGA "
-            f"in the {frame['component'].iloc[0]} component; interpolation error of the "
+            f"fragility interpolated at its R and tan α (mode {frame['mode'].iloc[0]}, "
+            f"{frame['measure'].iloc[0]} in the hazard's {frame['component'].iloc[0]} "
+            "component; interpolation error of the "
             f"median for {limit_state_title(states[0])}: {error_words(error)}) and "
             "integrated against the hazard curve of its "
             f"site ({len(sites)} site(s) used: {', '.join(sites[:5])}"
@@ -234,7 +240,9 @@ def section_html(portfolio: str | Path | pd.DataFrame) -> list[str]:
         "hazard site": shown["hazard_site"], "distance [km]": shown["hazard_distance_km"]})
     more = (f" (the {SHOWN_IN_REPORT} highest of {len(top)})"
             if len(top) > SHOWN_IN_REPORT else "")
+    answer = ([f"<p>The site: {html.escape(line)}.</p>" for line in site_lines(site)]
+              if site is not None and len(site) else [])
     return ["<h2 id='portfolio'>Every column of the site (beyond the paper)</h2>",
-            f"<p>{html.escape(text)}</p>",
+            f"<p>{html.escape(text)}</p>", *answer,
             f"<p>{html.escape(limit_state_title(states[0]))}, ranked by λ{more}:</p>",
             table_html(table)]

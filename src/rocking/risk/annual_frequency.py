@@ -46,16 +46,12 @@ import math
 import numpy as np
 from scipy import special
 
+from rocking._validate import positive_finite
 from rocking.risk.hazard import HazardCurve
 
 
 def _check(median_g: float, beta: float) -> tuple[float, float]:
-    m, b = float(median_g), float(beta)
-    if not (math.isfinite(m) and m > 0):
-        raise ValueError(f"median_g must be finite and > 0 [g], got {median_g!r}")
-    if not (math.isfinite(b) and b > 0):
-        raise ValueError(f"beta must be finite and > 0 [-], got {beta!r}")
-    return m, b
+    return positive_finite("median_g [g]", median_g), positive_finite("beta", beta)
 
 
 def segment_rates(median_g, beta, hazard: HazardCurve) -> np.ndarray:
@@ -217,8 +213,7 @@ def annual_frequency_interval(median_g, beta, hazard: HazardCurve,
 
 def probability_in(annual_frequency: float, years: float) -> float:
     """Probability of at least one exceedance in ``years`` (Poisson): 1 − exp(−λT) [-]."""
-    if not (math.isfinite(years) and years > 0):
-        raise ValueError(f"years must be finite and > 0, got {years!r}")
+    years = positive_finite("years", years)
     return float(-np.expm1(-float(annual_frequency) * years))
 
 

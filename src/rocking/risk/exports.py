@@ -15,7 +15,7 @@ from rocking.fragility.table import Fragilities, read_fragilities
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.nrml import nrml_model_id, write_nrml
 from rocking.risk.pelicun import write_pelicun_csv
-from rocking.risk.table import risk_tables
+from rocking.risk.risk_table import risk_tables
 
 
 def _read(fragility) -> Fragilities:
@@ -66,8 +66,7 @@ def write_fragility_exports(fragility, *, nrml: str | Path, pelicun: str | Path,
 def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
                        pelicun: str | Path, table: str | Path,
                        search_upper: float | None = None, study: str = "",
-                       stripes=None, suite=None, preset: str = "",
-                       component: str | None = None,
+                       stripes=None, preset: str = "",
                        study_component: str = "vector_peak") -> dict:
     """Write ``fragility.nrml.xml``, ``fragility.pelicun.csv`` and ``risk.csv`` of a study.
 
@@ -77,11 +76,15 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
 
     Parameters
     ----------
-    fragility : path, DataFrame or Dataset
-        The study's fragility table (``results/<study>/fragility.csv``, PGA): always
-        exported; its rows enter ``risk.csv`` when the hazard is of PGA.
+    fragility : path
+        The study's fragility table (``results/<study>/fragility.csv``, vector-peak PGA):
+        always exported; in ``risk.csv`` in the hazard's measure and component
+        (:func:`rocking.risk.reconcile.reconcile`: refitted from the study's
+        ``critical.csv`` and ``motion_measures.csv`` beside it where the hazard's are
+        others, refused where the study does not fit the hazard's measure).
     hazard : HazardCurve
-        The site's hazard curve (PGA or Sa(T)).
+        The site's hazard curve (PGA or Sa(T)), its component declared, read or an
+        OpenQuake file's default.
     nrml, pelicun, table : path
         Output files (the exports of ``fragility``; the risk table of both fragilities).
     search_upper : float, optional
@@ -89,79 +92,46 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
     study : str
         Study name, for the NRML model id and description.
     stripes : path, DataFrame or Dataset, optional
-        The study's stripe fragility (``stripe_fragility.csv``): its rows in the hazard's
-        measure join the table, marked ``fragility = stripes``.
-    suite : path, DataFrame or Dataset, optional
-        The suite's fragility (``suite_fragility.csv``): the first-exceedance rows of
-        ``risk.csv`` when the hazard is not of PGA (its fits in Sa(T)).
+        The study's stripe fragility (``stripe_fragility.csv``): its rows join the table,
+        marked ``fragility = stripes``, where it is in the hazard's measure and component
+        (stripes cannot be refitted in another: left out then, the summary says why).
     preset : str
         Accuracy preset of the study's analyses (the ``preset`` column).
-    component : str, optional
-        The hazard's horizontal component (:func:`rocking.risk.hazard.hazard_component`);
-        None: the hazard is taken in ``study_component``, and the summary says so. In
-        another component than the vector peak the first-exceedance rows come from
-        ``suite`` (the fits in that component, computed from the records), never from
-        ``fragility`` (the spectra's vector-peak PGA); stripe rows in another component than
-        the hazard's are left out with a status saying why.
     study_component : str
-        The study's component (``studies.<name>.component``).
+        The study's component (``studies.<name>.component``): taken where the hazard states
+        none.
 
     Returns
     -------
     dict
         What was written: counts, the NRML limit states, the functions left out of the NRML,
-        the rows without a fit (``skipped``), the hazard's site, kind and unit, and the
-        preset's and the hazard's first level's warnings, for the rule's log.
+        the rows without a fit (``skipped``), the hazard's site, kind, unit and component,
+        what was assumed or refitted (``terms_note``), and the preset's and the hazard's
+        first level's warnings, for the rule's log.
     """
-    from rocking.risk.table import below_first_warning, preset_warning
+    from rocking.risk.reconcile import reconcile
+    from rocking.risk.risk_table import below_first_warning, preset_warning
 
-    pga = read_fragilities(fragility)
-    summary = write_fragility_exports(pga, nrml=nrml, pelicun=pelicun,
+    summary = write_fragility_exports(read_fragilities(fragility), nrml=nrml, pelicun=pelicun,
                                       search_upper=search_upper, study=study)
-    declared = component is not None
-    component = study_component if component is None else component
-    if hazard.measure == "pga" and component == pga.component:
-        first = pga
-    elif suite is None:
-        raise ValueError(f"the hazard is of {hazard.imt} in the component {component}: give "
-                         "the suite's fragility (suite_fragility.csv) with its "
-                         "first-exceedance fits in that measure and component")
-    else:
-        first = read_fragilities(suite, measure=hazard.measure, component=component)
-    tables = [first]
+    assumed = (study_component, "the study's component")
+    tables = [reconcile(fragility, hazard, assumed=assumed)]
+    stripes_note = ""
     if stripes is not None:
-        tables.append(_stripes_in(stripes, hazard, component))
-    risk = risk_tables(tables, hazard, preset=preset, component=component)
+        try:
+            tables.append(reconcile(stripes, hazard, kind="stripes", assumed=assumed))
+        except ValueError as exc:  # stripes in other terms: said, the first rows stand
+            stripes_note = f"stripe rows left out of risk.csv: {exc}"
+    risk = risk_tables(tables, hazard, preset=preset, assumed=assumed)
     risk.to_csv(table, index=False, float_format="%.6g")
     return {**summary, "risk_rows": len(risk), "risk_fragilities": [f.kind for f in tables],
-            "risk_measure": hazard.measure, "risk_component": component,
-            "component_note": "" if declared else (
-                f"the hazard's component is not declared: taken as the study's ({component}); "
-                "declare it as hazard: {file, component}"),
+            "risk_measure": tables[0].measure, "risk_component": tables[0].component,
+            "terms_note": risk.attrs["note"], "stripes_note": stripes_note,
             "risk_skipped": risk.attrs["skipped"],
             "hazard": hazard.source, "hazard_note": hazard.note,
             "hazard_site": hazard.site, "hazard_kind": hazard.kind,
             "hazard_unit": hazard.unit, "below_first_warning": below_first_warning(risk),
             "preset_warning": preset_warning(preset)}
-
-
-def _stripes_in(stripes, hazard: HazardCurve, component: str | None = None) -> Fragilities:
-    """The stripe table's rows in the hazard's measure and component; a table of another
-    measure (an old one is of PGA) or component gives no rows, with a status saying so
-    (stripes scale each motion to the stripe in one component: another component's
-    fragility needs other analyses)."""
-    try:
-        return read_fragilities(stripes, kind="stripes", measure=hazard.measure,
-                                component=component)
-    except ValueError as exc:
-        import pandas as pd
-
-        from rocking.fragility.table import COLUMNS
-
-        empty = pd.DataFrame(columns=list(COLUMNS))
-        return Fragilities(empty, empty, 0, "stripes", hazard.measure,
-                           source=f"stripe table not in {hazard.measure} ({exc})",
-                           component=component or "vector_peak")
 
 
 __all__ = ["write_fragility_exports", "write_risk_outputs"]

@@ -75,8 +75,8 @@ import numpy as np
 import pandas as pd
 
 from rocking.fragility.table import lognormal_moments
-from rocking.motions.measures import COMPONENTS, same_measure
-from rocking.risk.hazard import measure_imt
+from rocking.motions.measures import COMPONENTS, measure_imt, parse_component, same_measure
+from rocking.risk.hazard import lon_lat_problem
 from rocking.risk.nrml import MAX_IML_SIGMAS, MODEL_ID, NAMESPACE, nrml_limit_state
 from rocking.risk.pelicun import DEMAND_TYPE, columns
 from rocking.spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
@@ -143,7 +143,7 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
                    R_edges: tuple[float, ...] = R_EDGES,
                    tan_alpha_edges: tuple[float, ...] = TAN_ALPHA_EDGES,
                    limit_states: list[str] | None = None,
-                   imt: str | None = None, component: str = "vector_peak",
+                   imt: str | None = None, component: str | None = None,
                    model_id: str = "rocking-inventory", currency: str = "EUR",
                    description: str = "") -> ExposureExport:
     """Write an inventory's exposure model, fragility model and pelicun inputs.
@@ -167,10 +167,10 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
         OpenQuake's name of the measure: ``PGA`` or ``SA(T)``, in g. Default: the table's
         ``measure`` (``pga``, ``sa:1.0``), else ``PGA``; one that contradicts the table's
         ``measure`` is refused.
-    component : str
+    component : str, optional
         The horizontal component of the medians (and of the hazard the model is for), a
-        name of :data:`rocking.motions.measures.COMPONENTS`; the table's ``component``
-        column, if any, must agree.
+        name of :data:`rocking.motions.measures.COMPONENTS`; default the table's
+        ``component`` column (else ``vector_peak``), which must agree where both are given.
     model_id : str
         Id of the exposure model; the fragility model's is ``<model_id>-fragility``.
     currency : str
@@ -187,33 +187,8 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
     ValueError
         Bad input, one line naming the row and the column, before any file is written.
     """
-    if taxonomy_by not in TAXONOMY_BY:
-        raise ValueError(f"taxonomy_by must be one of {TAXONOMY_BY}, got {taxonomy_by!r}")
-    if not MODEL_ID.match(model_id) or len(model_id) > 50:
-        raise ValueError(f"model_id must be 1-50 letters, digits, '_' or '-', got {model_id!r}")
-    frame = pd.read_csv(table) if isinstance(table, str | Path) else table.copy()
-    frame = frame.reset_index(drop=True)
-    assets, rows = _validated(frame, taxonomy_by)
-    imt = _imt(imt, rows)
-    if component not in COMPONENTS:
-        raise ValueError(f"component must be one of {', '.join(COMPONENTS)}, got {component!r}")
-    if "component" in rows and str(rows["component"].iloc[0]) != component:
-        raise ValueError(f"component {component!r} is not the table's "
-                         f"({rows['component'].iloc[0]!r})")
-    states, left_out = _limit_states(rows, limit_states)
-    rows = rows[rows["limit_state"].isin(states)]
-    _check_complete(rows, states)
-    if taxonomy_by == "column":
-        if "taxonomy" in assets:
-            assets["taxonomy"] = assets["taxonomy"].astype(str)
-        else:
-            assets["taxonomy"] = [f"col_{i}" for i in assets["id"]]
-        _check_taxonomies(assets)
-        params, spread = _column_params(assets, rows, states), {}
-    else:
-        assets["taxonomy"] = _size_classes(assets, _edges("R_edges", R_edges),
-                                           _edges("tan_alpha_edges", tan_alpha_edges))
-        params, spread = _class_params(assets, rows, states)
+    assets, rows, params, spread, states, left_out, imt, component = _plan(
+        table, taxonomy_by, R_edges, tan_alpha_edges, limit_states, imt, component, model_id)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = {"exposure_xml": folder / "exposure.xml", "exposure_csv": folder / "exposure.csv",
@@ -252,6 +227,58 @@ def write_exposure(table: pd.DataFrame | str | Path, folder: str | Path, *,
 # ------------------------------------------------------------------ validation
 
 
+def check_exposure(table: pd.DataFrame | str | Path, *, taxonomy_by: str = "column",
+                   R_edges: tuple[float, ...] = R_EDGES,
+                   tan_alpha_edges: tuple[float, ...] = TAN_ALPHA_EDGES,
+                   limit_states: list[str] | None = None, imt: str | None = None,
+                   component: str | None = None,
+                   model_id: str = "rocking-inventory") -> None:
+    """Everything :func:`write_exposure` refuses, checked without writing anything (a command
+    runs it before it writes ``portfolio.csv``, so a refusal leaves no file behind)."""
+    _plan(table, taxonomy_by, R_edges, tan_alpha_edges, limit_states, imt, component,
+          model_id)
+
+
+def _plan(table, taxonomy_by, R_edges, tan_alpha_edges, limit_states, imt, component,
+          model_id):
+    """The checked assets, rows, fragility parameters of each taxonomy, class spread, limit
+    states (and those left out), IMT and component of an export."""
+    if taxonomy_by not in TAXONOMY_BY:
+        raise ValueError(f"taxonomy_by must be one of {TAXONOMY_BY}, got {taxonomy_by!r}")
+    if not MODEL_ID.match(model_id) or len(model_id) > 50:
+        raise ValueError(f"model_id must be 1-50 letters, digits, '_' or '-', got {model_id!r}")
+    if isinstance(table, str | Path):
+        from rocking.risk.portfolio import read_portfolio
+
+        frame = read_portfolio(table)
+    else:
+        frame = table.copy()
+    frame = frame.reset_index(drop=True)
+    assets, rows = _validated(frame, taxonomy_by)
+    imt = _imt(imt, rows)
+    if component is None:
+        component = str(rows["component"].iloc[0]) if "component" in rows else "vector_peak"
+    component = parse_component(component)  # any case: RotD50
+    if "component" in rows and parse_component(str(rows["component"].iloc[0])) != component:
+        raise ValueError(f"component {component!r} is not the table's "
+                         f"({rows['component'].iloc[0]!r})")
+    states, left_out = _limit_states(rows, limit_states)
+    rows = rows[rows["limit_state"].isin(states)]
+    _check_complete(rows, states)
+    if taxonomy_by == "column":
+        if "taxonomy" in assets:
+            assets["taxonomy"] = assets["taxonomy"].astype(str)
+        else:
+            assets["taxonomy"] = [f"col_{i}" for i in assets["id"]]
+        _check_taxonomies(assets)
+        params, spread = _column_params(assets, rows, states), {}
+    else:
+        assets["taxonomy"] = _size_classes(assets, _edges("R_edges", R_edges),
+                                           _edges("tan_alpha_edges", tan_alpha_edges))
+        params, spread = _class_params(assets, rows, states)
+    return assets, rows, params, spread, states, left_out, imt, component
+
+
 def _show(value) -> str:
     """A cell as the user wrote it: numbers plainly (``200``, ``nan``), text quoted."""
     if isinstance(value, int | float | np.integer | np.floating):
@@ -260,7 +287,12 @@ def _show(value) -> str:
 
 
 def _where(frame: pd.DataFrame, i: int) -> str:
-    return f"row {i} (id {frame.at[i, 'id']!r})" if "id" in frame else f"row {i}"
+    """A row named as its inventory numbers it (the ``row`` column of ``portfolio.csv``),
+    else as the table's 1-based data row."""
+    who = f" (id {frame.at[i, 'id']!r})" if "id" in frame else ""
+    if "row" in frame and pd.notna(frame.at[i, "row"]):
+        return f"inventory row {int(float(frame.at[i, 'row']))}{who}"
+    return f"row {i + 1} of the table{who}"
 
 
 def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -288,13 +320,10 @@ def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.
             raise ValueError(f"{_where(frame, i)}: {col} is missing or not a finite number "
                              f"({_show(frame.at[i, col])})")
         frame[col] = values.astype(float)
-    checks = [("lon", -180.0, 180.0), ("lat", -90.0, 90.0)]
-    for col, lo, hi in checks:
-        bad = (frame[col] < lo) | (frame[col] > hi)
-        if bad.any():
-            i = int(np.flatnonzero(bad.to_numpy())[0])
-            raise ValueError(f"{_where(frame, i)}: {col} = {_show(frame.at[i, col])} outside "
-                             f"[{lo:g}, {hi:g}] deg")
+    for i, (lon, lat) in enumerate(zip(frame["lon"], frame["lat"], strict=True)):
+        problem = lon_lat_problem(lon, lat)
+        if problem:
+            raise ValueError(f"{_where(frame, i)}: {problem}")
     for col in [c for c in ("median", "beta", "R", "tan_alpha", "value") if c in frame]:
         bad = frame[col] <= 0
         if bad.any():
@@ -303,8 +332,8 @@ def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.
                              f"{_show(frame.at[i, col])}")
     for i, ident in enumerate(frame["id"]):
         if not ASSET_ID.match(ident):
-            raise ValueError(f"row {i}: id {ident!r} is not an OpenQuake asset id (1-50 "
-                             "letters, digits, '_', '-' or ':')")
+            raise ValueError(f"{_where(frame, i)}: id {ident!r} is not an OpenQuake asset id "
+                             "(1-50 letters, digits, '_', '-' or ':')")
     canonical = {}  # each distinct name parsed once
     for name in frame["limit_state"].astype(str).unique():
         try:
@@ -318,7 +347,7 @@ def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.
         i = int(np.flatnonzero(dup.to_numpy())[0])
         raise ValueError(f"{_where(frame, i)}: duplicate id: limit state "
                          f"{frame.at[i, 'limit_state']} of this id is already in the table")
-    per_column = [c for c in ("lon", "lat", "R", "tan_alpha", "taxonomy", "value")
+    per_column = [c for c in ("lon", "lat", "R", "tan_alpha", "taxonomy", "value", "row")
                   if c in frame]
     for col in per_column:
         differs = frame.groupby("id", sort=False)[col].transform("nunique") > 1
@@ -326,8 +355,7 @@ def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.
             i = int(np.flatnonzero(differs.to_numpy())[0])
             raise ValueError(f"{_where(frame, i)}: duplicate id with another {col} "
                              f"({_show(frame.at[i, col])}): ids must be unique per column")
-    assets = frame.drop_duplicates("id")[["id", *per_column]]
-    assets = assets.rename_axis("row").reset_index()  # the table's first row of each column
+    assets = frame.drop_duplicates("id")[["id", *per_column]].reset_index(drop=True)
     return assets, frame
 
 
@@ -405,8 +433,9 @@ def _size_classes(assets: pd.DataFrame, r_edges: np.ndarray,
         out = (k < 0) | (k >= len(edges) - 1)
         if out.any():
             a = assets.iloc[int(np.flatnonzero(out)[0])]
-            raise ValueError(f"row {a['row']} (id {a['id']!r}): {col} = {a[col]:g} "
-                             f"outside the class edges [{edges[0]:g}, {edges[-1]:g}){unit}")
+            raise ValueError(f"{_where(assets, int(np.flatnonzero(out)[0]))}: {col} = "
+                             f"{a[col]:g} outside the class edges [{edges[0]:g}, "
+                             f"{edges[-1]:g}){unit}")
         names = np.array([f"{lo:g}-{hi:g}{unit}" for lo, hi in zip(edges[:-1], edges[1:],
                                                                    strict=True)])
         labels.append(names[k])
@@ -429,7 +458,9 @@ def _params(median: pd.DataFrame, beta: pd.DataFrame, uplift: pd.Series,
 
 def _column_params(assets: pd.DataFrame, rows: pd.DataFrame,
                    states: list[str]) -> dict[str, dict]:
-    rows = rows.merge(assets[["id", "taxonomy"]], on="id")
+    # the table's own taxonomy column (if any) is the assets' now: merged once, not twice
+    rows = rows.drop(columns="taxonomy", errors="ignore").merge(assets[["id", "taxonomy"]],
+                                                                on="id")
     median, beta = _wide(rows, "taxonomy", states)
     order = list(dict.fromkeys(assets["taxonomy"]))  # the table's order of the columns
     uplift = (assets.set_index("taxonomy")["tan_alpha"] if "tan_alpha" in assets else None)
@@ -438,7 +469,8 @@ def _column_params(assets: pd.DataFrame, rows: pd.DataFrame,
 
 def _class_params(assets: pd.DataFrame, rows: pd.DataFrame,
                   states: list[str]) -> tuple[dict[str, dict], dict[str, float]]:
-    rows = rows.merge(assets[["id", "taxonomy"]], on="id")
+    rows = rows.drop(columns="taxonomy", errors="ignore").merge(assets[["id", "taxonomy"]],
+                                                                on="id")
     # per class and limit state the most fragile member (smallest median), with its own β
     weakest = rows.loc[rows.groupby(["taxonomy", "limit_state"])["median"].idxmin()]
     median, beta = _wide(weakest, "taxonomy", states)
@@ -564,4 +596,4 @@ def _write_pelicun(model_path: Path, assets_path: Path, params: dict[str, dict],
                   "marginals": files}).to_csv(assets_path, index=False, float_format="%.10g")
 
 __all__ = ["ExposureExport", "R_EDGES", "REQUIRED", "TAN_ALPHA_EDGES", "TAXONOMY_BY",
-           "component_of", "write_exposure"]
+           "check_exposure", "component_of", "write_exposure"]

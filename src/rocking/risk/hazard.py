@@ -2,13 +2,21 @@
 
 A :class:`HazardCurve` is a table of intensity levels [g] and their annual rates of exceedance
 [1/yr], in one intensity measure: PGA or Sa(T) (OpenQuake's ``PGA``, ``SA(1.0)``; the study's
-``pga``, ``sa:1.0``, :mod:`rocking.motions.measures`). It comes from a power law
-(λ = k0·im^−k), an OpenQuake hazard-curve CSV, or a plain two-column table (intensity and
-annual rate, or intensity and probability of exceedance in a stated investigation time).
-Between levels the curve is interpolated log-log (a piecewise power law, the shape hazard
-curves have locally); beyond either end the first or last segment's log-log slope is
-extrapolated (see :mod:`rocking.risk.annual_frequency` for why and for how much that end
-contributes).
+``pga``, ``sa:1.0``, :class:`rocking.motions.measures.Measure`), in one horizontal component
+(:attr:`HazardCurve.component`). It comes from a power law (λ = k0·im^−k), an OpenQuake
+hazard-curve CSV, or a plain two-column table (intensity and annual rate, or intensity and
+probability of exceedance in a stated investigation time). Between levels the curve is
+interpolated log-log (a piecewise power law, the shape hazard curves have locally); beyond
+either end the first or last segment's log-log slope is extrapolated (see
+:mod:`rocking.risk.annual_frequency` for why and for how much that end contributes).
+
+A file is recognized from its first lines before it is parsed (:data:`HAZARD_FORMATS`,
+:func:`hazard_format`) and parsed once, every site of it (:func:`read_hazard_file`, a
+:class:`HazardFile`): a regional file of 10,000 sites is read in about a second, and each
+site's curve is made from it when asked for. Two sites at the same coordinates, or one
+``custom_site_id`` given twice, are refused naming both lines. The measure is the file's
+``imt=`` (its comment line), else its file name (OpenQuake's ``hazard_curve-mean-SA(1.0)_3.csv``);
+both given and different is refused.
 
 Engines write probabilities of exceedance with six significant digits, so the lowest levels
 of a 50-year curve read ``1.000000E+00``: an infinite rate. Those levels are dropped (said
@@ -17,14 +25,23 @@ once, in one line, and kept on the curve as :attr:`HazardCurve.n_dropped` and
 first kept level is ``below_first`` of :func:`rocking.risk.annual_frequency.annual_frequency_parts`
 (``share_below_first`` in the risk table, with a warning when it is large).
 
-Regional runs write many sites to one file: :func:`select_site` picks one by ``custom_site_id``,
-by the nearest lon/lat within :data:`MAX_DISTANCE_KM` (great-circle) or by row, and refuses a
-file of several sites when none is named. The file's ``kind`` (``mean``, ``quantile-0.85``,
-``rlz-000``) is read from its comment line; anything but the mean is used only when the
-configuration names it. Levels are read in the file's unit (a header ``pga [cm/s2]``, the
-configuration's ``unit``, else g: the unit OpenQuake writes PGA and SA in) and converted to g;
-levels implausible in g are refused in one line (:func:`check_plausible`). A UTF-8 byte-order
-mark is stripped.
+:func:`select_site` picks one site of a file by ``custom_site_id``, by the nearest lon/lat
+within :data:`MAX_DISTANCE_KM` (great-circle) or by row, and refuses a file of several sites
+when none is named. The file's ``kind`` (``mean``, ``quantile-0.85``, ``rlz-000``) is read
+from its comment line; anything but the mean is used only when the configuration names it.
+Levels are read in the file's unit (a header ``pga [cm/s2]``, the configuration's ``unit``,
+else g: the unit OpenQuake writes PGA and SA in) and converted to g; levels implausible in g
+are refused in one line (:func:`check_plausible`). A UTF-8 byte-order mark is stripped.
+
+**The component.** A hazard's component is declared (the entry's ``component``, ``rocking
+risk --component``), else read from a ``component='rotd50'`` in its file's comment lines (any
+case: ``RotD50``), else, for an OpenQuake hazard-curve file, which never states it,
+:data:`OPENQUAKE_COMPONENT` (``rotd50``), said in every output that uses it
+(:attr:`HazardCurve.component_note`): the component of the NGA-West2 models that most
+current OpenQuake models of active regions use, and the safe guess: if the file is in any
+larger component (RotD100, the vector peak, the larger of two), the fragility is taken
+smaller than it is and λ comes out high, never low. A table or a power law that says nothing
+has no component (None): it is taken in the fragility's, said likewise.
 """
 
 from __future__ import annotations
@@ -35,12 +52,13 @@ import logging
 import math
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from rocking.motions.measures import SA_NAME, parse_measure
+from rocking._validate import positive_finite
+from rocking.motions.measures import Measure, parse_component
 
 log = logging.getLogger(__name__)
 
@@ -49,6 +67,7 @@ POWER_LAW_IML = np.geomspace(1e-3, 10.0, 41)
 
 _TIME = re.compile(r"investigation_time\s*=\s*['\"]?([0-9.eE+-]+)")
 _IMT = re.compile(r"\bimt\s*=\s*['\"]?([A-Za-z0-9().:]+)")
+_NAME_IMT = re.compile(r"(?:^|[-_])(PGA|PGV|SA\([0-9.]+\))(?=[-_.]|$)", re.IGNORECASE)
 _KIND = re.compile(r"\bkind\s*=\s*['\"]?([A-Za-z0-9_.-]+)")
 _KIND_NAME = re.compile(r"^(mean|quantile-(0?\.[0-9]+)|rlz-[0-9]+)$")
 _HEADER_UNIT = re.compile(r"^(.*?)\s*\[([^\]]*)\]\s*$")
@@ -85,33 +104,27 @@ RATE_COLUMNS = ("annual_rate", "rate", "lambda", "maf")
 """Names the second column of a two-column table may have when it holds annual rates."""
 
 
-def imt_measure(imt: str) -> str:
-    """The study's name of an intensity measure type: ``"PGA"`` → ``"pga"``,
-    ``"SA(1.0)"`` → ``"sa:1"``; the study's own names (``"pga"``, ``"sa:1.0"``) are accepted
-    too. Raises ValueError for any other (PGV and the rest: the study's PGV is in m/s, an
-    engine's in cm/s, so it is refused rather than guessed)."""
-    text = str(imt).strip()
-    hit = SA_NAME.match(text)
-    if hit:
-        text = f"sa:{hit.group(1)}"
+OPENQUAKE_COMPONENT = "rotd50"
+"""Component of an OpenQuake hazard-curve file that states none (module docstring: RotD50,
+the NGA-West2 models' component, and the safe guess)."""
+
+HEAD_LINES = 8
+"""Lines of a file :func:`hazard_format` reads to recognize its format."""
+
+
+def hazard_measure(imt, where: str = "") -> Measure:
+    """The intensity measure of a hazard: PGA or Sa(T) in g (any spelling of
+    :meth:`rocking.motions.measures.Measure.of`). PGV and anything else are refused in one
+    line (the study's PGV is in m/s, an engine's in cm/s: refused rather than guessed)."""
     try:
-        kind, period = parse_measure(text)
+        measure = Measure.of(str(imt))
     except ValueError:
-        kind, period = "", None
-    if kind == "pga":
-        return "pga"
-    if kind == "sa":
-        return f"sa:{period:g}"
-    raise ValueError(f"intensity measure type {imt!r} is not supported: use PGA or SA(T) "
-                     "(e.g. SA(1.0)), in g")
-
-
-def measure_imt(measure: str) -> str:
-    """OpenQuake's name of a study measure: ``"pga"`` → ``"PGA"``, ``"sa:1"`` → ``"SA(1.0)"``."""
-    kind, period = parse_measure(imt_measure(measure))
-    if kind == "pga":
-        return "PGA"
-    return f"SA({period:.1f})" if period == round(period, 1) else f"SA({period:g})"
+        measure = None
+    if measure is None or measure.unit != "g":
+        pre = f"{where}: " if where else ""
+        raise ValueError(f"{pre}intensity measure type {imt!r} is not supported for a hazard: "
+                         "use PGA or SA(T) (e.g. SA(1.0)), in g")
+    return measure
 
 
 @dataclass(frozen=True, eq=False)
@@ -143,8 +156,13 @@ class HazardCurve:
     unit : str
         The unit the file gave its levels in (:data:`UNITS`); :attr:`im_g` is in g always.
     component : str or None
-        The horizontal component the hazard declares (the entry's ``component``, else a
-        ``component=`` comment of its file, read with the levels), None where unsaid.
+        The horizontal component (:data:`rocking.motions.measures.COMPONENTS`): declared,
+        read from its file, or :data:`OPENQUAKE_COMPONENT` for an OpenQuake file that says
+        nothing; None for a table or power law that says nothing.
+    component_source : str
+        Where :attr:`component` comes from: ``"declared"``, ``"file"``, ``"default"`` (an
+        OpenQuake file's, :data:`OPENQUAKE_COMPONENT`), ``"im_factor"`` (levels converted
+        to the fragility's component by the user, :meth:`scaled`) or ``""`` (none).
     """
 
     im_g: np.ndarray
@@ -157,6 +175,7 @@ class HazardCurve:
     kind: str = ""
     unit: str = "g"
     component: str | None = None
+    component_source: str = ""
 
     def __post_init__(self) -> None:
         im = np.asarray(self.im_g, dtype=float).ravel()
@@ -179,14 +198,33 @@ class HazardCurve:
             raise ValueError(f"{where}annual rates must not increase with the intensity, got "
                              f"{lam[i]:.6g} at {im[i]:g} g and {lam[i + 1]:.6g} at "
                              f"{im[i + 1]:g} g")
-        object.__setattr__(self, "imt", measure_imt(self.imt))
+        object.__setattr__(self, "imt", hazard_measure(self.imt, self.source).imt)
+        if self.component is not None:
+            object.__setattr__(self, "component", parse_component(self.component))
         object.__setattr__(self, "im_g", im)
         object.__setattr__(self, "annual_rate", lam)
 
     @property
     def measure(self) -> str:
-        """The study's name of the curve's intensity measure (``"pga"``, ``"sa:1"``)."""
-        return imt_measure(self.imt)
+        """The study's name of the curve's intensity measure (``"pga"``, ``"sa:1.0"``)."""
+        return Measure.of(self.imt).name
+
+    @property
+    def component_note(self) -> str:
+        """One line on where the component comes from when it was not declared ('' when it
+        was, or was read from the file)."""
+        if self.component_source == "default":
+            return (f"{self.source}: an OpenQuake hazard curve does not state its horizontal "
+                    f"component: taken as {OPENQUAKE_COMPONENT} (the NGA-West2 models'; on "
+                    "the safe side if the file is in a larger one): declare it "
+                    "(hazard.component, --component) if it is another")
+        if self.component_source == "im_factor":
+            return (f"{self.source}: levels converted by im_factor, so taken in the "
+                    "fragility's horizontal component")
+        if self.component is None:
+            return (f"{self.source}: the hazard does not state its horizontal component: "
+                    "taken in the fragility's; declare it (hazard.component, --component)")
+        return ""
 
     @property
     def note(self) -> str:
@@ -214,10 +252,10 @@ class HazardCurve:
         imt : str
             The intensity measure (``"PGA"``, ``"SA(1.0)"``, ``"sa:1.0"``).
         """
-        k0, k = _positive("k0", k0), _positive("k", k)
+        k0, k = positive_finite("k0", k0), positive_finite("k", k)
         im = POWER_LAW_IML if im_g is None else np.asarray(im_g, dtype=float)
-        return cls(im, k0 * im ** (-k), imt=imt,
-                   source=f"power law k0={k0:g}/yr, k={k:g} ({measure_imt(imt)})")
+        imt = hazard_measure(imt, "power law").imt
+        return cls(im, k0 * im ** (-k), imt=imt, source=f"power law k0={k0:g}/yr, k={k:g} ({imt})")
 
     @classmethod
     def from_openquake_csv(cls, path: str | Path, site=None, *, kind: str | None = None,
@@ -249,8 +287,11 @@ class HazardCurve:
         unit : str, optional
             The unit of the levels (:data:`UNITS`; default g, the engine's unit of PGA and SA).
         """
-        path = Path(path)
-        return _openquake(path, *_read_csv(path), site, kind, unit)
+        hazard = read_hazard_file(path)
+        if hazard.format != "openquake":
+            raise ValueError(f"{path} is not an OpenQuake hazard-curve CSV (no poe-<iml> "
+                             "columns in its header)")
+        return hazard.curve(site, kind=kind, unit=unit)
 
     @classmethod
     def from_table(cls, path: str | Path, investigation_time: float | None = None, *,
@@ -275,21 +316,17 @@ class HazardCurve:
         unit : str, optional
             The unit of the levels when the header gives none (it must agree where it does).
         """
-        path = Path(path)
-        return _table(path, *_read_csv(path), investigation_time, kind, unit)
+        hazard = read_hazard_file(path)
+        if hazard.format != "table":
+            raise ValueError(f"{path} is not a two-column hazard table")
+        return hazard.curve(investigation_time=investigation_time, kind=kind, unit=unit)
 
     @classmethod
     def from_file(cls, path: str | Path, site=None, investigation_time: float | None = None,
                   *, kind: str | None = None, unit: str | None = None) -> HazardCurve:
-        """A hazard file of any format of :data:`HAZARD_FORMATS`, read once and handed to the
-        first format that recognizes it (arguments as :meth:`from_openquake_csv` and
-        :meth:`from_table`)."""
-        path = Path(path)
-        comments, rows = _read_csv(path)
-        fmt = next(f for f in HAZARD_FORMATS if f.recognizes(rows))
-        curve = fmt.read(path, comments, rows, site, investigation_time, kind, unit)
-        component = _file_component(comments, path)
-        return curve if component is None else dataclasses.replace(curve, component=component)
+        """A hazard file of any format of :data:`HAZARD_FORMATS` (:func:`read_hazard_file`),
+        one curve of it (arguments as :meth:`from_openquake_csv` and :meth:`from_table`)."""
+        return read_hazard_file(path).curve(site, investigation_time, kind=kind, unit=unit)
 
     def rate(self, im_g) -> np.ndarray:
         """λ(im) [1/yr]: log-log interpolation, end slopes extrapolated."""
@@ -310,15 +347,20 @@ class HazardCurve:
     def scaled(self, factor: float) -> HazardCurve:
         """The curve of the intensity ``factor``·im (levels multiplied, rates unchanged).
 
-        Converts a hazard computed for another definition of the measure to the study's: a
-        curve of the geometric mean or RotD50 becomes one of the vector peak (RotD100) with
-        the ratio RotD100/RotD50 as ``factor`` (docs/risk.md).
+        Converts a hazard computed for another definition of the measure to the
+        fragility's (``im_factor``): a curve of RotD50 becomes one of the vector peak with
+        the ratio RotD100/RotD50 as ``factor`` (docs/risk.md). The result is in the
+        fragility's component by the user's word: its own component is dropped
+        (``component_source`` ``"im_factor"``), so no refit converts it a second time.
         """
-        factor = _positive("factor", factor)
-        note = f", levels x{factor:g}" if factor != 1.0 else ""
-        # replace() carries every metadata field (site, kind, unit, ...) unchanged
-        return dataclasses.replace(self, im_g=self.im_g * factor, source=self.source + note,
-                                   dropped_up_to=self.dropped_up_to * factor)
+        factor = positive_finite("factor", factor)
+        if factor == 1.0:
+            return self
+        # replace() carries every other metadata field (site, kind, unit, ...) unchanged
+        return dataclasses.replace(self, im_g=self.im_g * factor,
+                                   source=self.source + f", levels x{factor:g}",
+                                   dropped_up_to=self.dropped_up_to * factor,
+                                   component=None, component_source="im_factor")
 
 
 @dataclass(frozen=True)
@@ -329,12 +371,35 @@ class Site:
     id: str  # custom_site_id ('' when the file has none)
     lon: float  # [deg]
     lat: float  # [deg]
+    line: int = 0  # the line of the file it was read from (1 = the first), 0 when none
 
     @property
     def label(self) -> str:
         """``"b (lon 10.1, lat 45)"`` or ``"row 1 (lon 10.1, lat 45)"``."""
         name = f"id {self.id}" if self.id else f"row {self.row}"
         return f"{name} (lon {self.lon:g}, lat {self.lat:g})"
+
+
+LON_RANGE = (-180.0, 180.0)
+"""Longitudes a position may have [deg], everywhere (hazard sites, inventories, the
+OpenQuake exposure): the engine's range."""
+
+LAT_RANGE = (-90.0, 90.0)
+"""Latitudes [deg]."""
+
+
+def lon_lat_problem(lon: float, lat: float) -> str:
+    """Why (lon, lat) is no position ('' when it is one), aimed at the likely mistake."""
+    if LON_RANGE[0] <= lon <= LON_RANGE[1] and LAT_RANGE[0] <= lat <= LAT_RANGE[1]:
+        return ""
+    if LAT_RANGE[0] <= lon <= LAT_RANGE[1] and LON_RANGE[0] <= lat <= LON_RANGE[1]:
+        return (f"lon {lon:g}, lat {lat:g} is not a point on Earth: lon and lat swapped? "
+                "(lat must be in [-90, 90])")
+    if LON_RANGE[1] < lon <= 360.0 and LAT_RANGE[0] <= lat <= LAT_RANGE[1]:
+        return (f"lon {lon:g} is beyond 180: give it as {lon - 360.0:g} (lon in [-180, 180], "
+                "as OpenQuake takes it)")
+    return (f"lon {lon:g}, lat {lat:g} is not a point on Earth (lon in [-180, 180], lat in "
+            "[-90, 90] degrees)")
 
 
 def great_circle_km(lon1, lat1, lon2, lat2) -> np.ndarray:
@@ -393,10 +458,10 @@ def select_site(sites: list[Site], site, where: str) -> tuple[Site, str]:
         return hit[0], hit[0].label
     if {"lon", "lat"} <= keys <= {"lon", "lat", "max_distance_km"}:
         lon, lat = _number("site.lon", site["lon"]), _number("site.lat", site["lat"])
-        if not (-180.0 <= lon <= 360.0 and -90.0 <= lat <= 90.0):
-            raise ValueError(f"{where}: site lon {lon:g}, lat {lat:g} is not a point on Earth "
-                             "(lon in [-180, 360], lat in [-90, 90] degrees)")
-        limit = _positive(f"{where}: site.max_distance_km",
+        problem = lon_lat_problem(lon, lat)
+        if problem:
+            raise ValueError(f"{where}: site {problem}")
+        limit = positive_finite(f"{where}: site.max_distance_km",
                           site.get("max_distance_km", MAX_DISTANCE_KM))
         located = [s for s in sites if math.isfinite(s.lon) and math.isfinite(s.lat)]
         if not located:
@@ -477,7 +542,7 @@ def check_plausible(curve: HazardCurve, declared: bool, what: str = "") -> Hazar
         f"the levels were taken as g{' (' + what + ')' if what else ''}")
     fix = ("; check the unit declared" if declared else
            "; if they are in cm/s2 or m/s2, say so: hazard.unit: cm/s2 (rocking risk "
-           "--hazard-unit) or a header such as 'pga [cm/s2]'")
+           "or rocking portfolio --hazard-unit) or a header such as 'pga [cm/s2]'")
     if high.any():
         i = int(np.flatnonzero(high)[0])
         raise ValueError(f"{curve.source}: {im[i]:.4g} g exceeded {lam[i]:.3g} times a year "
@@ -491,141 +556,119 @@ def check_plausible(curve: HazardCurve, declared: bool, what: str = "") -> Hazar
     return curve
 
 
-def file_sites(path: str | Path) -> list[Site]:
-    """The sites (row, ``custom_site_id``, lon, lat) of an OpenQuake hazard-curve file; []
-    for a two-column table (a curve of no stated site). Read each site's curve with
-    :meth:`HazardCurve.from_file` and ``site=<row>``."""
-    path = Path(path)
-    _, rows = _read_csv(path)
-    if not rows or not any(c.strip().startswith("poe-") for c in rows[0]):
-        return []
-    return _sites(rows[0], rows[1:], str(path))
+
+# ------------------------------------------------------------------------------------------
+# Hazard files: recognized from their first lines, parsed once
+# ------------------------------------------------------------------------------------------
 
 
-def _sites(header: list[str], body: list[list[str]], where: str) -> list[Site]:
-    names = [c.strip().lower() for c in header]
-    col = {n: names.index(n) for n in ("custom_site_id", "lon", "lat") if n in names}
-    sites = []
-    for row, values in enumerate(body):
-        def get(name, values=values, row=row):
-            if name not in col:
-                return math.nan
-            try:
-                return float(values[col[name]])
-            except (ValueError, IndexError):
-                raise ValueError(f"{where}: site row {row}: unreadable {name} "
-                                 f"{values[col[name]] if col[name] < len(values) else ''!r}"
-                                 ) from None
+@dataclass(frozen=True, eq=False)
+class HazardFile:
+    """A hazard file parsed once: every site's levels and values, and what the file states.
 
-        sid = values[col["custom_site_id"]].strip() if "custom_site_id" in col and \
-            col["custom_site_id"] < len(values) else ""
-        sites.append(Site(row, sid, get("lon"), get("lat")))
-    return sites
+    Attributes
+    ----------
+    path : Path
+    format : str
+        The :class:`HazardFormat` that read it (``"openquake"``, ``"table"``).
+    measure : Measure
+        The file's intensity measure (PGA or Sa(T)).
+    measure_from : str
+        Where it was read (``"imt= of its comment line"``, ``"its file name"``, ``"its
+        header"``).
+    comments : tuple of str
+        Its comment lines.
+    kind : str
+        The statistic its comment line states ('' when none).
+    component : str or None
+        A ``component=`` of its comment lines, checked (None without one).
+    investigation_time : float or None
+        [yr], as its comment line states it.
+    levels : numpy.ndarray
+        The intensity levels as written (the file's unit).
+    values : numpy.ndarray
+        (sites, levels): probabilities of exceedance (``value_kind`` ``"poe"``) or annual
+        rates (``"rate"``).
+    value_kind : str
+    sites : list of Site
+        The sites ([] for a table: one curve of no stated site).
+    header_unit : str or None
+        A unit given in a table's header (``pga [cm/s2]``).
+    """
 
+    path: Path
+    format: str
+    measure: Measure
+    measure_from: str
+    comments: tuple[str, ...]
+    kind: str
+    component: str | None
+    investigation_time: float | None
+    levels: np.ndarray
+    values: np.ndarray
+    value_kind: str
+    sites: list[Site] = field(default_factory=list)
+    header_unit: str | None = None
 
-def _openquake(path: Path, comments: list[str], rows: list[list[str]], site, kind,
-               unit) -> HazardCurve:
-    """One site of an OpenQuake hazard-curve file already read (:meth:`from_openquake_csv`)."""
-    meta = " ".join(comments)
-    time, imt = _TIME.search(meta), _IMT.search(meta)
-    if time is None or imt is None:
-        missing = " and ".join(n for n, m in (("investigation_time", time), ("imt", imt))
-                               if m is None)
-        raise ValueError(f"{path}: no {missing} in a comment line (an OpenQuake "
-                         "hazard_curve CSV starts with one)")
-    years = _positive(f"{path}: investigation_time", time.group(1))
-    measure = _file_measure(path, imt.group(1))
-    used_kind = check_kind(file_kind(comments), kind, str(path))
-    name, factor = unit_factor(unit, str(path)) if unit is not None else ("g", 1.0)
-    if len(rows) < 2:
-        raise ValueError(f"{path}: expected a header and at least one site row")
-    header, body = rows[0], rows[1:]
-    cols = [i for i, c in enumerate(header) if c.strip().startswith("poe-")]
-    if not cols:
-        raise ValueError(f"{path}: no poe-<iml> columns in the header {header}")
-    chosen, label = select_site(_sites(header, body, str(path)), site, str(path))
-    try:
-        iml = np.array([float(header[i].strip()[4:]) for i in cols]) * factor
-        poe = np.array([float(body[chosen.row][i]) for i in cols])
-    except (ValueError, IndexError) as exc:
-        raise ValueError(f"{path}: site {chosen.label}: unreadable level or probability "
-                         f"({exc})") from None
-    curve = _from_poe(iml, poe, years, measure, f"{path}, site {chosen.label}")
-    curve = dataclasses.replace(curve, site=label, kind=used_kind, unit=name,
-                                source=curve.source + _said(used_kind, name))
-    return check_plausible(curve, unit is not None, "OpenQuake writes PGA and SA in g")
-
-
-def _table(path: Path, comments: list[str], rows: list[list[str]], investigation_time, kind,
-           unit) -> HazardCurve:
-    """A two-column hazard table already read (:meth:`from_table`)."""
-    if len(rows) < 2 or len(rows[0]) != 2:
-        raise ValueError(f"{path}: a hazard table has a header of two columns "
-                         "(intensity measure, annual_rate or poe) and one row per level")
-    first, second = (c.split("[", 1)[0].strip() for c in rows[0])
-    measure = _file_measure(path, first)
-    hit = _HEADER_UNIT.match(rows[0][0])
-    stated = hit.group(2) if hit else None
-    if stated is not None and unit is not None and \
-            unit_factor(stated, str(path))[0] != unit_factor(unit, str(path))[0]:
-        raise ValueError(f"{path}: the header gives the levels in {stated!r}, the hazard "
-                         f"entry in {unit!r}")
-    given = stated if stated is not None else unit
-    name, factor = unit_factor(given, str(path)) if given is not None else ("g", 1.0)
-    used_kind = check_kind(file_kind(comments), kind, str(path))
-    try:
-        data = np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
-    except ValueError as exc:
-        raise ValueError(f"{path}: unreadable number ({exc})") from None
-    if data.ndim != 2 or data.shape[1] != 2:
-        raise ValueError(f"{path}: every row must have two numbers")
-    im, value = data[:, 0] * factor, data[:, 1]
-    if second.lower() in RATE_COLUMNS:
+    def curve(self, site=None, investigation_time: float | None = None, *,
+              kind: str | None = None, unit: str | None = None) -> HazardCurve:
+        """One curve of the file: ``site`` chosen by :func:`select_site` (a row, ``{"id"}``
+        or ``{"lon", "lat"[, "max_distance_km"]}``; None for a file of one site or a
+        table), levels converted to g (``unit``; default the header's, else g), rates from
+        probabilities of exceedance by λ = −ln(1 − poe)/T."""
+        where = str(self.path)
+        if self.format == "table":
+            if site is not None:
+                raise ValueError(f"{where}: site applies to an OpenQuake hazard-curve CSV of "
+                                 f"sites, this is a two-column table (got site {site!r})")
+            return self._curve(0, "", investigation_time, kind, unit)
         if investigation_time is not None:
-            raise ValueError(f"{path}: investigation_time is given but the table holds "
-                             f"annual rates (column {second!r}); it applies to a poe column "
-                             "only")
-        curve = HazardCurve(im, value, imt=measure, source=str(path))
-    elif second.lower() != "poe":
-        raise ValueError(f"{path}: the second column must be annual_rate (or rate, lambda) "
-                         f"or poe, got {second!r}")
-    else:
-        if investigation_time is None:
-            hit = _TIME.search(" ".join(comments))
-            if hit is None:
-                raise ValueError(f"{path}: a poe column needs its investigation time: "
+            raise ValueError(f"{where}: an OpenQuake hazard curve states its own "
+                             "investigation_time; leave it out of the hazard entry")
+        chosen, label = select_site(self.sites, site, where)
+        return self._curve(chosen.row, label, None, kind, unit)
+
+    def curve_at(self, row: int, *, kind: str | None = None,
+                 unit: str | None = None) -> HazardCurve:
+        """The curve of the site of ``row`` (0 = the first site; a table's one curve)."""
+        label = self.sites[row].label if self.sites else ""
+        return self._curve(row, label, None, kind, unit)
+
+    def _curve(self, row: int, label: str, investigation_time, kind, unit) -> HazardCurve:
+        where = str(self.path)
+        used_kind = check_kind(self.kind, kind, where)
+        stated = self.header_unit
+        if stated is not None and unit is not None and \
+                unit_factor(stated, where)[0] != unit_factor(unit, where)[0]:
+            raise ValueError(f"{where}: the header gives the levels in {stated!r}, the hazard "
+                             f"entry in {unit!r}")
+        given = stated if stated is not None else unit
+        name, factor = unit_factor(given, where) if given is not None else ("g", 1.0)
+        source = where if not label else f"{where}, site {label}"
+        im, value = self.levels * factor, self.values[row]
+        if self.value_kind == "rate":
+            if investigation_time is not None:
+                raise ValueError(f"{where}: investigation_time is given but the table holds "
+                                 "annual rates; it applies to a poe column only")
+            curve = HazardCurve(im, value, imt=self.measure.imt, source=source)
+        else:
+            years = investigation_time if investigation_time is not None else \
+                self.investigation_time
+            if years is None:
+                raise ValueError(f"{where}: a poe column needs its investigation time: "
                                  "hazard {file, investigation_time} or a comment line "
                                  "'# investigation_time=50'")
-            investigation_time = hit.group(1)
-        years = _positive(f"{path}: investigation_time", investigation_time)
-        curve = _from_poe(im, value, years, measure, str(path))
-    curve = dataclasses.replace(curve, kind=used_kind, unit=name,
-                                source=curve.source + _said(used_kind, name))
-    return check_plausible(curve, given is not None, "no unit in the header")
-
-
-def _said(kind: str, unit: str) -> str:
-    """What a curve's source adds for a kind other than the mean and levels not in g."""
-    return ((f", {kind}" if kind not in ("", "mean") else "")
-            + (f", levels in {unit} converted to g" if unit != "g" else ""))
-
-
-def _read_openquake(path: Path, comments: list[str], rows: list[list[str]], site,
-                    investigation_time, kind, unit) -> HazardCurve:
-    """:data:`HAZARD_FORMATS` reader of an OpenQuake CSV (it states its own time)."""
-    if investigation_time is not None:
-        raise ValueError(f"{path}: an OpenQuake hazard curve states its own "
-                         "investigation_time; leave it out of the hazard entry")
-    return _openquake(path, comments, rows, site, kind, unit)
-
-
-def _read_table(path: Path, comments: list[str], rows: list[list[str]], site,
-                investigation_time, kind, unit) -> HazardCurve:
-    """:data:`HAZARD_FORMATS` reader of a two-column table (one curve: no site)."""
-    if site is not None:
-        raise ValueError(f"{path}: site applies to an OpenQuake hazard-curve CSV of "
-                         f"sites, this is a two-column table (got site {site!r})")
-    return _table(path, comments, rows, investigation_time, kind, unit)
+            years = positive_finite(f"{where}: investigation_time", years)
+            curve = _from_poe(im, value, years, self.measure.imt, source)
+        component, said = self.component, "file" if self.component is not None else ""
+        if component is None and self.format == "openquake":
+            component, said = OPENQUAKE_COMPONENT, "default"
+        curve = dataclasses.replace(curve, site=label, kind=used_kind, unit=name,
+                                    source=curve.source + _said(used_kind, name),
+                                    component=component, component_source=said)
+        what = ("OpenQuake writes PGA and SA in g" if self.format == "openquake"
+                else "no unit in the header")
+        return check_plausible(curve, given is not None, what)
 
 
 @dataclass(frozen=True)
@@ -637,26 +680,234 @@ class HazardFormat:
     name : str
         Its name (docs, messages).
     recognizes : callable
-        ``recognizes(rows) -> bool`` on the file's non-comment CSV rows (header first).
+        ``recognizes(path, head) -> bool``: on the file's path and its first
+        :data:`HEAD_LINES` lines, before the file is parsed.
     read : callable
-        ``read(path, comments, rows, site, investigation_time, kind, unit) -> HazardCurve``
-        (levels in g, rates in 1/yr; a stated argument the format cannot use is refused in
-        one line naming the file).
+        ``read(path) -> HazardFile``: the whole file parsed once (one-line errors naming the
+        file and the line).
     """
 
     name: str
-    recognizes: Callable[[list[list[str]]], bool]
-    read: Callable[..., HazardCurve]
+    recognizes: Callable[[Path, list[str]], bool]
+    read: Callable[[Path], HazardFile]
+
+
+def _text(path: Path) -> str:
+    try:
+        # utf-8-sig strips a byte-order mark (spreadsheets write one) from the header
+        return path.read_text(encoding="utf-8-sig")
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read the hazard file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a UTF-8 text file (byte {exc.start}: "
+                         f"{exc.reason})") from None
+
+
+def _head(path: Path, n: int = HEAD_LINES) -> list[str]:
+    """The first ``n`` non-empty lines of a text file (a byte-order mark stripped)."""
+    try:
+        with path.open(encoding="utf-8-sig", errors="replace") as fh:
+            out = []
+            for line in fh:
+                if line.strip():
+                    out.append(line.rstrip("\r\n"))
+                if len(out) >= n:
+                    break
+            return out
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read the hazard file ({exc.strerror})") from None
+
+
+def _split(text: str) -> tuple[list[str], list[tuple[int, str]]]:
+    """Comment lines (``#``) and the other non-empty lines with their line numbers (1 =
+    the file's first line)."""
+    comments, body = [], []
+    for n, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        (comments if stripped.startswith("#") else body).append(
+            line if stripped.startswith("#") else (n, line))
+    return comments, body
+
+
+def _header(head: list[str]) -> list[str]:
+    first = next((ln for ln in head if not ln.lstrip().startswith("#")), "")
+    return [c.strip() for c in next(csv.reader([first]), [])]
+
+
+def _openquake_measure(path: Path, comments) -> tuple[Measure, str]:
+    """The measure of an OpenQuake file: its comment line's ``imt=``, else its file name;
+    both and different refused."""
+    hit = _IMT.search(" ".join(comments))
+    named = _NAME_IMT.search(path.stem)
+    stated = None if hit is None else hazard_measure(hit.group(1), str(path))
+    by_name = None if named is None else hazard_measure(named.group(1), str(path))
+    if stated is not None and by_name is not None and stated != by_name:
+        raise ValueError(f"{path}: its comment line says imt={hit.group(1)!r}, its file name "
+                         f"{named.group(1)!r}: which is it? (rename the file or fix the line)")
+    if stated is not None:
+        return stated, "imt= of its comment line"
+    if by_name is not None:
+        return by_name, "its file name"
+    raise ValueError(f"{path}: no imt in a comment line and none in the file name (an "
+                     "OpenQuake hazard_curve CSV starts with a line holding imt='PGA'; its "
+                     "name says it, hazard_curve-mean-PGA_1.csv)")
+
+
+def _read_openquake(path: Path) -> HazardFile:
+    """:data:`HAZARD_FORMATS` reader of an OpenQuake hazard-curve CSV: every site at once."""
+    comments, body = _split(_text(path))
+    meta = " ".join(comments)
+    time = _TIME.search(meta)
+    if time is None:
+        raise ValueError(f"{path}: no investigation_time in a comment line (an OpenQuake "
+                         "hazard_curve CSV starts with one)")
+    years = positive_finite(f"{path}: investigation_time", time.group(1))
+    measure, measure_from = _openquake_measure(path, comments)
+    if len(body) < 2:
+        raise ValueError(f"{path}: expected a header and at least one site row")
+    lines = [n for n, _ in body]
+    rows = list(csv.reader(text for _, text in body))
+    header = [c.strip() for c in rows[0]]
+    cols = [i for i, c in enumerate(header) if c.startswith("poe-")]
+    try:
+        levels = np.array([float(header[i][4:]) for i in cols])
+    except ValueError:
+        raise ValueError(f"{path}: line {lines[0]}: unreadable level in the header "
+                         f"{[header[i] for i in cols]}") from None
+    values = np.full((len(rows) - 1, len(cols)), np.nan)
+    for k, values_row in enumerate(rows[1:]):
+        try:
+            values[k] = [float(values_row[i]) for i in cols]
+        except (ValueError, IndexError):
+            raise ValueError(f"{path}: line {lines[k + 1]}: unreadable probability of "
+                             f"exceedance (the row has {len(values_row)} of "
+                             f"{len(header)} columns)") from None
+    sites = _sites(header, rows[1:], lines[1:], str(path))
+    return HazardFile(path, "openquake", measure, measure_from, tuple(comments),
+                      file_kind(comments), _file_component(comments, path), years, levels,
+                      values, "poe", sites)
+
+
+def _read_table(path: Path) -> HazardFile:
+    """:data:`HAZARD_FORMATS` reader of a two-column table (one curve: no site)."""
+    comments, body = _split(_text(path))
+    rows = list(csv.reader(text for _, text in body))
+    if len(rows) < 2 or len(rows[0]) != 2:
+        raise ValueError(f"{path}: a hazard table has a header of two columns "
+                         "(intensity measure, annual_rate or poe) and one row per level")
+    first, second = (c.split("[", 1)[0].strip() for c in rows[0])
+    try:
+        measure, measure_from = hazard_measure(first, str(path)), "its header"
+    except ValueError:
+        named = _NAME_IMT.search(path.stem)
+        if named is None:
+            raise
+        measure, measure_from = hazard_measure(named.group(1), str(path)), "its file name"
+    hit = _HEADER_UNIT.match(rows[0][0].strip())
+    try:
+        data = np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
+    except ValueError as exc:
+        raise ValueError(f"{path}: unreadable number ({exc})") from None
+    if data.ndim != 2 or data.shape[1] != 2:
+        raise ValueError(f"{path}: every row must have two numbers")
+    if second.lower() in RATE_COLUMNS:
+        value_kind = "rate"
+    elif second.lower() == "poe":
+        value_kind = "poe"
+    else:
+        raise ValueError(f"{path}: the second column must be annual_rate (or rate, lambda) "
+                         f"or poe, got {second!r}")
+    time = _TIME.search(" ".join(comments))
+    return HazardFile(path, "table", measure, measure_from, tuple(comments),
+                      file_kind(comments), _file_component(comments, path),
+                      None if time is None else positive_finite(f"{path}: investigation_time",
+                                                          time.group(1)),
+                      data[:, 0], data[:, 1][None, :], value_kind, [],
+                      hit.group(2) if hit else None)
 
 
 HAZARD_FORMATS = (
-    HazardFormat("openquake", lambda rows: bool(rows) and any(
-        c.strip().startswith("poe-") for c in rows[0]), _read_openquake),
-    HazardFormat("table", lambda rows: True, _read_table),
+    HazardFormat("openquake", lambda path, head: any(
+        c.startswith("poe-") for c in _header(head)), _read_openquake),
+    HazardFormat("table", lambda path, head: len(_header(head)) == 2, _read_table),
 )
-"""The hazard file formats, tried in order (:meth:`HazardCurve.from_file`): an OpenQuake
-hazard-curve CSV (a header with ``poe-<iml>`` columns), else a two-column table (the last
-recognizes every file and refuses a malformed one itself)."""
+"""The hazard file formats, tried in order on a file's first lines (:func:`hazard_format`):
+an OpenQuake hazard-curve CSV (a header with ``poe-<iml>`` columns), a two-column table."""
+
+
+def hazard_format(path: str | Path) -> HazardFormat:
+    """The format of a hazard file, from its first :data:`HEAD_LINES` lines (the file is not
+    parsed); one line naming the file and the formats when none recognizes it."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: no such hazard file")
+    head = _head(path)
+    for fmt in HAZARD_FORMATS:
+        if fmt.recognizes(path, head):
+            return fmt
+    raise ValueError(f"{path}: not a hazard file this reads: an OpenQuake hazard_curve CSV "
+                     "(a comment line with imt= and investigation_time=, then "
+                     "[custom_site_id,]lon,lat,...,poe-<iml>,...) or a two-column table "
+                     f"(intensity, annual_rate or poe); its first line is "
+                     f"{(head[0] if head else '')[:80]!r}")
+
+
+def read_hazard_file(path: str | Path) -> HazardFile:
+    """A hazard file of :data:`HAZARD_FORMATS`, recognized from its first lines, then parsed
+    once (every site)."""
+    path = Path(path)
+    return hazard_format(path).read(path)
+
+
+def file_sites(path: str | Path) -> list[Site]:
+    """The sites (row, ``custom_site_id``, lon, lat, line) of an OpenQuake hazard-curve
+    file; [] for a two-column table (a curve of no stated site)."""
+    return read_hazard_file(path).sites
+
+
+def _sites(header: list[str], body: list[list[str]], lines: list[int], where: str) -> list[Site]:
+    """The sites of an OpenQuake file; a ``custom_site_id`` or a lon/lat given twice is
+    refused naming both lines."""
+    names = [c.lower() for c in header]
+    col = {n: names.index(n) for n in ("custom_site_id", "lon", "lat") if n in names}
+
+    def number(name, values, line):
+        if name not in col:
+            return math.nan
+        text = values[col[name]] if col[name] < len(values) else ""
+        try:
+            return float(text)
+        except ValueError:
+            raise ValueError(f"{where}: line {line}: unreadable {name} {text!r}") from None
+
+    sites, seen_id, seen_at = [], {}, {}
+    for row, (values, line) in enumerate(zip(body, lines, strict=True)):
+        sid = values[col["custom_site_id"]].strip() if "custom_site_id" in col and \
+            col["custom_site_id"] < len(values) else ""
+        site = Site(row, sid, number("lon", values, line), number("lat", values, line), line)
+        if sid:
+            if sid in seen_id:
+                raise ValueError(f"{where}: custom_site_id {sid!r} is given twice, lines "
+                                 f"{seen_id[sid]} and {line}: which curve is the site's? "
+                                 "(give each site one id)")
+            seen_id[sid] = line
+        if math.isfinite(site.lon) and math.isfinite(site.lat):
+            at = (site.lon, site.lat)
+            if at in seen_at:
+                raise ValueError(f"{where}: lines {seen_at[at]} and {line} are two sites at "
+                                 f"the same lon {site.lon:g}, lat {site.lat:g}: which curve is "
+                                 "the site's? (keep one, or move it)")
+            seen_at[at] = line
+        sites.append(site)
+    return sites
+
+
+def _said(kind: str, unit: str) -> str:
+    """What a curve's source adds for a kind other than the mean and levels not in g."""
+    return ((f", {kind}" if kind not in ("", "mean") else "")
+            + (f", levels in {unit} converted to g" if unit != "g" else ""))
 
 
 HAZARD_KEYS = {"file", "site", "investigation_time", "kind", "unit", "im_factor",
@@ -669,19 +920,15 @@ POWER_LAW_KEYS = {"k0", "k", "measure", "im_factor", "component"}
 _COMPONENT = re.compile(r"\bcomponent\s*=\s*['\"]?([A-Za-z_0-9]+)")
 
 
-def _file_component(comments: list[str], path: Path) -> str | None:
-    """A ``component='rotd50'`` in a file's comment lines, None without one."""
-    from rocking.motions.measures import parse_component
-
+def _file_component(comments, path: Path) -> str | None:
+    """A ``component='rotd50'`` (any case) in a file's comment lines, None without one."""
     hit = _COMPONENT.search(" ".join(comments))
     return None if hit is None else parse_component(hit.group(1), f"{path}: component")
 
 
 def _declared_component(spec: dict) -> str | None:
     """The hazard mapping's ``component`` key, checked (None without one)."""
-    from rocking.motions.measures import parse_component
-
-    if "component" not in spec:
+    if spec.get("component") is None:
         return None
     if float(spec.get("im_factor", 1.0)) != 1.0:
         raise ValueError("hazard: give component (risk converts the fragility) or "
@@ -689,81 +936,49 @@ def _declared_component(spec: dict) -> str | None:
     return parse_component(spec["component"], "hazard.component")
 
 
-def hazard_component(spec, *, base: str | Path | None = None) -> str | None:
-    """The horizontal component of a hazard's intensity measure, or None where unsaid.
-
-    The hazard entry's ``component`` key (:data:`rocking.motions.measures.COMPONENTS`), else
-    a ``component='rotd50'`` in a comment line of its file (OpenQuake does not write one; a
-    file prepared by hand may). A ``component`` together with ``im_factor`` is refused: the
-    first asks risk to compute the fragility in the hazard's component, the second to
-    rescale the hazard by hand, and the two would convert twice. Where the curve is parsed
-    anyway, read :attr:`HazardCurve.component` of :func:`parse_hazard` instead (the file
-    read once).
-
-    Parameters
-    ----------
-    spec : str, path or dict
-        The hazard entry as :func:`parse_hazard` takes it.
-    base : path, optional
-        Directory a relative file path is taken from.
-    """
-    if isinstance(spec, dict):
-        declared = _declared_component(spec)
-        if declared is not None:
-            return declared
-        name = spec.get("file")
-    else:
-        name = spec
-    if name is None:
-        return None
-    path = _resolve(str(name), base)
-    if not path.is_file():
-        return None
-    comments, _ = _read_csv(path)
-    return _file_component(comments, path)
-
-
 def parse_hazard(spec, *, base: str | Path | None = None,
-                 measure: str | None = None) -> HazardCurve:
+                 measure: str | None = None, component: str | None = None) -> HazardCurve:
     """A hazard curve from the forms the configuration and the CLI accept.
 
     Parameters
     ----------
     spec : str, path or dict
         ``"k0,k"`` (a power law), a path to an OpenQuake hazard-curve CSV or a two-column
-        table (:meth:`HazardCurve.from_file`), or a mapping ``{k0, k[, measure]}`` or
+        table (:func:`read_hazard_file`), or a mapping ``{k0, k[, measure]}`` or
         ``{file[, site][, kind][, unit][, investigation_time]}`` (``site``: a row,
         ``{id}`` or ``{lon, lat[, max_distance_km]}``, :func:`select_site`; ``kind``: the
         statistic to use when the file's is not the mean; ``unit``: of the levels, default
-        g); either mapping may add ``im_factor`` (see :meth:`HazardCurve.scaled`, default 1).
+        g); either mapping may add ``component`` (the hazard's horizontal component, any
+        case) or ``im_factor`` (see :meth:`HazardCurve.scaled`, default 1), not both.
     base : path, optional
         Directory a relative file path is taken from.
     measure : str, optional
         The intensity measure of a power law given as ``"k0,k"`` (default ``pga``); a file's
         own measure is read from it.
+    component : str, optional
+        The hazard's component declared outside the entry (``--component``): wins over the
+        entry's and the file's.
     """
-    factor, declared = 1.0, None
+    entry = dict(spec) if isinstance(spec, dict) else {}
+    _declared_component(entry)  # a bad or doubled component refused before the file is read
     if isinstance(spec, dict):
-        declared = _declared_component(spec)
-        spec = dict(spec)
-        factor = spec.pop("im_factor", 1.0)
-        spec.pop("component", None)
+        spec = {k: v for k, v in spec.items() if k not in ("component", "im_factor")}
         if {"k0", "k"} <= set(spec) and set(spec) <= POWER_LAW_KEYS:
             curve = HazardCurve.from_power_law(spec["k0"], spec["k"],
                                                imt=spec.get("measure", measure or "pga"))
         elif "file" in spec and set(spec) <= HAZARD_KEYS:
-            curve = HazardCurve.from_file(_resolve(spec["file"], base), spec.get("site"),
-                                          spec.get("investigation_time"),
-                                          kind=spec.get("kind"), unit=spec.get("unit"))
+            curve = read_hazard_file(_resolve(spec["file"], base)).curve(
+                spec.get("site"), spec.get("investigation_time"), kind=spec.get("kind"),
+                unit=spec.get("unit"))
         else:
             raise ValueError("hazard must be {k0, k[, measure]} or {file[, site][, kind]"
-                             "[, unit][, investigation_time]} (optionally im_factor), got "
-                             f"keys {sorted(spec)}")
+                             "[, unit][, investigation_time]} (optionally component or "
+                             f"im_factor), got keys {sorted(spec)}")
     elif isinstance(spec, str | Path):
         text = str(spec)
         path = _resolve(text, base)
         if path.exists():
-            curve = HazardCurve.from_file(path)
+            curve = read_hazard_file(path).curve()
         else:
             parts = text.split(",")
             try:
@@ -778,35 +993,24 @@ def parse_hazard(spec, *, base: str | Path | None = None,
         raise ValueError(f"hazard must be a file path, 'k0,k' or a mapping, got {spec!r}")
     if curve.note:
         log.warning(curve.note)
-    if declared is not None:  # the entry's key wins over the file's comment
-        curve = dataclasses.replace(curve, component=declared)
-    return curve.scaled(float(factor)) if factor != 1.0 else curve
+    return as_declared(curve, entry, component)
 
 
-def _read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
-    """Comment lines (``#``) and the other non-empty rows of a CSV file."""
-    try:
-        # utf-8-sig strips a byte-order mark (spreadsheets write one) from the header
-        with path.open(newline="", encoding="utf-8-sig") as fh:
-            lines = fh.read().splitlines()
-    except OSError as exc:
-        raise ValueError(f"{path}: cannot read the hazard file ({exc.strerror})") from None
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a UTF-8 text file (byte {exc.start}: "
-                         f"{exc.reason})") from None
-    comments = [ln for ln in lines if ln.lstrip().startswith("#")]
-    body = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
-    return comments, list(csv.reader(body))
+def as_declared(curve: HazardCurve, entry: dict, component: str | None = None) -> HazardCurve:
+    """A curve read from a file with what its hazard entry declares: the entry's
+    ``component`` (or ``component``, the command line's: it wins) over the file's and the
+    default, or the entry's ``im_factor`` (the levels converted by the user,
+    :meth:`HazardCurve.scaled`); the two together are refused."""
+    declared = _declared_component(entry)
+    if component is not None:
+        declared = parse_component(component, "--component")
+    if declared is not None:  # declared wins over the file's comment and the default
+        curve = dataclasses.replace(curve, component=declared, component_source="declared")
+    factor = float(entry.get("im_factor", 1.0))
+    return curve.scaled(factor) if factor != 1.0 else curve
 
 
-def _file_measure(path: Path, imt: str) -> str:
-    try:
-        return imt_measure(imt)
-    except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
-
-
-def _from_poe(iml: np.ndarray, poe: np.ndarray, years: float, measure: str,
+def _from_poe(iml: np.ndarray, poe: np.ndarray, years: float, imt: str,
               source: str) -> HazardCurve:
     """Annual rates of probabilities of exceedance in ``years``; poe = 0 and poe = 1 levels
     dropped (the latter counted and noted)."""
@@ -834,7 +1038,7 @@ def _from_poe(iml: np.ndarray, poe: np.ndarray, years: float, measure: str,
                          f"of {iml.size}")
     rate = -np.log1p(-poe[keep]) / years
     dropped_up_to = float(iml[one].max()) if one.any() else math.nan
-    return HazardCurve(iml[keep], rate, imt=measure, source=source, n_dropped=int(one.sum()),
+    return HazardCurve(iml[keep], rate, imt=imt, source=source, n_dropped=int(one.sum()),
                        dropped_up_to=dropped_up_to)
 
 
@@ -857,23 +1061,13 @@ def _short(a: np.ndarray) -> str:
             + ", ".join(f"{v:.6g}" for v in a[-2:]) + f"] ({a.size} values)")
 
 
-def _positive(name: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        x = math.nan
-    if isinstance(value, bool) or not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return x
-
-
 def _resolve(path, base) -> Path:
     p = Path(path)
     return p if p.is_absolute() or base is None else Path(base) / p
 
 
 __all__ = ["HAZARD_FORMATS", "HAZARD_KEYS", "MAX_DISTANCE_KM", "MAX_PLAUSIBLE_G",
-           "POWER_LAW_IML", "POWER_LAW_KEYS", "UNITS", "HazardCurve", "HazardFormat", "Site",
-           "check_kind", "check_plausible", "file_kind", "file_sites", "great_circle_km",
-           "hazard_component", "imt_measure", "measure_imt", "parse_hazard",
-           "select_site", "unit_factor"]
+           "OPENQUAKE_COMPONENT", "POWER_LAW_IML", "POWER_LAW_KEYS", "UNITS", "HazardCurve",
+           "HazardFile", "HazardFormat", "Site", "as_declared", "check_kind", "check_plausible",
+           "file_kind", "file_sites", "great_circle_km", "hazard_format", "hazard_measure",
+           "lon_lat_problem", "parse_hazard", "read_hazard_file", "select_site", "unit_factor"]

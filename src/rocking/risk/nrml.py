@@ -48,6 +48,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from rocking._validate import positive_finite
 from rocking.fragility.table import KINDS, Fragilities, lognormal_moments
 from rocking.spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 
@@ -148,8 +149,8 @@ def write_nrml(frag: Fragilities, path: str | Path, *, search_upper: float | Non
     -------
     NrmlExport
     """
-    if search_upper is not None and not (math.isfinite(search_upper) and search_upper > 0):
-        raise ValueError(f"search_upper must be finite and > 0, got {search_upper!r}")
+    if search_upper is not None:
+        positive_finite("search_upper", search_upper)
     model_id = (nrml_model_id("rocking", frag.kind) if model_id is None
                 else _checked_id(model_id))
     frag, off_chain = frag.damage_chain()

@@ -20,13 +20,14 @@ height, diameter       m       as the inventory gives them (NaN where it gave R,
 R                      m       semi-diagonal √(b² + h²)
 tan_alpha              –       slenderness b/h
 mu                     –       the inventory's support friction (NaN: not given; carried
-                               only, the surface is the study's, no sliding check)
+                               only and said to be unused: the surface is the study's)
 mode                   –       the surface's analysis mode (``3d``)
 limit_state            –       ``overturning``, ``tilt:1/3`` ... (the study's names)
 fragility              –       ``first_exceedance`` (the study's fragility.csv)
-measure                –       ``pga`` (the study's PGA)
-component              –       its horizontal component (the study's and the hazard's,
-                               e.g. ``vector_peak``; :func:`hazard_component_check`)
+measure                –       the hazard's measure (``pga``, ``sa:1.0``): the surface's
+component              –       the hazard's horizontal component, the surface's too
+                               (refitted there, :func:`rocking.risk.reconcile.
+                               reconcile_surface`)
 median                 g       median PGA capacity θ of the interpolated lognormal
 median_p05, median_p95 g       its 90 % interval over the bootstrap resamples of the motions
 beta                   –       dispersion β (std of ln capacity)
@@ -41,8 +42,14 @@ p_50yr                 –       probability of at least one exceedance in 50 ye
 hazard_site            –       the hazard file's site used (id or row)
 hazard_lon, hazard_lat deg     its position (NaN for a table or a power law)
 hazard_distance_km     km      great-circle distance from the column to it (NaN: no lon/lat)
+row                    –       the column's row in the inventory as a spreadsheet numbers
+                               it (the header is row 1)
 rank                   –       1 = the largest λ of that limit state in the inventory
 =====================  ======  ==========================================================
+
+The inventory's further columns follow, untouched. ``portfolio_site.csv`` gives the site's
+answer per limit state (:func:`site_answer`): the expected number of columns reaching it per
+year, Σλ, with its interval, and the bounds on the rate of "at least one" (max λ to Σλ).
 
 The λ of each column is the exact integral of its lognormal against its site's hazard curve
 as the project interpolates it (:func:`rocking.risk.annual_frequency.mean_annual_frequencies`);
@@ -68,14 +75,14 @@ from rocking.fragility.surface import interval
 from rocking.risk.annual_frequency import mean_annual_frequencies
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.inventory import HazardSites, Inventory
-from rocking.risk.table import YEARS
+from rocking.risk.risk_table import YEARS
 
 COLUMNS = ("id", "lon", "lat", "site", "height", "diameter", "R", "tan_alpha", "mu", "mode",
            "limit_state", "fragility", "measure", "component",
            "median", "median_p05", "median_p95", "beta",
            "beta_p05", "beta_p95", "interp_error", "extrapolated", "lambda", "lambda_p05",
            "lambda_p95", "return_period", "p_50yr", "hazard_site", "hazard_lon", "hazard_lat",
-           "hazard_distance_km", "rank")
+           "hazard_distance_km", "row", "rank")
 """Columns of ``portfolio.csv``, in order (module docstring: units and meaning)."""
 
 CHUNK = 2000
@@ -126,13 +133,14 @@ class RateTable:
 
 
 def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode: str = "3d",
-                    limit_states=None, progress=None,
-                    component: str | None = None) -> pd.DataFrame:
+                    limit_states=None, progress=None) -> pd.DataFrame:
     """Per column and limit state: fragility, λ with its interval, rank (module docstring).
 
     Parameters
     ----------
     surface : rocking.fragility.surface.FragilitySurface
+        In the hazard's measure and component (:func:`rocking.risk.reconcile.
+        reconcile_surface`): its ``measure`` and ``component`` are written in every row.
     inventory : Inventory
         Checked columns with their hazard site (:func:`rocking.risk.inventory.read_inventory`
         with this ``hazard``).
@@ -143,14 +151,13 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
         Default: every limit state of the surface in ``mode``.
     progress : rocking._progress.Progress, optional
         Advanced by one per column and limit state.
-    component : str, optional
-        The horizontal component of the PGA (default: the surface's, else ``vector_peak``,
-        the spectra's own), written in the ``component`` column.
 
     Returns
     -------
     pandas.DataFrame
-        :data:`COLUMNS`, one row per column and limit state, by limit state then rank.
+        :data:`COLUMNS` and the inventory's own further columns, one row per column and
+        limit state, by limit state then rank; ``attrs["site"]`` the site's answer per
+        limit state (:func:`site_answer`, one record each).
     """
     from rocking.spectra.limit_states import parse_limit_state
 
@@ -158,22 +165,28 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
     if (cols["hazard_index"] < 0).any():
         raise ValueError("the inventory was read without this hazard: read_inventory(..., "
                          "hazard=...) gives each column its site")
+    if surface.measure != hazard.measure:
+        raise ValueError(f"the surface is in {surface.measure}, the hazard "
+                         f"({hazard.source}) in {hazard.measure}: reconcile them first")
     states = (surface.limit_states(mode) if limit_states is None
               else [parse_limit_state(s).name for s in limit_states])
     errors = surface.interpolation_error()
     R, ta = cols["R"].to_numpy(float), cols["tan_alpha"].to_numpy(float)
     site = cols["hazard_index"].to_numpy(int)
-    parts = []
+    parts, answers = [], []
     used = np.unique(site)
     for ls in states:
         n = len(cols)
         tables = {}
         if surface.n_resamples:
             m0, m1, b0, b1 = surface.resample_range(mode, ls)
-            tables = {k: RateTable.over(hazard.curves[k], (m0, m1), (b0, b1)) for k in used}
+            tables = {k: RateTable.over(hazard.curve(k), (m0, m1), (b0, b1)) for k in used}
         res = {k: np.full(n, np.nan) for k in ("median", "median_p05", "median_p95", "beta",
                                                "beta_p05", "beta_p95", "lambda",
                                                "lambda_p05", "lambda_p95")}
+        # Σλ of every resample: the resamples draw the same motions at every column, so
+        # their sum is a resample of the site's expected number per year
+        total = np.zeros(surface.n_resamples)
         for start in range(0, n, CHUNK):
             sl = slice(start, min(start + CHUNK, n))
             ev = surface.evaluate(R[sl], ta[sl], mode, ls, extrapolate=True)
@@ -182,24 +195,26 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
                     res[k][sl] = ev[k]
             for k in np.unique(site[sl]):
                 here = np.flatnonzero(site[sl] == k)
-                curve = hazard.curves[k]
+                curve = hazard.curve(k)
                 res["lambda"][sl][here] = mean_annual_frequencies(
                     ev["median"][here], ev["beta"][here], curve)
                 if "median_resamples" in ev:
                     med, bet = ev["median_resamples"][here], ev["beta_resamples"][here]
-                    lo, hi = interval(tables[k](med, bet))
+                    lam = tables[k](med, bet)
+                    lo, hi = interval(lam)
                     res["lambda_p05"][sl][here], res["lambda_p95"][sl][here] = lo, hi
+                    total += np.nansum(lam, axis=0)
             if progress is not None:
                 progress.update(sl.stop - sl.start)
         lam = res["lambda"]
+        answers.append(site_answer(ls, lam, total if surface.n_resamples else None))
         part = pd.DataFrame({
             "id": cols["id"], "lon": cols["lon"], "lat": cols["lat"], "site": cols["site"],
             "height": cols["height"], "diameter": cols["diameter"], "R": R, "tan_alpha": ta,
             "mu": cols["mu"], "mode": mode, "limit_state": ls, "fragility": "first_exceedance",
-            "measure": "pga",
-            "component": component or getattr(surface, "component", None) or "vector_peak",
+            "measure": surface.measure, "component": surface.component,
             **{k: res[k] for k in ("median", "median_p05", "median_p95",
-                                                   "beta", "beta_p05", "beta_p95")},
+                                   "beta", "beta_p05", "beta_p95")},
             "interp_error": errors.get((mode, ls), math.nan),
             "extrapolated": cols["extrapolated"].astype(bool),
             "lambda": lam, "lambda_p05": res["lambda_p05"], "lambda_p95": res["lambda_p95"],
@@ -209,11 +224,65 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
             "hazard_lon": [hazard.sites[k].lon for k in site],
             "hazard_lat": [hazard.sites[k].lat for k in site],
             "hazard_distance_km": cols["hazard_distance_km"],
+            "row": cols["row"],
         })
         part["rank"] = part["lambda"].rank(ascending=False, method="min").astype("Int64")
+        extra = inventory.extra
+        part = pd.concat([part, extra.reset_index(drop=True)], axis=1) if extra is not None \
+            and not extra.empty else part
         parts.append(part.sort_values("rank", kind="stable"))
-    out = pd.concat(parts, ignore_index=True)[list(COLUMNS)]
+    out = pd.concat(parts, ignore_index=True)
+    out = out[[*COLUMNS, *[c for c in out.columns if c not in COLUMNS]]]
     out.attrs["skipped"] = inventory.skipped_note()
+    out.attrs["site"] = answers  # records, not a frame: pandas compares attrs when it merges
+    return out
+
+
+SITE_COLUMNS = ("limit_state", "columns", "expected_per_year", "expected_p05",
+                "expected_p95", "any_lo", "any_hi", "p_any_50yr_lo", "p_any_50yr_hi")
+"""Columns of ``portfolio_site.csv`` (:func:`site_answer`)."""
+
+
+def site_answer(limit_state: str, lam: np.ndarray, resampled_sum: np.ndarray | None) -> dict:
+    """The site's answer for one limit state.
+
+    - ``expected_per_year``: the expected number of columns reaching it per year, Σλ_i
+      (exact whatever the correlation between columns: an expectation is additive), with
+      its 90 % interval over the bootstrap resamples of the motions (``expected_p05``,
+      ``expected_p95``; each resample's λ summed over the columns: the resamples draw the
+      same motions at every column);
+    - ``any_lo``, ``any_hi``: bounds on the annual rate of "at least one column reaches
+      it", max λ_i (the columns fully dependent) to Σλ_i (never two at once); without a
+      model of the correlation between columns nothing narrower holds;
+    - ``p_any_50yr_lo``, ``p_any_50yr_hi``: the same as probabilities in 50 years
+      (Poisson).
+    """
+    finite = lam[np.isfinite(lam)]
+    total = float(finite.sum()) if finite.size else math.nan
+    top = float(finite.max()) if finite.size else math.nan
+    lo = hi = math.nan
+    if resampled_sum is not None and resampled_sum.size:
+        lo, hi = (float(v) for v in interval(resampled_sum))
+    return {"limit_state": limit_state, "columns": int(finite.size),
+            "expected_per_year": total, "expected_p05": lo, "expected_p95": hi,
+            "any_lo": top, "any_hi": total,
+            "p_any_50yr_lo": float(-np.expm1(-top * YEARS)),
+            "p_any_50yr_hi": float(-np.expm1(-total * YEARS))}
+
+
+def site_lines(site: pd.DataFrame) -> list[str]:
+    """The site's answer in words, one line per limit state."""
+    from rocking.spectra.limit_states import limit_state_title
+
+    out = []
+    for r in site.itertuples():
+        band = (f" (90 % {r.expected_p05:.3g}–{r.expected_p95:.3g})"
+                if np.isfinite([r.expected_p05, r.expected_p95]).all() else "")
+        out.append(f"{limit_state_title(r.limit_state)}: {r.expected_per_year:.3g} columns "
+                   f"per year expected{band}, one every {1 / r.expected_per_year:.3g} years; "
+                   f"the rate of at least one lies between {r.any_lo:.3g} and "
+                   f"{r.any_hi:.3g} per year (P(50 yr) {r.p_any_50yr_lo:.2g}–"
+                   f"{r.p_any_50yr_hi:.2g}; the columns' dependence decides where)")
     return out
 
 
@@ -221,7 +290,7 @@ def _site_label(hazard: HazardSites, k: int) -> str:
     s = hazard.sites[k]
     if s.id or math.isfinite(s.lon):
         return s.label
-    return hazard.curves[k].site or hazard.curves[k].source
+    return hazard.curve(k).site or hazard.curve(k).source
 
 
 def error_words(interp_error: float) -> str:
@@ -230,33 +299,6 @@ def error_words(interp_error: float) -> str:
     if not math.isfinite(interp_error):
         return "not measured (no interior grid node to leave out)"
     return f"±{100 * interp_error:.1f} % (leave-one-out)"
-
-
-def hazard_component_check(study: str | None, hazard: str | None) -> tuple[str, str]:
-    """The component a portfolio is in, and what to tell the user about it.
-
-    The study's fragility (``study``: its ``records.csv``) and the hazard (``hazard``: its
-    entry's or file's ``component``) must state PGA in the same horizontal component: a
-    vector-peak fragility under a RotD50 hazard overstates the capacity by about 1/0.8
-    (docs/risk.md) and so understates λ.
-
-    Raises
-    ------
-    ValueError
-        One line naming both components, when both are known and differ.
-    """
-    if study is not None and hazard is not None and study != hazard:
-        raise ValueError(f"the hazard is in component {hazard!r}, the study's fragility in "
-                         f"{study!r}: a portfolio needs both in one (run the study with "
-                         f"component: {hazard}, or give a hazard in {study})")
-    if hazard is None:
-        used = study or "vector_peak"
-        return used, (f"the hazard does not say its horizontal component: taken as the "
-                      f"study's ({used})")
-    if study is None:
-        return hazard, (f"the study's folder does not say its component (no records.csv): "
-                        f"taken as the hazard's ({hazard})")
-    return hazard, ""
 
 
 @dataclass
@@ -269,29 +311,38 @@ class SitePortfolio:
     hazard: HazardSites
     notes: list[str]
 
+    @property
+    def site(self) -> pd.DataFrame:
+        """The site's answer per limit state (:func:`site_answer`)."""
+        return pd.DataFrame(self.table.attrs["site"], columns=list(SITE_COLUMNS))
+
 
 def site_portfolio(study: str | Path, inventory: str | Path, hazard, *, site=None,
                    kind: str | None = None, unit: str | None = None,
                    component: str | None = None, mode: str = "3d", limit_states=None,
                    resamples: int | None = None, extrapolate: bool = False,
                    skip_invalid: bool = False, max_distance_km: float | None = None,
-                   progress_from: int = 2000) -> SitePortfolio:
+                   progress_from: int = 2000,
+                   study_component: str | None = None) -> SitePortfolio:
     """Every column of ``inventory`` under ``hazard``, from the surface of a study's folder:
     the one composition behind ``rocking portfolio`` and the workflow's ``portfolio`` rule.
 
-    Everything is checked before any λ is computed: the surface (grid), the hazard (file,
-    sites, kind, component against the study's) and every row of the inventory.
+    Everything is checked before any λ is computed: the hazard (file, sites, kind,
+    measure and component), the surface in the hazard's measure and component
+    (:func:`rocking.risk.reconcile.reconcile_surface`: refitted from the study's motions
+    where the hazard's component is not the vector peak) and every row of the inventory.
 
     Parameters
     ----------
     study : path
-        The study's results folder (``fragility.csv``, ``critical.csv``, ``records.csv``).
+        The study's results folder (``critical.csv``, ``fragility.csv``,
+        ``motion_measures.csv``).
     inventory : path
         The inventory CSV (:func:`rocking.risk.inventory.read_inventory`).
     hazard : str, path or dict
         A hazard file (one or many sites) or power law; a mapping as a study's ``hazard:``
-        (its ``file``, ``kind``, ``unit``, ``component``; its ``site`` is the study's, not
-        the columns': each column takes its own, by its lon/lat or site id).
+        (its ``file``, ``kind``, ``unit``, ``component``, ``im_factor``; its ``site`` is the
+        study's, not the columns': each column takes its own, by its lon/lat or site id).
     site : int or dict, optional
         One site for every column (``{"id"}`` or ``{"lon", "lat"[, "max_distance_km"]}``).
     kind, unit, component : str, optional
@@ -300,57 +351,91 @@ def site_portfolio(study: str | Path, inventory: str | Path, hazard, *, site=Non
         As :meth:`FragilitySurface.from_study` and :func:`read_inventory` take them.
     progress_from : int
         Inventories of this many columns or more show a progress bar on the terminal.
+    study_component : str, optional
+        The study's component (the workflow's ``studies.<name>.component``): taken where
+        the hazard states none; default the fragility's.
     """
     from rocking._progress import Progress
-    from rocking.fragility.lognormal import BOOTSTRAP_RESAMPLES
-    from rocking.fragility.surface import FragilitySurface
-    from rocking.risk.hazard import MAX_DISTANCE_KM, hazard_component
+    from rocking.risk.hazard import MAX_DISTANCE_KM
     from rocking.risk.inventory import read_hazard_sites, read_inventory
+    from rocking.risk.reconcile import reconcile_surface
 
-    entry = dict(hazard) if isinstance(hazard, dict) else {"file": str(hazard)}
-    kind = kind if kind is not None else entry.get("kind")
-    unit = unit if unit is not None else entry.get("unit")
-    declared = component if component is not None else hazard_component(entry)
-    n = BOOTSTRAP_RESAMPLES if resamples is None else int(resamples)
-    if n < 0:
-        raise ValueError(f"resamples must be >= 0, got {n}")
-    surface = FragilitySurface.from_study(study, mode=mode, limit_states=limit_states,
-                                          n_resamples=n)
-    used, note = hazard_component_check(surface.component, declared)
-    sites = read_hazard_sites(entry.get("file", hazard), site=site, kind=kind, unit=unit)
+    if resamples is not None and int(resamples) < 0:
+        raise ValueError(f"resamples must be >= 0, got {resamples}")
+    sites = read_hazard_sites(hazard, site=site, kind=kind, unit=unit, component=component)
+    surface = reconcile_surface(
+        study, sites.measure, sites.component, hazard=f"the hazard ({sites.source})",
+        hazard_note=sites.component_note if sites.component is not None else "",
+        mode=mode, limit_states=limit_states, n_resamples=resamples,
+        assumed=None if study_component is None else (study_component,
+                                                      "the study's component"))
     columns = read_inventory(inventory, surface=surface, hazard=sites,
                              extrapolate=extrapolate, skip_invalid=skip_invalid,
                              max_distance_km=(MAX_DISTANCE_KM if max_distance_km is None
                                               else max_distance_km))
-    notes = [x for x in (note, columns.skipped_note()) if x]
+    notes = [x for x in (surface.note, columns.skipped_note(), columns.unused_note()) if x]
     n_states = len(limit_states or surface.limit_states(mode))
     bar = (Progress(len(columns.columns) * n_states, "portfolio", unit="column")
            if len(columns.columns) >= progress_from else None)
     try:
         table = portfolio_table(surface, columns, sites, mode=mode, limit_states=limit_states,
-                                progress=bar, component=used)
+                                progress=bar)
     finally:
         if bar is not None:
             bar.close()
     return SitePortfolio(table, columns, surface, sites, notes)
 
 
+POSITIONS = ("lon", "lat", "hazard_lon", "hazard_lat")
+"""Columns of ``portfolio.csv`` written with every digit (shortest exact form)."""
+
+
+def _exact(value) -> str:
+    value = float(value)
+    return "" if not math.isfinite(value) else repr(value)
+
+
+def read_portfolio(path: str | Path) -> pd.DataFrame:
+    """``portfolio.csv`` as written: ids, sites and the inventory's further columns as text
+    (``007`` stays ``007``), numbers as numbers."""
+    head = pd.read_csv(path, nrows=0).columns
+    text = {c: str for c in head if c not in NUMBERS}
+    return pd.read_csv(path, dtype=text, keep_default_na=False, na_values={
+        c: ["", "nan", "NaN"] for c in head if c in NUMBERS})
+
+
+NUMBERS = ("lon", "lat", "height", "diameter", "R", "tan_alpha", "mu", "median", "median_p05",
+           "median_p95", "beta", "beta_p05", "beta_p95", "interp_error", "lambda",
+           "lambda_p05", "lambda_p95", "return_period", "p_50yr", "hazard_lon", "hazard_lat",
+           "hazard_distance_km", "row", "rank")
+"""Numeric columns of ``portfolio.csv`` (:func:`read_portfolio`; the rest is text)."""
+
+
 def write_portfolio(table: pd.DataFrame, out_dir: str | Path,
                     skipped: pd.DataFrame | None = None) -> Path:
-    """``<out_dir>/portfolio.csv`` (and ``portfolio_skipped.csv`` listing the rows left out,
-    when any), written under temporary names and renamed; returns the table's path."""
+    """``<out_dir>/portfolio.csv``, ``portfolio_site.csv`` (the site's answer per limit
+    state, :func:`site_answer`, where the table has it) and ``portfolio_skipped.csv``
+    (the rows left out, when any), written under temporary names and renamed; returns the
+    table's path."""
     from rocking.provenance import write_atomic
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / "portfolio.csv"
-    write_atomic(path, lambda tmp: table.to_csv(tmp, index=False, float_format="%.6g"))
+    # positions with every digit they were given (%.6g would cut 23.538123 to 23.5381)
+    exact = table.assign(**{c: [_exact(v) for v in table[c]]
+                            for c in POSITIONS if c in table.columns})
+    write_atomic(path, lambda tmp: exact.to_csv(tmp, index=False, float_format="%.6g"))
+    if table.attrs.get("site"):
+        site = pd.DataFrame(table.attrs["site"], columns=list(SITE_COLUMNS))
+        write_atomic(out_dir / "portfolio_site.csv",
+                     lambda tmp: site.to_csv(tmp, index=False, float_format="%.6g"))
     if skipped is not None and not skipped.empty:
         write_atomic(out_dir / "portfolio_skipped.csv",
                      lambda tmp: skipped.to_csv(tmp, index=False))
     return path
 
 
-__all__ = ["COLUMNS", "RateTable", "SitePortfolio", "hazard_component_check",
-           "error_words", "portfolio_table", "site_portfolio",
+__all__ = ["COLUMNS", "SITE_COLUMNS", "RateTable", "SitePortfolio", "error_words",
+           "portfolio_table", "read_portfolio", "site_answer", "site_lines", "site_portfolio",
            "write_portfolio"]

@@ -1,6 +1,6 @@
-"""Seismic performance rocking spectra: limit states, accuracy presets, the critical-intensity
-search (:mod:`.search`) bound to the dynamics (:mod:`.critical`), the Fig 7 tilt map
-(:mod:`.tilt_map`).
+"""Seismic performance rocking spectra: limit states, the quantity answered (:mod:`.quantity`),
+accuracy presets, the critical-intensity search (:mod:`.search`) bound to the dynamics
+(:mod:`.critical`), the Fig 7 tilt map (:mod:`.tilt_map`).
 """
 
 from rocking._lazy import lazy_exports
@@ -11,6 +11,9 @@ _EXPORTS = {
     "parse_limit_states": "limit_states",
     "Accuracy": "accuracy",
     "get_accuracy": "accuracy",
+    "Quantity": "quantity",
+    "local_exceedance": "quantity",
+    "exceedance_quantile": "quantity",
     "CriticalResult": "search",
     "search_critical": "search",
     "critical_intensity": "critical",

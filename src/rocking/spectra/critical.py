@@ -8,7 +8,7 @@ scale factor of the motion is I·g·tan α / PGA.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -27,7 +27,16 @@ from rocking.spectra.limit_states import (
     whole_record,
 )
 from rocking.spectra.modes import MODE_3D, MODES, check_mode, is_damped
-from rocking.spectra.search import DEFAULT_UPPER, AnalysisFn, CriticalResult, Outcome, run_search
+from rocking.spectra.quantity import Quantity
+from rocking.spectra.search import (
+    DEFAULT_UPPER,
+    PER_LIMIT_STATE,
+    AnalysisFn,
+    CriticalResult,
+    Outcome,
+    cell_seed,
+    run_search,
+)
 
 __all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batch",
            "make_analysis", "uplift_intensity"]
@@ -112,6 +121,7 @@ def critical_intensity(
     mode: str = MODE_3D,
     *,
     accuracy: str | Accuracy | dict = "default",
+    quantity: str | Mapping | Quantity | None = None,
     upper: float = DEFAULT_UPPER,
     omega_n: float | None = None,
     zeta: float | None = None,
@@ -131,7 +141,11 @@ def critical_intensity(
     mode : {"3d", "3d-damped", "2d-x", "2d-y"}
         Model and excitation (2D: one component of the pair).
     accuracy : str, Accuracy or dict
-        ``"fast"``, ``"default"``, ``"precise"`` or custom tolerances.
+        ``"fast"``, ``"default"``, ``"precise"`` or custom settings.
+    quantity : str, mapping, Quantity or None
+        What the answer is (:class:`rocking.spectra.quantity.Quantity`): None, I10 =
+        inf{s : P(s) >= 0.1} with P over ±2 % in ln s; ``"first_exceedance"`` the smallest
+        exceeding intensity on the scan grid.
     upper : float
         Highest normalized intensity searched [-].
     omega_n, zeta : float, optional
@@ -141,8 +155,9 @@ def critical_intensity(
     Returns
     -------
     CriticalResult
-        Per limit state, in the order asked: ``intensity`` = PGA/(g tan α) [-] and
-        ``pga_g`` = PGA [g] of the smallest exceeding motion, with the search's flags;
+        Per limit state, in the order asked: ``intensity`` = the quantity's answer in
+        PGA/(g tan α) [-] and ``pga_g`` = PGA [g], with ``i50``, ``first_exceedance`` and
+        the search's flags;
         ``slides`` compares the analyses up to each answer with ``body.mu`` (NaN without
         it), ``lifts_off`` says whether one had N < 0 (False where nothing ran the
         monitors).
@@ -152,15 +167,17 @@ def critical_intensity(
     decided); otherwise none runs them (:func:`make_analysis`).
     """
     return _critical_point(body, motion, parse_limit_states(limit_states, sort=False), mode,
-                           get_accuracy(accuracy), positive_finite("upper", upper), omega_n,
-                           zeta)
+                           get_accuracy(accuracy), Quantity.from_value(quantity),
+                           positive_finite("upper", upper), omega_n, zeta)
 
 
 def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, mode: str,
-                    acc: Accuracy, upper: float, omega_n: float | None,
+                    acc: Accuracy, quantity: Quantity, upper: float, omega_n: float | None,
                     zeta: float | None) -> CriticalResult:
-    """:func:`critical_intensity` on parsed limit states, a resolved accuracy and a checked
-    ``upper`` (the batch resolves and checks them once for every point)."""
+    """:func:`critical_intensity` on parsed limit states, a resolved accuracy and quantity
+    and a checked ``upper`` (the batch resolves and checks them once for every point). The
+    grid offsets are drawn from the cell's identity (:func:`~rocking.spectra.search.cell_seed`:
+    the motion's name, R, tan α, the mode)."""
     check_mode(mode)
     if motion.pga <= 0.0:
         raise ValueError(f"motion {motion.name!r} has zero PGA")
@@ -170,14 +187,11 @@ def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, m
                             rest_tilt=acc.rest_tilt,
                             whole=whole_record(asked) or mu is not None)
     res = run_search(analyze, tuple(sorted(asked, key=lambda ls: ls.severity)), body.alpha, lower,
-                     upper, acc, acc.rtol_for(MODES[mode][0]), mu)
+                     upper, acc, quantity, acc.rtol_for(MODES[mode][0]), mu,
+                     cell_seed(motion.name, body.R, body.tan_alpha, mode))
     res = _in_order(res, [ls.name for ls in asked])
     return replace(res, mode=mode, motion=motion.name, R=float(body.R),
                    tan_alpha=float(body.tan_alpha))
-
-
-_PER_LIMIT_STATE = ("intensity", "bracket_lo", "bracket_hi", "not_reached", "non_monotonic",
-                    "failed", "unresolved", "budget_spent", "slides", "lifts_off")
 
 
 def _in_order(res: CriticalResult, names: list[str]) -> CriticalResult:
@@ -187,8 +201,11 @@ def _in_order(res: CriticalResult, names: list[str]) -> CriticalResult:
     means the first limit state it asked for.
     """
     idx = [res.limit_states.index(n) for n in names]
-    return replace(res, limit_states=tuple(names),
-                   **{k: np.asarray(getattr(res, k))[idx] for k in _PER_LIMIT_STATE})
+    samples = res.samples
+    if samples is not None:
+        samples = replace(samples, exceeded=samples.exceeded[:, idx])
+    return replace(res, limit_states=tuple(names), samples=samples,
+                   **{k: np.asarray(getattr(res, k))[idx] for k in PER_LIMIT_STATE})
 
 
 Task = tuple[float, float, GroundMotion, str]
@@ -200,6 +217,7 @@ def critical_intensity_batch(
     limit_states=None,
     *,
     accuracy: str | Accuracy | dict = "default",
+    quantity: str | Mapping | Quantity | None = None,
     upper: float = DEFAULT_UPPER,
     omega_n: float | None = None,
     zeta: float | None = None,
@@ -211,7 +229,7 @@ def critical_intensity_batch(
     Parameters
     ----------
     tasks : iterable of (R, tan_alpha, motion, mode)
-    limit_states, accuracy, upper, omega_n, zeta
+    limit_states, accuracy, quantity, upper, omega_n, zeta
         As in :func:`critical_intensity`, shared by all tasks.
     mu : float, optional
         Support friction coefficient of every body [-] (``Cylinder(..., mu=)``: the
@@ -225,6 +243,7 @@ def critical_intensity_batch(
     list of CriticalResult
     """
     acc = get_accuracy(accuracy)
+    q = Quantity.from_value(quantity)
     upper = positive_finite("upper", upper)
     states = parse_limit_states(limit_states, sort=False)
     tasks = list(tasks)
@@ -235,7 +254,7 @@ def critical_intensity_batch(
     out = []
     for R, tan_alpha, motion, mode in tasks:
         out.append(_critical_point(Cylinder(R, tan_alpha, mu=mu), motion, states, mode, acc,
-                                   upper, omega_n, zeta))
+                                   q, upper, omega_n, zeta))
         if bar is not None:
             bar.update()
     if bar is not None and bar is not progress:

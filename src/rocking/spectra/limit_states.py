@@ -4,9 +4,8 @@ An analysis reports its response as named peak quantities (:data:`QUANTITIES`: t
 tilt ``theta_max``, ``overturned``, the largest friction the contact needed
 ``mu_required_max`` and the smallest normal force ``normal_force_min``). A limit state
 (:class:`LimitState`, the protocol every kind implements) owns the quantity it watches, its
-threshold for a body, whether an analysis exceeded it (:meth:`LimitState.exceeded`), the
-measure of the scan's closeness to it (:meth:`LimitState.measure`,
-:meth:`LimitState.scan_goal`), when an analysis may stop once it is decided
+threshold for a body, whether an analysis exceeded it (:meth:`LimitState.exceeded`), when
+an analysis may stop once it is decided
 (:meth:`LimitState.stop_at`, :meth:`LimitState.decided_when_stopped`), whether a body at
 rest can exceed it (:attr:`LimitState.at_rest`) and whether it needs the whole record
 monitored (:attr:`LimitState.whole_record`), its severity order
@@ -167,16 +166,11 @@ class LimitState(ABC):
         Its quantity can grow after the tilt is decided: an analysis deciding it may not end
         early once its peak tilt is decided (``stop_when_decided``), and it never stops at a
         tilt.
-    warns_of_windows : bool
-        The search's ``unresolved`` warning (:func:`rocking.spectra.search.window_warning`,
-        calibrated on the peak tilt) applies to it; False: its answers are never flagged
-        unresolved.
     """
 
     name: str
     at_rest: ClassVar[bool] = False
     whole_record: ClassVar[bool] = False
-    warns_of_windows: ClassVar[bool] = True
 
     @property
     @abstractmethod
@@ -201,19 +195,9 @@ class LimitState(ABC):
         where the goal is meaningless for that body."""
 
     @abstractmethod
-    def measure(self, peaks: Mapping[str, float]) -> float:
-        """The value of an analysis the scan compares with :meth:`scan_goal` (its closeness
-        to the limit state)."""
-
-    @abstractmethod
     def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
         """Whether an analysis (anything with ``peaks``, or its peaks by name) exceeded this
         limit state, for a body of slenderness angle ``alpha`` [rad]."""
-
-    def scan_goal(self, alpha: float) -> float:
-        """What :meth:`measure` is compared with for the scan's closeness (default: the
-        threshold)."""
-        return self.threshold(alpha)
 
     def decides(self, outcome: HasPeaks | Mapping[str, float]) -> bool:
         """Whether a finished analysis says anything about this limit state (default: yes;
@@ -242,11 +226,6 @@ class LimitState(ABC):
         return self.name
 
 
-def _tilt_measure(peaks: Mapping[str, float]) -> float:
-    """Peak tilt of an analysis [rad], π/2 if it overturned."""
-    return math.pi / 2 if peaks[OVERTURNED] else float(peaks[THETA_MAX])
-
-
 @dataclass(frozen=True)
 class Overturning(LimitState):
     """θ reaches π/2. An analysis must run to its end to decide it (it may come at any
@@ -264,17 +243,8 @@ class Overturning(LimitState):
         """π/2 [rad]."""
         return 0.5 * math.pi
 
-    def measure(self, peaks: Mapping[str, float]) -> float:
-        """Peak tilt [rad], π/2 if overturned."""
-        return _tilt_measure(peaks)
-
     def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
         return bool(_peaks_of(outcome)[OVERTURNED])
-
-    def scan_goal(self, alpha: float) -> float:
-        """α [rad]: nothing beyond α is reached without passing α, where the restoring
-        moment of the weight vanishes."""
-        return min(self.threshold(alpha), alpha)
 
     def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
                              alpha: float) -> bool:
@@ -325,21 +295,11 @@ class TiltGoal(LimitState):
             )
         return tau
 
-    def measure(self, peaks: Mapping[str, float]) -> float:
-        """Peak tilt [rad], π/2 if overturned."""
-        return _tilt_measure(peaks)
-
     def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
         peaks = _peaks_of(outcome)
         if peaks[OVERTURNED]:
             return True  # an overturned body has passed every tilt goal
         return bool(peaks[THETA_MAX] > self.threshold(alpha))
-
-    def scan_goal(self, alpha: float) -> float:
-        """The threshold, but never above α: no tilt beyond α (and no overturning) is
-        reached without first passing α, where the restoring moment of the weight
-        vanishes."""
-        return min(self.threshold(alpha), alpha)
 
     def decided_when_stopped(self, outcome: HasPeaks | Mapping[str, float], tilt: float,
                              alpha: float) -> bool:
@@ -367,10 +327,9 @@ class Sliding(LimitState):
     is monitored along the whole analysis and can grow after the tilt is decided (and at
     rest: |a_h|/(g + a_z)), so an analysis deciding it runs to its end and the search looks
     for it below uplift too. Its exceedance need not grow with the intensity (as a tilt
-    goal's); the search reports the smallest exceeding intensity it found, like for any
-    goal, and never flags it unresolved (that warning is calibrated on the peak tilt).
-    Where the answer lies above the overturning answer of the same motion, the body
-    overturns before it slides.
+    goal's); the search answers it like any goal (:mod:`rocking.spectra.quantity`). Where
+    the answer lies above the overturning answer of the same motion, the body overturns
+    before it slides.
 
     Attributes
     ----------
@@ -384,7 +343,6 @@ class Sliding(LimitState):
     mu: float
     at_rest: ClassVar[bool] = True
     whole_record: ClassVar[bool] = True
-    warns_of_windows: ClassVar[bool] = False
 
     quantity = property(lambda self: MU_REQUIRED_MAX, doc="``mu_required_max``.")
     severity = property(lambda self: (SLIDING_AXIS, self.mu), doc="(sliding axis, μ).")
@@ -394,13 +352,6 @@ class Sliding(LimitState):
     def threshold(self, alpha: float) -> float:
         """μ [-], whatever the body."""
         return self.mu
-
-    def measure(self, peaks: Mapping[str, float]) -> float:
-        """``mu_required_max`` [-]; 0 where the analysis overturned (it says nothing, so it
-        does not steer the scan)."""
-        if peaks[OVERTURNED]:
-            return 0.0
-        return float(_peak(peaks, MU_REQUIRED_MAX, self.name))
 
     def exceeded(self, outcome: HasPeaks | Mapping[str, float], alpha: float) -> bool:
         """:func:`slides_in_contact` (False where it says nothing: an overturned analysis)."""

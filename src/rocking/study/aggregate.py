@@ -1,18 +1,22 @@
 """Ensemble statistics of performance spectra: mean, std, median and count over motions.
 
 The paper's Figs 10–12 plot, for each size R, the mean over the ground motions of the
-critical intensity PGA/(g tan α). A motion whose search ended without reaching the limit
-state (``not_reached``) has no critical intensity, only a lower bound (the search bound); it
-is left out of ``mean``, ``std`` and ``median`` and counted separately (``n_not_reached``), so
-``count`` says how many motions they rest on, and such a mean is biased low: it is the mean
-of the motions that happened to exceed below the bound. Two columns keep that from passing as
-the ensemble mean: ``censoring`` says in words how each cell treats the motions not reached,
-and ``median_all`` is the median over all motions with those counted above the bound — the
-Kaplan–Meier median, exact here because every censored value lies above every observed one;
-it is NaN when half or more of the motions were not reached (the median is then somewhere
-above the bound). Cells no run of the study asked for (``requested`` false, see
-:mod:`rocking.config.plan`) were never computed: their statistics are NaN with count 0, and
-``requested`` is carried over so that a reader can tell "not computed" from "not reached".
+critical intensity PGA/(g tan α); here that is the mean of the per-motion answers of the
+study's quantity (:class:`rocking.spectra.quantity.Quantity`: I10 by default, the lowest
+intensity near which a tenth of the intensities exceed), named with its p and w in every
+table (:func:`quantity_columns`), so that tables of two quantities are never mixed. A motion
+whose search ended without reaching the limit state (``not_reached``) has no critical
+intensity, only a lower bound (the search bound); it is left out of ``mean``, ``std`` and
+``median`` and counted separately (``n_not_reached``), so ``count`` says how many motions
+they rest on, and such a mean is biased low: it is the mean of the motions that happened to
+exceed below the bound. Two columns keep that from passing as the ensemble mean:
+``censoring`` says in words how each cell treats the motions not reached, and ``median_all``
+is the median over all motions with those counted above the bound — the Kaplan–Meier median,
+exact here because every censored value lies above every observed one; it is NaN when half
+or more of the motions were not reached (the median is then somewhere above the bound).
+Cells no run of the study asked for (``requested`` false, see :mod:`rocking.config.plan`)
+were never computed: their statistics are NaN with count 0, and ``requested`` is carried
+over so that a reader can tell "not computed" from "not reached".
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from rocking.spectra.quantity import COLUMNS as QUANTITY_NAMES
 from rocking.store import REPAIR
 from rocking.units import CSV_FLOAT_FORMAT, attrs, header
 
@@ -87,18 +92,72 @@ def ensemble_statistics(ds: xr.Dataset) -> xr.Dataset:
     out["requested"] = requested.transpose(*(d for d in STAT_DIMS if d in requested.dims))
     out["mean_pga_g"] = out["mean"] * out["tan_alpha"]
     out["censoring"] = censoring_notes(out)
-    if "unresolved" in ds:
-        # answers a finer scan may move lower (rocking.spectra.search): the share says how far
-        # to trust a mean that rests on them (docs/performance.md, resolution)
-        flag = ds["unresolved"].load().astype(bool) & reached
-        out["n_unresolved"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
+    # answers where P rises near p without crossing it (I_p ill-conditioned): the count
+    # says how many of a mean's answers a small change of the response could move down
+    flag = ds["plateau"].load().astype(bool) & reached
+    out["n_plateau"] = flag.sum("motion").astype(np.int32).transpose(*STAT_DIMS)
     out.update(validity_counts(ds, requested))
     for name in out.variables:
         out[name].attrs = attrs(str(name))
     out["std"].attrs["ddof"] = 1
     out.attrs = {k: v for k, v in ds.attrs.items() if k != "layout"}
     out.attrs["motions"] = ", ".join(map(str, ds["motion"].values))
+    out.attrs["quantity"] = _json_text(store_quantity(ds.attrs))
     return out
+
+
+def _json_text(value) -> str:
+    import json
+
+    return json.dumps(value, sort_keys=True)
+
+
+def store_quantity(attrs) -> dict:
+    """The quantity a spectra store (or a table made from it) holds, from its ``quantity``
+    attribute (:meth:`rocking.spectra.quantity.Quantity.to_dict`: name, p, w).
+
+    Raises
+    ------
+    ValueError
+        For a store without it (made before the quantity was recorded): its answers are
+        first exceedances of an older search, not to be set beside these.
+    """
+    from rocking.spectra.quantity import Quantity
+    from rocking.store.attrs import decode_attrs
+
+    found = decode_attrs(dict(attrs)).get("quantity")
+    if found is None:
+        raise ValueError("spectra store without a 'quantity' attribute: made by an older "
+                         "version whose answers are first exceedances of another search; "
+                         "delete it and run its rule again")
+    return Quantity.from_value(found).to_dict()
+
+
+QUANTITY_COLUMNS = (*QUANTITY_NAMES, "scan_step")
+"""Columns naming the quantity of every table of answers: its name, p and w
+(:meth:`rocking.spectra.quantity.Quantity.columns`, the names of ``rocking spectra``'s table)
+and the step of the scan grid (which labels a first exceedance)."""
+
+
+def quantity_values(attrs) -> dict[str, object]:
+    """:data:`QUANTITY_COLUMNS` of a store (or of a table made from one) by their names."""
+    from rocking.spectra.quantity import Quantity
+    from rocking.store.attrs import decode_attrs
+
+    step = (decode_attrs(dict(attrs)).get("tolerances") or {}).get("scan_step")
+    return {**Quantity.from_value(store_quantity(attrs)).columns(),
+            "scan_step": np.nan if step is None else float(step)}
+
+
+def quantity_columns(frame: pd.DataFrame, attrs, after: Sequence[str]) -> pd.DataFrame:
+    """``frame`` with the :data:`QUANTITY_COLUMNS` of the store whose ``attrs`` it was made
+    from, placed after its key columns ``after`` (headers with units)."""
+    keys = [c for c in frame.columns if c in after]
+    rest = [c for c in frame.columns if c not in after]
+    out = frame[keys].copy()
+    for name, value in quantity_values(attrs).items():
+        out[header(name)] = value
+    return pd.concat([out, frame[rest]], axis=1)
 
 
 def monitored(ds: xr.Dataset) -> xr.DataArray:
@@ -189,14 +248,16 @@ def censoring_notes(stats: xr.Dataset) -> xr.DataArray:
 def to_frame(stats: xr.Dataset) -> pd.DataFrame:
     """Long table, one row per (mode, limit_state, tan_alpha, R); headers with units."""
     cols = ["mean", "mean_pga_g", "std", "median", "median_all", "count", "n_not_reached",
-            "n_unresolved", "n_slides", "n_lifts_off", "censoring", "requested"]
+            "n_plateau", "n_slides", "n_lifts_off", "censoring", "requested"]
     cols = [c for c in cols if c in stats]
     df = stats[cols].to_dataframe().reset_index()[[*STAT_DIMS, *cols]]
-    return df.rename(columns=header)
+    df = df.rename(columns=header)
+    return quantity_columns(df, stats.attrs, [header(d) for d in STAT_DIMS])
 
 
-CRITICAL_COLUMNS = ("pga_crit", "pga_crit_g", "not_reached", "non_monotonic", "failed",
-                    "unresolved", "budget_spent", "slides", "lifts_off", "n_analyses")
+CRITICAL_COLUMNS = ("pga_crit", "pga_crit_g", "i50", "first_exceedance", "plateau",
+                    "not_reached", "non_monotonic", "failed", "slides", "lifts_off",
+                    "n_analyses")
 """Per-motion results of a spectra store, as :func:`critical_frame` lists them."""
 
 
@@ -256,8 +317,9 @@ def unmonitored_empty(ds: xr.Dataset, frame: pd.DataFrame) -> pd.Series:
 
 def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
     """Every computed answer of a spectra store, one row per (mode, limit_state, motion,
-    tan_alpha, R) that the study's runs asked for: the critical intensity [PGA/(g tan α)],
-    as PGA [g], the search's flags and its analyses; headers with units."""
+    tan_alpha, R) that the study's runs asked for: the quantity (name, p, w), the critical
+    intensity [PGA/(g tan α)], as PGA [g], I50, the first exceedance on the scan grid, the
+    search's flags and its analyses; headers with units."""
     cols = [c for c in CRITICAL_COLUMNS if c in ds]
     dims = ["mode", "limit_state", "motion", "tan_alpha", "R"]
     frame = requested_answers(ds, cols)[[*dims, *cols]]
@@ -265,7 +327,8 @@ def critical_frame(ds: xr.Dataset) -> pd.DataFrame:
         frame["slides"] = nullable_flag(frame["slides"])
     if "lifts_off" in frame:
         frame["lifts_off"] = unmonitored_empty(ds, frame)
-    return frame.sort_values(dims, kind="stable").reset_index(drop=True).rename(columns=header)
+    frame = frame.sort_values(dims, kind="stable").reset_index(drop=True).rename(columns=header)
+    return quantity_columns(frame, ds.attrs, [header(d) for d in dims])
 
 
 CRITICAL_FLOAT_FORMAT = "%.10g"

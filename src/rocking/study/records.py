@@ -6,23 +6,21 @@ an engineer asks of one record: its PGA as recorded and as processed, its PGV an
 critical PGA/(g tan α) and PGA [g], the factor the processed record must be scaled by to
 exceed the limit state, and (:func:`as_recorded`) whether the processed record at scale 1
 exceeds it: one analysis per (mode, tan α, R), not an inference from the scale factor, since
-rocking is not monotonic in the intensity (a record may exceed at scale 1 although the
-search's first exceedance is above 1, or survive at 1 although it exceeds at a scale below 1).
+rocking is not monotonic in the intensity (a record may exceed at scale 1 although its
+critical intensity, I10 by default, is above 1, or survive at 1 although it exceeds at a scale
+below 1).
 
 The critical intensity is searched on the scale of the record, and every intensity measure
 of a scaled record is that scale times the record's measure (:mod:`rocking.motions.measures`),
 so the critical PGV or Sa(T) is exactly the critical scale factor times the record's PGV or
 Sa(T) — although the rocking response itself is not linear in the scale. The same holds in
 every horizontal component (:data:`rocking.motions.measures.COMPONENTS`): the measures of
-``records.csv`` are in the study's component (its ``component`` column), and
-:func:`suite_fragility` fits each component asked, so that a hazard in another component
-than the study's is met by the fragility in the hazard's own component: each motion's
-critical measure is its critical scale times its measure in that component, i.e. its
-critical measure in the study's component times the motion's ratio of the two components.
-:func:`suite_fragility` fits a lognormal fragility
-(:func:`rocking.fragility.lognormal.fit_lognormal`, right-censored at the search bound where a
-motion never exceeded the limit state) in each measure, over the recorded motions and,
-separately, over the synthetic pairs.
+``records.csv`` are in the study's component (its ``component`` column).
+:func:`suite_fragility` fits a lognormal fragility in each measure
+(:func:`rocking.fragility.refit.fit_cells`, right-censored at the search bound where a motion
+never exceeded the limit state), over the recorded motions and, separately, over the
+synthetic pairs. Risk under a hazard of another measure or component refits the study's
+fragility over all its motions (:mod:`rocking.fragility.refit`), not these per-group fits.
 """
 
 from __future__ import annotations
@@ -41,7 +39,13 @@ from rocking.motions.measures import (
     parse_measure,
 )
 from rocking.motions.motion import GroundMotion
-from rocking.study.aggregate import nullable_flag, requested_answers, unmonitored_empty
+from rocking.study.aggregate import (
+    QUANTITY_COLUMNS,
+    nullable_flag,
+    quantity_values,
+    requested_answers,
+    unmonitored_empty,
+)
 
 __all__ = ["RECORD_COLUMNS", "as_recorded", "measure_column", "motion_measures",
            "record_table", "suite_fragilities", "suite_fragility", "write_record_tables"]
@@ -57,7 +61,13 @@ RECORD_COLUMNS = {
     "component": ("", "horizontal component of the intensity-measure columns (the study's "
                       "component); pga_recorded_g, pga_g, pga_crit, pga_crit_g are always "
                       "the vector peak, the spectra's own intensity"),
-    "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): smallest exceeding intensity"),
+    "quantity": ("", "what pga_crit is: exceedance_quantile (I_p, the lowest intensity near "
+                     "which a share p of the intensities within ±w in ln s exceed) or "
+                     "first_exceedance (on the search's scan grid)"),
+    "quantity_p": ("-", "the share p of I_p"),
+    "quantity_w": ("-", "the half-width w of its window in ln s"),
+    "scan_step": ("-", "relative step of the search's scan grid"),
+    "pga_crit": ("g tan(alpha)", "critical PGA/(g tan alpha): the study's quantity"),
     "pga_crit_g": ("g", "critical PGA"),
     "scale_factor": ("-", "critical PGA / processed record PGA: the factor to exceed"),
     "exceeds_as_recorded": ("", "the processed record at scale 1 exceeds the limit state: "
@@ -67,7 +77,8 @@ RECORD_COLUMNS = {
                                   "or survives although it is <= 1)"),
     "as_recorded_note": ("", "the disagreement or failure in words"),
     "not_reached": ("", "not exceeded up to the search bound"),
-    "unresolved": ("", "the response came close to the goal below the answer"),
+    "plateau": ("", "the local exceedance probability rises near p below the answer without "
+                    "crossing it: I_p is ill-conditioned there"),
     "non_monotonic": ("", "exceeded at one intensity and not at a higher one"),
     "failed": ("", "an analysis failed"),
     "slides": ("", "an analysis up to the answer that did not overturn needed more friction "
@@ -109,7 +120,7 @@ def _table_measures(measures: Sequence[str], component: str) -> list[str]:
             if component != DEFAULT_COMPONENT or parse_measure(m)[0] != "pga"]
 
 
-_FLAGS = ("not_reached", "unresolved", "non_monotonic", "failed")
+_FLAGS = ("not_reached", "plateau", "non_monotonic", "failed")
 _VALIDITY = ("slides", "lifts_off")  # slides: True/False, empty without mu
 _ORDER = ["motion", "kind", "source_record", "mode", "tan_alpha", "limit_state", "R",
           "pga_recorded_g", "pga_g", "component"]
@@ -160,8 +171,10 @@ def _motion_table(store, motions: Sequence[GroundMotion], measures: Sequence[str
     for m in ims:
         column = measure_column(m, component=component)[0]
         table[measure_column(m, True, component)[0]] = scale * table[column]
-    head = [*_ORDER, *(measure_column(m, component=component)[0] for m in ims), "pga_crit",
-            "pga_crit_g", "scale_factor", *_FLAGS, *validity,
+    for column, value in quantity_values(store.attrs).items():
+        table[column] = value
+    head = [*_ORDER, *(measure_column(m, component=component)[0] for m in ims),
+            *QUANTITY_COLUMNS, "pga_crit", "pga_crit_g", "scale_factor", *_FLAGS, *validity,
             *(measure_column(m, True, component)[0] for m in ims), "processing"]
     return table[head]
 
@@ -271,7 +284,7 @@ def _note(exceeds, scale: float, not_reached: bool, disagrees: bool) -> str:
         return ""
     if exceeds:
         first = "it is not exceeded up to the search bound" if not_reached else \
-            f"the first exceedance found is at scale {scale:.3g}"
+            f"its critical intensity is at scale {scale:.3g}"
         return f"exceeds at scale 1 although {first} (rocking is not monotonic in the intensity)"
     return (f"survives at scale 1 although it exceeds at scale {scale:.3g} "
             "(rocking is not monotonic in the intensity)")
@@ -279,7 +292,9 @@ def _note(exceeds, scale: float, not_reached: bool, disagrees: bool) -> str:
 
 def suite_fragility(table, measures: Sequence[str], upper: float | None,
                     component: str = DEFAULT_COMPONENT):
-    """Lognormal fragility of every (mode, tan α, limit state, R) in each measure.
+    """Lognormal fragility of every (mode, tan α, limit state, R) in each measure, per group
+    of motions: the fits of :func:`rocking.fragility.refit.fit_cells` (each motion's
+    critical measure, its critical vector-peak PGA times its ratio of the measure to it).
 
     Parameters
     ----------
@@ -297,45 +312,37 @@ def suite_fragility(table, measures: Sequence[str], upper: float | None,
     Returns
     -------
     pandas.DataFrame
-        Per ``motions`` (``"records"``, and ``"synthetic"`` when there are any), mode,
-        tan α, limit state, R and ``measure``: ``unit``, ``median``, ``beta``, ``n``,
-        ``n_censored``, ``status`` (:class:`rocking.fragility.lognormal.LognormalFit`),
-        ``median_p05``, ``median_p95`` (90 % interval of the median over 1000 resamples of
-        the motions, :func:`rocking.fragility.lognormal.bootstrap_lognormal`) and
-        ``bootstrap_fitted`` (resamples with a fit); ``attrs["bootstrap"]`` holds the
-        resamples' θ and β, (rows, resamples) each.
+        Per ``motions`` (``"records"``, and ``"synthetic"`` when there are any) and
+        ``measure``: the columns of :func:`~rocking.fragility.refit.fit_cells`;
+        ``attrs["bootstrap"]`` holds the resamples' θ and β, (rows, resamples) each.
     """
     import pandas as pd
 
-    from rocking.fragility.lognormal import fit_lognormal
+    from rocking.fragility.refit import fit_cells
 
-    keys = ["mode", "tan_alpha", "limit_state", "R"]
-    out, samples = [], []
+    frames, medians, betas = [], [], []
     for kind, group_name in (("record", "records"), ("synthetic", "synthetic")):
         part = table[table["kind"] == kind]
         if part.empty:
             continue
-        for key, cell in part.groupby(keys, sort=False):
-            for measure in measures:
-                column, unit = measure_column(measure, component=component)
-                values, censored = _samples(
-                    cell, cell[column].to_numpy(),
-                    cell[measure_column(measure, True, component)[0]].to_numpy(), upper,
-                    float(key[1]))
-                if values.size == 0:
-                    fit = {"median": math.nan, "beta": math.nan, "n": 0, "n_censored": 0,
-                           "status": "too-few-observed"}
-                else:
-                    f = fit_lognormal(values, censored)
-                    fit = {"median": f.median, "beta": f.beta, "n": f.n,
-                           "n_censored": f.n_censored, "status": f.status}
-                fit.update(_bootstrap(values, censored, fit, samples))
-                out.append({"motions": group_name, **dict(zip(keys, key, strict=True)),
-                            "measure": measure, "component": component, "unit": unit,
-                            **fit})
-    frame = pd.DataFrame(out)
-    frame.attrs["bootstrap"] = (np.array([m for m, _ in samples]),
-                                np.array([b for _, b in samples]))
+        critical = part.assign(pga_crit=part["pga_crit_g"] / part["tan_alpha"])
+        if upper is None:  # not reached and no bound: left out, as said
+            critical = critical[~critical["not_reached"].astype(bool)]
+        for measure in measures:
+            column = measure_column(measure, component=component)[0]
+            info = part.drop_duplicates("motion")
+            ratios = dict(zip(info["motion"].astype(str),
+                              info[column].to_numpy(float) / info["pga_g"].to_numpy(float),
+                              strict=True))
+            fits, samples = fit_cells(critical, measure, component, ratios=ratios,
+                                      bound=upper)
+            fits.insert(0, "motions", group_name)
+            fits["measure"] = measure  # the study's spelling (sa:1.0), as configured
+            frames.append(fits)
+            medians.append(samples.median)
+            betas.append(samples.beta)
+    frame = pd.concat(frames, ignore_index=True)
+    frame.attrs["bootstrap"] = (np.concatenate(medians), np.concatenate(betas))
     return frame
 
 
@@ -354,41 +361,6 @@ def suite_fragilities(tables: dict, measures: Sequence[str], upper: float | None
     return out
 
 
-def _bootstrap(values: np.ndarray, censored: np.ndarray, fit: dict, samples: list) -> dict:
-    """The 90 % interval of the median over resamples of the motions
-    (:func:`rocking.fragility.lognormal.bootstrap_lognormal`); the resamples go to ``samples``
-    (one entry per row of the table, NaN where the row has no fit)."""
-    from rocking.fragility.lognormal import (
-        BOOTSTRAP_RESAMPLES,
-        bootstrap_lognormal,
-        percentile_interval,
-    )
-
-    if math.isfinite(fit["median"]):
-        med, beta = bootstrap_lognormal(values, censored)
-    else:
-        med = beta = np.full(BOOTSTRAP_RESAMPLES, np.nan)
-    samples.append((med, beta))
-    lo, hi = percentile_interval(med)
-    return {"median_p05": float(lo), "median_p95": float(hi),
-            "bootstrap_fitted": int(np.isfinite(med).sum())}
-
-
-def _samples(cell, own: np.ndarray, crit: np.ndarray, upper: float | None,
-             tan_alpha: float) -> tuple[np.ndarray, np.ndarray]:
-    """Critical values, and for motions not reached the censoring value: the measure of
-    the record scaled to the search bound (PGA = upper·g·tan α). Failed analyses are left
-    out: they say nothing about the intensity."""
-    reached = np.isfinite(crit) & ~cell["failed"].to_numpy()
-    values, censored = list(crit[reached]), [False] * int(reached.sum())
-    if upper is not None:
-        lost = cell["not_reached"].to_numpy() & ~cell["failed"].to_numpy()
-        bound_scale = upper * tan_alpha / cell["pga_g"].to_numpy()[lost]
-        values += list(bound_scale * own[lost])
-        censored += [True] * int(lost.sum())
-    return np.asarray(values, dtype=float), np.asarray(censored, dtype=bool)
-
-
 def _headers(columns: Sequence[str], measures: Sequence[str],
              component: str = DEFAULT_COMPONENT) -> dict[str, str]:
     units = {k: u for k, (u, _) in RECORD_COLUMNS.items()}
@@ -402,8 +374,8 @@ def _headers(columns: Sequence[str], measures: Sequence[str],
 
 def write_record_tables(store_path: str | Path, motions_path: str | Path,
                         measures: Sequence[str], records_csv: str | Path,
-                        fragility_csv: str | Path, *, component: str = DEFAULT_COMPONENT,
-                        also: Sequence[str] = ()) -> tuple[int, int]:
+                        fragility_csv: str | Path, *,
+                        component: str = DEFAULT_COMPONENT) -> tuple[int, int]:
     """Write ``records.csv`` (the recorded motions, with :func:`as_recorded`: one analysis
     per record and (mode, tan α, R)) and ``suite_fragility.csv``.
 
@@ -419,10 +391,8 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
         Output files (floats at :data:`rocking.units.CSV_FLOAT_FORMAT`).
     component : str
         The study's component (``studies.<name>.component``): that of ``records.csv`` and
-        of the first rows of ``suite_fragility.csv``.
-    also : sequence of str
-        Further components whose fits ``suite_fragility.csv`` adds (the hazard's, when it
-        differs from the study's).
+        of ``suite_fragility.csv`` (risk refits the fragility in a hazard's own,
+        :mod:`rocking.fragility.refit`).
 
     Returns
     -------
@@ -432,16 +402,17 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     import xarray as xr
 
     from rocking.fragility.lognormal import censoring_bound
+    from rocking.fragility.table import FIRST_EXCEEDANCE, quantity_of, write_fragilities
     from rocking.motions.ensemble_io import load_ensemble
     from rocking.store import read_attrs
     from rocking.units import CSV_FLOAT_FORMAT
 
     motions = load_ensemble(motions_path)
-    components = list(dict.fromkeys([component, *also]))
     with xr.open_zarr(store_path, consolidated=True) as store:
-        tables = {c: record_table(store, motions, measures, kinds=("record", "synthetic"),
-                                  component=c) for c in components}
+        tables = {component: record_table(store, motions, measures,
+                                          kinds=("record", "synthetic"), component=component)}
         upper = censoring_bound(store)
+        quantity = quantity_of(store.attrs)
     table = tables[component]
     attrs = read_attrs(store_path)  # the spectra's tolerances and contact model
     contact = {k: v for k, v in attrs.get("search_options", {}).items()
@@ -451,17 +422,17 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     fragility = suite_fragilities(tables, measures, upper)
     records.rename(columns=_headers(records.columns, measures, component)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
-    fragility.to_csv(fragility_csv, index=False, float_format=CSV_FLOAT_FORMAT)
-    _write_bootstrap(fragility, fragility_csv)
+    write_fragilities(fragility, fragility_csv, estimator=FIRST_EXCEEDANCE, quantity=quantity,
+                      samples=_bootstrap_samples(fragility),
+                      float_format=CSV_FLOAT_FORMAT)
     return len(records), len(fragility)
 
 
-def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
-    """``suite_fragility_bootstrap.nc`` beside the table: θ [the row's unit] and β of every
-    resample, rows in the CSV's order (:mod:`rocking.fragility.bootstrap`)."""
+def _bootstrap_samples(fragility):
+    """``suite_fragility_bootstrap.nc``'s content: θ [the row's unit] and β of every
+    resample, rows in the table's order (:mod:`rocking.fragility.bootstrap`)."""
     import xarray as xr
 
-    from rocking.fragility.bootstrap import bootstrap_path, write_bootstrap
     from rocking.fragility.lognormal import BOOTSTRAP_SEED
 
     med, beta = fragility.attrs["bootstrap"]
@@ -472,7 +443,6 @@ def _write_bootstrap(fragility, fragility_csv: str | Path) -> None:
                             "component": ("row",
                                           fragility["component"].astype(str).to_numpy())})
     ds.attrs.update(fragility="first_exceedance", seed=BOOTSTRAP_SEED,
-                    unit="the row's measure unit (g for pga and sa, m/s for pgv)")
-    write_bootstrap(ds, bootstrap_path(fragility_csv), table=fragility_csv)
-
-
+                    unit="the row's measure unit (g for pga and sa, m/s for pgv)",
+                    measures=" ".join(dict.fromkeys(fragility["measure"].astype(str))))
+    return ds

@@ -3,20 +3,20 @@
 Modules: :mod:`.envelope` (gamma modulating function), :mod:`.filter` (time-varying filter,
 optional low-frequency filter, normalized impulse-response band, unit-variance spectrum),
 :mod:`.params` (the parameters of a component, with the extension of the spectrum-matched
-fit), :mod:`.simulate` (time-domain and spectral discretizations), :mod:`.fit`
+fit), :mod:`.discretize` (time-domain and spectral discretizations), :mod:`.fit`
 (identification from a record, both principal components; count-based or spectrum-matched),
 :mod:`.spectrum_fit` (the spectrum-matched identification), :mod:`.quality` (how well an
-ensemble's elastic spectrum matches its record's), :mod:`.ensemble` (reproducible
-bidirectional ensembles).
+ensemble's elastic spectrum matches its record's), :mod:`.pairs` (reproducible
+bidirectional ensembles of synthetic pairs).
 """
 
-from rocking.motions.stochastic.ensemble import synthesize
 from rocking.motions.stochastic.envelope import (
     GammaEnvelope,
     alphas_from_physical,
     physical_from_alphas,
 )
 from rocking.motions.stochastic.fit import RDKFit, fit_component, fit_rdk
+from rocking.motions.stochastic.pairs import synthesize
 from rocking.motions.stochastic.params import RDKParams
 from rocking.motions.stochastic.quality import ensemble_quality
 from rocking.motions.stochastic.spectrum_fit import fit_spectrum

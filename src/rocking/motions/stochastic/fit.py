@@ -38,9 +38,9 @@ from rocking._validate import finite_array, positive_finite
 from rocking.motions.counts import pmnm_cum, zero_upcrossings_cum
 from rocking.motions.intensity import husid, times_from_husid
 from rocking.motions.motion import GroundMotion
+from rocking.motions.stochastic.discretize import DEFAULT_FC_HZ, time_domain
 from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ
 from rocking.motions.stochastic.params import RDKParams
-from rocking.motions.stochastic.simulate import DEFAULT_FC_HZ, time_domain
 from rocking.motions.stochastic.spectrum_fit import fit_spectrum
 
 #: Identification methods of :func:`fit_component` and :func:`fit_rdk`.

@@ -21,7 +21,7 @@ File format (JSON, :data:`FORMAT`)::
                                  "seed": s}}}
 
 Pair r of a seed is the same whatever the number of pairs
-(:mod:`rocking.motions.stochastic.ensemble`), so a study with fewer pairs (config/config.yaml
+(:mod:`rocking.motions.stochastic.pairs`), so a study with fewer pairs (config/config.yaml
 has 3 of the paper's 10) is checked on the first ones.
 """
 

@@ -49,10 +49,10 @@ from scipy import optimize
 from rocking._validate import finite_array, positive_finite
 from rocking.constants import G
 from rocking.motions.response_spectrum import pseudo_acceleration
+from rocking.motions.stochastic.discretize import noise_rows, time_domain
 from rocking.motions.stochastic.filter import DEFAULT_FLOOR_HZ, unit_psd
 from rocking.motions.stochastic.params import RDKParams
 from rocking.motions.stochastic.quality import BANDS
-from rocking.motions.stochastic.simulate import noise_rows, time_domain
 
 #: Periods at which the ensemble's median PSA is matched [s] (log-spaced; the bands that
 #: matter for rocking, 0.1–4 s, with a margin on both sides).

@@ -1,0 +1,103 @@
+"""Every name retired with the first exceedance as the answer is gone: from the code, the
+workflow, the configuration, the documents, and the tables and reports a run writes.
+
+The refinement that chased the first exceedance (the near-miss refinement and its budget, the
+window-seeking scan, the refinement sample and its risk table, the ``unresolved`` and
+``budget_spent`` flags) was retired when the critical intensity became I10, which converges
+(docs/models.md, "The critical intensity"). A document may tell that history under a heading
+that says so ("... history"); nowhere else may a retired name stand.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from collections.abc import Iterable
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+RETIRED = (
+    # the refinement sample and its risk table
+    "rocking.study.refinement", "study/refinement.py", "rocking.plot.refined", "plot/refined.py",
+    "refinement.smk", "refinement_sample", "refinement_risk", "refinement_not_measured",
+    "moved by refinement", "refinement moves",
+    # the flags of the near-miss refinement
+    "unresolved", "budget_spent",
+    # the near-miss refinement and the window-seeking scan (accuracy settings)
+    "refine_budget", "refine_step", "refine_near", "seek_near", "window-seeking",
+)
+"""Retired names, matched case-insensitively as written (``n_unresolved`` holds one)."""
+
+PATTERN = re.compile("|".join(re.escape(n) for n in RETIRED), re.IGNORECASE)
+SOURCES = ("src", "workflow", "docs", "config", "README.md", "Snakefile")
+"""What the repository says about itself (tests name the retired names, by design)."""
+TEXT = (".py", ".smk", ".md", ".yaml", ".yml", ".rst", ".csv", ".json", ".html", ".txt", "")
+
+
+def _history_free(path: Path, text: str) -> str:
+    """``text`` without the sections of a Markdown document whose heading names a history."""
+    if path.suffix != ".md":
+        return text
+    out, skip = [], None
+    for line in text.splitlines():
+        m = re.match(r"^(#+)\s+(.*)", line)
+        if m:
+            level = len(m.group(1))
+            if skip is not None and level <= skip:
+                skip = None
+            if skip is None and "history" in m.group(2).lower():
+                skip = level
+        if skip is None:
+            out.append(line)
+    return "\n".join(out)
+
+
+def retired_names_in(paths: Iterable[Path]) -> list[str]:
+    """``file:line: name`` of every retired name in the text files ``paths``."""
+    found = []
+    for path in paths:
+        if path.suffix not in TEXT or not path.is_file():
+            continue
+        try:
+            text = _history_free(path, path.read_text())
+        except UnicodeDecodeError:
+            continue
+        name = path.relative_to(ROOT) if path.is_relative_to(ROOT) else path
+        for i, line in enumerate(text.splitlines(), 1):
+            for m in PATTERN.finditer(line):
+                found.append(f"{name}:{i}: {m.group(0)}")
+    return found
+
+
+def _tracked(*where: str) -> list[Path]:
+    out = subprocess.run(["git", "ls-files", *where], cwd=ROOT, capture_output=True,
+                         text=True, check=True).stdout.split()
+    return [ROOT / p for p in out]
+
+
+def test_the_pattern_finds_each_name():
+    for name in RETIRED:
+        assert PATTERN.search(f"x {name.upper()} y"), name
+    assert not PATTERN.search("refine_stripes n_refined plateau first_exceedance")
+
+
+def test_no_retired_name_in_code_workflow_config_or_documents():
+    found = retired_names_in(_tracked(*SOURCES))
+    assert not found, "\n".join(found[:40])
+
+
+def test_a_history_section_may_tell_the_retired_names(tmp_path):
+    doc = tmp_path / "d.md"
+    doc.write_text("# A\nnew\n## The resolution, a short history\nthe unresolved flag\n"
+                   "### detail\nbudget_spent\n## Now\nplateau\n")
+    assert retired_names_in([doc]) == []
+    doc.write_text("# A\nthe unresolved flag\n")
+    assert retired_names_in([doc]) == [f"{doc}:2: unresolved"]
+
+
+def test_the_gallery_holds_no_retired_name():
+    """The committed gallery (results/paper): tables, reports, figures' notes, READMEs. Holds
+    once the gallery is regenerated with this code."""
+    found = retired_names_in(_tracked("results/paper"))
+    assert not found, "\n".join(found[:40])
