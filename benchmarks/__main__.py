@@ -11,7 +11,7 @@ def main(argv: list[str] | None = None) -> int:
     if not argv or argv[0] in {"-h", "--help"}:
         print("usage: python -m benchmarks "
               "{dynamics,damped,motions,resolution,coldstart,paper_cost,"
-              "monitors,surface_holdout,portfolio} [options]")
+              "monitors,surface_holdout,portfolio,unidirectional} [options]")
         return 0 if argv else 2
     name, rest = argv[0], argv[1:]
     try:

@@ -21,7 +21,7 @@ from rocking.config.ensemble import EnsembleSpec
 from rocking.config.plan import plan_study
 from rocking.config.products import SpectraSpec, TiltMapSpec
 
-MODES = ["3d", "3d-damped", "2d-x", "2d-y"]
+MODES = ["3d", "3d-damped", "3d-x", "3d-y", "2d-x", "2d-y"]
 LIMIT_STATES = ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]
 MOTIONS = ["el-centro-1940", "synthetic-01", "synthetic-02", "synthetic-03"]
 TAN_ALPHA = [0.1, 0.2, 0.3]
@@ -29,7 +29,8 @@ R = [1.0, 2.0, 4.0, 6.0, 10.0]
 UPPER = 30.0
 QUANTITY = {"name": "exceedance_quantile", "p": 0.1, "w": 0.02}
 """The quantity of the synthetic store (the default: I10)."""
-MODE_FACTOR = {"3d": 1.0, "3d-damped": 1.05, "2d-x": 2.0, "2d-y": 1.8}
+MODE_FACTOR = {"3d": 1.0, "3d-damped": 1.05, "3d-x": 1.9, "3d-y": 1.6, "2d-x": 2.0,
+               "2d-y": 1.8}
 LS_FACTOR = {"tilt:0.1": 0.2, "tilt:0.3333": 0.5, "tilt:0.6": 0.8, "overturning": 3.0}
 
 

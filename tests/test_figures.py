@@ -610,31 +610,46 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
     assert labels == [("El Centro 1940 ensemble: mean of 4 motions", False),
                       ("Loma Prieta 1989 (stand-in: Corralitos): mean of 4 motions", True)]
     m = d["measured"]
-    # R = 10 m is on the grid and every motion reaches θ > α/3 there: the 2D-x mean is
-    # exactly MODE_FACTOR = 2 times the 3D one
-    ratio = m["elcentro|excessive tilt|2d-x"] / m["elcentro|excessive tilt|3d"]
-    assert ratio == pytest.approx(2.0, rel=1e-12)
+    # R = 10 m is on the grid and every motion reaches θ > α/3 there: each one-component
+    # mean is exactly its MODE_FACTOR times the 3D one
+    for mode, factor in (("3d-x", 1.9), ("3d-y", 1.6), ("2d-x", 2.0), ("2d-y", 1.8)):
+        ratio = m[f"elcentro|excessive tilt|{mode}"] / m["elcentro|excessive tilt|3d"]
+        assert ratio == pytest.approx(factor, rel=1e-12)
     assert m["elcentro|overturning|3d|count"] == 4
-    assert ("Loma Prieta 1989 (stand-in: Corralitos): mode 2d-x not computed"
-            in d["missing"])
+    for mode in ("3d-x", "3d-y", "2d-x", "2d-y"):
+        assert f"Loma Prieta 1989 (stand-in: Corralitos): mode {mode} not computed" in d["missing"]
     fig = fig12_2d_vs_3d.plot(d)
-    legend = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
+    legend = [t.get_text() for ax in fig.axes if ax.get_legend()
+              for t in ax.get_legend().get_texts()]
     assert any("stand-in" in t for t in legend)
     assert any("mean of 4 motions" in t for t in legend)
-    assert "2D, x (major axis) component only" in legend
+    assert "3D cylinder, x (major axis) component only" in legend
+    assert "Housner 2D block (e = 0.942), y component only" in legend
     text = _texts(fig)
     assert "N19.5°W" in text and "E–W" in text and "not computed in this run" in text.lower()
+    assert "(the paper's comparison, §5.4)" in text and "a further comparator" in text
+    # one row per ensemble, one column per limit state, each row on its own scale
+    panels = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title().split("\n")[0] for ax in panels] == [
+        "Overturning", "Tilt θ > α/3 (excessive tilt)"] * 2
+    assert "El Centro 1940 ensemble" in panels[0].get_title()
+    assert "Loma Prieta" in panels[2].get_title()
     agg = xr.open_dataset(study["means"]).load()
-    _same(_lines(fig.axes[0])[0][1], agg["mean"].sel(mode="3d", limit_state="overturning",
-                                                      tan_alpha=0.2))
-    # open markers exactly where a mean leaves out motions not reached at the search bound
+    _same(_lines(panels[0])[0][1], agg["mean"].sel(mode="3d", limit_state="overturning",
+                                                    tan_alpha=0.2))
+    top = agg["mean"].sel(limit_state="overturning", tan_alpha=0.2).max()
+    assert panels[0].get_ylim()[1] == pytest.approx(1.06 * float(top), rel=0.05)
+    # the ratios to the 3D model under both, the paper's comparator and Housner's
+    ratios = sorted(t.get_text() for t in panels[1].texts)
+    assert ratios == ["×1.60 3D y", "×1.80 2D y", "×1.90 3D x", "×2.00 2D x"]
+    # open circles exactly where a mean leaves out motions not reached at the search bound
     ens = d["ensembles"][0]
     for title, curves in ens["panels"].items():
         for mode in curves:
             count = ens["spread"][f"{title}|{mode}|count"]
             np.testing.assert_array_equal(fig12_2d_vs_3d.fewer_motions(ens, title, mode),
                                           count < ens["n_motions"])
-    opened = [ln for ax in fig.axes[:2] for ln in ax.get_lines() if ln.get_mfc() == "white"]
+    opened = [ln for ax in panels for ln in ax.get_lines() if ln.get_markersize() == 7]
     n_few = sum(int(fig12_2d_vs_3d.fewer_motions(e, t, mo).sum()) for e in d["ensembles"]
                 for t, c in e["panels"].items() for mo in c)
     assert n_few > 0 and sum(len(ln.get_xdata()) for ln in opened) == n_few
@@ -642,24 +657,32 @@ def test_fig12_compares_modes_across_ensembles(study, reduced):
 
 
 def test_fig12_marks_a_censored_ratio_as_a_bound():
-    # a 2D mean over fewer motions (the others not reached) is too low: its ratio to the 3D
-    # mean at the largest R is a lower bound, written "≥"; a censored 3D mean gives "≤"
+    # a one-component mean over fewer motions (the others not reached) is too low: its ratio
+    # to the 3D mean at the largest R is a lower bound, written "≥"; a censored 3D mean "≤"
     from matplotlib.figure import Figure
 
     ax = Figure().subplots()
+    ax.set_ylim(0.0, 10.0)
     R = np.array([2.0, 6.0, 10.0])
-    curves = {"3d": np.array([1.0, 2.0, 4.0]), "2d-x": np.array([2.0, 5.0, 8.0]),
+    curves = {"3d": np.array([1.0, 2.0, 4.0]), "3d-x": np.array([2.0, 5.0, 8.0]),
               "2d-y": np.array([2.0, 4.0, 6.0])}
-    censored = {"3d": np.zeros(3, bool), "2d-x": np.array([False, False, True]),
+    censored = {"3d": np.zeros(3, bool), "3d-x": np.array([False, False, True]),
                 "2d-y": np.zeros(3, bool)}
     fig12_2d_vs_3d._write_ratios(ax, R, curves, "red", censored)
-    labels = sorted(t.get_text() for t in ax.texts)
-    assert labels == ["×1.50 (y)", "≥×2.00 (x)"]
-    ax.texts[0].remove()
-    ax.texts[0].remove()
-    censored = {"3d": np.array([False, False, True]), "2d-x": np.zeros(3, bool)}
+    assert sorted(t.get_text() for t in ax.texts) == ["×1.50 2D y", "≥×2.00 3D x"]
+    for t in list(ax.texts):
+        t.remove()
+    censored = {"3d": np.array([False, False, True]), "3d-x": np.zeros(3, bool)}
     fig12_2d_vs_3d._write_ratios(ax, R, curves, "red", censored)
-    assert sorted(t.get_text() for t in ax.texts) == ["≤×1.50 (y)", "≤×2.00 (x)"]
+    assert sorted(t.get_text() for t in ax.texts) == ["≤×1.50 2D y", "≤×2.00 3D x"]
+    # labels of curves ending close together are spread apart, never above the axes
+    curves = {"3d": np.array([1.0, 2.0, 4.0]), "3d-x": np.full(3, 9.9),
+              "3d-y": np.full(3, 9.85), "2d-x": np.full(3, 9.8)}
+    for t in list(ax.texts):
+        t.remove()
+    fig12_2d_vs_3d._write_ratios(ax, R, curves, "red")
+    ys = sorted(t.xy[1] for t in ax.texts)
+    assert np.all(np.diff(ys) >= 0.05 * 10.0 - 1e-9) and ys[-1] <= 9.7 + 1e-9
 
 
 def test_partially_computed_store_builds_every_figure(partial, tmp_path):

@@ -30,7 +30,11 @@ def test_registry_is_keyed_by_the_model_names():
 
 def test_modes_run_registered_models_and_the_schema_lists_them():
     assert SCHEMA["definitions"]["mode"]["enum"] == list(modes.MODES)
-    assert {model for model, _ in modes.MODES.values()} == set(models.MODELS)
+    assert {mode.model for mode in modes.MODES.values()} == set(models.MODELS)
+    # a spin at uplift exactly where the 3D model runs under one component
+    assert [m for m, mode in modes.MODES.items() if mode.spin] == list(modes.UNIDIRECTIONAL_MODES)
+    assert all(modes.MODES[m].model == names.MODEL_3D and modes.MODES[m].component
+               for m in modes.UNIDIRECTIONAL_MODES)
     assert [m for m in modes.MODES if modes.is_damped(m)] == [modes.MODE_3D_DAMPED]
     # the damped mode and the damped model are distinct names that spell alike
     assert modes.MODES[modes.MODE_3D_DAMPED][0] == names.MODEL_3D_DAMPED

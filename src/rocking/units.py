@@ -26,7 +26,8 @@ outputs keep every bit."""
 # name: (CF units, CSV unit, long_name)
 QUANTITIES: dict[str, tuple[str, str, str]] = {
     # labels and grid coordinates
-    "mode": ("1", "", "analysis mode: dynamics model and excitation (3d, 3d-damped, 2d-x, 2d-y)"),
+    "mode": ("1", "", "analysis mode: dynamics model and excitation (3d, 3d-damped, 3d-x, 3d-y, "
+             "2d-x, 2d-y)"),
     "limit_state": ("1", "", "performance limit state (overturning, tilt:r: theta > r alpha, "
                     "sliding:mu: mu_required_max > mu)"),
     "motion": ("1", "", "ground-motion name"),

@@ -260,7 +260,6 @@ def report_inputs(study):
     return {"figures": report_figures(study),
             "linear_fit": rules.fragility.output.linear_csv.format(study=study),
             "fragility": rules.fragility.output.fragility_csv.format(study=study),
-            **({"risk": rules.risk.output.table.format(study=study),
             **({"risk": rules.risk.output.table.format(study=study)}
                if hazard_spec(study) is not None else {}),
             **({"stripes": out_path(f"{study}/stripe_fragility.csv")}

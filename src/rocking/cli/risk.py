@@ -92,7 +92,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--im-factor", type=float, default=1.0,
                    help="study PGA / hazard PGA (e.g. RotD100/RotD50), instead of "
                    "--component")
-    p.add_argument("--mode", default=None, help="only this mode (3d, 3d-damped, 2d-x, 2d-y)")
+    p.add_argument("--mode", default=None,
+                   help="only this mode (3d, 3d-damped, 3d-x, 3d-y, 2d-x, 2d-y)")
     p.add_argument("--tan-alpha", type=float, default=None, help="only this slenderness")
     _common.add_dimensions(p)  # only the row of this body (its R and tan alpha)
     p.add_argument("--limit-states", default=None,

@@ -54,8 +54,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--body", choices=("cylinder", "block"), default="cylinder",
                    help="rigid body (a block only in the 2D modes)")
     p.add_argument("--mode", choices=list(MODES), default=MODE_3D,
-                   help="model and excitation: 3d, 3d-damped, or the 2D model under the x or "
-                   "y component (in free vibration 2d-x and 2d-y are the same)")
+                   help="model and excitation: 3d, 3d-damped, the 3D model under the x or y "
+                   "component alone (3d-x, 3d-y: a small spin at each uplift, --phi-dot0), or "
+                   "the 2D model under one (2d-x, 2d-y); in free vibration the component "
+                   "does not matter")
     p.add_argument("--rtol", type=float, default=None,
                    help="relative tolerance (default: the model's, 1e-8)")
     p.add_argument("--stop-at", type=float, default=None, help="stop once |theta| > this [rad]")
@@ -71,7 +73,9 @@ def add_parser(subparsers) -> None:
                    help="contact damping ratio of mode 3d-damped [-]")
     fv = p.add_argument_group("free vibration (when no ground motion is given)")
     fv.add_argument("--theta0", type=float, help="initial tilt [rad]")
-    fv.add_argument("--phi-dot0", type=float, default=0.0, help="initial spin [rad/s]")
+    fv.add_argument("--phi-dot0", type=float, default=None,
+                    help="initial spin [rad/s] (default 0); under a ground motion the spin at "
+                    "each uplift of modes 3d-x, 3d-y (default theirs, 1e-4)")
     fv.add_argument("--duration", type=float, help="length [s]")
     _common.add_motion_source(p)
     _common.add_processing(p)
@@ -88,23 +92,24 @@ def add_parser(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-def _ground(args, body, model: str, component: str | None, motion, common: dict):
+def _ground(args, body, model: str, motion, common: dict):
     from rocking.constants import G
     from rocking.dynamics.analysis import ground_response
     from rocking.motions.identity import identity
+    from rocking.spectra.modes import excitation
 
-    excitation = motion if component is None else motion.component(component)
+    excited, start = excitation(args.mode, motion, args.phi_dot0)
     # the pair's vector PGA normalizes the intensity in every mode, as in the spectra
     scale = args.scale if args.scale is not None else 1.0
     if args.pga_ratio is not None:
         scale = args.pga_ratio * G * body.tan_alpha / motion.pga
     if args.pga_g is not None:
         scale = args.pga_g / motion.pga_g
-    res = ground_response(body, excitation, scale=scale, stop_at=args.stop_at, model=model,
-                          **common)
+    res = ground_response(body, excited, scale=scale, stop_at=args.stop_at, model=model,
+                          **start, **common)
     who = identity(motion)
     meta = {"motion": motion.name, "source_record": who["source_record"],
-            "processing": who["processing"], "scale": scale,
+            "processing": who["processing"], "scale": scale, **start,
             "pga_ratio": scale * motion.pga / (G * body.tan_alpha),
             "pga_g": scale * motion.pga_g}
     return res, meta
@@ -125,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
                           ("--pga-g", args.pga_g)):
         if value is not None:
             positive_finite(option, value)
-    model, component = MODES[args.mode]
+    model = MODES[args.mode].model
     if args.body == "block" and model != MODEL_2D:
         raise ValueError(f"--body block has only the 2D model: use --mode 2d-x or 2d-y, "
                          f"got --mode {args.mode}")
@@ -142,12 +147,12 @@ def run(args: argparse.Namespace) -> int:
                          "motion: --record, --files or --ensemble)")
     with _common.saying_compile("simulate", args.mode, args.quiet):
         if motion is not None:
-            res, meta = _ground(args, body, model, component, motion, common)
+            res, meta = _ground(args, body, model, motion, common)
         else:
-            res = free_vibration(body, args.theta0, args.phi_dot0, duration=args.duration,
+            spin = 0.0 if args.phi_dot0 is None else args.phi_dot0
+            res = free_vibration(body, args.theta0, spin, duration=args.duration,
                                  model=model, **common)
-            meta = {"theta0": args.theta0, "phi_dot0": args.phi_dot0,
-                    "duration": args.duration}
+            meta = {"theta0": args.theta0, "phi_dot0": spin, "duration": args.duration}
     cols = HISTORY_COLUMNS[model]
     # numpy, not pandas: the table is plain numbers and pandas costs half a second to load
     with _common.replacing(out / "history.csv") as tmp:
@@ -185,7 +190,8 @@ def human(s: dict, alpha: float, out: Path, processing: str = "") -> str:
     """The summary in labelled lines: body, motion and ``processing`` (in words, or the free
     vibration), intensity, outcome, peak tilt in rad and as θmax/α, uplift, impacts, files."""
     rows = [("body", _human.body_line(s["body"], s["R"], s["tan_alpha"])),
-            ("mode", s["mode"])]
+            ("mode", s["mode"] + (f", spin {_human.num(s['phi_dot0'])} rad/s at each uplift"
+                                  if "motion" in s and "phi_dot0" in s else ""))]
     if "motion" in s:
         rows += [("motion", s["processing"]),
                  ("processing", processing),

@@ -23,7 +23,7 @@ import numpy as np
 
 from rocking.spectra.critical import MODES
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.spectra.modes import MODE_3D, PLANAR_MODES
+from rocking.spectra.modes import MODE_3D, ONE_COMPONENT_MODES
 
 
 @dataclass(frozen=True)
@@ -88,8 +88,9 @@ class StudyPlan:
         return {m: int(n) * n_motions * n_R for m, n in zip(self.modes, per_mode, strict=True)}
 
     def compares_2d_with_3d(self) -> bool:
-        """Whether the plan runs "3d" and a 2D mode at a common tan α."""
-        flat = [m for m in PLANAR_MODES if m in self.modes]
+        """Whether the plan runs "3d" and a mode under one component (the 3D model's or
+        Housner's 2D block) at a common tan α: the comparison of Fig 12."""
+        flat = [m for m in ONE_COMPONENT_MODES if m in self.modes]
         return MODE_3D in self.modes and any(
             self.limit_states_of(MODE_3D, t) and any(self.limit_states_of(m, t) for m in flat)
             for t in self.tan_alpha)

@@ -42,6 +42,13 @@ METHOD = "dp5"
 THETA_EPS = 1e-7
 """Tilt at which a 3D analysis starts from rest at uplift [rad] (docs/equations.md)."""
 
+MAX_UPLIFT_SPIN = 1e-3
+"""Largest spin at uplift (``ground_response(phi_dot0=)``) as a fraction of the pure-wobbling
+rate at the uplift tilt :data:`THETA_EPS` (1.6 rad/s for R = 6 m, tan α = 0.2): the spin's
+centrifugal term is then 1e-6 of gravity's there and the answers are those of the small-spin
+limit (docs/models.md, "The 3D model under one component"); a larger one starts the body
+wobbling."""
+
 MAX_STEPS = 20_000_000
 """Budget of integration steps of one kernel call."""
 
@@ -69,6 +76,27 @@ def _check_common(rtol, omega_n, zeta, model) -> float:
     if r >= 1e-2:
         raise ValueError(f"rtol must be below 1e-2, got {rtol!r}")
     return r
+
+
+def _check_spin(phi_dot0, model: str, body) -> float:
+    """The spin at uplift [rad/s]: 0 for the 2D model; for the 3D models finite, ≥ 0 (under
+    one component a negative spin is the mirror image of a positive one) and at most
+    :data:`MAX_UPLIFT_SPIN` of the wobbling rate at the uplift tilt."""
+    name = "phi_dot0 (the spin at uplift)"
+    if model == MODEL_2D:
+        if phi_dot0 != 0.0:
+            raise ValueError(f"{name} applies to the 3D models, the 2D model has no spin; got "
+                             f"{phi_dot0!r}")
+        return 0.0
+    spin = nonnegative_finite(name, phi_dot0)
+    if spin == 0.0:  # the common case costs no wobbling rate
+        return spin
+    top = MAX_UPLIFT_SPIN * float(body.wobbling_rate(THETA_EPS))
+    if spin > top:
+        raise ValueError(f"{name} must be at most {top:.3g} rad/s for this body "
+                         f"({MAX_UPLIFT_SPIN:g} of the wobbling rate at the uplift tilt "
+                         f"{THETA_EPS:g} rad; a larger spin sets it wobbling), got {phi_dot0!r}")
+    return spin
 
 
 def _check_stop(stop_at) -> float:
@@ -274,12 +302,15 @@ def _above(unscaled: _Unscaled, ax: np.ndarray, ay: np.ndarray, scale: float,
     return near[np.hypot(ax[near], ay[near]) > threshold]
 
 
-def _start_state(model: str, phi0: float) -> tuple[np.ndarray, float]:
-    """State at uplift along the D'Alembert direction φ0, and the 2D pivot side."""
+def _start_state(model: str, phi0: float, phi_dot0: float = 0.0) -> tuple[np.ndarray, float]:
+    """State at uplift along the D'Alembert direction φ0 with the spin ``phi_dot0`` [rad/s]
+    (3D), and the 2D pivot side."""
     if model == MODEL_2D:
         return np.zeros(2), (1.0 if math.cos(phi0) >= 0.0 else -1.0)
-    y0 = np.zeros(len(models.MODELS[model].state))
+    state = models.MODELS[model].state
+    y0 = np.zeros(len(state))
     y0[0], y0[1] = THETA_EPS, phi0
+    y0[state.index("phi_dot")] = phi_dot0
     return y0, 1.0
 
 
@@ -615,7 +646,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
                     history: bool = True, free_tail: bool = True,
                     rest_tilt: float | None = None,
                     stop_when_decided: bool = True, vertical: bool | None = None,
-                    monitors: bool = True) -> Response:
+                    monitors: bool = True, phi_dot0: float = 0.0) -> Response:
     """Response of a body initially at rest to a (scaled) ground motion.
 
     Parameters
@@ -623,8 +654,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     body : Cylinder or Block
         The rigid body (a Block only with ``model="2d"``).
     motion : GroundMotion
-        Ground accelerations [m/s²]; "2d" uses ``motion.ax`` only, the 3D models need both
-        components (a unidirectional motion is a ValueError pointing to "2d").
+        Ground accelerations [m/s²]; "2d" uses ``motion.ax`` only, the 3D models both
+        components (a unidirectional motion needs ``phi_dot0`` > 0).
     model : {"3d", "3d-damped", "2d"}
     scale : float, optional
         Factor on both components [-], > 0 (default 1: the motion as it is).
@@ -669,6 +700,12 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
         docs/models.md). False: the kernels' variant without them (θmax, its time, the
         status and the steps are the same to the bit, for up to ~10 % less work); those
         fields are NaN and ``lifts_off`` False.
+    phi_dot0 : float
+        Spin φ̇ [rad/s] of the 3D models at each uplift from rest (default 0), at most
+        :data:`MAX_UPLIFT_SPIN` of the wobbling rate at the uplift tilt. A motion with one
+        component (placed on x) needs one: without spin its motion would stay exactly planar
+        and reach θ = 0, where the 3D model is undefined; with it the motion leaves the
+        plane as the paper's does (§2.4; docs/models.md, "The 3D model under one component").
 
     Returns
     -------
@@ -677,6 +714,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     _check_model(model, body)
     rtol = _check_common(rtol, omega_n, zeta, model)
     rest_tilt = _check_rest_tilt(rest_tilt, model, body)
+    phi_dot0 = _check_spin(phi_dot0, model, body)
     if vertical is not None and not isinstance(vertical, bool):
         raise ValueError(f"vertical must be True, False or None, got {vertical!r}")
     if not isinstance(stop_when_decided, bool):
@@ -699,12 +737,14 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
                          "(give az, or load the record with vertical=True)")
     use_vertical = motion.has_vertical if vertical is None else vertical
     unscaled = _unscaled(motion, model == MODEL_2D, use_vertical)
-    if model != MODEL_2D and unscaled.unidirectional:
+    if model != MODEL_2D and unscaled.unidirectional and phi_dot0 == 0.0:
         live = "y" if motion.ay.any() else "x"
         raise ValueError(
             f"motion {motion.name!r} has a zero component: unidirectional excitation of the 3D "
-            "model is exactly planar and reaches theta = 0 where the model is undefined; "
-            f"use model='2d' (the 2D model under the {live} component)")
+            "model without spin is exactly planar and reaches theta = 0 where the model is "
+            "undefined; give it a spin at uplift, phi_dot0 > 0 (as the modes 3d-x and 3d-y do "
+            f"with a component of a pair), or use model='2d' (the 2D model under the {live} "
+            "component)")
     ax = motion.ax * scale
     ay = np.zeros_like(ax) if model == MODEL_2D else motion.ay * scale
     az = None if unscaled.az is None else unscaled.az * scale
@@ -720,7 +760,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     quiet = (_mark_liftable(scale * unscaled.reserve, above)
              if stop_when_decided and not history else None)
     out, t_first, status, reason = _episodes(runner, acc, ax, ay, motion.dt, motion.duration,
-                                             threshold, stop_level, above, quiet, az)
+                                             threshold, stop_level, above, quiet, az, phi_dot0)
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
         return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta, body)
@@ -732,7 +772,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
 
 
 def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level, above,
-              quiet=None, az=None):
+              quiet=None, az=None, phi_dot0=0.0):
     """Rocking episodes: from each uplift until the body is back at rest, then the next one.
 
     ``above``: the samples where |a| > ``threshold``. ``quiet`` (:func:`energy_reserve`, or
@@ -754,7 +794,7 @@ def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_lev
         if math.isnan(t_first):
             t_first = t_up
         acc.add_rest(t_rest, t_up, uplift=True)
-        y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x))
+        y0, side = _start_state(runner.model.name, math.atan2(-a_y, -a_x), phi_dot0)
         out = runner(ax, ay, dt, k, tau, 0.0, y0, t_end, stop_level, side, quiet=quiet,
                      theta_before=acc.theta_max, az=az)
         acc.add(out)

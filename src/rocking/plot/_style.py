@@ -17,7 +17,14 @@ import matplotlib
 from rocking import _json
 from rocking._validate import positive_finite
 from rocking.spectra.limit_states import TILT_AXIS, severity
-from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
+from rocking.spectra.modes import (
+    MODE_2D_X,
+    MODE_2D_Y,
+    MODE_3D,
+    MODE_3D_DAMPED,
+    MODE_3D_X,
+    MODE_3D_Y,
+)
 
 # Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
 matplotlib.use("Agg")
@@ -51,6 +58,9 @@ class _ModeStyles(dict):
 MODE_STYLE = _ModeStyles({
     MODE_3D: {"color": "black", "linestyle": "-", "label": "3D"},
     MODE_3D_DAMPED: {"color": "black", "linestyle": "--", "label": "3D damped"},
+    MODE_3D_X: {"color": "tab:green", "linestyle": (0, (6, 2)), "label": "3D, x component"},
+    MODE_3D_Y: {"color": "tab:purple", "linestyle": (0, (6, 2, 1, 2)),
+                "label": "3D, y component"},
     MODE_2D_X: {"color": "tab:blue", "linestyle": "-.", "label": "2D, x component"},
     MODE_2D_Y: {"color": "tab:orange", "linestyle": ":", "label": "2D, y component"},
 })

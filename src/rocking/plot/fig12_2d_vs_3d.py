@@ -1,15 +1,19 @@
-"""Figure 12: mean spectra of the bidirectional 3D model versus unidirectional 2D models.
+"""Figure 12: mean spectra under both ground-motion components against under one (paper §5.4).
 
-For each ensemble (El Centro, black; Loma Prieta or its stand-in, red) the 3D model under both
-components is compared with the 2D model under the x (major principal axis) and under the y
-(minor) component alone; the intensity is the bidirectional PGA in all three (paper §5.4).
-At the studies' common slenderness (tan α = 0.2 in the paper). The legend names each
-ensemble by its record and the number of motions averaged; the note under the axes gives each
-ensemble's axis azimuths, so the 2D curves can be matched with the paper's (whose x is E–W and
-y N–S before its rotation). Open circles mark means over fewer motions than the ensemble;
-means over answers flagged plateau are counted in a note. The means are of each motion's
-critical intensity, the studies' quantity (I10 by default), which the legend names; studies
-of different quantities are refused, never drawn side by side.
+The paper's comparison: "the same undamped 3D cylinder model" under both components
+(bidirectional) and under each component alone (unidirectional: modes ``3d-x``, ``3d-y``),
+the intensity the pair's vector PGA in every mode. Housner's 2D block under one component
+(``2d-x``, ``2d-y``, restitution e = 0.942) is drawn beside them as a further, labelled
+comparator: it changes the model as well as the excitation. One row per ensemble (El Centro,
+black; Loma Prieta or its stand-in, red), each on its own intensity axis; one column per
+limit state (overturning, θ > α/3), at the studies' common slenderness (tan α = 0.2 in the
+paper). The ratios to the 3D model under both components are written at the largest R; the
+note under the axes gives each ensemble's axis azimuths, so the one-component curves can be
+matched with the paper's (whose x is E–W and y N–S before its rotation). Open circles mark
+means over fewer motions than the ensemble; means over answers flagged plateau are counted in
+a note. The means are of each motion's critical intensity, the studies' quantity (I10 by
+default), which the legend names; studies of different quantities are refused, never drawn
+side by side.
 """
 
 from __future__ import annotations
@@ -26,36 +30,69 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from rocking.plot import _axes, _load, criteria
-from rocking.plot._style import (
-    MODE_STYLE,
-    footnote,
-    paper_tag,
-    pga_g_axis,
-    r_axis,
-    styled,
-    with_legend_row,
+from rocking.plot._style import MODE_STYLE, footnote, paper_tag, pga_g_axis, r_axis, styled
+from rocking.plot.comparisons import (
+    DIFFERS,
+    NOT_COMPUTED,
+    NOT_IN_PAPER,
+    Comparison,
+    finite,
+    first_notes,
+    fmt,
+    judged,
 )
-from rocking.plot.comparisons import DIFFERS, Comparison, finite, first_notes, fmt, judged
+from rocking.spectra import modes as mode_registry
 from rocking.spectra.limit_states import limit_state_title, parse_limit_state
-from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, PLANAR_MODES
+from rocking.spectra.modes import (
+    MODE_2D_X,
+    MODE_2D_Y,
+    MODE_3D,
+    MODE_3D_X,
+    MODE_3D_Y,
+    PLANAR_MODES,
+    UNIDIRECTIONAL_MODES,
+)
 from rocking.store.attrs import decode_attrs
 
-MODES = (MODE_3D, *PLANAR_MODES)
+PAPER_COMPARATORS = UNIDIRECTIONAL_MODES
+"""The paper's unidirectional excitation: the same undamped 3D model under one component."""
+HOUSNER_COMPARATORS = PLANAR_MODES
+"""Housner's 2D block under one component: a further comparator, not the paper's."""
+MODES = (MODE_3D, *PAPER_COMPARATORS, *HOUSNER_COMPARATORS)
 REFERENCE_R = 10.0
-"""Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice 2D) [m]."""
+"""Size of the paper's §5.4 statement (R = 10 m: ≈ 4 bidirectional, about twice under one
+component) [m]."""
 ENSEMBLE_COLORS = ("black", "tab:red", "tab:blue", "tab:green")
-MODE_LABELS = {MODE_3D: "3D, both components", MODE_2D_X: "2D, x (major axis) component only",
-               MODE_2D_Y: "2D, y (minor axis) component only"}
+MODE_LABELS = {MODE_3D: "3D cylinder, both components",
+               MODE_3D_X: "3D cylinder, x (major axis) component only",
+               MODE_3D_Y: "3D cylinder, y (minor axis) component only",
+               MODE_2D_X: "Housner 2D block (e = 0.942), x component only",
+               MODE_2D_Y: "Housner 2D block (e = 0.942), y component only"}
+SHORT = {MODE_3D: "3D", MODE_3D_X: "3D x", MODE_3D_Y: "3D y", MODE_2D_X: "2D x",
+         MODE_2D_Y: "2D y"}
+"""How a ratio and a count name each mode in the figure and the verdicts."""
+
+PAPER_NOTE = ("the paper's comparison: the same undamped 3D model under one component against "
+              "both, so the ratio is the effect of the second component alone")
+"""What the ratios of the paper's comparator show (said in their verdicts)."""
+
+HOUSNER_NOTE = ("Housner's 2D block with the restitution e = 0.942 of Eq 31 (tan α = 0.2) "
+                "stays in its plane and loses (1 − e²) of its energy at every impact, where the "
+                "undamped 3D model under one component leaves the plane at its first "
+                "quasi-impact (the pivot turns by about 3.19 rad, not π) and loses none: its "
+                "ratio to the 3D model under both mixes the second component with this change "
+                "of model")
+"""What the Housner ratios show (said in every row that quotes them)."""
 
 
 def data(studies: Sequence[tuple], *, tan_alpha: float | None = None,
          modes: tuple[str, ...] = MODES, paper: bool = True) -> dict:
     """Mean spectra per ensemble and mode.
 
-    ``tan_alpha`` defaults to the first study's (:func:`._load.main_tan_alpha` of its 3D and
-    2D modes). Panels are the paper's overturning and excessive tilt in a reproduction of the
-    paper (``paper``: absent ones and absent ensembles named), else the studies' own goals
-    (:func:`._load.panel_limit_states`).
+    ``tan_alpha`` defaults to the first study's (:func:`._load.main_tan_alpha` of its modes
+    under both and under one component). Panels are the paper's overturning and excessive
+    tilt in a reproduction of the paper (``paper``: absent ones and absent ensembles named),
+    else the studies' own goals (:func:`._load.panel_limit_states`).
 
     Parameters
     ----------
@@ -269,8 +306,9 @@ def fewer_motions(ens: dict, title: str, mode: str) -> np.ndarray:
     return np.zeros(shape, bool)
 
 
-MODE_MARKERS = {MODE_3D: "o", MODE_2D_X: "s", MODE_2D_Y: "^"}
-"""Small markers per mode, so that line styles stay readable where curves cross."""
+MODE_MARKERS = {MODE_3D: "o", MODE_3D_X: "s", MODE_3D_Y: "^", MODE_2D_X: "s", MODE_2D_Y: "^"}
+"""Small markers per mode (square: x, triangle: y), so that line styles stay readable where
+curves cross; Housner's are drawn open, thinner and lighter (a further comparator)."""
 
 
 def _plateau_note(counts: list[tuple[str, str, int, int]]) -> str:
@@ -288,18 +326,21 @@ def _plateau_note(counts: list[tuple[str, str, int, int]]) -> str:
 
 
 def _write_ratios(ax, R: np.ndarray, curves: dict, color, censored: dict | None = None) -> None:
-    """Write 2D/3D at the largest R where both are finite, at the right end of each 2D curve.
+    """Write each one-component mean over the 3D mean under both at the largest R where both
+    are finite, at the right end of its curve (``×2.41 3D x``; Housner's ``2D x``, lighter),
+    spread vertically so that labels never overlap.
 
     ``censored`` (mode → bool per R) marks means over fewer motions than the ensemble (the
-    others not reached at the search bound, so the mean is too low): a censored 2D mean over
-    a full 3D one makes the ratio a lower bound ("≥"), the reverse an upper bound ("≤");
-    both censored, neither can be said ("?").
+    others not reached at the search bound, so the mean is too low): a censored
+    one-component mean over a full 3D one makes the ratio a lower bound ("≥"), the reverse an
+    upper bound ("≤"); both censored, neither can be said ("?").
     """
     base = curves.get(MODE_3D)
     if base is None:
         return
     censored = censored or {}
-    for mode in PLANAR_MODES:
+    labels = []
+    for mode in (*PAPER_COMPARATORS, *HOUSNER_COMPARATORS):
         y = curves.get(mode)
         if y is None:
             continue
@@ -307,122 +348,168 @@ def _write_ratios(ax, R: np.ndarray, curves: dict, color, censored: dict | None 
         if not ok.any():
             continue
         i = int(np.flatnonzero(ok)[-1])
-        low2 = bool(np.asarray(censored.get(mode, np.zeros(len(y), bool)))[i])
+        low1 = bool(np.asarray(censored.get(mode, np.zeros(len(y), bool)))[i])
         low3 = bool(np.asarray(censored.get(MODE_3D, np.zeros(len(y), bool)))[i])
-        bound = {(True, False): "≥", (False, True): "≤", (True, True): "?"}.get((low2, low3), "")
-        ax.annotate(f"{bound}×{y[i] / base[i]:.2f} ({mode[-1]})", (R[i], y[i]), xytext=(4, 0),
-                    textcoords="offset points", color=color, fontsize=6.5, va="center")
+        bound = {(True, False): "≥", (False, True): "≤", (True, True): "?"}.get((low1, low3), "")
+        labels.append((float(y[i]), float(R[i]), f"{bound}×{y[i] / base[i]:.2f} {SHORT[mode]}",
+                       mode in HOUSNER_COMPARATORS))
+    # in axes fraction, in the order of the curves' ends, at least 5 % apart and inside
+    lo, hi = ax.get_ylim()
+    labels.sort()
+    fracs = [(y - lo) / (hi - lo) if hi > lo else 0.5 for y, *_ in labels]
+    for i in range(1, len(fracs)):
+        fracs[i] = max(fracs[i], fracs[i - 1] + 0.05)
+    for i in reversed(range(len(fracs))):
+        fracs[i] = min(fracs[i], 0.97 if i == len(fracs) - 1 else fracs[i + 1] - 0.05)
+    for frac, (_, r, text, housner) in zip(fracs, labels, strict=True):
+        ax.annotate(text, (r, lo + frac * (hi - lo)), xytext=(4, 0), textcoords="offset points",
+                    color=color, fontsize=6.5, va="center", alpha=0.6 if housner else 1.0,
+                    annotation_clip=False)
+
+
+def _curve(ax, R, y, mode: str, color) -> None:
+    """One mean spectrum: the 3D model bold, under one component dashed, Housner's block
+    thin, light and with open markers (a further comparator)."""
+    housner = mode in HOUSNER_COMPARATORS
+    ax.plot(R, y, color=color, ls=MODE_STYLE[mode]["linestyle"],
+            lw=0.9 if housner else (1.8 if mode == MODE_3D else 1.4),
+            alpha=0.55 if housner else 1.0, marker=MODE_MARKERS.get(mode, "o"),
+            ms=3.0 if housner else 2.8, mfc="none" if housner else color, mec=color)
+
+
+def _mode_handle(mode: str) -> Line2D:
+    housner = mode in HOUSNER_COMPARATORS
+    return Line2D([], [], color="dimgray", ls=MODE_STYLE[mode]["linestyle"],
+                  lw=0.9 if housner else (1.8 if mode == MODE_3D else 1.4),
+                  alpha=0.7 if housner else 1.0, marker=MODE_MARKERS.get(mode, "o"), ms=3.0,
+                  mfc="none" if housner else "dimgray", mec="dimgray",
+                  label=MODE_LABELS.get(mode, mode))
 
 
 @styled
 def plot(d: dict) -> Figure:
-    """Two panels (overturning, excessive tilt); colour = ensemble, line style = mode."""
-    titles = d.get("titles", ("overturning", "excessive tilt"))
-    fig, axes, legend_row = with_legend_row(10.0 if len(titles) > 1 else 6.4, 6.4,
-                                            ncols=len(titles), legend_share=0.22)
+    """One row per ensemble, each on its own axis of intensity; one column per limit state.
+
+    Colour = ensemble (the paper's black and red), line style and marker = mode: the 3D model
+    under both components solid, under one component dashed (the paper's comparison, §5.4),
+    Housner's 2D block thin and light (a further comparator).
+    """
+    titles = list(d.get("titles", ("overturning", "excessive tilt")))
+    ensembles = d["ensembles"] or [{"label": "", "record": "", "stand_in": False, "panels": {},
+                                    "R": np.zeros(0), "axes": {"text": ""}, "n_motions": 0}]
+    nrows, ncols = len(ensembles), len(titles)
+    fig = Figure(figsize=(10.0 if ncols > 1 else 6.4, 3.2 * nrows + 1.9), layout="constrained")
+    grid = fig.add_gridspec(nrows + 1, ncols, height_ratios=(*([1.0] * nrows), 0.5))
+    legend_row = fig.add_subplot(grid[nrows, :])
+    legend_row.axis("off")
     handles, modes_seen, notes = [], [], []
     partial = False  # any mean over fewer motions than the ensemble
     on_plateau: list[tuple] = []  # curves with means over answers flagged plateau
-    for k, ens in enumerate(d["ensembles"]):
+    R_all = np.concatenate([np.asarray(e["R"], float) for e in ensembles])
+    first = None
+    for k, ens in enumerate(ensembles):
         color = ENSEMBLE_COLORS[k % len(ENSEMBLE_COLORS)]
         label = ens["label"]
         if ens["stand_in"] and "stand-in" not in label:
             label += " (stand-in)"
-        handles.append(Line2D([], [], color=color, lw=1.6,
-                              label="\n".join(textwrap.wrap(label, 48))))
-        notes.append(f"{ens['record']}: {ens['axes']['text']}.")
-        for ax, title in zip(axes, titles, strict=True):
+        if label:
+            handles.append(Line2D([], [], color=color, lw=1.8,
+                                  label="\n".join(textwrap.wrap(label, 48))))
+            notes.append(f"{ens['record']}: {ens['axes']['text']}.")
+        for j, title in enumerate(titles):
+            ax = fig.add_subplot(grid[k, j], sharex=first)
+            first = first or ax
             curves = ens["panels"].get(title, {})
             censored = {}
-            for mode, y in curves.items():
-                ax.plot(ens["R"], y, color=color, ls=MODE_STYLE[mode]["linestyle"], lw=1.4,
-                        marker=MODE_MARKERS.get(mode, "o"), ms=2.5,
-                        label=f"{label}: {MODE_LABELS.get(mode, mode)}")
+            for mode in MODES:
+                if mode not in curves:
+                    continue
+                y = curves[mode]
+                _curve(ax, ens["R"], y, mode, color)
                 few = censored[mode] = fewer_motions(ens, title, mode)
                 if few.any():  # the mean leaves out motions not reached at the search bound
                     partial = True
-                    ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="white", mec=color, mew=1.0,
-                            zorder=1)
+                    ax.plot(ens["R"][few], y[few], "o", ms=7, mfc="none", mec=color, mew=1.0,
+                            alpha=0.55 if mode in HOUSNER_COMPARATORS else 1.0, zorder=1)
                 flagged = ens.get("spread", {}).get(f"{title}|{mode}|n_plateau")
                 if flagged is not None and (np.nan_to_num(flagged) > 0).any():
-                    k = int((np.nan_to_num(flagged) > 0).sum())  # counted, not ringed
-                    on_plateau.append((ens["record"], f"{MODE_STYLE[mode]['label']} {title}",
-                                       k, int(np.isfinite(y).sum())))
+                    n_flag = int((np.nan_to_num(flagged) > 0).sum())  # counted, not ringed
+                    on_plateau.append((ens["record"], f"{SHORT[mode]} {title}", n_flag,
+                                       int(np.isfinite(y).sum())))
                 if mode not in modes_seen:
                     modes_seen.append(mode)
+            ls_title = (limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
+                        if title in ("overturning", "excessive tilt") else title)
+            record = ens.get("record") or ""
+            ax.set_title("\n".join([ls_title, *textwrap.wrap(record, 75)]), color=color)
+            ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-]\n"
+                          "(bidirectional PGA)")
+            r_axis(ax, R_all, label=k == nrows - 1)
+            left, right = ax.get_xlim()
+            ax.set_xlim(left, right + 0.14 * (right - left))  # room for the ratios written
+            ax.set_ylim(0.0, ax.get_ylim()[1] * 1.06)  # each ensemble on its own scale
+            pga_g_axis(ax, d["tan_alpha"])
             _write_ratios(ax, ens["R"], curves, color, censored)
-    handles += [Line2D([], [], color="gray", lw=1.4, ls=MODE_STYLE[m]["linestyle"],
-                       marker=MODE_MARKERS.get(m, "o"), ms=2.5, label=MODE_LABELS.get(m, m))
-                for m in modes_seen]
+    handles += [_mode_handle(m) for m in MODES if m in modes_seen]
     if partial:
         handles.append(Line2D([], [], ls="", marker="o", ms=7, mfc="white", mec="gray",
-                              label="open marker: mean over fewer motions than the ensemble\n"
+                              label="open circle: mean over fewer motions than the ensemble\n"
                                     "(the others not reached at the search bound)"))
-    handles.append(Line2D([], [], ls="", label="×k: 2D mean / 3D mean at the largest R"
-                          + ("\n≥×k: the 2D mean there leaves out motions\n(open marker), "
-                             "a lower bound; ≤: the 3D one" if partial else "")))
+    handles.append(Line2D([], [], ls="", label="×k: one-component mean / 3D mean under both\n"
+                          "at the largest R" + ("; ≥×k: the one-component mean there\nleaves "
+                                                "out motions (a lower bound); ≤: the 3D one"
+                                                if partial else "")))
     if on_plateau:
         notes.append(_plateau_note(on_plateau))
-    for ax, title in zip(axes, titles, strict=True):
-        ax.set_title(limit_state_title("overturning" if title == "overturning" else "tilt:1/3")
-                     if title in ("overturning", "excessive tilt") else title)
-        ax.set_ylabel(f"mean {d.get('answer', 'critical')} PGA/(g tan α) [-] "
-                      "(bidirectional PGA)")
-        r_axis(ax, np.concatenate([e["R"] for e in d["ensembles"]] or [np.zeros(0)]))
-        left, right = ax.get_xlim()
-        ax.set_xlim(left, right + 0.1 * (right - left))  # room for the ratios written
-        ax.set_ylim(0.0, ax.get_ylim()[1])  # the data's own top: the legend sits below
-        pga_g_axis(ax, d["tan_alpha"])
     if handles:
-        # One legend for both panels, in a row below them: colours are ensembles, styles are modes.
         legend_row.legend(handles=handles, loc="center", ncols=3, fontsize=7,
                           title=f"means of {d['answer_definition']}"
                           if d.get("answer_definition") else None, title_fontsize=7)
-    title = (f"3D (bidirectional) versus 2D (one component), tan α = {d['tan_alpha']:g}"
+    title = (f"Both ground-motion components against one, tan α = {d['tan_alpha']:g}"
              f"{paper_tag({'paper': d.get('reproduction', True)}, 'Fig 12')}")
+    paper = " (the paper's comparison, §5.4)" if d.get("reproduction", True) else ""
+    notes.insert(0, f"Dashed: the same undamped 3D model under one component{paper}; thin "
+                 "and light: Housner's 2D block under one component, a further comparator "
+                 "that also changes the model (planar, e = 0.942 per impact).")
     if d["missing"]:
         if d.get("reproduction", True):
             title += "\nreduced run: not everything the paper shows was computed (note below)"
         notes.insert(0, "Not computed in this run: " + "; ".join(d["missing"]) + ".")
-    if d.get("reproduction", True):  # how to read the paper's 2D curves against ours
+    if d.get("reproduction", True):  # how to read the paper's one-component curves against ours
         notes.append(f"Axes: {_axes.PAPER_AXES}.")
     footnote(fig, notes)
     fig.suptitle(title)
     return fig
 
 
-# ------------------------------------------------------ comparison with the paper
-
-
 def compare(notes: Mapping) -> list[Comparison]:
     """This figure's statements of the paper set against the run's notes (criteria:
-    :mod:`.criteria`; the 2D/3D ratios from the censoring-aware medians across R where the
+    :mod:`.criteria`; the ratios of one component to both from the censoring-aware medians
+    across R where the
     notes have them, docs/models.md "Verdicts and their criteria")."""
     m = first_notes(notes, "fig12_2d_vs_3d").get("measured", {})
     R = m.get("R", 10.0)
     names = sorted({k.split("|")[0] for k in m if k.count("|") >= 2})
     centro = next((n for n in names if "centro" in (n + m.get(f"{n}|label", "")).lower()), None)
     loma = next((n for n in names if "loma" in (n + m.get(f"{n}|label", "")).lower()), None)
+    statements = (
+        (centro, "El Centro", "overturning", "about",
+         "'the intensities of unidirectional ground motion to overturn the same cylinder are "
+         "twice as high' (§5.4)", "about 2× the bidirectional value"),
+        (centro, "El Centro", "excessive tilt", "above",
+         "'a similar trend holds for the excessive tilt' (§5.4)", "one component above both"),
+        (loma, "Loma Prieta", "overturning", "above",
+         "the same trend for the Loma Prieta ensemble (§5.4, red)", "one component above both"),
+        (loma, "Loma Prieta", "excessive tilt", "above",
+         "the same trend for the Loma Prieta ensemble (§5.4, red)", "one component above both"),
+    )
     rows = [_r10_row(m, centro, R)]
-    rows += _ratio_rows(m, centro, R, "El Centro", "overturning", "about",
-                        "'the intensities of unidirectional ground motion to overturn the same "
-                        "cylinder are twice as high' (§5.4)", "about 2× the 3D value")
-    rows += _ratio_rows(m, centro, R, "El Centro", "excessive tilt", "above",
-                        "'a similar trend holds for the excessive tilt' (§5.4)",
-                        "2D above 3D")
-    rows += _ratio_rows(m, loma, R, "Loma Prieta", "overturning", "above",
-                        "the same trend for the Loma Prieta ensemble (§5.4, red)",
-                        "2D above 3D")
-    rows += _ratio_rows(m, loma, R, "Loma Prieta", "excessive tilt", "above",
-                        "the same trend for the Loma Prieta ensemble (§5.4, red)",
-                        "2D above 3D")
+    for ens, who, title, kind, statement, paper in statements:
+        rows += _ratio_rows(m, ens, R, who, title, kind, statement, paper, PAPER_COMPARATORS)
+    for ens, who, title, kind, statement, paper in statements:  # named, not judged
+        rows += _ratio_rows(m, ens, R, who, title, kind, statement, paper,
+                            HOUSNER_COMPARATORS)
     return rows
-
-
-HOUSNER_NOTE = ("the 2D reference is Housner's model with the restitution e = 0.942 of "
-                "Eq 31 (tan α = 0.2), which loses energy at every impact, where the undamped "
-                "3D model loses none")
-"""Why 2D and 3D differ beyond one component against two (said in every ratio verdict)."""
 
 
 def _r10_row(m: Mapping, ens: str | None, R: float) -> Comparison:
@@ -465,7 +552,8 @@ def _r10_row(m: Mapping, ens: str | None, R: float) -> Comparison:
 
 
 def ratio_evidence(m: Mapping, ens: str | None, title: str, mode: str) -> dict | None:
-    """2D/3D of the censoring-aware medians (``…|mle`` notes) at every size where both are
+    """``mode``/3D of the censoring-aware medians (``…|mle`` notes; ``mode`` under one
+    component, 3D under both) at every size where both are
     fitted and at most :data:`.criteria.MAX_CENSORED_SHARE` of the motions are censored.
 
     Returns
@@ -525,45 +613,70 @@ def _judge_ratio(kind: str, ratio: float, se: float) -> tuple[bool | None, str, 
                 "nearest half")
         return ok, rule, f"|ln(ratio/2)| = {abs(math.log(ratio / 2)):.2f} exceeds {tol:.2f}"
     ok = criteria.ratio_above_one(ratio, se)
-    rule = f"ln ratio > 2 SE = {2 * se:.2f}: 2D above 3D beyond the ensemble's scatter"
+    rule = (f"ln ratio > 2 SE = {2 * se:.2f}: one component above both beyond the ensemble's "
+            "scatter")
     return ok, rule, f"ln ratio = {math.log(ratio):.2f} is not above 2 SE = {2 * se:.2f}"
 
 
+AXIS = {"x": "x, major principal axis", "y": "y, minor principal axis"}
+
+
 def _ratio_rows(m: Mapping, ens: str | None, R: float, who: str, title: str, kind: str,
-                statement: str, paper: str) -> list[Comparison]:
+                statement: str, paper: str, modes: tuple[str, ...]) -> list[Comparison]:
+    """One row per comparator of ``modes`` against the 3D model under both components: the
+    paper's comparator (:data:`PAPER_COMPARATORS`) judged against the paper's statement,
+    Housner's (:data:`HOUSNER_COMPARATORS`) quoted with what it shows ("not in the paper":
+    the paper compares the 3D model with itself)."""
     v3 = m.get(f"{ens}|{title}|3d") if ens else None
     rows = []
     stand_in = " (stand-in record)" if ens and m.get(f"{ens}|stand_in") else ""
-    for mode, axis in ((MODE_2D_X, "x, major principal axis"),
-                       (MODE_2D_Y, "y, minor principal axis")):
-        v2 = m.get(f"{ens}|{title}|{mode}") if ens else None
-        at_r = (f"at R = {R:g} m the means give {v2 / v3:.3g}×"
-                + _counts(m, ens, title, (MODE_3D, mode))) if finite(v2, v3) and v3 > 0 else ""
-        head = f"{who}{stand_in}, {title}: 2D under the {axis} component against 3D"
+    for mode in modes:
+        housner = mode in HOUSNER_COMPARATORS
+        what = ("Housner's 2D block (a further comparator)" if housner
+                else "the 3D model")
+        axis = AXIS[mode_registry.MODES[mode].component]
+        v1 = m.get(f"{ens}|{title}|{mode}") if ens else None
+        at_r = (f"at R = {R:g} m the means give {v1 / v3:.3g}×"
+                + _counts(m, ens, title, (MODE_3D, mode))) if finite(v1, v3) and v3 > 0 else ""
+        head = (f"{who}{stand_in}, {title}: {what} under the {axis} component alone against "
+                "the 3D model under both")
+        note = HOUSNER_NOTE if housner else PAPER_NOTE
+        ratio_name = f"{SHORT[mode]}/3D"
+        missing = f"{who} ensemble or its mode {mode} not computed in this run"
         ev = ratio_evidence(m, ens, title, mode)
         if ev is not None:
             ok, rule, why = _judge_ratio(kind, ev["pooled"], ev["pooled_se"])
             lo, hi = min(ev["ratio"]), max(ev["ratio"])
-            ours = (f"2D/3D of the censoring-aware medians = {ev['pooled']:.3g} (geometric "
-                    f"mean over {len(ev['R'])} sizes R = {min(ev['R']):g}–{max(ev['R']):g} m, "
-                    f"ln SE {ev['pooled_se']:.2f}; {lo:.3g}–{hi:.3g} across R)"
-                    + (f"; {at_r}" if at_r else ""))
+            ours = (f"{ratio_name} of the censoring-aware medians = {ev['pooled']:.3g} "
+                    f"(geometric mean over {len(ev['R'])} sizes R = {min(ev['R']):g}–"
+                    f"{max(ev['R']):g} m, ln SE {ev['pooled_se']:.2f}; {lo:.3g}–{hi:.3g} "
+                    "across R)" + (f"; {at_r}" if at_r else ""))
             if ev["dropped"]:
                 ours += (f"; sizes R = {', '.join(f'{r:g}' for r in ev['dropped'])} m left out "
                          "(more than half the motions censored)")
+            statement_r = f"{head}, across R — {statement}"
+            if housner:
+                rows.append(Comparison("fig12_2d_vs_3d", statement_r, "—", ours, NOT_IN_PAPER,
+                                       note))
+                continue
             rows.append(judged(
-                "fig12_2d_vs_3d", f"{head}, across R — {statement}", paper, ours, ok,
-                f"{rule}; {HOUSNER_NOTE}",
-                f"{why}; {HOUSNER_NOTE}; " + _ratio_reason(m, ens, title, mode, who,
-                                                          censored=False),
-                f"{who} ensemble or its 2D modes not computed in this run"))
+                "fig12_2d_vs_3d", statement_r, paper, ours, ok, f"{rule}; {note}",
+                f"{why}; " + _ratio_reason(m, ens, title, mode, who, censored=False), missing))
             continue
         # no fitted medians in the notes: the means at R alone, never "reproduced" if censored
         short = _short(m, ens, title, (MODE_3D, mode))
         statement_r = f"{head}, R = {R:g} m (means; no fragility table) — {statement}"
-        ratio = v2 / v3 if finite(v2, v3) and v3 > 0 else None
-        ours = f"2D/3D = {fmt(ratio, 3)} ({fmt(v2, 3)} / {fmt(v3, 3)})" + _counts(
+        ratio = v1 / v3 if finite(v1, v3) and v3 > 0 else None
+        ours = f"{ratio_name} = {fmt(ratio, 3)} ({fmt(v1, 3)} / {fmt(v3, 3)})" + _counts(
             m, ens, title, (MODE_3D, mode)) if ratio is not None else "—"
+        if housner:
+            censored = "; " + _ratio_reason(m, ens, title, mode, who) if any(
+                v > 0 for v in short.values()) else ""
+            rows.append(Comparison("fig12_2d_vs_3d", statement_r, "—", ours, NOT_IN_PAPER,
+                                   note + censored) if ratio is not None else
+                        Comparison("fig12_2d_vs_3d", statement_r, "—", "—", NOT_COMPUTED,
+                                   missing))
+            continue
         if ratio is not None and any(v > 0 for v in short.values()):
             rows.append(Comparison("fig12_2d_vs_3d", statement_r, paper, ours, DIFFERS,
                                    _ratio_reason(m, ens, title, mode, who)))
@@ -571,15 +684,14 @@ def _ratio_rows(m: Mapping, ens: str | None, R: float, who: str, title: str, kin
         se = _means_se_log(m, ens, title, mode)
         ok, rule, why = _judge_ratio(kind, ratio, se) if ratio is not None else (None, "", "")
         rows.append(judged(
-            "fig12_2d_vs_3d", statement_r, paper, ours, ok, f"{rule}; {HOUSNER_NOTE}",
-            f"{why}; {HOUSNER_NOTE}; " + _ratio_reason(m, ens, title, mode, who),
-            f"{who} ensemble or its 2D modes not computed in this run"))
+            "fig12_2d_vs_3d", statement_r, paper, ours, ok, f"{rule}; {note}",
+            f"{why}; " + _ratio_reason(m, ens, title, mode, who), missing))
     return rows
 
 
 def _means_se_log(m: Mapping, ens: str | None, title: str, mode: str) -> float | None:
-    """Standard error of ln(mean 2D / mean 3D) from the means' standard errors (None when the
-    notes have no spread)."""
+    """Standard error of ln(mean under one component / mean under both) from the means'
+    standard errors (None when the notes have no spread)."""
     total = 0.0
     for mo in (mode, MODE_3D):
         v, std, n = (m.get(f"{ens}|{title}|{mo}{k}") for k in ("", "|std", "|count"))
@@ -613,30 +725,31 @@ def _short(m: Mapping, ens: str | None, title: str, modes) -> dict:
 
 
 def _counts(m: Mapping, ens: str | None, title: str, modes) -> str:
-    """``"; means over 7 (3D) and 4 (2D) of 11 motions"`` when a mean leaves motions out."""
+    """``"; means over 7 (3D) and 4 (2D x) of 11 motions"`` when a mean leaves motions out."""
     total = _n_motions(m, ens)
     got = {mo: m.get(f"{ens}|{title}|{mo}|count") for mo in modes}
     if total is None or all(not finite(c) or c >= total for c in got.values()):
         return ""
-    return ("; means over " + " and ".join(f"{int(c)} ({'3D' if mo == '3d' else '2D'})"
+    return ("; means over " + " and ".join(f"{int(c)} ({SHORT.get(mo, mo)})"
                                            for mo, c in got.items() if finite(c))
             + f" of {int(total)} motions")
 
 
 def _ratio_reason(m: Mapping, ens: str | None, title: str, mode: str, who: str,
                   censored: bool = True) -> str:
-    """Why a 2D/3D ratio differs: censored means when motions were not reached (``censored``:
+    """Why a ratio of one component to both differs: censored means when motions were not
+    reached (``censored``:
     the ratio is one of means), else the ensemble and the direction of x."""
     short = _short(m, ens, title, (MODE_3D, mode))
     if censored and any(v > 0 for v in short.values()):
         upper = m.get(f"{ens}|upper")
         bound = f" PGA/(g tan α) = {fmt(upper)}" if finite(upper) else ""
-        left = " and ".join(f"{v} ({'3D' if mo == '3d' else '2D'})"
+        left = " and ".join(f"{v} ({SHORT.get(mo, mo)})"
                             for mo, v in short.items() if v > 0)
         return (f"motions not reached at the search bound{bound}: {left} motions of the "
                 f"{who} ensemble had not reached the limit state there and are left out of the "
-                "means, which therefore understate the intensities, the 2D ones most (they are "
-                "higher); the ratio of these censored means says little")
+                "means, which therefore understate the intensities, those under one component "
+                "most (they are higher); the ratio of these censored means says little")
     return (f"a different {who} ensemble (own synthetic pairs, record version); our x is the "
             "record's major principal axis, the paper's x the E–W component before rotation")
 
@@ -648,30 +761,32 @@ from rocking.plot.registry import FigureSpec  # noqa: E402
 FIGURE = FigureSpec(
     name="fig12_2d_vs_3d", module=__name__, number=12, label="Fig 12",
     caption=(
-        "Mean performance spectra of the 3D model under both components against the 2D "
-        "model under the major-axis (x) or the minor-axis (y) component alone, at the "
-        "slenderness in the title; the intensity is the bidirectional PGA in all three "
-        "(§5.4). Colours are ensembles, line styles modes; the ratios 2D/3D at the largest "
-        "R are written at the right end of the curves (≥ where the 2D mean is censored, so "
-        "the ratio is a lower bound; ≤ where the 3D mean is); the note gives each ensemble's axis "
-        "azimuths. Open circles: the mean covers fewer motions than the ensemble, the "
-        "others not having reached the limit state at the search bound (such a mean "
-        "understates the intensity). The means are of each motion's I10 (the lowest PGA/(g "
-        "tan α) near which 10 % of the intensities exceed) unless the study chose another "
-        "quantity, as the legend says; means over answers flagged plateau are counted in a "
-        "note. The verdicts read the "
-        "2D/3D ratios from the censoring-aware medians of the lognormal fits across every "
-        "size, not from these means at one size. The 2D model is Housner's, with the "
-        "restitution e = 0.942 (Eq 31) that dissipates energy at every impact; the undamped "
-        "3D model dissipates none."
+        "Mean performance spectra under both ground-motion components against under one, at "
+        "the slenderness in the title, one row per ensemble (each on its own scale), the "
+        "intensity the bidirectional PGA in every curve (§5.4). Solid: the undamped 3D "
+        "model under both components; dashed: the same model under the major-axis (x) or "
+        "the minor-axis (y) component alone, started with a spin of 1e-4 rad/s at each uplift "
+        "(the paper's comparison); thin and light: Housner's 2D block under one component "
+        "(restitution e = 0.942, Eq 31), a further comparator that also changes the model. "
+        "The ratios to the 3D model under both at the largest R are written at the right end "
+        "of the curves (≥ where the one-component mean is censored, so the ratio is a lower "
+        "bound; ≤ where the 3D mean is); the note gives each ensemble's axis azimuths. Open "
+        "circles: the mean covers fewer motions than the ensemble, the others not having "
+        "reached the limit state at the search bound (such a mean understates the "
+        "intensity). The means are of each motion's I10 (the lowest PGA/(g tan α) near which "
+        "10 % of the intensities exceed) unless the study chose another quantity, as the "
+        "legend says; means over answers flagged plateau are counted per curve in the note. "
+        "The verdicts read the ratios from the "
+        "censoring-aware medians of the lognormal fits across every size, not from these "
+        "means at one size; they judge the paper's comparator, and quote Housner's."
     ),
     paper=(
         "The paper's Fig 12 (tan α = 0.2) reports that overturning an R = 10 m cylinder "
-        "needs PGA/(g tan α) of about 4 bidirectionally and about twice that "
-        "unidirectionally (El Centro black, Loma Prieta red)."
+        "needs PGA/(g tan α) of about 4 under both components and about twice that under "
+        "one (the same undamped 3D model; El Centro black, Loma Prieta red)."
     ),
     scope="studies", wanted=lambda s: s.plan.compares_2d_with_3d(),
-    # read beside the means: the censoring-aware medians of the 2D/3D verdicts and the
+    # read beside the means: the censoring-aware medians of the ratio verdicts and the
     # headline's first exceedances on four grids (the R = 10 m verdict)
     inputs={"means": "means", "complete": "spectra", "motions": "motions",
             "fragility": "fragility_csv", "headline": "headline"},
@@ -680,4 +795,4 @@ FIGURE = FigureSpec(
         "studies": list(zip(params["studies"], inputs["means"], params["stores"],
                             inputs["motions"], strict=True)),
         "paper": bool(params["paper"])})
-"""Fig 12, over the studies that run "3d" and a 2D mode at a common tan α."""
+"""Fig 12, over the studies that run "3d" and a mode under one component at a common tan α."""

@@ -26,7 +26,7 @@ from rocking.spectra.limit_states import (
     parse_limit_states,
     whole_record,
 )
-from rocking.spectra.modes import MODE_3D, MODES, check_mode, is_damped
+from rocking.spectra.modes import MODE_3D, MODES, check_mode, excitation, is_damped
 from rocking.spectra.quantity import Quantity
 from rocking.spectra.search import (
     DEFAULT_UPPER,
@@ -45,9 +45,9 @@ __all__ = ["MODES", "check_mode", "critical_intensity", "critical_intensity_batc
 def uplift_intensity(motion: GroundMotion, mode: str) -> float:
     """Normalized intensity below which the body stays at rest [-].
 
-    1 for the 3D modes (the vector acceleration reaches g tan α at the vector PGA); for a
-    2D mode PGA/max|a_component|, since only that component acts. ``inf`` when the
-    component is identically zero.
+    1 for the modes under both components (the vector acceleration reaches g tan α at the
+    vector PGA); for a mode under one component (3D or 2D) PGA/max|a_component|, since only
+    that component acts. ``inf`` when the component is identically zero.
     """
     check_mode(mode)
     component = MODES[mode][1]
@@ -79,11 +79,14 @@ def make_analysis(
     zeta: float | None = None,
     rest_tilt: float | None = None,
     whole: bool = False,
+    spin: float | None = None,
 ) -> AnalysisFn:
     """Bind :func:`rocking.dynamics.analysis.ground_response` to ``analyze(I, stop_at, rtol)``.
 
-    The motion is scaled so that the pair's vector PGA equals I·g·tan α; the 2D modes are
-    excited by one component (``motion.component``) scaled by the same factor;
+    The motion is scaled so that the pair's vector PGA equals I·g·tan α; the modes under one
+    component are excited by it alone (``motion.component``) scaled by the same factor, the 3D
+    ones with a spin at uplift (:func:`rocking.spectra.modes.excitation`; ``spin`` [rad/s]
+    overrides the mode's);
     ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact).
     ``whole`` runs the validity monitors over the whole record (no early end once the peak
     tilt is decided, ``stop_when_decided=False``), as a limit state watching a monitor
@@ -95,17 +98,16 @@ def make_analysis(
     """
     from rocking.dynamics.analysis import ground_response  # the engine is imported only when needed
 
-    check_mode(mode)
-    model, component = MODES[mode]
-    excitation = motion if component is None else motion.component(component)
+    excited, start = excitation(mode, motion, spin)
+    model = MODES[mode].model
     unit_scale = G * body.tan_alpha / motion.pga
     kw = _model_kwargs(mode, omega_n, zeta)
 
     def analyze(intensity: float, stop_at: float | None, rtol: float) -> Outcome:
-        r = ground_response(body, excitation, model=model, scale=intensity * unit_scale,
+        r = ground_response(body, excited, model=model, scale=intensity * unit_scale,
                             stop_at=stop_at, rtol=rtol, history=False,
                             rest_tilt=rest_tilt, stop_when_decided=not whole,
-                            monitors=whole, **kw)
+                            monitors=whole, **start, **kw)
         peaks = ({MU_REQUIRED_MAX: float(r.mu_required_max),
                   NORMAL_FORCE_MIN: float(r.normal_force_min)} if whole else {})
         return Outcome(float(r.theta_max), bool(r.overturned), Status(r.status), r.reason,
@@ -138,8 +140,9 @@ def critical_intensity(
     limit_states : str, sequence or None
         E.g. ``["overturning", "tilt:1/3"]``; None: the seven defaults. The result lists
         them in this order (canonical names, duplicates dropped).
-    mode : {"3d", "3d-damped", "2d-x", "2d-y"}
-        Model and excitation (2D: one component of the pair).
+    mode : {"3d", "3d-damped", "3d-x", "3d-y", "2d-x", "2d-y"}
+        Model and excitation (:data:`rocking.spectra.modes.MODES`: "3d-x"/"3d-y" the 3D
+        model, "2d-x"/"2d-y" the 2D one under one component of the pair).
     accuracy : str, Accuracy or dict
         ``"fast"``, ``"default"``, ``"precise"`` or custom settings.
     quantity : str, mapping, Quantity or None
