@@ -53,6 +53,7 @@ include: "workflow/rules/stripes.smk"
 include: "workflow/rules/risk_common.smk"
 include: "workflow/rules/risk.smk"
 include: "workflow/rules/run_config.smk"
+include: "workflow/rules/provenance.smk"  # last: it adds an input to every rule
 
 
 report: "workflow/report/workflow.rst"

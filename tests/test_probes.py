@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 import textwrap
 import time
 import warnings
+from collections.abc import Callable, Sequence
 from functools import partial
 from pathlib import Path
 
@@ -578,16 +580,21 @@ def stripe_studies(tmp_path_factory):
         st.write_stripe_fragility(path, csv, root / name / "stripe_fragility_bootstrap.nc",
                                   motions=ens, refine=4, resamples=40)
         # the figure's copy of the refined analyses (the workflow's stripe_fragility_refined)
-        shutil.copy(st.refine_cache_path(path), root / name / "stripe_fragility_refined.jsonl")
+        attrs = xr.open_zarr(path, consolidated=True).attrs
+        st.RefineCache(st.refine_cache_path(path), path, attrs).copy_to(
+            root / name / "stripe_fragility_refined.jsonl")
         out[name] = (path, ens, csv)
     assert len(st.refine_cache_path(out["b"][0]).read_text().splitlines()) > 1
     return out
 
 
-def _rewrite(study, folder: Path, cache_from: Path | None = None):
+def _rewrite(study, folder: Path, cache_from: Path | None = None, record: bool = True,
+             record_from: Path | None = None):
     """The stripe table of ``study`` written again in ``folder`` (its store and motions
-    copied there), its refinement cache replaced by ``cache_from``'s."""
+    copied there), its refinement cache replaced by ``cache_from``'s, with the record of
+    ``record_from`` (default: ``cache_from``'s; none with ``record=False``)."""
     from rocking.execution import stripes as st
+    from rocking.provenance import record_path
 
     path, ens, _ = study
     folder.mkdir()
@@ -596,7 +603,11 @@ def _rewrite(study, folder: Path, cache_from: Path | None = None):
     shutil.copy(digest_path(ens), folder / digest_path(ens).name)
     store_path = folder / path.name
     if cache_from is not None:
-        shutil.copy(cache_from, st.refine_cache_path(store_path))
+        cache = st.refine_cache_path(store_path)
+        shutil.copy(cache_from, cache)
+        if record:
+            record_path(cache).parent.mkdir(exist_ok=True)
+            shutil.copy(record_path(record_from or cache_from), record_path(cache))
     csv = folder / "stripe_fragility.csv"
     st.write_stripe_fragility(store_path, csv, folder / "stripe_fragility_bootstrap.nc",
                               motions=folder / ens.name, refine=4, resamples=40)
@@ -605,98 +616,126 @@ def _rewrite(study, folder: Path, cache_from: Path | None = None):
 
 def test_refinement_cache_of_another_study_is_detected_and_redone(stripe_studies, tmp_path,
                                                                    caplog):
-    """Silent before: a copied .refined.jsonl (other motions, same keys) moved the medians."""
+    """Silent before issue 39: a copied .refined.jsonl (other motions, same keys) moved the
+    medians. Its record names the store it belongs to: the analyses are redone."""
     from rocking.execution import stripes as st
 
     foreign = st.refine_cache_path(stripe_studies["b"][0])
     with caplog.at_level("WARNING"):
         csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=foreign)
     assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
-    assert "holds analyses of another store or motions (motions_sha256" in caplog.text
+    assert ".zarr than the one there: started anew" in caplog.text
+    # a cache copied without its record (that lies in the study's .provenance/): redone too
+    with caplog.at_level("WARNING"):
+        csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a3", cache_from=foreign,
+                          record=False)
+    assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    assert "no record of what made it: started anew" in caplog.text
 
 
 def test_refinement_cache_of_another_study_is_refused_where_it_cannot_be_redone(
         stripe_studies, tmp_path):
     """The figure replays the refinement without motions: a foreign file is named."""
-    from rocking._provenance import ProvenanceError
     from rocking.plot import stripe_fragility as fig
+    from rocking.provenance import ProvenanceError
 
     a, b = stripe_studies["a"], stripe_studies["b"]
-    with pytest.raises(ProvenanceError, match=r"refined.jsonl holds analyses of another store "
-                                              r"or motions \(motions_sha256 .*--forcerun "
-                                              r"stripe_fragility"):
-        fig.data(a[0], None, mode="3d", table=a[2],
-                 refined=b[2].parent / "stripe_fragility_refined.jsonl")
+    refined_b = b[2].parent / "stripe_fragility_refined.jsonl"
+    with pytest.raises(ProvenanceError, match=rf"^{refined_b}: not made from zarr:.*: remake it "
+                                              rf"with `snakemake --cores 2 {refined_b}`"):
+        fig.data(a[0], None, mode="3d", table=a[2], refined=refined_b)
     # its own copy replays to the table's rows
     d = fig.data(a[0], None, mode="3d", table=a[2],
                  refined=a[2].parent / "stripe_fragility_refined.jsonl")
     assert d["panels"]
 
 
-@pytest.mark.parametrize("mask", [0x01, 0x10, 0x40])
-def test_flipped_byte_in_the_refinement_cache_names_file_and_way_out(stripe_studies, tmp_path,
-                                                                     mask):
-    """Traceback before (JSONDecodeError, file not named), or a changed number unseen."""
-    from rocking._provenance import ProvenanceError
+@pytest.mark.parametrize("damage", ["digit", "cut", "line gone"])
+def test_damaged_refinement_cache_is_redone_to_the_same_table(stripe_studies, tmp_path,
+                                                             damage, caplog):
+    """One digit of an analysis changed (a failed flag, a stripe), the file cut in half, a
+    line gone: the cache no longer matches its record, its analyses are redone and the
+    table is the one of an undamaged run (before: a changed digit stopped the rule, a line
+    gone was silently redone, a cut line silently dropped)."""
     from rocking.execution import stripes as st
 
     damaged = tmp_path / "damaged.jsonl"
     shutil.copy(st.refine_cache_path(stripe_studies["a"][0]), damaged)
-    _flip(damaged, where=0.7, mask=mask)
-    cache = tmp_path / "a2" / st.refine_cache_path(stripe_studies["a"][0]).name
-    with pytest.raises(ProvenanceError, match=rf"{cache} line \d+ is damaged .*delete it and "
-                                              r"rerun with `snakemake --forcerun "
-                                              r"stripe_fragility`"):
-        _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=damaged)
-
-
-def test_legacy_refinement_cache_without_provenance_is_redone(stripe_studies, tmp_path):
-    from rocking.execution import stripes as st
-
-    lines = st.refine_cache_path(stripe_studies["a"][0]).read_text().splitlines()[1:]
-    old = tmp_path / "old.jsonl"
-    old.write_text("".join(json.dumps({k: v for k, v in json.loads(s).items() if k != "crc32"})
-                           + "\n" for s in lines))
-    csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=old)
+    text = damaged.read_text()
+    if damage == "digit":
+        text = text.replace('"runs": 1', '"runs": 2', 1).replace('"failed": false',
+                                                                   '"failed": true', 1)
+    elif damage == "cut":
+        text = text[: len(text) // 2]
+    else:
+        text = "".join(text.splitlines(True)[1:])
+    damaged.write_text(text)
+    with caplog.at_level("WARNING"):
+        csv, _ = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=damaged,
+                          record_from=st.refine_cache_path(stripe_studies["a"][0]))
     assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    assert "started anew" in caplog.text
+
+
+def test_refinement_cache_killed_between_a_line_and_its_record_keeps_the_rest(
+        stripe_studies, tmp_path):
+    """A kill after a line is written but before its record: that line is dropped (redone),
+    every line before it is kept."""
+    from rocking.execution import stripes as st
+    from rocking.provenance import read_record
+
+    cache = st.refine_cache_path(stripe_studies["a"][0])
+    grown = tmp_path / "grown.jsonl"
+    lines = cache.read_text().splitlines(True)
+    grown.write_text("".join(lines) + lines[0].replace('"runs": ', '"runs": 9'))
+    csv, store_path = _rewrite(stripe_studies["a"], tmp_path / "a2", cache_from=grown,
+                               record_from=cache)
+    assert csv.read_bytes() == stripe_studies["a"][2].read_bytes()
+    kept = st.refine_cache_path(store_path)
+    assert kept.read_text() == cache.read_text()
+    assert read_record(kept)["size"] == kept.stat().st_size
 
 
 @pytest.mark.parametrize("table", ["stripe_fragility.csv", "fragility.csv"])
 def test_bootstrap_of_another_study_is_refused_by_the_risk_table(stripe_studies, tmp_path,
                                                                  table):
-    """Silent before: only the row count was checked, the interval moved."""
-    from rocking._provenance import ProvenanceError
+    """Silent before issue 39: only the row count was checked, the interval moved."""
     from rocking.fragility.table import read_fragilities
+    from rocking.provenance import ProvenanceError, record_path
 
     a, b = stripe_studies["a"][2], stripe_studies["b"][2]
     here = tmp_path / table
     shutil.copy(a, here)
     boot = here.with_name(here.stem + "_bootstrap.nc")
-    shutil.copy(a.with_name("stripe_fragility_bootstrap.nc"), boot)
-    assert read_fragilities(here, kind="stripes").samples is not None  # its own: read
-    shutil.copy(b.with_name("stripe_fragility_bootstrap.nc"), boot)  # another study's
-    rule = "stripe_fragility" if table.startswith("stripe") else "fragility"
-    with pytest.raises(ProvenanceError, match=rf"{boot} was made for a table of sha256 "
-                                              rf"[0-9a-f]{{16}}, not {here} .*another study, "
-                                              rf"run or table: rerun with `snakemake "
-                                              rf"--forcerun {rule}`"):
+    record_path(boot).parent.mkdir()
+    src = a.with_name("stripe_fragility_bootstrap.nc")
+    for f in (src, record_path(src)):  # the study's samples and their record: read
+        shutil.copy(f, record_path(boot) if f.suffix == ".json" else boot)
+    if table == "stripe_fragility.csv":
+        assert read_fragilities(here, kind="stripes").samples is not None
+    src = b.with_name("stripe_fragility_bootstrap.nc")
+    for f in (src, record_path(src)):  # another study's
+        shutil.copy(f, record_path(boot) if f.suffix == ".json" else boot)
+    with pytest.raises(ProvenanceError, match=rf"^{boot}: (made from another {here} than the "
+                                              rf"one there|not made from {here}): remake it "
+                                              rf"with `snakemake --cores 2 {boot}`"):
         read_fragilities(here, kind="stripes")
 
 
 def test_truncated_bootstrap_names_file_and_way_out(stripe_studies, tmp_path):
-    """Traceback before: ValueError: When changing to a larger dtype..."""
-    from rocking._provenance import ProvenanceError
+    """Traceback before issue 39: ValueError: When changing to a larger dtype..."""
     from rocking.fragility.table import read_fragilities
+    from rocking.provenance import ProvenanceError
 
     a = stripe_studies["a"][2]
     here = tmp_path / "stripe_fragility.csv"
     shutil.copy(a, here)
     boot = tmp_path / "stripe_fragility_bootstrap.nc"
+    shutil.copytree(a.parent / ".provenance", tmp_path / ".provenance")
     shutil.copy(a.with_name(boot.name), boot)
     _truncate(boot)
-    with pytest.raises(ProvenanceError, match=rf"^{boot} cannot be read \(damaged or cut "
-                                              r"short: .*\): rerun with `snakemake --forcerun "
-                                              r"stripe_fragility`$"):
+    with pytest.raises(ProvenanceError, match=rf"^{boot}: cut short \(\d+ of its \d+ bytes\): "
+                                              rf"remake it with `snakemake --cores 2 {boot}`"):
         read_fragilities(here, kind="stripes")
 
 
@@ -711,25 +750,21 @@ def test_missing_bootstrap_is_said_never_a_silent_blank(stripe_studies, tmp_path
            "table's lambda_p05/lambda_p95 of its rows stay empty" in caplog.text
 
 
-def test_suite_bootstrap_records_table_and_store(study, tmp_path):
-    """suite_fragility_bootstrap.nc records its table's sha256, the store's config hash, the
-    motions' sha256 and the measures; another run's table is refused."""
-    from rocking._provenance import ProvenanceError, file_sha256
+def test_suite_bootstrap_records_its_table(study, tmp_path):
+    """suite_fragility_bootstrap.nc's record names its table; another run's table (one byte
+    more) is refused."""
     from rocking.fragility.bootstrap import read_bootstrap
+    from rocking.provenance import ProvenanceError, file_sha256, read_record
 
     out = tmp_path / "t"
     out.mkdir()
     csv = out / "suite_fragility.csv"
     write_record_tables(study.store, study.motions, ["pga"], out / "records.csv", csv)
     boot = out / "suite_fragility_bootstrap.nc"
-    with xr.open_dataset(boot) as ds:
-        attrs = dict(ds.attrs)
-    assert attrs["table_sha256"] == file_sha256(csv)
-    assert attrs["config_hash"] == SPEC.digest and attrs["measures"] == "pga"
-    assert attrs["motions_sha256"] == digest_path(study.motions).read_text().split()[0]
+    assert read_record(boot)["inputs"] == {"suite_fragility.csv": file_sha256(csv)}
     read_bootstrap(boot, table=csv)
-    csv.write_text(csv.read_text().replace("pga", "pga", 1) + "\n")
-    with pytest.raises(ProvenanceError, match="--forcerun records_table"):
+    csv.write_text(csv.read_text() + "\n")
+    with pytest.raises(ProvenanceError, match=rf"^{boot}: made from another {csv} than"):
         read_bootstrap(boot, table=csv)
 
 
@@ -912,71 +947,530 @@ def test_dashboard_can_be_turned_off_or_moved():
         assert _listening(port) == {"127.0.0.1"}
 
 
-# The workflow itself: the sidecars are declared inputs, a copied output folder is remade
-# where its configuration changed (one tiny study with stripes and a hazard, run once).
+# --------------------------------------------------------------------------------------------
+# Family 9 (issue 48): every derived file checked by its reader against the record of what
+# made it (rocking.provenance); the workflow remakes what does not match, a command refuses it
+# --------------------------------------------------------------------------------------------
 
-TINY_RISK = {
+COLUMNS = """id,R,tan_alpha,lon,lat
+node,1.0,0.15,0.001,0.001
+between,2.0,0.175,0.002,-0.001
+far-node,3.0,0.2,-0.001,0.002
+"""
+OTHER_COLUMNS = """id,R,tan_alpha,lon,lat
+squat,1.5,0.19,0.0,0.0
+"""
+HAZARD = {"file": str(REPO / "config/hazard/example_hazard_curve.csv"),
+          "site": {"lon": 0.0, "lat": 0.0}, "component": "vector_peak"}
+GRID = {"R": [1.0, 3.0], "chunk_R": 1,
+        "runs": [{"modes": ["3d"], "tan_alpha": [0.15, 0.2],
+                  "limit_states": ["overturning", "tilt:1/3"]}]}
+TWO = {
     "accuracy": "fast", "motions": {"max_duration": 3.0},
-    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7}},
-    "studies": {"tiny": {
-        "ensemble": "tiny", "hazard": {"k0": 2.0e-4, "k": 2.2}, "R": [1.0, 3.0], "chunk_R": 1,
-        "runs": [{"modes": ["3d"], "tan_alpha": [0.2], "limit_states": ["overturning"]}],
-        "stripes": {"modes": ["3d"], "tan_alpha": 0.2, "limit_states": ["overturning"],
-                    "R": [3.0], "intensity": {"start": 1.1, "stop": 15.0, "num": 4,
-                                              "spacing": "log"},
-                    "refine": 2, "bootstrap": 20}}},
+    "ensembles": {"tiny": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 7},
+                  "other": {"record": "el-centro-1940", "n_synthetic": 1, "seed": 8}},
+    "studies": {
+        "a": {"ensemble": "tiny", "hazard": HAZARD, **GRID,
+              "inventory": {"file": "columns.csv", "export": "column", "resamples": 20},
+              "stripes": {"modes": ["3d"], "tan_alpha": 0.2, "limit_states": ["overturning"],
+                          "R": [3.0], "intensity": {"start": 1.1, "stop": 15.0, "num": 4,
+                                                    "spacing": "log"},
+                          "refine": 2, "bootstrap": 20}},
+        "b": {"ensemble": "other", "hazard": HAZARD, **GRID,
+              "inventory": {"file": "other_columns.csv", "resamples": 20}}},
     "dask": {"progress_interval": 0}}
+"""Two tiny studies on other motions (b's surface is another one over the same grid), with
+a hazard, an inventory each (a's exported), stripes in a: every rule of the workflow."""
 
 
-def _snakemake(workdir: Path, cfg: dict, *args: str) -> str:
-    (workdir / "c.yaml").write_text(yaml.safe_dump(cfg))
-    out = subprocess.run([sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"),
-                          "--configfile", "c.yaml", "--cores", "2", *args],
-                         capture_output=True, text=True, cwd=workdir, timeout=1800)
-    assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
-    return out.stdout + out.stderr
+def _recorded_table(folder: Path) -> tuple[Path, Path, Path]:
+    """A table made from a source, written with a sibling, and recorded."""
+    from rocking.provenance import record
+
+    folder.mkdir()
+    source, table, sibling = folder / "source.csv", folder / "t.csv", folder / "t.nc"
+    source.write_text("x\n1\n")
+    table.write_text("mode,median [g]\n3d,0.4567\n3d,0.8123\n")
+    sibling.write_bytes(b"CDF\x01" + bytes(range(64)))
+    for f in (table, sibling):
+        record(f, inputs=[source], together=[table, sibling], settings="0123456789abcdef",
+               rule="fragility")
+    return source, table, sibling
+
+
+@pytest.mark.parametrize(("damage", "said"), [
+    ("one digit", r"changed since it was written \(sha256 \w+, recorded \w+\)"),
+    ("cut in half", r"cut short \(18 of its 36 bytes\)"),
+    ("another source", r"made from another {source} than the one there"),
+    ("source gone", r"made from {source}, which is missing"),
+    ("sibling changed", r"made with another {sibling} than the one there"),
+    ("record damaged", r"its record {record} is damaged"),
+])
+def test_a_derived_file_is_refused_by_its_reader_in_one_line(tmp_path, damage, said):
+    """Every damage a reader meets (issue 48): the file named, what is wrong, the command
+    that remakes it; one line."""
+    from rocking.provenance import ProvenanceError, check, record_path
+
+    source, table, sibling = _recorded_table(tmp_path / "s")
+    check(table)  # intact: read
+    if damage == "one digit":
+        table.write_text(table.read_text().replace("0.4567", "0.4568"))
+    elif damage == "cut in half":
+        _truncate(table)
+    elif damage == "another source":
+        source.write_text("x\n2\n")
+    elif damage == "source gone":
+        source.unlink()
+    elif damage == "sibling changed":
+        _flip(sibling)
+    else:
+        record_path(table).write_text('{"sha256": ')
+    pattern = said.format(source=re.escape(str(source)), sibling=re.escape(str(sibling)),
+                          record=re.escape(str(record_path(table))))
+    with pytest.raises(ProvenanceError) as err:
+        check(table)
+    text = str(err.value)
+    assert "\n" not in text
+    assert re.fullmatch(rf"{re.escape(str(table))}: {pattern}: remake it with `snakemake "
+                        rf"--cores 2 {re.escape(str(table))}` .*", text), text
+
+
+def test_what_a_reader_does_without_a_record_and_without_the_inputs(tmp_path):
+    """No record: a source, or a table of the user's own (said); the workflow's planning
+    takes it as a derived file that lost it. Inputs not handed along: not asked for by a
+    command (``partial``), missing for the workflow. Other settings: stale for the planning.
+    """
+    from rocking.provenance import check, problem, record_path
+
+    source, table, sibling = _recorded_table(tmp_path / "s")
+    said = []
+    record_path(table).unlink()
+    assert check(table, say=said.append) is None
+    assert said == [f"{table} has no record of what made it: read as a table of your own (a "
+                    f"table the workflow wrote carries one in .provenance/)"]
+    assert problem(table) == "no record of what made it"
+    source.unlink()
+    assert problem(sibling, partial=True) is None
+    assert problem(sibling).startswith(f"made from {source}, which is missing")
+    assert problem(sibling, settings="fedcba9876543210", rule="fragility", partial=True) == \
+        "made with other settings of rule fragility"
+    assert problem(sibling, rule="records_table", partial=True) == \
+        "its record says rule fragility wrote it, not rule records_table"
+
+
+def _workdir(folder: Path, cfg: dict | None = None) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "columns.csv").write_text(COLUMNS)
+    (folder / "other_columns.csv").write_text(OTHER_COLUMNS)
+    (folder / "c.yaml").write_text(yaml.safe_dump(cfg or TWO))
+    return folder
+
+
+def _command(*args: str) -> list[str]:
+    return [sys.executable, "-m", "snakemake", "-s", str(REPO / "Snakefile"), "--configfile",
+            "c.yaml", "--cores", "2", "--nocolor", *args]
+
+
+def _run(workdir: Path, *args: str, ok: bool = True) -> subprocess.CompletedProcess:
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    out = subprocess.run(_command(*args), capture_output=True, text=True, cwd=workdir,
+                         timeout=2400, env=env)
+    if ok:
+        assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
+    return out
+
+
+@pytest.fixture(scope="module")
+def two_studies(tmp_path_factory) -> Path:
+    """The two studies run once, uninterrupted, to the end: the reference."""
+    work = _workdir(tmp_path_factory.mktemp("two") / "run")
+    _run(work)
+    return work
+
+
+def _restored(reference: Path, folder: Path) -> Path:
+    """A copy of the finished run (dates kept, its .snakemake/ record too)."""
+    shutil.copytree(reference, folder, symlinks=True)
+    return folder
+
+
+RUN_FACTS = ("logs", ".provenance", ".snakemake_timestamp")
+"""What differs between two runs of the same configuration by nature: the logs, the records
+(they hold the files' dates), Snakemake's timestamp in a directory output."""
+RUN_FACT_FILES = (".done.json", "numba_cache.json", "report.html", ".lock", ".refined.jsonl")
+"""Files that say how a run went: the completion summaries (times, chunks done before), the
+kernels' compile times, the report (its "what was run": elapsed time), the stores' locks, a
+stripes store's append-only cache of refined analyses (in the order they were done); and
+the ensembles' summaries, ``motions/<name>-<digest>.json`` (the fit's and synthesis' times)."""
+ENSEMBLE_SUMMARY = re.compile(r"^motions/[\w.-]+-[0-9a-f]{16}\.json$")
+
+
+def _outputs(root: Path) -> dict[str, bytes]:
+    """Every file of an output root that two runs of one configuration must write alike."""
+    out = {}
+    for p in sorted(root.rglob("*")):
+        rel = p.relative_to(root)
+        if p.is_file() and not any(part in RUN_FACTS for part in rel.parts) \
+                and not p.name.endswith(RUN_FACT_FILES) \
+                and not ENSEMBLE_SUMMARY.match(rel.as_posix()):
+            out[rel.as_posix()] = p.read_bytes()
+    return out
+
+
+def _differing(a: dict[str, bytes], b: dict[str, bytes]) -> list[str]:
+    return sorted(k for k in set(a) | set(b) if a.get(k) != b.get(k))
+
+
+def _copy_with_record(src: Path, dst: Path) -> None:
+    """A file copied over another, with its record when it has one."""
+    shutil.copy(src, dst)
+    rec = src.parent / ".provenance" / f"{src.name}.json"
+    if rec.is_file():
+        shutil.copy(rec, dst.parent / ".provenance" / f"{dst.name}.json")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("with_records", [False, True])
+def test_another_studys_surface_copied_in_is_remade_before_the_portfolio(two_studies,
+                                                                          tmp_path,
+                                                                          with_records):
+    """Silent before: fragility.csv and critical.csv of another study copied into a study,
+    then `snakemake <study>/portfolio.csv`: the portfolio was rebuilt on the other study's
+    surface, exit 0. Now both tables are remade from the study's own store first (copied
+    alone, they are not what their records say; copied with their records, those name
+    another store's answers), and the portfolio is the study's."""
+    work = _restored(two_studies, tmp_path / "w")
+    a, b = work / "results/a", work / "results/b"
+    for name in ("fragility.csv", "critical.csv"):
+        (_copy_with_record if with_records else shutil.copy)(b / name, a / name)
+    out = _run(work, "results/a/portfolio.csv")
+    ref = two_studies / "results/a"
+    for name in ("fragility.csv", "critical.csv", "portfolio.csv"):
+        assert (a / name).read_bytes() == (ref / name).read_bytes(), (name, out.stderr[-3000:])
+    assert "provenance: results/a/" in out.stderr
+
+
+def _damage_portfolio(a: Path, b: Path, damage: str) -> None:
+    table = a / "portfolio.csv"
+    if damage == "another inventory's":
+        _copy_with_record(b / "portfolio.csv", table)
+    elif damage == "cut in half":
+        _truncate(table)
+    else:
+        frame = pd.read_csv(table)
+        frame.loc[0, "median"] *= 1.5
+        frame.to_csv(table, index=False, float_format="%.6g")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("damage", ["another inventory's", "cut in half", "one median x 1.5"])
+def test_damaged_portfolio_is_remade_before_its_export(two_studies, tmp_path, damage):
+    """Silent before: a restored run, its portfolio.csv of another inventory, cut in half or
+    with one median times 1.5, then `snakemake <study>/exposure`: the export was made from
+    the damaged table. Now the table is remade first, and the export is the study's."""
+    work = _restored(two_studies, tmp_path / "w")
+    a = work / "results/a"
+    _damage_portfolio(a, work / "results/b", damage)
+    out = _run(work, "results/a/exposure")
+    ref = two_studies / "results/a"
+    assert (a / "portfolio.csv").read_bytes() == (ref / "portfolio.csv").read_bytes()
+    assert _outputs(a / "exposure") == _outputs(ref / "exposure")
+    assert "provenance: results/a/portfolio.csv: " in out.stderr
+
+
+def _run_and_kill(workdir: Path, args: Sequence[str], when: Callable[[str], bool],
+                  delay: float = 0.0, ready: Callable[[], bool] = lambda: True
+                  ) -> tuple[bool, str]:
+    """Run Snakemake; at the first line of its output that ``when`` accepts, wait ``delay``
+    seconds (and until ``ready()``), then kill it with its job and workers (SIGKILL to the
+    process group). Returns (finished without being killed, the line)."""
+    import signal
+
+    env = {k: v for k, v in os.environ.items() if k != "DASK_SCHEDULER_ADDRESS"}
+    run = subprocess.Popen(_command(*args), cwd=workdir, env=env, text=True,
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           start_new_session=True)
+    seen = []
+    for line in run.stdout:
+        seen.append(line)
+        if when(line):
+            deadline = time.monotonic() + 30
+            time.sleep(delay)
+            while not ready() and time.monotonic() < deadline:
+                time.sleep(0.01)
+            os.killpg(run.pid, signal.SIGKILL)
+            run.wait(timeout=60)
+            return False, line.strip()
+    assert run.wait(timeout=60) == 0, "".join(seen)[-4000:]
+    return True, ""
+
+
+@pytest.mark.slow
+def test_killed_portfolio_then_a_downstream_target_remakes_it(two_studies, tmp_path):
+    """Silent before: Snakemake killed (-9) during the portfolio rule, `--unlock`, then a
+    rerun naming a downstream target (the export): "Nothing to be done", and portfolio.csv
+    stayed missing. Now the export's record names the portfolio it was made from: both are
+    remade, to the bytes of an uninterrupted run."""
+    work = _restored(two_studies, tmp_path / "w")
+    table = work / "results/a/portfolio.csv"
+    killed, _ = _run_and_kill(work, ["--forcerun", "portfolio", "results/a/portfolio.csv"],
+                              when=lambda line: line.strip() in ("rule portfolio:",
+                                                                 "localrule portfolio:"),
+                              ready=lambda: not table.exists())
+    assert not killed and not table.exists()
+    _run(work, "--unlock")
+    out = _run(work, "results/a/exposure")
+    ref = two_studies / "results/a"
+    assert table.read_bytes() == (ref / "portfolio.csv").read_bytes(), out.stderr[-3000:]
+    assert _outputs(work / "results/a/exposure") == _outputs(ref / "exposure")
+
+
+@pytest.mark.slow
+def test_kill_anywhere_then_the_same_command_ends_as_an_uninterrupted_run(two_studies,
+                                                                         tmp_path):
+    """Kill -9 of Snakemake (with its job and workers) while each rule runs in turn, each
+    time `--unlock` and the same command again: the run ends with every output identical to
+    the uninterrupted run's (before: the same command stopped on the killed job's
+    incomplete files)."""
+    work = _workdir(tmp_path / "w")
+    killed: list[str] = []
+
+    def new_rule(line: str) -> bool:
+        m = re.match(r"^(?:local)?rule (\w+):$", line.strip())
+        return m is not None and m.group(1) not in killed and m.group(1) != "all"
+
+    for attempt in range(80):
+        finished, line = _run_and_kill(work, [], when=new_rule,
+                                       delay=(0.0, 0.5, 2.0)[attempt % 3])
+        if finished:
+            break
+        killed.append(line.split()[-1].rstrip(":"))
+        _run(work, "--unlock")
+    assert finished, killed
+    reference = _outputs(two_studies / "results")
+    assert _differing(_outputs(work / "results"), reference) == [], killed
+    assert set(killed) == {r for r in _planned_rules(two_studies) if r != "all"}, killed
+
+
+def _planned_rules(workdir: Path) -> set[str]:
+    """Every rule the configuration's default target runs."""
+    dry = _run(workdir, "-n", "--forceall")
+    return set(re.findall(r"^(\w+)\s+\d+$", dry.stdout, re.MULTILINE)) - {"total"}
+
+
+def _jobs(workdir: Path) -> list[dict]:
+    """Every job of the default target (a dry run of them all): rule, inputs, outputs."""
+    dry = _run(workdir, "-n", "--forceall").stdout
+    jobs = []
+    for block in re.split(r"\n(?=(?:local)?rule \w+:\n)", dry):
+        head = re.match(r"(?:local)?rule (\w+):\n", block)
+        if head is None:
+            continue
+        fields = dict(re.findall(r"^    (input|output): (.*)$", block, re.MULTILINE))
+        jobs.append({"rule": head.group(1),
+                     "input": [f for f in fields.get("input", "").split(", ") if f],
+                     "output": [f for f in fields.get("output", "").split(", ") if f]})
+    return jobs
+
+
+@pytest.mark.slow
+def test_every_derived_input_of_every_rule_is_checked_by_its_record(two_studies):
+    """The rule walk: for every job of the workflow, every output carries a record naming
+    its rule (its script ran in rocking.execution.logs.job, which records what made each
+    output), and every input another rule writes is among the inputs of that record (the
+    job checked it against its own record before reading it). A new rule whose script does
+    not record its outputs, or whose derived input is not checked, fails here."""
+    from rocking.provenance import read_record
+
+    jobs = _jobs(two_studies)
+    written = {f: j["rule"] for j in jobs for f in j["output"]}
+    assert {"portfolio", "exposure", "fragility", "stripe_fragility", "report",
+            "motion_measures", "risk"} <= {j["rule"] for j in jobs}
+    # the tables that replaced the refinement's (issues 45, 47) among the files walked
+    assert {f"results/a/{name}" for name in ("motion_measures.csv", "stripe_exceedance.csv",
+                                             "portfolio_site.csv", "verdicts.csv")} <= \
+        set(written)
+    ordering_only = {"results/numba_cache.json"}  # ancient(): the order of jobs alone
+    uncovered = []
+    for j in jobs:
+        for out in j["output"]:
+            path = two_studies / out
+            rec = read_record(path)
+            if rec is None or rec.get("rule") != j["rule"]:
+                uncovered.append(f"{out}: no record by rule {j['rule']}")
+                continue
+            made_from = {os.path.normpath(path.parent / rel) for rel in rec["inputs"]}
+            for f in j["input"]:
+                if f in written and f not in ordering_only and \
+                        os.path.normpath(two_studies / f) not in made_from:
+                    uncovered.append(f"{out} (rule {j['rule']}): input {f} of rule "
+                                     f"{written[f]} is not checked")
+    assert uncovered == []
+    # and the planning holds every job's outputs against their records: its input function
+    # is added to every rule by the last include, after which no rule is defined
+    snakefile = (REPO / "Snakefile").read_text()
+    includes = re.findall(r'^include: "([^"]+)"', snakefile, re.MULTILINE)
+    assert includes[-1] == "workflow/rules/provenance.smk"
+    assert not re.search(r"^rule ", snakefile.split(includes[-1])[1].split("rule all:")[0],
+                         re.MULTILINE)
+
+
+def test_every_script_runs_in_the_job_block_and_every_command_checks_what_it_is_handed():
+    """The readers: every workflow script reads and writes inside
+    rocking.execution.logs.job (its inputs checked, its outputs recorded), and the commands
+    that read a study's tables check them (rocking.cli._common.check_handed)."""
+    scripts = sorted((REPO / "workflow/scripts").glob("*.py"))
+    assert scripts
+    for script in scripts:
+        text = script.read_text()
+        assert re.search(r"with (logs\.)?job\(snakemake\)", text), script.name
+        assert "log_to(" not in text, script.name
+    for command in ("portfolio", "risk"):
+        assert "_common.check_handed(" in (REPO / f"src/rocking/cli/{command}.py").read_text()
+
+
+def _study_tables(reference: Path, folder: Path) -> Path:
+    """Study a's folder without its stores (a surface handed to someone)."""
+    shutil.copytree(reference / "results/a", folder,
+                    ignore=shutil.ignore_patterns("*.zarr", "figures", "exposure"))
+    return folder
+
+
+@pytest.mark.slow
+def test_portfolio_command_refuses_another_studys_table_in_one_line(two_studies, tmp_path,
+                                                                    capsys):
+    """Silent before: `rocking portfolio --surface` read a fragility.csv of another study
+    copied into the folder. Now: refused, naming the file and the command that remakes it;
+    the study's own folder, handed on without its stores, is read."""
+    from rocking.cli import main
+
+    folder = _study_tables(two_studies, tmp_path / "a")
+    argv = ["portfolio", "--surface", str(folder), "--inventory", str(two_studies /
+            "columns.csv"), "--hazard", HAZARD["file"], "--site-lon", "0", "--site-lat", "0",
+            "--resamples", "0"]
+    assert main(argv) == 0
+    assert "no record" not in capsys.readouterr().err
+    shutil.copy(two_studies / "results/b/fragility.csv", folder / "fragility.csv")
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert f"{folder / 'fragility.csv'}: changed since it was written" in err
+    assert f"snakemake --cores 2 {folder / 'fragility.csv'}" in err
+
+
+@pytest.mark.slow
+def test_a_table_of_ones_own_is_read_and_said_so(two_studies, tmp_path, capsys):
+    """A table a user wrote (no record beside it) handed to `rocking risk`: read as it is,
+    one line on stderr saying so."""
+    from rocking.cli import main
+
+    own = tmp_path / "mine.csv"
+    shutil.copy(two_studies / "results/a/fragility.csv", own)
+    assert main(["risk", "--fragility", str(own), "--hazard", "2e-4,2.2"]) == 0
+    err = capsys.readouterr().err
+    assert f"rocking risk: {own} has no record of what made it: read as a table of your own" \
+        in err
+
+
+@pytest.fixture()
+def read_only_folder(tmp_path):
+    """A read-only filesystem (a tmpfs mounted ro), or a folder without write permission."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    if os.geteuid() != 0:
+        folder.chmod(0o555)
+        yield folder
+        folder.chmod(0o755)
+        return
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m,ro", "tmpfs", str(folder)],
+                      capture_output=True).returncode != 0:
+        pytest.skip("a read-only folder needs a tmpfs mount as root")
+    try:
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], check=False)
+
+
+def _refused_before_any_job(work: Path, folder: Path) -> str:
+    cfg = {**json.loads(json.dumps(TWO)), "output": str(folder)}
+    _workdir(work, cfg)
+    out = _run(work, ok=False)
+    assert out.returncode != 0
+    assert "Traceback" not in out.stderr, out.stderr[-3000:]
+    errors = [line for line in out.stderr.splitlines() if line.startswith("error: ")]
+    assert len(errors) == 1, out.stderr[-3000:]
+    assert not re.search(r"^(local)?rule \w+:$", out.stdout + out.stderr, re.MULTILINE)
+    return errors[0]
+
+
+@pytest.mark.slow
+def test_read_only_output_folder_is_said_in_one_line_before_any_job(tmp_path,
+                                                                    read_only_folder):
+    """A traceback from the provenance stamp before (OSError: [Errno 30] Read-only file
+    system: .../.provenance/...part.json)."""
+    line = _refused_before_any_job(tmp_path / "w", read_only_folder)
+    assert line.startswith(f"error: output folder {read_only_folder}") and "cannot write" in line
+
+
+@pytest.mark.slow
+def test_full_output_folder_is_said_in_one_line_before_any_job(tmp_path, full_disk):
+    line = _refused_before_any_job(tmp_path / "w", full_disk)
+    assert line.startswith(f"error: output folder {full_disk}") and "no space left" in line
+
+
+@pytest.mark.parametrize("content", [b"", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe",
+                                     "mode,ü\n3d,1\n".encode("latin-1")],
+                         ids=["0-byte", "binary", "latin-1"])
+def test_verify_names_a_table_it_cannot_read(tmp_path, capsys, content):
+    """"No columns to parse from file" or a UTF-8 decoding error before, naming no file."""
+    from rocking.cli import main
+
+    gallery = REPO / "results" / "paper"
+    run = tmp_path / "run"
+    shutil.copytree(gallery, run, ignore=shutil.ignore_patterns("*.png", "*.html", "*.xml",
+                                                                "figures", "motions"))
+    table = run / "elcentro" / "fragility.csv"
+    table.write_bytes(content)
+    assert main(["verify", str(run), "--against", str(gallery)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"rocking verify: error: {table}: "), err
+
+
+@pytest.mark.slow
+def test_a_copied_folder_remakes_the_tables_its_new_settings_change(two_studies, tmp_path):
+    """A folder copied with `cp -a` (no .snakemake/ record of the rules' parameters), a
+    measure added and the hazard put in it: the records' settings differ, the tables are
+    remade (before issue 48, by two stamp files rewritten at planning); then nothing is left
+    to do."""
+    subprocess.run(["cp", "-a", str(two_studies / "results"), str(tmp_path / "copy")],
+                   check=True)
+    for name in ("columns.csv", "other_columns.csv"):
+        shutil.copy(two_studies / name, tmp_path / name)
+    cfg = json.loads(json.dumps(TWO))
+    cfg.update(output="copy")
+    cfg["studies"]["b"].update(intensity_measures=["pga", "sa:1.0"],
+                               hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
+    del cfg["studies"]["b"]["inventory"]
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump(cfg))
+    plan = _run(tmp_path, "-n", "copy/b/risk.csv")
+    # risk refits in the hazard's measure from each motion's measures (motion_measures.csv)
+    assert {"motion_measures", "risk"} <= _planned(plan.stdout), plan.stdout[-3000:]
+    assert "spectra" not in _planned(plan.stdout)
+    # and the suite's tables in the measure added
+    assert "records_table" in _planned(_run(tmp_path, "-n", "copy/b/suite_fragility.csv")
+                                       .stdout)
+    _run(tmp_path, "copy/b/risk.csv")
+    assert set(pd.read_csv(tmp_path / "copy/b/risk.csv")["measure"]) == {"sa:1.0"}
+    assert _planned(_run(tmp_path, "-n", "copy/b/risk.csv").stdout) == set()
+    # a deleted sidecar (never a silent blank interval): remade before risk reads it
+    (tmp_path / "copy/a/stripe_fragility_bootstrap.nc").unlink()
+    assert {"stripe_fragility", "risk"} <= _planned(_run(tmp_path, "-n",
+                                                         "copy/a/risk.csv").stdout)
 
 
 def _planned(text: str) -> set[str]:
     return {line.split()[-1].rstrip(":") for line in text.splitlines()
             if line.startswith(("rule ", "localrule "))}
-
-
-@pytest.mark.slow
-def test_workflow_remakes_a_deleted_sidecar_and_a_copied_folders_stale_table(tmp_path):
-    """Before: a deleted stripe_fragility_bootstrap.nc was not remade after a hazard change
-    (risk.csv's stripe intervals silently blank); a folder copied with `cp -a` kept its
-    suite_fragility.csv when a measure was added (risk: "add sa:1.0 to the study's
-    intensity_measures" although it was there). Risk refits in a hazard's measure from
-    motion_measures.csv now: that table is remade, by its stamp's date."""
-    cfg = json.loads(json.dumps(TINY_RISK))
-    targets = ["results/tiny/risk.csv", "results/tiny/suite_fragility.csv",
-               "results/tiny/figures/stripe_fragility_3d.png"]
-    _snakemake(tmp_path, cfg, *targets)
-    tiny = tmp_path / "results/tiny"
-    for name in ("stripe_fragility_bootstrap.nc", "suite_fragility_bootstrap.nc",
-                 "fragility_bootstrap.nc"):
-        with xr.open_dataset(tiny / name) as ds:
-            assert len(ds.attrs["table_sha256"]) == 64 and ds.attrs["motions_sha256"]
-    assert json.loads((tiny / "stripe_fragility_refined.jsonl").read_text()
-                      .splitlines()[0])["provenance"]["config_hash"]
-    # a deleted sidecar, then a hazard change: the sidecar is remade before risk reads it
-    (tiny / "stripe_fragility_bootstrap.nc").unlink()
-    cfg["studies"]["tiny"]["hazard"]["k0"] = 3.0e-4
-    assert {"stripe_fragility", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
-                                                               "results/tiny/risk.csv"))
-    # the folder copied, a measure added and the hazard put in it: the tables remade
-    subprocess.run(["cp", "-a", str(tmp_path / "results"), str(tmp_path / "copy")], check=True)
-    cfg.update(output="copy")
-    cfg["studies"]["tiny"].update(intensity_measures=["pga", "sa:1.0"],
-                                  hazard={"k0": 2.0e-4, "k": 2.2, "measure": "sa:1.0"})
-    assert {"motion_measures", "risk"} <= _planned(_snakemake(tmp_path, cfg, "-n",
-                                                              "copy/tiny/risk.csv"))
-    _snakemake(tmp_path, cfg, "copy/tiny/risk.csv")
-    risk = pd.read_csv(tmp_path / "copy/tiny/risk.csv")
-    assert set(risk["measure"]) == {"sa:1.0"}
-    # nothing left to do: the stamps are rewritten only when what they record changes
-    assert _planned(_snakemake(tmp_path, cfg, "-n", "copy/tiny/risk.csv")) == set()
 
 
 def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):

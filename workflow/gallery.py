@@ -49,8 +49,14 @@ def write_critical(store: Path, csv: Path) -> None:
 
 
 def _copy(src: Path, dst: Path) -> None:
-    dst.parent.mkdir(parents=True, exist_ok=True)
-    shutil.copy2(src, dst)
+    """``src`` copied to ``dst`` with its record of what made it (rocking.provenance), so that
+    ``rocking portfolio --surface`` and ``rocking risk`` check the gallery's tables too."""
+    from rocking.provenance import record_path
+
+    for a, b in ((src, dst), (record_path(src), record_path(dst))):
+        if a.exists():
+            b.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(a, b)
 
 
 def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
@@ -85,8 +91,11 @@ def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
             if (src / name).exists():
                 _copy(src / name, dst / name)
                 copied.append(dst / name)
-        digest = StudySpec.from_config(run_config, study).spectra.digest
-        write_critical(keyed(src / "spectra.zarr", digest), dst / CRITICAL)
+        if (src / CRITICAL).exists():  # the critical_table rule's, with its record
+            _copy(src / CRITICAL, dst / CRITICAL)
+        else:
+            digest = StudySpec.from_config(run_config, study).spectra.digest
+            write_critical(keyed(src / "spectra.zarr", digest), dst / CRITICAL)
         copied.append(dst / CRITICAL)
         page = (src / "report.html").read_text()
         # study figures live in <study>/figures/, the others in ../figures/

@@ -4,7 +4,6 @@
 
 import posixpath
 import re
-import sys
 from functools import cache
 
 from rocking.execution.prepare import keyed
@@ -161,28 +160,6 @@ def stripe_targets():
             if has_product("stripes", study)]
 
 
-def provenance_stamp(path, what):
-    """``path`` holding ``what`` (JSON), written (atomically) only when its content differs:
-    its date is when ``what`` last changed, so a rule taking it as input reruns then
-    (rocking._provenance.write_stamp)."""
-    from rocking._provenance import write_stamp
-
-    if _dry_run() and not Path(path).parent.is_dir():
-        return []  # a dry run on a fresh output folder creates nothing (no input yet)
-    # on a folder a run has made, even a dry run records what changed: its plan then shows
-    # the rules the change remakes (a folder copied with `cp -a` has no .snakemake/ record)
-    return str(write_stamp(path, what))
-
-
-def _dry_run():
-    """``snakemake -n`` (``--dry-run``, or ``-n`` among short flags such as ``-np``)."""
-    if getattr(workflow, "dryrun", False):
-        return True
-    return any(a in ("--dry-run", "--dryrun") or
-               (a.startswith("-") and not a.startswith("--") and "n" in a[1:])
-               for a in sys.argv[1:])
-
-
 def _check_config():
     """Grids and specs build without error (the cross-field checks of
     rocking.config.checks ran in the Snakefile); each error names the key and value."""
@@ -209,14 +186,3 @@ def records_targets():
     return [out_path(f"{study}/{name}") for study in config["studies"]
             for name in ("records.csv", "suite_fragility.csv")]
 
-
-def records_table_stamp(study):
-    """``<root>/<study>/.provenance/records_table.json``: what the study's tables are made
-    of (the spectra store, the motions file, the intensity measures), rewritten only when
-    that changes. A declared input, so a changed measure remakes suite_fragility.csv by its
-    date alone, also in a folder copied with `cp -a` (whose tables Snakemake's own record of
-    the rule's params, kept in .snakemake/, does not cover)."""
-    return provenance_stamp(out_path(f"{study}/.provenance/records_table.json"), {
-        "spectra_store": product_store("spectra", study),
-        "motions": ensemble_file(ensemble_of(study)),
-        "intensity_measures": list(study_spec(study).intensity_measures)})

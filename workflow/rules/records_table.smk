@@ -10,7 +10,6 @@ rule records_table:
     input:
         complete=rules.spectra.output.done,
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
-        provenance=lambda wildcards: records_table_stamp(wildcards.study),
     output:
         records=report(
             out_path("{study}/records.csv"),

@@ -18,7 +18,6 @@ rule motion_measures:
         "../envs/rocking.yaml"
     input:
         motions=lambda wildcards: ensemble_file(ensemble_of(wildcards.study)),
-        provenance=lambda wildcards: motion_measures_stamp(wildcards.study),
     output:
         out_path("{study}/motion_measures.csv"),
     params:
@@ -46,9 +45,6 @@ rule risk:
         # read beside fragility.csv to refit it in the hazard's measure and component
         critical=out_path("{study}/critical.csv"),
         motion_measures=out_path("{study}/motion_measures.csv"),
-        # the hazard and settings the table is made with (rewritten when they change: a
-        # copied output folder reruns risk by date, rules/records_table.smk)
-        provenance=lambda wildcards: risk_stamp(wildcards.study),
     output:
         nrml=out_path("{study}/fragility.nrml.xml"),
         pelicun=out_path("{study}/fragility.pelicun.csv"),

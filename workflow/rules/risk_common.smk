@@ -42,18 +42,6 @@ def study_preset(study):
     return accuracy if isinstance(accuracy, str) else ""
 
 
-def risk_stamp(study):
-    """``<root>/<study>/.provenance/risk.json``: the hazard (its file's sha256 too), search
-    bound and preset the risk table is made with (rocking._provenance.write_stamp)."""
-    from rocking._provenance import file_sha256
-
-    path = hazard_file(study)
-    return provenance_stamp(out_path(f"{study}/.provenance/risk.json"), {
-        "hazard": hazard_param(study), "upper": search_upper(study),
-        "preset": study_preset(study),
-        "hazard_sha256": file_sha256(path) if path and Path(path).exists() else None})
-
-
 def risk_studies():
     return [s for s in config["studies"] if hazard_spec(s) is not None]
 
@@ -125,16 +113,6 @@ def hazard_component_of(study):
 def motion_measures_csv(study):
     """Every motion's measures in every component (the refits in the hazard's terms)."""
     return out_path(f"{study}/motion_measures.csv")
-
-
-def motion_measures_stamp(study):
-    """``<root>/<study>/.provenance/motion_measures.json``: the motions file and the measures
-    motion_measures.csv is made of, rewritten only when they change (a declared input: a
-    measure added remakes the table by its date alone, also in a folder copied with `cp -a`,
-    which Snakemake's own record of the rule's params does not cover)."""
-    return provenance_stamp(out_path(f"{study}/.provenance/motion_measures.json"), {
-        "motions": ensemble_file(ensemble_of(study)),
-        "measures": motion_measure_names(study)})
 
 
 def motion_measure_names(study):

@@ -10,7 +10,7 @@ from rocking.execution.cluster import dask_options
 def main(snakemake):
     p = snakemake.params
     study = snakemake.wildcards.study
-    with logs.log_to(snakemake.log[0], outputs=snakemake.output):
+    with logs.job(snakemake):
         spec = products.planned_spec(snakemake.config, study, p.kind, p.config_hash)
         summary = products.compute(
             p.kind, p.store, spec, p.config_hash, snakemake.input.motions,

@@ -1,12 +1,12 @@
 """A study's inventory as OpenQuake's exposure and fragility models and pelicun's inputs
 (Snakemake script), from its portfolio.csv (rocking.risk.exposure.write_exposure)."""
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.risk.exposure import write_exposure
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         # read as written: ids as text (007 stays 007), positions with every digit
         export = write_exposure(snakemake.input.portfolio, snakemake.output.folder,
                                 taxonomy_by=snakemake.params.taxonomy_by)

@@ -2,7 +2,7 @@
 figure named by ``params.figure`` drawn by its module from the rule's inputs and parameters
 (rocking.plot.draw)."""
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.plot import draw
 
 
@@ -14,8 +14,9 @@ def _plain(value):
 def main(snakemake):
     params = {k: _plain(v) for k, v in snakemake.params.items()
               if k not in ("figure", "caption")}
-    inputs = {k: _plain(v) for k, v in snakemake.input.items()}
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    # every input but the planning's (workflow/rules/provenance.smk), which holds no file
+    inputs = {k: _plain(v) for k, v in snakemake.input.items() if k != "provenance"}
+    with job(snakemake):
         draw(snakemake.params.figure, inputs, params, dict(snakemake.output.items()))
 
 

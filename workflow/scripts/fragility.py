@@ -3,16 +3,15 @@ the motions, line fits of the mean spectra."""
 
 import time
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.fragility import lognormal as fragility
 from rocking.fragility.table import FIRST_EXCEEDANCE, quantity_of, write_fragilities
 from rocking.plot import open_means, open_store
-from rocking.store.attrs import store_provenance
 
 
 def main(snakemake):
     out = snakemake.output
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         store = open_store(snakemake.params.store)
         upper = float(snakemake.params.upper)
         table = fragility.fragility_table(store, upper=upper)
@@ -24,11 +23,10 @@ def main(snakemake):
         table = fragility.with_interval(table, samples)
         table.to_netcdf(out.fragility_nc)
         # the table with what it is in (estimator, measure, component, unit, quantity),
-        # then its samples, which record its sha256 (and the store's provenance)
+        # then its samples, whose record says they belong to it
         write_fragilities(fragility.to_frame(table), out.fragility_csv,
                           estimator=FIRST_EXCEEDANCE, measure="pga", component="vector_peak",
-                          quantity=quantity_of(store.attrs), samples=samples,
-                          provenance=store_provenance(store.attrs))
+                          quantity=quantity_of(store.attrs), samples=samples)
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)
         fragility.to_frame(lines).to_csv(out.linear_csv, index=False, float_format="%.10g")

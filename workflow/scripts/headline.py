@@ -3,12 +3,12 @@
 
 import time
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.study.headline import summary, write_headline
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         t0 = time.perf_counter()
         table = write_headline(snakemake.params.store, snakemake.input.motions,
                                snakemake.output.csv, processes=snakemake.threads)

@@ -2,14 +2,14 @@
 
 import xarray as xr
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.store.integrity import require_intact
 from rocking.study.aggregate import ensemble_statistics, write_statistics
 
 
 def main(snakemake):
     store = snakemake.params.store
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         require_intact(store, say=print)  # a damaged chunk is never aggregated into other numbers
         with xr.open_zarr(store, consolidated=True) as ds:
             stats = ensemble_statistics(ds)

@@ -11,7 +11,7 @@ method (Fig 8 only; a suite's holds its recorded motions).
 import logging
 
 from rocking import _json
-from rocking.execution.logs import heartbeat, log_to, terminal
+from rocking.execution.logs import heartbeat, job, terminal
 from rocking.motions.build import (
     ENSEMBLE_ATTRS,
     SUITE_RECORD_KEYS,
@@ -38,7 +38,7 @@ def main(snakemake):
     # a line every progress interval between stages: the fit and the synthesis of many
     # pairs have no progress of their own
     interval = float(snakemake.config["dask"]["progress_interval"])
-    with log_to(snakemake.log[0], outputs=snakemake.output), \
+    with job(snakemake), \
             heartbeat(say, interval, f"building {name}") as stage:
         def said(message):
             stage[0] = f"after: {message}"

@@ -5,12 +5,12 @@ import time
 
 import numba
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.execution.warmup import histories_asked, variants_asked, warm_numba_cache
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         t0 = time.perf_counter()
         # the kernels' variants with the monitors or the vertical forcing only where asked
         monitors, vertical = variants_asked(snakemake.config)
@@ -20,8 +20,8 @@ def main(snakemake):
         summary = {"seconds_per_mode": seconds, "seconds": time.perf_counter() - t0,
                    "numba": numba.__version__, "monitors": monitors, "vertical": vertical,
                    "history": history}
-    with open(snakemake.output[0], "w") as fh:
-        json.dump(summary, fh, indent=2)
+        with open(snakemake.output[0], "w") as fh:  # inside the job: then recorded
+            json.dump(summary, fh, indent=2)
 
 
 if __name__ == "__main__":

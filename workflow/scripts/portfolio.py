@@ -4,13 +4,13 @@ drawn by the figure loop."""
 
 from pathlib import Path
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.risk.portfolio import site_lines, site_portfolio, write_portfolio
 
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         inventory = params.inventory
         result = site_portfolio(Path(snakemake.input.fragility).parent,
                                 snakemake.input.inventory, params.hazard,

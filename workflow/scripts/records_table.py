@@ -3,14 +3,14 @@
 rocking.study.records.write_record_tables does the work; this script checks the store first.
 """
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.store.integrity import require_intact
 from rocking.study.records import write_record_tables
 
 
 def main(snakemake):
     store = snakemake.params.store
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         require_intact(store, say=print)  # a damaged chunk is never tabulated
         n_rows, n_fits = write_record_tables(store, snakemake.input.motions,
                                              snakemake.params.measures,

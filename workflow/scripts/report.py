@@ -4,7 +4,7 @@ the paper's statements against this run's numbers."""
 from datetime import datetime
 from pathlib import Path
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.report.html import build, report_title
 from rocking.report.run_summary import what_was_run
 
@@ -24,7 +24,7 @@ def workflow_elapsed() -> float | None:
 def main(snakemake):
     inp = snakemake.input
     figures = [str(f) for f in inp.figures if str(f).endswith(".png")]
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         run = what_was_run(stores=list(snakemake.params.stores),
                            tilt_maps=list(snakemake.params.tilt_maps),
                            ensembles=list(inp.ensembles), done=list(inp.done),

@@ -4,7 +4,7 @@ drawn from the table by the figure loop."""
 
 import json
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.risk.exports import write_risk_outputs
 from rocking.risk.hazard import parse_hazard
 
@@ -18,7 +18,7 @@ def _one(files):
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         hazard = parse_hazard(params.hazard)
         summary = write_risk_outputs(snakemake.input.fragility, hazard, nrml=out.nrml,
                                      pelicun=out.pelicun, table=out.table,

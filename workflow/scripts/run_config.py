@@ -2,11 +2,11 @@
 
 import yaml
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 
 
 def main(snakemake):
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         with open(snakemake.output[0], "w") as fh:
             fh.write("# Configuration of this run, with the schema's defaults filled in\n"
                      "# (config/README.md explains every key; dask.* as of the run that\n"

@@ -2,13 +2,13 @@
 state, R) of the stripes store, refined where separated and bootstrapped over the motions,
 beside the first-exceedance fit of the spectra; and the bootstrap samples."""
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.execution.stripes import write_stripe_fragility
 
 
 def main(snakemake):
     p = snakemake.params
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         write_stripe_fragility(p.store, snakemake.output.csv, snakemake.output.samples,
                                fragility=snakemake.input.fragility,
                                motions=snakemake.input.motions, refine=int(p.refine),

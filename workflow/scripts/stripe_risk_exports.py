@@ -3,13 +3,13 @@ stripe_fragility.csv, ids saying they carry the multiple-stripe fragility."""
 
 import json
 
-from rocking.execution.logs import log_to
+from rocking.execution.logs import job
 from rocking.risk.exports import write_fragility_exports
 
 
 def main(snakemake):
     out, params = snakemake.output, snakemake.params
-    with log_to(snakemake.log[0], outputs=snakemake.output):
+    with job(snakemake):
         summary = write_fragility_exports(snakemake.input.stripes, nrml=out.nrml,
                                           pelicun=out.pelicun, search_upper=float(params.upper),
                                           study=params.study)

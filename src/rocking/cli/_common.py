@@ -13,8 +13,9 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 HIGHPASS_CHOICES = ("none", "oscillator", "butterworth")
@@ -257,24 +258,38 @@ def check_output(path: Path, suffixes: tuple[str, ...], option: str = "--out") -
     return path
 
 
+def check_handed(paths: Sequence[str | Path], command: str) -> None:
+    """The derived tables a command is handed, each held against its record
+    (:func:`rocking.provenance.check`): a table the workflow wrote and that was edited, cut
+    short or belongs to other inputs than the ones beside it is refused in one line naming
+    it and the command that remakes it; inputs not handed along (a study's folder without its
+    stores) are not asked for; tables without a record are tables of the user's own, read
+    as they are (one note on stderr names them all)."""
+    from rocking.provenance import RECORDS, check
+
+    own = [str(path) for path in paths
+           if Path(path).is_file() and check(path, partial=True) is None]
+    if own:
+        said = (f"{own[0]} has no record of what made it: read as a table of your own"
+                if len(own) == 1 else
+                f"{', '.join(own[:-1])} and {own[-1]} have no record of what made them: read "
+                f"as tables of your own")
+        print(f"rocking {command}: {said} (a table the workflow wrote carries one in "
+              f"{RECORDS}/)", file=sys.stderr)
+
+
 def writable_folder(folder: Path, option: str = "--out") -> Path:
-    """Make ``folder`` if needed and prove it writable by creating and removing a file in it.
+    """Make ``folder`` if needed and prove it writable, with room left
+    (:func:`rocking.provenance.require_writable`).
 
     Raises
     ------
     ValueError
-        Naming the option, the folder and the reason (read-only, not a folder, ...).
+        Naming the option, the folder and the reason (read-only, not a folder, full).
     """
-    folder = Path(folder)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".rocking-probe-")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise ValueError(f"{option}: cannot write in {str(folder)!r}: "
-                         f"{exc.strerror or exc}") from None
-    return folder
+    from rocking.provenance import require_writable
+
+    return require_writable(folder, what=option)
 
 
 @contextlib.contextmanager

@@ -21,6 +21,9 @@ HEADER = ("rank", "id", "R [m]", "tan α [-]", "limit state", "median [g]", "β 
 SHOWN = 20
 """Rows printed per limit state (the highest λ first); portfolio.csv has them all."""
 
+SURFACE_TABLES = ("fragility.csv", "critical.csv", "records.csv", "motion_measures.csv")
+"""The tables of a study's folder the surface is read from (rocking.fragility.surface)."""
+
 PROGRESS_FROM = 2000
 """Inventories of at least this many columns report their progress on stderr."""
 
@@ -120,6 +123,8 @@ def run(args) -> int:
         raise ValueError("--figures and --export need --out (the folder they go to)")
     if not Path(args.hazard).exists() and "," not in args.hazard:
         raise ValueError(f"--hazard: no such file: {args.hazard!r}")
+    folder = args.surface.parent if args.surface.suffix == ".csv" else args.surface
+    _common.check_handed([folder / n for n in SURFACE_TABLES], "portfolio")
     states = None if args.limit_states is None else \
         [s.strip() for s in args.limit_states.split(",") if s.strip()]
     result = site_portfolio(args.surface, args.inventory, args.hazard, site=_forced_site(args),

@@ -229,6 +229,9 @@ def run(args) -> int:
         _common.check_output(args.out, (".csv",))
     if not args.fragility.exists():
         raise ValueError(f"--fragility: no such file: {str(args.fragility)!r}")
+    # and the tables beside it a refit in the hazard's terms reads (rocking.risk.reconcile)
+    _common.check_handed([args.fragility, *(args.fragility.parent / n for n in
+                                            ("critical.csv", "motion_measures.csv"))], "risk")
     hazard = _hazard(args)
     frag = _select(reconcile(args.fragility, hazard), args)
     table = risk_table(frag, hazard)

@@ -1,8 +1,9 @@
 """A job's output sent to its log file: stdout, stderr, logging, and worker processes too.
 
-One redirector for every workflow script (compute, figure and report jobs):
-:func:`log_to`. The terminal stays reachable (:func:`terminal`) for progress;
-:func:`heartbeat` says a long step is still working.
+One block for every workflow script (compute, figure and report jobs): :func:`job`, the log
+redirector :func:`log_to` with the provenance of the job's files (every input checked, every
+output recorded: :mod:`rocking.provenance`). The terminal stays reachable (:func:`terminal`)
+for progress; :func:`heartbeat` says a long step is still working.
 """
 
 from __future__ import annotations
@@ -116,6 +117,38 @@ def log_to(path: str | Path, level: int = logging.INFO, *,
         raise SystemExit(1)
 
 
+ORDERING_ONLY = ("numba",)
+"""Inputs a rule takes for their order alone (the compiled kernels, ``ancient()``): not
+recorded, so that compiling them again remakes nothing."""
+
+
+@contextlib.contextmanager
+def job(snakemake, level: int = logging.INFO) -> Iterator[None]:
+    """The block of a workflow script: its output to its log (:func:`log_to`), every input
+    checked against its record before the block (a derived file edited, cut short or made
+    from other inputs stops the job in one line naming it), every output recorded after it
+    (what made it: the job's inputs, its other outputs, the digest of its parameters; paths
+    under the output root written relative to it). ``snakemake``: the script's object."""
+    from rocking import provenance
+
+    skip = {f for name in ORDERING_ONLY for f in _files(getattr(snakemake.input, name, []))}
+    inputs = [f for f in snakemake.input if f not in skip]
+    outputs = list(snakemake.output)
+    with log_to(snakemake.log[0], level, outputs=outputs):
+        for f in inputs:
+            provenance.check(f)
+        yield
+        settings = provenance.settings_digest(dict(snakemake.params.items()),
+                                              snakemake.config.get("output"))
+        for f in outputs:
+            provenance.record(f, inputs=inputs, together=outputs, settings=settings,
+                              rule=snakemake.rule)
+
+
+def _files(value) -> list[str]:
+    return [value] if isinstance(value, str) else [str(v) for v in value]
+
+
 def _written(outputs: Sequence[str | Path] | None) -> str | None:
     """The one output file, or the folder common to several (None: none given)."""
     files = [str(f) for f in (outputs or [])]
@@ -134,12 +167,12 @@ the operating system's error (netCDF/HDF5: "HDF error") do not say ENOSPC themse
 def one_line_error(exc: BaseException, near: str | Path) -> str | None:
     """The one line a job's error is said in, for the errors whose cause is known, else None
     (then the traceback is kept): a derived file damaged or of another study
-    (:class:`rocking._provenance.ProvenanceError`, naming the file and the way out), a full
+    (:class:`rocking.provenance.ProvenanceError`, naming the file and the way out), a full
     disk (``no space left on <path>``: the file the error names, else ``near``, the job's
     output)."""
     import errno
 
-    from rocking._provenance import ProvenanceError
+    from rocking.provenance import ProvenanceError
 
     if isinstance(exc, ProvenanceError):
         return str(exc)

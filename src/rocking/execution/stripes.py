@@ -42,7 +42,7 @@ from rocking.fragility.stripe_table import (
 )
 from rocking.motions.measures import Measure
 from rocking.spectra.accuracy import get_accuracy
-from rocking.store.attrs import decode_attrs, store_provenance
+from rocking.store.attrs import decode_attrs
 from rocking.store.layout import Layout, Variable, label_coord, region_coords, value_coord
 
 log = logging.getLogger(__name__)
@@ -173,51 +173,47 @@ def refine_cache_path(store_path: str | Path) -> Path:
 class RefineCache:
     """Analyses of refined stripes, one JSON line each, appended (and flushed) as each is
     done: a refinement killed part way resumes without redoing any, and reads them back
-    exactly (JSON keeps every float). A line cut short by the kill is dropped on opening.
+    exactly (JSON keeps every float).
 
     Keys are (mode, R [m], motion, stripe [measure/(g tan α)]); values (exceeded per limit
-    state, failed, analyses run). The first line records what made the analyses
-    (``provenance``: the store's ``config_hash`` and the motions' ``motions_sha256``,
-    :func:`rocking.store.attrs.store_provenance`), every line its own CRC-32: a file of
-    another store or motions (copied from another study) is started anew where the analyses
-    can be redone (``rebuild``), else refused; a damaged line is refused, naming the file and
-    the way out (:class:`rocking._provenance.ProvenanceError`).
+    state, failed, analyses run). Its record (:mod:`rocking.provenance`) names the store the
+    analyses belong to (its identity: config hash and motions' sha256) and holds the sha256
+    of the lines written so far, renewed after each line: a line written after the last
+    record (a kill between the two) is dropped; a file of another store or motions (copied
+    from another study), changed or cut short since, is started anew where the analyses can
+    be redone (``rebuild``), else refused in one line naming the file
+    (:class:`rocking.provenance.ProvenanceError`).
     """
 
-    def __init__(self, path: str | Path | None, provenance: dict | None = None, *,
-                 rebuild: bool = False):
-        from rocking._provenance import ProvenanceError, mismatches, remake_hint
+    def __init__(self, path: str | Path | None, store_path: str | Path | None,
+                 attrs: dict, *, rebuild: bool = False):
+        import hashlib
+
+        from rocking import provenance
 
         self.path = None if path is None else Path(path)
-        self.provenance = dict(provenance or {})
+        identity = provenance.store_identity(attrs)
+        self.made_from = {str(store_path): identity} if store_path else {}
         self._data: dict[tuple, tuple] = {}
+        self._sha = hashlib.sha256()
         if self.path is None or not self.path.exists():
             return
-        raw = self.path.read_bytes()
-        if raw and not raw.endswith(b"\n"):  # killed while writing: drop the cut line
-            raw = raw[: raw.rfind(b"\n") + 1]
-            self.path.write_bytes(raw)
-        lines = raw.splitlines()
-        way_out = (f"delete it and {remake_hint(self.path)} (its analyses are redone)")
-        if lines and _legacy(lines[0]):  # made before caches recorded their provenance
-            wrong = ["no provenance recorded (an older file)"]
-        else:
-            header = _record(lines[0], self.path, 1, way_out) if lines else {}
-            found = header.get("provenance")
-            if lines and not isinstance(found, dict):
-                raise ProvenanceError(f"{self.path} line 1 is not its provenance line: "
-                                      f"{way_out}")
-            wrong = mismatches(found or {}, self.provenance) if self.provenance else []
-        if wrong:
+        why = provenance.problem(self.path, expect=[identity], partial=True, prefix=True)
+        if why is not None:
             if not rebuild:
-                raise ProvenanceError(f"{self.path} holds analyses of another store or "
-                                      f"motions ({'; '.join(wrong)}): {remake_hint(self.path)}")
-            log.warning("%s holds analyses of another store or motions (%s): started anew",
-                        self.path, "; ".join(wrong))
-            self.path.unlink()
+                raise provenance.ProvenanceError(f"{self.path}: {why}: "
+                                                 f"{provenance.remake(self.path)}")
+            log.warning("%s: %s: started anew (its analyses are redone)", self.path, why)
+            provenance.forget(self.path)
             return
-        for n, line in enumerate(lines[1:], start=2):
-            d = _record(line, self.path, n, way_out)
+        size = provenance.read_record(self.path)["size"]
+        raw = self.path.read_bytes()
+        if len(raw) > size:  # killed between a line and its record: the line is redone
+            raw = raw[:size]
+            self.path.write_bytes(raw)
+        self._sha.update(raw)
+        for line in raw.splitlines():
+            d = json.loads(line)
             self._data[(d["mode"], d["R"], d["motion"], d["x"])] = (
                 tuple(d["exceeded"]), d["failed"], d["runs"])
 
@@ -228,65 +224,37 @@ class RefineCache:
         return self._data.get(key)
 
     def put(self, key: tuple, value: tuple) -> None:
+        from rocking import provenance
+
         self._data[key] = value
         if self.path is None:
             return
-        mode, R, motion, x = key
-        line = _line({"mode": mode, "R": R, "motion": motion, "x": x,
-                      "exceeded": [bool(v) for v in value[0]], "failed": bool(value[1]),
-                      "runs": int(value[2])})
-        if not self.path.exists():
-            line = _line({"provenance": self.provenance}) + line
+        line = _line(key, value)
         with open(self.path, "a") as fh:
             fh.write(line)
             fh.flush()
             os.fsync(fh.fileno())
+        self._sha.update(line.encode())
+        provenance.record(self.path, inputs=self.made_from, sha256=self._sha.hexdigest())
 
     def copy_to(self, path: str | Path) -> Path:
-        """The analyses as a file of their own (its provenance line first), written whole
-        under a temporary name: what a figure replays the refinement from."""
-        from rocking._provenance import write_atomic
+        """The analyses as a file of their own, written whole under a temporary name, with
+        its record: what a figure replays the refinement from."""
+        from rocking import provenance
 
-        body = _line({"provenance": self.provenance}) + "".join(
-            _line({"mode": k[0], "R": k[1], "motion": k[2], "x": k[3],
-                   "exceeded": list(v[0]), "failed": v[1], "runs": v[2]})
-            for k, v in self._data.items())
-        return write_atomic(path, lambda tmp: Path(tmp).write_text(body))
-
-
-def _line(record: dict) -> str:
-    """One line of a :class:`RefineCache` file: the record and the CRC-32 of its JSON."""
-    import zlib
-
-    text = json.dumps(record, sort_keys=True)
-    return json.dumps({**record, "crc32": zlib.crc32(text.encode())}, sort_keys=True) + "\n"
+        # in key order: the same analyses give the same file, however a killed run resumed
+        body = "".join(_line(k, v) for k, v in sorted(self._data.items()))
+        provenance.write_atomic(path, lambda tmp: Path(tmp).write_text(body))
+        provenance.record(path, inputs=self.made_from)
+        return Path(path)
 
 
-def _legacy(line: bytes) -> bool:
-    """A line of a cache written before lines carried a checksum (an analysis record)."""
-    try:
-        d = json.loads(line)
-    except ValueError:
-        return False
-    return isinstance(d, dict) and "crc32" not in d and {"mode", "R", "x"} <= set(d)
-
-
-def _record(line: bytes, path: Path, n: int, way_out: str) -> dict:
-    """The record of one line of a :class:`RefineCache` file, its CRC-32 checked."""
-    import zlib
-
-    from rocking._provenance import ProvenanceError
-
-    try:
-        d = json.loads(line)
-        crc = d.pop("crc32")
-        ok = zlib.crc32(json.dumps(d, sort_keys=True).encode()) == crc
-    except (ValueError, TypeError, KeyError, AttributeError, UnicodeDecodeError):
-        ok = False
-    if not ok:
-        raise ProvenanceError(f"{path} line {n} is damaged (not the record its checksum "
-                              f"was written for): {way_out}")
-    return d
+def _line(key: tuple, value: tuple) -> str:
+    """One line of a :class:`RefineCache` file."""
+    mode, R, motion, x = key
+    return json.dumps({"mode": mode, "R": R, "motion": motion, "x": x,
+                       "exceeded": [bool(v) for v in value[0]], "failed": bool(value[1]),
+                       "runs": int(value[2])}, sort_keys=True) + "\n"
 
 
 def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
@@ -342,8 +310,8 @@ def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = N
         Most stripes added per row (:func:`rocking.fragility.stripes.refine_stripes`); 0: none.
     cache : path, optional
         The :class:`RefineCache` file (:func:`refine_cache_path`): analyses found there are
-        not redone, new ones are added; a file of another store or motions is started anew
-        (with ``motions``) or refused.
+        not redone, new ones are added; a file of another store or motions, or changed since
+        it was written, is started anew (with ``motions``) or refused.
     motions : path, optional
         The ensemble file, to analyse refined stripes not in ``cache`` (None: every one must
         be there, as when a figure replays the refinement).
@@ -357,7 +325,8 @@ def stripe_rows(ds: xr.Dataset, *, refine: int = 0, cache: str | Path | None = N
     from rocking.fragility.stripe_table import refined_rows, stripe_fits
 
     # analyses of another store or motions are redone where they can be (motions given)
-    store_cache = RefineCache(cache, store_provenance(ds.attrs), rebuild=motions is not None)
+    store_cache = RefineCache(cache, ds.encoding.get("source"), ds.attrs,
+                              rebuild=motions is not None)
     return refined_rows(stripe_fits(ds), refine,
                         lambda r: _cached_analyzer(r, ds, store_cache, motions),
                         where=str(store_cache.path))
@@ -379,15 +348,15 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
     Refines separated rows (analyses kept in :func:`refine_cache_path`, so a killed run
     resumes), bootstraps every row over the motions, and writes both files (the table with
     its estimator, measure, component, unit and jitter, :func:`rocking.fragility.table.
-    write_fragilities`; the samples record the table's sha256 and the store's provenance).
+    write_fragilities`; the samples' record says they belong to the table).
     ``refined``: the refined analyses are also written there, whole (what the figure
     replays). ``exceedance``: the ensemble's exceedance probability at every stripe with its
     bootstrap interval over the motions (:func:`rocking.fragility.stripes.exceedance_table`,
     ``stripe_exceedance.csv``). Returns the table (bare column names).
     """
-    from rocking._provenance import write_atomic
     from rocking.fragility.stripes import exceedance_table
     from rocking.fragility.table import STRIPES, write_fragilities
+    from rocking.provenance import write_atomic
 
     first = None
     if fragility is not None:
@@ -421,8 +390,7 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
     from rocking.fragility.bootstrap import write_bootstrap
 
     write_bootstrap(bootstrap_dataset(table, rows, boot if boot is not None else empty,
-                                      study=study), samples, table=csv,
-                    provenance=store_provenance(ds.attrs))
+                                      study=study), samples, table=csv)
     if refined is not None:
-        RefineCache(cache, store_provenance(ds.attrs)).copy_to(refined)
+        RefineCache(cache, store_path, ds.attrs).copy_to(refined)
     return table

@@ -61,22 +61,24 @@ def read_bootstrap(path: str | Path, n_rows: int | None = None,
         Rows of the CSV it belongs to; a different count is refused (the samples would be
         given to the wrong rows).
     table : path, optional
-        The CSV it belongs to: the sha256 the file recorded of its table when it was written
-        (``table_sha256``, :func:`write_bootstrap`) must be this file's (a bootstrap of
-        another study, another run or another table is refused).
+        The CSV it belongs to: the file's record (:mod:`rocking.provenance`) must say it was
+        made with this very table (a bootstrap of another study, another run or another
+        table is refused).
 
     Raises
     ------
-    rocking._provenance.ProvenanceError
-        One line naming the file and the ``--forcerun`` that remakes it: the file cannot be
-        read (cut short, damaged), or belongs to another table.
+    rocking.provenance.ProvenanceError
+        One line naming the file and the command that remakes it: the file cannot be read
+        (cut short, damaged), or belongs to another table.
     """
     import xarray as xr
 
-    from rocking._provenance import ProvenanceError, file_sha256, remake_hint
+    from rocking.provenance import ProvenanceError, check, remake
 
     path = Path(path)
-    way_out = remake_hint(path)
+    way_out = remake(path)
+    if table is not None:
+        check(path, expect=[table], own=False, partial=True)  # its job checked the inputs
     try:
         with xr.open_dataset(path) as ds:
             missing = [v for v in ("median", "beta") if v not in ds]
@@ -90,7 +92,6 @@ def read_bootstrap(path: str | Path, n_rows: int | None = None,
                                       f"{way_out}")
             median = ds["median"].values.astype(float)
             beta = ds["beta"].values.astype(float)
-            recorded = ds.attrs.get("table_sha256")
     except ProvenanceError:
         raise
     except FileNotFoundError:
@@ -102,35 +103,21 @@ def read_bootstrap(path: str | Path, n_rows: int | None = None,
     if n_rows is not None and median.shape[0] != n_rows:
         raise ProvenanceError(f"{path}: {median.shape[0]} rows, its table has {n_rows}: the "
                               f"file belongs to another table: {way_out}")
-    if table is not None:
-        found = file_sha256(table)
-        if recorded is None:
-            raise ProvenanceError(f"{path} records no digest of its table (made before "
-                                  f"sidecars recorded one), so it cannot be told to belong "
-                                  f"to {table}: {way_out}")
-        if recorded != found:
-            raise ProvenanceError(f"{path} was made for a table of sha256 {recorded[:16]}, "
-                                  f"not {table} (sha256 {found[:16]}): it belongs to another "
-                                  f"study, run or table: {way_out}")
     return BootstrapSamples(median, beta, str(path))
 
 
-def write_bootstrap(samples, path: str | Path, *, table: str | Path | None = None,
-                    provenance: dict | None = None) -> Path:
+def write_bootstrap(samples, path: str | Path, *, table: str | Path | None = None) -> Path:
     """Write a samples Dataset (``median``, ``beta`` over (row, resample)) to ``path``.
 
-    ``table`` (the CSV the samples belong to, written first) has its sha256 recorded as the
-    attribute ``table_sha256``, checked by :func:`read_bootstrap`; ``provenance`` (e.g. the
-    store's ``config_hash``, the motions' ``motions_sha256``) is recorded beside it. The
+    ``table`` (the CSV the samples belong to, written first) is recorded as what the file was
+    made from (:func:`rocking.provenance.record`), checked by :func:`read_bootstrap`. The
     file is written under a temporary name and renamed: nothing half-written is left.
     """
-    from rocking._provenance import file_sha256, write_atomic
+    from rocking.provenance import record, write_atomic
 
-    samples = samples.copy()
-    samples.attrs.update({k: str(v) for k, v in (provenance or {}).items()})
-    if table is not None:
-        samples.attrs["table_sha256"] = file_sha256(table)
-    return write_atomic(path, samples.to_netcdf)
+    write_atomic(path, samples.to_netcdf)
+    record(path, inputs=[table] if table is not None else [])
+    return Path(path)
 
 
 __all__ = ["SUFFIX", "BootstrapSamples", "bootstrap_path", "read_bootstrap",

@@ -87,8 +87,8 @@ def motion_measures(motions, measures: Sequence[str],
 def write_motion_measures(motions_path: str | Path, measures: Sequence[str],
                           csv: str | Path) -> Path:
     """``motion_measures.csv`` of an ensemble file (written under a temporary name)."""
-    from rocking._provenance import write_atomic
     from rocking.motions.ensemble_io import load_ensemble
+    from rocking.provenance import write_atomic
     from rocking.units import CSV_FLOAT_FORMAT
 
     frame = motion_measures(load_ensemble(motions_path), measures)

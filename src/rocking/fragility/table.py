@@ -362,7 +362,7 @@ def with_meta(frame: pd.DataFrame, *, estimator: str, measure=None,
 def write_fragilities(frame: pd.DataFrame, path: str | Path, *, estimator: str,
                       measure=None, component: str | None = None,
                       quantity: dict | None = None, samples=None,
-                      provenance: dict | None = None, float_format: str = "%.10g") -> Path:
+                      float_format: str = "%.10g") -> Path:
     """Write a fragility table with its :data:`META` columns (:func:`with_meta`), and its
     bootstrap samples beside it.
 
@@ -376,20 +376,18 @@ def write_fragilities(frame: pd.DataFrame, path: str | Path, *, estimator: str,
         As :func:`with_meta`.
     samples : xarray.Dataset, optional
         ``median``, ``beta`` over (row, resample), rows in the table's order
-        (:func:`rocking.fragility.bootstrap.write_bootstrap`: the samples record the
-        table's sha256).
-    provenance : dict, optional
-        Recorded in the samples' attributes.
+        (:func:`rocking.fragility.bootstrap.write_bootstrap`: the samples' record says
+        they belong to the table).
     """
-    from rocking._provenance import write_atomic
     from rocking.fragility.bootstrap import bootstrap_path, write_bootstrap
+    from rocking.provenance import write_atomic
 
     table = with_meta(frame, estimator=estimator, measure=measure, component=component,
                       quantity=quantity)
     path = Path(path)
     write_atomic(path, lambda tmp: table.to_csv(tmp, index=False, float_format=float_format))
     if samples is not None:
-        write_bootstrap(samples, bootstrap_path(path), table=path, provenance=provenance)
+        write_bootstrap(samples, bootstrap_path(path), table=path)
     return path
 
 

@@ -18,7 +18,6 @@ are in :mod:`rocking.motions.catalogue`.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import re
 from dataclasses import dataclass, field
@@ -30,6 +29,7 @@ import numpy as np
 from rocking._validate import positive_finite
 from rocking.constants import G
 from rocking.motions.motion import GroundMotion
+from rocking.provenance import file_sha256
 
 __all__ = [
     "Record",
@@ -104,15 +104,6 @@ class Record:
     def __iter__(self):
         # Lets ``acc, dt, meta = read_record(path)`` work as the contract describes.
         return iter((self.acc, self.dt, self.meta))
-
-
-def file_sha256(path: str | Path) -> str:
-    """Hex sha256 of a file's bytes, read in 1 MiB blocks (a record, an ensemble file)."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
 
 
 def _unit_factor(units: str) -> float:

@@ -160,8 +160,11 @@ def save(fig: Figure, outputs: Sequence[str | Path]) -> list[Path]:
         if path.suffix.lower() not in {".png", ".pdf", ".svg"}:
             raise ValueError(f"output suffix must be .png, .pdf or .svg, got {str(path)!r}")
         path.parent.mkdir(parents=True, exist_ok=True)
+        # no creation date in a PDF or SVG: the same figure gives the same bytes, so a run
+        # resumed after a kill ends with files identical to an uninterrupted run's
+        dateless = {".pdf": {"CreationDate": None}, ".svg": {"Date": None}}
         with plt.rc_context(RC):
-            fig.savefig(path)
+            fig.savefig(path, metadata=dateless.get(path.suffix.lower()))
     return paths
 
 

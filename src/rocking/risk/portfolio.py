@@ -417,7 +417,7 @@ def write_portfolio(table: pd.DataFrame, out_dir: str | Path,
     state, :func:`site_answer`, where the table has it) and ``portfolio_skipped.csv``
     (the rows left out, when any), written under temporary names and renamed; returns the
     table's path."""
-    from rocking._provenance import write_atomic
+    from rocking.provenance import write_atomic
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -9,7 +9,7 @@ from typing import Any
 
 from rocking._json import json_default
 
-__all__ = ["config_hash", "decode_attrs", "store_provenance"]
+__all__ = ["config_hash", "decode_attrs"]
 
 
 def config_hash(obj: Any) -> str:
@@ -35,13 +35,3 @@ def decode_attrs(attrs: Mapping[str, Any]) -> dict[str, Any]:
             out[k] = v
     return out
 
-
-def store_provenance(attrs: Mapping[str, Any]) -> dict[str, str]:
-    """What a file derived from a store records of it (:mod:`rocking._provenance`): the
-    store's ``config_hash`` and the sha256 of the motions it was made from
-    (``motions_sha256``); empty strings where the store lacks one."""
-    raw = attrs.get("config_hash", "")  # a hex string: never JSON-decoded (1e5... is a float)
-    ensemble = decode_attrs({"e": attrs.get("ensemble") or {}})["e"]
-    return {"config_hash": str(raw),
-            "motions_sha256": str(ensemble.get("file_sha256", "")
-                                  if isinstance(ensemble, Mapping) else "")}

@@ -338,7 +338,7 @@ CRITICAL_FLOAT_FORMAT = "%.10g"
 def write_critical_table(store: str | Path, csv: str | Path) -> Path:
     """``critical.csv``: the spectra store of a study as one row per computed answer
     (:func:`critical_frame`), written under a temporary name and renamed; returns ``csv``."""
-    from rocking._provenance import write_atomic
+    from rocking.provenance import write_atomic
 
     with xr.open_zarr(store, consolidated=True) as ds:
         frame = critical_frame(ds)

@@ -124,8 +124,8 @@ def write_headline(store_path: str | Path, motions_path: str | Path, csv: str | 
     """``headline.csv`` of a study: :func:`grid_answers` of its headline cell beside the
     store's own answer of each motion there (empty, with its columns, when the store has no
     headline cell); written under a temporary name and renamed."""
-    from rocking._provenance import write_atomic
     from rocking.execution.tasks import motions_by_name
+    from rocking.provenance import write_atomic
     from rocking.spectra.quantity import Quantity
     from rocking.store.attrs import decode_attrs
     from rocking.study.aggregate import store_quantity

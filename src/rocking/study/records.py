@@ -39,7 +39,6 @@ from rocking.motions.measures import (
     parse_measure,
 )
 from rocking.motions.motion import GroundMotion
-from rocking.store.attrs import store_provenance
 from rocking.study.aggregate import (
     QUANTITY_COLUMNS,
     nullable_flag,
@@ -405,7 +404,7 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     from rocking.fragility.lognormal import censoring_bound
     from rocking.fragility.table import FIRST_EXCEEDANCE, quantity_of, write_fragilities
     from rocking.motions.ensemble_io import load_ensemble
-    from rocking.store import open_group, read_attrs
+    from rocking.store import read_attrs
     from rocking.units import CSV_FLOAT_FORMAT
 
     motions = load_ensemble(motions_path)
@@ -425,7 +424,6 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
     write_fragilities(fragility, fragility_csv, estimator=FIRST_EXCEEDANCE, quantity=quantity,
                       samples=_bootstrap_samples(fragility),
-                      provenance=store_provenance(open_group(store_path, "r").attrs),
                       float_format=CSV_FLOAT_FORMAT)
     return len(records), len(fragility)
 

@@ -224,6 +224,16 @@ def _run_config(run: Path, studies: list[str]) -> tuple[dict[str, Any], bool]:
                            "(give the output folder of a run, e.g. results)")
 
 
+def _read_table(path: Path) -> pd.DataFrame:
+    """A table of a run or the gallery; one that cannot be read (empty, binary, not UTF-8,
+    cut in a quoted field) is refused naming the file."""
+    try:
+        return pd.read_csv(path)
+    except (OSError, ValueError, pd.errors.ParserError) as exc:  # EmptyDataError, decoding
+        reason = str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__
+        raise VerifyInputError(f"{path}: not a readable table ({reason})") from None
+
+
 def _critical_from_store(run: Path, study: str, config: dict[str, Any]) -> pd.DataFrame | None:
     """The answers of a run's study from its spectra store (None if there is none)."""
     import xarray as xr
@@ -257,10 +267,10 @@ def _load(run: Path, against: Path) -> tuple[dict, dict, dict]:
     for s in studies:
         rframes[s], gframes[s] = {}, {}
         for t in gtables[s]:
-            gframes[s][t] = pd.read_csv(against / s / t)
+            gframes[s][t] = _read_table(against / s / t)
             path = run / s / t
             if path.is_file():
-                rframes[s][t] = pd.read_csv(path)
+                rframes[s][t] = _read_table(path)
             elif t == CRITICAL and not copy:
                 frame = _critical_from_store(run, s, rconfig)
                 if frame is None:
@@ -543,7 +553,10 @@ def motions_lines(run: str | Path, against: str | Path = "results/paper") -> lis
     manifest = against / "MANIFEST.json"
     if not manifest.is_file() or (run / "config.yaml").is_file():
         return []
-    digests = json.loads(manifest.read_text()).get("motion_sha256") or {}
+    try:
+        digests = json.loads(manifest.read_text()).get("motion_sha256") or {}
+    except (OSError, ValueError, AttributeError) as exc:
+        raise VerifyInputError(f"{manifest}: not a readable manifest ({exc})") from None
     config, _ = _run_config(run, list(_gallery(against)[0]["studies"]))
     lines = []
     for name, recorded in digests.items():
