@@ -172,7 +172,10 @@ def flag_lines() -> list[str]:
     from rocking.cli.spectra import FLAG_NOTES
     from rocking.study.aggregate import CRITICAL_COLUMNS
 
-    flags = [c for c in CRITICAL_COLUMNS if c not in ("pga_crit", "pga_crit_g", "n_analyses")]
+    # the answers and the other intensities beside them (I50, the first exceedance) are
+    # values, not flags
+    flags = [c for c in CRITICAL_COLUMNS
+             if c not in ("pga_crit", "pga_crit_g", "i50", "first_exceedance", "n_analyses")]
     unsaid = [f for f in flags if f not in FLAG_NOTES]
     if unsaid:
         raise ValueError(f"critical.csv flags {unsaid} have no words in FLAG_NOTES")

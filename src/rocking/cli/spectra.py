@@ -102,6 +102,9 @@ FLAG_NOTES = {
     "plateau": "plateau: P(s) rises near p without crossing it more than a window below "
                "the answer; there the answer is ill-conditioned (a small change of the "
                "response may move it down)",
+    "non_monotonic": "non_monotonic: an analysed intensity exceeded and a larger one did "
+                     "not (the response is not monotonic in the intensity; nearly every I_p "
+                     "answer is, so the command line says it of first exceedances only)",
     "failed": "failed: an analysis failed (the answer is not usable)",
     "slides": "slides: an analysis up to the answer that did not overturn needed more "
               "friction than --mu while in contact (the body would have slid: the rocking "
