@@ -272,6 +272,7 @@ def _quotes():
     spec = importlib.util.spec_from_file_location(
         "gallery_quotes", Path(__file__).resolve().with_name("gallery_quotes.py"))
     module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up while defined
     spec.loader.exec_module(module)
     return module
 

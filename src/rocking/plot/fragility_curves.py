@@ -184,8 +184,8 @@ def plot(d: dict) -> Figure:
         legend_row.legend(handles=[Line2D([], [], color="0.3", lw=1.9,
                                    label="lognormal MLE fit, sizes named on the curve"),
                             Line2D([], [], ls="", marker="o", mfc="none", mec="0.3",
-                                   label="ensemble: share of motions first exceeding at "
-                                         "≤ x (named sizes)"),
+                                   label="ensemble: share of motions whose critical "
+                                         "intensity is ≤ x (named sizes)"),
                             *([Line2D([], [], color="0.3", lw=0.7, alpha=0.4,
                                       label=f"the other {others} sizes: fit only (thin)")]
                               if others else [])],
