@@ -157,8 +157,10 @@ def test_committed_answers_agree_with_a_slice_run_again_within_the_stated_error(
     both_nan = np.isnan(a) & np.isnan(b)
     rel = np.where(both_nan, 0.0, np.abs(a - b) / np.abs(b))
     beyond = ~(rel <= r * (1 + 1e-9))
-    print(f"{slice_answers.attrs['simd']}: {int(np.sum(rel == 0))} of {len(rel)} answers "
-          f"identical to the gallery's, {int(beyond.sum())} beyond {100 * r:g} %")
+    # the table prints 10 significant digits: equal to them is identical
+    print(f"{slice_answers.attrs['simd']}: {int(np.sum(rel <= 5e-10))} of {len(rel)} answers "
+          f"identical to the gallery's (to its 10 digits), {int(beyond.sum())} beyond "
+          f"{100 * r:g} %")
     assert beyond.sum() <= share * len(rel), merged.loc[beyond, KEYS + ["pga_crit",
                                                                       "pga_crit_gallery"]]
     ok = ~beyond
