@@ -1508,3 +1508,27 @@ def test_store_fill_on_a_full_disk_says_so_in_one_line(tmp_path, full_disk):
     (line,) = err.strip().splitlines()[-1:]
     assert line.startswith("error: no space left on ") and str(full_disk) in line, err
     assert len(err.strip().splitlines()) == 1, err
+
+
+def test_a_rewrite_with_the_same_bytes_records_only_its_own_inputs(tmp_path):
+    """Silent before (seen in CI, a repository under /tmp): a table rewritten with the same
+    bytes from other inputs (a closed-form hazard instead of a hazard file) kept the earlier
+    run's inputs in its record, so the plan found a "missing" input and remade the job again
+    and again. A record written for the very same write (same bytes, same modification time:
+    a library function recording while its job runs) still keeps what it recorded."""
+    import time
+
+    from rocking.provenance import read_record, record
+
+    table, old_source, new_source = (tmp_path / n for n in ("t.csv", "a.csv", "b.csv"))
+    old_source.write_text("1\n")
+    new_source.write_text("2\n")
+    table.write_text("x\n")
+    record(table, inputs=[old_source], rule="r")
+    assert set(read_record(table)["inputs"]) == {"a.csv"}
+    record(table, inputs=[new_source], rule="r")  # the same write: both kept
+    assert set(read_record(table)["inputs"]) == {"a.csv", "b.csv"}
+    time.sleep(0.01)
+    table.write_text("x\n")  # the next run: the same bytes, written again
+    record(table, inputs=[new_source], rule="r")
+    assert set(read_record(table)["inputs"]) == {"b.csv"}

@@ -192,9 +192,13 @@ def record(path: str | Path, *, inputs: Iterable | Mapping = (),
     sha = sha256 or (digest(path) if path.is_dir() else _cached_sha256(path, st))
     base = path.parent
     found = {} if sha256 else (read_record(path) or {})
+    # the record a library function wrote for this very write (same bytes, same modification
+    # time) keeps its inputs; one of an earlier run whose bytes came out the same does not
+    # (its inputs are not this job's: another hazard, say)
+    same_write = found.get("sha256") == sha and found.get("mtime_ns") == st.st_mtime_ns
     rec = {"file": path.name, "sha256": sha, "size": st.st_size, "mtime_ns": st.st_mtime_ns,
            "rule": rule or found.get("rule"), "settings": settings or found.get("settings"),
-           "inputs": {**((found.get("inputs") or {}) if found.get("sha256") == sha else {}),
+           "inputs": {**((found.get("inputs") or {}) if same_write else {}),
                       **_relative(inputs, base)},
            "together": _relative([t for t in together if Path(t) != path], base)}
     text = json.dumps(rec, sort_keys=True, indent=1) + "\n"
