@@ -61,8 +61,10 @@ QUANTITIES: dict[str, tuple[str, str, str]] = {
     "n_analyses": ("1", "", "analyses run by the search (all limit states together)"),
     "done": ("1", "", "chunk computed and written"),
     "requested": ("1", "", "some run of the study asks for this cell (false: not computed)"),
-    "bracket_lo": ("1", "g tan(alpha)", "largest intensity known not to exceed, below the answer"),
-    "bracket_hi": ("1", "g tan(alpha)", "smallest exceeding intensity found (the answer)"),
+    "bracket_lo": ("1", "g tan(alpha)", "highest stripe with no motion exceeding, below every "
+                   "exceeding one (the stripe median lies above it)"),
+    "bracket_hi": ("1", "g tan(alpha)", "lowest stripe with every motion exceeding, above every "
+                   "non-exceeding one (the stripe median lies below it)"),
     "lower": ("1", "g tan(alpha)", "uplift intensity (start of the search)"),
     "upper": ("1", "g tan(alpha)", "highest intensity searched"),
     "censoring_bound": ("1", "g tan(alpha)", "search bound the motions not reached are "
