@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import os
 import sys
-import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
@@ -294,21 +292,18 @@ def writable_folder(folder: Path, option: str = "--out") -> Path:
 
 @contextlib.contextmanager
 def replacing(path: Path) -> Iterator[Path]:
-    """A temporary file next to ``path``, renamed onto it when the block succeeds.
+    """A temporary file next to ``path``, renamed onto it when the block succeeds
+    (:func:`rocking.provenance.atomic_path`, the one atomic write).
 
     A failed write (a full disk) removes the temporary file and leaves ``path`` as it was:
     never a partial output. The ``OSError`` raised names ``path``.
     """
+    from rocking.provenance import atomic_path
+
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(fd)
     try:
-        yield Path(tmp)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        if isinstance(exc, OSError):
-            raise OSError(exc.errno, f"{exc.strerror or exc}; nothing written",
-                          str(path)) from exc
-        raise
+        with atomic_path(path) as tmp:
+            yield tmp
+    except OSError as exc:
+        raise OSError(exc.errno, f"{exc.strerror or exc}; nothing written",
+                      str(path)) from exc
