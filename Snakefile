@@ -26,20 +26,14 @@ if not workflow.overwrite_configfiles:
     configfile: str(DEFAULT_CONFIG)
 
 
-# A relative recorded-parameters file (ensembles.<name>.params) is read from the working
-# directory, else from beside this Snakefile (--directory elsewhere), as the hazard file is.
-for _ensemble in config.get("ensembles", {}).values():
-    _params = _ensemble.get("params") if isinstance(_ensemble, dict) else None
-    if (isinstance(_params, str) and _params and not Path(_params).is_absolute()
-            and not Path(_params).exists() and Path(workflow.basedir, _params).exists()):
-        _ensemble["params"] = str(Path(workflow.basedir, _params))
+# Every check of the configuration, before any job is planned (a dry run too), each error
+# one line naming the key and the value: the schema and its defaults, the cross-field checks
+# (records and their files, tilt goals against every tan_alpha), every study's grids, the
+# hazards and inventories against their studies. A relative file (recorded parameters,
+# hazard, inventory) is read from the working directory, else from beside this Snakefile.
+from rocking.config.checks import check_workflow_config
 
-
-# Schema errors in one line naming the key, then cross-field checks (records and their
-# files, tilt goals against every tan_alpha), all before any job is planned.
-from rocking.config.checks import validate_config
-
-validate_config(config, Path(workflow.basedir, "workflow/schemas/config.schema.yaml"), validate)
+check_workflow_config(config, workflow.basedir, validate)
 
 
 include: "workflow/rules/common.smk"

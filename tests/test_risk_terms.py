@@ -168,18 +168,20 @@ def _tiny_config(tmp_path, hazard, **extra):
 
 
 def test_an_sa_hazard_against_a_pga_only_study_is_refused_in_the_dry_run(tmp_path):
-    from test_workflow import TARGETS, snakemake
+    """check_risk is the last step of the workflow's one check of the configuration, which
+    the Snakefile runs before any job (test_workflow's subprocess case of the refusals)."""
+    from snakemake.utils import validate
+    from test_workflow import REPO
 
-    from rocking.config.checks import check_risk
+    from rocking.config.checks import check_risk, check_workflow_config
 
     sa = _sa_file(tmp_path / "hazard_curve-mean-SA(1.0)_1.csv")
-    cfg, path = _tiny_config(tmp_path, str(sa))
-    with pytest.raises(ValueError, match=r"^studies.tiny.hazard: .* is of SA\(1.0\), study "
-                                         r"tiny of pga, pgv only: add sa:1.0"):
+    cfg, _ = _tiny_config(tmp_path, str(sa))
+    refused = r"^studies.tiny.hazard: .* is of SA\(1.0\), study tiny of pga, pgv only: add sa:1.0"
+    with pytest.raises(ValueError, match=refused):
         check_risk(cfg)
-    run = snakemake(tmp_path, "-n", *TARGETS, configfile=path, check=False)
-    text = run.stdout + run.stderr
-    assert run.returncode != 0 and "studies.tiny.hazard:" in text and "is of SA(1.0)" in text
+    with pytest.raises(ValueError, match=refused):
+        check_workflow_config(json.loads(json.dumps(cfg)), REPO, validate)
     assert not (tmp_path / "results").exists()
     # with sa:1.0 among its measures the study fits it: the dry run passes that check
     cfg["studies"]["tiny"]["intensity_measures"] = ["pga", "sa:1.0"]

@@ -285,19 +285,22 @@ def _write(tmp_path, cfg) -> object:
 
 
 @pytest.mark.slow
-def test_suite_dry_run_names_a_missing_mw(tmp_path):
-    from test_workflow import snakemake
+def test_suite_dry_run_names_a_missing_mw(tmp_path, monkeypatch):
+    """The workflow's one check of the configuration (the Snakefile calls it before any job:
+    test_workflow.test_the_snakefile_refuses_a_bad_config_with_the_one_check)."""
+    from snakemake.utils import validate
+    from test_workflow import REPO
+
+    from rocking.config.checks import check_workflow_config
 
     cfg = copy.deepcopy(SUITE)
     cfg["ensembles"]["three"]["records"].append({"record": "my-pair",
                                                  "paths": _user_pair(tmp_path)})
-    out = snakemake(tmp_path, "-n", "results/three/records.csv",
-                    configfile=_write(tmp_path, cfg), check=False)
-    text = out.stdout + out.stderr
-    assert out.returncode != 0
-    assert "ensembles.three.records[3].mw is needed: record 'my-pair' is not in the " \
-           "catalogue" in text
-    assert len(text.splitlines()) < 15 and not (tmp_path / "results").exists()
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match=r"^ensembles.three.records\[3\].mw is needed: "
+                                         r"record 'my-pair' is not in the catalogue"):
+        check_workflow_config(cfg, REPO, validate)
+    assert not (tmp_path / "results").exists()
 
 
 @pytest.mark.slow

@@ -364,15 +364,40 @@ def test_dry_run_plans_every_rule(config, tmp_path):
          "inf-grid", "tilt-map-motion", "max-duration", "huge-grid", "user-record-without-mw",
          "vertical-without-file", "vertical-other-dt"],
 )
-def test_invalid_config_stops_before_any_work(change, message, tmp_path):
+def test_invalid_config_stops_before_any_work(change, message, tmp_path, monkeypatch):
+    """The check the Snakefile runs before it plans any job
+    (:func:`rocking.config.checks.check_workflow_config`), called in-process on the
+    configuration as a YAML file hands it over: one line naming the key and the value.
+    That the Snakefile runs this very check, and says its line alone:
+    test_the_snakefile_refuses_a_bad_config_with_the_one_check."""
+    from snakemake.utils import validate
+
+    from rocking.config.checks import check_workflow_config
+
     cfg = json.loads(json.dumps(TINY))
     change(cfg)
+    cfg = yaml.safe_load(yaml.safe_dump(cfg))  # as --configfile reads it (nan, inf)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError) as refused:
+        check_workflow_config(cfg, REPO, validate)
+    assert message in str(refused.value)
+    assert "\n" not in str(refused.value)  # the message, not the schema
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_the_snakefile_refuses_a_bad_config_with_the_one_check(tmp_path):
+    """The one subprocess case of the refusals above: `snakemake -n` stops on the last step
+    of check_workflow_config (a hazard file that does not exist), before any job, and says
+    the one line."""
+    cfg = json.loads(json.dumps(TINY))
+    cfg["studies"][STUDY]["hazard"] = "nosuch_hazard.csv"
     path = tmp_path / "bad.yaml"
     path.write_text(yaml.safe_dump(cfg))
     out = snakemake(tmp_path, "-n", *TARGETS, configfile=path, check=False)
     assert out.returncode != 0
     text = out.stdout + out.stderr
-    assert message in text
+    assert "studies.tiny.hazard: hazard must be an existing hazard-curve file" in text
+    assert "check_workflow_config" in text  # the Snakefile's one call
     assert len(text.splitlines()) < 15  # the message, not the schema
     assert not (tmp_path / "results").exists()
 

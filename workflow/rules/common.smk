@@ -160,21 +160,6 @@ def stripe_targets():
             if has_product("stripes", study)]
 
 
-def _check_config():
-    """Grids and specs build without error (the cross-field checks of
-    rocking.config.checks ran in the Snakefile); each error names the key and value."""
-    for study in config["studies"]:
-        for kind in PRODUCTS:
-            if has_product(kind, study):
-                product_spec(kind, study)
-    if config["dask"]["scheduler_address"] and config["dask"]["scheduler_file"]:
-        raise ValueError("dask.scheduler_address and dask.scheduler_file are both set; "
-                         "give one")
-
-
-_check_config()
-
-
 wildcard_constraints:
     study="|".join(map(re.escape, config["studies"])),
     ensemble="|".join(map(re.escape, config["ensembles"])),

@@ -5,7 +5,7 @@
 from functools import cache
 from pathlib import Path
 
-from rocking.config.checks import check_risk
+from rocking.config.checks import resolve_path
 from rocking.risk.hazard import parse_hazard
 
 
@@ -21,10 +21,7 @@ def hazard_file(study):
     name = spec.get("file") if isinstance(spec, dict) else spec
     if name is None or ("," in str(name) and not Path(name).exists()):
         return None
-    for base in (Path("."), Path(workflow.basedir)):
-        if (base / name).exists():
-            return str(base / name)
-    return str(name)
+    return resolve_path(name, workflow.basedir)
 
 
 def hazard_param(study):
@@ -52,12 +49,8 @@ def inventory_studies():
 
 def inventory_file(study):
     """The inventory CSV of a study (relative to the working directory, else to the
-    repository); a missing file is refused at parse time, naming the key."""
-    name = study_spec(study).inventory["file"]
-    for base in (Path("."), Path(workflow.basedir)):
-        if (base / name).is_file():
-            return str(base / name)
-    raise ValueError(f"studies.{study}.inventory.file: no such file: {name!r}")
+    repository; a missing file was refused with the configuration, naming the key)."""
+    return resolve_path(study_spec(study).inventory["file"], workflow.basedir)
 
 
 def portfolio_targets():
@@ -121,18 +114,3 @@ def motion_measure_names(study):
     if hazard_spec(study) is not None:
         names.append(hazard_curve(study).measure)
     return list(dict.fromkeys(names))
-
-
-def _resolve(name):
-    """A file of the configuration as the rules read it (working directory, else the
-    repository)."""
-    for base in (Path("."), Path(workflow.basedir)):
-        if (base / name).exists():
-            return str(base / name)
-    return str(name)
-
-
-# every hazard parses, meets its study's fragility (measure, component, unit) and every
-# inventory row is checked against it and the study's planned grid, before any job runs
-# (a dry run too); the error names the key (rocking.config.checks.check_risk)
-check_risk(config, _resolve)

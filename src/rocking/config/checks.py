@@ -631,9 +631,12 @@ def _check_inventory(field: str, spec, entry, resolve) -> None:
         raise ValueError(f"{field}.inventory: the study has no grid of R and tan α in 3d "
                          "(a fragility surface needs ≥ 2 sizes and a limit state asked at "
                          "≥ 2 slendernesses in mode 3d): add such a run")
+    path = resolve(inventory["file"])
+    if not Path(path).is_file():
+        raise ValueError(f"{field}.inventory.file: no such file: {inventory['file']!r}")
     try:
         sites = read_hazard_sites(entry)
-        columns = read_inventory(resolve(inventory["file"]), surface=grid, hazard=sites,
+        columns = read_inventory(path, surface=grid, hazard=sites,
                                  extrapolate=bool(inventory["extrapolate"]))
     except ValueError as exc:
         raise ValueError(f"{field}.inventory: {exc}") from None
@@ -643,3 +646,67 @@ def _check_inventory(field: str, spec, entry, resolve) -> None:
                 raise ValueError(f"{field}.inventory: {inventory['file']}: row {row}: id "
                                  f"{ident!r} is not an OpenQuake asset id (1-50 letters, "
                                  "digits, '_', '-' or ':'), which inventory.export needs")
+
+
+SCHEMA = "workflow/schemas/config.schema.yaml"
+"""The workflow's configuration schema, relative to the repository (the Snakefile's folder)."""
+
+
+def resolve_path(name: str | Path, basedir: str | Path) -> str:
+    """A file named in the configuration, as the workflow reads it: relative to the working
+    directory, else to the repository ``basedir`` (as ``config/config.yaml`` is found), else
+    ``name`` itself (its reader then names it as missing)."""
+    for base in (Path("."), Path(basedir)):
+        if (base / name).exists():
+            return str(base / name)
+    return str(name)
+
+
+def check_workflow_config(config: dict[str, Any], basedir: str | Path,
+                          set_defaults: Callable[[dict, str], None] | None = None) -> None:
+    """Everything the workflow checks of a configuration before it plans any job, in one
+    call: the Snakefile's, and the tests' in-process (one check, not two copies).
+
+    In order: a relative file of recorded RDK parameters found beside the repository when
+    the working directory has none (``config`` is updated in place, as the workflow holds
+    it); the schema, its defaults and the cross-field checks (:func:`validate_config`); every
+    product of every study built (grids, runs, digests); one Dask scheduler at most; and
+    every hazard and inventory against its study (:func:`check_risk`).
+
+    Parameters
+    ----------
+    config : dict
+        The workflow configuration (Snakemake's ``config``).
+    basedir : str or Path
+        The repository (``workflow.basedir``): where the schema lies and where a relative file
+        not in the working directory is looked for.
+    set_defaults : callable, optional
+        ``snakemake.utils.validate`` (fills in the schema's defaults).
+
+    Raises
+    ------
+    ValueError
+        One line naming the key and the value.
+    """
+    import dataclasses
+
+    from rocking.config.study import StudySpec
+
+    for ensemble in (config.get("ensembles") or {}).values():
+        params = ensemble.get("params") if isinstance(ensemble, dict) else None
+        if isinstance(params, str) and params and not Path(params).is_absolute():
+            ensemble["params"] = resolve_path(params, basedir)
+    validate_config(config, Path(basedir, SCHEMA), set_defaults)
+    for study in config["studies"]:
+        spec = StudySpec.from_config(config, study)
+        # every part that makes a store (spectra, tilt map, stripes, a new product) describes
+        # itself: its grids are expanded and checked here, before any job
+        for f in dataclasses.fields(spec):
+            part = getattr(spec, f.name)
+            if hasattr(part, "to_attrs"):
+                part.to_attrs()
+    dask = config.get("dask") or {}
+    if dask.get("scheduler_address") and dask.get("scheduler_file"):
+        raise ValueError("dask.scheduler_address and dask.scheduler_file are both set; "
+                         "give one")
+    check_risk(config, lambda name: resolve_path(name, basedir))

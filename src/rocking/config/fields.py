@@ -126,7 +126,7 @@ def checked_mapping(value: Any, field: str, defaults: Mapping[str, Any], require
 
 def mode_list(value: Any, field: str) -> tuple[str, ...]:
     """A non-empty list of modes of :data:`rocking.spectra.modes.MODES`, as a tuple."""
-    from rocking.spectra.critical import MODES
+    from rocking.spectra.modes import MODES
 
     if not isinstance(value, (list, tuple)) or not value or any(m not in MODES for m in value):
         raise ValueError(f"{field} must be a non-empty list of modes {list(MODES)}, "

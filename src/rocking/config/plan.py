@@ -21,9 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rocking.spectra.critical import MODES
 from rocking.spectra.limit_states import parse_limit_states
-from rocking.spectra.modes import MODE_3D, ONE_COMPONENT_MODES
+from rocking.spectra.modes import MODE_3D, MODES, ONE_COMPONENT_MODES
 
 
 @dataclass(frozen=True)

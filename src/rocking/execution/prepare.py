@@ -28,7 +28,6 @@ from pathlib import Path
 from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import SpectraSpec, TiltMapSpec
-from rocking.execution import tasks
 from rocking.spectra.accuracy import get_accuracy
 
 log = logging.getLogger(__name__)
@@ -173,6 +172,7 @@ def create_spectra_store(path: Path, s: SpectraSpec, config_digest: str,
     motions : str or Path
         The ensemble file.
     """
+    from rocking.execution import tasks  # zarr, xarray: imported by the job that creates
     ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
     names = [m["name"] for m in ensemble["motions"]]
     chunk_R = s.chunk_R
@@ -212,6 +212,7 @@ def create_tilt_map_store(path: Path, s: TiltMapSpec, config_digest: str,
     ValueError
         When the map's motion is not a motion of the ensemble.
     """
+    from rocking.execution import tasks  # zarr, xarray: imported by the job that creates
     ensemble = tasks.ensemble_attrs(motions, s.ensemble.name)
     names = [m["name"] for m in ensemble["motions"]]
     motion = s.motion or names[0]  # the record comes first in an ensemble

@@ -19,6 +19,7 @@ later (aggregates, tables, figures) are rules of their own.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +28,7 @@ from typing import Any
 from rocking import store
 from rocking.config.products import SpectraSpec, StripesSpec, TiltMapSpec
 from rocking.config.study import StudySpec
-from rocking.execution import prepare, stripes, tasks
+from rocking.execution import prepare
 
 __all__ = ["PRODUCTS", "Product", "compute", "planned_spec", "prepare_store", "product"]
 
@@ -47,27 +48,47 @@ class Product:
         the workflow's compute rule and completion marker (``<name>.done.json``).
     spec : type
         Class of the part (:mod:`rocking.config.products`).
-    create : callable
-        ``create(path, spec, config_digest, motions)``: the empty store at ``path``.
-    fill : callable
-        Task body ``fill(path, index, motions=...)``: computes and writes one region.
+    creates : str
+        ``"module:function"`` of ``create(path, spec, config_digest, motions)``, the empty
+        store at ``path`` (:attr:`create`).
+    fills : str
+        ``"module:function"`` of the task body ``fill(path, index, motions=...)``, which
+        computes and writes one region (:attr:`fill`).
     analyses_per_point : int
         Analyses one point of the store is expected to run [-].
+
+    The two functions are named, not imported: Snakemake reads this registry while it plans
+    a run, and their modules (zarr, dask.array, the engine) are imported by the jobs that
+    call them.
     """
 
     name: str
     spec: type
-    create: Callable[[Path, Any, str, str | Path], None]
-    fill: Callable[..., dict]
+    creates: str
+    fills: str
     analyses_per_point: int = 1
+
+    @property
+    def create(self) -> Callable[[Path, Any, str, str | Path], None]:
+        return _function(self.creates)
+
+    @property
+    def fill(self) -> Callable[..., dict]:
+        return _function(self.fills)
+
+
+def _function(where: str) -> Callable:
+    module, name = where.split(":")
+    return getattr(importlib.import_module(module), name)
 
 
 PRODUCTS: dict[str, Product] = {p.name: p for p in (
-    Product("spectra", SpectraSpec, prepare.create_spectra_store, tasks.fill_spectra_region,
-            SPECTRA_ANALYSES_PER_POINT),
-    Product("tilt_map", TiltMapSpec, prepare.create_tilt_map_store,
-            tasks.fill_tilt_map_region),
-    Product("stripes", StripesSpec, stripes.create_stripes_store, stripes.fill_stripes_region),
+    Product("spectra", SpectraSpec, "rocking.execution.prepare:create_spectra_store",
+            "rocking.execution.tasks:fill_spectra_region", SPECTRA_ANALYSES_PER_POINT),
+    Product("tilt_map", TiltMapSpec, "rocking.execution.prepare:create_tilt_map_store",
+            "rocking.execution.tasks:fill_tilt_map_region"),
+    Product("stripes", StripesSpec, "rocking.execution.stripes:create_stripes_store",
+            "rocking.execution.stripes:fill_stripes_region"),
 )}
 """Every product, by name, in the order a study lists them."""
 

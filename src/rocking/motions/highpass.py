@@ -24,7 +24,6 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from scipy import integrate, linalg, signal
 
 from rocking._validate import positive_finite
 from rocking.motions.motion import GroundMotion
@@ -145,6 +144,7 @@ def _foh_oscillator(dt: float, wc: float):
     shifted state w = x − Γ₁u gives the standard form w[k+1] = Φ w[k] + (ΦΓ₁ + Γ₀ ) u[k],
     a[k] = C w[k] + (CΓ₁ + 1) u[k], which :func:`scipy.signal.lfilter` runs as b/a.
     """
+    from scipy import linalg, signal  # imported when filtering: a dry run never is
     a_mat = np.array([[0.0, 1.0], [-wc * wc, -2.0 * wc]])
     b_vec = np.array([[0.0], [1.0]])
     c_vec = np.array([[-wc * wc, -2.0 * wc]])
@@ -184,6 +184,7 @@ def oscillator(a, dt: float, fc_hz: float, pad: float | None = None) -> np.ndarr
         Filtered acceleration [m/s²] with ``round(pad/dt)`` extra samples at the end. The
         oscillator starts from rest at the first sample (z = ż = 0 there).
     """
+    from scipy import signal
     x = _as_signal("a", a)
     step = positive_finite("dt", dt)
     wc = 2.0 * math.pi * _below_nyquist(fc_hz, step)
@@ -235,6 +236,7 @@ def butterworth_acausal(
         Filtered acceleration (longer by the padding) and the number of samples added at the
         front (the original first sample sits at that index).
     """
+    from scipy import signal
     x = _as_signal("a", a)
     step = positive_finite("dt", dt)
     fc = _below_nyquist(fc_hz, step)
@@ -295,6 +297,7 @@ def residuals(a, dt: float) -> Residuals:
     Residuals
         v_end, d_end, PGV, PGD (trapezoid integration, starting from rest).
     """
+    from scipy import integrate
     x = _as_signal("a", a)
     if x.ndim != 1:
         raise ValueError(f"a must be 1-D, got shape {x.shape}")

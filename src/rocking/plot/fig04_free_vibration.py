@@ -26,7 +26,6 @@ import numpy as np
 from matplotlib import ticker
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from scipy.signal import find_peaks
 
 from rocking.dynamics.bodies import Cylinder
 from rocking.dynamics.names import (
@@ -97,6 +96,8 @@ def densify(t, theta, phi, n: int = 3000) -> tuple[np.ndarray, np.ndarray, np.nd
 def tilt_maxima(theta) -> np.ndarray:
     """Indices of the tilt maxima, the initial sample included when it is one."""
     theta = np.asarray(theta, dtype=float)
+    from scipy.signal import find_peaks  # scipy.signal costs 0.6 s to import: only when drawn
+
     peaks, _ = find_peaks(theta)
     if theta.size > 1 and theta[0] >= theta[1]:
         peaks = np.concatenate(([0], peaks))

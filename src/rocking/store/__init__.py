@@ -32,34 +32,28 @@ This module is the stores' one public entry; their code is split by what it does
 
 from __future__ import annotations
 
-from rocking.store.handle import StoreHandle
-from rocking.store.read import (
-    DONE,
-    REPAIR,
-    REQUESTED,
-    REQUESTED_DIMS,
-    describing_arrays,
-    done_mask,
-    open_group,
-    open_layout,
-    pending_regions,
-    read_attrs,
-    read_requested,
-    regions_not_requested,
-)
-from rocking.store.resume import differing_arrays, locked, restore_arrays
-from rocking.store.write import (
-    CHECKSUM_CODEC,
-    chunk_codecs,
-    consolidate,
-    create_store,
-    describing_only,
-    every_chunk,
-    write_region,
-)
+import importlib
 
-__all__ = ["CHECKSUM_CODEC", "DONE", "REPAIR", "REQUESTED", "REQUESTED_DIMS", "StoreHandle",
-           "chunk_codecs", "consolidate", "create_store", "describing_arrays", "describing_only",
-           "differing_arrays", "done_mask", "every_chunk", "locked", "open_group", "open_layout",
-           "pending_regions", "read_attrs", "read_requested", "regions_not_requested",
-           "restore_arrays", "write_region"]
+# Each public name and the submodule that defines it. They are imported when first asked for,
+# so that a light submodule (rocking.store.attrs: the digests that name stores, read while
+# Snakemake plans a run) does not pull in zarr and dask.array with the package.
+_WHERE = {
+    "StoreHandle": "handle",
+    **dict.fromkeys(("DONE", "REPAIR", "REQUESTED", "REQUESTED_DIMS", "describing_arrays",
+                     "done_mask", "open_group", "open_layout", "pending_regions", "read_attrs",
+                     "read_requested", "regions_not_requested"), "read"),
+    **dict.fromkeys(("differing_arrays", "locked", "restore_arrays"), "resume"),
+    **dict.fromkeys(("CHECKSUM_CODEC", "chunk_codecs", "consolidate", "create_store",
+                     "describing_only", "every_chunk", "write_region"), "write"),
+}
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = sorted(_WHERE)
