@@ -6,6 +6,7 @@ from functools import cache
 from pathlib import Path
 
 from rocking.config.checks import resolve_path
+from rocking.risk.exports import exported
 from rocking.risk.hazard import parse_hazard
 
 
@@ -74,18 +75,15 @@ def stripe_fragility_csv(study):
 
 def risk_targets():
     """Exports and risk table of every study with a hazard (its figure: figure_targets),
-    and the stripe fragility's exports where the study declares stripes in the vector-peak
-    PGA (the NRML and pelicun exports are functions of it; stripes in Sa(T) or another
-    component reach risk.csv only)."""
+    and the stripe fragility's exports where its measure and component have them
+    (rocking.risk.exports.exported)."""
     out = []
     for s in risk_studies():
         out += [rules.risk.output.nrml.format(study=s),
                 rules.risk.output.pelicun.format(study=s),
                 rules.risk.output.table.format(study=s)]
         stripes = study_spec(s).stripes
-        # the exports are of the vector-peak PGA (pelicun: Demand-Directional 1)
-        if has_product("stripes", s) and stripes.measure == "pga" \
-                and stripes.component == "vector_peak":
+        if stripes is not None and exported(stripes.measure, stripes.component):
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out

@@ -18,6 +18,14 @@ from rocking.risk.pelicun import write_pelicun_csv
 from rocking.risk.risk_table import risk_tables
 
 
+def exported(measure: str, component: str) -> bool:
+    """Whether a fragility in ``measure`` and ``component`` gets the NRML and pelicun
+    exports: those of the vector-peak PGA only, the terms OpenQuake's PGA models and
+    pelicun's ``Demand-Directional 1`` demand read it in (a stripe fragility in Sa(T) or
+    another component reaches the study's risk table only)."""
+    return measure == "pga" and component == "vector_peak"
+
+
 def _read(fragility) -> Fragilities:
     return fragility if isinstance(fragility, Fragilities) else read_fragilities(fragility)
 
