@@ -33,3 +33,10 @@ def test_cli_help_loads_neither_numpy_nor_the_engine():
     loaded = _modules_after("from rocking.cli import build_parser\n"
                             "build_parser(['spectra', 'simulate', 'motions']).format_help()")
     assert not {m for m in loaded if m.split(".")[0] in (*HEAVY, "numpy")}
+
+
+def test_listing_the_figures_loads_no_heavy_library():
+    """Snakemake imports every figure module each time it plans a run (the registry reads
+    their ``FIGURE``): they import the heavy libraries inside the functions that draw."""
+    loaded = _modules_after("from rocking.plot.registry import figures\nfigures()")
+    assert sorted({m.split(".")[0] for m in loaded} & set(HEAVY)) == []

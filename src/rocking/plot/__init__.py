@@ -11,6 +11,12 @@ arrays, from the study store, its aggregates or fresh analyses), and ``plot(data
 (its entry may name another drawing function). :func:`render` runs both and writes the image
 files plus a JSON sidecar with what the figure measured and what was missing, which the report
 quotes.
+
+Snakemake imports every figure module each time it plans a run (to read its ``FIGURE``), so a
+figure module and the helpers it imports at their top (``_style``, ``_load``, ``_axes``,
+``comparisons``, ``criteria``, ``captions``) import there nothing heavier than numpy: matplotlib,
+pandas, xarray, zarr, dask, scipy and numba, and the modules of rocking that load them, are
+imported inside the functions that read or draw (``tests/test_import.py`` holds it).
 """
 
 from __future__ import annotations

@@ -5,9 +5,9 @@ from __future__ import annotations
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from rocking.spectra.limit_states import (
     EXCESSIVE_TILT,
@@ -19,6 +19,9 @@ from rocking.spectra.limit_states import (
 from rocking.spectra.modes import MODE_3D
 from rocking.store.attrs import decode_attrs
 
+if TYPE_CHECKING:
+    import xarray as xr
+
 
 def open_store(path: str | Path) -> xr.Dataset:
     """Load a zarr store (``spectra.zarr``, ``tilt_map.zarr``) into memory; they are small.
@@ -26,6 +29,8 @@ def open_store(path: str | Path) -> xr.Dataset:
     Limit states are renamed to their canonical spelling (``"tilt:0.5"``, ``"tilt:1/3"``) and a
     tilt map's ``model`` dimension to ``mode``, so figures read stores of either layout.
     """
+    import xarray as xr
+
     path = Path(path)
     if not path.exists():
         raise ValueError(f"store path does not exist: {str(path)!r}")
@@ -38,6 +43,8 @@ def open_store(path: str | Path) -> xr.Dataset:
 
 def open_means(path: str | Path) -> xr.Dataset:
     """Load ``mean_spectra.nc`` (``mean``, ``std``, ``median``, ``count`` over motions)."""
+    import xarray as xr
+
     path = Path(path)
     if not path.exists():
         raise ValueError(f"mean spectra path does not exist: {str(path)!r}")

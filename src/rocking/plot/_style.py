@@ -10,9 +10,7 @@ import functools
 import textwrap
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import ParamSpec
-
-import matplotlib
+from typing import TYPE_CHECKING, ParamSpec
 
 from rocking import _json
 from rocking._validate import positive_finite
@@ -26,13 +24,22 @@ from rocking.spectra.modes import (
     MODE_3D_Y,
 )
 
-# Agg before pyplot: figures are built on headless CI machines and in Snakemake jobs.
-matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 P = ParamSpec("P")
+
+
+@functools.cache
+def _pyplot():
+    """matplotlib.pyplot, on the Agg backend (chosen before pyplot is first imported: figures
+    are built on headless CI machines and in Snakemake jobs)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
 
 RC = {
     "font.size": 9,
@@ -77,6 +84,8 @@ def goal_color(limit_state: str) -> str:
     """The colour of a performance goal, the same in every figure and study: the paper's
     goals from :data:`GOAL_COLORS`, another ratio r a shade of purple-to-yellow by r; a goal
     of the sliding axis a shade of brown by μ."""
+    import matplotlib
+
     axis, r = severity(limit_state)
     if axis != TILT_AXIS:
         return matplotlib.colors.to_hex(matplotlib.colormaps["copper"](
@@ -134,7 +143,7 @@ def styled(plot: Callable[P, Figure]) -> Callable[P, Figure]:
 
     @functools.wraps(plot)
     def wrapper(*args: P.args, **kwargs: P.kwargs) -> Figure:
-        with plt.rc_context(RC):
+        with _pyplot().rc_context(RC):
             return plot(*args, **kwargs)
 
     return wrapper
@@ -146,6 +155,8 @@ def new_figure(width: float = 7.0, height: float = 4.5, **subplot_kw) -> tuple[F
     Extra keywords go to :meth:`Figure.subplots` (``nrows``, ``ncols``, ``sharex``, ...).
     Not attached to pyplot, so figures are garbage-collected and never shown.
     """
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(width, height), layout="constrained")
     axes = fig.subplots(**subplot_kw) if subplot_kw else fig.subplots()
     return fig, axes
@@ -163,7 +174,7 @@ def save(fig: Figure, outputs: Sequence[str | Path]) -> list[Path]:
         # no creation date in a PDF or SVG: the same figure gives the same bytes, so a run
         # resumed after a kill ends with files identical to an uninterrupted run's
         dateless = {".pdf": {"CreationDate": None}, ".svg": {"Date": None}}
-        with plt.rc_context(RC):
+        with _pyplot().rc_context(RC):
             fig.savefig(path, metadata=dateless.get(path.suffix.lower()))
     return paths
 
@@ -279,6 +290,8 @@ def with_legend_row(width: float, height: float, ncols: int = 1,
     (Figure, list of Axes, Axes)
         The figure, its panels and the (axis-less) legend row.
     """
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(width, height), layout="constrained")
     grid = fig.add_gridspec(2, ncols, height_ratios=(1.0, legend_share))
     axes = [fig.add_subplot(grid[0, i]) for i in range(ncols)]

@@ -9,13 +9,15 @@ not depend on R (p² = g/(κo R)). Housner's linearized 2D period of free rockin
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
-from rocking.dynamics.bodies import Cylinder
 from rocking.plot._style import new_figure, styled
 from rocking.plot.comparisons import REPRODUCED, Comparison, finite, first_notes, judged
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 TAN_ALPHAS = (0.1, 0.2, 1.0, 1000.0)
 """Slendernesses of the paper's Fig 3 (1000 is the Euler's-disk limit)."""
@@ -63,6 +65,8 @@ def data(tan_alphas: Sequence[float] = TAN_ALPHAS, n: int = 199, R: float = 1.0)
         0.1 ≤ θ/α ≤ 0.9 per slenderness, and the largest relative gap between the two most
         slender curves.
     """
+    from rocking.dynamics.bodies import Cylinder
+
     if n < 2:
         raise ValueError(f"n must be >= 2, got {n!r}")
     # Open interval: T·p → 0 at θ = 0 and → ∞ at θ = α for both curves.
@@ -79,6 +83,8 @@ def data(tan_alphas: Sequence[float] = TAN_ALPHAS, n: int = 199, R: float = 1.0)
 def measurements(r: np.ndarray, wobbling: dict, housner: np.ndarray, R: float) -> dict:
     """What Fig 3 shows in numbers: T·p at θ/α = 0.5, the wobbling/rocking period ratio, the
     growth of every curve with tilt and the gap between the two most slender curves."""
+    from rocking.dynamics.bodies import Cylinder
+
     measured: dict = {"Tp_at_half_alpha_housner": float(housner_period_times_p(0.5))}
     inner = (r >= 0.1) & (r <= 0.9)
     for tan_alpha, tp in wobbling.items():

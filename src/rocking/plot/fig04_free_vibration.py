@@ -20,14 +20,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
-import matplotlib as mpl
 import numpy as np
-from matplotlib import ticker
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 
-from rocking.dynamics.bodies import Cylinder
 from rocking.dynamics.names import (
     DAMPED_OMEGA_N,
     DAMPED_ZETA,
@@ -46,6 +42,11 @@ from rocking.plot.comparisons import (
     judged,
     value_range,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from rocking.dynamics.bodies import Cylinder
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -194,6 +195,8 @@ def data(
         ``measured``: turn angle, restitutions and the spread among the damped runs;
         ``body``; ``predicted`` closed forms.
     """
+    from rocking.dynamics.bodies import Cylinder
+
     body = Cylinder(R, tan_alpha)
     runs_pairs = list(pairs) + [(omega_n, zeta)] * ((omega_n, zeta) not in pairs)
     runs: dict[str, dict[str, dict]] = {}
@@ -311,6 +314,8 @@ def run_style(key: str, run: dict, index: int = 0, count: int = 1) -> dict:
     :data:`DASH` per period of ``count`` dashes, shifted by its ``index``, so that where the
     curves lie on one another every run's colour still shows.
     """
+    import matplotlib as mpl
+
     if run["model"] == MODEL_3D:
         return {"color": "black", "ls": "-", "lw": 1.6, "label": "undamped", "zorder": 1}
     shade = {0.05: 0.45, 0.5: 0.6, 5.0: 0.75, 50.0: 0.9}.get(run["zeta"], 0.7)
@@ -323,6 +328,8 @@ def run_style(key: str, run: dict, index: int = 0, count: int = 1) -> dict:
 
 def symlog_ticks(ax, values, linthresh: float = 1.0, max_ticks: int = 5) -> None:
     """At most ``max_ticks`` decades labelled on a symmetric log axis, as 10^k."""
+    from matplotlib import ticker
+
     values = np.asarray(values, dtype=float)
     top = float(np.nanmax(np.abs(values), initial=linthresh))
     k_max = max(1, math.ceil(math.log10(max(top, linthresh * 10.0))))
@@ -346,6 +353,9 @@ def _power_label(value: float, _pos) -> str:
 @styled
 def plot(d: dict) -> Figure:
     """Figure 4: orbits (left) and θ, θ̇, φ, φ̇ histories (right), one row per case."""
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
     runs = d["runs"]
     cases = list(runs)
     fig = Figure(figsize=(10.5, 2.7 * len(cases) + 1.0), layout="constrained")

@@ -14,11 +14,10 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
-from rocking.dynamics.bodies import Cylinder
 from rocking.dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from rocking.motions.motion import GroundMotion
 from rocking.plot import _axes
@@ -32,6 +31,9 @@ from rocking.plot.comparisons import (
     judged,
     value_range,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -94,6 +96,7 @@ def data(
     from rocking.dynamics.analysis import (
         ground_response,  # imported late: figures stay light to import
     )
+    from rocking.dynamics.bodies import Cylinder
 
     if motion.is_unidirectional:
         raise ValueError(f"motion {motion.name!r} has a zero component; Fig 6 needs a pair")

@@ -12,17 +12,19 @@ paper.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from rocking.constants import G
-from rocking.dynamics.bodies import Cylinder
 from rocking.dynamics.names import MODEL_3D, MODEL_3D_DAMPED
 from rocking.motions.motion import GroundMotion
 from rocking.plot import _axes
 from rocking.plot._style import footnote, styled, with_legend_row
 from rocking.plot.comparisons import NOT_IN_PAPER, Comparison, first_notes, fmt
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 R = 6.0
 TAN_ALPHA = 0.2
@@ -115,6 +117,7 @@ def data(record: GroundMotion | None = None, *,
         of scale per version and model; ``paper``.
     """
     from rocking.dynamics.analysis import ground_response  # imported late: figures stay light
+    from rocking.dynamics.bodies import Cylinder
 
     if versions is None:
         if record is None:

@@ -10,18 +10,19 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib import colormaps
-from matplotlib.cm import ScalarMappable
-from matplotlib.colors import BoundaryNorm, ListedColormap
-from matplotlib.figure import Figure
 
 from rocking.plot import _axes, _load
 from rocking.plot._style import footnote, new_figure, pga_g_axis, styled
 from rocking.plot.comparisons import Comparison, finite, first_notes, fmt, judged, rank_correlation
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 from rocking.store.attrs import decode_attrs
+
+if TYPE_CHECKING:
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
 
 VARIABLE = "theta_max_over_alpha"
 MODEL_ORDER = (MODE_3D, MODE_3D_DAMPED)
@@ -51,6 +52,9 @@ def class_colors() -> ListedColormap:
     passed θmax = α but stayed standing (orange, rare: the few cells where it shows must
     catch the eye) and one for overturning (pale grey, :data:`TOP_COLOR`: it covers most of
     the map and must not outshine the classes below α, where the paper's contours are)."""
+    from matplotlib import colormaps
+    from matplotlib.colors import ListedColormap
+
     below = colormaps["viridis"](np.linspace(0.0, 1.0, len(LEVELS) - 1))
     return ListedColormap([*below, "#f58518", TOP_COLOR])
 
@@ -130,6 +134,9 @@ def measurements(R: np.ndarray, intensity: np.ndarray, maps: dict) -> dict:
 def plot(d: dict) -> Figure:
     """Filled contours of θmax/α below 1; above it two classes of their own: still standing
     (θmax > α) and overturned."""
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import BoundaryNorm
+
     models = list(d["theta_over_alpha"])
     fig, axes = new_figure(4.2 * max(len(models), 1) + 0.8, 4.4, ncols=max(len(models), 1),
                            sharey=True, squeeze=False)

@@ -13,15 +13,12 @@ spectra scatter (paper §5.1–5.2).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from matplotlib.figure import Figure
 
 from rocking.constants import G
 from rocking.motions.motion import GroundMotion
-from rocking.motions.response_spectrum import pseudo_acceleration
-from rocking.motions.stochastic import quality
 from rocking.plot._style import motion_styles, paper_tag, styled
 from rocking.plot.comparisons import (
     NOT_COMPUTED,
@@ -33,7 +30,10 @@ from rocking.plot.comparisons import (
     notes_of,
 )
 
-DAMPING = quality.DAMPING
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+
 PERIODS = np.geomspace(0.05, 5.0, 100)
 """Oscillator periods of the drawn spectra [s], log-spaced."""
 
@@ -62,6 +62,9 @@ def bearing(azimuth: float | None) -> str:
 
 def _spectra(motions: Sequence[GroundMotion], periods: np.ndarray, attr: str) -> np.ndarray:
     """(n, p) PSA [g] of one component of every motion."""
+    from rocking.motions.response_spectrum import pseudo_acceleration
+    from rocking.motions.stochastic.quality import DAMPING
+
     return np.vstack([pseudo_acceleration(getattr(m, attr), m.dt, periods, DAMPING) / G
                       for m in motions])
 
@@ -73,6 +76,8 @@ def _method(motions: Sequence[GroundMotion]) -> str:
 
 def _group(motions: Sequence[GroundMotion], periods: np.ndarray) -> dict:
     """Spectra, percentiles and fit quality of one ensemble's synthetic motions."""
+    from rocking.motions.stochastic import quality
+
     out: dict = {"method": _method(motions), "n": len(motions) - 1}
     syn = motions[1:]
     for key, attr, _ in COMPONENTS:
@@ -108,6 +113,9 @@ def data(motions: Sequence[GroundMotion], comparison: Sequence[GroundMotion] | N
         ``record``: azimuths [deg] and label; ``measured``, ``missing`` (what the run left
         out) and ``remarks`` (a stand-in record, few pairs) notes.
     """
+    from rocking.motions.response_spectrum import pseudo_acceleration
+    from rocking.motions.stochastic.quality import DAMPING
+
     if not motions:
         raise ValueError("motions must hold at least one GroundMotion, got an empty list")
     periods = np.asarray(periods, dtype=float)
@@ -227,6 +235,8 @@ def _spectrum_panel(ax, d: dict, group: dict, key: str, in_use: bool) -> None:
 @styled
 def plot(d: dict) -> Figure:
     """Traces in stacked rows (x, y), spectra per component and method on the right."""
+    from matplotlib.figure import Figure
+
     motions = d["motions"]
     n = len(motions)
     # Counts left, spectrum right: the repair reads left to right.
@@ -304,6 +314,8 @@ def fit_quality_table(notes: Mapping) -> pd.DataFrame:
     the median ÷ record PSA ratio per period band, its range over 0.1–4 s, and the share of
     periods with the record inside the ensemble's 5–95 % range.
     """
+    import pandas as pd
+
     m = notes.get("measured", {})
     used = m.get("fit_method")
     rows = []

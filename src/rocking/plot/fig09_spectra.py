@@ -15,11 +15,9 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 
 from rocking.plot import _axes, _load, criteria
 from rocking.plot._style import (
@@ -38,6 +36,10 @@ from rocking.plot.comparisons import NOT_COMPUTED, Comparison, finite, first_not
 from rocking.spectra.accuracy import STATED
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
 
 DAMPED = MODE_3D_DAMPED
 """The damped mode, drawn beside the undamped "3d" where the study ran it."""
@@ -268,6 +270,8 @@ stays visible where it runs along them."""
 
 
 def _spectra_panel(ax, d: dict, panel: dict, colors: dict) -> None:
+    from matplotlib.lines import Line2D
+
     record = next(iter(d["motions"]), None)  # the ensemble's first motion, drawn last
     for mode, curves in panel["curves"].items():
         for motion, y in curves.items():
@@ -455,6 +459,8 @@ def _damping_row(ls: str, eff: Mapping, R: list | None = None) -> Comparison:
 
 def report_tables(notes: Mapping) -> list[tuple[str, pd.DataFrame]]:
     """Fig 9's damped against undamped means per size R, with the spread among motions."""
+    import pandas as pd
+
     m = notes.get("measured", {})
     R = m.get("R")
     out = []

@@ -13,11 +13,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
-from rocking.fragility.lognormal import fit_line
 from rocking.plot import _axes, _load
 from rocking.plot._style import (
     MODE_STYLE,
@@ -48,6 +47,9 @@ from rocking.spectra.limit_states import (
 )
 from rocking.spectra.modes import MODE_3D
 from rocking.store.attrs import decode_attrs
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 PAPER_GOALS = DEFAULT_LIMIT_STATES
 """The seven performance goals of the paper's Fig 10."""
@@ -88,6 +90,8 @@ def data(means: str | Path, *, tan_alpha: float | None = None, mode: str | None 
     :func:`._load.main_tan_alpha`); ``paper`` (a reproduction of the paper) names the paper's
     goals the run did not compute.
     """
+    from rocking.fragility.lognormal import fit_line
+
     agg = _load.open_means(means)
     mode = mode or _load.primary_mode(agg) or MODE_3D
     if tan_alpha is None:

@@ -9,11 +9,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
-from rocking.fragility.lognormal import fit_line
 from rocking.plot import _axes, _load
 from rocking.plot._style import (
     MODE_STYLE,
@@ -26,6 +25,9 @@ from rocking.plot._style import (
 from rocking.plot.comparisons import NOT_COMPUTED, Comparison, finite, first_notes, fmt, judged
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 PAPER_TAN_ALPHAS = (0.1, 0.2, 0.3)
 """The slendernesses of the paper's Fig 11."""
@@ -84,6 +86,8 @@ def data(means: str | Path, *, tan_alphas: tuple[float, ...] | None = None,
 
 def measurements(R: np.ndarray, panels: list[dict]) -> dict:
     """Largest relative spread across slendernesses per limit state, and line fits."""
+    from rocking.fragility.lognormal import fit_line
+
     measured: dict = {}
     for panel in panels:
         ls = panel["limit_state"]

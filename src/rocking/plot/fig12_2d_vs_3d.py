@@ -23,11 +23,9 @@ import re
 import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 
 from rocking.plot import _axes, _load, criteria
 from rocking.plot._style import MODE_STYLE, footnote, paper_tag, pga_g_axis, r_axis, styled
@@ -53,6 +51,11 @@ from rocking.spectra.modes import (
     UNIDIRECTIONAL_MODES,
 )
 from rocking.store.attrs import decode_attrs
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
 
 PAPER_COMPARATORS = UNIDIRECTIONAL_MODES
 """The paper's unidirectional excitation: the same undamped 3D model under one component."""
@@ -200,6 +203,8 @@ def _ensemble(name: str, means, store, motions, tan_alpha: float, modes, missing
 
 def fragility_table(path: Path) -> pd.DataFrame | None:
     """The study's ``fragility.csv`` (the censoring-aware lognormal fits), None when absent."""
+    import pandas as pd
+
     return pd.read_csv(path) if Path(path).exists() else None
 
 
@@ -215,6 +220,8 @@ def mle_medians(df: pd.DataFrame | None, tan_alpha: float, limit_state: str,
         right-censored at the search bound); NaN medians where the fit failed. None when the
         table has no such row.
     """
+    import pandas as pd
+
     if df is None or df.empty:
         return None
     med = next((c for c in df.columns if c.startswith("median [")), None)
@@ -280,6 +287,8 @@ def headline_grids(path: Path) -> dict | None:
     """The study's ``headline.csv`` in numbers (:func:`rocking.study.headline.summary`: the
     mean first exceedance of the R = 10 m 3D overturning cells on each scan grid), None
     where the study has none."""
+    import pandas as pd
+
     from rocking.study.headline import summary
 
     if not Path(path).is_file():
@@ -378,6 +387,8 @@ def _curve(ax, R, y, mode: str, color) -> None:
 
 
 def _mode_handle(mode: str) -> Line2D:
+    from matplotlib.lines import Line2D
+
     housner = mode in HOUSNER_COMPARATORS
     return Line2D([], [], color="dimgray", ls=MODE_STYLE[mode]["linestyle"],
                   lw=0.9 if housner else (1.8 if mode == MODE_3D else 1.4),
@@ -394,6 +405,9 @@ def plot(d: dict) -> Figure:
     under both components solid, under one component dashed (the paper's comparison, §5.4),
     Housner's 2D block thin and light (a further comparator).
     """
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
     titles = list(d.get("titles", ("overturning", "excessive tilt")))
     ensembles = d["ensembles"] or [{"label": "", "record": "", "stand_in": False, "panels": {},
                                     "R": np.zeros(0), "axes": {"text": ""}, "n_motions": 0}]

@@ -14,21 +14,18 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
-from matplotlib import colormaps
-from matplotlib.cm import ScalarMappable
-from matplotlib.colors import Normalize
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
-from scipy import stats
 
 from rocking.plot import _axes, _load
 from rocking.plot._style import MODE_STYLE, pga_g_axis, styled, suptitle_and_notes, with_legend_row
 from rocking.plot.comparisons import NOT_IN_PAPER, Comparison
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 MEDIAN_SYMBOL = "IM₅₀"
 """Symbol of the fitted median intensity (θ is the tilt everywhere else)."""
@@ -49,6 +46,9 @@ def data(fragility: str | Path, store: str | Path, *, tan_alpha: float | None = 
         ``panels``: [{``limit_state``, ``curves``: {R: {``median``, ``beta``, ``im``,
         ``p``, ``x_obs`` (sorted reached critical intensities), ``p_obs``}}}], ``missing``.
     """
+    import xarray as xr
+    from scipy import stats
+
     with xr.open_dataset(fragility) as f:
         frag = _load.canonical(f.load())
     axes = _axes.from_ensemble(motions)
@@ -120,6 +120,8 @@ def _highlighted(sizes: list[float], k: int = 5) -> list[float]:
 def _name_curve(ax, c: dict, R: float, height: float, color) -> None:
     """Write "R = … m" on the fitted curve at P = ``height`` (staggered per size, so that
     names of curves that lie close together do not overlap)."""
+    from scipy import stats
+
     x = c["median"] * np.exp(c["beta"] * stats.norm.ppf(height))
     if not (np.isfinite(x) and x <= c["im"][-1]):  # that height lies past the drawn range
         x = 0.9 * float(c["im"][-1])
@@ -134,6 +136,11 @@ def _name_curve(ax, c: dict, R: float, height: float, color) -> None:
 def plot(d: dict) -> Figure:
     """Two panels; a few sizes R drawn thick with their points and named on the curve, the
     others thin and faint for context; colour = R on a colour bar that marks the named ones."""
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+    from matplotlib.lines import Line2D
+
     panels = d["panels"]
     # a row below the panels holds the legend (inside, it hid the largest size's curve)
     fig, axes, legend_row = with_legend_row(11.0, 5.1, ncols=max(len(panels), 1),

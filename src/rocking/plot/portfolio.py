@@ -17,16 +17,17 @@ Reads ``portfolio.csv`` (:func:`rocking.risk.portfolio.portfolio_table`). Two fi
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from matplotlib.colors import LogNorm
-from matplotlib.figure import Figure
 
 from rocking.plot._style import footnote, new_figure, styled
-from rocking.risk.portfolio import error_words
-from rocking.risk.risk_table import shown_limit_states
 from rocking.spectra.limit_states import limit_state_title, severity
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
 
 CAPTION_MAP = (
     "Each column of the inventory at its position, coloured by its mean annual frequency λ "
@@ -60,7 +61,10 @@ def data(portfolio: str | Path | pd.DataFrame, *, hazard: str = "", study: str =
         <ls> [1/yr]", ...}, ``terms`` (measure and component), ``hazard``, ``study``,
         ``missing`` (columns without lon/lat, not on the map).
     """
+    import pandas as pd
+
     from rocking.risk.portfolio import read_portfolio, site_answer
+    from rocking.risk.risk_table import shown_limit_states
 
     frame = portfolio if isinstance(portfolio, pd.DataFrame) else read_portfolio(portfolio)
     # the site's answer with its interval, where portfolio_site.csv is beside the table
@@ -123,6 +127,8 @@ def data(portfolio: str | Path | pd.DataFrame, *, hazard: str = "", study: str =
 
 
 def _norm(d: dict) -> LogNorm:
+    from matplotlib.colors import LogNorm
+
     values = np.concatenate([d["columns"][f"lambda|{ls}"].to_numpy(float)
                              for ls in d["limit_states"]])
     values = values[np.isfinite(values) & (values > 0)]
@@ -250,7 +256,9 @@ def plot_map(d: dict) -> Figure:
 def plot_ranked(d: dict) -> Figure:
     """The columns ranked by λ of the most severe limit state: points with their 90 %
     intervals as bars, on a log axis."""
-    from rocking.risk.portfolio import site_lines
+    import pandas as pd
+
+    from rocking.risk.portfolio import error_words, site_lines
 
     states = d["limit_states"]
     cols = d["columns"].copy()

@@ -15,19 +15,18 @@ the ratio stripes / first exceedance.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
-from matplotlib.figure import Figure
-from matplotlib.lines import Line2D
 
-from rocking.fragility.table import FIRST_EXCEEDANCE
-from rocking.fragility.table import STRIPES as STRIPE_FRAGILITY
 from rocking.motions.measures import COMPONENTS, Measure
 from rocking.plot._style import MODE_STYLE, footnote, styled, with_legend_row
-from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import PLANAR_MODES
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
 
 CAPTION = (
     "Risk (beyond the paper): mean annual frequency of exceeding overturning and excessive "
@@ -47,9 +46,6 @@ CAPTION = (
 """Caption (the workflow makes the figure; the report's section: :mod:`rocking.report.risk`)."""
 
 R_NOTES = (2.0, 6.0, 10.0)
-
-
-FIRST, STRIPES = FIRST_EXCEEDANCE, STRIPE_FRAGILITY  # values of risk.csv's fragility column
 
 
 def _curve(sel: pd.DataFrame) -> dict:
@@ -101,6 +97,11 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
         ``missing``, ``gaps`` (sizes without a fit, named), ``tan_alpha``, ``hazard``,
         ``study``, ``measure``.
     """
+    # FIRST and STRIPES: the values of risk.csv's fragility column
+    from rocking.fragility.table import FIRST_EXCEEDANCE as FIRST
+    from rocking.fragility.table import STRIPES
+    from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
+
     frame = read_risk_table(risk)
     if tan_alpha is None:
         tan_alpha = main_tan_alpha(frame[frame["fragility"] == FIRST])
@@ -289,6 +290,8 @@ def plot(d: dict) -> Figure:
 def _rows(handles: list, labels: list[str]) -> tuple[list, list[str]]:
     """Legend entries ordered for two columns filled column by column: each curve on the
     left, its 90 % interval beside it on the right (a blank where it has none)."""
+    from matplotlib.lines import Line2D
+
     suffix = ": 90 % interval"
     curves = [(h, lab) for h, lab in zip(handles, labels, strict=True)
               if not lab.endswith(suffix)]

@@ -16,17 +16,17 @@ brackets its median, never as a curve.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
-from matplotlib.figure import Figure
-from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
-from scipy import stats
 
 from rocking.motions.measures import Measure
 from rocking.plot._style import MODE_STYLE, footnote, new_figure, styled
 from rocking.spectra.limit_states import limit_state_title
 from rocking.spectra.modes import MODE_3D
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 CAPTION = ("Markers: share of the motions exceeding at each stripe, each analysis jittered "
            "within ±w of it in ln PGA, so F(s), the mean over the motions of their local "
@@ -69,6 +69,8 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         ``first``: (median, beta, status) [measure unit]}], ``measured``, ``missing``,
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
+    import xarray as xr
+
     from rocking.execution import stripes as st
     from rocking.fragility.stripe_table import (
         store_jitter,
@@ -154,6 +156,8 @@ def store_size(R: float, sizes: list[float]) -> float:
 def _curve(ax, x: np.ndarray, fit: tuple, style: str, label: str, color: str, unit: str,
            name: str = "IM₅₀") -> bool:
     """The lognormal where it exists (True), else only a legend entry (False)."""
+    from scipy import stats
+
     median, beta, status = fit
     if np.isfinite(median) and np.isfinite(beta) and beta > 0:
         ax.plot(x, stats.norm.cdf(np.log(x / median) / beta), style, color=color,
@@ -164,6 +168,8 @@ def _curve(ax, x: np.ndarray, fit: tuple, style: str, label: str, color: str, un
 
 
 def _ticks(axis, lo: float, hi: float) -> None:
+    from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
+
     # plain numbers: log-axis labels like 3×10⁻¹ collide
     steps = [m * 10.0**e for e in range(-3, 3) for m in (1, 2, 5)]
     axis.set_major_locator(FixedLocator([v for v in steps if lo / 1.5 <= v <= hi * 1.5]))
