@@ -90,14 +90,14 @@ def test_bad_rest_tilt_names_the_field(el_centro, value):
 
 
 def test_accuracy_carries_the_exact_treatment():
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
 
-    acc = get_accuracy({"preset": "default", "rest_tilt": 0})
+    acc = Accuracy.of({"preset": "default", "rest_tilt": 0})
     assert acc.rest_tilt == 0.0 and acc.to_dict()["rest_tilt"] == 0.0
-    assert get_accuracy("default").rest_tilt is None
+    assert Accuracy.of("default").rest_tilt is None
     for bad in (-1, 2e-4, float("nan")):
         with pytest.raises(ValueError, match="rest_tilt"):
-            get_accuracy({"preset": "default", "rest_tilt": bad})
+            Accuracy.of({"preset": "default", "rest_tilt": bad})
     # every accepted value is accepted by the engine too, for tan α above tan(0.01) ≈ 0.0100003
     body = rocking.Cylinder(1.0, 0.0101)
     assert analysis._check_rest_tilt(1e-4, "3d", body) == 1e-4

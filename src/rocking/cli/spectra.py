@@ -192,7 +192,7 @@ def run(args) -> int:
 
     from rocking import _json
     from rocking.motions.identity import identity
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.critical import critical_intensity_batch
     from rocking.spectra.limit_states import parse_limit_states
     from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
@@ -203,7 +203,7 @@ def run(args) -> int:
     if out is not None:
         _common.check_output(out, (".csv", ".json"))
     states = parse_limit_states(args.limit_states, sort=False)
-    acc = get_accuracy(args.accuracy)
+    acc = Accuracy.of(args.accuracy)
     quantity = quantity_of(args)
     acc.check_window(quantity.w)
     motion = _common.motion_from_args(args, default_record="el-centro-1940")

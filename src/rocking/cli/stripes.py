@@ -233,7 +233,7 @@ def run(args) -> int:
     )
     from rocking.motions.identity import identity
     from rocking.motions.measures import Measure
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.limit_states import parse_limit_states
     from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
@@ -246,7 +246,7 @@ def run(args) -> int:
         states = parse_limit_states([*states, f"sliding:{args.mu!r}"], sort=False)
     x = (stripe_intensities(args.stripes, args.lower, args.upper) if args.intensities is None
          else args.intensities)
-    acc = get_accuracy(args.accuracy)
+    acc = Accuracy.of(args.accuracy)
     motions = _motions(args)
     bodies = [Cylinder(R, args.tan_alpha) for R in args.R]  # bad R fails before any analysis
     t0 = time.perf_counter()

@@ -16,6 +16,7 @@ import numpy as np
 
 from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
 from rocking.grids import grid_values
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
 __all__ = ["DEFAULTS", "expand_grid"]
@@ -154,16 +155,16 @@ def quantity_field(value: Any) -> dict[str, Any]:
     return Quantity.from_value(value).to_dict()
 
 
-def accuracy_field(value: Any, w: float | None = None) -> str | dict[str, Any]:
-    """A preset name or tolerances mapping that :func:`rocking.spectra.accuracy.get_accuracy`
-    accepts, returned as given (a mapping copied); one line naming it otherwise, and where
-    its local sample is not wider than the window 2w of the quantity (``w``, when given)."""
-    from rocking.spectra.accuracy import get_accuracy
-
+def accuracy_field(value: Any, w: float | None = None) -> Accuracy:
+    """The configuration's ``accuracy`` (a preset name or tolerances mapping) as the
+    :class:`rocking.spectra.accuracy.Accuracy` every part of the study hands down (it keeps
+    the value as configured, which the stores record); one line naming it otherwise, and
+    where its local sample is not wider than the window 2w of the quantity (``w``, when
+    given)."""
     try:
-        acc = get_accuracy(value)
+        acc = Accuracy.of(value)
         if w is not None:
             acc.check_window(w)
     except (ValueError, TypeError, KeyError) as exc:
         raise ValueError(f"accuracy={value!r}: {exc}") from None
-    return dict(value) if isinstance(value, Mapping) else value
+    return acc

@@ -41,7 +41,7 @@ from rocking.fragility.stripe_table import (
     table_headers,
 )
 from rocking.motions.measures import Measure
-from rocking.spectra.accuracy import get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.store.attrs import decode_attrs
 from rocking.store.layout import Layout, Variable, label_coord, region_coords, value_coord
 
@@ -96,7 +96,7 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         "title": f"Multiple-stripe analyses, study {s.study}",
         "config": s.to_attrs(),
         "tan_alpha": float(s.tan_alpha),
-        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "tolerances": s.accuracy.to_dict(),
         "model_options": Damping.options(s.damping),
         "rocking_version": __version__,
         "ensemble": ensemble,
@@ -139,7 +139,7 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     motion = tasks.motion_named(motions, name)
     states = parse_limit_states([str(s) for s in layout.coords["limit_state"]], sort=False)
     x = np.asarray(layout.coords["intensity"], dtype=float)
-    acc = get_accuracy(attrs["tolerances"])
+    acc = Accuracy.of(attrs["tolerances"])
     tan_alpha = float(attrs["tan_alpha"])
     exc, fail, runs = [], [], []
     for R in rc["R"]:
@@ -268,7 +268,7 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
     states = parse_limit_states(list(result.limit_states), sort=False)
     body = Cylinder(float(result.R), float(result.tan_alpha))
     attrs = decode_attrs(ds.attrs)
-    acc = get_accuracy(attrs["tolerances"])
+    acc = Accuracy.of(attrs["tolerances"])
     options = attrs.get("model_options", {})
 
     def analyze(x: float):

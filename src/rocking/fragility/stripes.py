@@ -53,7 +53,7 @@ from rocking.dynamics.result import Status
 from rocking.fragility.lognormal import bootstrap_indices
 from rocking.grids import grid_values
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.critical import make_analysis, uplift_intensity
 from rocking.spectra.limit_states import (
     LimitState,
@@ -764,7 +764,7 @@ def stripe_fragility(
     for ls in states:
         ls.threshold(body.alpha)  # a tilt goal beyond π/2 fails here, before any analysis
     x = _check_intensities(intensities)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
     bar = _progress(progress, x.size * len(motions), "stripes", unit="analysis")
     exceeded = np.zeros((x.size, len(motions), len(states)), dtype=bool)
     failed = np.zeros((x.size, len(motions)), dtype=bool)
@@ -820,7 +820,7 @@ def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], lim
     :func:`stripe_fragility` analyses them; returns (exceeded (motions, limit states),
     failed (motions,), analyses run)."""
     states = parse_limit_states(limit_states, sort=False)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
 
     def analyze(x: float) -> tuple[np.ndarray, np.ndarray, int]:
         exc = np.zeros((len(motions), len(states)), dtype=bool)

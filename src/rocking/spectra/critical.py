@@ -19,7 +19,7 @@ from rocking.constants import G
 from rocking.dynamics.bodies import Block, Cylinder
 from rocking.dynamics.result import Status
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.limit_states import (
     MU_REQUIRED_MAX,
     NORMAL_FORCE_MIN,
@@ -170,7 +170,7 @@ def critical_intensity(
     decided); otherwise none runs them (:func:`make_analysis`).
     """
     return _critical_point(body, motion, parse_limit_states(limit_states, sort=False), mode,
-                           get_accuracy(accuracy), Quantity.from_value(quantity),
+                           Accuracy.of(accuracy), Quantity.from_value(quantity),
                            positive_finite("upper", upper), omega_n, zeta)
 
 
@@ -245,7 +245,7 @@ def critical_intensity_batch(
     -------
     list of CriticalResult
     """
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
     q = Quantity.from_value(quantity)
     upper = positive_finite("upper", upper)
     states = parse_limit_states(limit_states, sort=False)

@@ -13,7 +13,7 @@ from rocking._validate import positive_finite
 from rocking.dynamics.bodies import Cylinder
 from rocking.dynamics.result import Status
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.critical import make_analysis, uplift_intensity
 from rocking.spectra.modes import MODE_3D, MODES, check_mode
 from rocking.spectra.search import RETRY_RTOL_FACTOR, checked
@@ -62,7 +62,7 @@ def tilt_map(
         coordinate has CF ``units`` and ``long_name``.
     """
     check_mode(mode)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
     R_arr = np.array([positive_finite("R", r) for r in R_values], dtype=float)
     I_arr = np.array([positive_finite("intensity", i) for i in intensities], dtype=float)
     lower = uplift_intensity(motion, mode)

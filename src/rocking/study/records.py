@@ -245,10 +245,10 @@ def as_recorded(table, motions: Sequence[GroundMotion], *, accuracy="default",
 
     from rocking.dynamics.bodies import Cylinder
     from rocking.fragility.stripes import stripe_outcomes
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.limit_states import parse_limit_states
 
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
     by_name = {m.name: m for m in motions}
     exceeds = pd.Series(pd.NA, index=table.index, dtype="boolean")
     for (name, mode, tan_alpha, R), rows in table.groupby(
