@@ -21,6 +21,7 @@ from pathlib import Path
 
 from rocking.cli import _common, _human
 from rocking.cli.stripes import COMPONENT_NAMES
+from rocking.spectra.accuracy import DEFAULT_UPPER
 
 EXAMPLES = """\
   rocking risk --fragility results/paper/elcentro/fragility.csv \\
@@ -100,7 +101,7 @@ def add_parser(subparsers) -> None:
                    help="only these, comma-separated (e.g. overturning,tilt:1/3)")
     p.add_argument("-o", "--out", type=Path, default=None,
                    help="write the table to this .csv (default: print it)")
-    p.add_argument("--upper", type=float, default=20.0,
+    p.add_argument("--upper", type=float, default=DEFAULT_UPPER,
                    help="the study's search bound PGA/(g tan alpha), for the NRML maxIML [-]")
     p.add_argument("--nrml", type=Path, default=None,
                    help="also write the OpenQuake NRML 0.5 fragility model here (.xml)")

@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from rocking.cli import _common, _human
-from rocking.spectra.accuracy import PRESETS
+from rocking.spectra.accuracy import DEFAULT_UPPER, PRESETS
 
 EXAMPLES = """\
   rocking stripes --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --mode 3d \\
@@ -82,7 +82,8 @@ def add_parser(subparsers) -> None:
                    "included: the list of a study's stripes.intensity {start, stop, num, "
                    "spacing: log})")
     g.add_argument("--lower", type=float, default=1.0, help="first stripe (included)")
-    g.add_argument("--upper", type=float, default=20.0, help="last stripe (included)")
+    g.add_argument("--upper", type=float, default=DEFAULT_UPPER,
+                   help="last stripe (included; default: the search's bound %(default)s)")
     g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")

@@ -16,7 +16,7 @@ import numpy as np
 
 from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
 from rocking.grids import grid_values
-from rocking.spectra.accuracy import Accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
 __all__ = ["DEFAULTS", "expand_grid"]
@@ -24,7 +24,7 @@ __all__ = ["DEFAULTS", "expand_grid"]
 DEFAULTS: dict[str, Any] = {
     "accuracy": "default",
     "quantity": "exceedance_quantile",
-    "search": {"upper": 20.0},
+    "search": {"upper": DEFAULT_UPPER},
     "damped": {"omega_n": DAMPED_OMEGA_N, "zeta": DAMPED_ZETA},
     "motions": {"max_duration": None},
     "dask": {"min_task_seconds": 0.1},

@@ -53,7 +53,7 @@ from rocking.dynamics.result import Status
 from rocking.fragility.lognormal import bootstrap_indices
 from rocking.grids import grid_values
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.critical import make_analysis, uplift_intensity
 from rocking.spectra.limit_states import (
     LimitState,
@@ -76,9 +76,9 @@ DEFAULT_STRIPES = 40
 "Multiple-stripe fragility": the El Centro ensemble's median overturning intensity at R = 6 m
 moves by less than its own standard error beyond about this many)."""
 
-STRIPE_RANGE = (1.0, 20.0)
+STRIPE_RANGE = (1.0, DEFAULT_UPPER)
 """Default first and last stripe, PGA/(g tan α) [-]: from uplift (2D; the body is at rest
-there in 3D) to the search's default bound (:data:`rocking.spectra.search.DEFAULT_UPPER`)."""
+there in 3D) to the search's default bound (:data:`rocking.spectra.accuracy.DEFAULT_UPPER`)."""
 
 RETRY_RTOL_FACTOR = 0.1
 """A failed analysis is retried once with its rtol multiplied by this factor (as the search)."""

@@ -196,6 +196,14 @@ class Accuracy:
                 "confirm": self.confirm, "rest_tilt": self.rest_tilt}
 
 
+DEFAULT_UPPER = 20.0
+"""Default highest normalized intensity searched, PGA/(g tan α) [-]: the one value of the
+search bound (the library's ``upper=``, a configuration's ``search.upper``, the command
+lines' ``--upper``; the default stripes reach it too). It lives here, beside the search's
+other settings, because this module is light: the command line prints it in its help
+without loading the search."""
+
+
 FIELDS = ("name", "rtol", "rtol_damped", "scan_step", "local_step", "local_below",
           "local_above", "confirm", "rest_tilt")
 """The fields of :class:`Accuracy` a mapping may set."""

@@ -19,7 +19,7 @@ from rocking.constants import G
 from rocking.dynamics.bodies import Block, Cylinder
 from rocking.dynamics.result import Status
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.limit_states import (
     MU_REQUIRED_MAX,
     NORMAL_FORCE_MIN,
@@ -29,7 +29,6 @@ from rocking.spectra.limit_states import (
 from rocking.spectra.modes import MODE_3D, MODES, check_mode, excitation, is_damped
 from rocking.spectra.quantity import Quantity
 from rocking.spectra.search import (
-    DEFAULT_UPPER,
     PER_LIMIT_STATE,
     AnalysisFn,
     CriticalResult,

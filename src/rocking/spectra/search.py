@@ -72,7 +72,7 @@ import pandas as pd
 
 from rocking._validate import positive_finite
 from rocking.dynamics.result import Status, slid_in_contact
-from rocking.spectra.accuracy import Accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.limit_states import (
     MU_REQUIRED_MAX,
     NORMAL_FORCE_MIN,
@@ -86,9 +86,6 @@ from rocking.spectra.limit_states import (
     stop_for,
 )
 from rocking.spectra.quantity import PLATEAU_SHARE, Quantity, local_exceedance
-
-DEFAULT_UPPER = 20.0
-"""Default highest normalized intensity searched, PGA/(g tan α) [-]."""
 
 RETRY_RTOL_FACTOR = 0.1
 """A failed analysis is retried once with its rtol multiplied by this factor."""
