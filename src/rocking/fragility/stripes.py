@@ -48,6 +48,7 @@ import numpy as np
 from scipy import optimize, special, stats
 
 from rocking._progress import maybe as _progress
+from rocking._validate import positive_finite_array
 from rocking.dynamics.bodies import Block, Cylinder
 from rocking.dynamics.result import Status
 from rocking.fragility.lognormal import bootstrap_indices
@@ -166,10 +167,7 @@ def _check_intensities(intensities) -> np.ndarray:
     x = np.asarray(intensities, dtype=float)
     if x.ndim != 1 or x.size == 0:
         raise ValueError(f"intensities must be a non-empty 1-D sequence, got shape {x.shape}")
-    bad = np.flatnonzero(~np.isfinite(x) | (x <= 0.0))
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(f"intensities must be finite and > 0, got {x[i]!r} at index {i}")
+    positive_finite_array("intensities", x)
     if np.any(np.diff(x) <= 0.0):
         i = int(np.flatnonzero(np.diff(x) <= 0.0)[0]) + 1
         raise ValueError(f"intensities must be strictly increasing, got {x[i]!r} after "
@@ -241,9 +239,7 @@ class StripeFit:
 
     def probability(self, intensity) -> np.ndarray:
         """P(exceed | I) = Φ(ln(I/θ)/β) at ``intensity`` [PGA/(g tan α)], > 0."""
-        im = np.asarray(intensity, dtype=float)
-        if np.any(~np.isfinite(im) | (im <= 0.0)):
-            raise ValueError(f"intensity must be finite and > 0, got {intensity!r}")
+        im = positive_finite_array("intensity", intensity)
         return stats.norm.cdf(np.log(im / self.median) / self.beta)
 
 

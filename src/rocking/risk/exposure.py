@@ -74,6 +74,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from rocking._validate import positive_finite
 from rocking.fragility.table import lognormal_moments
 from rocking.motions.measures import COMPONENTS, measure_imt, parse_component, same_measure
 from rocking.risk.hazard import lon_lat_problem
@@ -325,11 +326,10 @@ def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.
         if problem:
             raise ValueError(f"{_where(frame, i)}: {problem}")
     for col in [c for c in ("median", "beta", "R", "tan_alpha", "value") if c in frame]:
-        bad = frame[col] <= 0
+        bad = frame[col] <= 0  # found in one pass, told by the one check (row and value)
         if bad.any():
             i = int(np.flatnonzero(bad.to_numpy())[0])
-            raise ValueError(f"{_where(frame, i)}: {col} must be > 0, got "
-                             f"{_show(frame.at[i, col])}")
+            positive_finite(f"{_where(frame, i)}: {col}", float(frame.at[i, col]))
     for i, ident in enumerate(frame["id"]):
         if not ASSET_ID.match(ident):
             raise ValueError(f"{_where(frame, i)}: id {ident!r} is not an OpenQuake asset id "
