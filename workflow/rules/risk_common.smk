@@ -6,6 +6,7 @@ from functools import cache
 from pathlib import Path
 
 from rocking.config.checks import check_risk
+from rocking.motions.measures import VECTOR_PEAK
 from rocking.risk.hazard import parse_hazard
 
 
@@ -91,7 +92,7 @@ def risk_targets():
         stripes = study_spec(s).stripes
         # the exports are of the vector-peak PGA (pelicun: Demand-Directional 1)
         if has_product("stripes", s) and stripes.measure == "pga" \
-                and stripes.component == "vector_peak":
+                and stripes.component == VECTOR_PEAK:
             out += [rules.stripe_risk_exports.output.nrml.format(study=s),
                     rules.stripe_risk_exports.output.pelicun.format(study=s)]
     return out

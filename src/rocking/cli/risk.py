@@ -221,6 +221,7 @@ def _body_rows(rows, args):
 
 def run(args) -> int:
     """Print or write the risk table (and the exports when asked); returns 0."""
+    from rocking.motions.measures import VECTOR_PEAK
     from rocking.risk.nrml import write_nrml
     from rocking.risk.pelicun import write_pelicun_csv
     from rocking.risk.reconcile import reconcile
@@ -237,7 +238,7 @@ def run(args) -> int:
     frag = _select(reconcile(args.fragility, hazard), args)
     table = risk_table(frag, hazard)
     if (args.nrml is not None or args.pelicun is not None) and (
-            hazard.measure != "pga" or frag.component != "vector_peak"):
+            hazard.measure != "pga" or frag.component != VECTOR_PEAK):
         raise ValueError("--nrml and --pelicun export vector-peak PGA fragilities only")
     if args.nrml is not None:
         write_nrml(frag, args.nrml, search_upper=args.upper)

@@ -16,6 +16,7 @@ import numpy as np
 
 from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
 from rocking.grids import grid_values
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
@@ -32,7 +33,7 @@ DEFAULTS: dict[str, Any] = {
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
                  "fit_method": "spectrum", "vertical": False, "params": None},
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"],
-              "mu": None, "component": "vector_peak"},
+              "mu": None, "component": DEFAULT_COMPONENT},
     "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,
                  "chunk_R": 1},
     "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,

@@ -30,6 +30,7 @@ from rocking.config.fields import (
     mode_list,
 )
 from rocking.config.plan import StudyPlan, plan_study
+from rocking.motions.measures import DEFAULT_COMPONENT, VECTOR_PEAK
 from rocking.spectra.accuracy import Accuracy
 from rocking.store.attrs import config_hash
 
@@ -236,13 +237,13 @@ class StripesSpec(_IntensityGrid):
     measure: str = "pga"
     refine: int = dc_field(default=8, compare=False)
     bootstrap: int = dc_field(default=1000, compare=False)
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     jitter: float = 0.0
 
     def to_attrs(self) -> dict[str, Any]:
         # the measure PGA is left out: stores made before stripes had a measure keep their hash
         extra = {} if self.measure == "pga" else {"measure": self.measure}
-        if self.component != "vector_peak":  # likewise: the vector peak keeps the old hash
+        if self.component != VECTOR_PEAK:  # likewise: the vector peak keeps the old hash
             extra["component"] = self.component
         if self.jitter:  # likewise: exact stripes keep the old hash
             extra["jitter"] = float(self.jitter)
@@ -254,7 +255,7 @@ class StripesSpec(_IntensityGrid):
         take their defaults)."""
         return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]),
                    measure=attrs.get("measure", "pga"),
-                   component=attrs.get("component", "vector_peak"),
+                   component=attrs.get("component", VECTOR_PEAK),
                    jitter=float(attrs.get("jitter", 0.0)))
 
 
@@ -277,8 +278,9 @@ def tilt_map_spec(config, t, field, study, ensemble, accuracy) -> TiltMapSpec:
     return TiltMapSpec(*common, motion=t["motion"])
 
 
-def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
-    """The study's ``stripes:`` section ``t`` (at ``field``) as a checked spec."""
+def stripes_spec(config, t, field, study, ensemble, accuracy, component: str) -> StripesSpec:
+    """The study's ``stripes:`` section ``t`` (at ``field``) as a checked spec; ``component``:
+    the study's, parsed where the configuration entered (:meth:`StudySpec.from_config`)."""
     from rocking.spectra.limit_states import parse_limit_states
 
     common, t = _intensity_grid(config, t, field, study, ensemble, accuracy, "stripes")
@@ -293,10 +295,6 @@ def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
         v = t[key]
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
             raise ValueError(f"{field}.{key} must be an integer >= 0, got {v!r}")
-    from rocking.motions.measures import parse_component
-
-    component = parse_component((config.get("studies") or {}).get(study, {}).get(
-        "component", DEFAULTS["study"]["component"]), f"studies.{study}.component")
     jitter = t["jitter"]
     if isinstance(jitter, bool) or not isinstance(jitter, int | float) or \
             not 0.0 <= jitter < 0.5:

@@ -40,7 +40,7 @@ from rocking.fragility.stripe_table import (
     stripe_table,
     table_headers,
 )
-from rocking.motions.measures import Measure
+from rocking.motions.measures import VECTOR_PEAK, Measure
 from rocking.spectra.accuracy import Accuracy
 from rocking.store.attrs import decode_attrs
 from rocking.store.layout import Layout, Variable, label_coord, region_coords, value_coord
@@ -105,7 +105,7 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         # from its identity (rocking.fragility.stripes.jittered)
         "jitter": float(s.jitter),
     }
-    if s.measure == "pga" and s.component == "vector_peak":
+    if s.measure == "pga" and s.component == VECTOR_PEAK:
         extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
     else:  # every motion scaled so that its measure equals the stripe's
         scale = Measure.of(s.measure).per_normalized(s.tan_alpha)

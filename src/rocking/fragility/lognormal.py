@@ -30,6 +30,7 @@ from scipy import optimize, special, stats
 
 from rocking._validate import positive_finite_array
 from rocking.fragility.table import quantity_of
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.units import header, set_attrs
 
 MIN_OBSERVED = 2
@@ -362,7 +363,7 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
     set_attrs(ds)
     ds["median"].attrs["long_name"] = "median PGA/(g tan(alpha)) of the lognormal fragility"
     ds.attrs.update(censoring_bound="none" if bound is None else bound,
-                    estimator="first_exceedance", measure="pga", component="vector_peak",
+                    estimator="first_exceedance", measure="pga", component=DEFAULT_COMPONENT,
                     unit="g", **{k: (str(v) if isinstance(v, str) else v)
                                  for k, v in quantity_of(store.attrs).items()})
     return ds

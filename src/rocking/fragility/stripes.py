@@ -53,6 +53,7 @@ from rocking.dynamics.bodies import Block, Cylinder
 from rocking.dynamics.result import Status
 from rocking.fragility.lognormal import bootstrap_indices
 from rocking.grids import grid_values
+from rocking.motions.measures import DEFAULT_COMPONENT, VECTOR_PEAK
 from rocking.motions.motion import GroundMotion
 from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.critical import make_analysis, uplift_intensity
@@ -176,7 +177,7 @@ def _check_intensities(intensities) -> np.ndarray:
 
 
 def measure_ratio(motion: GroundMotion, measure: str = "pga",
-                  component: str = "vector_peak") -> float:
+                  component: str = DEFAULT_COMPONENT) -> float:
     """PGA/(g tan α) of ``motion`` scaled so that its ``measure`` in ``component`` over
     (g tan α) is 1 [-].
 
@@ -184,10 +185,10 @@ def measure_ratio(motion: GroundMotion, measure: str = "pga",
     at PGA/(g tan α) = x · this ratio (every measure is linear in the scale). 1 for ``"pga"``
     in the vector peak (the spectra's own intensity).
     """
-    from rocking.motions.measures import Measure, parse_component
+    from rocking.motions.measures import Measure
 
     im = Measure.of(measure)
-    if im == Measure("pga") and parse_component(component) == "vector_peak":
+    if im == Measure("pga") and component == VECTOR_PEAK:
         return 1.0
     value = im.of_motion(motion, component)
     if not (math.isfinite(value) and value > 0.0):
@@ -508,7 +509,7 @@ class StripeFragility:
     n_analyses: int = 0
     measure: str = "pga"
     n_refined: int = 0
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     jitter: float = 0.0
 
     @property
@@ -570,7 +571,7 @@ class StripeFragility:
     @property
     def _vector_pga(self) -> bool:
         """The stripes are the spectra's PGA (vector peak): ``pga_g`` columns have values."""
-        return self.measure == "pga" and self.component == "vector_peak"
+        return self.measure == "pga" and self.component == VECTOR_PEAK
 
     def to_frame(self):
         """The stripes as a table: one row per (limit state, stripe) with ``intensity``
@@ -654,7 +655,7 @@ def _check_motions(motions) -> list[GroundMotion]:
 def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequence[LimitState],
                     intensities: np.ndarray, mode: str, acc: Accuracy, *,
                     omega_n: float | None = None, zeta: float | None = None,
-                    progress=None, measure: str = "pga", component: str = "vector_peak",
+                    progress=None, measure: str = "pga", component: str = DEFAULT_COMPONENT,
                     jitter: float = 0.0) -> tuple[np.ndarray, np.ndarray, int]:
     """Analyse one motion at every stripe: (exceeded (stripes, states), failed (stripes,),
     analyses run).
@@ -710,7 +711,7 @@ def stripe_fragility(
     zeta: float | None = None,
     progress=False,
     measure: str = "pga",
-    component: str = "vector_peak",
+    component: str = DEFAULT_COMPONENT,
     jitter: float = JITTER,
 ) -> StripeFragility:
     """Multiple-stripe fragility of a body under an ensemble of motions.
@@ -780,7 +781,7 @@ def stripe_fragility(
 def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, failed, *,
                   mode: str = MODE_3D, accuracy: str = "default", R: float = math.nan,
                   tan_alpha: float = math.nan, n_analyses: int = 0, measure: str = "pga",
-                  n_refined: int = 0, component: str = "vector_peak",
+                  n_refined: int = 0, component: str = DEFAULT_COMPONENT,
                   jitter: float = 0.0) -> StripeFragility:
     """A :class:`StripeFragility` (fits included) from per-analysis outcomes, e.g. read back
     from a store: ``exceeded`` (stripes, motions, limit states), ``failed`` (stripes,
@@ -810,7 +811,7 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
 def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], limit_states, *,
                     mode: str = MODE_3D, accuracy: str | Accuracy | dict = "default",
                     omega_n: float | None = None, zeta: float | None = None,
-                    measure: str = "pga", component: str = "vector_peak",
+                    measure: str = "pga", component: str = DEFAULT_COMPONENT,
                     jitter: float = JITTER) -> Callable[[float], tuple]:
     """``analyze(x)``: every motion at one more stripe ``x`` [measure/(g tan α)], as
     :func:`stripe_fragility` analyses them; returns (exceeded (motions, limit states),

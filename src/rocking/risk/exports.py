@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from rocking.fragility.table import Fragilities, read_fragilities
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.nrml import nrml_model_id, write_nrml
 from rocking.risk.pelicun import write_pelicun_csv
@@ -67,7 +68,7 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
                        pelicun: str | Path, table: str | Path,
                        search_upper: float | None = None, study: str = "",
                        stripes=None, preset: str = "",
-                       study_component: str = "vector_peak") -> dict:
+                       study_component: str = DEFAULT_COMPONENT) -> dict:
     """Write ``fragility.nrml.xml``, ``fragility.pelicun.csv`` and ``risk.csv`` of a study.
 
     One behaviour whatever the fits: every requested row is in ``risk.csv``, a row without a
