@@ -75,8 +75,9 @@ class StudySpec(Hashed):
         own: it decides which figures and verdicts are drawn, no store.
     component : str
         Horizontal component of the intensity measures (``studies.<name>.component``,
-        :data:`rocking.motions.measures.COMPONENTS`; default ``"vector_peak"``, the
-        spectra's own intensity). It decides no spectra store.
+        :data:`rocking.motions.measures.COMPONENTS`; default the vector peak,
+        :data:`~rocking.motions.measures.DEFAULT_COMPONENT`, the spectra's own intensity),
+        parsed once here. It decides no spectra store.
     """
 
     spectra: SpectraSpec

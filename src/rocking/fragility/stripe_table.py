@@ -48,8 +48,9 @@ def store_jitter(attrs) -> float:
 
 
 def store_component(attrs) -> str:
-    """The horizontal component of a stripes store's measure (``"vector_peak"`` for a store
-    without one: the spectra's PGA, and stores made before components)."""
+    """The horizontal component of a stripes store's measure (the vector peak,
+    :data:`~rocking.motions.measures.DEFAULT_COMPONENT`, for a store without one: the
+    spectra's PGA, and stores made before components)."""
     return str(attrs.get("component", DEFAULT_COMPONENT))
 
 
