@@ -15,6 +15,7 @@ import pytest
 import rocking
 from rocking.constants import G
 from rocking.dynamics import analysis, bodies, codes, models
+from rocking.dynamics.contact import Contact
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +66,7 @@ def test_an_episode_ends_only_below_the_rest_energy(el_centro):
     the rest tilt takes (energy written here from the equations, not the model's hook)."""
     body = rocking.Cylinder(4.0, 0.2)
     theta_rest = analysis.default_rest_tilt("3d", body)
-    runner = analysis._Runner("3d", body, 1e-8, True, 2000.0, 5.0, theta_rest)
+    runner = analysis._Runner("3d", body, 1e-8, True, Contact(), theta_rest)
     a = el_centro.scaled(1.01 * G * body.tan_alpha / el_centro.pga)
     up = analysis.next_uplift(a.ax, a.ay, a.dt, G * body.tan_alpha,
                           np.flatnonzero(np.hypot(a.ax, a.ay) > G * body.tan_alpha))

@@ -28,6 +28,7 @@ import xarray as xr
 from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import StripesSpec
+from rocking.dynamics.contact import Contact
 from rocking.execution import tasks
 from rocking.fragility.stripe_table import (
     STRIPES_DIMS,
@@ -140,12 +141,12 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     states = parse_limit_states([str(s) for s in layout.coords["limit_state"]], sort=False)
     x = np.asarray(layout.coords["intensity"], dtype=float)
     acc = Accuracy.of(attrs["tolerances"])
+    contact = Contact.of(**attrs.get("model_options", {}))  # the store's, read once
     tan_alpha = float(attrs["tan_alpha"])
     exc, fail, runs = [], [], []
     for R in rc["R"]:
         e, f, n = stripe_outcomes(Cylinder(float(R), tan_alpha), motion, states, x, str(mode),
-                                  acc, **attrs.get("model_options", {}),
-                                  measure=store_measure(attrs),
+                                  acc, contact=contact, measure=store_measure(attrs),
                                   component=store_component(attrs),
                                   jitter=store_jitter(attrs))
         exc.append(e.T)  # (limit_state, intensity)
@@ -269,7 +270,7 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
     body = Cylinder(float(result.R), float(result.tan_alpha))
     attrs = decode_attrs(ds.attrs)
     acc = Accuracy.of(attrs["tolerances"])
-    options = attrs.get("model_options", {})
+    contact = Contact.of(**attrs.get("model_options", {}))
 
     def analyze(x: float):
         exc = np.zeros((len(result.motions), len(states)), dtype=bool)
@@ -284,7 +285,8 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
                                      f"{result.R:g} m, motion {name!r} is not in "
                                      f"{cache.path}: run the stripe_fragility step first")
                 e, f, r = stripe_outcomes(body, tasks.motion_named(motions, name), states,
-                                          np.array([float(x)]), result.mode, acc, **options,
+                                          np.array([float(x)]), result.mode, acc,
+                                          contact=contact,
                                           measure=result.measure,
                                           component=result.component,
                                           jitter=result.jitter)

@@ -50,6 +50,7 @@ from scipy import optimize, special, stats
 from rocking._progress import maybe as _progress
 from rocking._validate import positive_finite_array
 from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.result import Status
 from rocking.fragility.lognormal import bootstrap_indices
 from rocking.grids import grid_values
@@ -654,11 +655,12 @@ def _check_motions(motions) -> list[GroundMotion]:
 
 def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequence[LimitState],
                     intensities: np.ndarray, mode: str, acc: Accuracy, *,
-                    omega_n: float | None = None, zeta: float | None = None,
-                    progress=None, measure: str = "pga", component: str = DEFAULT_COMPONENT,
+                    contact: Contact | None = None, progress=None, measure: str = "pga",
+                    component: str = DEFAULT_COMPONENT,
                     jitter: float = 0.0) -> tuple[np.ndarray, np.ndarray, int]:
     """Analyse one motion at every stripe: (exceeded (stripes, states), failed (stripes,),
-    analyses run).
+    analyses run). ``acc`` and ``contact`` (the damped model's; None: its default) come
+    resolved and checked, as the entries above build them.
 
     ``intensities`` are ``measure``/(g tan α), each analysed at itself jittered by
     ``jitter`` in ln s (:func:`jittered`; 0: exactly): the motion is scaled so that its
@@ -668,7 +670,7 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
     below the uplift intensity the body stays at rest and nothing is run, unless a limit
     state a body at rest can exceed is asked (sliding).
     """
-    analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+    analyze = make_analysis(body, motion, mode, contact=contact,
                             rest_tilt=acc.rest_tilt, whole=whole_record(states))
     at_rest = any(ls.at_rest for ls in states)
     intensities = jittered(intensities, jitter, motion=motion.name, mode=mode, R=body.R,
@@ -762,13 +764,14 @@ def stripe_fragility(
         ls.threshold(body.alpha)  # a tilt goal beyond π/2 fails here, before any analysis
     x = _check_intensities(intensities)
     acc = Accuracy.of(accuracy)
+    contact = Contact.of(omega_n, zeta)
     bar = _progress(progress, x.size * len(motions), "stripes", unit="analysis")
     exceeded = np.zeros((x.size, len(motions), len(states)), dtype=bool)
     failed = np.zeros((x.size, len(motions)), dtype=bool)
     runs = 0
     for m, motion in enumerate(motions):
         exceeded[:, m], failed[:, m], r = stripe_outcomes(
-            body, motion, states, x, mode, acc, omega_n=omega_n, zeta=zeta, progress=bar,
+            body, motion, states, x, mode, acc, contact=contact, progress=bar,
             measure=measure, component=component, jitter=jitter)
         runs += r
     if bar is not None and bar is not progress:
@@ -818,6 +821,7 @@ def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], lim
     failed (motions,), analyses run)."""
     states = parse_limit_states(limit_states, sort=False)
     acc = Accuracy.of(accuracy)
+    contact = Contact.of(omega_n, zeta)
 
     def analyze(x: float) -> tuple[np.ndarray, np.ndarray, int]:
         exc = np.zeros((len(motions), len(states)), dtype=bool)
@@ -825,7 +829,7 @@ def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], lim
         runs = 0
         for m, motion in enumerate(motions):
             e, f, r = stripe_outcomes(body, motion, states, np.array([float(x)]), mode, acc,
-                                      omega_n=omega_n, zeta=zeta, measure=measure,
+                                      contact=contact, measure=measure,
                                       component=component, jitter=jitter)
             exc[m], fail[m], runs = e[0], f[0], runs + r
         return exc, fail, runs
