@@ -8,12 +8,12 @@ naming the key and the value.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from rocking._validate import positive_finite_array
 from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
 from rocking.grids import grid_values
 from rocking.motions.measures import DEFAULT_COMPONENT
@@ -87,8 +87,9 @@ def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[f
     else:
         raise ValueError(f"{field} must be a list of numbers or {{start, stop, num}}, "
                          f"got {spec!r}")
-    if not values or any(not (math.isfinite(v) and v > 0) for v in values):
+    if not values:
         raise ValueError(f"{field} must hold finite numbers > 0, got {values!r}")
+    positive_finite_array(field, values)
     if len(set(values)) != len(values):
         raise ValueError(f"{field}: repeated values {values!r}")
     return values

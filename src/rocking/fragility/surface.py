@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from rocking._validate import positive_finite_array
 from rocking.fragility.lognormal import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED
 from rocking.fragility.table import Fragilities
 from rocking.motions.measures import DEFAULT_COMPONENT
@@ -307,8 +308,8 @@ class FragilitySurface:
         if R.shape != ta.shape:
             raise ValueError(f"R and tan_alpha must have the same shape, got {R.shape} and "
                              f"{ta.shape}")
-        if np.any(~np.isfinite(R) | (R <= 0) | ~np.isfinite(ta) | (ta <= 0)):
-            raise ValueError("R and tan_alpha must be finite and > 0")
+        positive_finite_array("R", R)
+        positive_finite_array("tan_alpha", ta)
         outside = self.outside(R, ta)
         if not extrapolate:
             self.check_inside(R, ta)
