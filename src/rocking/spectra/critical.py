@@ -169,9 +169,8 @@ def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, m
                     contact: Contact) -> CriticalResult:
     """:func:`critical_intensity` on parsed limit states, a resolved accuracy and quantity,
     a checked ``upper`` and contact (the batch resolves and checks them once for every
-    point). The
-    grid offsets are drawn from the cell's identity (:func:`~rocking.spectra.search.cell_seed`:
-    the motion's name, R, tan α, the mode)."""
+    point). The grid offsets are drawn from the cell's identity
+    (:func:`~rocking.spectra.search.cell_seed`: the motion's name, R, tan α, the mode)."""
     check_mode(mode)
     if motion.pga <= 0.0:
         raise ValueError(f"motion {motion.name!r} has zero PGA")
