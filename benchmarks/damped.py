@@ -42,6 +42,7 @@ from rocking.dynamics import cylinder3d_damped as cd
 from rocking.dynamics import models
 from rocking.dynamics._rosenbrock import TABLEAUX
 from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.names import MODEL_3D_DAMPED, PAPER_CONTACT_GRID
 from rocking.motions.motion import GroundMotion
 
@@ -190,8 +191,8 @@ def _dop853(y0, t0, t_end, ax, ay, dt_rec, scale, par, rtol, max_steps, A, B, C,
 def _kernel(tab_name, y0, t0, t_end, motion, scale, body, wn, z, rtol):
     """The damped model through the driver with Rosenbrock method ``tab_name``."""
     prep = models.prepare(models.MODELS[MODEL_3D_DAMPED], body, rtol,
-                          models.rest_criterion(body, models.THETA_REST_DAMPED), omega_n=wn,
-                          zeta=z, max_steps=50_000_000, method=tab_name)
+                          models.rest_criterion(body, models.THETA_REST_DAMPED),
+                          contact=Contact(wn, z), max_steps=50_000_000, method=tab_name)
     k0 = int(t0 // motion.dt)
     return models.run(prep, motion.ax * scale, motion.ay * scale, motion.dt, k0,
                       t0 - k0 * motion.dt, 0.0, y0, t_end, NO_STOP, history=False)

@@ -33,7 +33,7 @@ from benchmarks._io import write_table
 from rocking.dynamics.bodies import Cylinder
 from rocking.fragility.lognormal import fit_lognormal
 from rocking.fragility.stripes import fit_stripes, stripe_intensities, stripe_outcomes
-from rocking.spectra.accuracy import get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.spectra.modes import MODE_3D
@@ -66,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     body = Cylinder(args.R, args.tan_alpha)
     states = parse_limit_states(list(STATES), sort=False)
-    acc = get_accuracy("default")
+    acc = Accuracy.of("default")
     motions = _ensemble(args.synthetic)
     x = stripe_intensities(args.stripes)
     t0 = time.perf_counter()

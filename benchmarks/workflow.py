@@ -38,7 +38,6 @@ from rocking.config.damping import Damping
 from rocking.config.products import SpectraSpec
 from rocking.config.study import StudySpec
 from rocking.execution import cluster, tasks
-from rocking.spectra.accuracy import get_accuracy
 from rocking.spectra.modes import MODE_2D_X, MODE_2D_Y, MODE_3D, MODE_3D_DAMPED
 from rocking.store.layout import region_coords
 
@@ -123,7 +122,7 @@ def _paper_store(workdir: Path, modes: list[str], R: list[float], motions: list[
     layout = tasks.spectra_layout(modes, plan.limit_states, motions, [0.2], R, 1)
     options = {"upper": spec.upper,
                **(Damping.options(spec.damping) if MODE_3D_DAMPED in modes else {})}
-    attrs = {"tolerances": get_accuracy(spec.accuracy).to_dict(), "search_options": options,
+    attrs = {"tolerances": spec.accuracy.to_dict(), "search_options": options,
              "ensemble": tasks.ensemble_attrs(ensemble, "elcentro")}
     path = workdir / f"{name}.zarr"
     store.create_store(path, layout, attrs, name, static={store.REQUESTED: requested})

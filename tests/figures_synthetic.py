@@ -20,6 +20,7 @@ from rocking.config.damping import Damping
 from rocking.config.ensemble import EnsembleSpec
 from rocking.config.plan import plan_study
 from rocking.config.products import SpectraSpec, TiltMapSpec
+from rocking.spectra.accuracy import PRESETS
 
 MODES = ["3d", "3d-damped", "3d-x", "3d-y", "2d-x", "2d-y"]
 LIMIT_STATES = ["tilt:0.1", "tilt:0.3333", "tilt:0.6", "overturning"]
@@ -42,7 +43,8 @@ ENSEMBLE = EnsembleSpec("synth", "el-centro-1940", None, 3, 2017, None, "auto", 
 def spectra_spec(modes: list[str], limit_states: list[str]) -> SpectraSpec:
     """The study description a synthetic spectra store records (its ``config`` attribute)."""
     plan = plan_study([{"modes": modes, "tan_alpha": TAN_ALPHA, "limit_states": limit_states}])
-    return SpectraSpec("synth", ENSEMBLE, tuple(R), plan, 1, None, "default", QUANTITY, UPPER,
+    return SpectraSpec("synth", ENSEMBLE, tuple(R), plan, 1, None, PRESETS["default"],
+                       QUANTITY, UPPER,
                        Damping.of_modes({"damped": {"omega_n": 2000.0, "zeta": 5.0}}, modes))
 
 
@@ -179,7 +181,8 @@ def write_tilt_map(path: Path, dim: str = "model") -> xr.Dataset:
         attrs={"motion": "el-centro-1940", "tan_alpha": "0.2",
                "config": json.dumps(TiltMapSpec(
                    "synth", ENSEMBLE, ("3d", "3d-damped"), 0.2, tuple(R_.tolist()),
-                   tuple(intensity.tolist()), 1, "default", Damping(2000.0, 5.0)).to_attrs())},
+                   tuple(intensity.tolist()), 1, PRESETS["default"],
+                   Damping(2000.0, 5.0)).to_attrs())},
     )
     ds.to_zarr(path, mode="w", zarr_format=3, consolidated=False)
     return ds

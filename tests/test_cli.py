@@ -47,11 +47,24 @@ def test_version_and_help_show_defaults_and_examples(capsys):
     assert "(default: 3d)" in spectra and "(default: 20.0)" in spectra
 
 
-def test_help_default_of_the_search_bound_is_the_library_s():
-    from rocking.cli.spectra import UPPER_DEFAULT
-    from rocking.spectra.search import DEFAULT_UPPER
+def test_every_default_search_bound_is_the_one_constant():
+    """The search bound is one number (:data:`rocking.spectra.accuracy.DEFAULT_UPPER`): the
+    library's default, the configuration's and every command line's ``--upper``."""
+    import argparse
+    import inspect
 
-    assert UPPER_DEFAULT == DEFAULT_UPPER
+    from rocking.config.fields import DEFAULTS
+    from rocking.fragility.stripes import STRIPE_RANGE
+    from rocking.spectra.accuracy import DEFAULT_UPPER
+    from rocking.spectra.critical import critical_intensity
+    from rocking.spectra.search import search_critical
+
+    for fn in (search_critical, critical_intensity):
+        assert inspect.signature(fn).parameters["upper"].default is DEFAULT_UPPER
+    assert DEFAULTS["search"]["upper"] is DEFAULT_UPPER and STRIPE_RANGE[1] is DEFAULT_UPPER
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    for command in ("spectra", "stripes", "risk"):
+        assert sub.choices[command].get_default("upper") is DEFAULT_UPPER
 
 
 @pytest.fixture(scope="module")

@@ -22,6 +22,7 @@ from rocking.motions.measures import (
     DEFAULT_COMPONENT,
     MEASURE_PATTERN,
     MEASURES,
+    VECTOR_PEAK,
     component_ratio,
     intensity_measure,
     measure_imt,
@@ -155,6 +156,7 @@ def test_cli_help_lists_the_registry():
     from rocking.cli.stripes import COMPONENT_NAMES, measure_help
 
     assert COMPONENT_NAMES == tuple(COMPONENTS)
+    assert COMPONENT_NAMES[0] == DEFAULT_COMPONENT == VECTOR_PEAK  # --component's default
     text = measure_help()
     for kind, m in MEASURES.items():
         assert kind in text and m.unit in text
@@ -373,3 +375,17 @@ def test_cli_risk_takes_the_hazard_component_or_refuses(rotd50_suite, tmp_path, 
     assert main(["risk", "--fragility", str(only), "--hazard", "1e-4,2.2", "--component",
                  "rotd50", "--im-factor", "1.2"]) == 2
     assert "not both" in capsys.readouterr().err
+
+
+def test_the_vector_peak_is_named_in_one_place():
+    """Library code compares with and defaults to the constants (VECTOR_PEAK,
+    DEFAULT_COMPONENT), never the spelled name: it is written once, in the registry's module
+    (and in the command line's light mirror of the registry, held equal above)."""
+    import ast
+
+    spelled = []
+    for path in sorted((ROOT / "src" / "rocking").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Constant) and node.value == VECTOR_PEAK:
+                spelled.append(str(path.relative_to(ROOT / "src" / "rocking")))
+    assert spelled == ["cli/stripes.py", "motions/measures.py"]

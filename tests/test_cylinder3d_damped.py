@@ -19,6 +19,7 @@ from rocking.constants import G
 from rocking.dynamics import codes, inertia, models
 from rocking.dynamics import cylinder3d_damped as cd
 from rocking.dynamics.bodies import Cylinder, mu, mu_prime
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.models import THETA_REST_DAMPED
 
 CYL = Cylinder(6.0, 0.2)  # the paper's Fig 4 cylinder
@@ -33,7 +34,7 @@ def _run(y0, t_end, omega_n, zeta, rtol, ax=None, ay=None, dt=None, body=CYL, st
     :class:`~rocking.dynamics.models.KernelResult`."""
     prep = models.prepare(models.MODELS["3d-damped"], body, rtol,
                           models.rest_criterion(body, THETA_REST_DAMPED),
-                          omega_n=omega_n, zeta=zeta, max_steps=max_steps)
+                          contact=Contact(omega_n, zeta), max_steps=max_steps)
     if ax is None:
         dt = 0.1 / body.p
         ax = ay = np.zeros(int(math.ceil(t_end / dt)) + 2)
@@ -123,15 +124,17 @@ def _theta_dot_before(t, theta_dot, ev_t):
     (2000.0, -0.1, "zeta"), (0.0, 5.0, "omega_n"), (-200.0, 5.0, "omega_n"),
     (float("nan"), 5.0, "omega_n"), (2000.0, float("inf"), "zeta"), ("abc", 5.0, "omega_n"),
 ])
-def test_check_parameters_rejects_bad_values(omega_n, zeta, field):
+def test_a_contact_rejects_bad_values(omega_n, zeta, field):
     with pytest.raises(ValueError, match=field) as info:
-        cd.check_parameters(omega_n, zeta)
+        Contact(omega_n, zeta)
     bad = omega_n if field == "omega_n" else zeta
     assert repr(bad) in str(info.value)
 
 
-def test_check_parameters_accepts_zero_damping():
-    assert cd.check_parameters(2000, 0) == (2000.0, 0.0)
+def test_a_contact_accepts_zero_damping():
+    c = Contact(2000, 0)
+    assert (c.omega_n, c.zeta) == (2000.0, 0.0) and isinstance(c.omega_n, float)
+    assert Contact.of() == Contact() == models.MODELS["3d-damped"].contact
 
 
 def test_spin_inertia_matches_printed_form_and_asymptotes():

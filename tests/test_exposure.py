@@ -186,7 +186,7 @@ def _bad(table, row, col, value):
     (lambda t: _bad(t, 0, "lon", 200.0),
      r"row 1 of the table \(id 'C01'\): lon 200 is beyond 180: give it as -160"),
     (lambda t: _bad(t, 0, "median", 0.0),
-     r"row 1 of the table \(id 'C01'\): median must be > 0, got 0"),
+     r"row 1 of the table \(id 'C01'\): median must be a finite number > 0, got 0.0$"),
     (lambda t: t.assign(id=t["id"].str.replace("C01", "C 01")),
      r"row 1 of the table \(id 'C 01'\): id 'C 01' is not an OpenQuake asset id"),
     (lambda t: t.drop(index=4), r"id 'C02': no row for limit state\(s\) overturning"),

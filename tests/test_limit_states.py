@@ -5,7 +5,7 @@ import math
 import pytest
 
 from rocking.dynamics.result import Status
-from rocking.spectra.accuracy import PRESETS, Accuracy, get_accuracy
+from rocking.spectra.accuracy import PRESETS, Accuracy
 from rocking.spectra.limit_states import (
     DEFAULT_LIMIT_STATES,
     Overturning,
@@ -117,17 +117,17 @@ def test_presets_ordered_by_cost_and_accuracy():
     assert fast.rtol >= default.rtol >= precise.rtol
     assert fast.scan_step >= default.scan_step >= precise.scan_step
     assert fast.local_step >= default.local_step > precise.local_step
-    assert get_accuracy("Default") is default
+    assert Accuracy.of("Default") is default
 
 
 def test_accuracy_overrides_and_errors():
-    acc = get_accuracy({"preset": "fast", "rtol": 1e-9})
+    acc = Accuracy.of({"preset": "fast", "rtol": 1e-9})
     assert acc.rtol == 1e-9 and acc.scan_step == PRESETS["fast"].scan_step
     assert acc.name == "custom"
     with pytest.raises(ValueError, match="accuracy must be one of"):
-        get_accuracy("sloppy")
+        Accuracy.of("sloppy")
     with pytest.raises(ValueError, match="unknown field"):
-        get_accuracy({"rtoll": 1e-9})
+        Accuracy.of({"rtoll": 1e-9})
     with pytest.raises(ValueError, match="rtol"):
         Accuracy("x", rtol=float("nan"), scan_step=0.1, local_step=0.002, local_below=0.1)
     with pytest.raises(ValueError, match="local_step"):
@@ -137,12 +137,12 @@ def test_accuracy_overrides_and_errors():
 
 
 def test_accuracy_round_trips_through_its_dict():
-    # The study store keeps tolerances as JSON and workers rebuild them with get_accuracy.
+    # The study store keeps tolerances as JSON and workers rebuild them with Accuracy.of.
     for acc in PRESETS.values():
-        assert get_accuracy(acc.to_dict()) == acc
+        assert Accuracy.of(acc.to_dict()) == acc
         # a record that names its preset and nothing else is that preset, not the default
         # under its name (a store with tolerances {"name": "fast"} searched at default's)
-        assert get_accuracy({"name": acc.name}) == acc
+        assert Accuracy.of({"name": acc.name}) == acc
 
 
 # --- one spelling per limit state, every spelling accepted -------------------------------

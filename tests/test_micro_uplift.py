@@ -15,6 +15,7 @@ import pytest
 import rocking
 from rocking.constants import G
 from rocking.dynamics import analysis, bodies, codes, models
+from rocking.dynamics.contact import Contact
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +66,7 @@ def test_an_episode_ends_only_below_the_rest_energy(el_centro):
     the rest tilt takes (energy written here from the equations, not the model's hook)."""
     body = rocking.Cylinder(4.0, 0.2)
     theta_rest = analysis.default_rest_tilt("3d", body)
-    runner = analysis._Runner("3d", body, 1e-8, True, 2000.0, 5.0, theta_rest)
+    runner = analysis._Runner("3d", body, 1e-8, True, Contact(), theta_rest)
     a = el_centro.scaled(1.01 * G * body.tan_alpha / el_centro.pga)
     up = analysis.next_uplift(a.ax, a.ay, a.dt, G * body.tan_alpha,
                           np.flatnonzero(np.hypot(a.ax, a.ay) > G * body.tan_alpha))
@@ -90,14 +91,14 @@ def test_bad_rest_tilt_names_the_field(el_centro, value):
 
 
 def test_accuracy_carries_the_exact_treatment():
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
 
-    acc = get_accuracy({"preset": "default", "rest_tilt": 0})
+    acc = Accuracy.of({"preset": "default", "rest_tilt": 0})
     assert acc.rest_tilt == 0.0 and acc.to_dict()["rest_tilt"] == 0.0
-    assert get_accuracy("default").rest_tilt is None
+    assert Accuracy.of("default").rest_tilt is None
     for bad in (-1, 2e-4, float("nan")):
         with pytest.raises(ValueError, match="rest_tilt"):
-            get_accuracy({"preset": "default", "rest_tilt": bad})
+            Accuracy.of({"preset": "default", "rest_tilt": bad})
     # every accepted value is accepted by the engine too, for tan α above tan(0.01) ≈ 0.0100003
     body = rocking.Cylinder(1.0, 0.0101)
     assert analysis._check_rest_tilt(1e-4, "3d", body) == 1e-4

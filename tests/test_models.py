@@ -43,7 +43,8 @@ def test_modes_run_registered_models_and_the_schema_lists_them():
 def test_only_the_damped_model_has_a_contact_whose_defaults_the_schema_states():
     assert [n for n, m in models.MODELS.items() if m.contact] == [names.MODEL_3D_DAMPED]
     props = SCHEMA["properties"]["damped"]["properties"]
-    wn, z = models.MODELS[names.MODEL_3D_DAMPED].contact
+    contact = models.MODELS[names.MODEL_3D_DAMPED].contact
+    wn, z = contact.omega_n, contact.zeta
     assert (wn, z) == (props["omega_n"]["default"], props["zeta"]["default"]) == (2000.0, 5.0)
     assert DEFAULTS["damped"] == {"omega_n": wn, "zeta": z}
     assert (wn, z) in names.PAPER_CONTACT_GRID and len(set(names.PAPER_CONTACT_GRID)) == 8
@@ -61,13 +62,13 @@ def test_analysis_reads_rtol_and_rest_tilt_from_the_entry(monkeypatch):
     """Change an entry and the analyses' defaults follow (no copy elsewhere)."""
     body = Cylinder(2.0, 0.25)
     for name, m in models.MODELS.items():
-        assert analysis._check_common(None, 1.0, 0.0, name) == m.rtol
+        assert analysis._check_rtol(None, name) == m.rtol
         assert analysis.default_rest_tilt(name, body) == m.rest_tilt(body)
     for name in models.MODELS:
         entry = models.MODELS[name]
         monkeypatch.setitem(models.MODELS, name,
                             entry._replace(rtol=3e-7, rest_tilt=lambda b: 1e-9 * b.R))
-        assert analysis._check_common(None, 1.0, 0.0, name) == 3e-7
+        assert analysis._check_rtol(None, name) == 3e-7
         assert analysis.default_rest_tilt(name, body) == 2e-9
 
 

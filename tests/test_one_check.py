@@ -50,17 +50,16 @@ def test_the_search_flags_and_the_limit_state_use_the_one_comparison():
 
 def test_a_batch_resolves_its_accuracy_once(monkeypatch):
     from rocking.motions.catalogue import load_record
-    from rocking.spectra import accuracy, critical, search
+    from rocking.spectra import accuracy, critical
 
     calls = []
-    real = accuracy.get_accuracy
+    real = accuracy.Accuracy.of
 
-    def counting(value):
+    def counting(cls, value):
         calls.append(value)
         return real(value)
 
-    monkeypatch.setattr(critical, "get_accuracy", counting)
-    monkeypatch.setattr(search, "get_accuracy", counting)
+    monkeypatch.setattr(accuracy.Accuracy, "of", classmethod(counting))
     motion = load_record("el-centro-1940")
     out = critical.critical_intensity_batch(
         [(1.0, 0.2, motion, "2d-x"), (2.0, 0.2, motion, "2d-x")], ["tilt:0.5"],

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from rocking.dynamics.result import Status
-from rocking.spectra.accuracy import PRESETS, Accuracy, get_accuracy
+from rocking.spectra.accuracy import PRESETS, Accuracy
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.spectra.quantity import Quantity
 from rocking.spectra.search import MAX_ANALYSES, Outcome, search_critical
@@ -88,7 +88,7 @@ def _tol(acc: Accuracy) -> float:
                                                  (windows_response, WINDOWS_FIRST)],
                          ids=["smooth", "windows"])
 def test_steps_give_their_closed_form(preset, response, first):
-    acc = get_accuracy(preset)
+    acc = Accuracy.of(preset)
     names = [s for s in STATES if s in first]
     for seed in range(3):
         res = search_critical(fake_analysis(response, []), names, ALPHA, lower=1.0,
@@ -270,12 +270,12 @@ def test_bad_settings_name_the_field(fields, message):
     with pytest.raises(ValueError, match=message):
         DEFAULT.with_(**fields)
     with pytest.raises(ValueError, match=message.lstrip("^")):
-        get_accuracy({"preset": "default", **fields})
+        Accuracy.of({"preset": "default", **fields})
 
 
 def test_retired_settings_are_refused_by_name():
     with pytest.raises(ValueError, match=r"unknown field\(s\) \['refine_budget'\]"):
-        get_accuracy({"preset": "default", "refine_budget": 20})
+        Accuracy.of({"preset": "default", "refine_budget": 20})
 
 
 def test_a_sample_narrower_than_the_window_is_refused_before_any_analysis():
@@ -290,7 +290,7 @@ def test_a_sample_narrower_than_the_window_is_refused_before_any_analysis():
 def test_presets_round_trip_through_their_record():
     for acc in (*PRESETS.values(), DEFAULT.with_(confirm=False)):
         # workers rebuild the settings from the store's record
-        assert get_accuracy(acc.to_dict()) == acc
-    assert get_accuracy({"rtol": 1e-9}) == DEFAULT.with_(rtol=1e-9)
+        assert Accuracy.of(acc.to_dict()) == acc
+    assert Accuracy.of({"rtol": 1e-9}) == DEFAULT.with_(rtol=1e-9)
     costs = [PRESETS[p].local_step for p in ("fast", "default", "precise")]
     assert costs == sorted(costs, reverse=True)  # from cheapest to most accurate

@@ -152,7 +152,8 @@ def test_five_hold_out_columns_within_the_stated_error(surface):
 BAD = [  # rows as a spreadsheet numbers them: the header is row 1
     ("id,height,diameter,lon,lat\nA,6,0.8,0,0\nB,,,0,0\n",
      "row 3 (id B), column height: no dimensions"),
-    ("id,height,diameter\nA,-6,0.8\n", "row 2 (id A), column height: must be > 0"),
+    ("id,height,diameter\nA,-6,0.8\n",
+     "row 2 (id A), column height: height must be a finite number > 0, got -6.0"),
     ("id,height,diameter,lon,lat\nA,6,0.8,0,0\nA,7,0.9,0,0\n",
      "row 3 (id A), column id: id 'A' duplicates row 2"),
     ("id,height,diameter\nA,30,3\n", "row 2 (id A), column R: outside the surface's grid"),

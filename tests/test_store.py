@@ -213,7 +213,7 @@ def test_config_hash_is_canonical():
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"R": [1.0, -2.0]}, r"R must hold finite numbers > 0, got \[1.0, -2.0\]"),
+        ({"R": [1.0, -2.0]}, r"R must hold finite numbers > 0, got -2.0 at sample 1"),
         ({"R": [1.0, 1.0]}, "R has duplicate values"),
         ({"tan_alpha": []}, "tan_alpha must be a non-empty list"),
         ({"motions": ["a", "a"]}, r"motion has duplicate labels \['a'\]"),

@@ -126,8 +126,8 @@ def test_stripes_with_no_motion_are_left_out():
     (([1.0, 2.0], [0, -1], [2, 2]), "n_exceeding"),
     (([1.0, 2.0], [0, 0.5], [2, 2]), "n_exceeding"),
     (([2.0, 1.0], [0, 1], [2, 2]), "strictly increasing"),
-    (([0.0, 1.0], [0, 1], [2, 2]), "finite and > 0"),
-    (([np.nan, 1.0], [0, 1], [2, 2]), "finite and > 0"),
+    (([0.0, 1.0], [0, 1], [2, 2]), "finite numbers > 0, got 0.0 at sample 0"),
+    (([np.nan, 1.0], [0, 1], [2, 2]), "finite numbers > 0, got nan at sample 0"),
 ])
 def test_fit_bad_input(args, match):
     with pytest.raises(ValueError, match=match):

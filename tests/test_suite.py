@@ -314,7 +314,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     from rocking.dynamics.analysis import ground_response
     from rocking.dynamics.bodies import Cylinder
     from rocking.motions.ensemble_io import load_ensemble
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.critical import critical_intensity
     from rocking.units import read_table
 
@@ -337,7 +337,7 @@ def test_suite_study_through_snakemake_matches_the_library(tmp_path):
     store = xr.open_zarr(tmp_path / "results/three/spectra.zarr", consolidated=True)
     attrs = {k: json.loads(v) if isinstance(v, str) and v[:1] in "{[" else v
              for k, v in store.attrs.items()}
-    acc = get_accuracy(attrs["tolerances"])
+    acc = Accuracy.of(attrs["tolerances"])
     table = read_table(tmp_path / "results/three/records.csv")
     assert sorted(set(table["motion"])) == sorted(RECORDS)  # recorded motions only
     assert len(table) == 3 * 2 * 2  # records x limit states x R
@@ -503,7 +503,7 @@ def test_exceeds_as_recorded_is_an_analysis_at_scale_one(R):
     hand-made store are chosen so that some rows disagree with it."""
     from rocking.dynamics.analysis import ground_response
     from rocking.dynamics.bodies import Cylinder
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.study.records import as_recorded, record_table
 
     motions = _motions()
@@ -511,7 +511,7 @@ def test_exceeds_as_recorded_is_an_analysis_at_scale_one(R):
     store = _store_of(motions, [[0.1, 0.9, 0.3, 0.3], [np.nan, 0.4, 2.0, 0.4]],
                       [[False] * 4, [True, False, False, False]], [True, True])
     table = record_table(store.assign_coords(R=[R]), motions, ["pga"])
-    acc = get_accuracy("fast")
+    acc = Accuracy.of("fast")
     t = as_recorded(table, motions, accuracy="fast")
     assert list(t.columns[list(t.columns).index("scale_factor") + 1:][:3]) == [
         "exceeds_as_recorded", "as_recorded_disagrees", "as_recorded_note"]

@@ -41,3 +41,15 @@ def test_no_module_defines_a_check_of_a_positive_number_of_its_own():
                     path.name != "_validate.py":
                 own.append(f"{path.relative_to(SRC)}:{node.name}")
     assert own == []
+
+
+def test_an_array_of_positive_numbers_names_its_first_bad_value():
+    from rocking._validate import positive_finite_array
+
+    assert positive_finite_array("k", 2.0).ndim == 0  # a scalar stays one
+    assert positive_finite_array("omega", [1.0, 2.0]).tolist() == [1.0, 2.0]
+    for bad, told in (([1.0, 0.0, -1.0], "0.0 at sample 1"), ([np.nan], "nan at sample 0"),
+                      (-3.0, "-3.0")):
+        with pytest.raises(ValueError) as err:
+            positive_finite_array("omega", bad)
+        assert str(err.value) == f"omega must hold finite numbers > 0, got {told}"

@@ -31,7 +31,7 @@ from rocking.fragility.stripes import stripe_outcomes
 from rocking.motions.catalogue import RECORDS
 from rocking.motions.ensemble_io import load_ensemble
 from rocking.motions.source import load_motion, process_motion
-from rocking.spectra.accuracy import get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.critical import critical_intensity
 from rocking.spectra.limit_states import parse_limit_states
 from rocking.spectra.tilt_map import tilt_map
@@ -159,7 +159,7 @@ def test_tilt_map_and_stripes_use_the_vertical(run):
     states = parse_limit_states([str(s) for s in st["limit_state"].values], sort=False)
     exceeded, _, _ = stripe_outcomes(Cylinder(2.0, 0.2), direct, states,
                                      st["intensity"].values, "3d",
-                                     get_accuracy(attrs["tolerances"]),
+                                     Accuracy.of(attrs["tolerances"]),
                                      **attrs.get("model_options", {}), measure="pga")
     np.testing.assert_array_equal(
         st["exceeded"].sel(mode="3d", motion=RECORD, R=2.0).values, exceeded.T)

@@ -55,7 +55,6 @@ _EXPORTS = {
     "DEFAULT_LIMIT_STATES": "spectra.limit_states",
     "parse_limit_states": "spectra.limit_states",
     "Accuracy": "spectra.accuracy",
-    "get_accuracy": "spectra.accuracy",
     "CriticalResult": "spectra.search",
     "critical_intensity": "spectra.critical",
     "critical_intensity_batch": "spectra.critical",

@@ -19,6 +19,21 @@ def positive_finite(name: str, value: float) -> float:
     return v
 
 
+def positive_finite_array(name: str, values):
+    """``values`` as a float64 array (any shape) when every one is a finite number > 0, else
+    ``ValueError`` in one line naming ``name``, the first offending value and where it is:
+    :func:`positive_finite` for an array of them, in one vectorized pass."""
+    import numpy as np  # here: the scalar checks load no numpy (the CLI's help)
+
+    a = np.asarray(values, dtype=np.float64)
+    bad = np.flatnonzero(~(np.isfinite(a) & (a > 0.0)))
+    if bad.size:
+        i = int(bad[0])
+        at = f" at sample {i}" if a.ndim else ""
+        raise ValueError(f"{name} must hold finite numbers > 0, got {float(a.flat[i])!r}{at}")
+    return a
+
+
 def nonnegative_finite(name: str, value: float) -> float:
     """Return ``float(value)`` or raise ``ValueError`` if negative, NaN or infinite."""
     try:

@@ -36,8 +36,7 @@ def hazard_param(study):
 def study_preset(study):
     """The accuracy preset of the study's analyses ('' for custom tolerances): the risk table
     carries it, and a `fast` one is warned about."""
-    accuracy = study_spec(study).spectra.accuracy
-    return accuracy if isinstance(accuracy, str) else ""
+    return study_spec(study).spectra.accuracy.preset or ""
 
 
 def risk_studies():

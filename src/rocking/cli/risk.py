@@ -21,6 +21,7 @@ from pathlib import Path
 
 from rocking.cli import _common, _human
 from rocking.cli.stripes import COMPONENT_NAMES
+from rocking.spectra.accuracy import DEFAULT_UPPER
 
 EXAMPLES = """\
   rocking risk --fragility results/paper/elcentro/fragility.csv \\
@@ -100,7 +101,7 @@ def add_parser(subparsers) -> None:
                    help="only these, comma-separated (e.g. overturning,tilt:1/3)")
     p.add_argument("-o", "--out", type=Path, default=None,
                    help="write the table to this .csv (default: print it)")
-    p.add_argument("--upper", type=float, default=20.0,
+    p.add_argument("--upper", type=float, default=DEFAULT_UPPER,
                    help="the study's search bound PGA/(g tan alpha), for the NRML maxIML [-]")
     p.add_argument("--nrml", type=Path, default=None,
                    help="also write the OpenQuake NRML 0.5 fragility model here (.xml)")
@@ -220,6 +221,7 @@ def _body_rows(rows, args):
 
 def run(args) -> int:
     """Print or write the risk table (and the exports when asked); returns 0."""
+    from rocking.motions.measures import VECTOR_PEAK
     from rocking.risk.nrml import write_nrml
     from rocking.risk.pelicun import write_pelicun_csv
     from rocking.risk.reconcile import reconcile
@@ -236,7 +238,7 @@ def run(args) -> int:
     frag = _select(reconcile(args.fragility, hazard), args)
     table = risk_table(frag, hazard)
     if (args.nrml is not None or args.pelicun is not None) and (
-            hazard.measure != "pga" or frag.component != "vector_peak"):
+            hazard.measure != "pga" or frag.component != VECTOR_PEAK):
         raise ValueError("--nrml and --pelicun export vector-peak PGA fragilities only")
     if args.nrml is not None:
         write_nrml(frag, args.nrml, search_upper=args.upper)

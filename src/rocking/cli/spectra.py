@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from rocking.cli import _common, _human
-from rocking.spectra.accuracy import PRESETS
+from rocking.spectra.accuracy import DEFAULT_UPPER, PRESETS
 from rocking.spectra.quantity import QUANTITIES, Quantity
 
 EXAMPLES = """\
@@ -24,10 +24,6 @@ EXAMPLES = """\
       --motion el-centro-1940 --mode 3d --limit-states overturning,tilt:1/3 --accuracy default
   rocking spectra --R 2 --tan-alpha 0.2 --files RSN801_LOMAP_SJTE315.AT2 \\
       RSN801_LOMAP_SJTE225.AT2 --rotation auto --highpass oscillator --mw 6.93 -o sjte.json"""
-
-UPPER_DEFAULT = 20.0
-"""Highest PGA/(g tan α) searched by default (:data:`rocking.spectra.search.DEFAULT_UPPER`,
-checked equal in the tests; the search module is not imported to print the help)."""
 
 COLUMNS = ("mode", "motion", "R", "tan_alpha", "limit_state", "quantity", "quantity_p",
            "quantity_w", "pga_crit", "pga_crit_g", "i50", "first_exceedance", "scan_step",
@@ -70,7 +66,7 @@ def add_parser(subparsers) -> None:
                    help="exceedance share p of I_p, in (0, 1) (0.1: I10)")
     p.add_argument("--w", type=float, default=Quantity().w,
                    help="half-width w of the window of P(s) in ln s, in (0, 0.5)")
-    p.add_argument("--upper", type=float, default=UPPER_DEFAULT,
+    p.add_argument("--upper", type=float, default=DEFAULT_UPPER,
                    help="highest PGA/(g tan alpha) searched [-]")
     _common.add_contact(p)
     _common.add_motion_source(p)
@@ -192,7 +188,7 @@ def run(args) -> int:
 
     from rocking import _json
     from rocking.motions.identity import identity
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.critical import critical_intensity_batch
     from rocking.spectra.limit_states import parse_limit_states
     from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
@@ -203,7 +199,7 @@ def run(args) -> int:
     if out is not None:
         _common.check_output(out, (".csv", ".json"))
     states = parse_limit_states(args.limit_states, sort=False)
-    acc = get_accuracy(args.accuracy)
+    acc = Accuracy.of(args.accuracy)
     quantity = quantity_of(args)
     acc.check_window(quantity.w)
     motion = _common.motion_from_args(args, default_record="el-centro-1940")

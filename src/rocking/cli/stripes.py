@@ -14,7 +14,7 @@ import time
 from pathlib import Path
 
 from rocking.cli import _common, _human
-from rocking.spectra.accuracy import PRESETS
+from rocking.spectra.accuracy import DEFAULT_UPPER, PRESETS
 
 EXAMPLES = """\
   rocking stripes --R 6 --tan-alpha 0.2 --ensemble results/motions/elcentro.nc --mode 3d \\
@@ -82,12 +82,15 @@ def add_parser(subparsers) -> None:
                    "included: the list of a study's stripes.intensity {start, stop, num, "
                    "spacing: log})")
     g.add_argument("--lower", type=float, default=1.0, help="first stripe (included)")
-    g.add_argument("--upper", type=float, default=20.0, help="last stripe (included)")
+    g.add_argument("--upper", type=float, default=DEFAULT_UPPER,
+                   help="last stripe (included; default: the search's bound %(default)s)")
     g.add_argument("--intensities", type=_common.floats, default=None,
                    help="explicit stripes, comma-separated and increasing (overrides "
                    "--stripes/--lower/--upper)")
     g.add_argument("--measure", default="pga", help=measure_help())
-    g.add_argument("--component", default="vector_peak", choices=COMPONENT_NAMES, type=str.lower,
+    # the registry's first, the vector peak: the library's DEFAULT_COMPONENT (a test holds it)
+    g.add_argument("--component", default=COMPONENT_NAMES[0], choices=COMPONENT_NAMES,
+                   type=str.lower,
                    help="horizontal component of --measure (default: %(default)s)")
     g.add_argument("--jitter", type=float, default=DEFAULT_JITTER,
                    help="half-width w in ln intensity of each analysis's jitter about its "
@@ -233,7 +236,7 @@ def run(args) -> int:
     )
     from rocking.motions.identity import identity
     from rocking.motions.measures import Measure
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.limit_states import parse_limit_states
     from rocking.units import CSV_FLOAT_FORMAT, QUANTITIES, header
 
@@ -246,7 +249,7 @@ def run(args) -> int:
         states = parse_limit_states([*states, f"sliding:{args.mu!r}"], sort=False)
     x = (stripe_intensities(args.stripes, args.lower, args.upper) if args.intensities is None
          else args.intensities)
-    acc = get_accuracy(args.accuracy)
+    acc = Accuracy.of(args.accuracy)
     motions = _motions(args)
     bodies = [Cylinder(R, args.tan_alpha) for R in args.R]  # bad R fails before any analysis
     t0 = time.perf_counter()

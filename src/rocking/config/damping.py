@@ -1,4 +1,5 @@
-"""The contact spring-dashpot of the damped model, as a study configures it."""
+"""The contact spring-dashpot of the damped model, as a study configures it: the model's own
+:class:`rocking.dynamics.contact.Contact`, read from the configuration's ``damped`` section."""
 
 from __future__ import annotations
 
@@ -8,25 +9,18 @@ from typing import Any
 
 from rocking._validate import positive_finite
 from rocking.config.fields import config_section
+from rocking.dynamics.contact import Contact
 from rocking.spectra.modes import is_damped
 
 __all__ = ["Damping"]
 
 
 @dataclass(frozen=True)
-class Damping:
-    """Contact spring-dashpot of the ``3d-damped`` model.
-
-    Attributes
-    ----------
-    omega_n : float
-        Spring frequency [rad/s].
-    zeta : float
-        Damping ratio [-].
+class Damping(Contact):
+    """Contact spring-dashpot of the ``3d-damped`` model as a study configures it: a
+    :class:`~rocking.dynamics.contact.Contact` (``omega_n`` [rad/s], ``zeta`` [-]) with the
+    configuration's reading and the stores' record of it.
     """
-
-    omega_n: float
-    zeta: float
 
     @classmethod
     def from_config(cls, config: Mapping[str, Any]) -> Damping:

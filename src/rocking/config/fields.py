@@ -8,14 +8,16 @@ naming the key and the value.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from rocking._validate import positive_finite_array
 from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA
 from rocking.grids import grid_values
+from rocking.motions.measures import DEFAULT_COMPONENT
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.modes import MODE_3D, MODE_3D_DAMPED
 
 __all__ = ["DEFAULTS", "expand_grid"]
@@ -23,7 +25,7 @@ __all__ = ["DEFAULTS", "expand_grid"]
 DEFAULTS: dict[str, Any] = {
     "accuracy": "default",
     "quantity": "exceedance_quantile",
-    "search": {"upper": 20.0},
+    "search": {"upper": DEFAULT_UPPER},
     "damped": {"omega_n": DAMPED_OMEGA_N, "zeta": DAMPED_ZETA},
     "motions": {"max_duration": None},
     "dask": {"min_task_seconds": 0.1},
@@ -31,7 +33,7 @@ DEFAULTS: dict[str, Any] = {
                  "mw": None, "rotation_deg": "auto", "highpass": "oscillator", "fc_hz": None,
                  "fit_method": "spectrum", "vertical": False, "params": None},
     "study": {"chunk_R": "auto", "upper": None, "intensity_measures": ["pga", "pgv"],
-              "mu": None, "component": "vector_peak"},
+              "mu": None, "component": DEFAULT_COMPONENT},
     "tilt_map": {"motion": None, "modes": [MODE_3D, MODE_3D_DAMPED], "tan_alpha": 0.2,
                  "chunk_R": 1},
     "stripes": {"modes": [MODE_3D], "tan_alpha": 0.2,
@@ -85,8 +87,9 @@ def expand_grid(spec: Sequence[float] | Mapping[str, Any], field: str) -> list[f
     else:
         raise ValueError(f"{field} must be a list of numbers or {{start, stop, num}}, "
                          f"got {spec!r}")
-    if not values or any(not (math.isfinite(v) and v > 0) for v in values):
+    if not values:
         raise ValueError(f"{field} must hold finite numbers > 0, got {values!r}")
+    positive_finite_array(field, values)
     if len(set(values)) != len(values):
         raise ValueError(f"{field}: repeated values {values!r}")
     return values
@@ -154,16 +157,16 @@ def quantity_field(value: Any) -> dict[str, Any]:
     return Quantity.from_value(value).to_dict()
 
 
-def accuracy_field(value: Any, w: float | None = None) -> str | dict[str, Any]:
-    """A preset name or tolerances mapping that :func:`rocking.spectra.accuracy.get_accuracy`
-    accepts, returned as given (a mapping copied); one line naming it otherwise, and where
-    its local sample is not wider than the window 2w of the quantity (``w``, when given)."""
-    from rocking.spectra.accuracy import get_accuracy
-
+def accuracy_field(value: Any, w: float | None = None) -> Accuracy:
+    """The configuration's ``accuracy`` (a preset name or tolerances mapping) as the
+    :class:`rocking.spectra.accuracy.Accuracy` every part of the study hands down (it keeps
+    the value as configured, which the stores record); one line naming it otherwise, and
+    where its local sample is not wider than the window 2w of the quantity (``w``, when
+    given)."""
     try:
-        acc = get_accuracy(value)
+        acc = Accuracy.of(value)
         if w is not None:
             acc.check_window(w)
     except (ValueError, TypeError, KeyError) as exc:
         raise ValueError(f"accuracy={value!r}: {exc}") from None
-    return dict(value) if isinstance(value, Mapping) else value
+    return acc

@@ -30,6 +30,8 @@ from rocking.config.fields import (
     mode_list,
 )
 from rocking.config.plan import StudyPlan, plan_study
+from rocking.motions.measures import DEFAULT_COMPONENT, VECTOR_PEAK
+from rocking.spectra.accuracy import Accuracy
 from rocking.store.attrs import config_hash
 
 __all__ = ["SpectraSpec", "StripesSpec", "TiltMapSpec"]
@@ -63,8 +65,11 @@ class SpectraSpec(Hashed):
         Sizes R per task.
     min_task_seconds : float or None
         Least work per task for ``chunk_R: auto`` [s] (None otherwise: it cannot matter).
-    accuracy : str or dict
-        Preset name or tolerances (:func:`rocking.spectra.accuracy.get_accuracy`).
+    accuracy : Accuracy
+        The search's settings, resolved where the configuration entered
+        (:meth:`rocking.spectra.accuracy.Accuracy.of`); the store records them as they were
+        configured (:meth:`~rocking.spectra.accuracy.Accuracy.record`), so its digest is
+        the one it always had.
     quantity : dict
         What a cell's critical intensity is (:meth:`rocking.spectra.quantity.Quantity.to_dict`:
         name, p, w): part of the digest, so a store of another quantity is another store.
@@ -85,7 +90,7 @@ class SpectraSpec(Hashed):
     plan: StudyPlan
     chunk_R: int | str
     min_task_seconds: float | None
-    accuracy: str | dict[str, Any]
+    accuracy: Accuracy
     quantity: dict[str, Any]
     upper: float
     damping: Damping | None
@@ -113,7 +118,7 @@ class SpectraSpec(Hashed):
             "modes": list(self.plan.modes),
             "chunk_R": self.chunk_R,
             "min_task_seconds": self.min_task_seconds,
-            "accuracy": self.accuracy,
+            "accuracy": self.accuracy.record(),
             "quantity": dict(self.quantity),
             "search_options": self.search_options(),
         }
@@ -124,7 +129,8 @@ class SpectraSpec(Hashed):
         opts = attrs["search_options"]
         return cls(attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]),
                    tuple(attrs["R"]), plan_study(attrs["runs"], "runs"), attrs["chunk_R"],
-                   attrs["min_task_seconds"], attrs["accuracy"], dict(attrs["quantity"]),
+                   attrs["min_task_seconds"], Accuracy.of(attrs["accuracy"]),
+                   dict(attrs["quantity"]),
                    opts["upper"],
                    Damping.from_options(opts), opts.get("mu"))
 
@@ -146,7 +152,8 @@ class _IntensityGrid(Hashed):
         PGA/(g tan α) [-].
     chunk_R : int
         Sizes R per task.
-    accuracy : str or dict
+    accuracy : Accuracy
+        As in :class:`SpectraSpec` (ODE tolerances and rest tilt of the analyses).
     damping : Damping or None
         When ``3d-damped`` is one of the modes.
     """
@@ -158,20 +165,21 @@ class _IntensityGrid(Hashed):
     R: tuple[float, ...]
     intensity: tuple[float, ...]
     chunk_R: int
-    accuracy: str | dict[str, Any]
+    accuracy: Accuracy
     damping: Damping | None
 
     def to_attrs(self) -> dict[str, Any]:
         return {"study": self.study, "ensemble": self.ensemble.to_attrs(),
                 "modes": list(self.modes), "tan_alpha": self.tan_alpha, "R": list(self.R),
                 "intensity": list(self.intensity), "chunk_R": self.chunk_R,
-                "accuracy": self.accuracy, "model_options": Damping.options(self.damping)}
+                "accuracy": self.accuracy.record(), "model_options": Damping.options(self.damping)}
 
     @staticmethod
     def _common(attrs: Mapping[str, Any]) -> tuple:
         return (attrs["study"], EnsembleSpec.from_attrs(attrs["ensemble"]), tuple(attrs["modes"]),
                 attrs["tan_alpha"], tuple(attrs["R"]), tuple(attrs["intensity"]),
-                attrs["chunk_R"], attrs["accuracy"], Damping.from_options(attrs["model_options"]))
+                attrs["chunk_R"], Accuracy.of(attrs["accuracy"]),
+                Damping.from_options(attrs["model_options"]))
 
 
 @dataclass(frozen=True)
@@ -229,13 +237,13 @@ class StripesSpec(_IntensityGrid):
     measure: str = "pga"
     refine: int = dc_field(default=8, compare=False)
     bootstrap: int = dc_field(default=1000, compare=False)
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     jitter: float = 0.0
 
     def to_attrs(self) -> dict[str, Any]:
         # the measure PGA is left out: stores made before stripes had a measure keep their hash
         extra = {} if self.measure == "pga" else {"measure": self.measure}
-        if self.component != "vector_peak":  # likewise: the vector peak keeps the old hash
+        if self.component != VECTOR_PEAK:  # likewise: the vector peak keeps the old hash
             extra["component"] = self.component
         if self.jitter:  # likewise: exact stripes keep the old hash
             extra["jitter"] = float(self.jitter)
@@ -247,7 +255,7 @@ class StripesSpec(_IntensityGrid):
         take their defaults)."""
         return cls(*cls._common(attrs), limit_states=tuple(attrs["limit_states"]),
                    measure=attrs.get("measure", "pga"),
-                   component=attrs.get("component", "vector_peak"),
+                   component=attrs.get("component", VECTOR_PEAK),
                    jitter=float(attrs.get("jitter", 0.0)))
 
 
@@ -270,8 +278,9 @@ def tilt_map_spec(config, t, field, study, ensemble, accuracy) -> TiltMapSpec:
     return TiltMapSpec(*common, motion=t["motion"])
 
 
-def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
-    """The study's ``stripes:`` section ``t`` (at ``field``) as a checked spec."""
+def stripes_spec(config, t, field, study, ensemble, accuracy, component: str) -> StripesSpec:
+    """The study's ``stripes:`` section ``t`` (at ``field``) as a checked spec; ``component``:
+    the study's, parsed where the configuration entered (:meth:`StudySpec.from_config`)."""
     from rocking.spectra.limit_states import parse_limit_states
 
     common, t = _intensity_grid(config, t, field, study, ensemble, accuracy, "stripes")
@@ -286,10 +295,6 @@ def stripes_spec(config, t, field, study, ensemble, accuracy) -> StripesSpec:
         v = t[key]
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
             raise ValueError(f"{field}.{key} must be an integer >= 0, got {v!r}")
-    from rocking.motions.measures import parse_component
-
-    component = parse_component((config.get("studies") or {}).get(study, {}).get(
-        "component", DEFAULTS["study"]["component"]), f"studies.{study}.component")
     jitter = t["jitter"]
     if isinstance(jitter, bool) or not isinstance(jitter, int | float) or \
             not 0.0 <= jitter < 0.5:

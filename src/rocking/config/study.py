@@ -36,6 +36,7 @@ from rocking.config.products import (
     stripes_spec,
     tilt_map_spec,
 )
+from rocking.motions.measures import DEFAULT_COMPONENT
 
 __all__ = ["CITATIONS", "PAPERS", "StudySpec"]
 
@@ -74,8 +75,9 @@ class StudySpec(Hashed):
         own: it decides which figures and verdicts are drawn, no store.
     component : str
         Horizontal component of the intensity measures (``studies.<name>.component``,
-        :data:`rocking.motions.measures.COMPONENTS`; default ``"vector_peak"``, the
-        spectra's own intensity). It decides no spectra store.
+        :data:`rocking.motions.measures.COMPONENTS`; default the vector peak,
+        :data:`~rocking.motions.measures.DEFAULT_COMPONENT`, the spectra's own intensity),
+        parsed once here. It decides no spectra store.
     """
 
     spectra: SpectraSpec
@@ -84,7 +86,7 @@ class StudySpec(Hashed):
     hazard: str | dict[str, Any] | None = None
     intensity_measures: tuple[str, ...] = ("pga", "pgv")
     reproduces: str | None = None
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     inventory: dict[str, Any] | None = None
 
     @property
@@ -145,8 +147,9 @@ class StudySpec(Hashed):
                               Damping.of_modes(config, plan.modes), mu)
         tilt_map = None if s["tilt_map"] is None else tilt_map_spec(
             config, s["tilt_map"], f"{field}.tilt_map", name, ensemble, accuracy)
+        component = _component(s["component"], f"{field}.component")
         stripes = None if s["stripes"] is None else stripes_spec(
-            config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy)
+            config, s["stripes"], f"{field}.stripes", name, ensemble, accuracy, component)
         measures = _intensity_measures(s["intensity_measures"], f"{field}.intensity_measures")
         if stripes is not None and stripes.measure != "pga" and stripes.measure not in measures:
             raise ValueError(f"{field}.stripes.measure={stripes.measure!r} is not one of the "
@@ -154,7 +157,6 @@ class StudySpec(Hashed):
         hazard = s["hazard"]
         if hazard is not None and not isinstance(hazard, (str, Mapping)):
             raise ValueError(f"{field}.hazard must be a file name or a mapping, got {hazard!r}")
-        component = _component(s["component"], f"{field}.component")
         if isinstance(hazard, Mapping) and "component" in hazard:
             _component(hazard["component"], f"{field}.hazard.component")
         if s["reproduces"] is not None and s["reproduces"] not in PAPERS:

@@ -30,6 +30,7 @@ from rocking._validate import finite, nonnegative_finite, positive_finite
 from rocking.constants import G
 from rocking.dynamics import codes, cylinder3d, cylinder3d_damped, driver, housner2d, models
 from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 from rocking.dynamics.result import QuasiImpacts, Response, Status
 from rocking.motions.motion import GroundMotion
@@ -67,9 +68,7 @@ def _check_model(model: str, body) -> str:
     return model
 
 
-def _check_common(rtol, omega_n, zeta, model) -> float:
-    positive_finite("omega_n", omega_n)
-    nonnegative_finite("zeta", zeta)
+def _check_rtol(rtol, model) -> float:
     if rtol is None:
         return models.MODELS[model].rtol
     r = positive_finite("rtol", rtol)
@@ -318,15 +317,15 @@ def _start_state(model: str, phi0: float, phi_dot0: float = 0.0) -> tuple[np.nda
 class _Runner:
     """Runs one model on one body with the analysis' settings (all kernel calls go here)."""
 
-    def __init__(self, model: str, body, rtol: float, history: bool, omega_n: float,
-                 zeta: float, rest_tilt: float, monitors: bool = True):
+    def __init__(self, model: str, body, rtol: float, history: bool, contact: Contact,
+                 rest_tilt: float, monitors: bool = True):
         self.model = models.MODELS[model]
         self.body = body
         self.history = history
         self.monitors = monitors
         self.prep = models.prepare(self.model, body, rtol,
                                    models.rest_criterion(body, rest_tilt),
-                                   omega_n=omega_n, zeta=zeta, max_steps=MAX_STEPS,
+                                   contact=contact, max_steps=MAX_STEPS,
                                    method=None if self.model.implicit else METHOD)
 
     def __call__(self, ax, ay, dt, k0, tau0, t_offset, y0, t_end, stop_level, side=1.0,
@@ -487,7 +486,7 @@ class _Acc:
 
 
 def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: float,
-              omega_n: float, zeta: float, body: Cylinder | Block) -> Response:
+              contact: Contact, body: Cylinder | Block) -> Response:
     """The one :class:`Response` assembly of every model."""
     t, y, ev_t, ev_y, mon = acc.arrays()
     if acc.model == MODEL_2D and ev_t.size and acc.monitors:  # every impact: same friction
@@ -503,7 +502,7 @@ def _response(acc: _Acc, status: Status, reason: str, uplifted: bool, t_uplift: 
     if acc.model == MODEL_3D_DAMPED:
         th, ph, thd, phd = y[:, 0], y[:, 1], y[:, 3], y[:, 4]
         w, w_dot = y[:, 2], y[:, 5]
-        force = cylinder3d_damped.contact_force(y, omega_n, zeta)
+        force = cylinder3d_damped.contact_force(y, contact.omega_n, contact.zeta)
     elif acc.model == MODEL_2D:
         th, thd = y[:, 0], y[:, 1]
         ph = np.zeros_like(th)
@@ -605,7 +604,8 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
         (``dissipated`` [J/kg], ``n_tension``, ``contact_force_min`` [m/s²]).
     """
     _check_model(model, body)
-    rtol = _check_common(rtol, omega_n, zeta, model)
+    contact = Contact(omega_n, zeta)  # checked once, for every model (the damped reads it)
+    rtol = _check_rtol(rtol, model)
     duration = positive_finite("duration", duration)
     rest_tilt = _check_rest_tilt(rest_tilt, model, body)
     theta0 = finite("theta0", theta0)
@@ -623,7 +623,7 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
         y0, side = np.array([theta0, phi0, 0.0, theta_dot0, phi_dot0, 0.0]), 1.0
     else:
         y0, side = np.array([theta0, phi0, theta_dot0, phi_dot0]), 1.0
-    runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt)
+    runner = _Runner(model, body, rtol, history, contact, rest_tilt)
     out = runner.free(0.0, y0, duration, -1.0, side)
     acc = _Acc(model, history)
     if model == MODEL_2D:  # the restitution used, and whether a squat body's was clipped
@@ -635,7 +635,7 @@ def free_vibration(body: Cylinder | Block, theta0: float, phi_dot0: float = 0.0,
     status, reason = codes.status_of(code, float(out.t_stop))
     if code == codes.AT_REST:
         acc.add_rest(float(out.t_stop), duration)
-    return _response(acc, status, reason, True, 0.0, omega_n, zeta, body)
+    return _response(acc, status, reason, True, 0.0, contact, body)
 
 
 def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str = MODEL_3D,
@@ -712,7 +712,8 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     Response
     """
     _check_model(model, body)
-    rtol = _check_common(rtol, omega_n, zeta, model)
+    contact = Contact(omega_n, zeta)  # checked once, for every model (the damped reads it)
+    rtol = _check_rtol(rtol, model)
     rest_tilt = _check_rest_tilt(rest_tilt, model, body)
     phi_dot0 = _check_spin(phi_dot0, model, body)
     if vertical is not None and not isinstance(vertical, bool):
@@ -748,7 +749,7 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
     ax = motion.ax * scale
     ay = np.zeros_like(ax) if model == MODEL_2D else motion.ay * scale
     az = None if unscaled.az is None else unscaled.az * scale
-    runner = _Runner(model, body, rtol, history, omega_n, zeta, rest_tilt, monitors)
+    runner = _Runner(model, body, rtol, history, contact, rest_tilt, monitors)
     acc = _Acc(model, history, _Ground(ax, ay, az, motion.dt, unscaled.a, scale,
                                        body.tan_alpha), monitors)
     if model == MODEL_2D:  # the restitution used, and whether a squat body's was clipped
@@ -763,12 +764,12 @@ def ground_response(body: Cylinder | Block, motion: GroundMotion, *, model: str 
                                              threshold, stop_level, above, quiet, az, phi_dot0)
     if math.isnan(t_first):
         acc.t_theta_max = 0.0
-        return _response(acc, Status.OK, "", False, math.nan, omega_n, zeta, body)
+        return _response(acc, Status.OK, "", False, math.nan, contact, body)
     if (out is not None and int(out.code) == codes.OK and free_tail
             and model != MODEL_3D_DAMPED):
         status, reason = _free_tail(body, acc, runner, out.y[-1, :acc.width], motion.duration,
                                     stop_level)
-    return _response(acc, status, reason, True, t_first, omega_n, zeta, body)
+    return _response(acc, status, reason, True, t_first, contact, body)
 
 
 def _episodes(runner: _Runner, acc: _Acc, ax, ay, dt, t_end, threshold, stop_level, above,

@@ -61,7 +61,6 @@ import math
 import numpy as np
 from numba import njit
 
-from rocking._validate import nonnegative_finite, positive_finite
 from rocking.constants import G
 from rocking.dynamics import driver, inertia
 from rocking.dynamics._rosenbrock import ros_step
@@ -73,29 +72,6 @@ STATE = ("theta", "phi", "w", "theta_dot", "phi_dot", "w_dot")
 
 LA_SHAPE = (9, 3)
 """Rows of the linear-algebra work array of :func:`factor` and :func:`solve`."""
-
-
-def check_parameters(omega_n: float, zeta: float) -> tuple[float, float]:
-    """Validate the contact spring–dashpot parameters.
-
-    Parameters
-    ----------
-    omega_n : float
-        Contact natural frequency √(k/m) [rad/s], > 0 and finite.
-    zeta : float
-        Damping ratio c/(2 m ωn) [-], ≥ 0 and finite.
-
-    Returns
-    -------
-    (float, float)
-        ``(omega_n, zeta)`` as floats.
-
-    Raises
-    ------
-    ValueError
-        Naming the field and the value.
-    """
-    return positive_finite("omega_n", omega_n), nonnegative_finite("zeta", zeta)
 
 
 def params(body: Cylinder, omega_n: float, zeta: float) -> np.ndarray:

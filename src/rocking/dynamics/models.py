@@ -17,7 +17,8 @@ import numpy as np
 from rocking.constants import G
 from rocking.dynamics import _rk, _rosenbrock, cylinder3d, cylinder3d_damped, driver, housner2d
 from rocking.dynamics.bodies import Block, Cylinder
-from rocking.dynamics.names import DAMPED_OMEGA_N, DAMPED_ZETA, MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
+from rocking.dynamics.contact import Contact
+from rocking.dynamics.names import MODEL_2D, MODEL_3D, MODEL_3D_DAMPED
 
 ZENO_RATE = 1e-6
 """Impact rate, as a fraction of p α, below which a 2D body is back at rest whatever the rest
@@ -98,7 +99,8 @@ class Model(NamedTuple):
     la_shape : tuple of int
         Shape of the linear-algebra work array of an implicit step.
     params : callable
-        ``params(body, omega_n, zeta) -> (P, floor, wtilt)``: parameters and error scales.
+        ``params(body, contact) -> (P, floor, wtilt)``: parameters and error scales (the
+        :class:`~rocking.dynamics.contact.Contact` is read by the damped model only).
     kernel_state : callable
         ``kernel_state(body, y0, P) -> (y, diag0)``: kernel state of an output state and the
         initial diagnostics.
@@ -108,9 +110,9 @@ class Model(NamedTuple):
         ``rest_tilt(body) -> float``: default rest tilt [rad], the tilt whose potential energy
         is the rest energy of :func:`rest_criterion` (:data:`REST_LIFT` at the rim in "3d",
         :data:`THETA_REST_2D`, :data:`THETA_REST_DAMPED`).
-    contact : (float, float) or None
-        Default contact spring frequency ωn [rad/s] and damping ratio ζ [-] of a model on a
-        contact spring–dashpot; None for a rigid contact.
+    contact : Contact or None
+        The model's own parameters, declared here with their defaults: the contact
+        spring–dashpot (ωn [rad/s], ζ [-]) of a model on one; None for a rigid contact.
     """
 
     name: str
@@ -125,25 +127,25 @@ class Model(NamedTuple):
     kernel_state: Callable
     rtol: float
     rest_tilt: Callable
-    contact: tuple[float, float] | None
+    contact: Contact | None
 
     def kernel(self, monitors: bool = True, vertical: bool = True) -> Callable:
         """The entry point with (or without) the validity monitors and the vertical forcing."""
         return self.kernels[driver.variant(monitors, vertical)]
 
 
-def _params_3d(body, omega_n, zeta):
+def _params_3d(body, contact):
     return (cylinder3d.params(body), *cylinder3d.tolerances(body))
 
 
-def _params_2d(body, omega_n, zeta):
+def _params_2d(body, contact):
     return (housner2d.params(body), *housner2d.tolerances(body))
 
 
-def _params_damped(body, omega_n, zeta):
-    omega_n, zeta = cylinder3d_damped.check_parameters(omega_n, zeta)
-    return (cylinder3d_damped.params(body, omega_n, zeta),
-            *cylinder3d_damped.tolerances(body, omega_n))
+def _params_damped(body, contact):
+    # a Contact was checked when it was made: its numbers go to the kernel as they are
+    return (cylinder3d_damped.params(body, contact.omega_n, contact.zeta),
+            *cylinder3d_damped.tolerances(body, contact.omega_n))
 
 
 def _state_3d(body, y0, P):
@@ -220,12 +222,15 @@ MODELS: dict[str, Model] = {
     MODEL_3D_DAMPED: Model(MODEL_3D_DAMPED, cylinder3d_damped.KERNELS,
                            cylinder3d_damped.STATE, 3, False, True, 2,
                            cylinder3d_damped.LA_SHAPE, _params_damped, _state_damped,
-                           DEFAULT_RTOL_DAMPED, _rest_damped,
-                           (DAMPED_OMEGA_N, DAMPED_ZETA)),
+                           DEFAULT_RTOL_DAMPED, _rest_damped, Contact()),
     MODEL_2D: Model(MODEL_2D, housner2d.KERNELS, housner2d.STATE, 1, True, False, 0, (1, 1),
                     _params_2d, _state_2d, DEFAULT_RTOL, _rest_2d, None),
 }
 """The models by name."""
+
+
+DEFAULT_CONTACT = MODELS[MODEL_3D_DAMPED].contact
+"""The damped model's declared contact: what a run is given when its caller names none."""
 
 
 def rest_criterion(body: Block | Cylinder, theta_rest: float) -> np.ndarray:
@@ -259,7 +264,7 @@ class Prepared(NamedTuple):
 
 
 def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray, *,
-            omega_n: float = DAMPED_OMEGA_N, zeta: float = DAMPED_ZETA, max_steps: int = 20_000_000,
+            contact: Contact = DEFAULT_CONTACT, max_steps: int = 20_000_000,
             method: str | None = None) -> Prepared:
     """Parameters, tolerances, stepper and layout of the runs of ``model`` on ``body``.
 
@@ -271,8 +276,8 @@ def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray,
         Relative tolerance.
     rest : ndarray
         :func:`rest_criterion`.
-    omega_n, zeta : float
-        Contact spring–dashpot of the damped model [rad/s], [-].
+    contact : Contact
+        Contact spring–dashpot of the damped model (ignored by the others).
     max_steps : int
         Budget of accepted plus rejected steps of one run.
     method : str, optional
@@ -280,7 +285,7 @@ def prepare(model: Model, body: Block | Cylinder, rtol: float, rest: np.ndarray,
         ``"dp5"``), a Rosenbrock method of :mod:`._rosenbrock` for the damped one (default
         ``"rodas4"``).
     """
-    P, floor, wtilt = model.params(body, omega_n, zeta)
+    P, floor, wtilt = model.params(body, contact)
     if model.implicit:
         method = method or "rodas4"
         tab, ctrl = _rosenbrock.tableau(method), _rosenbrock.control(method)

@@ -28,7 +28,6 @@ from pathlib import Path
 from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import SpectraSpec, TiltMapSpec
-from rocking.spectra.accuracy import get_accuracy
 
 log = logging.getLogger(__name__)
 
@@ -185,7 +184,7 @@ def create_spectra_store(path: Path, s: SpectraSpec, config_digest: str,
     attrs = {
         "title": f"Seismic performance rocking spectra, study {s.study}",
         "config": s.to_attrs(),
-        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "tolerances": s.accuracy.to_dict(),
         "quantity": dict(s.quantity),
         "search_options": s.search_options(),
         "rocking_version": __version__,
@@ -226,7 +225,7 @@ def create_tilt_map_store(path: Path, s: TiltMapSpec, config_digest: str,
         "config": s.to_attrs(),
         "motion": motion,
         "tan_alpha": s.tan_alpha,
-        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "tolerances": s.accuracy.to_dict(),
         "model_options": Damping.options(s.damping),
         "rocking_version": __version__,
         "ensemble": ensemble,

@@ -28,6 +28,7 @@ import xarray as xr
 from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import StripesSpec
+from rocking.dynamics.contact import Contact
 from rocking.execution import tasks
 from rocking.fragility.stripe_table import (
     STRIPES_DIMS,
@@ -40,8 +41,8 @@ from rocking.fragility.stripe_table import (
     stripe_table,
     table_headers,
 )
-from rocking.motions.measures import Measure
-from rocking.spectra.accuracy import get_accuracy
+from rocking.motions.measures import VECTOR_PEAK, Measure
+from rocking.spectra.accuracy import Accuracy
 from rocking.store.attrs import decode_attrs
 from rocking.store.layout import Layout, Variable, label_coord, region_coords, value_coord
 
@@ -96,7 +97,7 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         "title": f"Multiple-stripe analyses, study {s.study}",
         "config": s.to_attrs(),
         "tan_alpha": float(s.tan_alpha),
-        "tolerances": get_accuracy(s.accuracy).to_dict(),
+        "tolerances": s.accuracy.to_dict(),
         "model_options": Damping.options(s.damping),
         "rocking_version": __version__,
         "ensemble": ensemble,
@@ -105,7 +106,7 @@ def create_stripes_store(path: Path, s: StripesSpec, config_digest: str,
         # from its identity (rocking.fragility.stripes.jittered)
         "jitter": float(s.jitter),
     }
-    if s.measure == "pga" and s.component == "vector_peak":
+    if s.measure == "pga" and s.component == VECTOR_PEAK:
         extra = {"pga_g": ("intensity", [i * float(s.tan_alpha) for i in s.intensity])}
     else:  # every motion scaled so that its measure equals the stripe's
         scale = Measure.of(s.measure).per_normalized(s.tan_alpha)
@@ -139,13 +140,13 @@ def fill_stripes_region(path: str | Path, index: int, motions: tasks.MotionSourc
     motion = tasks.motion_named(motions, name)
     states = parse_limit_states([str(s) for s in layout.coords["limit_state"]], sort=False)
     x = np.asarray(layout.coords["intensity"], dtype=float)
-    acc = get_accuracy(attrs["tolerances"])
+    acc = Accuracy.of(attrs["tolerances"])
+    contact = Contact.of(**attrs.get("model_options", {}))  # the store's, read once
     tan_alpha = float(attrs["tan_alpha"])
     exc, fail, runs = [], [], []
     for R in rc["R"]:
         e, f, n = stripe_outcomes(Cylinder(float(R), tan_alpha), motion, states, x, str(mode),
-                                  acc, **attrs.get("model_options", {}),
-                                  measure=store_measure(attrs),
+                                  acc, contact=contact, measure=store_measure(attrs),
                                   component=store_component(attrs),
                                   jitter=store_jitter(attrs))
         exc.append(e.T)  # (limit_state, intensity)
@@ -268,8 +269,8 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
     states = parse_limit_states(list(result.limit_states), sort=False)
     body = Cylinder(float(result.R), float(result.tan_alpha))
     attrs = decode_attrs(ds.attrs)
-    acc = get_accuracy(attrs["tolerances"])
-    options = attrs.get("model_options", {})
+    acc = Accuracy.of(attrs["tolerances"])
+    contact = Contact.of(**attrs.get("model_options", {}))
 
     def analyze(x: float):
         exc = np.zeros((len(result.motions), len(states)), dtype=bool)
@@ -284,7 +285,8 @@ def _cached_analyzer(result, ds: xr.Dataset, cache: RefineCache, motions):
                                      f"{result.R:g} m, motion {name!r} is not in "
                                      f"{cache.path}: run the stripe_fragility step first")
                 e, f, r = stripe_outcomes(body, tasks.motion_named(motions, name), states,
-                                          np.array([float(x)]), result.mode, acc, **options,
+                                          np.array([float(x)]), result.mode, acc,
+                                          contact=contact,
                                           measure=result.measure,
                                           component=result.component,
                                           jitter=result.jitter)

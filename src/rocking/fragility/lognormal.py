@@ -28,7 +28,9 @@ import pandas as pd
 import xarray as xr
 from scipy import optimize, special, stats
 
+from rocking._validate import positive_finite_array
 from rocking.fragility.table import quantity_of
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.units import header, set_attrs
 
 MIN_OBSERVED = 2
@@ -65,9 +67,7 @@ class LognormalFit:
 
     def probability(self, intensity) -> np.ndarray:
         """P(exceed | IM) = Φ(ln(IM/θ)/β) at ``intensity`` (> 0)."""
-        im = np.asarray(intensity, dtype=float)
-        if np.any(~np.isfinite(im) | (im <= 0.0)):
-            raise ValueError(f"intensity must be finite and > 0, got {intensity!r}")
+        im = positive_finite_array("intensity", intensity)
         return stats.norm.cdf(np.log(im / self.median) / self.beta)
 
 
@@ -76,10 +76,7 @@ def _check_samples(values, censored) -> tuple[np.ndarray, np.ndarray]:
     c = np.zeros(x.shape, bool) if censored is None else np.asarray(censored, bool).ravel()
     if c.shape != x.shape:
         raise ValueError(f"censored must match values in shape, got {c.shape} and {x.shape}")
-    bad = np.flatnonzero(~np.isfinite(x) | (x <= 0.0))
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(f"values must be finite and > 0, got {float(x[i])!r} at index {i}")
+    positive_finite_array("values", x)
     return x, c
 
 
@@ -366,7 +363,7 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
     set_attrs(ds)
     ds["median"].attrs["long_name"] = "median PGA/(g tan(alpha)) of the lognormal fragility"
     ds.attrs.update(censoring_bound="none" if bound is None else bound,
-                    estimator="first_exceedance", measure="pga", component="vector_peak",
+                    estimator="first_exceedance", measure="pga", component=DEFAULT_COMPONENT,
                     unit="g", **{k: (str(v) if isinstance(v, str) else v)
                                  for k, v in quantity_of(store.attrs).items()})
     return ds

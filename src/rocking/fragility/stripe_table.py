@@ -24,7 +24,7 @@ import xarray as xr
 
 from rocking import __version__
 from rocking.fragility.stripes import MEASURE_COLUMNS
-from rocking.motions.measures import Measure
+from rocking.motions.measures import DEFAULT_COMPONENT, VECTOR_PEAK, Measure
 
 log = logging.getLogger(__name__)
 
@@ -48,9 +48,10 @@ def store_jitter(attrs) -> float:
 
 
 def store_component(attrs) -> str:
-    """The horizontal component of a stripes store's measure (``"vector_peak"`` for a store
-    without one: the spectra's PGA, and stores made before components)."""
-    return str(attrs.get("component", "vector_peak"))
+    """The horizontal component of a stripes store's measure (the vector peak,
+    :data:`~rocking.motions.measures.DEFAULT_COMPONENT`, for a store without one: the
+    spectra's PGA, and stores made before components)."""
+    return str(attrs.get("component", DEFAULT_COMPONENT))
 
 
 def stripe_fits(ds: xr.Dataset) -> dict[tuple[str, float], Any]:
@@ -185,7 +186,7 @@ def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
     for (mode, ls, R), r in rows.items():
         (rec,) = r.summary_frame().to_dict(orient="records")
         fm, fb, fs = (_first(first, mode, ls, r.tan_alpha, R)
-                      if r.measure == "pga" and r.component == "vector_peak"
+                      if r.measure == "pga" and r.component == VECTOR_PEAK
                       else (np.nan, np.nan, f"not comparable ({r.measure} {r.component}, "
                             "not the vector-peak pga)"))
         p05 = p95 = defined = np.nan

@@ -48,12 +48,15 @@ import numpy as np
 from scipy import optimize, special, stats
 
 from rocking._progress import maybe as _progress
+from rocking._validate import positive_finite_array
 from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.result import Status
 from rocking.fragility.lognormal import bootstrap_indices
 from rocking.grids import grid_values
+from rocking.motions.measures import DEFAULT_COMPONENT, VECTOR_PEAK
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.critical import make_analysis, uplift_intensity
 from rocking.spectra.limit_states import (
     LimitState,
@@ -76,9 +79,9 @@ DEFAULT_STRIPES = 40
 "Multiple-stripe fragility": the El Centro ensemble's median overturning intensity at R = 6 m
 moves by less than its own standard error beyond about this many)."""
 
-STRIPE_RANGE = (1.0, 20.0)
+STRIPE_RANGE = (1.0, DEFAULT_UPPER)
 """Default first and last stripe, PGA/(g tan α) [-]: from uplift (2D; the body is at rest
-there in 3D) to the search's default bound (:data:`rocking.spectra.search.DEFAULT_UPPER`)."""
+there in 3D) to the search's default bound (:data:`rocking.spectra.accuracy.DEFAULT_UPPER`)."""
 
 RETRY_RTOL_FACTOR = 0.1
 """A failed analysis is retried once with its rtol multiplied by this factor (as the search)."""
@@ -166,10 +169,7 @@ def _check_intensities(intensities) -> np.ndarray:
     x = np.asarray(intensities, dtype=float)
     if x.ndim != 1 or x.size == 0:
         raise ValueError(f"intensities must be a non-empty 1-D sequence, got shape {x.shape}")
-    bad = np.flatnonzero(~np.isfinite(x) | (x <= 0.0))
-    if bad.size:
-        i = int(bad[0])
-        raise ValueError(f"intensities must be finite and > 0, got {x[i]!r} at index {i}")
+    positive_finite_array("intensities", x)
     if np.any(np.diff(x) <= 0.0):
         i = int(np.flatnonzero(np.diff(x) <= 0.0)[0]) + 1
         raise ValueError(f"intensities must be strictly increasing, got {x[i]!r} after "
@@ -178,7 +178,7 @@ def _check_intensities(intensities) -> np.ndarray:
 
 
 def measure_ratio(motion: GroundMotion, measure: str = "pga",
-                  component: str = "vector_peak") -> float:
+                  component: str = DEFAULT_COMPONENT) -> float:
     """PGA/(g tan α) of ``motion`` scaled so that its ``measure`` in ``component`` over
     (g tan α) is 1 [-].
 
@@ -186,10 +186,10 @@ def measure_ratio(motion: GroundMotion, measure: str = "pga",
     at PGA/(g tan α) = x · this ratio (every measure is linear in the scale). 1 for ``"pga"``
     in the vector peak (the spectra's own intensity).
     """
-    from rocking.motions.measures import Measure, parse_component
+    from rocking.motions.measures import Measure
 
     im = Measure.of(measure)
-    if im == Measure("pga") and parse_component(component) == "vector_peak":
+    if im == Measure("pga") and component == VECTOR_PEAK:
         return 1.0
     value = im.of_motion(motion, component)
     if not (math.isfinite(value) and value > 0.0):
@@ -241,9 +241,7 @@ class StripeFit:
 
     def probability(self, intensity) -> np.ndarray:
         """P(exceed | I) = Φ(ln(I/θ)/β) at ``intensity`` [PGA/(g tan α)], > 0."""
-        im = np.asarray(intensity, dtype=float)
-        if np.any(~np.isfinite(im) | (im <= 0.0)):
-            raise ValueError(f"intensity must be finite and > 0, got {intensity!r}")
+        im = positive_finite_array("intensity", intensity)
         return stats.norm.cdf(np.log(im / self.median) / self.beta)
 
 
@@ -512,7 +510,7 @@ class StripeFragility:
     n_analyses: int = 0
     measure: str = "pga"
     n_refined: int = 0
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     jitter: float = 0.0
 
     @property
@@ -574,7 +572,7 @@ class StripeFragility:
     @property
     def _vector_pga(self) -> bool:
         """The stripes are the spectra's PGA (vector peak): ``pga_g`` columns have values."""
-        return self.measure == "pga" and self.component == "vector_peak"
+        return self.measure == "pga" and self.component == VECTOR_PEAK
 
     def to_frame(self):
         """The stripes as a table: one row per (limit state, stripe) with ``intensity``
@@ -657,11 +655,12 @@ def _check_motions(motions) -> list[GroundMotion]:
 
 def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequence[LimitState],
                     intensities: np.ndarray, mode: str, acc: Accuracy, *,
-                    omega_n: float | None = None, zeta: float | None = None,
-                    progress=None, measure: str = "pga", component: str = "vector_peak",
+                    contact: Contact | None = None, progress=None, measure: str = "pga",
+                    component: str = DEFAULT_COMPONENT,
                     jitter: float = 0.0) -> tuple[np.ndarray, np.ndarray, int]:
     """Analyse one motion at every stripe: (exceeded (stripes, states), failed (stripes,),
-    analyses run).
+    analyses run). ``acc`` and ``contact`` (the damped model's; None: its default) come
+    resolved and checked, as the entries above build them.
 
     ``intensities`` are ``measure``/(g tan α), each analysed at itself jittered by
     ``jitter`` in ln s (:func:`jittered`; 0: exactly): the motion is scaled so that its
@@ -671,7 +670,7 @@ def stripe_outcomes(body: Cylinder | Block, motion: GroundMotion, states: Sequen
     below the uplift intensity the body stays at rest and nothing is run, unless a limit
     state a body at rest can exceed is asked (sliding).
     """
-    analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+    analyze = make_analysis(body, motion, mode, contact=contact,
                             rest_tilt=acc.rest_tilt, whole=whole_record(states))
     at_rest = any(ls.at_rest for ls in states)
     intensities = jittered(intensities, jitter, motion=motion.name, mode=mode, R=body.R,
@@ -714,7 +713,7 @@ def stripe_fragility(
     zeta: float | None = None,
     progress=False,
     measure: str = "pga",
-    component: str = "vector_peak",
+    component: str = DEFAULT_COMPONENT,
     jitter: float = JITTER,
 ) -> StripeFragility:
     """Multiple-stripe fragility of a body under an ensemble of motions.
@@ -764,14 +763,15 @@ def stripe_fragility(
     for ls in states:
         ls.threshold(body.alpha)  # a tilt goal beyond π/2 fails here, before any analysis
     x = _check_intensities(intensities)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
+    contact = Contact.of(omega_n, zeta)
     bar = _progress(progress, x.size * len(motions), "stripes", unit="analysis")
     exceeded = np.zeros((x.size, len(motions), len(states)), dtype=bool)
     failed = np.zeros((x.size, len(motions)), dtype=bool)
     runs = 0
     for m, motion in enumerate(motions):
         exceeded[:, m], failed[:, m], r = stripe_outcomes(
-            body, motion, states, x, mode, acc, omega_n=omega_n, zeta=zeta, progress=bar,
+            body, motion, states, x, mode, acc, contact=contact, progress=bar,
             measure=measure, component=component, jitter=jitter)
         runs += r
     if bar is not None and bar is not progress:
@@ -784,7 +784,7 @@ def stripe_fragility(
 def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, failed, *,
                   mode: str = MODE_3D, accuracy: str = "default", R: float = math.nan,
                   tan_alpha: float = math.nan, n_analyses: int = 0, measure: str = "pga",
-                  n_refined: int = 0, component: str = "vector_peak",
+                  n_refined: int = 0, component: str = DEFAULT_COMPONENT,
                   jitter: float = 0.0) -> StripeFragility:
     """A :class:`StripeFragility` (fits included) from per-analysis outcomes, e.g. read back
     from a store: ``exceeded`` (stripes, motions, limit states), ``failed`` (stripes,
@@ -814,13 +814,14 @@ def from_outcomes(intensities, limit_states, motions: Sequence[str], exceeded, f
 def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], limit_states, *,
                     mode: str = MODE_3D, accuracy: str | Accuracy | dict = "default",
                     omega_n: float | None = None, zeta: float | None = None,
-                    measure: str = "pga", component: str = "vector_peak",
+                    measure: str = "pga", component: str = DEFAULT_COMPONENT,
                     jitter: float = JITTER) -> Callable[[float], tuple]:
     """``analyze(x)``: every motion at one more stripe ``x`` [measure/(g tan α)], as
     :func:`stripe_fragility` analyses them; returns (exceeded (motions, limit states),
     failed (motions,), analyses run)."""
     states = parse_limit_states(limit_states, sort=False)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
+    contact = Contact.of(omega_n, zeta)
 
     def analyze(x: float) -> tuple[np.ndarray, np.ndarray, int]:
         exc = np.zeros((len(motions), len(states)), dtype=bool)
@@ -828,7 +829,7 @@ def stripe_analyzer(body: Cylinder | Block, motions: Sequence[GroundMotion], lim
         runs = 0
         for m, motion in enumerate(motions):
             e, f, r = stripe_outcomes(body, motion, states, np.array([float(x)]), mode, acc,
-                                      omega_n=omega_n, zeta=zeta, measure=measure,
+                                      contact=contact, measure=measure,
                                       component=component, jitter=jitter)
             exc[m], fail[m], runs = e[0], f[0], runs + r
         return exc, fail, runs

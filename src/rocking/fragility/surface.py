@@ -44,8 +44,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from rocking._validate import positive_finite_array
 from rocking.fragility.lognormal import BOOTSTRAP_RESAMPLES, BOOTSTRAP_SEED
 from rocking.fragility.table import Fragilities
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.spectra.limit_states import sort_limit_states
 
 RTOL = 1e-9
@@ -142,7 +144,7 @@ class FragilitySurface:
     source: str = ""
     n_resamples: int = 0
     skipped: list[str] = field(default_factory=list)
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     """Horizontal component of the medians."""
     measure: str = "pga"
     """Intensity measure of the medians (g)."""
@@ -154,7 +156,7 @@ class FragilitySurface:
     @classmethod
     def from_study(cls, study: str | Path, *, mode: str = "3d", limit_states=None,
                    n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = BOOTSTRAP_SEED,
-                   measure="pga", component: str = "vector_peak") -> FragilitySurface:
+                   measure="pga", component: str = DEFAULT_COMPONENT) -> FragilitySurface:
         """The surface of a study's results folder, in an intensity measure and component.
 
         Every node is the study's censored lognormal refitted from ``critical.csv`` (each
@@ -306,8 +308,8 @@ class FragilitySurface:
         if R.shape != ta.shape:
             raise ValueError(f"R and tan_alpha must have the same shape, got {R.shape} and "
                              f"{ta.shape}")
-        if np.any(~np.isfinite(R) | (R <= 0) | ~np.isfinite(ta) | (ta <= 0)):
-            raise ValueError("R and tan_alpha must be finite and > 0")
+        positive_finite_array("R", R)
+        positive_finite_array("tan_alpha", ta)
         outside = self.outside(R, ta)
         if not extrapolate:
             self.check_inside(R, ta)

@@ -37,6 +37,7 @@ import numpy as np
 import pandas as pd
 
 from rocking.fragility.bootstrap import BootstrapSamples
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.spectra.limit_states import TILT_AXIS, parse_limit_state, severity, sort_limit_states
 from rocking.units import strip_units
 
@@ -129,7 +130,7 @@ class Fragilities:
     measure: str = "pga"
     samples: BootstrapSamples | None = None
     source: str = ""
-    component: str = "vector_peak"
+    component: str = DEFAULT_COMPONENT
     quantity: dict = field(default_factory=lambda: dict(LEGACY_QUANTITY))
     note: str = ""
     refitted: bool = False
@@ -247,7 +248,7 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     -------
     Fragilities
     """
-    from rocking.motions.measures import DEFAULT_COMPONENT, Measure, parse_component
+    from rocking.motions.measures import Measure, parse_component
 
     frame = _plain_columns(_as_frame(source)).reset_index(drop=True)
     n_total = len(frame)

@@ -40,8 +40,8 @@ from rocking.constants import G
 from rocking.motions.motion import GroundMotion
 
 __all__ = ["COMPONENTS", "DEFAULT_COMPONENT", "DEFAULT_DAMPING", "MEASURES", "MEASURE_PATTERN",
-           "MEASURE_UNITS", "ROTD_ANGLES", "Component", "IntensityMeasure", "Measure",
-           "component_peak", "component_ratio", "intensity_measure", "measure_imt",
+           "MEASURE_UNITS", "ROTD_ANGLES", "VECTOR_PEAK", "Component", "IntensityMeasure",
+           "Measure", "component_peak", "component_ratio", "intensity_measure", "measure_imt",
            "measure_series", "parse_component", "parse_measure", "peak_vector_velocity",
            "same_measure", "vector_sa"]
 
@@ -120,8 +120,13 @@ class Component:
     imt_component: str
 
 
+VECTOR_PEAK = "vector_peak"
+"""The vector peak's name, the one place it is spelled: the performance spectra's own
+intensity (PGA = max_t √(ax² + ay²)), which a comparison names to take the spectra's own
+numbers bit for bit."""
+
 COMPONENTS = {c.name: c for c in (
-    Component("vector_peak", "peak over time of the horizontal vector sqrt(x^2 + y^2)",
+    Component(VECTOR_PEAK, "peak over time of the horizontal vector sqrt(x^2 + y^2)",
               "maximum over all directions (the vector peak)"),
     Component("rotd100", "largest over 180 angles (1 deg) of the peak of the rotated component",
               "RotD100"),
@@ -134,7 +139,7 @@ COMPONENTS = {c.name: c for c in (
 )}
 """The registry of horizontal components, by name."""
 
-DEFAULT_COMPONENT = "vector_peak"
+DEFAULT_COMPONENT = VECTOR_PEAK
 """A study's component when it names none: the performance spectra's own intensity."""
 
 ROTD_ANGLES = np.arange(0.0, 180.0, 1.0)
@@ -275,7 +280,7 @@ class Measure:
         (:func:`measure_series`)."""
         return measure_series(motion, self, DEFAULT_DAMPING if damping is None else damping)
 
-    def of_motion(self, motion: GroundMotion, component: str = "vector_peak") -> float:
+    def of_motion(self, motion: GroundMotion, component: str = DEFAULT_COMPONENT) -> float:
         """The measure of ``motion`` in ``component``, in its unit
         (:func:`intensity_measure`)."""
         return intensity_measure(motion, self, component)
@@ -361,9 +366,9 @@ def measure_series(motion: GroundMotion, name: str | Measure,
 
 
 def component_peak(x: np.ndarray, y: np.ndarray, component: str) -> float:
-    """The peak of the pair of series (x, y) in ``component`` (:data:`COMPONENTS`)."""
-    component = parse_component(component)
-    if component == "vector_peak":
+    """The peak of the pair of series (x, y) in ``component`` (:data:`COMPONENTS`): a
+    canonical name (:func:`parse_component` where it entered), taken as it is."""
+    if component == VECTOR_PEAK:
         return float(np.max(np.hypot(x, y)))
     if component in ("rotd50", "rotd100"):
         import pyrotd
@@ -383,7 +388,7 @@ def intensity_measure(motion: GroundMotion, name: str | Measure,
     :data:`MEASURE_UNITS`."""
     component = parse_component(component)
     kind, period = parse_measure(name)
-    if component == "vector_peak":  # the spectra's own PGA, bit for bit
+    if component == VECTOR_PEAK:  # the spectra's own PGA, bit for bit
         if kind == "pga":
             return motion.pga_g
         if kind == "pgv":

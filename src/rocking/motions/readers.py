@@ -276,11 +276,9 @@ def read_at2(path: str | Path) -> tuple[np.ndarray, float, dict[str, Any]]:
     if not npts_f.is_integer() or npts_f < 2:
         raise RecordFormatError(path, lineno, f"NPTS must be an integer >= 2, got {npts_text!r}")
     try:
-        dt = float(dt_text)
-    except ValueError:
-        raise RecordFormatError(path, lineno, f"DT is not a number: {dt_text!r}") from None
-    if not math.isfinite(dt) or dt <= 0.0:
-        raise RecordFormatError(path, lineno, f"DT must be a positive number, got {dt_text!r}")
+        dt = positive_finite("DT", dt_text)
+    except ValueError as exc:
+        raise RecordFormatError(path, lineno, str(exc)) from None
     npts = int(npts_f)
 
     header = lines[:lineno]

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.plot._style import footnote, new_figure, styled
 from rocking.spectra.limit_states import limit_state_title, severity
 
@@ -119,7 +120,7 @@ def data(portfolio: str | Path | pd.DataFrame, *, hazard: str = "", study: str =
                       if saved is not None and ls in saved.index else site_answer(ls, lam, None))
         measured[f"expected {ls} per year"] = float(answer[ls]["expected_per_year"])
     first = frame.iloc[0]
-    terms = f"{first.get('measure', 'pga')}, {first.get('component', 'vector_peak')} component"
+    terms = f"{first.get('measure', 'pga')}, {first.get('component', DEFAULT_COMPONENT)} component"
     return {"limit_states": states, "columns": cols.reset_index(), "plan": plan,
             "sites": sites, "errors": errors, "site": answer, "measured": measured,
             "terms": terms, "hazard": hazard, "study": study,

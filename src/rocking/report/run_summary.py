@@ -64,7 +64,7 @@ def study_rows(path: str | Path) -> list[tuple[str, str]]:
         (f"{p}: limit states", ", ".join(limit_state_title(ls)
                                          for ls in spec.plan.limit_states)),
         (f"{p}: modes per tan α", modes_text(ds)),
-        (f"{p}: accuracy", f"preset {spec.accuracy if isinstance(spec.accuracy, str) else 'custom'}"
+        (f"{p}: accuracy", f"preset {spec.accuracy.preset or 'custom'}"
                            f": {tolerances_text(attrs['tolerances'])}; search up to "
                            f"PGA/(g tan α) = {fmt(spec.upper)}; "
                            + stated_error_text(spec.accuracy)),

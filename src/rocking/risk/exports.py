@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from rocking.fragility.table import Fragilities, read_fragilities
+from rocking.motions.measures import DEFAULT_COMPONENT, VECTOR_PEAK
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.nrml import nrml_model_id, write_nrml
 from rocking.risk.pelicun import write_pelicun_csv
@@ -23,7 +24,7 @@ def exported(measure: str, component: str) -> bool:
     exports: those of the vector-peak PGA only, the terms OpenQuake's PGA models and
     pelicun's ``Demand-Directional 1`` demand read it in (a stripe fragility in Sa(T) or
     another component reaches the study's risk table only)."""
-    return measure == "pga" and component == "vector_peak"
+    return measure == "pga" and component == VECTOR_PEAK
 
 
 def _read(fragility) -> Fragilities:
@@ -75,7 +76,7 @@ def write_risk_outputs(fragility, hazard: HazardCurve, *, nrml: str | Path,
                        pelicun: str | Path, table: str | Path,
                        search_upper: float | None = None, study: str = "",
                        stripes=None, preset: str = "",
-                       study_component: str = "vector_peak") -> dict:
+                       study_component: str = DEFAULT_COMPONENT) -> dict:
     """Write ``fragility.nrml.xml``, ``fragility.pelicun.csv`` and ``risk.csv`` of a study.
 
     One behaviour whatever the fits: every requested row is in ``risk.csv``, a row without a

@@ -74,8 +74,16 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from rocking._validate import positive_finite
 from rocking.fragility.table import lognormal_moments
-from rocking.motions.measures import COMPONENTS, measure_imt, parse_component, same_measure
+from rocking.motions.measures import (
+    COMPONENTS,
+    DEFAULT_COMPONENT,
+    VECTOR_PEAK,
+    measure_imt,
+    parse_component,
+    same_measure,
+)
 from rocking.risk.hazard import lon_lat_problem
 from rocking.risk.nrml import MAX_IML_SIGMAS, MODEL_ID, NAMESPACE, nrml_limit_state
 from rocking.risk.pelicun import DEMAND_TYPE, columns
@@ -257,7 +265,8 @@ def _plan(table, taxonomy_by, R_edges, tan_alpha_edges, limit_states, imt, compo
     assets, rows = _validated(frame, taxonomy_by)
     imt = _imt(imt, rows)
     if component is None:
-        component = str(rows["component"].iloc[0]) if "component" in rows else "vector_peak"
+        component = str(rows["component"].iloc[0]) if "component" in rows \
+            else DEFAULT_COMPONENT
     component = parse_component(component)  # any case: RotD50
     if "component" in rows and parse_component(str(rows["component"].iloc[0])) != component:
         raise ValueError(f"component {component!r} is not the table's "
@@ -325,11 +334,10 @@ def _validated(frame: pd.DataFrame, taxonomy_by: str) -> tuple[pd.DataFrame, pd.
         if problem:
             raise ValueError(f"{_where(frame, i)}: {problem}")
     for col in [c for c in ("median", "beta", "R", "tan_alpha", "value") if c in frame]:
-        bad = frame[col] <= 0
+        bad = frame[col] <= 0  # found in one pass, told by the one check (row and value)
         if bad.any():
             i = int(np.flatnonzero(bad.to_numpy())[0])
-            raise ValueError(f"{_where(frame, i)}: {col} must be > 0, got "
-                             f"{_show(frame.at[i, col])}")
+            positive_finite(f"{_where(frame, i)}: {col}", float(frame.at[i, col]))
     for i, ident in enumerate(frame["id"]):
         if not ASSET_ID.match(ident):
             raise ValueError(f"{_where(frame, i)}: id {ident!r} is not an OpenQuake asset id "
@@ -528,7 +536,7 @@ def _imls(params: dict, imt: str, component: str) -> dict[str, str]:
     medians = [(m, b) for m, b in params["ls"].values()]
     top = max(m * math.exp(MAX_IML_SIGMAS * b) for m, b in medians)
     uplift = params["tan_alpha"]
-    if imt == "PGA" and component == "vector_peak" and uplift is not None:
+    if imt == "PGA" and component == VECTOR_PEAK and uplift is not None:
         # below the uplift PGA g·tan α a rigid body on rigid ground does not rock
         return {"imt": imt, "minIML": _num(uplift), "maxIML": _num(max(top, uplift)),
                 "noDamageLimit": _num(uplift)}

@@ -51,6 +51,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from rocking._validate import positive_finite
 from rocking.dynamics.dimensions import body_size
 from rocking.risk.hazard import (
     MAX_DISTANCE_KM,
@@ -456,8 +457,11 @@ def _check_row(texts: dict, ident: str, i: int, first_of: dict, lines: list[int]
         if v[name] is not None:
             v[name] *= factor
     for name in ("height", "diameter", "R", "tan_alpha"):
-        if v[name] is not None and v[name] <= 0:
-            raise _Bad(name, f"must be > 0, got {v[name]:g}")
+        if v[name] is not None:
+            try:
+                positive_finite(name, v[name])
+            except ValueError as exc:  # the row and column prefix the one check's line
+                raise _Bad(name, str(exc)) from None
     for name in ("height", "diameter", "R"):
         if name in untitled and v[name] is not None and v[name] > MAX_PLAUSIBLE_LENGTH_M:
             raise _Bad(name, f"{v[name]:g} m is no column's size: in mm or cm? (give metres, "

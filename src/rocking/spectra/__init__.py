@@ -10,7 +10,6 @@ _EXPORTS = {
     "DEFAULT_LIMIT_STATES": "limit_states",
     "parse_limit_states": "limit_states",
     "Accuracy": "accuracy",
-    "get_accuracy": "accuracy",
     "Quantity": "quantity",
     "local_exceedance": "quantity",
     "exceedance_quantile": "quantity",

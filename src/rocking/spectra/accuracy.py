@@ -34,7 +34,9 @@ never makes an answer by itself.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 from rocking.dynamics.names import MODEL_3D_DAMPED
 
@@ -67,6 +69,16 @@ class Accuracy:
         :func:`rocking.dynamics.analysis.ground_response`): None, the engine's default per
         model (micro-uplift below a 5 µm rim lift ends an undamped 3D episode); 0, the exact
         treatment that follows every micro-uplift to its end; at most 1e-4.
+    configured : str or dict, optional
+        What :meth:`of` built it from: a preset's name (a preset spells itself by its
+        name) or a mapping of fields as it was given; None for settings built directly or
+        changed by :meth:`with_`. A study's stores record and hash this
+        spelling (:meth:`record`), not the settings, so that a store keeps its digest; it
+        takes no part in equality.
+
+    Build one with :meth:`of` where the settings enter (a configuration, a command line, a
+    public function's argument, a store's attributes) and hand the object down: nothing
+    below resolves it again.
     """
 
     name: str
@@ -78,6 +90,61 @@ class Accuracy:
     confirm: bool = True
     rtol_damped: float | None = None
     rest_tilt: float | None = None
+    configured: str | dict[str, Any] | None = field(default=None, compare=False, repr=False,
+                                                    kw_only=True)
+
+    @classmethod
+    def of(cls, accuracy: str | Accuracy | Mapping[str, Any]) -> Accuracy:
+        """The settings of a preset name, a ready :class:`Accuracy` (itself), or a mapping
+        of its fields: the one way to resolve them.
+
+        A mapping may name a preset under ``"preset"`` and override some of its fields, e.g.
+        ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses); one
+        with a ``"name"`` and no ``"preset"`` is a record (:meth:`to_dict`, the settings a
+        store keeps): the fields it leaves out are its named preset's. The value is kept as
+        given in ``configured``.
+
+        Raises
+        ------
+        ValueError
+            For an unknown preset name or field.
+        """
+        if isinstance(accuracy, Accuracy):
+            return accuracy
+        if isinstance(accuracy, str):
+            key = accuracy.strip().lower()
+            if key not in PRESETS:
+                raise ValueError(f"accuracy must be one of {sorted(PRESETS)}, got {accuracy!r}")
+            # a preset spells itself by its name: "Default" and "default" are one setting
+            return PRESETS[key]
+        if isinstance(accuracy, Mapping):
+            fields = dict(accuracy)
+            unknown = sorted(set(fields) - set(FIELDS) - {"preset"})
+            if unknown:
+                raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed "
+                                 f"{sorted([*FIELDS, 'preset'])}")
+            # a record that names a preset and leaves fields out takes them from that
+            # preset, never from the default under the preset's name
+            named = str(fields.get("name", "")).strip().lower()
+            base = cls.of(fields.pop("preset", named if named in PRESETS else "default"))
+            return replace(base.with_(**fields) if fields else base,
+                           configured=dict(accuracy))
+        raise ValueError(f"accuracy must be a preset name, an Accuracy or a mapping, got "
+                         f"{accuracy!r}")
+
+    def record(self) -> str | dict[str, Any]:
+        """What a study's store records (and hashes) of these settings: the value they
+        were configured as (:attr:`configured`), else their fields (:meth:`to_dict`)."""
+        if self.configured is None:
+            return self.to_dict()
+        return dict(self.configured) if isinstance(self.configured, Mapping) \
+            else self.configured
+
+    @property
+    def preset(self) -> str | None:
+        """The preset's name as configured when the settings were given as one (what a
+        report and the risk table name), None for tolerances given as a mapping."""
+        return self.configured if isinstance(self.configured, str) else None
 
     def __post_init__(self) -> None:
         _check_range("rtol", self.rtol, 0.0, 1e-2)
@@ -111,8 +178,10 @@ class Accuracy:
                              f"window 2 w = {2.0 * w:g} of quantity.w")
 
     def with_(self, **changes) -> Accuracy:
-        """A copy with some fields changed (named ``"custom"`` unless a name is given)."""
+        """A copy with some fields changed (named ``"custom"`` unless a name is given; it
+        keeps no ``configured`` spelling of the settings it was changed from)."""
         changes.setdefault("name", "custom")
+        changes.setdefault("configured", None)
         return replace(self, **changes)
 
     def rtol_for(self, model: str) -> float:
@@ -125,6 +194,14 @@ class Accuracy:
                 "scan_step": self.scan_step, "local_step": self.local_step,
                 "local_below": self.local_below, "local_above": self.local_above,
                 "confirm": self.confirm, "rest_tilt": self.rest_tilt}
+
+
+DEFAULT_UPPER = 20.0
+"""Default highest normalized intensity searched, PGA/(g tan α) [-]: the one value of the
+search bound (the library's ``upper=``, a configuration's ``search.upper``, the command
+lines' ``--upper``; the default stripes reach it too). It lives here, beside the search's
+other settings, because this module is light: the command line prints it in its help
+without loading the search."""
 
 
 FIELDS = ("name", "rtol", "rtol_damped", "scan_step", "local_step", "local_below",
@@ -144,47 +221,14 @@ def _check_range(name: str, value, lo: float, hi: float, lower_closed: bool = Fa
 
 
 PRESETS: dict[str, Accuracy] = {
-    "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.03, local_step=0.006),
+    "fast": Accuracy("fast", rtol=1e-6, rtol_damped=1e-5, scan_step=0.03, local_step=0.006,
+                     configured="fast"),
     "default": Accuracy("default", rtol=1e-7, rtol_damped=1e-6, scan_step=0.02,
-                        local_step=0.006),
+                        local_step=0.006, configured="default"),
     "precise": Accuracy("precise", rtol=1e-8, rtol_damped=1e-7, scan_step=0.01,
-                        local_step=0.004),
+                        local_step=0.004, configured="precise"),
 }
-"""The named presets, from cheapest to most accurate."""
-
-
-def get_accuracy(accuracy: str | Accuracy | dict) -> Accuracy:
-    """Resolve a preset name, a ready :class:`Accuracy`, or a mapping of its fields.
-
-    A mapping may name a preset under ``"preset"`` and override some of its fields, e.g.
-    ``{"preset": "default", "rtol": 1e-9}`` (the form a workflow configuration uses); one
-    with a ``"name"`` and no ``"preset"`` is a record (:meth:`Accuracy.to_dict`, the
-    settings a store keeps): the fields it leaves out are its named preset's.
-
-    Raises
-    ------
-    ValueError
-        For an unknown preset name or field.
-    """
-    if isinstance(accuracy, Accuracy):
-        return accuracy
-    if isinstance(accuracy, str):
-        key = accuracy.strip().lower()
-        if key not in PRESETS:
-            raise ValueError(f"accuracy must be one of {sorted(PRESETS)}, got {accuracy!r}")
-        return PRESETS[key]
-    if isinstance(accuracy, dict):
-        fields = dict(accuracy)
-        unknown = sorted(set(fields) - set(FIELDS) - {"preset"})
-        if unknown:
-            raise ValueError(f"accuracy has unknown field(s) {unknown}; allowed "
-                             f"{sorted([*FIELDS, 'preset'])}")
-        # a record that names a preset and leaves fields out takes them from that preset,
-        # never from the default under the preset's name
-        named = str(fields.get("name", "")).strip().lower()
-        base = get_accuracy(fields.pop("preset", named if named in PRESETS else "default"))
-        return base.with_(**fields) if fields else base
-    raise ValueError(f"accuracy must be a preset name, an Accuracy or a dict, got {accuracy!r}")
+"""The named presets, from cheapest to most accurate (each spelled by its name)."""
 
 
 STATED: dict[str, tuple[float, float]] = {"fast": (0.05, 0.83), "default": (0.05, 0.86),

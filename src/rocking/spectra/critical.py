@@ -17,9 +17,10 @@ from rocking._progress import maybe as _progress
 from rocking._validate import positive_finite
 from rocking.constants import G
 from rocking.dynamics.bodies import Block, Cylinder
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.result import Status
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.limit_states import (
     MU_REQUIRED_MAX,
     NORMAL_FORCE_MIN,
@@ -29,7 +30,6 @@ from rocking.spectra.limit_states import (
 from rocking.spectra.modes import MODE_3D, MODES, check_mode, excitation, is_damped
 from rocking.spectra.quantity import Quantity
 from rocking.spectra.search import (
-    DEFAULT_UPPER,
     PER_LIMIT_STATE,
     AnalysisFn,
     CriticalResult,
@@ -58,25 +58,12 @@ def uplift_intensity(motion: GroundMotion, mode: str) -> float:
     return math.inf if peak == 0.0 else motion.pga / peak
 
 
-def _model_kwargs(mode: str, omega_n: float | None, zeta: float | None) -> dict:
-    """Contact-model parameters, passed only to the damped model (ignored otherwise)."""
-    if not is_damped(mode):
-        return {}
-    kw = {}
-    if omega_n is not None:
-        kw["omega_n"] = positive_finite("omega_n", omega_n)
-    if zeta is not None:
-        kw["zeta"] = positive_finite("zeta", zeta)
-    return kw
-
-
 def make_analysis(
     body: Cylinder | Block,
     motion: GroundMotion,
     mode: str = MODE_3D,
     *,
-    omega_n: float | None = None,
-    zeta: float | None = None,
+    contact: Contact | None = None,
     rest_tilt: float | None = None,
     whole: bool = False,
     spin: float | None = None,
@@ -87,6 +74,8 @@ def make_analysis(
     component are excited by it alone (``motion.component``) scaled by the same factor, the 3D
     ones with a spin at uplift (:func:`rocking.spectra.modes.excitation`; ``spin`` [rad/s]
     overrides the mode's);
+    ``contact`` is the damped model's (:class:`~rocking.dynamics.contact.Contact`, checked
+    where its numbers entered; None: the model's default), handed to the damped modes only;
     ``rest_tilt`` [rad] is the engine's (None: its default per model, 0: exact).
     ``whole`` runs the validity monitors over the whole record (no early end once the peak
     tilt is decided, ``stop_when_decided=False``), as a limit state watching a monitor
@@ -101,7 +90,8 @@ def make_analysis(
     excited, start = excitation(mode, motion, spin)
     model = MODES[mode].model
     unit_scale = G * body.tan_alpha / motion.pga
-    kw = _model_kwargs(mode, omega_n, zeta)
+    kw = ({} if contact is None or not is_damped(mode) else
+          {"omega_n": contact.omega_n, "zeta": contact.zeta})
 
     def analyze(intensity: float, stop_at: float | None, rtol: float) -> Outcome:
         r = ground_response(body, excited, model=model, scale=intensity * unit_scale,
@@ -170,23 +160,23 @@ def critical_intensity(
     decided); otherwise none runs them (:func:`make_analysis`).
     """
     return _critical_point(body, motion, parse_limit_states(limit_states, sort=False), mode,
-                           get_accuracy(accuracy), Quantity.from_value(quantity),
-                           positive_finite("upper", upper), omega_n, zeta)
+                           Accuracy.of(accuracy), Quantity.from_value(quantity),
+                           positive_finite("upper", upper), Contact.of(omega_n, zeta))
 
 
 def _critical_point(body: Cylinder | Block, motion: GroundMotion, asked: list, mode: str,
-                    acc: Accuracy, quantity: Quantity, upper: float, omega_n: float | None,
-                    zeta: float | None) -> CriticalResult:
-    """:func:`critical_intensity` on parsed limit states, a resolved accuracy and quantity
-    and a checked ``upper`` (the batch resolves and checks them once for every point). The
-    grid offsets are drawn from the cell's identity (:func:`~rocking.spectra.search.cell_seed`:
-    the motion's name, R, tan α, the mode)."""
+                    acc: Accuracy, quantity: Quantity, upper: float,
+                    contact: Contact) -> CriticalResult:
+    """:func:`critical_intensity` on parsed limit states, a resolved accuracy and quantity,
+    a checked ``upper`` and contact (the batch resolves and checks them once for every
+    point). The grid offsets are drawn from the cell's identity
+    (:func:`~rocking.spectra.search.cell_seed`: the motion's name, R, tan α, the mode)."""
     check_mode(mode)
     if motion.pga <= 0.0:
         raise ValueError(f"motion {motion.name!r} has zero PGA")
     lower = uplift_intensity(motion, mode)
     mu = body.mu
-    analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+    analyze = make_analysis(body, motion, mode, contact=contact,
                             rest_tilt=acc.rest_tilt,
                             whole=whole_record(asked) or mu is not None)
     res = run_search(analyze, tuple(sorted(asked, key=lambda ls: ls.severity)), body.alpha, lower,
@@ -245,9 +235,10 @@ def critical_intensity_batch(
     -------
     list of CriticalResult
     """
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
     q = Quantity.from_value(quantity)
     upper = positive_finite("upper", upper)
+    contact = Contact.of(omega_n, zeta)
     states = parse_limit_states(limit_states, sort=False)
     tasks = list(tasks)
     for i, task in enumerate(tasks):
@@ -257,7 +248,7 @@ def critical_intensity_batch(
     out = []
     for R, tan_alpha, motion, mode in tasks:
         out.append(_critical_point(Cylinder(R, tan_alpha, mu=mu), motion, states, mode, acc,
-                                   q, upper, omega_n, zeta))
+                                   q, upper, contact))
         if bar is not None:
             bar.update()
     if bar is not None and bar is not progress:

@@ -33,6 +33,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from rocking._validate import positive_finite_array
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -158,8 +160,7 @@ def _sample(intensities, exceeded, weights=None) -> tuple[np.ndarray, np.ndarray
                          f"{x.shape}, {e.shape} and {wt.shape}")
     if np.isnan(x).any():
         raise ValueError("intensities must not contain NaN")
-    if not (np.isfinite(wt) & (wt > 0)).all():
-        raise ValueError("weights must be finite and > 0")
+    positive_finite_array("weights", wt)
     keep = (x > 0.0) & np.isfinite(x)
     order = np.argsort(x[keep], kind="stable")
     return np.log(x[keep][order]), e[keep][order], wt[keep][order]

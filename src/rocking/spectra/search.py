@@ -72,7 +72,7 @@ import pandas as pd
 
 from rocking._validate import positive_finite
 from rocking.dynamics.result import Status, slid_in_contact
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import DEFAULT_UPPER, Accuracy
 from rocking.spectra.limit_states import (
     MU_REQUIRED_MAX,
     NORMAL_FORCE_MIN,
@@ -86,9 +86,6 @@ from rocking.spectra.limit_states import (
     stop_for,
 )
 from rocking.spectra.quantity import PLATEAU_SHARE, Quantity, local_exceedance
-
-DEFAULT_UPPER = 20.0
-"""Default highest normalized intensity searched, PGA/(g tan α) [-]."""
 
 RETRY_RTOL_FACTOR = 0.1
 """A failed analysis is retried once with its rtol multiplied by this factor."""
@@ -976,7 +973,7 @@ def search_critical(
     upper : float
         Highest intensity searched [-].
     accuracy : str, Accuracy or dict
-        Preset name or settings (:func:`rocking.spectra.accuracy.get_accuracy`).
+        Preset name or settings (:meth:`rocking.spectra.accuracy.Accuracy.of`).
     quantity : str, mapping, Quantity or None
         What the answer is (:class:`rocking.spectra.quantity.Quantity`; None: I10).
     rtol : float, optional
@@ -995,7 +992,7 @@ def search_critical(
         Without body/motion labels (the caller adds them).
     """
     states = parse_limit_states(limit_states)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
     q = Quantity.from_value(quantity)
     alpha = positive_finite("alpha", alpha)
     upper = positive_finite("upper", upper)

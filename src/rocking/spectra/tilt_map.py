@@ -11,9 +11,10 @@ import xarray as xr
 from rocking._progress import maybe as _progress
 from rocking._validate import positive_finite
 from rocking.dynamics.bodies import Cylinder
+from rocking.dynamics.contact import Contact
 from rocking.dynamics.result import Status
 from rocking.motions.motion import GroundMotion
-from rocking.spectra.accuracy import Accuracy, get_accuracy
+from rocking.spectra.accuracy import Accuracy
 from rocking.spectra.critical import make_analysis, uplift_intensity
 from rocking.spectra.modes import MODE_3D, MODES, check_mode
 from rocking.spectra.search import RETRY_RTOL_FACTOR, checked
@@ -62,7 +63,8 @@ def tilt_map(
         coordinate has CF ``units`` and ``long_name``.
     """
     check_mode(mode)
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
+    contact = Contact.of(omega_n, zeta)
     R_arr = np.array([positive_finite("R", r) for r in R_values], dtype=float)
     I_arr = np.array([positive_finite("intensity", i) for i in intensities], dtype=float)
     lower = uplift_intensity(motion, mode)
@@ -73,7 +75,7 @@ def tilt_map(
     bar = _progress(progress, ratio.size, f"tilt map {mode}", unit="analysis")
     for i, R in enumerate(R_arr):
         body = Cylinder(R, tan_alpha)
-        analyze = make_analysis(body, motion, mode, omega_n=omega_n, zeta=zeta,
+        analyze = make_analysis(body, motion, mode, contact=contact,
                                 rest_tilt=acc.rest_tilt)
         for j, intensity in enumerate(I_arr):
             if intensity <= lower:

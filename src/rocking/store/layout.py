@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from rocking._validate import positive_finite_array
+
 
 @dataclass(frozen=True)
 class Variable:
@@ -143,8 +145,7 @@ def value_coord(name: str, values: Sequence[float]) -> np.ndarray:
     a = np.asarray(values, dtype=np.float64)
     if a.ndim != 1 or a.size == 0:
         raise ValueError(f"{name} must be a non-empty list of numbers, got {values!r}")
-    if not np.all(np.isfinite(a)) or np.any(a <= 0):
-        raise ValueError(f"{name} must hold finite numbers > 0, got {values!r}")
+    positive_finite_array(name, a)
     if np.unique(a).size != a.size:
         raise ValueError(f"{name} has duplicate values {values!r}")
     return a

@@ -244,11 +244,13 @@ def as_recorded(table, motions: Sequence[GroundMotion], *, accuracy="default",
     import pandas as pd
 
     from rocking.dynamics.bodies import Cylinder
+    from rocking.dynamics.contact import Contact
     from rocking.fragility.stripes import stripe_outcomes
-    from rocking.spectra.accuracy import get_accuracy
+    from rocking.spectra.accuracy import Accuracy
     from rocking.spectra.limit_states import parse_limit_states
 
-    acc = get_accuracy(accuracy)
+    acc = Accuracy.of(accuracy)
+    contact = Contact.of(omega_n, zeta)
     by_name = {m.name: m for m in motions}
     exceeds = pd.Series(pd.NA, index=table.index, dtype="boolean")
     for (name, mode, tan_alpha, R), rows in table.groupby(
@@ -258,8 +260,7 @@ def as_recorded(table, motions: Sequence[GroundMotion], *, accuracy="default",
         # the record's own intensity: the analysis runs at scale 1
         at_one = np.array([motion.pga_g / float(tan_alpha)])
         hit, failed, _ = stripe_outcomes(Cylinder(float(R), float(tan_alpha)), motion,
-                                         states, at_one, str(mode), acc,
-                                         omega_n=omega_n, zeta=zeta)
+                                         states, at_one, str(mode), acc, contact=contact)
         if not failed[0]:  # one row per limit state, in the order of ``states``
             exceeds[rows.index] = hit[0]
     out = table.copy()

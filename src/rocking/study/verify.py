@@ -289,11 +289,14 @@ def stated_error(accuracy: Any) -> tuple[float, float]:
     """(e, q) of an accuracy preset: a share q of its answers lie within e (relative) of the
     converged I10 (:data:`rocking.spectra.accuracy.STATED`, measured on the resolution
     benchmark; a mapping overriding a preset takes its preset's, a preset without a
-    measured figure the ``default``'s)."""
-    from rocking.spectra.accuracy import STATED, get_accuracy
+    measured figure the ``default``'s). ``accuracy``: an
+    :class:`~rocking.spectra.accuracy.Accuracy`, or a run's configured value (resolved
+    here, where it enters)."""
+    from rocking.spectra.accuracy import STATED, Accuracy
 
-    name = accuracy.get("preset", "default") if isinstance(accuracy, Mapping) else \
-        get_accuracy(accuracy).name
+    acc = Accuracy.of(accuracy)
+    given = acc.configured
+    name = given.get("preset", "default") if isinstance(given, Mapping) else acc.name
     return STATED.get(str(name), STATED["default"])
 
 

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 from scipy.special import gammainc, gammaincinv, gammaln
 
-from rocking._validate import finite, positive_finite
+from rocking._validate import finite, positive_finite, positive_finite_array
 from rocking.constants import G
 
 #: Bracket of the gamma shape k searched when inverting the duration ratio (R(k) spans
@@ -46,9 +46,7 @@ def duration_ratio(k: ArrayLike) -> float | NDArray[np.float64]:
 
     It equals (t_mid − T0)/D5-95 of the envelope and increases strictly with k.
     """
-    k = np.asarray(k, dtype=np.float64)
-    if np.any(~np.isfinite(k)) or np.any(k <= 0.0):
-        raise ValueError(f"k must be positive and finite, got {k!r}")
+    k = positive_finite_array("k", k)
     r = gammaincinv(k, 0.45) / (gammaincinv(k, 0.95) - gammaincinv(k, 0.05))
     return float(r) if r.ndim == 0 else r
 

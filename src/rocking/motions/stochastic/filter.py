@@ -28,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 
-from rocking._validate import finite, nonnegative_finite, positive_finite
+from rocking._validate import finite, nonnegative_finite, positive_finite, positive_finite_array
 
 #: Default floor of the filter frequency [Hz] (the SimCenter Dabaghi–Der Kiureghian value):
 #: a linear ω_f with a negative slope would otherwise reach zero on long records.
@@ -337,8 +337,7 @@ def normalized_irf(
     omega = np.asarray(omega, dtype=np.float64)
     if omega.ndim != 1 or omega.size < 2:
         raise ValueError(f"omega must be a 1-D array of >= 2 samples, got shape {omega.shape}")
-    if not np.all(np.isfinite(omega)) or np.any(omega <= 0.0):
-        raise ValueError(f"omega must be positive and finite, got min {np.min(omega)!r}")
+    positive_finite_array("omega", omega)
     zeta = check_zeta(zeta)
     dt = positive_finite("dt", dt)
     w = band_width(omega, zeta, dt, band_tol, omega.size, low)
