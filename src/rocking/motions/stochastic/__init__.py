@@ -10,16 +10,30 @@ ensemble's elastic spectrum matches its record's), :mod:`.pairs` (reproducible
 bidirectional ensembles of synthetic pairs).
 """
 
-from rocking.motions.stochastic.envelope import (
-    GammaEnvelope,
-    alphas_from_physical,
-    physical_from_alphas,
-)
-from rocking.motions.stochastic.fit import RDKFit, fit_component, fit_rdk
-from rocking.motions.stochastic.pairs import synthesize
-from rocking.motions.stochastic.params import RDKParams
-from rocking.motions.stochastic.quality import ensemble_quality
-from rocking.motions.stochastic.spectrum_fit import fit_spectrum
+import importlib
+
+# Each public name and the module that defines it, imported when first asked for: the
+# workflow's check of a configuration reads one light module of this package
+# (.recorded, a file of recorded parameters) while Snakemake plans a run, and the package
+# must not load numba and scipy with it.
+_WHERE = {
+    **dict.fromkeys(("GammaEnvelope", "alphas_from_physical", "physical_from_alphas"),
+                    "envelope"),
+    **dict.fromkeys(("RDKFit", "fit_component", "fit_rdk"), "fit"),
+    "synthesize": "pairs",
+    "RDKParams": "params",
+    "ensemble_quality": "quality",
+    "fit_spectrum": "spectrum_fit",
+}
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "GammaEnvelope",

@@ -31,11 +31,13 @@ import hashlib
 import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rocking.motions.motion import GroundMotion
-from rocking.motions.stochastic.fit import RDKFit
 from rocking.motions.stochastic.params import RDKParams
+
+if TYPE_CHECKING:  # the fit (scipy, numba) is imported where one is made, not to read a file
+    from rocking.motions.stochastic.fit import RDKFit
 
 __all__ = ["FIT_SETTINGS", "FORMAT", "SIGNIFICANT_DIGITS", "check_settings", "entries_for",
            "fit_sha256",
@@ -71,6 +73,8 @@ def round_significant(x: float, digits: int = SIGNIFICANT_DIGITS) -> float:
 def rounded_fit(fit: RDKFit, digits: int = SIGNIFICANT_DIGITS) -> RDKFit:
     """The fit with every parameter and the rotation rounded; the diagnostics (provenance of
     the unrounded fit, not used by the simulation) kept."""
+    from rocking.motions.stochastic.fit import RDKFit
+
     def params(p: RDKParams) -> RDKParams:
         d = p.to_dict()
         return RDKParams.from_dict({**{k: None if d[k] is None else round_significant(d[k], digits)
@@ -82,7 +86,7 @@ def rounded_fit(fit: RDKFit, digits: int = SIGNIFICANT_DIGITS) -> RDKFit:
 def _fit_dict(fit: RDKFit | Mapping[str, Any]) -> dict[str, Any]:
     """What a recorded fit holds: name, dt, rotation and the parameters of both components
     (of an :class:`RDKFit` or of its :meth:`~RDKFit.to_dict`)."""
-    d = fit.to_dict() if isinstance(fit, RDKFit) else fit
+    d = fit if isinstance(fit, Mapping) else fit.to_dict()
     # rounded again: RDKParams stores f_low through 2π·f/2π, which may move the decimal by
     # an ulp; the file holds the decimals rounded_fit gave RDKParams, so a recorded fit
     # builds the same parameters to the bit
@@ -204,6 +208,8 @@ def _norm(v: Any) -> Any:
 def recorded_fit(entry: Mapping[str, Any]) -> RDKFit:
     """The :class:`RDKFit` of a record's entry (read with :func:`read_params_file`); its
     diagnostics say it was recorded and by which method it was fitted."""
+    from rocking.motions.stochastic.fit import RDKFit
+
     d = entry["fit"]
     return RDKFit(float(d["angle_deg"]), RDKParams.from_dict(d["major"]),
                   RDKParams.from_dict(d["minor"]), float(d["dt"]), str(d["name"]),
