@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from importlib import resources
 from pathlib import Path
 
@@ -25,6 +26,22 @@ ELC180 = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
 ELC270 = "RSN6_IMPVALL.I_I-ELC270-hor2.AT2"
 CLS000 = "RSN753_LOMAP_CLS000-hor1.AT2"
 CLS090 = "RSN753_LOMAP_CLS090-hor2.AT2"
+
+
+def pytest_configure(config) -> None:
+    """The compiled kernels once per test run, before pytest-xdist starts its workers: each
+    worker, and every workflow a test runs, then loads them from numba's on-disk cache
+    instead of each compiling its own copy at once (on a fresh checkout, CI's, about 30 s of
+    compilation per worker). Only with workers (the suite's ``-n 2``): a run in one process
+    (``-n 0``) compiles what its tests use. Tests of compilation itself use a cache of their
+    own (``NUMBA_CACHE_DIR``); ``ROCKING_TEST_WARMUP=0`` skips this."""
+    workers = getattr(config.option, "numprocesses", None) or 0
+    if hasattr(config, "workerinput") or workers in (0, "0") \
+            or os.environ.get("ROCKING_TEST_WARMUP") == "0":
+        return  # a worker (the controller did it), or no workers
+    from rocking.execution.warmup import warm_numba_cache
+
+    warm_numba_cache(processes=2, monitors=True, vertical=True, history=True)
 
 
 _NUMBER = r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?"
