@@ -418,7 +418,7 @@ def run_regions(client: Client, fn: Callable[..., dict], indices: Sequence[int],
         if (now - last >= interval and (done or interval > 0)) or not pending:
             log.info("%d/%d chunks done, %.1f s elapsed, %d workers", len(reports), n,
                      now - t0, watch.workers)
-            if progress is not None:
+            if progress is not None and not done:  # a chunk that finished has said it
                 progress.update(0)
             last = now
     return reports
