@@ -3,9 +3,8 @@
 # even a dry run with one line naming studies.<study>.hazard.
 
 from functools import cache
-from pathlib import Path
 
-from rocking.config.checks import resolve_path
+from rocking.config.checks import hazard_file_name, resolve_path, resolved_hazard
 from rocking.risk.exports import exported
 from rocking.risk.hazard import parse_hazard
 
@@ -15,22 +14,15 @@ def hazard_spec(study):
     return study_spec(study).hazard
 
 
-def hazard_file(study):
-    """The hazard CSV of a study (relative to the working directory, else to the
-    repository, as config/config.yaml is found), or None for a power law or no hazard."""
-    spec = hazard_spec(study)
-    name = spec.get("file") if isinstance(spec, dict) else spec
-    if name is None or ("," in str(name) and not Path(name).exists()):
-        return None
-    return resolve_path(name, workflow.basedir)
-
-
 def hazard_param(study):
-    """The hazard entry with its file resolved (what rocking.risk.parse_hazard reads)."""
-    spec, path = hazard_spec(study), hazard_file(study)
-    if path is None:
-        return spec
-    return {**spec, "file": path} if isinstance(spec, dict) else path
+    """The study's hazard entry with its file resolved (rocking.config.checks.resolved_hazard:
+    working directory, else the repository), as rocking.risk.parse_hazard reads it."""
+    return resolved_hazard(hazard_spec(study), lambda name: resolve_path(name, workflow.basedir))
+
+
+def hazard_file(study):
+    """The hazard file a study reads, or None for a power law or no hazard."""
+    return hazard_file_name(hazard_param(study))
 
 
 def study_preset(study):

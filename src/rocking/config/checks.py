@@ -602,7 +602,7 @@ def check_risk(config: Mapping[str, Any],
         if spec.hazard is None:
             continue
         field = f"studies.{study}"
-        entry = _resolved_hazard(spec.hazard, resolve)
+        entry = resolved_hazard(spec.hazard, resolve)
         try:
             curve = parse_hazard(entry)
             study_terms(curve.measure, curve.component, spec.intensity_measures,
@@ -614,10 +614,22 @@ def check_risk(config: Mapping[str, Any],
             _check_inventory(field, spec, entry, resolve)
 
 
-def _resolved_hazard(hazard, resolve):
-    if isinstance(hazard, Mapping):
-        return {**hazard, "file": resolve(hazard["file"])} if "file" in hazard else dict(hazard)
-    return resolve(str(hazard)) if "," not in str(hazard) else hazard
+def hazard_file_name(hazard: Any) -> str | None:
+    """The file a study's ``hazard:`` entry names (its ``file``, or the entry itself), None
+    for a power law (``"k0,k"``, or a mapping without ``file``) or no hazard."""
+    name = hazard.get("file") if isinstance(hazard, Mapping) else hazard
+    if name is None or ("," in str(name) and not Path(str(name)).exists()):
+        return None
+    return str(name)
+
+
+def resolved_hazard(hazard: Any, resolve: Callable[[str], str]) -> Any:
+    """A study's ``hazard:`` entry with the file it names as ``resolve`` finds it (what
+    :func:`rocking.risk.hazard.parse_hazard` reads); a power law as it is."""
+    name = hazard_file_name(hazard)
+    if name is None:
+        return dict(hazard) if isinstance(hazard, Mapping) else hazard
+    return {**hazard, "file": resolve(name)} if isinstance(hazard, Mapping) else resolve(name)
 
 
 def _check_inventory(field: str, spec, entry, resolve) -> None:
