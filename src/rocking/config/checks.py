@@ -571,7 +571,8 @@ class PlannedGrid:
 
 
 def check_risk(config: Mapping[str, Any],
-               resolve: Callable[[str], str] = lambda name: name) -> None:
+               resolve: Callable[[str], str] = lambda name: name,
+               specs: Mapping[str, Any] | None = None) -> None:
     """Everything the risk outputs of each study with a ``hazard:`` rest on, checked before
     any work (``snakemake -n`` included): one line naming ``studies.<name>.hazard`` or
     ``.inventory``.
@@ -592,13 +593,15 @@ def check_risk(config: Mapping[str, Any],
     resolve : callable
         A file name of the configuration → the path it is read from (the workflow tries the
         working directory, then the repository).
+    specs : mapping, optional
+        The studies' ``StudySpec`` by name, where the caller built them already.
     """
     from rocking.config.study import StudySpec
     from rocking.risk.hazard import parse_hazard
     from rocking.risk.reconcile import study_terms
 
     for study in config["studies"]:
-        spec = StudySpec.from_config(config, study)
+        spec = specs[study] if specs is not None else StudySpec.from_config(config, study)
         if spec.hazard is None:
             continue
         field = f"studies.{study}"
@@ -709,8 +712,8 @@ def check_workflow_config(config: dict[str, Any], basedir: str | Path,
         if isinstance(params, str) and params and not Path(params).is_absolute():
             ensemble["params"] = resolve_path(params, basedir)
     validate_config(config, Path(basedir, SCHEMA), set_defaults)
-    for study in config["studies"]:
-        spec = StudySpec.from_config(config, study)
+    specs = {study: StudySpec.from_config(config, study) for study in config["studies"]}
+    for spec in specs.values():
         # every part that makes a store (spectra, tilt map, stripes, a new product) describes
         # itself: its grids are expanded and checked here, before any job
         for f in dataclasses.fields(spec):
@@ -721,4 +724,4 @@ def check_workflow_config(config: dict[str, Any], basedir: str | Path,
     if dask.get("scheduler_address") and dask.get("scheduler_file"):
         raise ValueError("dask.scheduler_address and dask.scheduler_file are both set; "
                          "give one")
-    check_risk(config, lambda name: resolve_path(name, basedir))
+    check_risk(config, lambda name: resolve_path(name, basedir), specs)

@@ -25,6 +25,10 @@ import importlib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+# both light: they import xarray and matplotlib inside the functions that read or draw
+from rocking.plot._load import open_means, open_store
+from rocking.plot._style import save, write_notes
+
 
 def __getattr__(name: str):
     # FIGURES is read from the registry when first asked for: the figure modules import
@@ -33,12 +37,6 @@ def __getattr__(name: str):
         from rocking.plot.registry import figures
 
         return tuple(figures())
-    # the stores' readers (zarr, xarray) when first asked for: the registry, which Snakemake
-    # reads while it plans a run, needs neither them nor matplotlib
-    if name in ("open_means", "open_store"):
-        from rocking.plot import _load
-
-        return getattr(_load, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -91,7 +89,6 @@ def render(name: str, outputs: Sequence[str | Path], notes: str | Path | None = 
     dict
         The data handed to ``plot``.
     """
-    from rocking.plot._style import save, write_notes
     from rocking.plot.registry import figure
 
     mod = module(name)

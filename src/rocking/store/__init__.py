@@ -32,12 +32,12 @@ This module is the stores' one public entry; their code is split by what it does
 
 from __future__ import annotations
 
-import importlib
+from rocking._lazy import lazy_exports
 
-# Each public name and the submodule that defines it. They are imported when first asked for,
-# so that a light submodule (rocking.store.attrs: the digests that name stores, read while
-# Snakemake plans a run) does not pull in zarr and dask.array with the package.
-_WHERE = {
+# Imported when first used (rocking._lazy): a light submodule (rocking.store.attrs, the
+# digests that name stores, read while Snakemake plans a run) must not pull in zarr and
+# dask.array with the package.
+_EXPORTS = {
     "StoreHandle": "handle",
     **dict.fromkeys(("DONE", "REPAIR", "REQUESTED", "REQUESTED_DIMS", "describing_arrays",
                      "done_mask", "open_group", "open_layout", "pending_regions", "read_attrs",
@@ -47,13 +47,5 @@ _WHERE = {
                      "describing_only", "every_chunk", "write_region"), "write"),
 }
 
-
-def __getattr__(name: str):
-    if name in _WHERE:
-        value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-__all__ = sorted(_WHERE)
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+__all__ = sorted(_EXPORTS)

@@ -10,13 +10,11 @@ ensemble's elastic spectrum matches its record's), :mod:`.pairs` (reproducible
 bidirectional ensembles of synthetic pairs).
 """
 
-import importlib
+from rocking._lazy import lazy_exports
 
-# Each public name and the module that defines it, imported when first asked for: the
-# workflow's check of a configuration reads one light module of this package
-# (.recorded, a file of recorded parameters) while Snakemake plans a run, and the package
-# must not load numba and scipy with it.
-_WHERE = {
+# Imported when first used (rocking._lazy): the workflow's check of a configuration reads one
+# light module of this package (.recorded) while Snakemake plans, without numba and scipy.
+_EXPORTS = {
     **dict.fromkeys(("GammaEnvelope", "alphas_from_physical", "physical_from_alphas"),
                     "envelope"),
     **dict.fromkeys(("RDKFit", "fit_component", "fit_rdk"), "fit"),
@@ -26,24 +24,5 @@ _WHERE = {
     "fit_spectrum": "spectrum_fit",
 }
 
-
-def __getattr__(name: str):
-    if name in _WHERE:
-        value = getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-__all__ = [
-    "GammaEnvelope",
-    "RDKFit",
-    "RDKParams",
-    "alphas_from_physical",
-    "ensemble_quality",
-    "fit_component",
-    "fit_rdk",
-    "fit_spectrum",
-    "physical_from_alphas",
-    "synthesize",
-]
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
+__all__ = sorted(_EXPORTS)
