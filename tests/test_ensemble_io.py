@@ -58,7 +58,7 @@ def test_layout_follows_design(tmp_path: Path) -> None:
         n1 = motions[1].npts
         assert not np.any(ds["ax"].values[1, n1:]) and not np.any(ds["ay"].values[1, n1:])
         json.loads(str(ds["metadata"].values[0]))
-    assert not list(tmp_path.glob(".*.tmp"))  # the temporary file is gone
+    assert not list(tmp_path.glob(".*"))  # the temporary file is gone
 
 
 def test_bad_input(tmp_path: Path) -> None:

@@ -924,7 +924,7 @@ def test_embedded_cluster_dashboard_listens_on_loopback_only(tmp_path, caplog):
     assert ["127.0.0.1", port] in seen["listening"], (line, seen)
     assert {ip for ip, _ in seen["listening"]} == {"127.0.0.1"}, seen
     assert Path(seen["scratch"]).is_relative_to(study.store.parent.resolve()), seen
-    assert not list(study.store.parent.glob(".dask-scratch-*"))
+    assert not list(study.store.parent.glob(".dask.scratch-*"))
 
 
 def test_dashboard_can_be_turned_off_or_moved():

@@ -23,11 +23,15 @@ its chunks; a folder's, the sha256 of its files' names and digests.
 
 from __future__ import annotations
 
+import glob
 import hashlib
 import json
 import os
 import posixpath
+import re
+import secrets
 import shutil
+import socket
 import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
@@ -315,18 +319,70 @@ def check(path: str | Path, *, expect: Iterable[str | Path] = (), own: bool = Tr
 
 # -- writing ------------------------------------------------------------------------------
 
+_HOST = re.sub(r"[^A-Za-z0-9]", "_", socket.gethostname()) or "host"
+
+
+def scratch_path(path: str | Path, kind: str = "part") -> Path:
+    """A name beside ``path`` that only this process writes to, hidden and telling who made
+    it: ``.<name>.<kind>-<host>-<pid>-<token><suffix>`` (the suffix kept, so a writer that
+    reads the format from it still can). What a killed writer leaves under such a name is
+    removed by :func:`sweep_scratch` before the next write of ``path``."""
+    path = Path(path)
+    if not kind.isalpha():
+        raise ValueError(f"scratch kind {kind!r}: letters only")
+    return path.with_name(f".{path.name}.{kind}-{_HOST}-{os.getpid()}-"
+                          f"{secrets.token_hex(4)}{path.suffix}")
+
+
+def sweep_scratch(path: str | Path) -> list[Path]:
+    """Remove the scratch files and folders beside ``path`` (:func:`scratch_path`) whose
+    process ran on this machine and runs no more: a write cut by ``kill -9`` leaves nothing
+    behind once ``path`` is written again. Another machine's, or a live process's, are left
+    alone (they may be writing). Returns what was removed."""
+    path = Path(path)
+    pattern = re.compile(rf"\.{re.escape(path.name)}\.[A-Za-z]+-(?P<host>[A-Za-z0-9_]+)-"
+                         rf"(?P<pid>\d+)-[0-9a-f]+{re.escape(path.suffix)}")
+    removed = []
+    try:
+        found = list(path.parent.glob(f".{glob.escape(path.name)}.*"))
+    except OSError:
+        return removed
+    for p in found:
+        m = pattern.fullmatch(p.name)
+        if m is None or m["host"] != _HOST or _running(int(m["pid"])):
+            continue
+        if p.is_dir() and not p.is_symlink():
+            shutil.rmtree(p, ignore_errors=True)
+        else:
+            p.unlink(missing_ok=True)
+        removed.append(p)
+    return removed
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` runs on this machine (where that cannot be asked: yes)."""
+    if os.name != "posix" or pid == os.getpid():
+        return True  # Windows' os.kill would end the process, not ask about it
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True  # another user's process
+    return True
+
+
 @contextmanager
 def atomic_path(path: str | Path) -> Iterator[Path]:
-    """A temporary name beside ``path`` to write to; renamed onto ``path`` when the block
-    ends without an error, deleted otherwise (a full disk leaves nothing half-written)."""
+    """A temporary name beside ``path`` to write to (:func:`scratch_path`); renamed onto
+    ``path`` when the block ends without an error, deleted otherwise (a full disk leaves
+    nothing half-written). What a killed writer of ``path`` left is swept first."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.",
-                               suffix=f".part{path.suffix}")
+    sweep_scratch(path)
+    tmp = scratch_path(path)
+    # as open() would make it: created here, so a writer that appends or opens by name works
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     os.close(fd)
-    tmp = Path(tmp)
-    umask = os.umask(0)
-    os.umask(umask)
-    tmp.chmod(0o666 & ~umask)  # as open() would make it (mkstemp makes it private)
     try:
         yield tmp
         os.replace(tmp, path)
@@ -367,5 +423,5 @@ def require_writable(folder: str | Path, what: str = "output folder") -> Path:
 
 __all__ = ["NEARLY_FULL", "RECORDS", "ProvenanceError", "atomic_path", "check", "digest",
            "file_sha256", "forget", "problem", "read_record", "record", "record_path",
-           "remake", "require_writable", "settings_digest", "store_identity",
-           "write_atomic"]
+           "remake", "require_writable", "scratch_path", "settings_digest", "store_identity",
+           "sweep_scratch", "write_atomic"]

@@ -34,6 +34,7 @@ from distributed import Client, LocalCluster, wait
 
 from rocking._progress import Progress
 from rocking.execution.logs import terminal
+from rocking.provenance import scratch_path, sweep_scratch
 
 if TYPE_CHECKING:  # the store module loads zarr: only its type is needed here
     from rocking.store import StoreHandle
@@ -487,15 +488,17 @@ def run_in_process(fn: Callable[..., dict], indices: Sequence[int], path: str, m
 
 @contextlib.contextmanager
 def scratch_space(folder: str | Path) -> Iterator[str]:
-    """A temporary folder ``.dask-scratch-*`` in ``folder`` (the run's output, beside the
-    store) for embedded workers' spill and scratch files, removed when the block ends: never
-    /tmp/dask-scratch-space, shared by every user of the machine."""
+    """A temporary folder ``.dask.scratch-*`` in ``folder`` (the run's output, beside the
+    store) for embedded workers' spill and scratch files, removed when the block ends (or,
+    after a kill, by the next run's): never /tmp/dask-scratch-space, shared by every user
+    of the machine."""
     import shutil
-    import tempfile
 
-    tmp = tempfile.mkdtemp(prefix=".dask-scratch-", dir=folder)
+    sweep_scratch(Path(folder) / "dask")
+    tmp = scratch_path(Path(folder) / "dask", "scratch")
+    tmp.mkdir()
     try:
-        yield tmp
+        yield str(tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 

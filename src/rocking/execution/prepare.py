@@ -28,6 +28,7 @@ from pathlib import Path
 from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import SpectraSpec, TiltMapSpec
+from rocking.provenance import scratch_path, sweep_scratch
 
 log = logging.getLogger(__name__)
 
@@ -101,8 +102,8 @@ def link_alias(path: str | Path, alias: str | Path) -> bool:
     if alias.exists() and not alias.is_symlink():
         log.warning("%s is not a link; the latest store is %s", alias, path)
         return False
-    tmp = alias.with_name(f".{alias.name}.{os.getpid()}.tmp")
-    tmp.unlink(missing_ok=True)
+    sweep_scratch(alias)
+    tmp = scratch_path(alias, "link")
     tmp.symlink_to(path.name, target_is_directory=True)
     os.replace(tmp, alias)
     return True
@@ -140,8 +141,8 @@ def repair_coordinates(path: str | Path, create) -> list[str]:
     (``create`` into a sibling folder) and restore those damaged: its coordinates are
     verified like its data, and repaired by the same rerun. Returns the arrays restored."""
     path = Path(path)
-    fresh = path.with_name(f".{path.name}.reference-{os.getpid()}")
-    shutil.rmtree(fresh, ignore_errors=True)
+    sweep_scratch(path)
+    fresh = scratch_path(path, "reference")
     try:
         with store.describing_only():
             create(fresh)

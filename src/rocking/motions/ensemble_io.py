@@ -31,7 +31,6 @@ from __future__ import annotations
 import json
 import logging
 import math
-import os
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -43,6 +42,7 @@ from rocking import _json
 from rocking.motions.identity import identity
 from rocking.motions.motion import GroundMotion
 from rocking.motions.readers import file_sha256
+from rocking.provenance import write_atomic
 from rocking.units import attrs as _attrs
 
 __all__ = ["FORMAT", "IDENTITY", "MotionsDigestError", "digest_path", "ensemble_attrs",
@@ -80,12 +80,7 @@ def write_digest(path: str | Path, sha256: str | None = None) -> str:
     p = Path(path)
     sha256 = sha256 or file_sha256(p)
     side = digest_path(p)
-    tmp = side.with_name(f".{side.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_text(f"{sha256}  {p.name}\n", encoding="ascii")
-        os.replace(tmp, side)
-    finally:
-        tmp.unlink(missing_ok=True)
+    write_atomic(side, lambda tmp: tmp.write_text(f"{sha256}  {p.name}\n", encoding="ascii"))
     return sha256
 
 
@@ -225,12 +220,7 @@ def save_ensemble(
     )
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
-    try:
-        ds.to_netcdf(tmp)
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
+    write_atomic(out, ds.to_netcdf)
     if digest:
         write_digest(out)
     return out
