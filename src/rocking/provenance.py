@@ -32,7 +32,6 @@ import re
 import secrets
 import shutil
 import socket
-import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
@@ -408,9 +407,10 @@ def require_writable(folder: str | Path, what: str = "output folder") -> Path:
     folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".rocking-probe-")
-        os.close(fd)
-        os.unlink(probe)
+        sweep_scratch(folder / "rocking")
+        probe = scratch_path(folder / "rocking", "probe")
+        probe.touch(exist_ok=False)
+        probe.unlink()
     except OSError as exc:
         raise ValueError(f"{what} {folder}: cannot write in it ({exc.strerror or exc}): "
                          f"make it writable or choose another") from None
