@@ -542,7 +542,7 @@ def test_risk_json_carries_the_table_and_the_fragility_it_integrates(tmp_path, c
     argv = ["risk", "--fragility", str(path), "--hazard", "1e-4,2.5"]
     assert main([*argv, "--json"]) == 0
     doc = json.loads(capsys.readouterr().out, parse_constant=_no_nan)
-    assert doc["fragility"] == "first_exceedance" and doc["units"]["maf"] == "1/yr"
+    assert doc["fragility"] == "critical_intensity" and doc["units"]["maf"] == "1/yr"
     lam = {r["limit_state"]: r["maf"] for r in doc["rows"]}
     # λ of a power law: k0 θ^-k exp(k² β² / 2) (Cornell et al. 2002)
     assert lam["overturning"] == pytest.approx(1e-4 * 0.4 ** -2.5 * math.exp(3.125 * 0.09),
@@ -550,7 +550,7 @@ def test_risk_json_carries_the_table_and_the_fragility_it_integrates(tmp_path, c
     assert [r["limit_state"] for r in doc["rows"]] == ["tilt:1/3", "overturning"]
     assert main([*argv, "-o", str(tmp_path / "r.csv")]) == 0
     text = capsys.readouterr().out
-    assert "fragility  " in text and "first-exceedance fragility" in text
+    assert "fragility  " in text and "critical-intensity fragility" in text
     assert f"2 rows (every column) written: {tmp_path / 'r.csv'}" in text
 
 

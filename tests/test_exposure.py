@@ -47,7 +47,7 @@ def portfolio(n: int = 5) -> pd.DataFrame:
                             ("sliding:0.7", 0.40, 0.5)):
             rows.append({"id": f"C{k + 1:02d}", "lon": 21.63 + 1e-3 * k, "lat": 37.64,
                          "site": "", "R": R, "tan_alpha": tan, "mode": "3d",
-                         "limit_state": ls, "fragility": "first_exceedance", "measure": "pga",
+                         "limit_state": ls, "fragility": "critical_intensity", "measure": "pga",
                          "median": f * tan * (1.0 + 0.25 * R), "beta": beta + 0.01 * k,
                          "lambda": 1e-3, "rank": k + 1})
     return pd.DataFrame(rows)

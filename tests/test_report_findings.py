@@ -221,8 +221,8 @@ def test_findings_quote_lambda_with_its_interval_and_the_most_dangerous_record(t
     risk.write_text(
         "fragility,mode,tan_alpha [-],R [m],limit_state,median_pga_g [g],beta [-],maf [1/yr],"
         "lambda_p05 [1/yr],lambda_p95 [1/yr],status\n"
-        "first_exceedance,3d,0.2,2,overturning,0.3,0.3,2.0e-3,1.0e-3,4.0e-3,ok\n"
-        "first_exceedance,3d,0.2,8,overturning,0.9,0.3,1.0e-4,5.0e-5,3.0e-4,ok\n")
+        "critical_intensity,3d,0.2,2,overturning,0.3,0.3,2.0e-3,1.0e-3,4.0e-3,ok\n"
+        "critical_intensity,3d,0.2,8,overturning,0.9,0.3,1.0e-4,5.0e-5,3.0e-4,ok\n")
     records = tmp_path / "records.csv"
     records.write_text(
         "motion,mode,tan_alpha [-],limit_state,R [m],pga_crit_g [g],scale_factor [-],"

@@ -209,7 +209,7 @@ def test_risk_table_columns_units_and_values():
                                "p_50yr [-]", "share_extrapolated [-]",
                                "share_below_first [-]", "hazard_site", "hazard_kind",
                                "preset", "status"]
-    assert set(t["fragility"]) == {"first_exceedance"} and set(t["measure"]) == {"pga"}
+    assert set(t["fragility"]) == {"critical_intensity"} and set(t["measure"]) == {"pga"}
     # every requested row is present: the one without a fit with its status and λ NaN
     assert len(t) == len(ROWS) - 1  # the not-computed cell is not part of the study
     for r in t.to_dict(orient="records"):
@@ -345,7 +345,7 @@ def test_pelicun_round_trip_and_limit_states_in_increasing_severity(tmp_path):
                            "LS1-DamageStateWeights"]
     got = read_pelicun(tmp_path / "f.csv")
     cid = pelicun.component_id("3d", 0.2, 2.0)
-    assert cid == "rocking.3d.tan0.2.R2m.first_exceedance"
+    assert cid == "rocking.3d.tan0.2.R2m.critical_intensity"
     assert comps[cid] == ["tilt:0.1", "tilt:1/3", "overturning"]  # overturning last
     for (mode, ta, R), rows in frag.groups():
         pairs = got[pelicun.component_id(mode, ta, R)]
@@ -368,7 +368,7 @@ def test_lazy_exports_and_cli(tmp_path, capsys):
                  "--limit-states", "overturning"]) == 0
     out = capsys.readouterr().out
     assert "λ [1/yr]" in out and "return period [yr]" in out and "P(50 yr) [-]" in out
-    assert "first-exceedance fragility" in out
+    assert "critical-intensity fragility" in out
     assert "too-few-observed" not in out  # the 2d-x row without a fit is not asked for
     lam = closed_form(1e-4, 2.5, 0.31234567891234, 0.21987654321)
     assert f"{lam:.4g}" in out
@@ -502,7 +502,7 @@ def test_risk_figure_of_one_size_lists_only_intervals_it_draws():
 def stripe_store(tan_alpha=0.2, seed=7):
     """A stripes store as the workflow writes it (one mode, two sizes, two limit states):
     each motion exceeds a limit state at and above its own capacity, capacities drawn from
-    known lognormals, so the stripe fits are finite and different from the first-exceedance
+    known lognormals, so the stripe fits are finite and different from the critical-intensity
     rows of ROWS."""
     import xarray as xr
 
@@ -597,8 +597,8 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
                                  table=tmp_path / "risk.csv", search_upper=20.0,
                                  study="mine", stripes=stripe_csv)
     risk = pd.read_csv(tmp_path / "risk.csv")
-    assert summary["risk_fragilities"] == ["first_exceedance", "stripes"]
-    assert risk["fragility"].value_counts().to_dict() == {"first_exceedance": 10, "stripes": 4}
+    assert summary["risk_fragilities"] == ["critical_intensity", "stripes"]
+    assert risk["fragility"].value_counts().to_dict() == {"critical_intensity": 10, "stripes": 4}
     # each row's λ is that of its own fragility
     stripe_rows = risk[risk["fragility"] == "stripes"]
     for r in stripe_rows.to_dict(orient="records"):
@@ -608,6 +608,41 @@ def test_risk_csv_holds_both_fragilities_each_row_saying_which(stripe_csv, tmp_p
         from rocking.risk.risk_table import risk_tables
 
         risk_tables([stripe_csv, stripe_csv], h)
+
+
+def test_tables_of_an_earlier_version_read_under_todays_estimator_name(stripe_csv, tmp_path):
+    """Tables written when the critical-intensity fragility was named after the first
+    exceedance (the committed gallery until it is regenerated) are read as today's estimator
+    (rocking.fragility.table.RENAMED), and nothing is written under the old name."""
+    from rocking.risk.risk_table import read_risk_table
+
+    today = fragilities.CRITICAL_INTENSITY
+    (old,) = [o for o, new in fragilities.RENAMED.items() if new == today]
+    frag_csv = tmp_path / "fragility.csv"
+    plain = table(ROWS)
+    plain.insert(0, "estimator", old)
+    plain.to_csv(frag_csv, index=False)
+    assert fragilities.read_fragilities(frag_csv).kind == today
+    assert fragilities.read_fragilities(table(ROWS), old).kind == today
+    risk = risk_table(frag_csv, HazardCurve.from_power_law(1e-4, 2.5))
+    assert set(risk["fragility"]) == {today}
+    # risk.csv of an earlier version
+    risk.assign(fragility=old).to_csv(tmp_path / "risk.csv", index=False)
+    assert set(read_risk_table(tmp_path / "risk.csv")["fragility"]) == {today}
+    # stripe_fragility.csv of an earlier version: its critical-intensity columns
+    stripes = pd.read_csv(stripe_csv)
+    before = stripes.rename(columns={new: o for o, new in fragilities.RENAMED_COLUMNS.items()})
+    assert set(before.columns) != set(stripes.columns)
+    assert list(fragilities.renamed(before).columns) == list(stripes.columns)
+    # a pelicun export of an earlier version: the estimator ending each component id
+    ids = pd.DataFrame({"ID": [f"rocking.3d.tan0.2.R2m.{old}", "rocking.3d.tan0.2.R2m.stripes"]})
+    assert fragilities.renamed(ids)["ID"].tolist() == [
+        f"rocking.3d.tan0.2.R2m.{today}", "rocking.3d.tan0.2.R2m.stripes"]
+    # today's tables are left as they are
+    assert fragilities.renamed(stripes) is stripes
+    with pytest.raises(ValueError, match="estimator must be one of"):
+        fragilities.write_fragilities(table(ROWS), tmp_path / "x.csv", estimator=old,
+                                      measure="pga")
 
 
 def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path):
@@ -630,9 +665,9 @@ def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path)
         ids[name] = model.get("id")
         assert re.fullmatch(r"[A-Za-z0-9_-]{1,60}", ids[name])  # OpenQuake's simple_id
         desc = model.find("n:description", NS).text
-        assert desc.startswith({"first": "First-exceedance fragility",
+        assert desc.startswith({"first": "Critical-intensity fragility",
                                 "stripes": "Multiple-stripe fragility"}[name])
-    assert ids == {"first": "elcentro-first-exceedance", "stripes": "elcentro-stripes"}
+    assert ids == {"first": "elcentro-critical-intensity", "stripes": "elcentro-stripes"}
     states, got = read_nrml(tmp_path / "stripes.xml")
     assert states == ["tilt_1over3", "overturning"]
     frag = fragilities.read_fragilities(stripe_csv)
@@ -644,7 +679,7 @@ def test_stripe_exports_say_which_fragility_and_round_trip(stripe_csv, tmp_path)
         assert lims["maxIML"] >= r.median_g * math.exp(4 * r.beta)
     # pelicun: ids say the fragility, so both files can be loaded together without clashes
     p_first, p_stripes = (read_pelicun(tmp_path / f"{n}.csv") for n in ("first", "stripes"))
-    assert all(i.endswith(".first_exceedance") for i in p_first)
+    assert all(i.endswith(".critical_intensity") for i in p_first)
     assert sorted(p_stripes) == ["rocking.3d.tan0.2.R2m.stripes", "rocking.3d.tan0.2.R6m.stripes"]
     assert not set(p_first) & set(p_stripes)
     for (mode, ta, R), rows in frag.groups():
@@ -668,29 +703,30 @@ def test_report_and_figure_set_the_two_mafs_side_by_side(stripe_csv, tmp_path):
            for _, r in risk.iterrows() if r["mode"] == "3d"}
     for _, r in both.iterrows():
         key = (r["R [m]"], r["limit state"])
-        assert r["λ first exceedance [1/yr]"] == lam[("first_exceedance", *key)]
+        assert r["λ critical intensity [1/yr]"] == lam[("critical_intensity", *key)]
         assert r["λ stripes [1/yr]"] == lam[("stripes", *key)]
-        assert r["stripes / first [-]"] == pytest.approx(lam[("stripes", *key)]
-                                                         / lam[("first_exceedance", *key)])
+        assert r["stripes / critical intensity [-]"] == pytest.approx(
+            lam[("stripes", *key)] / lam[("critical_intensity", *key)])
     text = risk_section_html(risk, hazard=str(EXAMPLE))
     assert "Which λ risk uses: the lognormal" in text and WHICH_TO_USE[:40] in text
-    ratio = both["stripes / first [-]"]
+    ratio = both["stripes / critical intensity [-]"]
     assert f"{ratio.min():.2g}–{ratio.max():.2g} times" in text
-    # without stripe rows: no comparison, the first-exceedance table as before
+    # without stripe rows: no comparison, the critical-intensity table as before
     assert comparison_table(risk_table(table(ROWS), h)).empty
     assert "Which λ" not in risk_section_html(risk_table(table(ROWS), h))
     d = fig.data(risk)
     over = d["panels"][0]
     assert list(over["stripes"]) == ["3d"] and over["stripes"]["3d"]["R"].tolist() == [2.0, 6.0]
-    assert d["measured"]["ratio stripes/first 3d overturning R=6 m [-]"] == pytest.approx(
-        lam[("stripes", 6.0, "overturning")] / lam[("first_exceedance", 6.0, "overturning")])
+    assert d["measured"]["ratio stripes/critical intensity 3d overturning R=6 m [-]"] == (
+        pytest.approx(lam[("stripes", 6.0, "overturning")]
+                      / lam[("critical_intensity", 6.0, "overturning")]))
     legend = next(ax.get_legend() for ax in fig.plot(d).axes if ax.get_legend())
     labels = [t.get_text() for t in legend.get_texts()]
-    assert "3D, stripes" in labels and "3D, first exceedance" in labels
+    assert "3D, stripes" in labels and "3D, critical intensities" in labels
 
 
 def test_docs_quote_the_two_mafs_of_the_committed_gallery():
-    """docs/risk.md's stripe / first-exceedance numbers are those of results/paper/elcentro
+    """docs/risk.md's stripe / critical-intensity numbers are those of results/paper/elcentro
     under the example hazard (recomputed here from the two committed fragility tables)."""
     from rocking.report.risk import comparison_table
     from rocking.risk.risk_table import risk_tables
@@ -700,15 +736,15 @@ def test_docs_quote_the_two_mafs_of_the_committed_gallery():
                        HazardCurve.from_openquake_csv(EXAMPLE, site=0))
     both = comparison_table(risk).set_index(["mode", "tan α [-]", "R [m]", "limit state"])
     text = " ".join((ROOT / "docs/risk.md").read_text(encoding="utf-8").split())
-    quote = re.search(r"BEGIN gallery:risk-stripe-first -->(.*?)<!-- END", text).group(1)
+    quote = re.search(r"BEGIN gallery:risk-stripe-critical -->(.*?)<!-- END", text).group(1)
     # the six ratios in the order the sentence gives them: overturning, then excessive tilt
     quoted = re.findall(r"(\d\.\d\d)×", quote)
-    recomputed = [f"{both.loc[('3d', 0.2, R, ls), 'stripes / first [-]']:.2f}"
+    recomputed = [f"{both.loc[('3d', 0.2, R, ls), 'stripes / critical intensity [-]']:.2f}"
                   for ls in ("overturning", "tilt:1/3") for R in (2.0, 6.0, 10.0)]
     assert quoted == recomputed, (quoted, recomputed)
     over6 = both.loc[("3d", 0.2, 6.0, "overturning")]
     assert f"{over6['λ stripes [1/yr]'] * 1e4:.2f}·10⁻⁴ against " \
-           f"{over6['λ first exceedance [1/yr]'] * 1e4:.2f}·10⁻⁴" in text
+           f"{over6['λ critical intensity [1/yr]'] * 1e4:.2f}·10⁻⁴" in text
 
 
 @pytest.mark.slow

@@ -1,5 +1,5 @@
 """The study's stripes store: made, filled region by region (as the Dask tasks do) and fitted;
-each stored flag is the library's own analysis, and the table sets the first-exceedance fit
+each stored flag is the library's own analysis, and the table sets the critical-intensity fit
 beside the stripe fit."""
 
 from __future__ import annotations
@@ -65,25 +65,25 @@ def test_store_holds_the_library_answers(filled):
     np.testing.assert_allclose(ds["pga_g"].values, np.array(SPEC.intensity) * 0.2)
 
 
-def test_table_sets_first_exceedance_beside(filled):
+def test_table_sets_critical_intensity_beside(filled):
     path, _ = filled
     ds = xr.open_zarr(path, consolidated=True)
-    first = xr.Dataset(
+    critical = xr.Dataset(
         {"median": (("mode", "limit_state", "tan_alpha", "R"), np.full((1, 1, 1, 1), 2.0)),
          "beta": (("mode", "limit_state", "tan_alpha", "R"), np.full((1, 1, 1, 1), 0.3)),
          "status": (("mode", "limit_state", "tan_alpha", "R"), np.full((1, 1, 1, 1), "ok"))},
         coords={"mode": ["3d"], "limit_state": ["overturning"], "tan_alpha": [0.2],
                 "R": [1.0]})
-    table = table_of.stripe_table(ds, first)
+    table = table_of.stripe_table(ds, critical)
     assert list(table.columns) == list(table_of.TABLE_COLUMNS)
     assert len(table) == 2 * 2 * 3
     row = table[(table["mode"] == "3d") & (table["limit_state"] == "overturning")
                 & (table["R"] == 1.0)].iloc[0]
-    assert row["first_median"] == 2.0 and row["first_status"] == "ok"
+    assert row["critical_median"] == 2.0 and row["critical_status"] == "ok"
     if np.isfinite(row["median"]):
         assert row["ratio"] == pytest.approx(row["median"] / 2.0)
     other = table[(table["mode"] == "2d-x")].iloc[0]
-    assert other["first_status"] == "not computed" and np.isnan(other["ratio"])
+    assert other["critical_status"] == "not computed" and np.isnan(other["ratio"])
     # every row either has a finite median or says why not
     for r in table.itertuples():
         assert np.isfinite(r.median) or (r.status != "ok" and r.reason)
@@ -254,7 +254,7 @@ def test_figure_draws_a_row_without_fit_as_its_bracket(filled, tmp_path):
 
 def test_stripes_in_sa(tmp_path):
     """A store of Sa(1 s) stripes: each flag as the library's own Sa analysis, the table in
-    the measure (no PGA median, no first-exceedance comparison)."""
+    the measure (no PGA median, no critical-intensity comparison)."""
     config = {
         "ensembles": {"test": {"record": "el-centro-1940"}},
         "studies": {"t": {"ensemble": "test", "R": [1.0], "intensity_measures": ["pga",
@@ -284,7 +284,7 @@ def test_stripes_in_sa(tmp_path):
         assert got.measure == "sa:1.0"
     table = table_of.stripe_table(ds)
     assert (table["measure"] == "sa:1.0").all() and table["median_pga_g"].isna().all()
-    assert table["first_median"].isna().all()
+    assert table["critical_median"].isna().all()
     np.testing.assert_allclose(ds["im"].values, [0.3, 0.6, 1.2])
     # the report's section names the measure and gives each row its answer or its bracket
     from rocking.report.tables import stripes_section

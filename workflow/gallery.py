@@ -234,8 +234,8 @@ def readme(manifest: dict, out: Path) -> str:
         "- `<study>/fragility.csv`, `<study>/linear_fit.csv`: lognormal fragility curves and "
         "the linear fits of the mean spectra in R.",
         "- `<study>/stripe_fragility.csv`: the multiple-stripe fragility (share of motions "
-        "exceeding at fixed intensities, binomial lognormal fit) beside the first-exceedance "
-        "fit, with their ratio.",
+        "exceeding at fixed intensities, binomial lognormal fit) beside the "
+        "critical-intensity fit, with their ratio.",
         "- `<study>/headline.csv`: the first exceedance of the R = 10 m 3D overturning cells "
         "on 1, 0.5, 0.2 and 0.1 % grids, beside their I10 (the report's headline).",
         "- `<study>/fragility.nrml.xml`, `<study>/fragility.pelicun.csv`, `<study>/risk.csv`: "

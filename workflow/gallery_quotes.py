@@ -33,6 +33,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from rocking.fragility.table import CRITICAL_INTENSITY, STRIPES, kind_name
 from rocking.plot.comparisons import DIFFERS, REPRODUCED, VERDICTS
 from rocking.report.entries import VERDICT_COLUMNS
 
@@ -287,7 +288,7 @@ def record_r6(gallery: Path) -> str:
 
 
 def stripe_ratio_r6(gallery: Path) -> str:
-    """"1.5×": the stripe median over the first-exceedance median, El Centro, 3d,
+    """"1.5×": the stripe median over the critical-intensity median, El Centro, 3d,
     overturning, R = 6 m (stripe_fragility.csv)."""
     row = _table_row(gallery, "elcentro", "stripe_fragility", mode="3d",
                      limit_state="overturning", **{"R [m]": "6"})
@@ -303,30 +304,30 @@ def _power(value: float) -> str:
     return f"{mantissa}·10{str(int(exponent)).translate(_SUPERSCRIPT)}"
 
 
-def risk_stripe_first(gallery: Path) -> str:
-    """The stripe λ against the first-exceedance λ of El Centro under the example hazard,
+def risk_stripe_critical(gallery: Path) -> str:
+    """The stripe λ against the critical-intensity λ of El Centro under the example hazard,
     3d, tan α 0.2, R = 2, 6, 10 m (risk.csv): ratios with both λ for overturning, ratios for
     excessive tilt (θ > α/3)."""
     path = Path(gallery) / "elcentro" / "risk.csv"
     with open(path, newline="", encoding="utf-8") as fh:
-        maf = {(r["fragility"], r["limit_state"], r["R [m]"]): float(r["maf [1/yr]"])
+        maf = {(kind_name(r["fragility"]), r["limit_state"], r["R [m]"]): float(r["maf [1/yr]"])
                for r in csv.DictReader(fh)
                if r["mode"] == "3d" and r["tan_alpha [-]"] == "0.2"}
 
     def pair(ls: str, R: str) -> tuple[float, float]:
         try:
-            return maf[("stripes", ls, R)], maf[("first_exceedance", ls, R)]
+            return maf[(STRIPES, ls, R)], maf[(CRITICAL_INTENSITY, ls, R)]
         except KeyError as err:
             raise ValueError(f"{path}: no 3d, tan α 0.2 row {err.args[0]}") from None
 
     sizes = ("2", "6", "10")
     over = [pair("overturning", R) for R in sizes]
     tilt = [a / b for a, b in (pair("tilt:1/3", R) for R in sizes)]
-    (s2, f2), (s6, f6), (s10, f10) = over
-    return (f"{s2 / f2:.2f}× the first-exceedance λ at R = 2 m ({_power(s2)} against "
-            f"{_power(f2)} per year), {s6 / f6:.2f}× at R = 6 m ({_power(s6)} against "
-            f"{_power(f6)}) and {s10 / f10:.2f}× at R = 10 m ({_power(s10)} against "
-            f"{_power(f10)}); of excessive tilt {tilt[0]:.2f}×, {tilt[1]:.2f}× and "
+    (s2, c2), (s6, c6), (s10, c10) = over
+    return (f"{s2 / c2:.2f}× the critical-intensity λ at R = 2 m ({_power(s2)} against "
+            f"{_power(c2)} per year), {s6 / c6:.2f}× at R = 6 m ({_power(s6)} against "
+            f"{_power(c6)}) and {s10 / c10:.2f}× at R = 10 m ({_power(s10)} against "
+            f"{_power(c10)}); of excessive tilt {tilt[0]:.2f}×, {tilt[1]:.2f}× and "
             f"{tilt[2]:.2f}×")
 
 
@@ -438,7 +439,7 @@ BLOCKS: dict[str, Callable[[Path], str]] = {
     "record-r6": record_r6,
     "stripe-ratio-r6": stripe_ratio_r6,
     "ensemble-parameters": ensemble_parameters,
-    "risk-stripe-first": risk_stripe_first,
+    "risk-stripe-critical": risk_stripe_critical,
     "records-rows": records_rows,
     "records-as-recorded": records_as_recorded,
     "portfolio-example": portfolio_example,

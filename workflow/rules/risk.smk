@@ -3,7 +3,7 @@
 # table (mean annual frequency, return period, probability in 50 years per mode, tan α, R and
 # limit state); the risk figure is drawn from it by the figure loop (figures.smk). A study that also declares `stripes:` gets the same
 # exports of its stripe fragility (stripe_fragility.nrml.xml / .pelicun.csv), and its stripe
-# rows in risk.csv (column `fragility`), set beside the first-exceedance ones in the figure
+# rows in risk.csv (column `fragility`), set beside the critical-intensity ones in the figure
 # and the report. Studies without `hazard:` get none of these. The fragility is taken in the
 # hazard's measure and component (rocking.risk.reconcile): where they are not the vector-peak
 # PGA it is refitted from each motion's critical PGA (critical.csv) and its measures

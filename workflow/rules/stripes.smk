@@ -1,7 +1,7 @@
 # Multiple-stripe fragility (beyond the paper): every motion of a study analysed once at each
 # stripe intensity, chunked on Dask into <root>/<study>/stripes-<digest>.zarr (by the compute
 # rule of every product, products.smk; the output is the completion marker), then
-# fitted and set beside the first-exceedance fragility: stripe_fragility.csv (the figure
+# fitted and set beside the critical-intensity fragility: stripe_fragility.csv (the figure
 # loop of figures.smk draws one figure per mode from it). The stripes are in the study's `stripes.measure` (PGA by default); each analysis
 # is jittered about its stripe by `stripes.jitter` in ln s (default 0.02), so the share of
 # motions exceeding estimates the mean over motions of their local exceedance probability:

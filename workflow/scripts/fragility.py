@@ -5,7 +5,7 @@ import time
 
 from rocking.execution.logs import job
 from rocking.fragility import lognormal as fragility
-from rocking.fragility.table import FIRST_EXCEEDANCE, quantity_of, write_fragilities
+from rocking.fragility.table import CRITICAL_INTENSITY, quantity_of, write_fragilities
 from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.plot import open_means, open_store
 
@@ -26,7 +26,7 @@ def main(snakemake):
         # the table with what it is in (estimator, measure, component, unit, quantity),
         # then its samples, whose record says they belong to it
         write_fragilities(fragility.to_frame(table), out.fragility_csv,
-                          estimator=FIRST_EXCEEDANCE, measure="pga", component=DEFAULT_COMPONENT,
+                          estimator=CRITICAL_INTENSITY, measure="pga", component=DEFAULT_COMPONENT,
                           quantity=quantity_of(store.attrs), samples=samples)
         lines = fragility.linear_fit_table(open_means(snakemake.input.means))
         lines.to_netcdf(out.linear_nc)

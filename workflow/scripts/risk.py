@@ -1,4 +1,4 @@
-"""Risk of a study (Snakemake script): NRML and pelicun exports, risk table (first-exceedance
+"""Risk of a study (Snakemake script): NRML and pelicun exports, risk table (critical-intensity
 rows in the hazard's measure, and stripe rows when the study has stripes); the risk figure is
 drawn from the table by the figure loop."""
 

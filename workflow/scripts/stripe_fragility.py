@@ -1,6 +1,6 @@
 """Stripe fragility table (Snakemake script): the binomial lognormal fit of every (mode, limit
 state, R) of the stripes store, refined where separated and bootstrapped over the motions,
-beside the first-exceedance fit of the spectra; and the bootstrap samples."""
+beside the critical-intensity fit of the spectra; and the bootstrap samples."""
 
 from rocking.execution.logs import job
 from rocking.execution.stripes import write_stripe_fragility

@@ -54,8 +54,8 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument("--fragility", type=Path, required=True,
                    help="a study's fragility table: results/<study>/fragility.csv or .nc "
-                   "(first exceedance, PGA), suite_fragility.csv (first exceedance in each "
-                   "intensity measure), or stripe_fragility.csv (multiple stripes)")
+                   "(critical intensities, PGA), suite_fragility.csv (critical intensities in "
+                   "each intensity measure), or stripe_fragility.csv (multiple stripes)")
     p.add_argument("--hazard", required=True,
                    help="OpenQuake hazard-curve CSV (PGA or SA(T)), a two-column table "
                    "(intensity, annual_rate or poe), or a power law 'k0,k' (annual rate "

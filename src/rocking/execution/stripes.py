@@ -360,10 +360,10 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
     from rocking.fragility.table import STRIPES, write_fragilities
     from rocking.provenance import write_atomic
 
-    first = None
+    critical = None
     if fragility is not None:
         with xr.open_dataset(fragility) as f:
-            first = f.load()
+            critical = f.load()
     ds = xr.open_zarr(store_path, consolidated=True)
     t0 = time.perf_counter()
     cache = refine_cache_path(store_path)
@@ -372,7 +372,7 @@ def write_stripe_fragility(store_path: str | Path, csv: str | Path, samples: str
              sum(r.n_refined > 0 for r in rows.values()),
              sum(r.n_refined for r in rows.values()), time.perf_counter() - t0)
     boot = bootstrap_rows(rows, resamples) if resamples > 0 else None
-    table = stripe_table(ds, first, rows=rows, boot=boot)
+    table = stripe_table(ds, critical, rows=rows, boot=boot)
     jitter = store_jitter(ds.attrs)
     quantity = {"quantity": "mean_local_exceedance" if jitter else "fixed_stripes",
                 "p": float("nan"), "w": jitter}

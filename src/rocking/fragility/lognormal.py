@@ -29,7 +29,7 @@ import xarray as xr
 from scipy import optimize, special, stats
 
 from rocking._validate import positive_finite_array
-from rocking.fragility.table import quantity_of
+from rocking.fragility.table import CRITICAL_INTENSITY, quantity_of
 from rocking.motions.measures import DEFAULT_COMPONENT
 from rocking.units import header, set_attrs
 
@@ -363,7 +363,7 @@ def fragility_table(store: xr.Dataset, *, upper: float | None = None) -> xr.Data
     set_attrs(ds)
     ds["median"].attrs["long_name"] = "median PGA/(g tan(alpha)) of the lognormal fragility"
     ds.attrs.update(censoring_bound="none" if bound is None else bound,
-                    estimator="first_exceedance", measure="pga", component=DEFAULT_COMPONENT,
+                    estimator=CRITICAL_INTENSITY, measure="pga", component=DEFAULT_COMPONENT,
                     unit="g", **{k: (str(v) if isinstance(v, str) else v)
                                  for k, v in quantity_of(store.attrs).items()})
     return ds
@@ -398,7 +398,7 @@ def _cell_samples(store: xr.Dataset, bound: float | None):
 def fragility_bootstrap(store: xr.Dataset, table: xr.Dataset, *, upper: float | None = None,
                         n_resamples: int = BOOTSTRAP_RESAMPLES,
                         seed: int = BOOTSTRAP_SEED) -> xr.Dataset:
-    """Bootstrap of the first-exceedance fragility over the motions, one row per row of
+    """Bootstrap of the critical-intensity fragility over the motions, one row per row of
     :func:`to_frame` of ``table``.
 
     Every cell's motions are resampled with replacement and refitted
@@ -440,7 +440,7 @@ def fragility_bootstrap(store: xr.Dataset, table: xr.Dataset, *, upper: float | 
     rows["median"].attrs.update(units="g", long_name="median PGA of the resample's fit")
     rows["beta"].attrs.update(units="1", long_name="lognormal dispersion of the resample's fit")
     rows.attrs.update(measure="pga", unit="g", n_resamples=n_resamples, seed=seed,
-                      fragility="first_exceedance")
+                      fragility=CRITICAL_INTENSITY)
     return rows
 
 

@@ -263,7 +263,7 @@ def study_folder(study: str | Path) -> Path:
 def refit_study(study: str | Path, measure="pga", component: str = DEFAULT_COMPONENT, *,
                 mode: str | None = None, limit_states: Sequence[str] | None = None,
                 n_resamples: int = BOOTSTRAP_RESAMPLES, seed: int = BOOTSTRAP_SEED):
-    """A study's first-exceedance fragility in ``measure`` and ``component``, refitted from
+    """A study's critical-intensity fragility in ``measure`` and ``component``, refitted from
     its folder: ``critical.csv`` (each motion's critical PGA), ``fragility.csv`` (the search
     bound the motions not reached are censored at) and, for anything but the vector-peak PGA,
     ``motion_measures.csv`` (:func:`fit_cells`).
@@ -280,7 +280,7 @@ def refit_study(study: str | Path, measure="pga", component: str = DEFAULT_COMPO
     """
     from dataclasses import replace
 
-    from rocking.fragility.table import read_fragilities
+    from rocking.fragility.table import CRITICAL_INTENSITY, read_fragilities
 
     folder = study_folder(study)
     measure, component = Measure.of(measure), parse_component(component)
@@ -308,7 +308,7 @@ def refit_study(study: str | Path, measure="pga", component: str = DEFAULT_COMPO
     fits, samples = fit_cells(frame, measure, component,
                               ratios=motion_ratios(table, measure, component), bound=bound,
                               n_resamples=n_resamples, seed=seed)
-    frag = read_fragilities(fits, "first_exceedance", bootstrap=False)
+    frag = read_fragilities(fits, CRITICAL_INTENSITY, bootstrap=False)
     note = "" if vector_pga else (
         f"the fragility refitted in {measure} {component} from each motion's critical PGA "
         f"({critical}) and its ratio of {measure} {component} to the vector-peak PGA "

@@ -6,7 +6,7 @@ motion exceeded each limit state at each stripe; this module reads those outcome
 refines the separated fits (:func:`refined_rows`, the analyses of the added stripes from a
 callable the caller gives: the execution layer keeps them in its cache), bootstraps every row
 over the motions (:func:`bootstrap_rows`, :func:`bootstrap_dataset`) and sets the fit beside
-the first-exceedance one of the spectra (:func:`stripe_table`: ``stripe_fragility.csv``). The
+the critical-intensity one of the spectra (:func:`stripe_table`: ``stripe_fragility.csv``). The
 store's attributes say what its stripes are in (:func:`store_measure`,
 :func:`store_component`, :func:`store_jitter`).
 """
@@ -128,9 +128,9 @@ def from_outcomes_of(result, j: int):
 
 TABLE_COLUMNS = ("mode", "limit_state", "tan_alpha", "R", "median", "median_lo", "median_hi",
                  "median_pga_g", "beta", "beta_lo", "beta_hi", "status", "reason", "n_motions",
-                 "stripes", "first_median", "first_beta", "first_status", "ratio", "measure",
-                 "component", "median_im", "median_p05", "median_p95", "bracket_lo", "bracket_hi",
-                 "n_refined", "boot_defined")
+                 "stripes", "critical_median", "critical_beta", "critical_status", "ratio",
+                 "measure", "component", "median_im", "median_p05", "median_p95", "bracket_lo",
+                 "bracket_hi", "n_refined", "boot_defined")
 """Columns of ``stripe_fragility.csv`` (before units are added to the titles). ``median``
 and its Wald interval are in measure/(g tan α); ``median_im``, ``median_p05``,
 ``median_p95`` (the bootstrap's 90 % interval), ``bracket_lo``, ``bracket_hi`` in the
@@ -152,20 +152,21 @@ def table_headers(table: pd.DataFrame) -> dict[str, str]:
             ("n_refined" if c == "n_refined" else header(c)) for c in table.columns}
 
 
-def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
+def stripe_table(ds: xr.Dataset, critical: xr.Dataset | None = None, *,
                  rows: dict | None = None, boot: dict | None = None) -> pd.DataFrame:
-    """One row per (mode, limit_state, R): the stripe fit and the first-exceedance fit.
+    """One row per (mode, limit_state, R): the stripe fit and the critical-intensity fit.
 
     Parameters
     ----------
     ds : xarray.Dataset
         A stripes store.
-    first : xarray.Dataset, optional
-        :func:`rocking.fragility.lognormal.fragility_table` of the same study: its ``median``,
-        ``beta`` and ``status`` at the same (mode, limit_state, tan α, R) become
-        ``first_median``, ``first_beta``, ``first_status``, and ``ratio`` = stripe median /
-        first-exceedance median (NaN where the spectra have no such cell, or the stripes
-        are in another measure than PGA).
+    critical : xarray.Dataset, optional
+        :func:`rocking.fragility.lognormal.fragility_table` of the same study (the
+        critical-intensity fragility): its ``median``, ``beta`` and ``status`` at the same
+        (mode, limit_state, tan α, R) become ``critical_median``, ``critical_beta``,
+        ``critical_status``, and ``ratio`` = stripe median / critical-intensity median (NaN
+        where the spectra have no such cell, or the stripes are in another measure than
+        PGA).
     rows : dict, optional
         :func:`stripe_rows` (refined fits); None: the stripes as asked.
     boot : dict, optional
@@ -185,7 +186,7 @@ def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
     out = []
     for (mode, ls, R), r in rows.items():
         (rec,) = r.summary_frame().to_dict(orient="records")
-        fm, fb, fs = (_first(first, mode, ls, r.tan_alpha, R)
+        cm, cb, cs = (_critical(critical, mode, ls, r.tan_alpha, R)
                       if r.measure == "pga" and r.component == VECTOR_PEAK
                       else (np.nan, np.nan, f"not comparable ({r.measure} {r.component}, "
                             "not the vector-peak pga)"))
@@ -196,8 +197,8 @@ def stripe_table(ds: xr.Dataset, first: xr.Dataset | None = None, *,
             defined = float(np.mean(~np.isnan(med)))
         out.append({"mode": mode, "tan_alpha": r.tan_alpha, "R": R, **rec,
                     "n_motions": int(r.n_motions.min()), "stripes": int(base[(mode, R)]),
-                    "first_median": fm, "first_beta": fb, "first_status": fs,
-                    "ratio": rec["median"] / fm if np.isfinite(fm) else np.nan,
+                    "critical_median": cm, "critical_beta": cb, "critical_status": cs,
+                    "ratio": rec["median"] / cm if np.isfinite(cm) else np.nan,
                     "median_p05": p05, "median_p95": p95, "boot_defined": defined})
     return pd.DataFrame(out, columns=list(TABLE_COLUMNS))
 
@@ -253,14 +254,14 @@ def bootstrap_dataset(table: pd.DataFrame, rows: dict, boot: dict, *, seed: int 
     return ds
 
 
-def _first(first: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
-           R: float) -> tuple[float, float, str]:
-    """(median, beta, status) of the first-exceedance fit at one cell, NaN if absent."""
+def _critical(critical: xr.Dataset | None, mode: str, ls: str, tan_alpha: float,
+              R: float) -> tuple[float, float, str]:
+    """(median, beta, status) of the critical-intensity fit at one cell, NaN if absent."""
     none = (float("nan"), float("nan"), "not computed")
-    if first is None:
+    if critical is None:
         return none
     try:
-        cell = first.sel(mode=mode, limit_state=ls)
+        cell = critical.sel(mode=mode, limit_state=ls)
         cell = cell.isel(tan_alpha=int(np.flatnonzero(np.isclose(cell["tan_alpha"].values,
                                                                   tan_alpha))[0]),
                          R=int(np.flatnonzero(np.isclose(cell["R"].values, R))[0]))

@@ -19,11 +19,14 @@ the study never asked for (status ``not-computed``) are not part of it and are o
 Limit states are ordered by increasing severity: increasing tilt goal, overturning last.
 
 Two fragilities of a study are read the same way, and :attr:`Fragilities.kind` says which:
-``first_exceedance`` (``fragility.csv``: a lognormal fitted to each motion's smallest
-exceeding intensity) and ``stripes`` (``stripe_fragility.csv`` of
-:func:`rocking.execution.stripes.stripe_table`: a lognormal fitted by binomial maximum likelihood
-to the share of motions exceeding at fixed intensities). The exports and the risk table carry
-the kind in their ids and a column (:data:`KINDS`).
+``critical_intensity`` (``fragility.csv``: a lognormal fitted to each motion's critical
+intensity, the study's quantity, I10 by default: the IDA-type fit) and ``stripes``
+(``stripe_fragility.csv`` of :func:`rocking.execution.stripes.stripe_table`: a lognormal
+fitted by binomial maximum likelihood to the share of motions exceeding at fixed
+intensities). The exports and the risk table carry
+the kind in their ids and a column (:data:`KINDS`). A table written by an earlier version
+names the critical-intensity fragility by its old name: it is read under today's
+(:data:`RENAMED`, :func:`renamed`), and no table is written with the old one.
 """
 
 from __future__ import annotations
@@ -64,23 +67,64 @@ SUITE_GROUPS = ("records", "synthetic")
 
 NOT_COMPUTED = "not-computed"
 
-FIRST_EXCEEDANCE = "first_exceedance"
+CRITICAL_INTENSITY = "critical_intensity"
 STRIPES = "stripes"
 KINDS = {
-    FIRST_EXCEEDANCE: "first-exceedance fragility: lognormal fitted to each motion's critical "
-                      "intensity (the study's quantity, the table's quantity column: I10 by "
-                      "default; motions not reached censored at the search bound)",
+    CRITICAL_INTENSITY: "critical-intensity fragility: lognormal fitted to each motion's "
+                        "critical intensity (the study's quantity, the table's quantity "
+                        "column: I10 by default; motions not reached censored at the search "
+                        "bound)",
     STRIPES: "multiple-stripe fragility: lognormal fitted by binomial maximum likelihood to "
              "the share of motions exceeding the limit state at each stripe (jittered "
              "within +-w in ln s: the motions' mean local exceedance probability F(s))",
 }
 """Which fragility a table holds → one line saying what it is (descriptions of the exports)."""
 
+RENAMED = {"first_exceedance": CRITICAL_INTENSITY}
+"""Estimator names written by earlier versions → today's (:data:`KINDS`): the values of a
+table's ``estimator`` or ``fragility`` column are read under today's name (:func:`renamed`);
+no table is written with an old one. (The critical-intensity fit was once named after the
+quantity it was fitted to then, the first exceedance on the scan grid.)"""
+
+RENAMED_COLUMNS = {"first_median": "critical_median", "first_beta": "critical_beta",
+                   "first_status": "critical_status"}
+"""Columns of a stripe table written by earlier versions → today's: the critical-intensity
+fit set beside the stripe fit (:func:`rocking.fragility.stripe_table.stripe_table`)."""
+
+
+def kind_name(name) -> str:
+    """Today's name of an estimator read from a table or given by a caller
+    (:data:`RENAMED`); any other name as it is."""
+    return RENAMED.get(str(name), str(name))
+
+
+def renamed(frame: pd.DataFrame) -> pd.DataFrame:
+    """A table as read (a fragility, stripe, risk or portfolio table, a pelicun export; column
+    titles with or without units) in today's names: its ``estimator`` and ``fragility``
+    values and the estimator that ends a pelicun component ``ID`` (:data:`RENAMED`), and its
+    columns (:data:`RENAMED_COLUMNS`). A copy where anything changes; the frame itself where
+    nothing does."""
+    def kind_of_id(v):
+        head, dot, tail = v.rpartition(".") if isinstance(v, str) else ("", "", v)
+        return f"{head}.{kind_name(tail)}" if dot and tail in RENAMED else v
+
+    columns = {c: RENAMED_COLUMNS[strip_units(str(c))] + str(c)[len(strip_units(str(c))):]
+               for c in frame.columns if strip_units(str(c)) in RENAMED_COLUMNS}
+    values = {c: (lambda v: kind_name(v) if isinstance(v, str) else v)
+              for c in frame.columns if strip_units(str(c)) in ("estimator", "fragility")}
+    if "ID" in frame.columns:
+        values["ID"] = kind_of_id
+    new = {c: frame[c].map(f) for c, f in values.items()}
+    new = {c: v for c, v in new.items() if not v.equals(frame[c])}
+    if not columns and not new:
+        return frame
+    return frame.assign(**new).rename(columns=columns)
+
 
 def fragility_kind(frame: pd.DataFrame) -> str:
     """:data:`STRIPES` for a stripe table (it has a ``stripes`` column, the number of stripe
-    intensities), else :data:`FIRST_EXCEEDANCE`."""
-    return STRIPES if "stripes" in _plain_columns(frame).columns else FIRST_EXCEEDANCE
+    intensities), else :data:`CRITICAL_INTENSITY`."""
+    return STRIPES if "stripes" in _plain_columns(frame).columns else CRITICAL_INTENSITY
 
 
 @dataclass(frozen=True)
@@ -99,7 +143,7 @@ class Fragilities:
     n_not_computed : int
         Cells of the table the study did not ask for.
     kind : str
-        Which fragility: ``"first_exceedance"`` or ``"stripes"`` (:data:`KINDS`).
+        Which fragility: ``"critical_intensity"`` or ``"stripes"`` (:data:`KINDS`).
     measure : str
         The intensity measure of the medians (``"pga"``, ``"sa:1.0"``).
     samples : BootstrapSamples, optional
@@ -112,7 +156,7 @@ class Fragilities:
         the table's ``component`` column, ``vector_peak`` for a table without one (the
         spectra's fragility.csv, and tables written before components).
     quantity : dict
-        The per-motion quantity behind a first-exceedance fit (``quantity``, ``p``, ``w``,
+        The per-motion quantity behind a critical-intensity fit (``quantity``, ``p``, ``w``,
         :func:`quantity_of`); for stripes ``w`` is the half-width of the intensities'
         jitter in ln s (0: none).
     note : str
@@ -126,7 +170,7 @@ class Fragilities:
     rows: pd.DataFrame
     skipped: pd.DataFrame
     n_not_computed: int = 0
-    kind: str = FIRST_EXCEEDANCE
+    kind: str = CRITICAL_INTENSITY
     measure: str = "pga"
     samples: BootstrapSamples | None = None
     source: str = ""
@@ -224,13 +268,14 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     Parameters
     ----------
     source : path, pandas.DataFrame or xarray.Dataset
-        ``results/<study>/fragility.csv`` or ``.nc`` (first exceedance in PGA),
-        ``suite_fragility.csv`` (first exceedance in each intensity measure of the study),
+        ``results/<study>/fragility.csv`` or ``.nc`` (critical intensities in PGA),
+        ``suite_fragility.csv`` (critical intensities in each intensity measure of the study),
         ``stripe_fragility.csv``, a refit (:func:`rocking.fragility.refit.fit_cells`), or
         the table itself; column titles with or without units.
-    kind : {"first_exceedance", "stripes"}, optional
+    kind : {"critical_intensity", "stripes"}, optional
         Which fragility the table holds; default: its ``estimator`` column, else told by its
-        columns (:func:`fragility_kind`).
+        columns (:func:`fragility_kind`). An earlier version's name is read as today's
+        (:data:`RENAMED`).
     measure : str, optional
         The intensity measure wanted (any spelling, ``"pga"``, ``"SA(1.0)"``); default: the
         table's first. A table of several measures gives its rows of that one (a suite table
@@ -250,13 +295,14 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     """
     from rocking.motions.measures import Measure, parse_component
 
-    frame = _plain_columns(_as_frame(source)).reset_index(drop=True)
+    frame = renamed(_plain_columns(_as_frame(source))).reset_index(drop=True)
     n_total = len(frame)
     frame["row"] = np.arange(n_total)
     where = str(source) if isinstance(source, str | Path) else "fragility table"
     if kind is None:
         kind = (str(frame["estimator"].iloc[0]) if "estimator" in frame.columns and len(frame)
                 else fragility_kind(frame))
+    kind = kind_name(kind)
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     have = (list(dict.fromkeys(frame["component"].astype(str))) if "component" in frame.columns
@@ -423,7 +469,7 @@ def _in_measure(frame: pd.DataFrame, measure, where: str):
 
 def _bracket(frame: pd.DataFrame, name: str, kind: str) -> pd.Series:
     """A stripe table's bracketing intensity [g] (NaN where absent: old tables, or the
-    first-exceedance table, whose ``bracket_*`` columns mean something else)."""
+    critical-intensity table, whose ``bracket_*`` columns mean something else)."""
     if kind != STRIPES or name not in frame.columns:
         return pd.Series(np.nan, index=frame.index)
     return frame[name].astype(float)
@@ -472,6 +518,7 @@ def median_beta(mean: float, stddev: float) -> tuple[float, float]:
     return mean * mean / math.hypot(stddev, mean), math.sqrt(math.log1p((stddev / mean) ** 2))
 
 
-__all__ = ["COLUMNS", "FIRST_EXCEEDANCE", "KEYS", "KINDS", "LEGACY_QUANTITY", "META", "STRIPES",
-           "SUITE_GROUPS", "Fragilities", "fragility_kind", "lognormal_moments", "median_beta",
-           "quantity_of", "read_fragilities", "with_meta", "write_fragilities"]
+__all__ = ["COLUMNS", "CRITICAL_INTENSITY", "KEYS", "KINDS", "LEGACY_QUANTITY", "META",
+           "RENAMED", "RENAMED_COLUMNS", "STRIPES", "SUITE_GROUPS", "Fragilities",
+           "fragility_kind", "kind_name", "lognormal_moments", "median_beta", "quantity_of",
+           "read_fragilities", "renamed", "with_meta", "write_fragilities"]

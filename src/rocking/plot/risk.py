@@ -8,8 +8,8 @@ a line drawn across it); where the bracketing stripes bound λ there, a bracket
 (``lambda_lo``–``lambda_hi``) marks it. The right axis gives the return period 1/λ_LS; the
 notes give λ_LS at R = 2, 6, 10 m per mode and the ratio of 2D to 3D. Where the table also
 holds the multiple-stripe fragility's rows (``fragility`` column ``stripes``), they are drawn
-beside the first-exceedance ones (open squares, dotted), and the notes give their λ_LS and
-the ratio stripes / first exceedance.
+beside the critical-intensity ones (open squares, dotted), and the notes give their λ_LS and
+the ratio stripes / critical intensity.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ CAPTION = (
     "fragility's and the hazard's in one horizontal component (risk.csv's component column; "
     "docs/risk.md). Where the study has stripes, open squares: "
     "the same integral with the multiple-stripe fragility (the probability of exceeding at "
-    "the intensity, the one the integral asks for); filled circles: the first-exceedance "
+    "the intensity, the one the integral asks for); filled circles: the critical-intensity "
     "fragility (larger: it also counts motions that exceed at a lower intensity only). "
     "The 90 % interval of λ from resampling the motions (bootstrap): filled for 3D, a dashed "
     "outline for 3D damped, tinted for 2D, hatched for the stripes (error bars where the "
@@ -62,7 +62,7 @@ def _curve(sel: pd.DataFrame) -> dict:
 
 def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
     """λ_LS against R per mode from the stripe rows of one limit state; their notes and the
-    ratio stripes / first exceedance at R = 2, 6, 10 m go into ``measured``."""
+    ratio stripes / critical intensity at R = 2, 6, 10 m go into ``measured``."""
     curves = {}
     for mode in MODE_STYLE:
         sel = rows[rows["mode"] == mode].sort_values("R")
@@ -75,9 +75,10 @@ def _stripe_curves(rows: pd.DataFrame, ls: str, measured: dict) -> dict:
                 continue
             lam = float(hit["maf"].iloc[0])
             measured[f"stripes {mode} {ls} R={R:g} m [1/yr]"] = lam
-            first = measured.get(f"{mode} {ls} R={R:g} m [1/yr]")
-            if first:
-                measured[f"ratio stripes/first {mode} {ls} R={R:g} m [-]"] = lam / first
+            critical = measured.get(f"{mode} {ls} R={R:g} m [1/yr]")
+            if critical:
+                measured[f"ratio stripes/critical intensity {mode} {ls} R={R:g} m [-]"] = (
+                    lam / critical)
     return curves
 
 
@@ -97,14 +98,13 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
         ``missing``, ``gaps`` (sizes without a fit, named), ``tan_alpha``, ``hazard``,
         ``study``, ``measure``.
     """
-    # FIRST and STRIPES: the values of risk.csv's fragility column
-    from rocking.fragility.table import FIRST_EXCEEDANCE as FIRST
-    from rocking.fragility.table import STRIPES
+    # CRITICAL_INTENSITY and STRIPES: the values of risk.csv's fragility column
+    from rocking.fragility.table import CRITICAL_INTENSITY, STRIPES
     from rocking.risk.risk_table import main_tan_alpha, read_risk_table, shown_limit_states
 
     frame = read_risk_table(risk)
     if tan_alpha is None:
-        tan_alpha = main_tan_alpha(frame[frame["fragility"] == FIRST])
+        tan_alpha = main_tan_alpha(frame[frame["fragility"] == CRITICAL_INTENSITY])
     if tan_alpha is None:
         raise ValueError("the risk table has no rows")
     frame = frame[np.isclose(frame["tan_alpha"].astype(float), tan_alpha)]
@@ -113,7 +113,7 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
     component = str(frame["component"].iloc[0]) if "component" in frame.columns and len(frame) \
         else ""
     stripes = frame[frame["fragility"] == STRIPES]
-    frame = frame[frame["fragility"] == FIRST]
+    frame = frame[frame["fragility"] == CRITICAL_INTENSITY]
     modes = [m for m in MODE_STYLE if m in set(frame["mode"])]
     missing: list[str] = []
     gaps: list[str] = []
@@ -138,7 +138,7 @@ def data(risk: str | Path | pd.DataFrame, *, tan_alpha: float | None = None,
                 if a is not None and b:
                     measured[f"ratio {two}/3d {ls} R={R:g} m [-]"] = a / b
         stripe = _stripe_curves(stripes[stripes["limit_state"] == ls], ls, measured)
-        for kind, group in (("first exceedance", curves), ("stripes", stripe)):
+        for kind, group in (("critical intensities", curves), ("stripes", stripe)):
             for mode, c in group.items():
                 gaps += [f"{kind} {mode} {ls} R = {R:g} m ({st})"
                          for R, m, st in zip(c["R"], c["maf"], c["status"], strict=True)
@@ -242,7 +242,8 @@ def plot(d: dict) -> Figure:
                       label=f"{style['label']}, stripes", band=_band_kind(mode, True),
                       shift=shift)
             else:
-                label = style["label"] + (", first exceedance" if panel.get("stripes") else "")
+                label = style["label"] + (", critical intensities" if panel.get("stripes")
+                                          else "")
                 _draw(ax, c, style, marker="o", mfc=None, linestyle=style["linestyle"],
                       label=label, band=_band_kind(mode, False), shift=shift)
         if step:

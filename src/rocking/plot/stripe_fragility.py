@@ -1,16 +1,16 @@
-"""Stripe against first-exceedance fragility (beyond the paper), one figure per mode.
+"""Stripe against critical-intensity fragility (beyond the paper), one figure per mode.
 
 One panel per (limit state, R): the share of the motions exceeding at each stripe (markers,
 refined stripes filled, with its 90 % bootstrap interval over the motions as a bar; with the
 stripes jittered it is F(s), the mean over the motions of their local exceedance
 probability) and its binomial maximum-likelihood lognormal (solid,
 :mod:`rocking.fragility.stripes`) with the bootstrap's 90 % interval of its median IM₅₀, beside
-the lognormal fitted to the motions' first-exceedance intensities (dashed,
-:func:`rocking.fragility.lognormal.fragility_table`; PGA stripes only). The first answers "at
-which intensity do half of the motions exceed", the second "at which intensity does a motion
-first exceed"; a body that exceeds in a narrow window of intensity and survives above it
-pulls the second down only. A row without a fit is drawn as the span of intensities that
-brackets its median, never as a curve.
+the lognormal fitted to the motions' critical intensities (dashed, the study's quantity, I10
+by default: :func:`rocking.fragility.lognormal.fragility_table`; PGA stripes only). The first
+answers "at which intensity do half of the motions exceed", the second "from which intensity
+does a motion start to exceed"; a body that exceeds in a narrow window of intensity and
+survives above it pulls the second down only. A row without a fit is drawn as the span of
+intensities that brackets its median, never as a curve.
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
     stripes : path
         The stripes store.
     fragility : path, optional
-        The study's first-exceedance ``fragility.nc``.
+        The study's critical-intensity ``fragility.nc``.
     mode : str
     table : path, optional
         ``stripe_fragility.csv`` (refined, bootstrapped): its rows are drawn, and its
@@ -66,7 +66,7 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
     dict
         ``panels``: [{``limit_state``, ``R``, ``x`` (stripes [measure unit]), ``refined``,
         ``fraction``, ``stripe``: (IM₅₀, beta, status), ``bracket``, ``interval``,
-        ``first``: (median, beta, status) [measure unit]}], ``measured``, ``missing``,
+        ``critical``: (median, beta, status) [measure unit]}], ``measured``, ``missing``,
         ``mode``, ``tan_alpha``, ``measure``, ``study``, ``ensemble``, ``n_motions``.
     """
     import xarray as xr
@@ -79,6 +79,7 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         stripe_table,
     )
     from rocking.fragility.stripes import exceedance_table
+    from rocking.fragility.table import renamed
     from rocking.store.attrs import decode_attrs
     from rocking.units import read_table
 
@@ -86,17 +87,17 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
     if mode not in [str(m) for m in ds["mode"].values]:
         raise ValueError(f"mode {mode!r} is not in the stripes store {str(stripes)!r}")
     if table is not None:
-        tab = read_table(table)
+        tab = renamed(read_table(table))
         budget = int(tab["n_refined"].max()) if len(tab) else 0
         rows = st.stripe_rows(ds, refine=budget,
                               cache=refined or st.refine_cache_path(stripes))
     else:
-        first = None
+        critical = None
         if fragility is not None:
             with xr.open_dataset(fragility) as f:
-                first = f.load()
+                critical = f.load()
         rows = st.stripe_rows(ds)
-        tab = stripe_table(ds, first, rows=rows)
+        tab = stripe_table(ds, critical, rows=rows)
     base = {k: set(r.intensities.tolist()) for k, r in stripe_fits(ds).items()}
     sizes = [float(v) for v in ds["R"].values]
     panels, measured, missing = [], {}, []
@@ -106,7 +107,7 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
         scale = r.scale
         x = r.intensities * scale
         refined = np.array([v not in base[(mode, R)] for v in r.intensities])
-        first_g = row.first_median * scale if r.measure == "pga" else np.nan
+        critical_g = row.critical_median * scale if r.measure == "pga" else np.nan
         shares = exceedance_table(r)
         panels.append({"limit_state": row.limit_state, "R": R, "x": x,
                        "refined": refined, "fraction": r.fraction[:, 0],
@@ -115,11 +116,11 @@ def data(stripes: str | Path, fragility: str | Path | None, *, mode: str = MODE_
                        "stripe": (row.median_im, row.beta, row.status),
                        "bracket": (row.bracket_lo, row.bracket_hi),
                        "interval": (row.median_p05, row.median_p95),
-                       "first": (first_g, row.first_beta, row.first_status)})
+                       "critical": (critical_g, row.critical_beta, row.critical_status)})
         key = f"{row.limit_state}, R = {row.R:g} m"
         measured[key] = {"stripe_median": row.median, "stripe_median_im": row.median_im,
                          "median_p05": row.median_p05, "median_p95": row.median_p95,
-                         "first_exceedance_median": row.first_median, "ratio": row.ratio,
+                         "critical_intensity_median": row.critical_median, "ratio": row.ratio,
                          "stripe_status": row.status, "stripe_reason": row.reason,
                          "bracket_lo": row.bracket_lo, "bracket_hi": row.bracket_hi,
                          "n_refined": int(row.n_refined)}
@@ -218,7 +219,7 @@ def plot(d: dict) -> Figure:
                 ax.plot([], [], " ", label=f"no fit ({status}): IM₅₀ "
                         + (f"> {lo:.3g} {unit}" if np.isfinite(lo) and lo > 0
                            else f"< {hi:.3g} {unit}" if np.isfinite(hi) else "unknown"))
-        _curve(ax, grid, p["first"], "--", "critical intensities", "tab:red", unit, "median")
+        _curve(ax, grid, p["critical"], "--", "critical intensities", "tab:red", unit, "median")
         ax.set_xscale("log")
         _ticks(ax.xaxis, x[0], x[-1])
         ax.set_ylim(-0.02, 1.02)
@@ -241,11 +242,11 @@ def plot(d: dict) -> Figure:
 
 
 REPORT_CAPTION = (
-    "Multiple-stripe against first-exceedance fragility (beyond the paper), one panel "
+    "Multiple-stripe against critical-intensity fragility (beyond the paper), one panel "
     "per limit state and size R of the study's stripes: markers the share of the "
     "motions exceeding the limit state at each stripe intensity, the solid line its "
     "binomial maximum-likelihood lognormal, the dashed line the lognormal of the "
-    "motions' first exceedances; medians IM₅₀ and dispersions β in the legend and in "
+    "motions' critical intensities; medians IM₅₀ and dispersions β in the legend and in "
     "the table below."
 )
 """The caption under each stripe figure in the report and the gallery (the figure's own

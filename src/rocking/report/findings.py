@@ -2,7 +2,7 @@
 the figure or table it comes from. A reproduction of the paper gets the paper's (Fig 12's
 both components against one, Fig 9's damping, Fig 10's linearity, Fig 6's peak tilts:
 :func:`paper_findings`); every study the answers of its tables (most dangerous record, median
-capacities, λ, stripe against first-exceedance medians: :func:`study_findings`).
+capacities, λ, stripe against critical-intensity medians: :func:`study_findings`).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from rocking.dynamics.names import MODEL_3D, MODEL_3D_DAMPED
+from rocking.fragility.table import CRITICAL_INTENSITY
 from rocking.plot.comparisons import Comparison, finite
 from rocking.report.entries import FigureEntry
 from rocking.report.tables import MODE_LABEL, as_recorded_word
@@ -222,7 +223,7 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
                    risk=None, stripes=None) -> list[Finding]:
     """Headline answers of any study: the most dangerous record (``records.csv``), the
     median capacities (``fragility.csv``), λ with its interval (``risk.csv``; 5–95 % when
-    the table has ``lambda_p05``/``lambda_p95``) and the stripe against first-exceedance
+    the table has ``lambda_p05``/``lambda_p95``) and the stripe against critical-intensity
     medians. Each at the study's main mode (3D where run), slenderness and largest R."""
     out = []
     if records is not None and Path(records).exists():
@@ -274,12 +275,12 @@ def study_findings(*, entries: Sequence[FigureEntry] = (), fragility=None, recor
     if risk is not None and Path(risk).exists():
         from rocking.report.risk import main_tan_alpha, read_risk_table
         frame = read_risk_table(risk)
-        df = frame[(frame["fragility"] == "first_exceedance") & np.isfinite(frame["maf"])]
+        df = frame[(frame["fragility"] == CRITICAL_INTENSITY) & np.isfinite(frame["maf"])]
         if len(df):
             mode = _main(df, "mode", [MODE_3D])
             t = main_tan_alpha(df[df["mode"] == mode])
             ls = _main(df, "limit_state", ["overturning"])
-            stripes_df = frame[(frame["fragility"] != "first_exceedance")
+            stripes_df = frame[(frame["fragility"] != CRITICAL_INTENSITY)
                                & np.isfinite(frame["maf"])] if "fragility" in frame else \
                 frame.iloc[:0]
             sub = df[(df["mode"] == mode) & (df["tan_alpha"] == t)

@@ -210,7 +210,8 @@ def build(out: str | Path, *, title: str, figures: Sequence[str | Path],
         Where the study's hazard curve came from (quoted in the risk section).
     stripes : path, optional
         ``results/<study>/stripe_fragility.csv``: adds the section that sets the
-        multiple-stripe fragility beside the first-exceedance one (:func:`.tables.stripes_section`).
+        multiple-stripe fragility beside the critical-intensity one
+        (:func:`.tables.stripes_section`).
     paper : bool
         The study reproduces the paper (``studies.<name>.reproduces``): verdicts shown.
     records, suite_fragility : path, optional

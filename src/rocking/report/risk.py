@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rocking.fragility.table import FIRST_EXCEEDANCE, STRIPES
+from rocking.fragility.table import CRITICAL_INTENSITY, STRIPES
 from rocking.risk.risk_table import (
     MIN_RECORDS,
     below_first_warning,
@@ -62,7 +62,7 @@ def assumptions(hazard: str = "") -> list[str]:
 
 WHICH_TO_USE = (
     "Which λ risk uses: the lognormal of the motions' critical intensities (I₁₀), the "
-    "first-exceedance rows, in the portfolio and the exports too. It exists at every body "
+    "critical-intensity rows, in the portfolio and the exports too. It exists at every body "
     "of the study's grid and in every measure and component (refitted per motion), which "
     "the stripes cannot be, and it errs on the safe side: I₁₀ is where a motion's local "
     "exceedance probability first reaches 0.1, below where it exceeds as often as not, so "
@@ -120,7 +120,7 @@ def terms_sentence(risk) -> str:
     text = (f"Measure {first['measure']}, component {first['component']} "
             f"({SOURCES.get(base, base)})")
     if source.endswith("+refit"):
-        text += ("; the first-exceedance fragility refitted in it from each motion's "
+        text += ("; the critical-intensity fragility refitted in it from each motion's "
                  "critical PGA and its ratio of the two (motion_measures.csv)")
     return text + "."
 
@@ -172,30 +172,30 @@ def interval_table(risk, *, tan_alpha: float | None = None) -> pd.DataFrame:
 
 
 def comparison_table(risk) -> pd.DataFrame:
-    """λ [1/yr] of the first-exceedance and of the stripe fragility side by side.
+    """λ [1/yr] of the critical-intensity and of the stripe fragility side by side.
 
     One row per (mode, tan α, R, limit state) that has both, in the table's order, with
-    their ratio (stripes / first exceedance) and the stripe fit's status; empty when the
+    their ratio (stripes / critical intensity) and the stripe fit's status; empty when the
     table has no stripe rows.
     """
     frame = read_risk_table(risk)
     keys = ["mode", "tan_alpha", "R", "limit_state"]
-    first = frame[frame["fragility"] == FIRST_EXCEEDANCE]
+    critical = frame[frame["fragility"] == CRITICAL_INTENSITY]
     stripes = frame[frame["fragility"] == STRIPES]
     if stripes.empty:
         return pd.DataFrame()
-    both = stripes[[*keys, "maf", "status"]].merge(first[[*keys, "maf"]], on=keys,
-                                                    suffixes=("_stripes", "_first"))
+    both = stripes[[*keys, "maf", "status"]].merge(critical[[*keys, "maf"]], on=keys,
+                                                    suffixes=("_stripes", "_critical"))
     # rows without a fit on either side have no ratio: they are named in the gaps sentence
-    both = both[np.isfinite(both["maf_stripes"]) & np.isfinite(both["maf_first"])]
+    both = both[np.isfinite(both["maf_stripes"]) & np.isfinite(both["maf_critical"])]
     if both.empty:
         return pd.DataFrame()
     return pd.DataFrame({
         "mode": both["mode"], "tan α [-]": both["tan_alpha"], "R [m]": both["R"],
         "limit state": both["limit_state"],
-        "λ first exceedance [1/yr]": both["maf_first"],
+        "λ critical intensity [1/yr]": both["maf_critical"],
         "λ stripes [1/yr]": both["maf_stripes"],
-        "stripes / first [-]": both["maf_stripes"] / both["maf_first"],
+        "stripes / critical intensity [-]": both["maf_stripes"] / both["maf_critical"],
         "stripe fit": both["status"],
     })
 
@@ -204,7 +204,7 @@ def summary_table(risk, *, tan_alpha: float | None = None) -> pd.DataFrame:
     """λ [1/yr] of the shown limit states (:func:`shown_limit_states`) per R (rows) and mode
     (columns) at ``tan_alpha`` (default :func:`main_tan_alpha`)."""
     frame = read_risk_table(risk)
-    frame = frame[frame["fragility"] == FIRST_EXCEEDANCE]  # the stripe rows: comparison_table
+    frame = frame[frame["fragility"] == CRITICAL_INTENSITY]  # the stripe rows: comparison_table
     tan_alpha = main_tan_alpha(frame) if tan_alpha is None else tan_alpha
     if tan_alpha is None:
         return pd.DataFrame()
@@ -306,7 +306,7 @@ def _gap_sentence(gaps: pd.DataFrame) -> str:
                  "hazard's rates at those two stripes; use lambda_hi as the conservative "
                  "value, or refine the stripes there. ")
     text += ("Elsewhere use the other fragility's λ of the same row, or add motions "
-             "(first exceedance: fewer than two motions exceeded).")
+             "(critical-intensity fragility: fewer than two motions exceeded).")
     return text
 
 
@@ -316,14 +316,14 @@ def _comparison_html(risk) -> list[str]:
     both = comparison_table(risk)
     if both.empty:
         return []
-    ratio = both["stripes / first [-]"]
+    ratio = both["stripes / critical intensity [-]"]
     worst = both.loc[ratio.idxmin()]
-    text = (f"The same integral with the multiple-stripe fragility, beside the first-exceedance "
-            f"one ({len(both)} cells with both): the stripe λ is {ratio.min():.2g}–"
-            f"{ratio.max():.2g} times the first-exceedance λ (smallest at {worst['mode']}, "
-            f"R = {worst['R [m]']:g} m, {worst['limit state']}: "
-            f"{worst['λ stripes [1/yr]']:.3g} against {worst['λ first exceedance [1/yr]']:.3g} "
-            f"per year). ")
+    text = (f"The same integral with the multiple-stripe fragility, beside the "
+            f"critical-intensity one ({len(both)} cells with both): the stripe λ is "
+            f"{ratio.min():.2g}–{ratio.max():.2g} times the critical-intensity λ (smallest at "
+            f"{worst['mode']}, R = {worst['R [m]']:g} m, {worst['limit state']}: "
+            f"{worst['λ stripes [1/yr]']:.3g} against "
+            f"{worst['λ critical intensity [1/yr]']:.3g} per year). ")
     odd = both[both["stripe fit"] != "ok"]
     if not odd.empty:
         text += (f"{len(odd)} stripe fit(s) are not 'ok' (e.g. 'extrapolated': the median lies "

@@ -1,5 +1,5 @@
 """The report's tables read from the study's CSV files: the per-record answers and the
-fragility over a suite (:func:`records_section`), multiple-stripe against first-exceedance
+fragility over a suite (:func:`records_section`), multiple-stripe against critical-intensity
 medians (:func:`stripes_section`), the fragility table by size (:func:`fragility_pivot`) and
 the linear fits of the mean spectra (:func:`linear_fit_rows`).
 """
@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 
 from rocking.fragility.stripes import BOOTSTRAP_LEVEL, CONFIDENCE
+from rocking.fragility.table import renamed
 from rocking.plot._style import MODE_STYLE
 from rocking.risk.portfolio import error_words
 from rocking.spectra.limit_states import limit_state_title, severity
@@ -85,22 +86,24 @@ def records_section(records: str | Path, suite_fragility: str | Path | None = No
 def stripes_section(path: str | Path) -> list[str]:
     """HTML of the report's stripe-fragility section: what each answer means, then one row
     per (mode, limit state, tan α, R) with both medians and their ratio."""
-    df = read_table(path)
+    df = renamed(read_table(path))
     ok = df[np.isfinite(df["ratio"].to_numpy(dtype=float))]
-    parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": first "
-             "exceedance and multiple-stripe fragility</h2>",
-             "<p>The answer of the spectra and of the fragility curves above (and the "
-             "paper's) is the <em>first exceedance</em>: per "
-             "motion, the smallest PGA/(g tan α) found to exceed the limit state, then the "
-             "lognormal fit over motions. Rocking near a limit state is chaotic in the "
-             "intensity: a motion exceeds it in narrow windows and the body survives stronger "
-             "scalings of the same motion, so the first exceedance is where exceedance "
-             "<em>starts</em>, not where it becomes likely. The <em>multiple-stripe</em> "
+    parts = ["<h2 id='stripes'>Two answers to \"how strong must the earthquake be\": "
+             "critical intensities and multiple-stripe fragility</h2>",
+             "<p>The answer of the spectra and of the fragility curves above is each "
+             "motion's <em>critical intensity</em> (the study's quantity, I10 by default: the "
+             "smallest PGA/(g tan α) at which at least 10 % of the intensities near it exceed "
+             "the limit state; the paper's is the first exceedance), then the lognormal fit "
+             "over motions: the critical-intensity fragility. Rocking near a limit state is "
+             "chaotic in the intensity: a motion exceeds it in narrow windows and the body "
+             "survives stronger scalings of the same motion, so a motion's critical intensity "
+             "is where exceedance <em>starts</em>, not where it becomes likely. The "
+             "<em>multiple-stripe</em> "
              "fragility analyses every motion once at each of a fixed set of intensities and "
              "fits the share exceeding by binomial maximum likelihood: its median is the "
              "intensity at which half the motions exceed. It "
-             "converges as stripes are added; the first exceedance depends on where a scan "
-             "falls among the windows (docs/performance.md). In brackets: beside the median "
+             "converges as stripes are added (docs/performance.md). In brackets: beside the "
+             "median "
              f"in PGA/(g tan α) its {100 * CONFIDENCE:g} % Wald interval (the binomial fit's "
              f"curvature), beside the median in g its {100 * BOOTSTRAP_LEVEL:g} % bootstrap "
              "interval over the motions.</p>"]
@@ -108,17 +111,17 @@ def stripes_section(path: str | Path) -> list[str]:
     name = "PGA" if measure == "pga" else measure
     if ok.empty:
         parts.append("<p>No (mode, limit state, R) has both fits in this run"
-                     + ("" if measure == "pga" else f" (the stripes are in {name}, the first "
-                        "exceedance in PGA)") + ".</p>")
+                     + ("" if measure == "pga" else f" (the stripes are in {name}, the critical "
+                        "intensities in PGA)") + ".</p>")
         if measure == "pga" or df.empty:
             return parts
     else:
         ratio = ok["ratio"].to_numpy(dtype=float)
         parts.append(f"<p>Over the {len(ok)} cells with both fits, the stripe median is "
-                     f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the first-exceedance "
+                     f"{np.min(ratio):.2f}–{np.max(ratio):.2f} times the critical-intensity "
                      f"median (median ratio {np.median(ratio):.2f}): a column designed with "
-                     "the first exceedance is designed for the onset of exceedance, with the "
-                     "stripe median as its 50 % point.</p>")
+                     "the critical intensities is designed for the onset of exceedance, with "
+                     "the stripe median as its 50 % point.</p>")
     nan = pd.Series(np.nan, index=df.index)
     rows = pd.DataFrame({
         "mode": df["mode"], "limit state": df["limit_state"].map(limit_state_title),
@@ -137,7 +140,7 @@ def stripes_section(path: str | Path) -> list[str]:
                                        df.get("median_p95", nan), df.get("bracket_lo", nan),
                                        df.get("bracket_hi", nan), strict=True)],
         "stripe β": df["beta"].map(lambda b: f"{b:.2f}" if np.isfinite(b) else "—"),
-        "first-exceedance median": df["first_median"].map(
+        "critical-intensity median": df["critical_median"].map(
             lambda m: f"{m:.3g}" if np.isfinite(m) else "—"),
         "ratio": df["ratio"].map(lambda r: f"{r:.2f}" if np.isfinite(r) else "—"),
         "motions × stripes": [f"{n} × {k}" + (f" + {int(a)} added" if a > 0 else "")

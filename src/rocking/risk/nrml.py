@@ -26,7 +26,7 @@ Layout (element order matters to OpenQuake's reader)::
   (mode, tan α) of the table has (in increasing severity), unless given. A function lacking a
   fit for one of them is left out and named in :attr:`NrmlExport.left_out`.
 - Which fragility the file carries (:attr:`Fragilities.kind`) is said by the model id,
-  ``<study>-first-exceedance`` or ``<study>-stripes`` (:func:`nrml_model_id`; OpenQuake
+  ``<study>-critical-intensity`` or ``<study>-stripes`` (:func:`nrml_model_id`; OpenQuake
   takes only letters, digits, ``_`` and ``-`` there, at most 60 characters), and by the first
   sentence of the description. The taxonomy ids are the same in both files: an exposure
   model serves either fragility model (one per calculation, ``fragility_file``).

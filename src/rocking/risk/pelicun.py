@@ -7,7 +7,7 @@ Columns (pelicun 3's damage model parameters)::
 
 - ``ID``: ``rocking.<mode>.tan<tan α>.R<R>m.<kind>`` (``-`` of a mode written ``_``: pelicun
   joins component, location and direction with ``-`` in its sample columns), ``<kind>``
-  ``first_exceedance`` or ``stripes``: which fragility the file carries
+  ``critical_intensity`` or ``stripes``: which fragility the file carries
   (:attr:`Fragilities.kind`). The CSV has no description column, so the id says it; and
   pelicun reads a list of files into one damage model, so the two fragilities of one body
   must not share an id.
@@ -38,7 +38,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from rocking.fragility.table import FIRST_EXCEEDANCE, KINDS, Fragilities
+from rocking.fragility.table import CRITICAL_INTENSITY, KINDS, Fragilities
 
 BASE_COLUMNS = ("ID", "Incomplete", "Demand-Type", "Demand-Unit", "Demand-Offset",
                 "Demand-Directional")
@@ -47,7 +47,7 @@ DEMAND_TYPE = "Peak Ground Acceleration"
 
 
 def component_id(mode: str, tan_alpha: float, R: float,
-                 kind: str = FIRST_EXCEEDANCE) -> str:
+                 kind: str = CRITICAL_INTENSITY) -> str:
     """pelicun component id of one body, mode and fragility, e.g.
     ``rocking.3d.tan0.2.R6m.stripes``."""
     if kind not in KINDS:

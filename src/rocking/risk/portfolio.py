@@ -23,7 +23,7 @@ mu                     –       the inventory's support friction (NaN: not give
                                only and said to be unused: the surface is the study's)
 mode                   –       the surface's analysis mode (``3d``)
 limit_state            –       ``overturning``, ``tilt:1/3`` ... (the study's names)
-fragility              –       ``first_exceedance`` (the study's fragility.csv)
+fragility              –       ``critical_intensity`` (the study's fragility.csv)
 measure                –       the hazard's measure (``pga``, ``sa:1.0``): the surface's
 component              –       the hazard's horizontal component, the surface's too
                                (refitted there, :func:`rocking.risk.reconcile.
@@ -72,6 +72,7 @@ import pandas as pd
 from scipy.interpolate import RectBivariateSpline
 
 from rocking.fragility.surface import interval
+from rocking.fragility.table import CRITICAL_INTENSITY
 from rocking.risk.annual_frequency import mean_annual_frequencies
 from rocking.risk.hazard import HazardCurve
 from rocking.risk.inventory import HazardSites, Inventory
@@ -211,7 +212,7 @@ def portfolio_table(surface, inventory: Inventory, hazard: HazardSites, *, mode:
         part = pd.DataFrame({
             "id": cols["id"], "lon": cols["lon"], "lat": cols["lat"], "site": cols["site"],
             "height": cols["height"], "diameter": cols["diameter"], "R": R, "tan_alpha": ta,
-            "mu": cols["mu"], "mode": mode, "limit_state": ls, "fragility": "first_exceedance",
+            "mu": cols["mu"], "mode": mode, "limit_state": ls, "fragility": CRITICAL_INTENSITY,
             "measure": surface.measure, "component": surface.component,
             **{k: res[k] for k in ("median", "median_p05", "median_p95",
                                    "beta", "beta_p05", "beta_p95")},

@@ -12,7 +12,7 @@ through it (the risk table and exports, :func:`reconcile`; the portfolio's surfa
 2. **Component.** The hazard's component (declared, read from its file, or an OpenQuake
    file's default, :data:`rocking.risk.hazard.OPENQUAKE_COMPONENT`; a table or power law
    that says nothing is taken in the fragility's, and the output says so). A table that has
-   its fits in it is used as it is; else the first-exceedance fragility is **refitted** in
+   its fits in it is used as it is; else the critical-intensity fragility is **refitted** in
    it from the study's own motions (:mod:`rocking.fragility.refit`: each motion's critical
    intensity times its ratio of the two components, exact because every measure is linear
    in the record's scale), never rescaled as a whole. A stripe fragility cannot be refitted
@@ -29,7 +29,14 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from rocking.fragility.table import FIRST_EXCEEDANCE, STRIPES, Fragilities, read_fragilities
+from rocking.fragility.table import (
+    CRITICAL_INTENSITY,
+    STRIPES,
+    Fragilities,
+    fragility_kind,
+    read_fragilities,
+    renamed,
+)
 from rocking.motions.measures import DEFAULT_COMPONENT, Measure, parse_component
 
 __all__ = ["Terms", "decide", "reconcile", "reconcile_surface", "study_terms", "table_terms"]
@@ -59,7 +66,7 @@ class Terms:
 
 
 def decide(hazard_measure, hazard_component: str | None, *, have: Iterable[tuple[str, str]],
-           refittable: Iterable[tuple[str, str]] = (), kind: str = FIRST_EXCEEDANCE,
+           refittable: Iterable[tuple[str, str]] = (), kind: str = CRITICAL_INTENSITY,
            where: str = "the fragility", hazard: str = "the hazard",
            hazard_note: str = "", assumed: tuple[str, str] | None = None) -> Terms:
     """The one decision: the terms a fragility is taken in under a hazard, or a one-line
@@ -75,7 +82,7 @@ def decide(hazard_measure, hazard_component: str | None, *, have: Iterable[tuple
     have : iterable of (measure, component)
         The fits the fragility table holds.
     refittable : iterable of (measure, component)
-        What the study's motions can refit the fragility in (a first-exceedance fragility
+        What the study's motions can refit the fragility in (a critical-intensity fragility
         with ``critical.csv`` and ``motion_measures.csv``, or the workflow, which writes
         them: every component of the study's measures).
     kind : str
@@ -147,9 +154,9 @@ def table_terms(source) -> tuple[list[tuple[str, str]], list[tuple[str, str]], s
     if isinstance(source, Fragilities):
         return [(source.measure, source.component)], [], source.kind, None
     frame = read_table(source) if isinstance(source, str | Path) else source
-    frame = frame.rename(columns=lambda c: str(c).split(" [", 1)[0])
+    frame = renamed(frame.rename(columns=lambda c: str(c).split(" [", 1)[0]))
     kind = (str(frame["estimator"].iloc[0]) if "estimator" in frame.columns and len(frame)
-            else (STRIPES if "stripes" in frame.columns else FIRST_EXCEEDANCE))
+            else fragility_kind(frame))
     measures = frame["measure"].astype(str) if "measure" in frame.columns else ["pga"] * len(
         frame)
     components = (frame["component"].astype(str) if "component" in frame.columns
@@ -158,7 +165,7 @@ def table_terms(source) -> tuple[list[tuple[str, str]], list[tuple[str, str]], s
         ("pga", DEFAULT_COMPONENT)]
     folder = Path(source).parent if isinstance(source, str | Path) else None
     refittable: list[tuple[str, str]] = []
-    if folder is not None and kind == FIRST_EXCEEDANCE and (folder / "critical.csv").is_file():
+    if folder is not None and kind == CRITICAL_INTENSITY and (folder / "critical.csv").is_file():
         path = folder / MOTION_MEASURES
         refittable = sorted(available(read_motion_measures(path) if path.is_file() else None))
     return have, refittable, kind, folder
@@ -221,7 +228,7 @@ def reconcile_surface(study, hazard_measure, hazard_component: str | None, *,
     folder = study_folder(study)
     have, refittable, kind, _ = table_terms(folder / "fragility.csv") \
         if (folder / "fragility.csv").is_file() else ([("pga", DEFAULT_COMPONENT)], [],
-                                                      FIRST_EXCEEDANCE, None)
+                                                      CRITICAL_INTENSITY, None)
     refittable = refittable or ([] if not (folder / "critical.csv").is_file()
                                 else [("pga", DEFAULT_COMPONENT)])
     terms = decide(hazard_measure, hazard_component, have=have, refittable=refittable,

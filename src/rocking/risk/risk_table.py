@@ -19,7 +19,7 @@ to all exceeding (``lambda_lo`` = λ(bracket_hi), ``lambda_hi`` = λ(bracket_lo)
 side is open).
 
 The first column, ``fragility``, says which fragility the row integrates
-(``first_exceedance`` or ``stripes``, :data:`rocking.fragility.table.KINDS`), ``measure`` in
+(``critical_intensity`` or ``stripes``, :data:`rocking.fragility.table.KINDS`), ``measure`` in
 which intensity measure, ``component`` in which horizontal component (that of the
 fragility and of the hazard: they are never mixed); the last, ``status``, the fit's
 status. :func:`risk_tables` stacks the tables of several fragilities of a study, so that
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rocking.fragility.table import FIRST_EXCEEDANCE, Fragilities, sort_rows
+from rocking.fragility.table import CRITICAL_INTENSITY, Fragilities, renamed, sort_rows
 from rocking.motions.measures import same_measure
 from rocking.risk.annual_frequency import (
     annual_frequency_interval,
@@ -226,12 +226,14 @@ PAPER_LIMIT_STATES = (OVERTURNING, EXCESSIVE_TILT)
 
 def read_risk_table(risk: str | Path | pd.DataFrame) -> pd.DataFrame:
     """``risk.csv`` (or its frame) with unit-free column names, canonical limit-state names,
-    and a ``fragility`` column (a table written before the stripe rows: first exceedance)."""
+    and a ``fragility`` column in today's names (a table written before the stripe rows: the
+    critical-intensity fragility; an earlier version's name read as today's,
+    :func:`rocking.fragility.table.renamed`)."""
     frame = risk if isinstance(risk, pd.DataFrame) else pd.read_csv(risk)
-    frame = frame.rename(columns={c: strip_units(str(c)) for c in frame.columns})
+    frame = renamed(frame.rename(columns={c: strip_units(str(c)) for c in frame.columns}))
     frame["limit_state"] = [parse_limit_state(s).name for s in frame["limit_state"]]
     if "fragility" not in frame.columns:  # a risk.csv written before the stripe rows
-        frame["fragility"] = FIRST_EXCEEDANCE
+        frame["fragility"] = CRITICAL_INTENSITY
     return frame
 
 

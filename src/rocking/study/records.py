@@ -403,7 +403,7 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     import xarray as xr
 
     from rocking.fragility.lognormal import censoring_bound
-    from rocking.fragility.table import FIRST_EXCEEDANCE, quantity_of, write_fragilities
+    from rocking.fragility.table import CRITICAL_INTENSITY, quantity_of, write_fragilities
     from rocking.motions.ensemble_io import load_ensemble
     from rocking.store import read_attrs
     from rocking.units import CSV_FLOAT_FORMAT
@@ -423,7 +423,7 @@ def write_record_tables(store_path: str | Path, motions_path: str | Path,
     fragility = suite_fragilities(tables, measures, upper)
     records.rename(columns=_headers(records.columns, measures, component)).to_csv(
         records_csv, index=False, float_format=CSV_FLOAT_FORMAT)
-    write_fragilities(fragility, fragility_csv, estimator=FIRST_EXCEEDANCE, quantity=quantity,
+    write_fragilities(fragility, fragility_csv, estimator=CRITICAL_INTENSITY, quantity=quantity,
                       samples=_bootstrap_samples(fragility),
                       float_format=CSV_FLOAT_FORMAT)
     return len(records), len(fragility)
@@ -435,6 +435,7 @@ def _bootstrap_samples(fragility):
     import xarray as xr
 
     from rocking.fragility.lognormal import BOOTSTRAP_SEED
+    from rocking.fragility.table import CRITICAL_INTENSITY
 
     med, beta = fragility.attrs["bootstrap"]
     ds = xr.Dataset({"median": (("row", "resample"), med.reshape(len(fragility), -1)),
@@ -443,7 +444,7 @@ def _bootstrap_samples(fragility):
                             "measure": ("row", fragility["measure"].astype(str).to_numpy()),
                             "component": ("row",
                                           fragility["component"].astype(str).to_numpy())})
-    ds.attrs.update(fragility="first_exceedance", seed=BOOTSTRAP_SEED,
+    ds.attrs.update(fragility=CRITICAL_INTENSITY, seed=BOOTSTRAP_SEED,
                     unit="the row's measure unit (g for pga and sa, m/s for pgv)",
                     measures=" ".join(dict.fromkeys(fragility["measure"].astype(str))))
     return ds

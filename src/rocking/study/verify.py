@@ -225,10 +225,13 @@ def _run_config(run: Path, studies: list[str]) -> tuple[dict[str, Any], bool]:
 
 
 def _read_table(path: Path) -> pd.DataFrame:
-    """A table of a run or the gallery; one that cannot be read (empty, binary, not UTF-8,
-    cut in a quoted field) is refused naming the file."""
+    """A table of a run or the gallery, in today's names (a gallery written by an earlier
+    version: :func:`rocking.fragility.table.renamed`); one that cannot be read (empty,
+    binary, not UTF-8, cut in a quoted field) is refused naming the file."""
+    from rocking.fragility.table import renamed
+
     try:
-        return pd.read_csv(path)
+        return renamed(pd.read_csv(path))
     except (OSError, ValueError, pd.errors.ParserError) as exc:  # EmptyDataError, decoding
         reason = str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__
         raise VerifyInputError(f"{path}: not a readable table ({reason})") from None
@@ -492,7 +495,7 @@ def _tolerance(table: str, base: str, r: float, k_hazard: float, x: float, y: fl
                rs_by_key: dict[tuple, np.ndarray]) -> float:
     """Absolute tolerance of one value (module notes)."""
     scale = max(abs(x), abs(y))
-    if base.startswith("beta") or base.endswith("Theta_1") or base == "first_beta":
+    if base.startswith("beta") or base.endswith("Theta_1") or base == "critical_beta":
         return math.sqrt(2.0) * r
     if base == "std" and "count" in a.index:
         # the standard deviation of n values that each move by at most r times the largest,
