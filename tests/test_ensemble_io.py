@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
-from rocking.motions.catalogue import load_record
+from rocking.motions.catalogue import RECORDS, _package_file, load_record
 from rocking.motions.ensemble_io import ensemble_attrs, load_ensemble, save_ensemble
 from rocking.motions.motion import GroundMotion
 from rocking.motions.principal import to_principal_axes
@@ -153,3 +154,19 @@ def test_load_motion_of_an_ensemble_keeps_its_vertical_and_refuses_one_for_a_syn
         load_motion(ensemble=path, motion="syn-001", vertical=True)
     with pytest.raises(ValueError, match="not both"):
         load_motion(ensemble=path, motion="syn-001", files=["z.AT2"])
+
+
+def test_a_motions_file_does_not_depend_on_where_its_records_lay(tmp_path):
+    """The same record read from two folders gives the same motions file, byte for byte (it
+    held each component's absolute path before: a clone elsewhere wrote other bytes)."""
+    source = RECORDS["el-centro-1940"]
+    written = []
+    for where in ("a", "b/deeper"):
+        folder = tmp_path / where
+        folder.mkdir(parents=True)
+        paths = [shutil.copy(_package_file(source, f), folder) for f in source.files]
+        motion = load_record("el-centro-1940", paths)
+        written.append(save_ensemble(tmp_path / f"{where.replace('/', '-')}.nc",
+                                     [motion]).read_bytes())
+        assert str(folder) not in json.dumps(motion.metadata)
+    assert written[0] == written[1]

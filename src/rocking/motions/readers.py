@@ -504,7 +504,10 @@ def read_record(
 
 
 def _component_meta(meta: dict[str, Any], npts_padded: int) -> dict[str, Any]:
-    keep = ("file", "path", "sha256", "format", "npts", "azimuth", "title", "units_file")
+    # the file's name and sha256 say which record it is; where it lay (a virtualenv's
+    # site-packages, a user's folder) is not the motion's, and kept it would make the bytes of
+    # a motions file, and so its digest, depend on the machine that wrote it
+    keep = ("file", "sha256", "format", "npts", "azimuth", "title", "units_file")
     out = {k: meta.get(k) for k in keep}
     out["padded_to"] = npts_padded
     return out
