@@ -906,10 +906,17 @@ def test_snakemake_rules_build_every_figure_and_the_report(tmp_path):
     zarr.consolidate_metadata(str(paths["store"]))  # as a finished store of the workflow
     gallery = _gallery_module()
     run_config = yaml.safe_load((wd / "results/synth/config.yaml").read_text())
+    # another configuration's figures in the same root (the main job's before the paper's)
+    for stray in ("fig12_2d_vs_3d_synth+other", "fig08_motions_otherensemble"):
+        shutil.copy(wd / "results/figures/fig12_2d_vs_3d_synth.png",
+                    wd / f"results/figures/{stray}.png")
     files = gallery.collect(wd / "results", tmp_path / "gallery", run_config)
     names = {str(f.relative_to(tmp_path / "gallery")) for f in files}
     assert {"motions/elcentro.json", "synth/critical.csv", "synth/report.html",
             "figures/fig12_2d_vs_3d_synth.png", "config.yaml"} <= names
+    assert not {n for n in names if "other" in n}, names
+    for stray in ("fig12_2d_vs_3d_synth+other", "fig08_motions_otherensemble"):
+        (wd / f"results/figures/{stray}.png").unlink()
     critical = pd.read_csv(tmp_path / "gallery/synth/critical.csv")
     assert len(critical) == xr.open_zarr(paths["store"]).pga_crit.size
     # no retired name in the tables, report and figures' notes of the run, or its gallery

@@ -59,6 +59,31 @@ def _copy(src: Path, dst: Path) -> None:
             shutil.copy2(a, b)
 
 
+def drawn_by(stem: str, run_config: dict) -> bool:
+    """Whether the figure ``stem`` of the output root's ``figures/`` is one the run configured
+    by ``run_config`` draws: a figure of no subject, of one of its ensembles
+    (``<name>_<ensemble>``) or of its studies (``<name>_<study>+<study>``), each with
+    ``_<value>`` after it where the figure is drawn per value. Another configuration run into
+    the same root (the main job before the paper's) leaves its own there, named after its
+    ensembles or studies."""
+    from rocking.plot.registry import figures
+
+    studies = list(run_config["studies"])
+    subjects = {"studies": {"+".join(studies)},
+                "ensemble": {run_config["studies"][s]["ensemble"] for s in studies}}
+    named = [f for f in figures().values() if f.scope != "study"
+             and (stem == f.name or stem.startswith(f"{f.name}_"))]
+    if not named:
+        return False
+    fig = max(named, key=lambda f: len(f.name))  # the longest name the stem starts with
+    rest = stem[len(fig.name) + 1:]
+    if fig.scope == "global":
+        return not rest or bool(fig.per)
+    if fig.per:
+        return any(rest.startswith(f"{s}_") for s in subjects[fig.scope])
+    return rest in subjects[fig.scope]
+
+
 def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
     """Copy the gallery files of the run configured by ``run_config`` (its ``config.yaml``)
     from ``results`` (the run's output root) to ``out``; return them.
@@ -70,7 +95,7 @@ def collect(results: Path, out: Path, run_config: dict) -> list[Path]:
     """
     copied = []
     for f in sorted((results / "figures").glob("*")):
-        if f.suffix in (".png", ".json"):
+        if f.suffix in (".png", ".json") and drawn_by(f.stem, run_config):
             _copy(f, out / "figures" / f.name)
             copied.append(out / "figures" / f.name)
     studies = list(run_config["studies"])
