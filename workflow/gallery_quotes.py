@@ -33,7 +33,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from rocking.fragility.table import CRITICAL_INTENSITY, STRIPES, kind_name
+from rocking.fragility.table import CRITICAL_INTENSITY, STRIPES
 from rocking.plot.comparisons import DIFFERS, REPRODUCED, VERDICTS
 from rocking.report.entries import VERDICT_COLUMNS
 
@@ -310,7 +310,7 @@ def risk_stripe_critical(gallery: Path) -> str:
     excessive tilt (θ > α/3)."""
     path = Path(gallery) / "elcentro" / "risk.csv"
     with open(path, newline="", encoding="utf-8") as fh:
-        maf = {(kind_name(r["fragility"]), r["limit_state"], r["R [m]"]): float(r["maf [1/yr]"])
+        maf = {(r["fragility"], r["limit_state"], r["R [m]"]): float(r["maf [1/yr]"])
                for r in csv.DictReader(fh)
                if r["mode"] == "3d" and r["tan_alpha [-]"] == "0.2"}
 

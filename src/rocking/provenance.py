@@ -29,7 +29,6 @@ import json
 import os
 import posixpath
 import re
-import secrets
 import shutil
 import socket
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -324,28 +323,27 @@ _HOST = re.sub(r"[^A-Za-z0-9]", "_", socket.gethostname()) or "host"
 def scratch_path(path: str | Path, kind: str = "part") -> Path:
     """A name beside ``path`` that only this process writes to, hidden and telling who made
     it: ``.<name>.<kind>-<host>-<pid>-<token><suffix>`` (the suffix kept, so a writer that
-    reads the format from it still can). What a killed writer leaves under such a name is
-    removed by :func:`sweep_scratch` before the next write of ``path``."""
+    reads the format from it still can). What a writer of ``path`` killed before it could
+    clean up left under such a name is removed first (:func:`_sweep_scratch`): a write cut by
+    ``kill -9`` leaves nothing behind once ``path`` is written again."""
     path = Path(path)
     if not kind.isalpha():
         raise ValueError(f"scratch kind {kind!r}: letters only")
+    _sweep_scratch(path)
     return path.with_name(f".{path.name}.{kind}-{_HOST}-{os.getpid()}-"
-                          f"{secrets.token_hex(4)}{path.suffix}")
+                          f"{os.urandom(4).hex()}{path.suffix}")
 
 
-def sweep_scratch(path: str | Path) -> list[Path]:
+def _sweep_scratch(path: Path) -> None:
     """Remove the scratch files and folders beside ``path`` (:func:`scratch_path`) whose
-    process ran on this machine and runs no more: a write cut by ``kill -9`` leaves nothing
-    behind once ``path`` is written again. Another machine's, or a live process's, are left
-    alone (they may be writing). Returns what was removed."""
-    path = Path(path)
+    process ran on this machine and runs no more; another machine's, or a live process's,
+    are left alone (they may be writing)."""
     pattern = re.compile(rf"\.{re.escape(path.name)}\.[A-Za-z]+-(?P<host>[A-Za-z0-9_]+)-"
                          rf"(?P<pid>\d+)-[0-9a-f]+{re.escape(path.suffix)}")
-    removed = []
     try:
         found = list(path.parent.glob(f".{glob.escape(path.name)}.*"))
     except OSError:
-        return removed
+        return
     for p in found:
         m = pattern.fullmatch(p.name)
         if m is None or m["host"] != _HOST or _running(int(m["pid"])):
@@ -354,8 +352,6 @@ def sweep_scratch(path: str | Path) -> list[Path]:
             shutil.rmtree(p, ignore_errors=True)
         else:
             p.unlink(missing_ok=True)
-        removed.append(p)
-    return removed
 
 
 def _running(pid: int) -> bool:
@@ -375,9 +371,8 @@ def _running(pid: int) -> bool:
 def atomic_path(path: str | Path) -> Iterator[Path]:
     """A temporary name beside ``path`` to write to (:func:`scratch_path`); renamed onto
     ``path`` when the block ends without an error, deleted otherwise (a full disk leaves
-    nothing half-written). What a killed writer of ``path`` left is swept first."""
+    nothing half-written), and what a killed writer of ``path`` left swept first."""
     path = Path(path)
-    sweep_scratch(path)
     tmp = scratch_path(path)
     # as open() would make it: created here, so a writer that appends or opens by name works
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
@@ -407,7 +402,6 @@ def require_writable(folder: str | Path, what: str = "output folder") -> Path:
     folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        sweep_scratch(folder / "rocking")
         probe = scratch_path(folder / "rocking", "probe")
         probe.touch(exist_ok=False)
         probe.unlink()
@@ -424,4 +418,4 @@ def require_writable(folder: str | Path, what: str = "output folder") -> Path:
 __all__ = ["NEARLY_FULL", "RECORDS", "ProvenanceError", "atomic_path", "check", "digest",
            "file_sha256", "forget", "problem", "read_record", "record", "record_path",
            "remake", "require_writable", "scratch_path", "settings_digest", "store_identity",
-           "sweep_scratch", "write_atomic"]
+           "write_atomic"]

@@ -34,7 +34,7 @@ from distributed import Client, LocalCluster, wait
 
 from rocking._progress import Progress
 from rocking.execution.logs import terminal
-from rocking.provenance import scratch_path, sweep_scratch
+from rocking.provenance import scratch_path
 
 if TYPE_CHECKING:  # the store module loads zarr: only its type is needed here
     from rocking.store import StoreHandle
@@ -494,7 +494,6 @@ def scratch_space(folder: str | Path) -> Iterator[str]:
     of the machine."""
     import shutil
 
-    sweep_scratch(Path(folder) / "dask")
     tmp = scratch_path(Path(folder) / "dask", "scratch")
     tmp.mkdir()
     try:

@@ -28,7 +28,7 @@ from pathlib import Path
 from rocking import __version__, store
 from rocking.config.damping import Damping
 from rocking.config.products import SpectraSpec, TiltMapSpec
-from rocking.provenance import scratch_path, sweep_scratch
+from rocking.provenance import scratch_path
 
 log = logging.getLogger(__name__)
 
@@ -102,7 +102,6 @@ def link_alias(path: str | Path, alias: str | Path) -> bool:
     if alias.exists() and not alias.is_symlink():
         log.warning("%s is not a link; the latest store is %s", alias, path)
         return False
-    sweep_scratch(alias)
     tmp = scratch_path(alias, "link")
     tmp.symlink_to(path.name, target_is_directory=True)
     os.replace(tmp, alias)
@@ -141,7 +140,6 @@ def repair_coordinates(path: str | Path, create) -> list[str]:
     (``create`` into a sibling folder) and restore those damaged: its coordinates are
     verified like its data, and repaired by the same rerun. Returns the arrays restored."""
     path = Path(path)
-    sweep_scratch(path)
     fresh = scratch_path(path, "reference")
     try:
         with store.describing_only():

@@ -92,7 +92,7 @@ RENAMED_COLUMNS = {"first_median": "critical_median", "first_beta": "critical_be
 fit set beside the stripe fit (:func:`rocking.fragility.stripe_table.stripe_table`)."""
 
 
-def kind_name(name) -> str:
+def _kind_name(name) -> str:
     """Today's name of an estimator read from a table or given by a caller
     (:data:`RENAMED`); any other name as it is."""
     return RENAMED.get(str(name), str(name))
@@ -106,11 +106,11 @@ def renamed(frame: pd.DataFrame) -> pd.DataFrame:
     nothing does."""
     def kind_of_id(v):
         head, dot, tail = v.rpartition(".") if isinstance(v, str) else ("", "", v)
-        return f"{head}.{kind_name(tail)}" if dot and tail in RENAMED else v
+        return f"{head}.{_kind_name(tail)}" if dot and tail in RENAMED else v
 
     columns = {c: RENAMED_COLUMNS[strip_units(str(c))] + str(c)[len(strip_units(str(c))):]
                for c in frame.columns if strip_units(str(c)) in RENAMED_COLUMNS}
-    values = {c: (lambda v: kind_name(v) if isinstance(v, str) else v)
+    values = {c: (lambda v: _kind_name(v) if isinstance(v, str) else v)
               for c in frame.columns if strip_units(str(c)) in ("estimator", "fragility")}
     if "ID" in frame.columns:
         values["ID"] = kind_of_id
@@ -302,7 +302,7 @@ def read_fragilities(source, kind: str | None = None, *, measure: str | None = N
     if kind is None:
         kind = (str(frame["estimator"].iloc[0]) if "estimator" in frame.columns and len(frame)
                 else fragility_kind(frame))
-    kind = kind_name(kind)
+    kind = _kind_name(kind)
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {sorted(KINDS)}, got {kind!r}")
     have = (list(dict.fromkeys(frame["component"].astype(str))) if "component" in frame.columns
@@ -520,5 +520,5 @@ def median_beta(mean: float, stddev: float) -> tuple[float, float]:
 
 __all__ = ["COLUMNS", "CRITICAL_INTENSITY", "KEYS", "KINDS", "LEGACY_QUANTITY", "META",
            "RENAMED", "RENAMED_COLUMNS", "STRIPES", "SUITE_GROUPS", "Fragilities",
-           "fragility_kind", "kind_name", "lognormal_moments", "median_beta", "quantity_of",
+           "fragility_kind", "lognormal_moments", "median_beta", "quantity_of",
            "read_fragilities", "renamed", "with_meta", "write_fragilities"]
